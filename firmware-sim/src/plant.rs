@@ -1,0 +1,270 @@
+//! The simulated vehicle: rigid body + rotors + ground/ceiling effect + contact + disturbances.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use rand_chacha::ChaCha8Rng;
+
+use crate::contact::Contact;
+use crate::disturbance::{external_wrench, linear_drag_w};
+use crate::params::PlantParams;
+use crate::rigid_body::{MassProperties, RigidBodyState, StageLoads};
+use crate::rotor::{rotor_wrench_b, MotorBank};
+use crate::sensors::{SensorSample, SensorTruth};
+
+/// Longest step the plant accepts [s]; longer ones are refused rather than integrated badly.
+pub const MAX_DT_S: f64 = 0.1;
+
+/// What happened in one [`Plant::step`]; the plant never panics, it reports.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct StepStatus {
+    /// `dt` was not finite or outside (0, [`MAX_DT_S`]]: nothing was integrated.
+    pub dt_rejected: bool,
+    /// Some rotor command was missing, extra or not finite; a missing or non-finite one was
+    /// taken as "motor off".
+    pub command_rejected: bool,
+    /// Integration produced a non-finite state; the previous state was kept.
+    pub state_non_finite: bool,
+    /// The vehicle rests on the ground after the step.
+    pub on_ground: bool,
+    /// A rotor touches the ceiling after the step.
+    pub at_ceiling: bool,
+}
+
+/// Everything the simulator knows exactly, for logging and tests (never for the controller).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TruthState {
+    /// Simulated time [s].
+    pub t_s: f64,
+    /// Rigid-body state.
+    pub body: RigidBodyState,
+    /// Acceleration in world NED over the last step [m/s²].
+    pub accel_w: Vector3<f64>,
+    /// Resting on the ground.
+    pub on_ground: bool,
+    /// Touching the ceiling.
+    pub at_ceiling: bool,
+    /// Scripted external force at the start of the last step, world NED [N].
+    pub external_force_w: Vector3<f64>,
+    /// Scripted external torque at the start of the last step, body FRD [N·m].
+    pub external_torque_b: Vector3<f64>,
+}
+
+/// The simulated multirotor. Deterministic: same parameters, commands and seed give
+/// bit-identical trajectories.
+///
+/// ```
+/// use firmware_sim::{Plant, PlantParams, DEFAULT_DT_S};
+/// let params = PlantParams::from_toml_str(include_str!("../../airframes/octo.toml"), "octo").unwrap();
+/// let hover = params.hover_speed_rad_s();
+/// let mut plant = Plant::new(params);
+/// for _ in 0..2000 {
+///     plant.step(&[1.05 * hover; 8], DEFAULT_DT_S);
+/// }
+/// assert!(plant.truth().body.pos_w.z < -0.1, "climbed off the ground");
+/// ```
+#[derive(Debug, Clone)]
+pub struct Plant {
+    params: PlantParams,
+    mass: MassProperties,
+    contact: Contact,
+    body: RigidBodyState,
+    motors: MotorBank,
+    command: Vec<f64>,
+    factor: Vec<f64>,
+    elapsed_ns: u64,
+    accel_w: Vector3<f64>,
+    on_ground: bool,
+    at_ceiling: bool,
+    external_force_w: Vector3<f64>,
+    external_torque_b: Vector3<f64>,
+}
+
+impl Plant {
+    /// A plant at its initial pose, motors stopped; on the ground unless the file says otherwise.
+    pub fn new(params: PlantParams) -> Self {
+        let n = params.rotors.len();
+        let contact = Contact {
+            ground_z_m: params.ground.plane_z_m,
+            gear_height_m: params.gear_height_m,
+            ceiling_z_m: params.ceiling.as_ref().map(|c| c.plane_z_m),
+        };
+        let pos_w = params.initial.pos_w.unwrap_or(Vector3::new(0.0, 0.0, contact.resting_z_m()));
+        let body = RigidBodyState {
+            pos_w,
+            vel_w: Vector3::zeros(),
+            q_wb: UnitQuaternion::from_euler_angles(0.0, 0.0, params.initial.yaw_rad),
+            omega_b: Vector3::zeros(),
+        };
+        let on_ground = pos_w.z >= contact.resting_z_m();
+        Self {
+            mass: MassProperties { mass_kg: params.mass_kg, inertia_kg_m2: params.inertia_kg_m2 },
+            motors: MotorBank::new(n, &params.rotor),
+            command: vec![0.0; n],
+            factor: vec![1.0; n],
+            contact,
+            body,
+            params,
+            elapsed_ns: 0,
+            accel_w: Vector3::zeros(),
+            on_ground,
+            at_ceiling: false,
+            external_force_w: Vector3::zeros(),
+            external_torque_b: Vector3::zeros(),
+        }
+    }
+
+    /// The parameters the plant was built from.
+    pub fn params(&self) -> &PlantParams {
+        &self.params
+    }
+
+    /// Places the body in a given state (test and scenario set-up).
+    pub fn set_body_state(&mut self, body: RigidBodyState) {
+        self.body = body;
+        self.on_ground = false;
+    }
+
+    /// Sets motor speeds directly, clamped to the motor limits [rad/s] (test and scenario set-up).
+    pub fn set_motor_speeds(&mut self, omega_rad_s: &[f64]) {
+        self.clamp_commands(omega_rad_s);
+        self.motors.plan(&self.command, &self.params.rotor, 0.0);
+        self.motors.commit();
+    }
+
+    /// Current motor speeds [rad/s].
+    pub fn motor_speeds(&self) -> &[f64] {
+        self.motors.speeds()
+    }
+
+    /// Ground × ceiling thrust factor of each rotor used in the last step [-].
+    pub fn proximity_factors(&self) -> &[f64] {
+        &self.factor
+    }
+
+    /// Exact state.
+    pub fn truth(&self) -> TruthState {
+        TruthState {
+            t_s: self.time_s(),
+            body: self.body,
+            accel_w: self.accel_w,
+            on_ground: self.on_ground,
+            at_ceiling: self.at_ceiling,
+            external_force_w: self.external_force_w,
+            external_torque_b: self.external_torque_b,
+        }
+    }
+
+    /// Simulated time [s], counted in whole nanoseconds so it never drifts.
+    pub fn time_s(&self) -> f64 {
+        self.elapsed_ns as f64 * 1e-9
+    }
+
+    /// A sensor sample of the current state with the configured noise drawn from `rng`.
+    pub fn sense(&self, rng: &mut ChaCha8Rng) -> SensorSample {
+        let truth = SensorTruth {
+            t_s: self.time_s(),
+            pos_w: self.body.pos_w,
+            vel_w: self.body.vel_w,
+            q_wb: self.body.q_wb,
+            omega_b: self.body.omega_b,
+            accel_w: self.accel_w,
+        };
+        self.params.noise.sample(&truth, rng)
+    }
+
+    /// Advances by `dt_s` [s] with commanded rotor speeds `omega_cmd_rad_s` [rad/s] held for the
+    /// whole step (zero-order hold). Motor lag, ground/ceiling factors (evaluated at the start of
+    /// the step), disturbances and drag enter the RK4 stages; contact is applied after.
+    pub fn step(&mut self, omega_cmd_rad_s: &[f64], dt_s: f64) -> StepStatus {
+        let mut status = StepStatus { on_ground: self.on_ground, at_ceiling: self.at_ceiling, ..Default::default() };
+        if !(dt_s.is_finite() && dt_s > 0.0 && dt_s <= MAX_DT_S) {
+            status.dt_rejected = true;
+            return status;
+        }
+        status.command_rejected = self.clamp_commands(omega_cmd_rad_s);
+        let rc = self.params.rotor;
+        self.motors.plan(&self.command, &rc, dt_s);
+        self.update_proximity_factors();
+
+        let t0 = self.time_s();
+        let (force0, torque0) = external_wrench(&self.params.disturbances, t0);
+        self.external_force_w = force0;
+        self.external_torque_b = torque0;
+        let params = &self.params;
+        let motors = &self.motors;
+        let factor = &self.factor;
+        let loads = |stage: usize, s: &RigidBodyState| {
+            let (speeds, t) = match stage {
+                0 => (motors.speeds(), t0),
+                1 | 2 => (motors.at_half(), t0 + 0.5 * dt_s),
+                _ => (motors.at_end(), t0 + dt_s),
+            };
+            let (thrust_b, rotor_torque_b) = rotor_wrench_b(&params.rotors, &rc, speeds, factor);
+            let (ext_f_w, ext_t_b) =
+                if params.disturbances.is_empty() { (Vector3::zeros(), Vector3::zeros()) } else { external_wrench(&params.disturbances, t) };
+            let r_wb = s.q_wb.to_rotation_matrix().into_inner();
+            let drag_w = linear_drag_w(&params.linear_drag_n_s_m, &r_wb, &s.vel_w);
+            StageLoads { force_w: r_wb * thrust_b + ext_f_w + drag_w, torque_b: rotor_torque_b + ext_t_b }
+        };
+        let mut next = self.mass.rk4_step(&self.body, dt_s, loads);
+        self.motors.commit();
+        self.elapsed_ns += (dt_s * 1e9).round() as u64;
+
+        let finite = next.pos_w.iter().chain(next.vel_w.iter()).chain(next.omega_b.iter()).all(|x| x.is_finite())
+            && next.q_wb.coords.iter().all(|x| x.is_finite());
+        if !finite {
+            status.state_non_finite = true;
+            return status;
+        }
+        self.on_ground = self.contact.resolve_ground(&mut next);
+        let top_z = self.top_hub_z(&next);
+        self.at_ceiling = self.contact.resolve_ceiling(&mut next, top_z);
+        self.accel_w = (next.vel_w - self.body.vel_w) / dt_s;
+        self.body = next;
+        status.on_ground = self.on_ground;
+        status.at_ceiling = self.at_ceiling;
+        status
+    }
+
+    /// Copies commands into the clamped buffer; returns true if any was missing, extra or bad.
+    fn clamp_commands(&mut self, cmd: &[f64]) -> bool {
+        let rc = &self.params.rotor;
+        let mut rejected = cmd.len() != self.command.len();
+        for (i, slot) in self.command.iter_mut().enumerate() {
+            *slot = match cmd.get(i) {
+                Some(w) if w.is_finite() => w.clamp(rc.omega_min_rad_s, rc.omega_max_rad_s),
+                _ => {
+                    rejected = true;
+                    0.0
+                }
+            };
+        }
+        rejected
+    }
+
+    /// Thrust factor of each rotor from its hub's distance to ground and ceiling
+    /// (control.md §8.4 rules 1–2), held over the step.
+    fn update_proximity_factors(&mut self) {
+        let ground = &self.params.ground;
+        let ceiling = self.params.ceiling.as_ref();
+        if ground.effect.is_none() && ceiling.is_none() {
+            return;
+        }
+        let r_wb = self.body.q_wb.to_rotation_matrix();
+        for (k, rotor) in self.factor.iter_mut().zip(&self.params.rotors) {
+            let hub_z = self.body.pos_w.z + (r_wb * rotor.hub_b).z;
+            let mut f = 1.0;
+            if let Some(effect) = &ground.effect {
+                f *= effect.factor(ground.plane_z_m - hub_z);
+            }
+            if let Some(c) = ceiling {
+                f *= c.effect.factor(hub_z - c.plane_z_m);
+            }
+            *k = f;
+        }
+    }
+
+    fn top_hub_z(&self, s: &RigidBodyState) -> f64 {
+        let r_wb = s.q_wb.to_rotation_matrix();
+        self.params.rotors.iter().map(|r| s.pos_w.z + (r_wb * r.hub_b).z).fold(f64::INFINITY, f64::min)
+    }
+}

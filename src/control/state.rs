@@ -1,0 +1,25 @@
+//! The vehicle state a controller sees.
+
+use crate::math::{Mat3, Vec3};
+
+/// Estimated vehicle state (for now the sensor sample passed through).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VehicleState {
+    /// Time of the state [s].
+    pub t_s: f64,
+    /// Position in world NED [m].
+    pub pos_w: Vec3,
+    /// Velocity in world NED [m/s].
+    pub vel_w: Vec3,
+    /// Rotation body FRD → world NED, `R_b`.
+    pub r_wb: Mat3,
+    /// Angular velocity in body FRD [rad/s].
+    pub omega_b: Vec3,
+}
+
+impl VehicleState {
+    /// Tilt of the body z axis from the vertical [rad].
+    pub fn tilt_rad(&self) -> f64 {
+        self.r_wb[(2, 2)].clamp(-1.0, 1.0).acos()
+    }
+}

@@ -1,0 +1,254 @@
+//! Headless flight: the flight controller and the plant in lockstep at a fixed step, as fast as
+//! the CPU allows. Runtime layer: it reads the wall clock (for the real-time factor) and writes
+//! the CSV log; the maths it calls is pure.
+//!
+//! Each tick k: sense → controller → allocation → plant step (zero-order hold for one tick).
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use serde::Serialize;
+use thiserror::Error;
+
+use crate::airframe::{Airframe, AirframeError, AirframeSource};
+use crate::allocation::{AllocationError, Allocator};
+use crate::control::{HoverController, HoverGains};
+use crate::math::{euler_zyx, Vec3};
+use crate::navigation::ClimbProfile;
+use crate::sitl::{SimPlant, SitlError};
+
+/// What to fly.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeadlessOptions {
+    /// Simulated duration [s].
+    pub duration_s: f64,
+    /// Hover altitude above the start point [m].
+    pub altitude_m: f64,
+    /// Time of the take-off climb [s].
+    pub climb_s: f64,
+    /// Control and integration step [s].
+    pub dt_s: f64,
+    /// Sensor-noise seed.
+    pub seed: u64,
+    /// CSV log to write, if any.
+    pub csv: Option<PathBuf>,
+}
+
+impl Default for HeadlessOptions {
+    fn default() -> Self {
+        Self { duration_s: 10.0, altitude_m: 2.0, climb_s: 4.0, dt_s: 1e-3, seed: 0, csv: None }
+    }
+}
+
+/// Why a headless flight could not run.
+#[derive(Debug, Error)]
+pub enum HeadlessError {
+    /// The FC refused the airframe.
+    #[error(transparent)]
+    Airframe(#[from] AirframeError),
+    /// The allocation cannot serve the airframe.
+    #[error("{origin}: rotors: {source}")]
+    Allocation {
+        /// Airframe origin.
+        origin: String,
+        /// Cause.
+        source: AllocationError,
+    },
+    /// The plant refused the airframe.
+    #[error(transparent)]
+    Plant(#[from] SitlError),
+    /// An option is out of range.
+    #[error("--{option}: {reason}")]
+    Option {
+        /// Option name.
+        option: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The log could not be written.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// Log path.
+        path: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+}
+
+/// Result of a headless flight, printed as JSON.
+#[derive(Debug, Clone, Serialize)]
+pub struct FlightSummary {
+    /// Airframe name.
+    pub airframe: String,
+    /// Controller used.
+    pub controller: &'static str,
+    /// Number of rotors.
+    pub rotors: usize,
+    /// Simulated time [s].
+    pub sim_time_s: f64,
+    /// Ticks run.
+    pub ticks: u64,
+    /// Final true position, world NED [m].
+    pub final_position_m: [f64; 3],
+    /// Final position minus setpoint, world NED [m].
+    pub final_error_m: [f64; 3],
+    /// Largest tilt during the flight [deg].
+    pub max_tilt_deg: f64,
+    /// Simulated time spent with the allocation saturated [s].
+    pub saturated_time_s: f64,
+    /// Final mean rotor speed [rad/s].
+    pub final_rotor_speed_rad_s: f64,
+    /// Hover rotor speed the FC expects [rad/s].
+    pub hover_speed_rad_s: f64,
+    /// Still resting on the ground at the end.
+    pub on_ground: bool,
+    /// Wall-clock time of the loop [s].
+    pub wall_time_s: f64,
+    /// Simulated time over wall-clock time [-].
+    pub real_time_factor: f64,
+}
+
+/// Flies a take-off to `altitude_m` and a hover with the hover controller.
+pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary, HeadlessError> {
+    check_options(opts)?;
+    let airframe = Airframe::from_source(src)?;
+    let allocator =
+        Allocator::new(&airframe).map_err(|source| HeadlessError::Allocation { origin: src.origin.clone(), source })?;
+    let mut plant = SimPlant::from_source(src, opts.seed)?;
+    for w in plant.warnings() {
+        tracing::warn!("{w}");
+    }
+    let controller =
+        HoverController { mass_kg: airframe.mass_kg, inertia_kg_m2: airframe.inertia_kg_m2, gains: HoverGains::default() };
+    let start = plant.sense();
+    let yaw = euler_zyx(&start.r_wb).z;
+    let climb = ClimbProfile {
+        start_w: start.pos_w,
+        target_w: start.pos_w - Vec3::new(0.0, 0.0, opts.altitude_m),
+        duration_s: opts.climb_s,
+        yaw_rad: yaw,
+    };
+    let mut log = match &opts.csv {
+        Some(path) => Some(CsvLog::create(path, allocator.rotor_count())?),
+        None => None,
+    };
+
+    let ticks = (opts.duration_s / opts.dt_s).round() as u64;
+    let (mut max_tilt, mut saturated_ticks) = (0.0f64, 0u64);
+    let mut last_error = Vec3::zeros();
+    let wall = Instant::now();
+    for tick in 0..ticks {
+        let t = tick as f64 * opts.dt_s;
+        let state = plant.sense();
+        let sp = climb.setpoint(t);
+        let wrench = controller.update(&state, &sp);
+        let alloc = allocator.allocate(&wrench);
+        plant.step(alloc.omega().as_slice(), opts.dt_s);
+        max_tilt = max_tilt.max(state.tilt_rad());
+        saturated_ticks += u64::from(alloc.saturation.is_saturated());
+        last_error = state.pos_w - sp.pos_w;
+        if let Some(log) = log.as_mut() {
+            log.row(t, &state, &sp.pos_w, &alloc.applied, plant.motor_speeds())?;
+        }
+    }
+    let wall_time_s = wall.elapsed().as_secs_f64();
+    if let Some(log) = log {
+        log.finish()?;
+    }
+    let truth = plant.truth();
+    let speeds = plant.motor_speeds();
+    let sim_time_s = ticks as f64 * opts.dt_s;
+    Ok(FlightSummary {
+        airframe: airframe.name.clone(),
+        controller: "hover",
+        rotors: allocator.rotor_count(),
+        sim_time_s,
+        ticks,
+        final_position_m: truth.pos_w.into(),
+        final_error_m: last_error.into(),
+        max_tilt_deg: max_tilt.to_degrees(),
+        saturated_time_s: saturated_ticks as f64 * opts.dt_s,
+        final_rotor_speed_rad_s: speeds.iter().sum::<f64>() / speeds.len() as f64,
+        hover_speed_rad_s: airframe.hover_speed_rad_s(),
+        on_ground: truth.on_ground,
+        wall_time_s,
+        real_time_factor: if wall_time_s > 0.0 { sim_time_s / wall_time_s } else { f64::INFINITY },
+    })
+}
+
+fn check_options(o: &HeadlessOptions) -> Result<(), HeadlessError> {
+    let bad = |option, reason: &str| Err(HeadlessError::Option { option, reason: reason.to_string() });
+    if !(o.duration_s.is_finite() && o.duration_s > 0.0 && o.duration_s <= 1e6) {
+        return bad("duration", "must be a positive number of seconds up to 1e6");
+    }
+    if !(o.altitude_m.is_finite() && (0.0..=1000.0).contains(&o.altitude_m)) {
+        return bad("altitude", "must be between 0 and 1000 m");
+    }
+    if !(o.dt_s.is_finite() && o.dt_s > 0.0 && o.dt_s <= 0.01) {
+        return bad("dt", "must be in (0, 0.01] s");
+    }
+    if !(o.climb_s.is_finite() && o.climb_s >= 0.0) {
+        return bad("climb", "must be a non-negative number of seconds");
+    }
+    Ok(())
+}
+
+/// CSV log of a headless flight.
+struct CsvLog {
+    path: String,
+    out: std::io::BufWriter<std::fs::File>,
+}
+
+impl CsvLog {
+    fn create(path: &std::path::Path, rotors: usize) -> Result<Self, HeadlessError> {
+        let name = path.display().to_string();
+        let io = |source| HeadlessError::Io { path: name.clone(), source };
+        let file = std::fs::File::create(path).map_err(io)?;
+        let mut out = std::io::BufWriter::new(file);
+        let mut header = String::from("t,x,y,z,x_ref,y_ref,z_ref,vx,vy,vz,roll,pitch,yaw,thrust,tau_x,tau_y,tau_z");
+        for i in 1..=rotors {
+            header.push_str(&format!(",omega_{i}"));
+        }
+        writeln!(out, "{header}").map_err(io)?;
+        Ok(Self { path: name, out })
+    }
+
+    fn row(
+        &mut self,
+        t: f64,
+        s: &crate::control::VehicleState,
+        reference: &Vec3,
+        applied: &crate::allocation::Wrench,
+        speeds: &[f64],
+    ) -> Result<(), HeadlessError> {
+        let e = euler_zyx(&s.r_wb);
+        let mut line = format!(
+            "{t:.3},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            s.pos_w.x,
+            s.pos_w.y,
+            s.pos_w.z,
+            reference.x,
+            reference.y,
+            reference.z,
+            s.vel_w.x,
+            s.vel_w.y,
+            s.vel_w.z,
+            e.x,
+            e.y,
+            e.z,
+            applied.thrust_n,
+            applied.torque_b.x,
+            applied.torque_b.y,
+            applied.torque_b.z
+        );
+        for w in speeds {
+            line.push_str(&format!(",{w}"));
+        }
+        writeln!(self.out, "{line}").map_err(|source| HeadlessError::Io { path: self.path.clone(), source })
+    }
+
+    fn finish(mut self) -> Result<(), HeadlessError> {
+        self.out.flush().map_err(|source| HeadlessError::Io { path: self.path.clone(), source })
+    }
+}

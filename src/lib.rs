@@ -1,0 +1,28 @@
+//! `rotorpilot`: a MAVLink-speaking multirotor flight-controller emulator.
+//!
+//! The flight controller's maths lives in plain structs that take values and return values;
+//! clocks, files and (later) sockets stay in a thin runtime layer. The simulated vehicle is the
+//! separate `firmware_sim` crate, reached only through [`sitl`]. Frames are NED world and FRD
+//! body; units are SI.
+//!
+//! # Layout
+//!
+//! - [`math`]: numeric aliases, hat/vee, Euler angles, angle wrapping.
+//! - [`airframe`]: the FC's view of an airframe file (presets, validation, errors naming the field).
+//! - [`allocation`]: G_q from the airframe, min-norm inverse, saturation policy (control.md §3).
+//! - [`control`]: vehicle state, setpoints and controllers (the hover controller for now).
+//! - [`navigation`]: setpoint generators (take-off climb).
+//! - [`report`]: the `alloc` command's output.
+//! - [`sitl`]: the only seam between the flight controller and the plant.
+//! - [`headless`]: a headless flight in lockstep with the plant (runtime layer: wall clock, files).
+#![warn(missing_docs)]
+#![deny(unsafe_code)]
+
+pub mod airframe;
+pub mod allocation;
+pub mod control;
+pub mod headless;
+pub mod math;
+pub mod navigation;
+pub mod report;
+pub mod sitl;

@@ -1,0 +1,88 @@
+//! `rotorpilot` command line: parses options, sets up logging, calls the library, prints results.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use rotorpilot::airframe::{Airframe, AirframeSource};
+use rotorpilot::allocation::Allocator;
+use rotorpilot::headless::{fly, HeadlessOptions};
+use rotorpilot::report::AllocReport;
+
+/// MAVLink-speaking multirotor flight-controller emulator.
+#[derive(Debug, Parser)]
+#[command(name = "rotorpilot", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Fly the vehicle: for now a headless take-off and hover in lockstep with the plant,
+    /// printing a JSON summary.
+    #[command(allow_negative_numbers = true)]
+    Run {
+        /// Airframe preset name or path to a TOML file.
+        #[arg(long, default_value = "quad_x")]
+        airframe: String,
+        /// Simulated duration [s].
+        #[arg(long, default_value_t = 10.0)]
+        duration: f64,
+        /// Hover altitude above the start point [m].
+        #[arg(long, default_value_t = 2.0)]
+        altitude: f64,
+        /// Sensor-noise seed.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Write every tick to this CSV file.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Print the allocation matrix G_q of an airframe.
+    Alloc {
+        /// Airframe preset name or path to a TOML file.
+        #[arg(long)]
+        airframe: String,
+        /// Print one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
+    let cli = Cli::parse();
+    match execute(cli.command) {
+        Ok(text) => {
+            println!("{text}");
+            ExitCode::SUCCESS
+        }
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn execute(command: Command) -> Result<String, String> {
+    match command {
+        Command::Run { airframe, duration, altitude, seed, out } => {
+            let src = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
+            let opts = HeadlessOptions { duration_s: duration, altitude_m: altitude, seed, csv: out, ..Default::default() };
+            let summary = fly(&src, &opts).map_err(|e| e.to_string())?;
+            serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
+        }
+        Command::Alloc { airframe, json } => {
+            let src = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
+            let af = Airframe::from_source(&src).map_err(|e| e.to_string())?;
+            let allocator = Allocator::new(&af).map_err(|e| format!("{}: rotors: {e}", src.origin))?;
+            let report = AllocReport::new(&af, &allocator);
+            if json {
+                serde_json::to_string(&report).map_err(|e| e.to_string())
+            } else {
+                Ok(report.to_table())
+            }
+        }
+    }
+}

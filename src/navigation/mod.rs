@@ -1,0 +1,5 @@
+//! Setpoint generators.
+
+mod climb;
+
+pub use climb::ClimbProfile;

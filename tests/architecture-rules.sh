@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Enforces the dependency rules of architecture.md §1 with grep: the plant never names the flight
+# controller, tokio or mavlink; only src/sitl.rs names firmware_sim; only src/mav/ names mavlink;
+# pure modules never name clocks, sockets, threads or locks.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+fail=0
+complain() { echo "architecture rule broken: $1" >&2; echo "$2" >&2; fail=1; }
+
+hits=$(grep -rnE '\b(rotorpilot|tokio|mavlink)::|^\s*use (rotorpilot|tokio|mavlink)\b' firmware-sim/src firmware-sim/benches || true)
+[ -z "$hits" ] || complain "firmware-sim must not depend on the flight controller, tokio or mavlink" "$hits"
+grep -qE '^\s*rotorpilot' firmware-sim/Cargo.toml && complain "firmware-sim/Cargo.toml depends on rotorpilot" ""
+
+code() { grep -rnE "$1" "${@:2}" | grep -vE '^[^:]+:[0-9]+:\s*//' || true; }
+hits=$(code 'firmware_sim' src | grep -v '^src/sitl.rs:' || true)
+[ -z "$hits" ] || complain "only src/sitl.rs may name firmware_sim" "$hits"
+
+hits=$(code '\bmavlink::' src | grep -v '^src/mav/' || true)
+[ -z "$hits" ] || complain "only src/mav/ may name the mavlink crate" "$hits"
+
+pure="src/math.rs src/airframe src/allocation src/control src/navigation src/report.rs firmware-sim/src"
+hits=$(code 'std::(net|thread)|std::time::(Instant|SystemTime)|\bInstant::now|std::sync::(Mutex|RwLock)|\btokio\b' $pure)
+[ -z "$hits" ] || complain "pure modules must not use clocks, sockets, threads or locks" "$hits"
+
+exit "$fail"

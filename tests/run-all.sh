@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Runs every test of rotorpilot on a fresh machine: formatting, lints, architecture rules,
+# Rust unit/integration/doc tests (release build, reused by the Python tests) and the pytest
+# suite in a venv with the pinned gcs-scripts/requirements.txt. Exits non-zero on any failure,
+# including a pytest run that collects no test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+echo "== format and lints"
+cargo fmt --all -- --check
+cargo clippy --workspace --all-targets --release -- -D warnings
+
+echo "== architecture rules (architecture.md §1)"
+bash tests/architecture-rules.sh
+
+echo "== Rust tests"
+cargo build --release --bin rotorpilot
+cargo test --workspace --release
+
+echo "== Python tests"
+venv=".venv"
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+fi
+"$venv/bin/pip" install --quiet --disable-pip-version-check -r gcs-scripts/requirements.txt
+export ROTORPILOT_BIN="$PWD/target/release/rotorpilot"
+status=0
+"$venv/bin/python" -m pytest -q gcs-scripts/tests || status=$?
+if [ "$status" -eq 5 ]; then
+    echo "pytest collected no tests: failing" >&2
+    exit 1
+fi
+exit "$status"
