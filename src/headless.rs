@@ -37,7 +37,14 @@ pub struct HeadlessOptions {
 
 impl Default for HeadlessOptions {
     fn default() -> Self {
-        Self { duration_s: 10.0, altitude_m: 2.0, climb_s: 4.0, dt_s: 1e-3, seed: 0, csv: None }
+        Self {
+            duration_s: 10.0,
+            altitude_m: 2.0,
+            climb_s: 4.0,
+            dt_s: 1e-3,
+            seed: 0,
+            csv: None,
+        }
     }
 }
 
@@ -113,14 +120,19 @@ pub struct FlightSummary {
 pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary, HeadlessError> {
     check_options(opts)?;
     let airframe = Airframe::from_source(src)?;
-    let allocator =
-        Allocator::new(&airframe).map_err(|source| HeadlessError::Allocation { origin: src.origin.clone(), source })?;
+    let allocator = Allocator::new(&airframe).map_err(|source| HeadlessError::Allocation {
+        origin: src.origin.clone(),
+        source,
+    })?;
     let mut plant = SimPlant::from_source(src, opts.seed)?;
     for w in plant.warnings() {
         tracing::warn!("{w}");
     }
-    let controller =
-        HoverController { mass_kg: airframe.mass_kg, inertia_kg_m2: airframe.inertia_kg_m2, gains: HoverGains::default() };
+    let controller = HoverController {
+        mass_kg: airframe.mass_kg,
+        inertia_kg_m2: airframe.inertia_kg_m2,
+        gains: HoverGains::default(),
+    };
     let start = plant.sense();
     let yaw = euler_zyx(&start.r_wb).z;
     let climb = ClimbProfile {
@@ -173,12 +185,21 @@ pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary
         hover_speed_rad_s: airframe.hover_speed_rad_s(),
         on_ground: truth.on_ground,
         wall_time_s,
-        real_time_factor: if wall_time_s > 0.0 { sim_time_s / wall_time_s } else { f64::INFINITY },
+        real_time_factor: if wall_time_s > 0.0 {
+            sim_time_s / wall_time_s
+        } else {
+            f64::INFINITY
+        },
     })
 }
 
 fn check_options(o: &HeadlessOptions) -> Result<(), HeadlessError> {
-    let bad = |option, reason: &str| Err(HeadlessError::Option { option, reason: reason.to_string() });
+    let bad = |option, reason: &str| {
+        Err(HeadlessError::Option {
+            option,
+            reason: reason.to_string(),
+        })
+    };
     if !(o.duration_s.is_finite() && o.duration_s > 0.0 && o.duration_s <= 1e6) {
         return bad("duration", "must be a positive number of seconds up to 1e6");
     }
@@ -203,7 +224,10 @@ struct CsvLog {
 impl CsvLog {
     fn create(path: &std::path::Path, rotors: usize) -> Result<Self, HeadlessError> {
         let name = path.display().to_string();
-        let io = |source| HeadlessError::Io { path: name.clone(), source };
+        let io = |source| HeadlessError::Io {
+            path: name.clone(),
+            source,
+        };
         let file = std::fs::File::create(path).map_err(io)?;
         let mut out = std::io::BufWriter::new(file);
         let mut header = String::from("t,x,y,z,x_ref,y_ref,z_ref,vx,vy,vz,roll,pitch,yaw,thrust,tau_x,tau_y,tau_z");
@@ -245,10 +269,16 @@ impl CsvLog {
         for w in speeds {
             line.push_str(&format!(",{w}"));
         }
-        writeln!(self.out, "{line}").map_err(|source| HeadlessError::Io { path: self.path.clone(), source })
+        writeln!(self.out, "{line}").map_err(|source| HeadlessError::Io {
+            path: self.path.clone(),
+            source,
+        })
     }
 
     fn finish(mut self) -> Result<(), HeadlessError> {
-        self.out.flush().map_err(|source| HeadlessError::Io { path: self.path.clone(), source })
+        self.out.flush().map_err(|source| HeadlessError::Io {
+            path: self.path.clone(),
+            source,
+        })
     }
 }

@@ -51,7 +51,10 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
+    tracing_subscriber::fmt()
+        .with_writer(std::io::stderr)
+        .with_target(false)
+        .init();
     let cli = Cli::parse();
     match execute(cli.command) {
         Ok(text) => {
@@ -67,9 +70,21 @@ fn main() -> ExitCode {
 
 fn execute(command: Command) -> Result<String, String> {
     match command {
-        Command::Run { airframe, duration, altitude, seed, out } => {
+        Command::Run {
+            airframe,
+            duration,
+            altitude,
+            seed,
+            out,
+        } => {
             let src = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
-            let opts = HeadlessOptions { duration_s: duration, altitude_m: altitude, seed, csv: out, ..Default::default() };
+            let opts = HeadlessOptions {
+                duration_s: duration,
+                altitude_m: altitude,
+                seed,
+                csv: out,
+                ..Default::default()
+            };
             let summary = fly(&src, &opts).map_err(|e| e.to_string())?;
             serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
         }

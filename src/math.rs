@@ -40,7 +40,11 @@ pub fn wrap_pi(a: Real) -> Real {
 /// Roll, pitch, yaw (ZYX) of `R_b` [rad] (control.md §2.2): `φ = atan2(R32, R33)`,
 /// `θ = −asin(R31)`, `ψ = atan2(R21, R11)`.
 pub fn euler_zyx(r: &Mat3) -> Vec3 {
-    Vec3::new(r[(2, 1)].atan2(r[(2, 2)]), -r[(2, 0)].clamp(-1.0, 1.0).asin(), r[(1, 0)].atan2(r[(0, 0)]))
+    Vec3::new(
+        r[(2, 1)].atan2(r[(2, 2)]),
+        -r[(2, 0)].clamp(-1.0, 1.0).asin(),
+        r[(1, 0)].atan2(r[(0, 0)]),
+    )
 }
 
 #[cfg(test)]

@@ -39,7 +39,10 @@ impl SimPlant {
     /// Builds the plant from an airframe text with sensor noise seeded by `seed`.
     pub fn from_source(src: &AirframeSource, seed: u64) -> Result<Self, SitlError> {
         let params = PlantParams::from_toml_str(&src.text, &src.origin)?;
-        Ok(Self { plant: Plant::new(params), rng: rand_chacha_seed(seed) })
+        Ok(Self {
+            plant: Plant::new(params),
+            rng: rand_chacha_seed(seed),
+        })
     }
 
     /// Start-up warnings of the plant configuration.
@@ -72,6 +75,9 @@ impl SimPlant {
     /// Exact state for logs.
     pub fn truth(&self) -> PlantTruth {
         let t = self.plant.truth();
-        PlantTruth { pos_w: t.body.pos_w, on_ground: t.on_ground }
+        PlantTruth {
+            pos_w: t.body.pos_w,
+            on_ground: t.on_ground,
+        }
     }
 }

@@ -70,7 +70,11 @@ mod tests {
 
     #[test]
     fn landing_stops_and_levels_keeping_heading() {
-        let c = Contact { ground_z_m: 0.0, gear_height_m: 0.1, ceiling_z_m: None };
+        let c = Contact {
+            ground_z_m: 0.0,
+            gear_height_m: 0.1,
+            ceiling_z_m: None,
+        };
         let mut s = state(-0.09, 0.5);
         assert!(c.resolve_ground(&mut s));
         assert_eq!(s.pos_w.z, -0.1);
@@ -81,7 +85,11 @@ mod tests {
 
     #[test]
     fn climbing_or_airborne_is_untouched() {
-        let c = Contact { ground_z_m: 0.0, gear_height_m: 0.1, ceiling_z_m: None };
+        let c = Contact {
+            ground_z_m: 0.0,
+            gear_height_m: 0.1,
+            ceiling_z_m: None,
+        };
         let mut s = state(-0.0999, -0.01);
         let before = s;
         assert!(!c.resolve_ground(&mut s));
@@ -92,7 +100,11 @@ mod tests {
 
     #[test]
     fn ceiling_stops_upward_motion() {
-        let c = Contact { ground_z_m: 0.0, gear_height_m: 0.1, ceiling_z_m: Some(-3.0) };
+        let c = Contact {
+            ground_z_m: 0.0,
+            gear_height_m: 0.1,
+            ceiling_z_m: Some(-3.0),
+        };
         let mut s = state(-2.9, -1.0);
         assert!(c.resolve_ceiling(&mut s, -3.05));
         assert!((s.pos_w.z + 2.85).abs() < 1e-12);

@@ -48,19 +48,22 @@ impl Disturbance {
                     0.0
                 }
             }
-            DisturbanceKind::Sinusoid { frequency_hz, phase_rad } => {
-                (std::f64::consts::TAU * frequency_hz * t_s + phase_rad).sin()
-            }
+            DisturbanceKind::Sinusoid {
+                frequency_hz,
+                phase_rad,
+            } => (std::f64::consts::TAU * frequency_hz * t_s + phase_rad).sin(),
         }
     }
 }
 
 /// Sum of the components at `t_s` [s]: (force in world NED [N], torque in body FRD [N·m]).
 pub fn external_wrench(components: &[Disturbance], t_s: f64) -> (Vector3<f64>, Vector3<f64>) {
-    components.iter().fold((Vector3::zeros(), Vector3::zeros()), |(f, t), d| {
-        let s = d.scale(t_s);
-        (f + d.force_w * s, t + d.torque_b * s)
-    })
+    components
+        .iter()
+        .fold((Vector3::zeros(), Vector3::zeros()), |(f, t), d| {
+            let s = d.scale(t_s);
+            (f + d.force_w * s, t + d.torque_b * s)
+        })
 }
 
 /// Linear drag `f = −R D Rᵀ v` with D = diag(coefficients along body axes) [N·s/m];
@@ -76,14 +79,21 @@ mod tests {
 
     #[test]
     fn profiles_sum() {
-        let c = Disturbance { kind: DisturbanceKind::Constant, force_w: Vector3::new(0.5, 0.5, 0.0), torque_b: Vector3::zeros() };
+        let c = Disturbance {
+            kind: DisturbanceKind::Constant,
+            force_w: Vector3::new(0.5, 0.5, 0.0),
+            torque_b: Vector3::zeros(),
+        };
         let s = Disturbance {
             kind: DisturbanceKind::Step { start_s: 2.0 },
             force_w: Vector3::zeros(),
             torque_b: Vector3::new(0.0, 0.0, 0.2),
         };
         let w = Disturbance {
-            kind: DisturbanceKind::Sinusoid { frequency_hz: 1.0, phase_rad: 0.0 },
+            kind: DisturbanceKind::Sinusoid {
+                frequency_hz: 1.0,
+                phase_rad: 0.0,
+            },
             force_w: Vector3::new(0.0, 0.0, 1.0),
             torque_b: Vector3::zeros(),
         };

@@ -25,10 +25,16 @@ pub(crate) fn rotor_geometry(
 ) -> Result<Vec<RotorGeometry>, ParamsError> {
     let (rotors, base) = match (&r.ring, &r.rotor) {
         (Some(_), Some(_)) => {
-            return Err(check.error("rotors", "give either [rotors.ring] or [[rotors.rotor]], not both".to_string()))
+            return Err(check.error(
+                "rotors",
+                "give either [rotors.ring] or [[rotors.rotor]], not both".to_string(),
+            ))
         }
         (None, None) => {
-            return Err(check.error("rotors", "missing field: give [rotors.ring] or [[rotors.rotor]]".to_string()))
+            return Err(check.error(
+                "rotors",
+                "missing field: give [rotors.ring] or [[rotors.rotor]]".to_string(),
+            ))
         }
         (Some(ring), None) => {
             let count = required(check, ring.count, "rotors.ring.count")?;
@@ -36,13 +42,20 @@ pub(crate) fn rotor_geometry(
             let n = count as usize;
             let arm = positive(check, required(check, ring.arm, "rotors.ring.arm")?, "rotors.ring.arm")?;
             let first = finite(check, ring.first_angle.unwrap_or(0.0), "rotors.ring.first_angle")?.to_radians();
-            let first_sign = spin_sign(check, ring.first_spin.as_deref().unwrap_or("cw"), "rotors.ring.first_spin")?;
+            let first_sign = spin_sign(
+                check,
+                ring.first_spin.as_deref().unwrap_or("cw"),
+                "rotors.ring.first_spin",
+            )?;
             let z = finite(check, ring.z.unwrap_or(0.0), "rotors.ring.z")?;
             let rotors = (0..n)
                 .map(|k| {
                     let alpha = first + std::f64::consts::TAU * k as f64 / n as f64;
                     let sign = if k % 2 == 0 { first_sign } else { -first_sign };
-                    RotorGeometry { hub_b: hub(arm, alpha, z), reaction_sign: sign }
+                    RotorGeometry {
+                        hub_b: hub(arm, alpha, z),
+                        reaction_sign: sign,
+                    }
                 })
                 .collect::<Vec<_>>();
             (rotors, "rotors.ring.arm".to_string())
@@ -57,7 +70,10 @@ pub(crate) fn rotor_geometry(
                 let z = finite(check, f.z.unwrap_or(0.0), &field("z"))?;
                 let spin = required(check, f.spin.as_deref(), &field("spin"))?;
                 let sign = spin_sign(check, spin, &field("spin"))?;
-                rotors.push(RotorGeometry { hub_b: hub(arm, angle.to_radians(), z), reaction_sign: sign });
+                rotors.push(RotorGeometry {
+                    hub_b: hub(arm, angle.to_radians(), z),
+                    reaction_sign: sign,
+                });
             }
             (rotors, "rotors.rotor".to_string())
         }
@@ -84,7 +100,10 @@ fn hub(arm: f64, alpha: f64, z: f64) -> Vector3<f64> {
 
 fn check_count(check: &Checker, count: i64, field: &str) -> Result<(), ParamsError> {
     if count < MIN_ROTORS as i64 {
-        return Err(check.error(field, format!("{count} rotors: fewer than {MIN_ROTORS} cannot control thrust and three torques")));
+        return Err(check.error(
+            field,
+            format!("{count} rotors: fewer than {MIN_ROTORS} cannot control thrust and three torques"),
+        ));
     }
     if count > MAX_ROTORS as i64 {
         return Err(check.error(field, format!("{count} rotors: more than the supported {MAX_ROTORS}")));
@@ -96,7 +115,10 @@ fn spin_sign(check: &Checker, spin: &str, field: &str) -> Result<f64, ParamsErro
     match spin {
         "cw" => Ok(-1.0),
         "ccw" => Ok(1.0),
-        other => Err(check.error(field, format!("unknown spin \"{other}\"; expected \"cw\" or \"ccw\" (seen from above)"))),
+        other => Err(check.error(
+            field,
+            format!("unknown spin \"{other}\"; expected \"cw\" or \"ccw\" (seen from above)"),
+        )),
     }
 }
 
@@ -106,7 +128,11 @@ fn check_coplanar(check: &Checker, rotors: &[RotorGeometry], base: &str) -> Resu
         if (r.hub_b.z - z0).abs() > COPLANAR_TOLERANCE_M {
             return Err(check.error(
                 &format!("{base}[{i}].z"),
-                format!("rotor {} is not coplanar: z = {} m, rotor 1 has z = {z0} m", i + 1, r.hub_b.z),
+                format!(
+                    "rotor {} is not coplanar: z = {} m, rotor 1 has z = {z0} m",
+                    i + 1,
+                    r.hub_b.z
+                ),
             ));
         }
     }
@@ -118,7 +144,11 @@ fn check_overlap(check: &Checker, rotors: &[RotorGeometry], radius_m: f64, base:
         for (j, b) in rotors.iter().enumerate().skip(i + 1) {
             let gap = (a.hub_b - b.hub_b).norm();
             if gap < 2.0 * radius_m {
-                let field = if base.ends_with("arm") { base.to_string() } else { format!("{base}[{j}]") };
+                let field = if base.ends_with("arm") {
+                    base.to_string()
+                } else {
+                    format!("{base}[{j}]")
+                };
                 return Err(check.error(
                     &field,
                     format!(

@@ -125,7 +125,11 @@ impl PlantParams {
         let file: FileAirframe = toml::from_str(text).map_err(|e| check.syntax(text, &e))?;
         let vehicle = required(&check, file.vehicle, "vehicle")?;
         let mass_kg = positive(&check, required(&check, vehicle.mass, "vehicle.mass")?, "vehicle.mass")?;
-        let inertia = vec3(&check, required(&check, vehicle.inertia, "vehicle.inertia")?, "vehicle.inertia")?;
+        let inertia = vec3(
+            &check,
+            required(&check, vehicle.inertia, "vehicle.inertia")?,
+            "vehicle.inertia",
+        )?;
         let inertia_kg_m2 = check_inertia(&check, inertia)?;
         let gear_height_m = non_negative(&check, vehicle.gear_height.unwrap_or(0.0), "vehicle.gear_height")?;
         let rotors_file = required(&check, file.rotors, "rotors")?;
@@ -202,7 +206,10 @@ fn rotor_constants(check: &Checker, r: &FileRotors) -> Result<RotorConstants, Pa
     if c.omega_min_rad_s >= c.omega_max_rad_s {
         return Err(check.error(
             "rotors.omega_min",
-            format!("{} rad/s is not below omega_max = {} rad/s", c.omega_min_rad_s, c.omega_max_rad_s),
+            format!(
+                "{} rad/s is not below omega_max = {} rad/s",
+                c.omega_min_rad_s, c.omega_max_rad_s
+            ),
         ));
     }
     Ok(c)
@@ -215,7 +222,10 @@ fn ground_settings(
     radius_m: f64,
 ) -> Result<GroundSettings, ParamsError> {
     let Some(g) = g else {
-        return Ok(GroundSettings { plane_z_m: 0.0, effect: None });
+        return Ok(GroundSettings {
+            plane_z_m: 0.0,
+            effect: None,
+        });
     };
     let plane_z_m = finite(check, g.height.unwrap_or(0.0), "plant.ground.height")?;
     let cap = g.cap.unwrap_or(ProximityModel::DEFAULT_CAP);
@@ -230,7 +240,11 @@ fn ground_settings(
             };
             let body_distance = positive(check, g.body_distance.unwrap_or(arm), "plant.ground.body_distance")?;
             let body_gain = non_negative(check, g.body_gain.unwrap_or(0.0), "plant.ground.body_gain")?;
-            Some(ProximityLaw::Multirotor { spacing_m: spacing, body_distance_m: body_distance, body_gain })
+            Some(ProximityLaw::Multirotor {
+                spacing_m: spacing,
+                body_distance_m: body_distance,
+                body_gain,
+            })
         }
         other => {
             return Err(check.error(
@@ -241,8 +255,7 @@ fn ground_settings(
     };
     let effect = match law {
         Some(law) => Some(
-            ProximityModel::new(law, radius_m, cap, g.cutoff)
-                .map_err(|e| proximity_error(check, "plant.ground", e))?,
+            ProximityModel::new(law, radius_m, cap, g.cutoff).map_err(|e| proximity_error(check, "plant.ground", e))?,
         ),
         None => None,
     };
@@ -250,18 +263,28 @@ fn ground_settings(
 }
 
 fn ceiling_settings(check: &Checker, plant: &FilePlant, radius_m: f64) -> Result<Option<CeilingSettings>, ParamsError> {
-    let Some(c) = plant.ceiling.as_ref() else { return Ok(None) };
+    let Some(c) = plant.ceiling.as_ref() else {
+        return Ok(None);
+    };
     if !c.enabled.unwrap_or(true) {
         return Ok(None);
     }
-    let plane_z_m = finite(check, required(check, c.height, "plant.ceiling.height")?, "plant.ceiling.height")?;
+    let plane_z_m = finite(
+        check,
+        required(check, c.height, "plant.ceiling.height")?,
+        "plant.ceiling.height",
+    )?;
     let unconfirmed = c.k1.is_none() && c.k2.is_none();
     let k1 = positive(check, c.k1.unwrap_or(16.0), "plant.ceiling.k1")?;
     let k2 = non_negative(check, c.k2.unwrap_or(0.0), "plant.ceiling.k2")?;
     let cap = c.cap.unwrap_or(ProximityModel::DEFAULT_CAP);
     let effect = ProximityModel::new(ProximityLaw::Ceiling { k1, k2_m: k2 }, radius_m, cap, c.cutoff)
         .map_err(|e| proximity_error(check, "plant.ceiling", e))?;
-    Ok(Some(CeilingSettings { plane_z_m, effect, unconfirmed }))
+    Ok(Some(CeilingSettings {
+        plane_z_m,
+        effect,
+        unconfirmed,
+    }))
 }
 
 fn proximity_error(check: &Checker, table: &str, e: ProximityError) -> ParamsError {
@@ -269,7 +292,9 @@ fn proximity_error(check: &Checker, table: &str, e: ProximityError) -> ParamsErr
 }
 
 fn noise_params(check: &Checker, plant: &FilePlant) -> Result<NoiseParams, ParamsError> {
-    let Some(n) = plant.noise.as_ref() else { return Ok(NoiseParams::default()) };
+    let Some(n) = plant.noise.as_ref() else {
+        return Ok(NoiseParams::default());
+    };
     let sd = |v: Option<f64>, f: &str| non_negative(check, v.unwrap_or(0.0), f);
     Ok(NoiseParams {
         position_m: sd(n.position, "plant.noise.position")?,
@@ -281,7 +306,9 @@ fn noise_params(check: &Checker, plant: &FilePlant) -> Result<NoiseParams, Param
 }
 
 fn disturbances(check: &Checker, plant: &FilePlant) -> Result<Vec<Disturbance>, ParamsError> {
-    let Some(list) = plant.disturbance.as_ref() else { return Ok(Vec::new()) };
+    let Some(list) = plant.disturbance.as_ref() else {
+        return Ok(Vec::new());
+    };
     let mut out = Vec::with_capacity(list.len());
     for (i, d) in list.iter().enumerate() {
         let field = |f: &str| format!("plant.disturbance[{i}].{f}");
@@ -297,7 +324,11 @@ fn disturbances(check: &Checker, plant: &FilePlant) -> Result<Vec<Disturbance>, 
                 start_s: finite(check, required(check, d.start, &field("start"))?, &field("start"))?,
             },
             Some("sinusoid") => DisturbanceKind::Sinusoid {
-                frequency_hz: positive(check, required(check, d.frequency, &field("frequency"))?, &field("frequency"))?,
+                frequency_hz: positive(
+                    check,
+                    required(check, d.frequency, &field("frequency"))?,
+                    &field("frequency"),
+                )?,
                 phase_rad: finite(check, d.phase.unwrap_or(0.0), &field("phase"))?,
             },
             Some(other) => {
@@ -308,19 +339,29 @@ fn disturbances(check: &Checker, plant: &FilePlant) -> Result<Vec<Disturbance>, 
             }
             None => return Err(check.error(&field("kind"), "missing field".to_string())),
         };
-        out.push(Disturbance { kind, force_w, torque_b });
+        out.push(Disturbance {
+            kind,
+            force_w,
+            torque_b,
+        });
     }
     Ok(out)
 }
 
 fn initial_state(check: &Checker, plant: &FilePlant) -> Result<InitialState, ParamsError> {
     let Some(i) = plant.initial.as_ref() else {
-        return Ok(InitialState { pos_w: None, yaw_rad: 0.0 });
+        return Ok(InitialState {
+            pos_w: None,
+            yaw_rad: 0.0,
+        });
     };
     let pos_w = match i.position.clone() {
         Some(p) => Some(vec3(check, p, "plant.initial.position")?),
         None => None,
     };
     let yaw_deg = finite(check, i.yaw.unwrap_or(0.0), "plant.initial.yaw")?;
-    Ok(InitialState { pos_w, yaw_rad: yaw_deg.to_radians() })
+    Ok(InitialState {
+        pos_w,
+        yaw_rad: yaw_deg.to_radians(),
+    })
 }

@@ -87,7 +87,10 @@ impl Plant {
             gear_height_m: params.gear_height_m,
             ceiling_z_m: params.ceiling.as_ref().map(|c| c.plane_z_m),
         };
-        let pos_w = params.initial.pos_w.unwrap_or(Vector3::new(0.0, 0.0, contact.resting_z_m()));
+        let pos_w = params
+            .initial
+            .pos_w
+            .unwrap_or(Vector3::new(0.0, 0.0, contact.resting_z_m()));
         let body = RigidBodyState {
             pos_w,
             vel_w: Vector3::zeros(),
@@ -96,7 +99,10 @@ impl Plant {
         };
         let on_ground = pos_w.z >= contact.resting_z_m();
         Self {
-            mass: MassProperties { mass_kg: params.mass_kg, inertia_kg_m2: params.inertia_kg_m2 },
+            mass: MassProperties {
+                mass_kg: params.mass_kg,
+                inertia_kg_m2: params.inertia_kg_m2,
+            },
             motors: MotorBank::new(n, &params.rotor),
             command: vec![0.0; n],
             factor: vec![1.0; n],
@@ -126,8 +132,7 @@ impl Plant {
     /// Sets motor speeds directly, clamped to the motor limits [rad/s] (test and scenario set-up).
     pub fn set_motor_speeds(&mut self, omega_rad_s: &[f64]) {
         self.clamp_commands(omega_rad_s);
-        self.motors.plan(&self.command, &self.params.rotor, 0.0);
-        self.motors.commit();
+        self.motors.set(&self.command);
     }
 
     /// Current motor speeds [rad/s].
@@ -175,7 +180,11 @@ impl Plant {
     /// whole step (zero-order hold). Motor lag, ground/ceiling factors (evaluated at the start of
     /// the step), disturbances and drag enter the RK4 stages; contact is applied after.
     pub fn step(&mut self, omega_cmd_rad_s: &[f64], dt_s: f64) -> StepStatus {
-        let mut status = StepStatus { on_ground: self.on_ground, at_ceiling: self.at_ceiling, ..Default::default() };
+        let mut status = StepStatus {
+            on_ground: self.on_ground,
+            at_ceiling: self.at_ceiling,
+            ..Default::default()
+        };
         if !(dt_s.is_finite() && dt_s > 0.0 && dt_s <= MAX_DT_S) {
             status.dt_rejected = true;
             return status;
@@ -199,17 +208,28 @@ impl Plant {
                 _ => (motors.at_end(), t0 + dt_s),
             };
             let (thrust_b, rotor_torque_b) = rotor_wrench_b(&params.rotors, &rc, speeds, factor);
-            let (ext_f_w, ext_t_b) =
-                if params.disturbances.is_empty() { (Vector3::zeros(), Vector3::zeros()) } else { external_wrench(&params.disturbances, t) };
+            let (ext_f_w, ext_t_b) = if params.disturbances.is_empty() {
+                (Vector3::zeros(), Vector3::zeros())
+            } else {
+                external_wrench(&params.disturbances, t)
+            };
             let r_wb = s.q_wb.to_rotation_matrix().into_inner();
             let drag_w = linear_drag_w(&params.linear_drag_n_s_m, &r_wb, &s.vel_w);
-            StageLoads { force_w: r_wb * thrust_b + ext_f_w + drag_w, torque_b: rotor_torque_b + ext_t_b }
+            StageLoads {
+                force_w: r_wb * thrust_b + ext_f_w + drag_w,
+                torque_b: rotor_torque_b + ext_t_b,
+            }
         };
         let mut next = self.mass.rk4_step(&self.body, dt_s, loads);
         self.motors.commit();
         self.elapsed_ns += (dt_s * 1e9).round() as u64;
 
-        let finite = next.pos_w.iter().chain(next.vel_w.iter()).chain(next.omega_b.iter()).all(|x| x.is_finite())
+        let finite = next
+            .pos_w
+            .iter()
+            .chain(next.vel_w.iter())
+            .chain(next.omega_b.iter())
+            .all(|x| x.is_finite())
             && next.q_wb.coords.iter().all(|x| x.is_finite());
         if !finite {
             status.state_non_finite = true;
@@ -265,6 +285,10 @@ impl Plant {
 
     fn top_hub_z(&self, s: &RigidBodyState) -> f64 {
         let r_wb = s.q_wb.to_rotation_matrix();
-        self.params.rotors.iter().map(|r| s.pos_w.z + (r_wb * r.hub_b).z).fold(f64::INFINITY, f64::min)
+        self.params
+            .rotors
+            .iter()
+            .map(|r| s.pos_w.z + (r_wb * r.hub_b).z)
+            .fold(f64::INFINITY, f64::min)
     }
 }

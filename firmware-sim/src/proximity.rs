@@ -81,14 +81,25 @@ impl ProximityModel {
         if !(cap > 1.0 && cap.is_finite()) {
             return Err(ProximityError::Cap(cap));
         }
-        let mut model = Self { law, radius_m, h_min_m: 0.0, h_cut_m: f64::INFINITY, cap };
+        let mut model = Self {
+            law,
+            radius_m,
+            h_min_m: 0.0,
+            h_cut_m: f64::INFINITY,
+            cap,
+        };
         model.h_min_m = match law {
             ProximityLaw::CheesemanBennett => 0.5 * radius_m,
             _ => (0.5 * radius_m).max(1.2 * model.singularity_m()),
         };
         model.h_cut_m = match cutoff_m {
             Some(c) if c.is_finite() && c > model.h_min_m => c,
-            Some(c) => return Err(ProximityError::Cutoff { cutoff: c, h_min: model.h_min_m }),
+            Some(c) => {
+                return Err(ProximityError::Cutoff {
+                    cutoff: c,
+                    h_min: model.h_min_m,
+                })
+            }
             None => model.default_cutoff_m(),
         };
         Ok(model)
@@ -143,7 +154,11 @@ impl ProximityModel {
                 let a = rho / (4.0 * h);
                 1.0 - a * a
             }
-            ProximityLaw::Multirotor { spacing_m: d, body_distance_m: b, body_gain: kb } => {
+            ProximityLaw::Multirotor {
+                spacing_m: d,
+                body_distance_m: b,
+                body_gain: kb,
+            } => {
                 let a = rho / (4.0 * h);
                 let r2 = rho * rho;
                 let h2 = 4.0 * h * h;
@@ -257,18 +272,35 @@ mod tests {
     fn multirotor_matches_reference_table() {
         let rho = 0.127;
         let l = 0.25;
-        let cases = [(0.0, 1.0, 1.103), (1.0, 1.0, 1.225), (2.0, 1.0, 1.378), (0.0, 2.0, 1.040), (1.0, 5.0, 1.019)];
+        let cases = [
+            (0.0, 1.0, 1.103),
+            (1.0, 1.0, 1.225),
+            (2.0, 1.0, 1.378),
+            (0.0, 2.0, 1.040),
+            (1.0, 5.0, 1.019),
+        ];
         for (kb, z_over_rho, expected) in cases {
-            let law = ProximityLaw::Multirotor { spacing_m: 2f64.sqrt() * l, body_distance_m: l, body_gain: kb };
+            let law = ProximityLaw::Multirotor {
+                spacing_m: 2f64.sqrt() * l,
+                body_distance_m: l,
+                body_gain: kb,
+            };
             let m = ProximityModel::new(law, rho, 2.0, None).unwrap();
             let f = m.factor(z_over_rho * rho);
-            assert!((f - expected).abs() < 1.5e-3, "K_b {kb} z/ρ {z_over_rho}: {f} vs {expected}");
+            assert!(
+                (f - expected).abs() < 1.5e-3,
+                "K_b {kb} z/ρ {z_over_rho}: {f} vs {expected}"
+            );
         }
     }
 
     #[test]
     fn multirotor_singularity_moves_up() {
-        let law = ProximityLaw::Multirotor { spacing_m: 0.3536, body_distance_m: 0.25, body_gain: 0.0 };
+        let law = ProximityLaw::Multirotor {
+            spacing_m: 0.3536,
+            body_distance_m: 0.25,
+            body_gain: 0.0,
+        };
         let m = ProximityModel::new(law, 0.127, 2.0, None).unwrap();
         assert!(m.clamp_height_m() >= 0.5 * 0.127);
         assert!(m.cutoff_m() > 10.0 * 0.127);

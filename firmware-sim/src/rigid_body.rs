@@ -52,7 +52,12 @@ struct Raw {
 
 impl Raw {
     fn plus(&self, d: &Raw, h: f64) -> Raw {
-        Raw { pos: self.pos + d.pos * h, vel: self.vel + d.vel * h, quat: self.quat + d.quat * h, omega: self.omega + d.omega * h }
+        Raw {
+            pos: self.pos + d.pos * h,
+            vel: self.vel + d.vel * h,
+            quat: self.quat + d.quat * h,
+            omega: self.omega + d.omega * h,
+        }
     }
 
     /// Attitude of a stage: the normalised quaternion (RK4 stages drift off the unit sphere).
@@ -69,7 +74,12 @@ impl MassProperties {
         let omega_dot = (loads.torque_b - w.cross(&iw)).component_div(i);
         let quat_dot = s.quat * Quaternion::from_imag(w) * 0.5;
         let vel_dot = Vector3::new(0.0, 0.0, GRAVITY_M_S2) + loads.force_w / self.mass_kg;
-        Raw { pos: s.vel, vel: vel_dot, quat: quat_dot, omega: omega_dot }
+        Raw {
+            pos: s.vel,
+            vel: vel_dot,
+            quat: quat_dot,
+            omega: omega_dot,
+        }
     }
 
     /// One classical RK4 step of length `dt_s` [s]. `loads(stage, state)` gives the loads at
@@ -80,9 +90,19 @@ impl MassProperties {
         dt_s: f64,
         mut loads: impl FnMut(usize, &RigidBodyState) -> StageLoads,
     ) -> RigidBodyState {
-        let x0 = Raw { pos: s.pos_w, vel: s.vel_w, quat: *s.q_wb.quaternion(), omega: s.omega_b };
+        let x0 = Raw {
+            pos: s.pos_w,
+            vel: s.vel_w,
+            quat: *s.q_wb.quaternion(),
+            omega: s.omega_b,
+        };
         let mut eval = |stage: usize, x: &Raw| {
-            let view = RigidBodyState { pos_w: x.pos, vel_w: x.vel, q_wb: x.attitude(), omega_b: x.omega };
+            let view = RigidBodyState {
+                pos_w: x.pos,
+                vel_w: x.vel,
+                q_wb: x.attitude(),
+                omega_b: x.omega,
+            };
             self.derivative(x, &loads(stage, &view))
         };
         let k1 = eval(0, &x0);
@@ -96,7 +116,12 @@ impl MassProperties {
             quat: x0.quat + (k1.quat + (k2.quat + k3.quat) * 2.0 + k4.quat) * h6,
             omega: x0.omega + (k1.omega + (k2.omega + k3.omega) * 2.0 + k4.omega) * h6,
         };
-        RigidBodyState { pos_w: x1.pos, vel_w: x1.vel, q_wb: x1.attitude(), omega_b: x1.omega }
+        RigidBodyState {
+            pos_w: x1.pos,
+            vel_w: x1.vel,
+            q_wb: x1.attitude(),
+            omega_b: x1.omega,
+        }
     }
 }
 
@@ -105,12 +130,18 @@ mod tests {
     use super::*;
 
     fn free(_: usize, _: &RigidBodyState) -> StageLoads {
-        StageLoads { force_w: Vector3::zeros(), torque_b: Vector3::zeros() }
+        StageLoads {
+            force_w: Vector3::zeros(),
+            torque_b: Vector3::zeros(),
+        }
     }
 
     #[test]
     fn free_fall_is_exact() {
-        let mp = MassProperties { mass_kg: 1.0, inertia_kg_m2: Vector3::new(1.0, 1.0, 1.0) };
+        let mp = MassProperties {
+            mass_kg: 1.0,
+            inertia_kg_m2: Vector3::new(1.0, 1.0, 1.0),
+        };
         let mut s = RigidBodyState {
             pos_w: Vector3::zeros(),
             vel_w: Vector3::zeros(),
@@ -126,7 +157,10 @@ mod tests {
 
     #[test]
     fn torque_free_rotation_keeps_angular_momentum_and_energy() {
-        let mp = MassProperties { mass_kg: 1.0, inertia_kg_m2: Vector3::new(0.03, 0.04, 0.06) };
+        let mp = MassProperties {
+            mass_kg: 1.0,
+            inertia_kg_m2: Vector3::new(0.03, 0.04, 0.06),
+        };
         let mut s = RigidBodyState {
             pos_w: Vector3::zeros(),
             vel_w: Vector3::zeros(),
@@ -139,7 +173,11 @@ mod tests {
         for _ in 0..10_000 {
             s = mp.rk4_step(&s, 1e-3, free);
         }
-        assert!((momentum_w(&s) - h0).norm() / h0.norm() < 1e-9, "{}", (momentum_w(&s) - h0).norm());
+        assert!(
+            (momentum_w(&s) - h0).norm() / h0.norm() < 1e-9,
+            "{}",
+            (momentum_w(&s) - h0).norm()
+        );
         assert!((energy(&s) - e0).abs() / e0 < 1e-9);
         assert!((s.q_wb.quaternion().norm() - 1.0).abs() < 1e-15);
     }

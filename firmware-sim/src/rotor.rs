@@ -45,7 +45,12 @@ impl Decay {
 impl MotorBank {
     /// `n` motors at rest.
     pub fn new(n: usize, c: &RotorConstants) -> Self {
-        Self { speeds: vec![0.0; n], at_half: vec![0.0; n], at_end: vec![0.0; n], decay: Decay::new(c, 1e-3) }
+        Self {
+            speeds: vec![0.0; n],
+            at_half: vec![0.0; n],
+            at_end: vec![0.0; n],
+            decay: Decay::new(c, 1e-3),
+        }
     }
 
     /// Current motor speeds [rad/s].
@@ -71,9 +76,20 @@ impl MotorBank {
         }
         let d = self.decay;
         for (i, (&w0, &wc)) in self.speeds.iter().zip(cmd).enumerate() {
-            let (half, full) = if wc >= w0 { (d.up_half, d.up_full) } else { (d.down_half, d.down_full) };
+            let (half, full) = if wc >= w0 {
+                (d.up_half, d.up_full)
+            } else {
+                (d.down_half, d.down_full)
+            };
             self.at_half[i] = wc + (w0 - wc) * half;
             self.at_end[i] = wc + (w0 - wc) * full;
+        }
+    }
+
+    /// Sets the current speeds directly [rad/s] (already clamped).
+    pub fn set(&mut self, omega_rad_s: &[f64]) {
+        for (s, w) in self.speeds.iter_mut().zip(omega_rad_s) {
+            *s = *w;
         }
     }
 
@@ -146,7 +162,10 @@ mod tests {
     #[test]
     fn wrench_of_single_rotor() {
         let c = constants(0.0, 0.0);
-        let r = [RotorGeometry { hub_b: Vector3::new(0.2, 0.0, 0.0), reaction_sign: -1.0 }];
+        let r = [RotorGeometry {
+            hub_b: Vector3::new(0.2, 0.0, 0.0),
+            reaction_sign: -1.0,
+        }];
         let (f, t) = rotor_wrench_b(&r, &c, &[100.0], &[1.0]);
         assert!((f.z + 0.1).abs() < 1e-12);
         // A rotor ahead of the CoM pitches the nose up: positive τy in FRD.

@@ -11,11 +11,17 @@ pub(crate) struct Checker {
 
 impl Checker {
     pub(crate) fn new(origin: &str) -> Self {
-        Self { origin: origin.to_string() }
+        Self {
+            origin: origin.to_string(),
+        }
     }
 
     pub(crate) fn error(&self, field: &str, reason: String) -> ParamsError {
-        ParamsError { origin: self.origin.clone(), field: field.to_string(), reason }
+        ParamsError {
+            origin: self.origin.clone(),
+            field: field.to_string(),
+            reason,
+        }
     }
 
     /// A TOML syntax or schema error, located by line.

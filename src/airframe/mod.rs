@@ -34,7 +34,11 @@ pub struct AirframeError {
 
 impl AirframeError {
     pub(crate) fn new(origin: &str, field: &str, reason: String) -> Self {
-        Self { origin: origin.to_string(), field: field.to_string(), reason }
+        Self {
+            origin: origin.to_string(),
+            field: field.to_string(),
+            reason,
+        }
     }
 }
 
@@ -119,21 +123,30 @@ impl Airframe {
         let f = Fields(origin);
         let file: AirframeFile = toml::from_str(text).map_err(|e| f.syntax(text, &e))?;
         let vehicle = file.vehicle.ok_or_else(|| f.missing("vehicle"))?;
-        let belief = file.fc.unwrap_or(schema::BeliefTable { mass: None, inertia: None });
+        let belief = file.fc.unwrap_or(schema::BeliefTable {
+            mass: None,
+            inertia: None,
+        });
         let (mass, mass_field) = match belief.mass {
             Some(m) => (m, "fc.mass"),
             None => (vehicle.mass.ok_or_else(|| f.missing("vehicle.mass"))?, "vehicle.mass"),
         };
         let (inertia, inertia_field) = match belief.inertia {
             Some(i) => (i, "fc.inertia"),
-            None => (vehicle.inertia.ok_or_else(|| f.missing("vehicle.inertia"))?, "vehicle.inertia"),
+            None => (
+                vehicle.inertia.ok_or_else(|| f.missing("vehicle.inertia"))?,
+                "vehicle.inertia",
+            ),
         };
         let rotors = file.rotors.ok_or_else(|| f.missing("rotors"))?;
         let rotor_radius_m = f.positive(rotors.radius, "rotors.radius")?;
         let omega_min_rad_s = f.non_negative(rotors.omega_min.unwrap_or(0.0), "rotors.omega_min")?;
         let omega_max_rad_s = f.positive(rotors.omega_max, "rotors.omega_max")?;
         if omega_min_rad_s >= omega_max_rad_s {
-            return Err(f.bad("rotors.omega_min", format!("{omega_min_rad_s} rad/s is not below omega_max")));
+            return Err(f.bad(
+                "rotors.omega_min",
+                format!("{omega_min_rad_s} rad/s is not below omega_max"),
+            ));
         }
         let airframe = Self {
             name: file.name.unwrap_or_else(|| origin.to_string()),
@@ -168,7 +181,11 @@ impl Airframe {
             if (a.z_m - z0).abs() > 1e-6 {
                 return Err(f.bad(
                     "rotors",
-                    format!("rotor {} is not coplanar with rotor 1 (z = {} m vs {z0} m); allocation needs coplanar rotors", i + 1, a.z_m),
+                    format!(
+                        "rotor {} is not coplanar with rotor 1 (z = {} m vs {z0} m); allocation needs coplanar rotors",
+                        i + 1,
+                        a.z_m
+                    ),
                 ));
             }
             for (j, b) in self.rotors.iter().enumerate().skip(i + 1) {
@@ -195,14 +212,21 @@ impl Airframe {
 /// spins alternating from rotor 1).
 fn rotor_defs(f: &Fields, r: &RotorsTable) -> Result<Vec<RotorDef>, AirframeError> {
     let defs = match (&r.ring, &r.rotor) {
-        (Some(_), Some(_)) => return Err(f.bad("rotors", "give either [rotors.ring] or [[rotors.rotor]], not both".into())),
+        (Some(_), Some(_)) => {
+            return Err(f.bad(
+                "rotors",
+                "give either [rotors.ring] or [[rotors.rotor]], not both".into(),
+            ))
+        }
         (None, None) => return Err(f.bad("rotors", "missing field: give [rotors.ring] or [[rotors.rotor]]".into())),
         (Some(ring), None) => {
             let count = ring.count.ok_or_else(|| f.missing("rotors.ring.count"))?;
             f.count(count, "rotors.ring.count")?;
             let n = count as usize;
             let arm = f.positive(ring.arm, "rotors.ring.arm")?;
-            let first = f.finite(ring.first_angle.unwrap_or(0.0), "rotors.ring.first_angle")?.to_radians();
+            let first = f
+                .finite(ring.first_angle.unwrap_or(0.0), "rotors.ring.first_angle")?
+                .to_radians();
             let first_spin = f.spin(ring.first_spin.as_deref().unwrap_or("cw"), "rotors.ring.first_spin")?;
             let other = match first_spin {
                 Spin::Clockwise => Spin::CounterClockwise,
@@ -296,7 +320,10 @@ impl Fields<'_> {
 
     fn count(&self, n: i64, field: &str) -> Result<(), AirframeError> {
         if n < MIN_ROTORS as i64 {
-            Err(self.bad(field, format!("{n} rotors: fewer than {MIN_ROTORS} cannot produce thrust and three torques")))
+            Err(self.bad(
+                field,
+                format!("{n} rotors: fewer than {MIN_ROTORS} cannot produce thrust and three torques"),
+            ))
         } else if n > MAX_ROTORS as i64 {
             Err(self.bad(field, format!("{n} rotors: more than the supported {MAX_ROTORS}")))
         } else {
@@ -324,7 +351,10 @@ mod tests {
 
     #[test]
     fn fc_belief_overrides_true_mass() {
-        let text = format!("{}\n[fc]\nmass = 1.5\n", preset_text("fsr_quad").unwrap().replace("mass = 1.5 ", "mass = 1.7 "));
+        let text = format!(
+            "{}\n[fc]\nmass = 1.5\n",
+            preset_text("fsr_quad").unwrap().replace("mass = 1.5 ", "mass = 1.7 ")
+        );
         let af = Airframe::from_toml_str(&text, "x").unwrap();
         assert_eq!(af.mass_kg, 1.5);
     }

@@ -33,7 +33,11 @@ mod tests {
                     continue;
                 }
                 let comment = code.split_once('#').map(|(_, c)| c).unwrap_or("");
-                assert!(comment.contains('[') && comment.contains(']'), "{name}.toml line {}: no unit: {line}", i + 1);
+                assert!(
+                    comment.contains('[') && comment.contains(']'),
+                    "{name}.toml line {}: no unit: {line}",
+                    i + 1
+                );
             }
         }
     }

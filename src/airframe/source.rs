@@ -17,11 +17,17 @@ impl AirframeSource {
     /// Resolves `name_or_path`: a preset name first, then a file.
     pub fn resolve(name_or_path: &str) -> Result<Self, AirframeError> {
         if let Some(text) = preset_text(name_or_path) {
-            return Ok(Self { origin: name_or_path.to_string(), text: text.to_string() });
+            return Ok(Self {
+                origin: name_or_path.to_string(),
+                text: text.to_string(),
+            });
         }
         let path = std::path::Path::new(name_or_path);
         match std::fs::read_to_string(path) {
-            Ok(text) => Ok(Self { origin: name_or_path.to_string(), text }),
+            Ok(text) => Ok(Self {
+                origin: name_or_path.to_string(),
+                text,
+            }),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound && !name_or_path.contains(['/', '.']) => {
                 Err(AirframeError::new(
                     name_or_path,
@@ -29,7 +35,11 @@ impl AirframeSource {
                     format!("no preset of that name ({}) and no such file", preset_names()),
                 ))
             }
-            Err(e) => Err(AirframeError::new(name_or_path, "(file)", format!("cannot read the file: {e}"))),
+            Err(e) => Err(AirframeError::new(
+                name_or_path,
+                "(file)",
+                format!("cannot read the file: {e}"),
+            )),
         }
     }
 }

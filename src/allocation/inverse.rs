@@ -13,7 +13,9 @@ pub fn min_norm_inverse(g: &DMatrix<f64>) -> Result<DMatrix<f64>, AllocationErro
     // Rows carry different units (N vs N·m); judge conditioning with each row scaled to unit norm.
     let scales: Vec<f64> = g.row_iter().map(|r| r.norm()).collect();
     if scales.iter().any(|s| *s <= 0.0 || !s.is_finite()) {
-        return Err(AllocationError::Singular { condition: f64::INFINITY });
+        return Err(AllocationError::Singular {
+            condition: f64::INFINITY,
+        });
     }
     let mut normalised = g.clone();
     for (mut row, s) in normalised.row_iter_mut().zip(&scales) {
@@ -21,12 +23,16 @@ pub fn min_norm_inverse(g: &DMatrix<f64>) -> Result<DMatrix<f64>, AllocationErro
     }
     let gram = &normalised * normalised.transpose();
     let eig = gram.clone().symmetric_eigenvalues();
-    let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), e| (lo.min(*e), hi.max(*e)));
+    let (lo, hi) = eig
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), e| (lo.min(*e), hi.max(*e)));
     let condition = if lo > 0.0 { hi / lo } else { f64::INFINITY };
     if condition > MAX_CONDITION {
         return Err(AllocationError::Singular { condition });
     }
-    let gram_inv = (g * g.transpose()).try_inverse().ok_or(AllocationError::Singular { condition })?;
+    let gram_inv = (g * g.transpose())
+        .try_inverse()
+        .ok_or(AllocationError::Singular { condition })?;
     Ok(g.transpose() * gram_inv)
 }
 

@@ -128,7 +128,11 @@ impl Allocator {
             a,
             g_rows,
             a_cols,
-            bounds: SpeedBox { n, lo: af.omega_min_rad_s.powi(2), hi },
+            bounds: SpeedBox {
+                n,
+                lo: af.omega_min_rad_s.powi(2),
+                hi,
+            },
         })
     }
 
@@ -155,7 +159,10 @@ impl Allocator {
     /// `G_q ω²` for squared speeds `omega_sq` [(rad/s)²].
     pub fn wrench_of(&self, omega_sq: &[f64]) -> Wrench {
         let row = |k: usize| self.g_rows[k].iter().zip(omega_sq).map(|(g, w)| g * w).sum::<f64>();
-        Wrench { thrust_n: row(0), torque_b: Vec3::new(row(1), row(2), row(3)) }
+        Wrench {
+            thrust_n: row(0),
+            torque_b: Vec3::new(row(1), row(2), row(3)),
+        }
     }
 
     /// Min-norm allocation of `w` with the saturation policy of control.md §3.4. A non-finite
@@ -167,9 +174,19 @@ impl Allocator {
             saturation::allocate(&self.a_cols, self.bounds, self.thrust_max_n, request, &mut omega_sq)
         } else {
             saturation::allocate(&self.a_cols, self.bounds, self.thrust_max_n, [0.0; 4], &mut omega_sq);
-            Saturation { yaw_scale: 0.0, thrust_shift_n: 0.0, roll_pitch_scale: 0.0, clipped: u32::MAX >> (32 - self.bounds.n) }
+            Saturation {
+                yaw_scale: 0.0,
+                thrust_shift_n: 0.0,
+                roll_pitch_scale: 0.0,
+                clipped: u32::MAX >> (32 - self.bounds.n),
+            }
         };
         let n = self.bounds.n;
-        Allocation { n, omega_sq, applied: self.wrench_of(&omega_sq[..n]), saturation }
+        Allocation {
+            n,
+            omega_sq,
+            applied: self.wrench_of(&omega_sq[..n]),
+            saturation,
+        }
     }
 }

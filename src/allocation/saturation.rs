@@ -26,7 +26,12 @@ pub struct Saturation {
 
 impl Saturation {
     /// Nothing given up.
-    pub const NONE: Self = Self { yaw_scale: 1.0, thrust_shift_n: 0.0, roll_pitch_scale: 1.0, clipped: 0 };
+    pub const NONE: Self = Self {
+        yaw_scale: 1.0,
+        thrust_shift_n: 0.0,
+        roll_pitch_scale: 1.0,
+        clipped: 0,
+    };
 
     /// True when any part of the requested wrench was not delivered.
     pub fn is_saturated(&self) -> bool {
@@ -48,7 +53,7 @@ pub(crate) struct SpeedBox {
 impl SpeedBox {
     /// Round-off allowance when testing feasibility [(rad/s)²].
     fn tol(&self) -> f64 {
-        1e-9 * self.hi
+        1e-12 * self.hi
     }
 
     /// Interval of k for which `base + k dir` stays in the box, or None.
@@ -147,5 +152,10 @@ pub(crate) fn allocate(
             clipped |= 1 << i;
         }
     }
-    Saturation { yaw_scale, thrust_shift_n: u - u_req, roll_pitch_scale: rp_scale, clipped }
+    Saturation {
+        yaw_scale,
+        thrust_shift_n: u - u_req,
+        roll_pitch_scale: rp_scale,
+        clipped,
+    }
 }

@@ -27,7 +27,13 @@ pub struct HoverGains {
 impl Default for HoverGains {
     /// Position ω_n = 2 rad/s, ζ = 1; attitude ω_n = 12 rad/s, ζ = 1; tilt ≤ 35°.
     fn default() -> Self {
-        Self { kp_per_s2: 4.0, kd_per_s: 4.0, k_att_per_s2: 144.0, k_rate_per_s: 24.0, tilt_max_rad: 35f64.to_radians() }
+        Self {
+            kp_per_s2: 4.0,
+            kd_per_s: 4.0,
+            k_att_per_s2: 144.0,
+            k_rate_per_s: 24.0,
+            tilt_max_rad: 35f64.to_radians(),
+        }
     }
 }
 
@@ -76,11 +82,21 @@ mod tests {
     use super::*;
 
     fn ctrl() -> HoverController {
-        HoverController { mass_kg: 1.5, inertia_kg_m2: Vec3::new(0.03, 0.03, 0.05), gains: HoverGains::default() }
+        HoverController {
+            mass_kg: 1.5,
+            inertia_kg_m2: Vec3::new(0.03, 0.03, 0.05),
+            gains: HoverGains::default(),
+        }
     }
 
     fn at(pos: Vec3) -> VehicleState {
-        VehicleState { t_s: 0.0, pos_w: pos, vel_w: Vec3::zeros(), r_wb: Mat3::identity(), omega_b: Vec3::zeros() }
+        VehicleState {
+            t_s: 0.0,
+            pos_w: pos,
+            vel_w: Vec3::zeros(),
+            r_wb: Mat3::identity(),
+            omega_b: Vec3::zeros(),
+        }
     }
 
     #[test]

@@ -18,6 +18,11 @@ pub struct FlatSetpoint {
 impl FlatSetpoint {
     /// Hold `pos_w` [m] at heading `yaw_rad` [rad].
     pub fn hold(pos_w: Vec3, yaw_rad: f64) -> Self {
-        Self { pos_w, vel_w: Vec3::zeros(), acc_w: Vec3::zeros(), yaw_rad }
+        Self {
+            pos_w,
+            vel_w: Vec3::zeros(),
+            acc_w: Vec3::zeros(),
+            yaw_rad,
+        }
     }
 }

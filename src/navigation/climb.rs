@@ -29,7 +29,12 @@ impl ClimbProfile {
         let ds = 30.0 * tau * tau * (1.0 - tau).powi(2) / big_t;
         let dds = 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / (big_t * big_t);
         let d = self.target_w - self.start_w;
-        FlatSetpoint { pos_w: self.start_w + d * s, vel_w: d * ds, acc_w: d * dds, yaw_rad: self.yaw_rad }
+        FlatSetpoint {
+            pos_w: self.start_w + d * s,
+            vel_w: d * ds,
+            acc_w: d * dds,
+            yaw_rad: self.yaw_rad,
+        }
     }
 }
 
@@ -39,7 +44,12 @@ mod tests {
 
     #[test]
     fn rest_to_rest_and_derivatives_consistent() {
-        let p = ClimbProfile { start_w: Vec3::zeros(), target_w: Vec3::new(0.0, 0.0, -2.0), duration_s: 4.0, yaw_rad: 0.0 };
+        let p = ClimbProfile {
+            start_w: Vec3::zeros(),
+            target_w: Vec3::new(0.0, 0.0, -2.0),
+            duration_s: 4.0,
+            yaw_rad: 0.0,
+        };
         assert_eq!(p.setpoint(0.0).vel_w, Vec3::zeros());
         assert_eq!(p.setpoint(4.0).pos_w, p.target_w);
         let h = 1e-6;
