@@ -11,6 +11,8 @@
 //! - [`airframe`]: the FC's view of an airframe file (presets, validation, errors naming the field).
 //! - [`allocation`]: G_q from the airframe, min-norm inverse, saturation policy (control.md §3).
 //! - [`control`]: vehicle state, setpoints and controllers (the hover controller for now).
+//! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
+//! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
 //! - [`navigation`]: setpoint generators (take-off climb).
 //! - [`report`]: the `alloc` command's output.
 //! - [`sitl`]: the only seam between the flight controller and the plant.
@@ -21,8 +23,10 @@
 pub mod airframe;
 pub mod allocation;
 pub mod control;
+pub mod estimation;
 pub mod headless;
 pub mod math;
 pub mod navigation;
 pub mod report;
+pub mod rpy;
 pub mod sitl;
