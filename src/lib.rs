@@ -14,7 +14,7 @@
 //! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
 //! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
 //! - [`navigation`]: setpoint generators (take-off climb).
-//! - [`report`]: the `alloc` command's output.
+//! - [`report`]: what the `alloc` and `gains` commands print.
 //! - [`sitl`]: the only seam between the flight controller and the plant.
 //! - [`headless`]: a headless flight in lockstep with the plant (runtime layer: wall clock, files).
 #![warn(missing_docs)]

@@ -6,8 +6,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::allocation::Allocator;
+use rotorpilot::estimation::ChebyshevDesign;
 use rotorpilot::headless::{fly, HeadlessOptions};
-use rotorpilot::report::AllocReport;
+use rotorpilot::report::{AllocReport, GainsReport};
 
 /// MAVLink-speaking multirotor flight-controller emulator.
 #[derive(Debug, Parser)]
@@ -45,6 +46,25 @@ enum Command {
         #[arg(long)]
         airframe: String,
         /// Print one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Design wrench-estimator gains from an analog Chebyshev type-I low-pass (control.md §7.3).
+    #[command(allow_negative_numbers = true)]
+    Gains {
+        /// Estimator (filter) order r.
+        #[arg(long)]
+        order: usize,
+        /// Passband ripple [dB].
+        #[arg(long = "ripple-db")]
+        ripple_db: f64,
+        /// Passband edge [rad/s].
+        #[arg(long)]
+        wp: f64,
+        /// Estimator sample time [s].
+        #[arg(long, default_value_t = 0.001)]
+        ts: f64,
+        /// Print one JSON object.
         #[arg(long)]
         json: bool,
     },
@@ -97,6 +117,25 @@ fn execute(command: Command) -> Result<String, String> {
                 serde_json::to_string(&report).map_err(|e| e.to_string())
             } else {
                 Ok(report.to_table())
+            }
+        }
+        Command::Gains {
+            order,
+            ripple_db,
+            wp,
+            ts,
+            json,
+        } => {
+            let design = ChebyshevDesign {
+                order,
+                ripple_db,
+                passband_rad_s: wp,
+            };
+            let report = GainsReport::new(&design, ts).map_err(|e| e.to_string())?;
+            if json {
+                serde_json::to_string(&report).map_err(|e| e.to_string())
+            } else {
+                Ok(report.to_text())
             }
         }
     }

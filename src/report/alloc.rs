@@ -1,4 +1,4 @@
-//! What `rotorpilot alloc` prints: G_q of an airframe as JSON or as a table.
+//! `rotorpilot alloc`: G_q of an airframe as JSON or as a table.
 
 use serde::Serialize;
 
