@@ -159,9 +159,10 @@ pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary
         plant.step(alloc.omega().as_slice(), opts.dt_s);
         max_tilt = max_tilt.max(state.tilt_rad());
         saturated_ticks += u64::from(alloc.saturation.is_saturated());
-        last_error = state.pos_w - sp.pos_w;
+        let reference = sp.pos_w.unwrap_or(state.pos_w);
+        last_error = state.pos_w - reference;
         if let Some(log) = log.as_mut() {
-            log.row(t, &state, &sp.pos_w, &alloc.applied, plant.motor_speeds())?;
+            log.row(t, &state, &reference, &alloc.applied, plant.motor_speeds())?;
         }
     }
     let wall_time_s = wall.elapsed().as_secs_f64();

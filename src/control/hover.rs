@@ -52,7 +52,9 @@ impl HoverController {
     /// Thrust and torque that track `sp` from `x`.
     pub fn update(&self, x: &VehicleState, sp: &FlatSetpoint) -> Wrench {
         let g = &self.gains;
-        let acc = sp.acc_w - g.kp_per_s2 * (x.pos_w - sp.pos_w) - g.kd_per_s * (x.vel_w - sp.vel_w);
+        let e_p = sp.pos_w.map_or(Vec3::zeros(), |p| x.pos_w - p);
+        let e_v = x.vel_w - sp.vel_w.unwrap_or_default();
+        let acc = sp.acc_w.unwrap_or_default() - g.kp_per_s2 * e_p - g.kd_per_s * e_v;
         // Force the rotors must supply: m v̇ = m g e3 + A  ⇒  A = m (v̇_d − g e3) (control.md §5).
         let mut a = self.mass_kg * (acc - GRAVITY_M_S2 * e3());
         a.z = a.z.min(-0.2 * self.mass_kg * GRAVITY_M_S2);
@@ -66,7 +68,8 @@ impl HoverController {
         let r = &x.r_wb;
         let thrust_n = (-a.dot(&(r * e3()))).max(0.0);
         let z_d = -a / a.norm();
-        let x_c = Vec3::new(sp.yaw_rad.cos(), sp.yaw_rad.sin(), 0.0);
+        let yaw = sp.yaw_rad.unwrap_or(0.0);
+        let x_c = Vec3::new(yaw.cos(), yaw.sin(), 0.0);
         let y_d = z_d.cross(&x_c).normalize();
         let r_d = Mat3::from_columns(&[y_d.cross(&z_d), y_d, z_d]);
         let e_r = 0.5 * vee(&(r_d.transpose() * r - r.transpose() * r_d));

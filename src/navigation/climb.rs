@@ -30,10 +30,10 @@ impl ClimbProfile {
         let dds = 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / (big_t * big_t);
         let d = self.target_w - self.start_w;
         FlatSetpoint {
-            pos_w: self.start_w + d * s,
-            vel_w: d * ds,
-            acc_w: d * dds,
-            yaw_rad: self.yaw_rad,
+            pos_w: Some(self.start_w + d * s),
+            vel_w: Some(d * ds),
+            acc_w: Some(d * dds),
+            ..FlatSetpoint::hold(self.target_w, self.yaw_rad)
         }
     }
 }
@@ -50,13 +50,13 @@ mod tests {
             duration_s: 4.0,
             yaw_rad: 0.0,
         };
-        assert_eq!(p.setpoint(0.0).vel_w, Vec3::zeros());
-        assert_eq!(p.setpoint(4.0).pos_w, p.target_w);
+        assert_eq!(p.setpoint(0.0).vel_w, Some(Vec3::zeros()));
+        assert_eq!(p.setpoint(4.0).pos_w, Some(p.target_w));
         let h = 1e-6;
         let t = 1.3;
-        let fd = (p.setpoint(t + h).pos_w - p.setpoint(t - h).pos_w) / (2.0 * h);
-        assert!((fd - p.setpoint(t).vel_w).norm() < 1e-6);
-        let fd = (p.setpoint(t + h).vel_w - p.setpoint(t - h).vel_w) / (2.0 * h);
-        assert!((fd - p.setpoint(t).acc_w).norm() < 1e-6);
+        let fd = (p.setpoint(t + h).pos_w.unwrap() - p.setpoint(t - h).pos_w.unwrap()) / (2.0 * h);
+        assert!((fd - p.setpoint(t).vel_w.unwrap()).norm() < 1e-6);
+        let fd = (p.setpoint(t + h).vel_w.unwrap() - p.setpoint(t - h).vel_w.unwrap()) / (2.0 * h);
+        assert!((fd - p.setpoint(t).acc_w.unwrap()).norm() < 1e-6);
     }
 }
