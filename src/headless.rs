@@ -12,8 +12,8 @@ use serde::Serialize;
 use thiserror::Error;
 
 use crate::airframe::{Airframe, AirframeError, AirframeSource};
-use crate::allocation::{AllocationError, Allocator};
-use crate::control::{HoverController, HoverGains};
+use crate::control::ControllerKind;
+use crate::core::{CoreError, FlightCore};
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::ClimbProfile;
 use crate::sitl::{SimPlant, SitlError};
@@ -31,6 +31,8 @@ pub struct HeadlessOptions {
     pub dt_s: f64,
     /// Sensor-noise seed.
     pub seed: u64,
+    /// Control law.
+    pub controller: ControllerKind,
     /// CSV log to write, if any.
     pub csv: Option<PathBuf>,
 }
@@ -43,6 +45,7 @@ impl Default for HeadlessOptions {
             climb_s: 4.0,
             dt_s: 1e-3,
             seed: 0,
+            controller: ControllerKind::Geometric,
             csv: None,
         }
     }
@@ -54,14 +57,9 @@ pub enum HeadlessError {
     /// The FC refused the airframe.
     #[error(transparent)]
     Airframe(#[from] AirframeError),
-    /// The allocation cannot serve the airframe.
-    #[error("{origin}: rotors: {source}")]
-    Allocation {
-        /// Airframe origin.
-        origin: String,
-        /// Cause.
-        source: AllocationError,
-    },
+    /// The flight core cannot be built for the airframe.
+    #[error(transparent)]
+    Core(#[from] CoreError),
     /// The plant refused the airframe.
     #[error(transparent)]
     Plant(#[from] SitlError),
@@ -116,23 +114,16 @@ pub struct FlightSummary {
     pub real_time_factor: f64,
 }
 
-/// Flies a take-off to `altitude_m` and a hover with the hover controller.
+/// Flies a take-off to `altitude_m` and a hover with the chosen controller.
 pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary, HeadlessError> {
     check_options(opts)?;
     let airframe = Airframe::from_source(src)?;
-    let allocator = Allocator::new(&airframe).map_err(|source| HeadlessError::Allocation {
-        origin: src.origin.clone(),
-        source,
-    })?;
+    let mut core = FlightCore::for_airframe(&airframe, opts.controller, opts.dt_s)?;
+    let rotors = core.allocator().rotor_count();
     let mut plant = SimPlant::from_source(src, opts.seed)?;
     for w in plant.warnings() {
         tracing::warn!("{w}");
     }
-    let controller = HoverController {
-        mass_kg: airframe.mass_kg,
-        inertia_kg_m2: airframe.inertia_kg_m2,
-        gains: HoverGains::default(),
-    };
     let start = plant.sense();
     let yaw = euler_zyx(&start.r_wb).z;
     let climb = ClimbProfile {
@@ -142,7 +133,7 @@ pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary
         yaw_rad: yaw,
     };
     let mut log = match &opts.csv {
-        Some(path) => Some(CsvLog::create(path, allocator.rotor_count())?),
+        Some(path) => Some(CsvLog::create(path, rotors)?),
         None => None,
     };
 
@@ -154,8 +145,7 @@ pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary
         let t = tick as f64 * opts.dt_s;
         let state = plant.sense();
         let sp = climb.setpoint(t);
-        let wrench = controller.update(&state, &sp);
-        let alloc = allocator.allocate(&wrench);
+        let alloc = core.step(&state, &sp).allocation;
         plant.step(alloc.omega().as_slice(), opts.dt_s);
         max_tilt = max_tilt.max(state.tilt_rad());
         saturated_ticks += u64::from(alloc.saturation.is_saturated());
@@ -174,8 +164,8 @@ pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary
     let sim_time_s = ticks as f64 * opts.dt_s;
     Ok(FlightSummary {
         airframe: airframe.name.clone(),
-        controller: "hover",
-        rotors: allocator.rotor_count(),
+        controller: opts.controller.name(),
+        rotors,
         sim_time_s,
         ticks,
         final_position_m: truth.pos_w.into(),

@@ -10,7 +10,9 @@
 //! - [`math`]: numeric aliases, hat/vee, Euler angles, angle wrapping.
 //! - [`airframe`]: the FC's view of an airframe file (presets, validation, errors naming the field).
 //! - [`allocation`]: G_q from the airframe, min-norm inverse, saturation policy (control.md §3).
-//! - [`control`]: vehicle state, setpoints and controllers (the hover controller for now).
+//! - [`control`]: vehicle state, setpoints and the geometric, hierarchical and passivity-based
+//!   controllers behind one interface (control.md §4–§6).
+//! - [`core`]: one flight-controller tick: estimator → controller → allocation → estimator.
 //! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
 //! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
 //! - [`navigation`]: setpoint generators (take-off climb).
@@ -23,6 +25,7 @@
 pub mod airframe;
 pub mod allocation;
 pub mod control;
+pub mod core;
 pub mod estimation;
 pub mod headless;
 pub mod math;

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::allocation::Allocator;
+use rotorpilot::control::ControllerKind;
 use rotorpilot::estimation::ChebyshevDesign;
 use rotorpilot::headless::{fly, HeadlessOptions};
 use rotorpilot::report::{AllocReport, GainsReport};
@@ -36,6 +37,9 @@ enum Command {
         /// Sensor-noise seed.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Control law: geometric, hierarchical or passivity.
+        #[arg(long, default_value = "geometric")]
+        controller: ControllerKind,
         /// Write every tick to this CSV file.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -95,6 +99,7 @@ fn execute(command: Command) -> Result<String, String> {
             duration,
             altitude,
             seed,
+            controller,
             out,
         } => {
             let src = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
@@ -102,6 +107,7 @@ fn execute(command: Command) -> Result<String, String> {
                 duration_s: duration,
                 altitude_m: altitude,
                 seed,
+                controller,
                 csv: out,
                 ..Default::default()
             };

@@ -31,6 +31,24 @@ pub fn q_matrix(eta: &Vec3) -> Mat3 {
     Mat3::new(1.0, 0.0, -st, 0.0, cf, ct * sf, 0.0, -sf, ct * cf)
 }
 
+/// `Q(η)⁻¹`, so that `η̇ = Q⁻¹ ω_b`; `None` when `|cos θ| < cos_theta_min` (near the
+/// singularity at θ = ±π/2):
+///
+/// ```text
+/// Q⁻¹ = [ 1   sφ tθ    cφ tθ  ]
+///       [ 0   cφ      −sφ     ]
+///       [ 0   sφ/cθ    cφ/cθ  ]
+/// ```
+pub fn q_inverse(eta: &Vec3, cos_theta_min: f64) -> Option<Mat3> {
+    let (sf, cf) = eta.x.sin_cos();
+    let (st, ct) = eta.y.sin_cos();
+    if ct.abs() < cos_theta_min {
+        return None;
+    }
+    let tt = st / ct;
+    Some(Mat3::new(1.0, sf * tt, cf * tt, 0.0, cf, -sf, 0.0, sf / ct, cf / ct))
+}
+
 /// `Q̇(η, η̇)`.
 pub fn q_dot(eta: &Vec3, eta_dot: &Vec3) -> Mat3 {
     let (sf, cf) = eta.x.sin_cos();
@@ -81,6 +99,14 @@ mod tests {
         let rd = (rotation(&(eta + eta_dot * h)) - rotation(&(eta - eta_dot * h))) / (2.0 * h);
         let omega = crate::math::vee(&(r.transpose() * rd));
         assert!((omega - q_matrix(&eta) * eta_dot).norm() < 1e-8);
+    }
+
+    #[test]
+    fn q_inverse_inverts_and_refuses_the_singularity() {
+        let eta = Vec3::new(0.7, -1.2, 2.0);
+        let inv = q_inverse(&eta, 1e-3).unwrap();
+        assert!((inv * q_matrix(&eta) - Mat3::identity()).norm() < 1e-12);
+        assert!(q_inverse(&Vec3::new(0.0, std::f64::consts::FRAC_PI_2, 0.0), 1e-3).is_none());
     }
 
     #[test]

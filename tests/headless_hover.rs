@@ -52,8 +52,9 @@ fn noisy_runs_are_reproducible_per_seed() {
 
 #[test]
 fn unknown_extra_mass_sags_by_weight_over_stiffness() {
-    // The FC believes 1.5 kg; the vehicle weighs 1.7 kg. The hover law has no integral action, so
-    // it settles where K_p m_fc e_z = (m_true − m_fc) g.
+    // The FC believes 1.5 kg; the vehicle weighs 1.7 kg. The geometric law (homework gains,
+    // K_p,z = 25 N/m) has no integral action and no estimator here, so it settles where
+    // K_p,z e_z = (m_true − m_fc) g.
     let base = rotorpilot::airframe::preset_text("fsr_quad")
         .unwrap()
         .replace("mass = 1.5 ", "mass = 1.7 ");
@@ -62,7 +63,7 @@ fn unknown_extra_mass_sags_by_weight_over_stiffness() {
         text: format!("{base}\n[fc]\nmass = 1.5 # [kg]\n"),
     };
     let s = fly(&src, &opts(15.0, 0)).unwrap();
-    let expected = 0.2 * 9.81 / (4.0 * 1.5);
+    let expected = 0.2 * 9.81 / 25.0;
     assert!(
         (s.final_error_m[2] - expected).abs() < 2e-3,
         "sag {} vs {expected}",

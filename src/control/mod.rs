@@ -1,10 +1,32 @@
-//! Vehicle state, setpoints and controllers. Controllers take the state and a setpoint and
-//! return a [`Wrench`](crate::allocation::Wrench); they never touch clocks or I/O.
+//! Vehicle state, setpoints and the three flight-control laws of the homework behind one
+//! interface ([`Controller`]). Controllers take the state and a setpoint and return a
+//! [`Wrench`](crate::allocation::Wrench); they never touch clocks or I/O.
+//!
+//! - [`geometric`]: Lee et al. on SE(3) (control.md §5).
+//! - [`hierarchical`]: RPY, feedback-linearised inner loop (control.md §4).
+//! - [`passivity`]: RPY, passivity-based, no feedback linearisation (control.md §6).
 
-mod hover;
+mod controller;
+mod external;
+pub mod filters;
+mod gains;
+pub mod geometric;
+pub mod hierarchical;
+mod output;
+pub mod passivity;
+pub mod reference;
+pub mod rpy_extraction;
+mod rpy_reference;
 mod setpoint;
 mod state;
 
-pub use hover::{HoverController, HoverGains};
+pub use controller::{ControlInput, Controller, ControllerError, ControllerKind};
+pub use external::ExternalWrench;
+pub use gains::{
+    ControlLimits, ControllerGains, GeometricGains, HierarchicalGains, PassivityGains, VehicleModel,
+    REFERENCE_INERTIA_KG_M2, REFERENCE_MASS_KG,
+};
+pub use geometric::DesiredRateMode;
+pub use output::{ControlFlags, ControlOutput, TrackingErrors};
 pub use setpoint::FlatSetpoint;
 pub use state::VehicleState;

@@ -22,4 +22,16 @@ impl VehicleState {
     pub fn tilt_rad(&self) -> f64 {
         self.r_wb[(2, 2)].clamp(-1.0, 1.0).acos()
     }
+
+    /// True when every number is finite.
+    pub fn is_finite(&self) -> bool {
+        self.t_s.is_finite()
+            && self
+                .pos_w
+                .iter()
+                .chain(self.vel_w.iter())
+                .chain(self.omega_b.iter())
+                .chain(self.r_wb.iter())
+                .all(|x| x.is_finite())
+    }
 }

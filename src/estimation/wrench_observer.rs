@@ -75,7 +75,9 @@ pub struct WrenchObserver {
     ts_s: f64,
     gains: Vec<f64>,
     gamma: Vec<Vector6<f64>>,
-    previous: Option<(Vector6<f64>, Vector6<f64>)>,
+    previous_q: Option<Vector6<f64>>,
+    previous_beta: Option<Vector6<f64>>,
+    pending: Option<(Vec3, Vec3)>,
     last: WrenchEstimate,
 }
 
@@ -99,7 +101,9 @@ impl WrenchObserver {
             ts_s,
             gains,
             gamma: vec![Vector6::zeros(); r],
-            previous: None,
+            previous_q: None,
+            previous_beta: None,
+            pending: None,
             last: WrenchEstimate {
                 force_w: Vec3::zeros(),
                 torque_eta: Vec3::zeros(),
@@ -123,58 +127,83 @@ impl WrenchObserver {
     /// Forgets everything: the next update restarts from ŵ = 0 with a new q(0).
     pub fn reset(&mut self) {
         self.gamma.iter_mut().for_each(|g| *g = Vector6::zeros());
-        self.previous = None;
+        self.previous_q = None;
+        self.previous_beta = None;
+        self.pending = None;
         self.last = Self::new(self.mass_kg, self.inertia.diagonal(), self.gains.clone(), self.ts_s)
             .map(|o| o.last)
             .unwrap_or(self.last);
     }
 
-    /// One tick of §7.5 with this tick's measurements and applied inputs.
+    /// One tick of §7.5 with this tick's measurements and applied inputs: [`observe`](Self::observe)
+    /// then [`apply`](Self::apply). Used when the applied inputs of tick k are known together with
+    /// its measurements (offline logs).
     pub fn update(&mut self, x: &ObserverInput) -> WrenchEstimate {
-        let finite = x
-            .vel_w
+        let est = self.observe(&x.vel_w, &x.eta, &x.eta_dot);
+        if !est.held {
+            self.apply(x.thrust_n, &x.torque_b);
+        }
+        est
+    }
+
+    /// First half of a closed-loop tick: ŵ_k from this tick's momentum q_k and the previous
+    /// tick's β_{k−1} (architecture.md §4), before the controller runs. Non-finite input holds
+    /// the previous estimate.
+    pub fn observe(&mut self, vel_w: &Vec3, eta: &Vec3, eta_dot: &Vec3) -> WrenchEstimate {
+        let finite = vel_w
             .iter()
-            .chain(x.eta.iter())
-            .chain(x.eta_dot.iter())
-            .chain(x.torque_b.iter())
-            .all(|v| v.is_finite())
-            && x.thrust_n.is_finite();
+            .chain(eta.iter())
+            .chain(eta_dot.iter())
+            .all(|v| v.is_finite());
         if !finite {
+            self.pending = None;
             return WrenchEstimate {
                 held: true,
                 ..self.last
             };
         }
-        let (q_k, beta_k) = self.momentum_and_beta(x);
-        let Some((q_prev, beta_prev)) = self.previous.replace((q_k, beta_k)) else {
-            return self.publish(x);
-        };
-        let w_prev = self.gamma[self.gamma.len() - 1];
-        // Descending, so γ_{i−1} is still the previous tick's value when γ_i reads it.
-        for i in (1..self.gamma.len()).rev() {
-            let step = self.gains[i] * self.ts_s * (self.gamma[i - 1] - w_prev);
-            self.gamma[i] += step;
+        let q_k = stack(
+            &(self.mass_kg * vel_w),
+            &(rpy::mass_matrix(eta, &self.inertia) * eta_dot),
+        );
+        self.pending = Some((*eta, *eta_dot));
+        let previous_q = self.previous_q.replace(q_k);
+        if let (Some(q_prev), Some(beta_prev)) = (previous_q, self.previous_beta) {
+            let w_prev = self.gamma[self.gamma.len() - 1];
+            // Descending, so γ_{i−1} is still the previous tick's value when γ_i reads it.
+            for i in (1..self.gamma.len()).rev() {
+                let step = self.gains[i] * self.ts_s * (self.gamma[i - 1] - w_prev);
+                self.gamma[i] += step;
+            }
+            self.gamma[0] += self.gains[0] * (q_k - q_prev - self.ts_s * (w_prev + beta_prev));
         }
-        self.gamma[0] += self.gains[0] * (q_k - q_prev - self.ts_s * (w_prev + beta_prev));
-        self.publish(x)
+        self.publish(eta)
     }
 
-    /// `q = [m ṗ ; M η̇]` and `β = [m g e3 − u_T R e3 ; Cᵀ η̇ + Qᵀ τ_b]` (§7.1).
-    fn momentum_and_beta(&self, x: &ObserverInput) -> (Vector6<f64>, Vector6<f64>) {
-        let lin_q = self.mass_kg * x.vel_w;
-        let ang_q = rpy::mass_matrix(&x.eta, &self.inertia) * x.eta_dot;
-        let lin_b = self.mass_kg * GRAVITY_M_S2 * e3() - x.thrust_n * (rpy::rotation(&x.eta) * e3());
-        let c = rpy::coriolis(&x.eta, &x.eta_dot, &self.inertia);
-        let ang_b = c.transpose() * x.eta_dot + rpy::q_matrix(&x.eta).transpose() * x.torque_b;
-        (stack(&lin_q, &ang_q), stack(&lin_b, &ang_b))
+    /// Second half of a closed-loop tick: β_k from the state given to the last
+    /// [`observe`](Self::observe) and the *applied* thrust `thrust_n` [N] and body torque
+    /// `torque_b` [N·m] (§3.4), kept for tick k+1:
+    /// `β = [m g e3 − u_T R_b(η) e3 ; Cᵀ(η, η̇) η̇ + Qᵀ τ_b]` (§7.1). Ignored when the
+    /// observation was held or the inputs are not finite (β_{k−1} is kept).
+    pub fn apply(&mut self, thrust_n: f64, torque_b: &Vec3) {
+        let Some((eta, eta_dot)) = self.pending.take() else {
+            return;
+        };
+        if !(thrust_n.is_finite() && torque_b.iter().all(|v| v.is_finite())) {
+            return;
+        }
+        let lin_b = self.mass_kg * GRAVITY_M_S2 * e3() - thrust_n * (rpy::rotation(&eta) * e3());
+        let c = rpy::coriolis(&eta, &eta_dot, &self.inertia);
+        let ang_b = c.transpose() * eta_dot + rpy::q_matrix(&eta).transpose() * torque_b;
+        self.previous_beta = Some(stack(&lin_b, &ang_b));
     }
 
-    fn publish(&mut self, x: &ObserverInput) -> WrenchEstimate {
+    fn publish(&mut self, eta: &Vec3) -> WrenchEstimate {
         let w = self.gamma[self.gamma.len() - 1];
         let force_w = Vec3::new(w[0], w[1], w[2]);
         let torque_eta = Vec3::new(w[3], w[4], w[5]);
-        let torque_b = if x.eta.y.cos().abs() > COS_THETA_MIN {
-            rpy::q_matrix(&x.eta)
+        let torque_b = if eta.y.cos().abs() > COS_THETA_MIN {
+            rpy::q_matrix(eta)
                 .transpose()
                 .try_inverse()
                 .map_or(torque_eta, |m| m * torque_eta)

@@ -1,0 +1,283 @@
+//! Geometric tracking controller on SE(3) (T. Lee, M. Leok, N. H. McClamroch, CDC 2010;
+//! homework eqs. (7)–(14) with the position-feedback sign corrected, erratum E2;
+//! control.md §5):
+//!
+//! ```text
+//! A   = −K_p e_p − K_v ė_p − m g e3 + m p̈_{b,d}  [− f̂_e]                       (E2)
+//! u_T = −Aᵀ R_b e3                                                                (12)
+//! z_{b,d} = −A / ‖A‖                                                              (13)
+//! e_R = ½ vee( R_{b,d}ᵀ R_b − R_bᵀ R_{b,d} )                                      (9)
+//! e_ω = ω_b − R_bᵀ R_{b,d} ω_{b,d}                                                (10)
+//! τ_b = −K_R e_R − K_ω e_ω + ω_b × I_b ω_b
+//!       − I_b ( S(ω_b) R_bᵀ R_{b,d} ω_{b,d} − R_bᵀ R_{b,d} ω̇_{b,d} )  [− τ̂_e^b]  (14)
+//! ```
+
+use serde::{Deserialize, Serialize};
+
+use crate::allocation::Wrench;
+use crate::math::{e3, euler_zyx, hat, vee, Mat3, Vec3, GRAVITY_M_S2};
+
+use super::filters::DirtyDerivative;
+use super::gains::{ControlLimits, GeometricGains, VehicleModel};
+use super::reference::{HeadingReference, TranslationReference};
+use super::{ControlFlags, ControlOutput, ExternalWrench, TrackingErrors};
+
+/// Below this `‖z_{b,d} × x_c‖` the previous `y_{b,d}` is kept (heading undefined) [-].
+const CROSS_MIN: f64 = 1e-6;
+
+/// How ω_{b,d} and ω̇_{b,d} are obtained (control.md §5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DesiredRateMode {
+    /// `ω_{b,d} = vee(½(X − Xᵀ)) / Ts`, `X = R_{b,d}[k−1]ᵀ R_{b,d}[k]`; ω̇_{b,d} by the filtered
+    /// derivative (the course template's choice).
+    #[default]
+    Numerical,
+    /// RotorPy's simplification: `ω_{b,d} = [0, 0, ψ̇_d]`, `ω̇_{b,d} = 0`.
+    YawRateOnly,
+}
+
+/// State of the geometric law between ticks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GeometricLaw {
+    ts_s: f64,
+    tau_s: f64,
+    mode: DesiredRateMode,
+    previous_r_d: Option<Mat3>,
+    previous_z_d: Vec3,
+    previous_y_d: Vec3,
+    omega_d_dot: DirtyDerivative,
+}
+
+impl GeometricLaw {
+    /// Law sampled every `ts_s` [s] with derivative filter time constant `tau_s` [s].
+    pub fn new(ts_s: f64, tau_s: f64, mode: DesiredRateMode) -> Self {
+        Self {
+            ts_s,
+            tau_s,
+            mode,
+            previous_r_d: None,
+            previous_z_d: e3(),
+            previous_y_d: Vec3::new(0.0, 1.0, 0.0),
+            omega_d_dot: DirtyDerivative::new(tau_s, ts_s),
+        }
+    }
+
+    /// Forgets the previous desired attitude and the derivative history.
+    pub fn reset(&mut self) {
+        *self = Self::new(self.ts_s, self.tau_s, self.mode);
+    }
+
+    /// One tick of eqs. (7)–(14).
+    #[allow(clippy::too_many_arguments)]
+    pub fn update(
+        &mut self,
+        model: &VehicleModel,
+        gains: &GeometricGains,
+        limits: &ControlLimits,
+        x: &super::VehicleState,
+        tr: &TranslationReference,
+        heading: &HeadingReference,
+        ext: Option<&ExternalWrench>,
+    ) -> ControlOutput {
+        let m = model.mass_kg;
+        let mut flags = ControlFlags::default();
+        let f_hat = ext.map_or(Vec3::zeros(), |w| w.force_w);
+        let mut a = -gains.kp.component_mul(&tr.e_p) - gains.kv.component_mul(&tr.e_v) - m * GRAVITY_M_S2 * e3()
+            + m * tr.acc_w
+            - f_hat;
+        // Guards: keep an upward thrust component and the tilt limit (control.md §5 "Guards").
+        if a.z > -m * limits.eps_z_m_s2 {
+            a.z = -m * limits.eps_z_m_s2;
+            flags.thrust_direction_held = true;
+        }
+        let horizontal = a.xy().norm();
+        let allowed = limits.tilt_max_rad.tan() * a.z.abs();
+        if horizontal > allowed {
+            let s = allowed / horizontal;
+            a.x *= s;
+            a.y *= s;
+            flags.tilt_limited = true;
+        }
+        let r = &x.r_wb;
+        let raw_thrust = -a.dot(&(r * e3()));
+        let thrust_n = raw_thrust.clamp(0.0, model.thrust_max_n);
+        flags.thrust_clamped = thrust_n != raw_thrust;
+
+        let norm_a = a.norm();
+        let z_d = if norm_a > limits.eps_a_n {
+            -a / norm_a
+        } else {
+            flags.thrust_direction_held = true;
+            self.previous_z_d
+        };
+        let x_c = Vec3::new(heading.yaw_rad.cos(), heading.yaw_rad.sin(), 0.0);
+        let y_raw = z_d.cross(&x_c);
+        let y_d = if y_raw.norm() > CROSS_MIN {
+            y_raw.normalize()
+        } else {
+            self.previous_y_d
+        };
+        let r_d = Mat3::from_columns(&[y_d.cross(&z_d), y_d, z_d]);
+        self.previous_z_d = z_d;
+        self.previous_y_d = y_d;
+
+        let (omega_d, omega_d_dot) = match self.mode {
+            DesiredRateMode::Numerical => {
+                let prev = self.previous_r_d.unwrap_or(r_d);
+                let xm = prev.transpose() * r_d;
+                let omega_d = vee(&(0.5 * (xm - xm.transpose()))) / self.ts_s;
+                (omega_d, self.omega_d_dot.update(omega_d))
+            }
+            DesiredRateMode::YawRateOnly => (Vec3::new(0.0, 0.0, heading.yaw_rate_rad_s), Vec3::zeros()),
+        };
+        self.previous_r_d = Some(r_d);
+
+        let rt_rd = r.transpose() * r_d;
+        let e_r = 0.5 * vee(&(r_d.transpose() * r - r.transpose() * r_d));
+        let e_omega = x.omega_b - rt_rd * omega_d;
+        let inertia = Mat3::from_diagonal(&model.inertia_kg_m2);
+        let w = &x.omega_b;
+        let tau_hat = ext.map_or(Vec3::zeros(), |e| e.torque_b);
+        let torque_b = -gains.kr.component_mul(&e_r) - gains.komega.component_mul(&e_omega) + w.cross(&(inertia * w))
+            - inertia * (hat(w) * rt_rd * omega_d - rt_rd * omega_d_dot)
+            - tau_hat;
+        let psi = 0.5 * (Mat3::identity() - r_d.transpose() * r).trace();
+        flags.large_attitude_error = psi >= 1.0;
+        ControlOutput {
+            wrench: Wrench { thrust_n, torque_b },
+            r_wb_desired: r_d,
+            eta_desired: euler_zyx(&r_d),
+            errors: TrackingErrors {
+                pos_w: tr.e_p,
+                vel_w: tr.e_v,
+                attitude: e_r,
+                rate: e_omega,
+            },
+            flags,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::reference::{translation, HeadingHold};
+    use crate::control::{ControllerGains, FlatSetpoint, VehicleState};
+    use crate::math::UnitQuat;
+
+    fn model() -> VehicleModel {
+        VehicleModel {
+            mass_kg: 1.5,
+            inertia_kg_m2: Vec3::new(1.2416, 1.2416, 2.4832),
+            thrust_max_n: 60.0,
+        }
+    }
+
+    fn step(law: &mut GeometricLaw, x: &VehicleState, sp: &FlatSetpoint) -> ControlOutput {
+        let g = ControllerGains::default();
+        let heading = HeadingHold::default().resolve(x, sp);
+        law.update(
+            &model(),
+            &g.geometric,
+            &g.limits,
+            x,
+            &translation(x, sp),
+            &heading,
+            None,
+        )
+    }
+
+    fn level(pos_w: Vec3) -> VehicleState {
+        VehicleState {
+            t_s: 0.0,
+            pos_w,
+            vel_w: Vec3::zeros(),
+            r_wb: Mat3::identity(),
+            omega_b: Vec3::zeros(),
+        }
+    }
+
+    #[test]
+    fn one_metre_low_adds_k_p_z_newtons() {
+        // control.md §5 "NED sign check": e_z = 1 m ⇒ u_T = m g + K_p,z.
+        let out = step(
+            &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
+            &level(Vec3::new(0.0, 0.0, 1.0)),
+            &FlatSetpoint::hold(Vec3::zeros(), 0.0),
+        );
+        assert!((out.wrench.thrust_n - (1.5 * GRAVITY_M_S2 + 25.0)).abs() < 1e-12);
+        assert_eq!(out.r_wb_desired, Mat3::identity());
+    }
+
+    #[test]
+    fn attitude_error_and_torque_follow_eqs_9_and_14() {
+        let mut x = level(Vec3::zeros());
+        x.r_wb = UnitQuat::from_euler_angles(0.1, 0.0, 0.0)
+            .to_rotation_matrix()
+            .into_inner();
+        let out = step(
+            &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
+            &x,
+            &FlatSetpoint::hold(Vec3::zeros(), 0.0),
+        );
+        // Rolled right by 0.1 rad: e_R = (sin 0.1, 0, 0), τ_x = −K_R,x sin 0.1.
+        assert!((out.errors.attitude.x - 0.1f64.sin()).abs() < 1e-12);
+        assert!((out.wrench.torque_b.x + 180.0 * 0.1f64.sin()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn antipodal_quaternions_give_the_same_command() {
+        let q = UnitQuat::from_euler_angles(2.0, -0.7, 1.0);
+        let antipodal = UnitQuat::new_unchecked(-q.into_inner());
+        let mut a = level(Vec3::zeros());
+        a.r_wb = q.to_rotation_matrix().into_inner();
+        let mut b = a;
+        b.r_wb = antipodal.to_rotation_matrix().into_inner();
+        let sp = FlatSetpoint::hold(Vec3::zeros(), 0.0);
+        let oa = step(&mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical), &a, &sp);
+        let ob = step(&mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical), &b, &sp);
+        assert!((oa.wrench.torque_b - ob.wrench.torque_b).norm() < 1e-9);
+        assert!(oa.flags.large_attitude_error);
+    }
+
+    #[test]
+    fn numerical_desired_rate_recovers_a_yaw_ramp() {
+        let mut law = GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical);
+        let x = level(Vec3::zeros());
+        let rate = 0.3;
+        let mut out = None;
+        for k in 0..400 {
+            let yaw = rate * k as f64 * 1e-3;
+            out = Some(step(&mut law, &x, &FlatSetpoint::hold(Vec3::zeros(), yaw)));
+        }
+        let out = out.unwrap();
+        // e_ω = ω − Rᵀ R_d ω_d with ω = 0: −ω_d expressed in the body, ω_d ≈ (0, 0, 0.3).
+        assert!((out.errors.rate.z + rate).abs() < 1e-3, "{}", out.errors.rate);
+        let mut simple = GeometricLaw::new(1e-3, 0.02, DesiredRateMode::YawRateOnly);
+        let sp = FlatSetpoint {
+            yaw_rate_rad_s: Some(rate),
+            ..FlatSetpoint::hold(Vec3::zeros(), 0.0)
+        };
+        assert!((step(&mut simple, &x, &sp).errors.rate.z + rate).abs() < 1e-15);
+    }
+
+    #[test]
+    fn tilt_limit_and_upward_thrust_guards_act() {
+        let out = step(
+            &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
+            &level(Vec3::zeros()),
+            &FlatSetpoint::hold(Vec3::new(100.0, 0.0, 0.0), 0.0),
+        );
+        assert!(out.flags.tilt_limited);
+        let tilt = out.r_wb_desired[(2, 2)].acos();
+        assert!((tilt - ControlLimits::default().tilt_max_rad).abs() < 1e-9);
+        let dive = step(
+            &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
+            &level(Vec3::zeros()),
+            &FlatSetpoint::hold(Vec3::new(0.0, 0.0, 100.0), 0.0),
+        );
+        assert!(dive.flags.thrust_direction_held && dive.wrench.thrust_n > 0.0);
+        assert_eq!(dive.r_wb_desired, Mat3::identity());
+    }
+}

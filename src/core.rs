@@ -1,0 +1,130 @@
+//! One flight-controller tick (architecture.md §4): estimation → control → allocation →
+//! estimation, as plain values in and out. The runtime decides when to call it.
+//!
+//! ```text
+//! ŵ_k   = observer.observe(q_k)            uses β_{k−1} (control.md §7.5)
+//! out_k = controller.update(x_k, sp_k, ŵ_k)
+//! alloc = allocator.allocate(out_k.wrench) min-norm + saturation (§3.4)
+//! observer.apply(alloc.applied)            β_k from the applied wrench, kept for tick k+1
+//! ```
+
+use thiserror::Error;
+
+use crate::airframe::Airframe;
+use crate::allocation::{Allocation, AllocationError, Allocator};
+use crate::control::{
+    ControlInput, ControlOutput, Controller, ControllerError, ControllerGains, ControllerKind, ExternalWrench,
+    FlatSetpoint, VehicleModel, VehicleState,
+};
+use crate::estimation::{WrenchEstimate, WrenchObserver};
+use crate::math::{euler_zyx, Vec3};
+use crate::rpy;
+
+/// |cos θ| below which the estimator holds (RPY singularity of its momentum model) [-].
+const ESTIMATOR_COS_THETA_MIN: f64 = 1e-3;
+
+/// A flight core that cannot be built for an airframe.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum CoreError {
+    /// The allocation cannot serve the airframe.
+    #[error("{origin}: rotors: {source}")]
+    Allocation {
+        /// Airframe name.
+        origin: String,
+        /// Cause.
+        source: AllocationError,
+    },
+    /// The controller refused its configuration.
+    #[error(transparent)]
+    Controller(#[from] ControllerError),
+}
+
+/// The controller's model of an airframe: believed mass and inertia, and full thrust.
+pub fn vehicle_model(airframe: &Airframe, allocator: &Allocator) -> VehicleModel {
+    VehicleModel {
+        mass_kg: airframe.mass_kg,
+        inertia_kg_m2: airframe.inertia_kg_m2,
+        thrust_max_n: allocator.thrust_max_n(),
+    }
+}
+
+/// Everything one tick produced.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoreStep {
+    /// Controller output (requested wrench, desired attitude, errors, flags).
+    pub control: ControlOutput,
+    /// Rotor commands and the wrench they apply.
+    pub allocation: Allocation,
+    /// Estimator output of this tick, when the estimator runs.
+    pub estimate: Option<WrenchEstimate>,
+}
+
+/// Controller, allocator and (optionally) the wrench estimator of one vehicle.
+#[derive(Debug, Clone)]
+pub struct FlightCore {
+    /// The active control law.
+    pub controller: Controller,
+    allocator: Allocator,
+    observer: Option<WrenchObserver>,
+}
+
+impl FlightCore {
+    /// Core with an optional estimator (compensation is a controller setting).
+    pub fn new(controller: Controller, allocator: Allocator, observer: Option<WrenchObserver>) -> Self {
+        Self {
+            controller,
+            allocator,
+            observer,
+        }
+    }
+
+    /// Core for `airframe` running `kind` with the homework gains scaled to the airframe
+    /// ([`ControllerGains::for_vehicle`]), compensation off and no estimator, at `ts_s` [s].
+    pub fn for_airframe(airframe: &Airframe, kind: ControllerKind, ts_s: f64) -> Result<Self, CoreError> {
+        let allocator = Allocator::new(airframe).map_err(|source| CoreError::Allocation {
+            origin: airframe.name.clone(),
+            source,
+        })?;
+        let model = vehicle_model(airframe, &allocator);
+        let controller = Controller::new(kind, model, ControllerGains::for_vehicle(&model), ts_s)?;
+        Ok(Self::new(controller, allocator, None))
+    }
+
+    /// The allocator.
+    pub fn allocator(&self) -> &Allocator {
+        &self.allocator
+    }
+
+    /// Replaces (or removes) the estimator; a new one starts from ŵ = 0.
+    pub fn set_observer(&mut self, observer: Option<WrenchObserver>) {
+        self.observer = observer;
+    }
+
+    /// One tick for state `x` and setpoint `sp`.
+    pub fn step(&mut self, x: &VehicleState, sp: &FlatSetpoint) -> CoreStep {
+        let estimate = self.observer.as_mut().map(|obs| {
+            let eta = euler_zyx(&x.r_wb);
+            match rpy::q_inverse(&eta, ESTIMATOR_COS_THETA_MIN) {
+                Some(q_inv) => obs.observe(&x.vel_w, &eta, &(q_inv * x.omega_b)),
+                None => obs.observe(&x.vel_w, &eta, &Vec3::repeat(f64::NAN)),
+            }
+        });
+        let control = self.controller.update(&ControlInput {
+            state: x,
+            setpoint: sp,
+            estimate: estimate.map(|e| ExternalWrench {
+                force_w: e.force_w,
+                torque_b: e.torque_b,
+            }),
+        });
+        let allocation = self.allocator.allocate(&control.wrench);
+        if let Some(obs) = self.observer.as_mut() {
+            obs.apply(allocation.applied.thrust_n, &allocation.applied.torque_b);
+        }
+        CoreStep {
+            control,
+            allocation,
+            estimate,
+        }
+    }
+}
