@@ -17,6 +17,9 @@
 //! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
 //! - [`navigation`]: setpoint generators (take-off climb).
 //! - [`report`]: what the `alloc` and `gains` commands print.
+//! - [`scenario`]: scenario files (airframe, mismatch, disturbances, controller, estimator,
+//!   trajectory) validated into a run description; run statistics.
+//! - [`simulate`]: headless scenario runs writing run.csv and summary.json (runtime layer).
 //! - [`sitl`]: the only seam between the flight controller and the plant.
 //! - [`headless`]: a headless flight in lockstep with the plant (runtime layer: wall clock, files).
 #![warn(missing_docs)]
@@ -32,4 +35,6 @@ pub mod math;
 pub mod navigation;
 pub mod report;
 pub mod rpy;
+pub mod scenario;
+pub mod simulate;
 pub mod sitl;

@@ -10,6 +10,8 @@ use rotorpilot::control::ControllerKind;
 use rotorpilot::estimation::ChebyshevDesign;
 use rotorpilot::headless::{fly, HeadlessOptions};
 use rotorpilot::report::{AllocReport, GainsReport};
+use rotorpilot::scenario::Scenario;
+use rotorpilot::simulate::simulate;
 
 /// MAVLink-speaking multirotor flight-controller emulator.
 #[derive(Debug, Parser)]
@@ -41,6 +43,15 @@ enum Command {
         #[arg(long, default_value = "geometric")]
         controller: ControllerKind,
         /// Write every tick to this CSV file.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Fly a scenario file headless as fast as the CPU allows; write DIR/run.csv and
+    /// DIR/summary.json and print the summary.
+    Sim {
+        /// Scenario file (TOML).
+        scenario: PathBuf,
+        /// Output directory (created if missing).
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -112,6 +123,11 @@ fn execute(command: Command) -> Result<String, String> {
                 ..Default::default()
             };
             let summary = fly(&src, &opts).map_err(|e| e.to_string())?;
+            serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
+        }
+        Command::Sim { scenario, out } => {
+            let scn = Scenario::load(&scenario).map_err(|e| e.to_string())?;
+            let summary = simulate(&scn, out.as_deref()).map_err(|e| e.to_string())?;
             serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
         }
         Command::Alloc { airframe, json } => {

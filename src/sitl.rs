@@ -4,12 +4,12 @@
 //! samples into [`VehicleState`] and passes rotor commands back. Nothing else in the flight
 //! controller names `firmware_sim`.
 
-use firmware_sim::{rand_chacha_seed, ChaCha8Rng, ParamsError, Plant, PlantParams, StepStatus};
+use firmware_sim::{rand_chacha_seed, ChaCha8Rng, ParamsError, Plant, PlantParams, RigidBodyState, StepStatus};
 use thiserror::Error;
 
 use crate::airframe::AirframeSource;
 use crate::control::VehicleState;
-use crate::math::Vec3;
+use crate::math::{UnitQuat, Vec3};
 
 /// The plant refused the airframe.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -33,6 +33,10 @@ pub struct PlantTruth {
     pub pos_w: Vec3,
     /// Resting on the ground.
     pub on_ground: bool,
+    /// Scripted external force over the last step, world NED [N].
+    pub external_force_w: Vec3,
+    /// Scripted external torque over the last step, body FRD [N·m].
+    pub external_torque_b: Vec3,
 }
 
 impl SimPlant {
@@ -78,6 +82,31 @@ impl SimPlant {
         PlantTruth {
             pos_w: t.body.pos_w,
             on_ground: t.on_ground,
+            external_force_w: t.external_force_w,
+            external_torque_b: t.external_torque_b,
+        }
+    }
+
+    /// True mass of the simulated vehicle [kg] (for reports, never for the controller).
+    pub fn true_mass_kg(&self) -> f64 {
+        self.plant.params().mass_kg
+    }
+
+    /// Places the vehicle: position `pos_w` [m] (`None` keeps the file's start), velocity
+    /// `vel_w` [m/s], attitude `q_wb`, body rates `omega_b` [rad/s]; with `motors_at_hover` every
+    /// motor starts at the speed that holds the true weight.
+    pub fn set_initial_state(&mut self, pos_w: Option<Vec3>, vel_w: Vec3, q_wb: UnitQuat, omega_b: Vec3, motors_at_hover: bool) {
+        let current = self.plant.truth().body;
+        self.plant.set_body_state(RigidBodyState {
+            pos_w: pos_w.unwrap_or(current.pos_w),
+            vel_w,
+            q_wb,
+            omega_b,
+        });
+        if motors_at_hover {
+            let hover = self.plant.params().hover_speed_rad_s();
+            let speeds = vec![hover; self.plant.motor_speeds().len()];
+            self.plant.set_motor_speeds(&speeds);
         }
     }
 }

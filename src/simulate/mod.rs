@@ -1,0 +1,216 @@
+//! Headless scenario runs (`rotorpilot sim SCENARIO.toml --out DIR`): the flight core and the
+//! plant in lockstep at a fixed step, as fast as the CPU allows. Runtime layer: it reads the wall
+//! clock (for the real-time factor) and writes `DIR/run.csv` and `DIR/summary.json`; the maths it
+//! calls is pure. Each tick k: sense → [`FlightCore::step`](crate::core::FlightCore::step) →
+//! plant step (zero-order hold for one tick).
+
+pub mod run_csv;
+
+use std::path::Path;
+use std::time::Instant;
+
+use serde::Serialize;
+use thiserror::Error;
+
+use crate::core::CoreError;
+use crate::math::GRAVITY_M_S2;
+use crate::scenario::summary::{RunStats, TickRecord, TrackingSummary};
+use crate::scenario::Scenario;
+use crate::sitl::{SimPlant, SitlError};
+
+use run_csv::{RunCsv, RunRow};
+
+/// Beyond this distance from the origin the run is stopped as a fly-away [m].
+const FLY_AWAY_M: f64 = 1e4;
+
+/// Why a scenario could not run.
+#[derive(Debug, Error)]
+pub enum SimError {
+    /// The flight core cannot be built.
+    #[error(transparent)]
+    Core(#[from] CoreError),
+    /// The plant refused the airframe.
+    #[error(transparent)]
+    Plant(#[from] SitlError),
+    /// An output file could not be written.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// File path.
+        path: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+}
+
+/// Final estimator output.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct EstimateSummary {
+    /// Estimator order r.
+    pub order: usize,
+    /// Final f̂_e, world NED [N].
+    pub force_n: [f64; 3],
+    /// Final τ̂_e^b, body FRD [N·m].
+    pub torque_n_m: [f64; 3],
+    /// Final mass estimate m_e + f̂_ez / g [kg].
+    pub mass_kg: f64,
+}
+
+/// `summary.json`.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SimSummary {
+    /// Scenario name.
+    pub scenario: String,
+    /// Airframe name.
+    pub airframe: String,
+    /// Control law.
+    pub controller: &'static str,
+    /// Compensation of the estimated wrench.
+    pub compensation: bool,
+    /// Rotor count.
+    pub rotors: usize,
+    /// Why the run ended: `complete`, `fly_away` or `plant_fault`.
+    pub exit: &'static str,
+    /// Simulated time [s].
+    pub sim_time_s: f64,
+    /// Step [s].
+    pub dt_s: f64,
+    /// Tracking figures.
+    #[serde(flatten)]
+    pub tracking: TrackingSummary,
+    /// Believed mass [kg].
+    pub believed_mass_kg: f64,
+    /// True mass [kg].
+    pub true_mass_kg: f64,
+    /// Thrust that holds the true weight, m_true g [N].
+    pub true_weight_n: f64,
+    /// Final true scripted external force, world NED [N].
+    pub true_force_n: [f64; 3],
+    /// Final true scripted external torque, body FRD [N·m].
+    pub true_torque_n_m: [f64; 3],
+    /// Final estimator output, when on.
+    pub estimate: Option<EstimateSummary>,
+    /// Wall-clock time of the loop [s].
+    pub wall_time_s: f64,
+    /// Simulated over wall-clock time [-].
+    pub real_time_factor: f64,
+}
+
+/// Flies `scn`; with `out_dir`, writes `run.csv` and `summary.json` there (creating the directory).
+pub fn simulate(scn: &Scenario, out_dir: Option<&Path>) -> Result<SimSummary, SimError> {
+    let mut core = scn.flight_core()?;
+    let mut plant = SimPlant::from_source(&scn.airframe_source, scn.seed)?;
+    for w in plant.warnings() {
+        tracing::warn!("{w}");
+    }
+    let init = &scn.initial;
+    if init.pos_w.is_some() {
+        plant.set_initial_state(init.pos_w, init.vel_w, init.q_wb, init.omega_b, init.motors_at_hover);
+    }
+    let rotors = core.allocator().rotor_count();
+    let io = |path: &Path| {
+        let path = path.display().to_string();
+        move |source| SimError::Io { path, source }
+    };
+    let mut csv = match out_dir {
+        Some(dir) => {
+            std::fs::create_dir_all(dir).map_err(io(dir))?;
+            let path = dir.join("run.csv");
+            Some((RunCsv::create(&path, rotors).map_err(io(&path))?, path))
+        }
+        None => None,
+    };
+
+    let ticks = (scn.duration_s / scn.dt_s).round() as u64;
+    let mut stats = RunStats::default();
+    let mut exit = "complete";
+    let mut truth = plant.truth();
+    let wall = Instant::now();
+    let mut ticks_run = 0;
+    let mut last_estimate = None;
+    for tick in 0..ticks {
+        let t_s = tick as f64 * scn.dt_s;
+        let state = plant.sense();
+        let sample = scn.trajectory.sample(t_s);
+        let sp = sample.setpoint();
+        let step = core.step(&state, &sp);
+        let status = plant.step(step.allocation.omega().as_slice(), scn.dt_s);
+        ticks_run += 1;
+        truth = plant.truth();
+        last_estimate = step.estimate;
+        stats.add(&TickRecord {
+            t_s,
+            pos_w: state.pos_w,
+            ref_w: sample.pos_w,
+            vel_error_w: step.control.errors.vel_w,
+            att_error: step.control.errors.attitude,
+            tilt_rad: state.tilt_rad(),
+            thrust_n: step.allocation.applied.thrust_n,
+            torque_b: step.allocation.applied.torque_b,
+            saturated: step.allocation.saturation.is_saturated(),
+            controller_fault: step.control.flags.is_fault(),
+        });
+        if let Some((csv, path)) = csv.as_mut() {
+            csv.row(&RunRow {
+                t_s,
+                state: &state,
+                ref_w: sample.pos_w,
+                step: &step,
+                motor_speeds: plant.motor_speeds(),
+                true_force_w: truth.external_force_w,
+                true_torque_b: truth.external_torque_b,
+            })
+            .map_err(io(path))?;
+        }
+        if status.state_non_finite || status.dt_rejected {
+            exit = "plant_fault";
+            break;
+        }
+        if truth.pos_w.norm() > FLY_AWAY_M {
+            exit = "fly_away";
+            break;
+        }
+    }
+    let wall_time_s = wall.elapsed().as_secs_f64();
+    if let Some((csv, path)) = csv {
+        csv.finish().map_err(io(&path))?;
+    }
+    let sim_time_s = ticks_run as f64 * scn.dt_s;
+    let true_mass_kg = plant.true_mass_kg();
+    let summary = SimSummary {
+        scenario: scn.name.clone(),
+        airframe: scn.airframe.name.clone(),
+        controller: scn.controller.name(),
+        compensation: scn.compensation,
+        rotors,
+        exit,
+        sim_time_s,
+        dt_s: scn.dt_s,
+        tracking: stats.summary(scn.dt_s),
+        believed_mass_kg: scn.airframe.mass_kg,
+        true_mass_kg,
+        true_weight_n: true_mass_kg * GRAVITY_M_S2,
+        true_force_n: truth.external_force_w.into(),
+        true_torque_n_m: truth.external_torque_b.into(),
+        estimate: last_estimate.map(|e| EstimateSummary {
+            order: scn.estimator.as_ref().map_or(0, |s| s.gains.len()),
+            force_n: e.force_w.into(),
+            torque_n_m: e.torque_b.into(),
+            mass_kg: e.mass_kg,
+        }),
+        wall_time_s,
+        real_time_factor: if wall_time_s > 0.0 {
+            sim_time_s / wall_time_s
+        } else {
+            f64::INFINITY
+        },
+    };
+    if let Some(dir) = out_dir {
+        let path = dir.join("summary.json");
+        let text = serde_json::to_string_pretty(&summary).map_err(|e| SimError::Io {
+            path: path.display().to_string(),
+            source: std::io::Error::other(e),
+        })?;
+        std::fs::write(&path, text + "\n").map_err(io(&path))?;
+    }
+    Ok(summary)
+}
