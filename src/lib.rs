@@ -13,7 +13,8 @@
 //! - [`control`]: vehicle state, setpoints and controllers (the hover controller for now).
 //! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
 //! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
-//! - [`navigation`]: setpoint generators (take-off climb).
+//! - [`navigation`]: setpoint generators (take-off climb; hover, quintic, waypoint and circle
+//!   trajectories with a `[trajectory]` TOML spec).
 //! - [`report`]: what the `alloc` and `gains` commands print.
 //! - [`sitl`]: the only seam between the flight controller and the plant.
 //! - [`headless`]: a headless flight in lockstep with the plant (runtime layer: wall clock, files).
