@@ -15,7 +15,8 @@
 //! - [`core`]: one flight-controller tick: estimator → controller → allocation → estimator.
 //! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
 //! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
-//! - [`navigation`]: setpoint generators (take-off climb).
+//! - [`navigation`]: setpoint generators (take-off climb; hover, quintic, waypoint and circle
+//!   trajectories with a `[trajectory]` TOML spec).
 //! - [`report`]: what the `alloc` and `gains` commands print.
 //! - [`scenario`]: scenario files (airframe, mismatch, disturbances, controller, estimator,
 //!   trajectory) validated into a run description; run statistics.

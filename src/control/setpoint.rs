@@ -43,8 +43,8 @@ impl FlatSetpoint {
 
     /// True when every value that is set is finite.
     pub fn is_finite(&self) -> bool {
-        let v = |x: &Option<Vec3>| x.is_none_or(|v| v.iter().all(|c| c.is_finite()));
-        let s = |x: &Option<f64>| x.is_none_or(f64::is_finite);
+        let v = |x: &Option<Vec3>| x.iter().all(|v| v.iter().all(|c| c.is_finite()));
+        let s = |x: &Option<f64>| x.iter().all(|v| v.is_finite());
         v(&self.pos_w)
             && v(&self.vel_w)
             && v(&self.acc_w)

@@ -1,6 +1,8 @@
 //! Rest-to-rest straight move with a quintic (minimum-jerk) time law, used for take-off:
 //! `s(τ) = 10τ³ − 15τ⁴ + 6τ⁵`, τ = t/T, so velocity and acceleration start and end at zero.
+//! A thin wrapper over [`Quintic`].
 
+use super::trajectory::Quintic;
 use crate::control::FlatSetpoint;
 use crate::math::Vec3;
 
@@ -18,23 +20,20 @@ pub struct ClimbProfile {
 }
 
 impl ClimbProfile {
+    /// The same move as a [`Quintic`] trajectory (heading held).
+    pub fn quintic(&self) -> Quintic {
+        Quintic {
+            start_w: self.start_w,
+            goal_w: self.target_w,
+            duration_s: self.duration_s,
+            start_yaw_rad: self.yaw_rad,
+            goal_yaw_rad: self.yaw_rad,
+        }
+    }
+
     /// Setpoint at time `t_s` [s] from the start of the move.
     pub fn setpoint(&self, t_s: f64) -> FlatSetpoint {
-        if self.duration_s <= 0.0 || t_s >= self.duration_s {
-            return FlatSetpoint::hold(self.target_w, self.yaw_rad);
-        }
-        let big_t = self.duration_s;
-        let tau = (t_s / big_t).max(0.0);
-        let s = tau.powi(3) * (10.0 - 15.0 * tau + 6.0 * tau * tau);
-        let ds = 30.0 * tau * tau * (1.0 - tau).powi(2) / big_t;
-        let dds = 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / (big_t * big_t);
-        let d = self.target_w - self.start_w;
-        FlatSetpoint {
-            pos_w: Some(self.start_w + d * s),
-            vel_w: Some(d * ds),
-            acc_w: Some(d * dds),
-            ..FlatSetpoint::hold(self.target_w, self.yaw_rad)
-        }
+        self.quintic().sample(t_s).setpoint()
     }
 }
 

@@ -1,5 +1,7 @@
-//! Setpoint generators.
+//! Setpoint generators: the take-off climb and the trajectory generators.
 
 mod climb;
+pub mod trajectory;
 
 pub use climb::ClimbProfile;
+pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};
