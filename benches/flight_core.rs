@@ -19,7 +19,9 @@ fn state(k: u32) -> VehicleState {
         t_s: 0.0,
         pos_w: Vec3::new(0.1 + a, -0.2, -1.0),
         vel_w: Vec3::new(0.05, a, -0.02),
-        r_wb: UnitQuat::from_euler_angles(0.05, -0.03 + a, 0.4).to_rotation_matrix().into_inner(),
+        r_wb: UnitQuat::from_euler_angles(0.05, -0.03 + a, 0.4)
+            .to_rotation_matrix()
+            .into_inner(),
         omega_b: Vec3::new(0.1, -0.05, a),
     }
 }
@@ -34,7 +36,13 @@ fn observer(order: usize) -> WrenchObserver {
         ripple_db: 3.0,
         passband_rad_s: 2.0,
     };
-    WrenchObserver::new(1.5, Vec3::new(1.2416, 1.2416, 2.4832), design.gains(1e-3).unwrap(), 1e-3).unwrap()
+    WrenchObserver::new(
+        1.5,
+        Vec3::new(1.2416, 1.2416, 2.4832),
+        design.gains(1e-3).unwrap(),
+        1e-3,
+    )
+    .unwrap()
 }
 
 fn controllers(c: &mut Criterion) {
@@ -69,7 +77,11 @@ fn estimators(c: &mut Criterion) {
             b.iter(|| {
                 k = k.wrapping_add(1);
                 let a = 0.001 * f64::from(k % 100);
-                let est = obs.observe(&Vec3::new(0.1, a, 0.0), &Vec3::new(0.05, -0.02, 0.3), &Vec3::new(0.1, a, 0.0));
+                let est = obs.observe(
+                    &Vec3::new(0.1, a, 0.0),
+                    &Vec3::new(0.05, -0.02, 0.3),
+                    &Vec3::new(0.1, a, 0.0),
+                );
                 obs.apply(black_box(14.7), &Vec3::new(0.01, 0.0, a));
                 black_box(est)
             })
@@ -86,7 +98,13 @@ fn full_tick(c: &mut Criterion) {
         core.controller.set_compensation(true);
         let mut plant = SimPlant::from_source(&src, 0).unwrap();
         let hover_pos = Vec3::new(0.0, 0.0, -1.0);
-        plant.set_initial_state(Some(hover_pos), Vec3::zeros(), UnitQuat::identity(), Vec3::zeros(), true);
+        plant.set_initial_state(
+            Some(hover_pos),
+            Vec3::zeros(),
+            UnitQuat::identity(),
+            Vec3::zeros(),
+            true,
+        );
         let sp = FlatSetpoint::hold(hover_pos, 0.0);
         c.bench_function(&format!("full_tick_{}_r7", kind.name()), |b| {
             b.iter(|| {

@@ -95,7 +95,14 @@ impl SimPlant {
     /// Places the vehicle: position `pos_w` [m] (`None` keeps the file's start), velocity
     /// `vel_w` [m/s], attitude `q_wb`, body rates `omega_b` [rad/s]; with `motors_at_hover` every
     /// motor starts at the speed that holds the true weight.
-    pub fn set_initial_state(&mut self, pos_w: Option<Vec3>, vel_w: Vec3, q_wb: UnitQuat, omega_b: Vec3, motors_at_hover: bool) {
+    pub fn set_initial_state(
+        &mut self,
+        pos_w: Option<Vec3>,
+        vel_w: Vec3,
+        q_wb: UnitQuat,
+        omega_b: Vec3,
+        motors_at_hover: bool,
+    ) {
         let current = self.plant.truth().body;
         self.plant.set_body_state(RigidBodyState {
             pos_w: pos_w.unwrap_or(current.pos_w),

@@ -117,7 +117,10 @@ impl Scenario {
             field: "(file)".into(),
             reason: format!("cannot read the file: {e}"),
         })?;
-        let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
         Self::from_toml_str(&text, &origin, &stem, path.parent().unwrap_or(Path::new(".")))
     }
 
@@ -136,7 +139,10 @@ impl Scenario {
         })?;
         let positive = |x: f64| x.is_finite() && x > 0.0;
         if !(positive(file.duration) && file.duration <= 1e6) {
-            return Err(err("duration", format!("must be a positive number of seconds up to 1e6, got {}", file.duration)));
+            return Err(err(
+                "duration",
+                format!("must be a positive number of seconds up to 1e6, got {}", file.duration),
+            ));
         }
         let dt_s = file.dt.unwrap_or(1e-3);
         if !(positive(dt_s) && dt_s <= 0.01) {
@@ -144,7 +150,8 @@ impl Scenario {
         }
         let airframe_source = airframe_source(&file.airframe, base_dir).map_err(|(f, r)| err(&f, r))?;
         let airframe = Airframe::from_source(&airframe_source).map_err(|e| err("airframe", e.to_string()))?;
-        let core = FlightCore::for_airframe(&airframe, file.controller.kind, dt_s).map_err(|e| err("airframe", e.to_string()))?;
+        let core = FlightCore::for_airframe(&airframe, file.controller.kind, dt_s)
+            .map_err(|e| err("airframe", e.to_string()))?;
         let model = vehicle_model(&airframe, core.allocator());
         let gains = merged_gains(ControllerGains::for_vehicle(&model), file.controller.gains.as_ref())
             .map_err(|r| err("controller.gains", r))?;
@@ -152,7 +159,8 @@ impl Scenario {
             Some(e) if e.enabled.unwrap_or(true) => Some(estimator(e, dt_s).map_err(|(f, r)| err(&f, r))?),
             _ => None,
         };
-        let initial = initial(file.initial.as_ref().unwrap_or(&spec::InitialSpec::default())).map_err(|(f, r)| err(&f, r))?;
+        let initial =
+            initial(file.initial.as_ref().unwrap_or(&spec::InitialSpec::default())).map_err(|(f, r)| err(&f, r))?;
         let trajectory = file.trajectory.build().map_err(|e| err("trajectory", e.to_string()))?;
         Ok(Self {
             name: file.name.unwrap_or_else(|| default_name.to_string()),
@@ -179,8 +187,13 @@ impl Scenario {
         core.controller.set_compensation(self.compensation);
         core.controller.set_desired_rate_mode(self.desired_rate, self.dt_s);
         if let Some(e) = &self.estimator {
-            let observer = WrenchObserver::new(self.airframe.mass_kg, self.airframe.inertia_kg_m2, e.gains.clone(), self.dt_s)
-                .map_err(|e| CoreError::Controller(crate::control::ControllerError::Gains(e.to_string())))?;
+            let observer = WrenchObserver::new(
+                self.airframe.mass_kg,
+                self.airframe.inertia_kg_m2,
+                e.gains.clone(),
+                self.dt_s,
+            )
+            .map_err(|e| CoreError::Controller(crate::control::ControllerError::Gains(e.to_string())))?;
             core.set_observer(Some(observer));
         }
         Ok(core)
@@ -198,7 +211,8 @@ fn airframe_source(spec: &spec::AirframeSpec, base_dir: &Path) -> Result<Airfram
     let Some(over) = &spec.overrides else {
         return Ok(src);
     };
-    let mut table: toml::Table = toml::from_str(&src.text).map_err(|e| ("airframe".to_string(), format!("{}: {e}", src.origin)))?;
+    let mut table: toml::Table =
+        toml::from_str(&src.text).map_err(|e| ("airframe".to_string(), format!("{}: {e}", src.origin)))?;
     merge_tables(&mut table, over);
     let text = toml::to_string(&table).map_err(|e| ("airframe.overrides".to_string(), e.to_string()))?;
     Ok(AirframeSource {
@@ -222,10 +236,16 @@ fn merged_gains(defaults: ControllerGains, over: Option<&toml::Table>) -> Result
 fn estimator(e: &spec::EstimatorSpec, dt_s: f64) -> Result<EstimatorSettings, (String, String)> {
     if let Some(gains) = &e.gains {
         if e.order.is_some() || e.wp.is_some() || e.ripple_db.is_some() {
-            return Err(("estimator".into(), "give either `gains` or `order`/`ripple_db`/`wp`, not both".into()));
+            return Err((
+                "estimator".into(),
+                "give either `gains` or `order`/`ripple_db`/`wp`, not both".into(),
+            ));
         }
         if gains.is_empty() || gains.iter().any(|k| !(k.is_finite() && *k > 0.0)) {
-            return Err(("estimator.gains".into(), format!("must be 1 to 20 positive numbers, got {gains:?}")));
+            return Err((
+                "estimator.gains".into(),
+                format!("must be 1 to 20 positive numbers, got {gains:?}"),
+            ));
         }
         return Ok(EstimatorSettings {
             design: None,
@@ -233,14 +253,19 @@ fn estimator(e: &spec::EstimatorSpec, dt_s: f64) -> Result<EstimatorSettings, (S
         });
     }
     let (Some(order), Some(wp)) = (e.order, e.wp) else {
-        return Err(("estimator".into(), "needs `order` and `wp` (and optionally `ripple_db`, default 3 dB), or `gains`".into()));
+        return Err((
+            "estimator".into(),
+            "needs `order` and `wp` (and optionally `ripple_db`, default 3 dB), or `gains`".into(),
+        ));
     };
     let design = ChebyshevDesign {
         order,
         ripple_db: e.ripple_db.unwrap_or(3.0),
         passband_rad_s: wp,
     };
-    let gains = design.gains(dt_s).map_err(|err| ("estimator".to_string(), err.to_string()))?;
+    let gains = design
+        .gains(dt_s)
+        .map_err(|err| ("estimator".to_string(), err.to_string()))?;
     Ok(EstimatorSettings {
         design: Some(design),
         gains,
@@ -269,7 +294,10 @@ fn initial(i: &spec::InitialSpec) -> Result<InitialCondition, (String, String)> 
             finite("quaternion", &q)?;
             let quat = nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]);
             if (quat.norm() - 1.0).abs() > 1e-6 {
-                return Err(("initial.quaternion".into(), format!("must have unit norm, got {}", quat.norm())));
+                return Err((
+                    "initial.quaternion".into(),
+                    format!("must have unit norm, got {}", quat.norm()),
+                ));
             }
             UnitQuat::new_unchecked(quat)
         }

@@ -24,7 +24,9 @@ pub fn header(rotors: usize) -> String {
     for i in 1..=rotors {
         let _ = write!(h, ",omega_{i}");
     }
-    h.push_str(",fx_hat,fy_hat,fz_hat,tx_hat,ty_hat,tz_hat,fx_true,fy_true,fz_true,tx_true,ty_true,tz_true,mass_hat,saturated");
+    h.push_str(
+        ",fx_hat,fy_hat,fz_hat,tx_hat,ty_hat,tz_hat,fx_true,fy_true,fz_true,tx_true,ty_true,tz_true,mass_hat,saturated",
+    );
     h
 }
 
