@@ -7,9 +7,11 @@ use clap::{Parser, Subcommand};
 use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::allocation::Allocator;
 use rotorpilot::control::ControllerKind;
-use rotorpilot::estimation::ChebyshevDesign;
+use rotorpilot::estimation::log_replay::{parse_log, replay};
+use rotorpilot::estimation::{ChebyshevDesign, WrenchObserver};
 use rotorpilot::headless::{fly, HeadlessOptions};
-use rotorpilot::report::{AllocReport, GainsReport};
+use rotorpilot::math::Vec3;
+use rotorpilot::report::{estimate_csv, AllocReport, EstimateReport, GainsReport};
 use rotorpilot::scenario::Scenario;
 use rotorpilot::simulate::simulate;
 
@@ -52,6 +54,35 @@ enum Command {
         /// Scenario file (TOML).
         scenario: PathBuf,
         /// Output directory (created if missing).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Run the wrench estimator offline over a flight log (homework exercise 4) and print
+    /// {"samples", "final", "mass_estimate"} as JSON.
+    #[command(allow_negative_numbers = true)]
+    Estimate {
+        /// Log CSV with columns t,thrust,tau_x,tau_y,tau_z,vx,vy,vz,phi,theta,psi,phi_dot,theta_dot,psi_dot.
+        #[arg(long)]
+        log: PathBuf,
+        /// Nominal mass [kg].
+        #[arg(long)]
+        mass: f64,
+        /// Nominal principal inertia Ixx,Iyy,Izz [kg·m²].
+        #[arg(long)]
+        inertia: String,
+        /// Estimator order r.
+        #[arg(long)]
+        order: usize,
+        /// Chebyshev passband ripple [dB].
+        #[arg(long = "ripple-db")]
+        ripple_db: f64,
+        /// Chebyshev passband edge [rad/s].
+        #[arg(long)]
+        wp: f64,
+        /// Sample time of the log [s].
+        #[arg(long, default_value_t = 0.001)]
+        ts: f64,
+        /// Write t,fx,fy,fz,tx,ty,tz,mass per sample to this CSV file.
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -130,6 +161,16 @@ fn execute(command: Command) -> Result<String, String> {
             let summary = simulate(&scn, out.as_deref()).map_err(|e| e.to_string())?;
             serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
         }
+        Command::Estimate {
+            log,
+            mass,
+            inertia,
+            order,
+            ripple_db,
+            wp,
+            ts,
+            out,
+        } => estimate(&log, mass, &inertia, order, ripple_db, wp, ts, out.as_deref()),
         Command::Alloc { airframe, json } => {
             let src = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
             let af = Airframe::from_source(&src).map_err(|e| e.to_string())?;
@@ -161,4 +202,46 @@ fn execute(command: Command) -> Result<String, String> {
             }
         }
     }
+}
+
+/// `rotorpilot estimate`: reads the log, runs the estimator, writes OUT.csv, returns the JSON.
+#[allow(clippy::too_many_arguments)]
+fn estimate(
+    log: &std::path::Path,
+    mass: f64,
+    inertia: &str,
+    order: usize,
+    ripple_db: f64,
+    wp: f64,
+    ts: f64,
+    out: Option<&std::path::Path>,
+) -> Result<String, String> {
+    let inertia: Vec<f64> = inertia
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("--inertia {inertia:?}: {e}; expected Ixx,Iyy,Izz in kg·m²"))?;
+    let [ixx, iyy, izz] = inertia[..] else {
+        return Err(format!(
+            "--inertia: expected 3 numbers Ixx,Iyy,Izz, got {}",
+            inertia.len()
+        ));
+    };
+    let design = ChebyshevDesign {
+        order,
+        ripple_db,
+        passband_rad_s: wp,
+    };
+    let gains = design.gains(ts).map_err(|e| format!("estimator design: {e}"))?;
+    let observer = WrenchObserver::new(mass, Vec3::new(ixx, iyy, izz), gains, ts)
+        .map_err(|e| format!("--mass {mass} / --inertia: {e}"))?;
+    let origin = log.display().to_string();
+    let text = std::fs::read_to_string(log).map_err(|e| format!("{origin}: cannot read the file: {e}"))?;
+    let samples = parse_log(&text, &origin, ts).map_err(|e| e.to_string())?;
+    let rows = replay(&samples, observer);
+    if let Some(path) = out {
+        std::fs::write(path, estimate_csv(&rows)).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    let report = EstimateReport::new(&rows).ok_or_else(|| format!("{origin}: no samples"))?;
+    serde_json::to_string(&report).map_err(|e| e.to_string())
 }

@@ -1,6 +1,8 @@
-//! Estimation: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
+//! Estimation: Chebyshev gain design, the momentum-based wrench estimator (control.md §7) and
+//! its offline run over a flight log.
 
 mod chebyshev;
+pub mod log_replay;
 mod wrench_observer;
 
 pub use chebyshev::{estimator_gains, ChebyshevDesign, DesignError, Pole, MAX_ORDER};

@@ -1,0 +1,260 @@
+//! Offline run of the wrench estimator over a flight log (homework exercise 4;
+//! `rotorpilot estimate`). Pure: the log arrives as text, the estimates leave as values.
+//!
+//! The log is CSV with a header row and the columns [`REQUIRED_COLUMNS`] in any order (extra
+//! columns are ignored): time [s], commanded thrust [N, positive], commanded body torques FRD
+//! [N·m], world NED velocity [m/s], ZYX Euler angles [rad] and their rates [rad/s]. Each row
+//! feeds one [`WrenchObserver::update`] (control.md §7.5).
+
+use thiserror::Error;
+
+use super::{WrenchEstimate, WrenchObserver};
+use crate::math::Vec3;
+
+/// Columns a log must have.
+pub const REQUIRED_COLUMNS: [&str; 14] = [
+    "t",
+    "thrust",
+    "tau_x",
+    "tau_y",
+    "tau_z",
+    "vx",
+    "vy",
+    "vz",
+    "phi",
+    "theta",
+    "psi",
+    "phi_dot",
+    "theta_dot",
+    "psi_dot",
+];
+
+/// Relative tolerance on the sample time between rows [-].
+const SAMPLE_TIME_TOLERANCE: f64 = 0.01;
+
+/// A log that cannot be used: the file, the line (1-based, the header is line 1), the column and why.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{origin}: line {line}{}: {reason}", column.as_ref().map(|c| format!(", column {c}")).unwrap_or_default())]
+pub struct LogError {
+    /// File the log came from.
+    pub origin: String,
+    /// Line number, 1-based.
+    pub line: usize,
+    /// Column name, when one is at fault.
+    pub column: Option<String>,
+    /// What is wrong.
+    pub reason: String,
+}
+
+/// One row of the log.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LogSample {
+    /// Time [s].
+    pub t_s: f64,
+    /// Commanded collective thrust [N].
+    pub thrust_n: f64,
+    /// Commanded body torque, FRD [N·m].
+    pub torque_b: Vec3,
+    /// Velocity, world NED [m/s].
+    pub vel_w: Vec3,
+    /// Roll, pitch, yaw [rad].
+    pub eta: Vec3,
+    /// Euler-angle rates [rad/s].
+    pub eta_dot: Vec3,
+}
+
+/// Estimate after one row.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReplayRow {
+    /// Time of the row [s].
+    pub t_s: f64,
+    /// Estimate (force world NED, torque body FRD, mass).
+    pub estimate: WrenchEstimate,
+}
+
+/// Parses `text` (from `origin`), checking every value and that t advances by `ts_s` [s].
+pub fn parse_log(text: &str, origin: &str, ts_s: f64) -> Result<Vec<LogSample>, LogError> {
+    let err = |line: usize, column: Option<&str>, reason: String| LogError {
+        origin: origin.to_string(),
+        line,
+        column: column.map(str::to_string),
+        reason,
+    };
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+    let Some((h, header)) = lines.next() else {
+        return Err(err(1, None, "empty file: expected a header row".into()));
+    };
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let mut index = [0usize; REQUIRED_COLUMNS.len()];
+    for (slot, name) in index.iter_mut().zip(REQUIRED_COLUMNS) {
+        *slot = names.iter().position(|n| *n == name).ok_or_else(|| {
+            err(
+                h + 1,
+                Some(name),
+                format!("missing column (header has: {})", names.join(",")),
+            )
+        })?;
+    }
+    let mut samples = Vec::new();
+    for (i, line) in lines {
+        let line_no = i + 1;
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        if fields.len() != names.len() {
+            return Err(err(
+                line_no,
+                None,
+                format!("{} fields, the header has {}", fields.len(), names.len()),
+            ));
+        }
+        let mut v = [0.0; REQUIRED_COLUMNS.len()];
+        for ((value, &col), name) in v.iter_mut().zip(&index).zip(REQUIRED_COLUMNS) {
+            let text = fields[col];
+            *value = match text.parse::<f64>() {
+                Ok(x) if x.is_finite() => x,
+                Ok(_) => return Err(err(line_no, Some(name), format!("{text:?} is not a finite number"))),
+                Err(_) => return Err(err(line_no, Some(name), format!("{text:?} is not a number"))),
+            };
+        }
+        let sample = LogSample {
+            t_s: v[0],
+            thrust_n: v[1],
+            torque_b: Vec3::new(v[2], v[3], v[4]),
+            vel_w: Vec3::new(v[5], v[6], v[7]),
+            eta: Vec3::new(v[8], v[9], v[10]),
+            eta_dot: Vec3::new(v[11], v[12], v[13]),
+        };
+        if let Some(prev) = samples.last().map(|s: &LogSample| s.t_s) {
+            let step = sample.t_s - prev;
+            if step <= 0.0 {
+                return Err(err(
+                    line_no,
+                    Some("t"),
+                    format!("time {} s does not increase (previous row {prev} s)", sample.t_s),
+                ));
+            }
+            if (step - ts_s).abs() > SAMPLE_TIME_TOLERANCE * ts_s {
+                return Err(err(
+                    line_no,
+                    Some("t"),
+                    format!("sample time {step} s differs from the expected {ts_s} s"),
+                ));
+            }
+        }
+        if sample.thrust_n < 0.0 {
+            return Err(err(
+                line_no,
+                Some("thrust"),
+                format!("thrust {} N must not be negative", sample.thrust_n),
+            ));
+        }
+        samples.push(sample);
+    }
+    if samples.is_empty() {
+        return Err(err(h + 1, None, "no data rows after the header".into()));
+    }
+    Ok(samples)
+}
+
+/// Runs `observer` over `samples`, one update per row.
+pub fn replay(samples: &[LogSample], mut observer: WrenchObserver) -> Vec<ReplayRow> {
+    samples
+        .iter()
+        .map(|s| ReplayRow {
+            t_s: s.t_s,
+            estimate: observer.update(&super::ObserverInput {
+                vel_w: s.vel_w,
+                eta: s.eta,
+                eta_dot: s.eta_dot,
+                thrust_n: s.thrust_n,
+                torque_b: s.torque_b,
+            }),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::estimation::ChebyshevDesign;
+    use crate::math::GRAVITY_M_S2;
+
+    const HEADER: &str = "t,thrust,tau_x,tau_y,tau_z,vx,vy,vz,phi,theta,psi,phi_dot,theta_dot,psi_dot";
+
+    /// A 1.7 kg vehicle held still by a thrust equal to its weight while a 0.2 N·m yaw torque
+    /// spins it up; the estimator believes 1.5 kg.
+    fn hover_log(seconds: f64) -> String {
+        let mut text = String::from(HEADER);
+        let n = (seconds / 1e-3) as usize;
+        for k in 0..n {
+            let t = k as f64 * 1e-3;
+            let yaw_rate = 0.2 / 2.4832 * t;
+            text.push_str(&format!(
+                "\n{t},{},0,0,0,0,0,0,0,0,0,0,0,{yaw_rate}",
+                1.7 * GRAVITY_M_S2
+            ));
+        }
+        text
+    }
+
+    fn observer() -> WrenchObserver {
+        let gains = ChebyshevDesign {
+            order: 1,
+            ripple_db: 3.0,
+            passband_rad_s: 2.0,
+        }
+        .gains(1e-3)
+        .unwrap();
+        WrenchObserver::new(1.5, Vec3::new(1.2416, 1.2416, 2.4832), gains, 1e-3).unwrap()
+    }
+
+    #[test]
+    fn hover_log_gives_the_unmodelled_weight_and_the_yaw_torque() {
+        let samples = parse_log(&hover_log(20.0), "log.csv", 1e-3).unwrap();
+        assert_eq!(samples.len(), 20_000);
+        let last = replay(&samples, observer()).last().copied().unwrap().estimate;
+        // Held still: f̂ → −β_lin = u_T e3 − m_e g e3 = (1.7 − 1.5) g upward thrust unexplained.
+        assert!((last.force_w.z - 0.2 * GRAVITY_M_S2).abs() < 1e-6, "{}", last.force_w);
+        assert!((last.mass_kg - 1.7).abs() < 1e-6);
+        assert!((last.torque_b.z - 0.2).abs() < 1e-6, "{}", last.torque_b);
+    }
+
+    #[test]
+    fn columns_may_come_in_any_order_with_extras() {
+        let text = "psi_dot,extra,t,thrust,tau_x,tau_y,tau_z,vx,vy,vz,phi,theta,psi,phi_dot,theta_dot\n\
+                    0.5,9,0,14.7,0,0,0,1,2,3,0,0,0,0,0\n0.5,9,0.001,14.7,0,0,0,1,2,3,0,0,0,0,0";
+        let s = parse_log(text, "x.csv", 1e-3).unwrap();
+        assert_eq!(s[1].eta_dot.z, 0.5);
+        assert_eq!(s[1].vel_w, Vec3::new(1.0, 2.0, 3.0));
+    }
+
+    #[test]
+    fn bad_logs_name_line_and_column() {
+        let good = hover_log(0.005);
+        let cases = [
+            (
+                good.replace(",psi_dot", ""),
+                "log.csv: line 1, column psi_dot: missing column",
+            ),
+            (
+                good.replacen(",0,0,0,0,0,0,0,0,0,0,0,0", ",0,0,0,0,0,NaN,0,0,0,0,0,0", 1),
+                "line 2, column vz: \"NaN\" is not a finite number",
+            ),
+            (
+                good.replace("\n0.003,", "\nx,"),
+                "line 5, column t: \"x\" is not a number",
+            ),
+            (
+                good.replace("\n0.003,", "\n0.001,"),
+                "line 5, column t: time 0.001 s does not increase",
+            ),
+            (good.replace("\n0.003,", "\n0.0035,"), "line 5, column t: sample time"),
+            (format!("{good}\n1,2"), "line 7: 2 fields, the header has 14"),
+            (HEADER.to_string(), "line 1: no data rows"),
+            (String::new(), "line 1: empty file"),
+        ];
+        for (text, expected) in cases {
+            let e = parse_log(&text, "log.csv", 1e-3).unwrap_err().to_string();
+            assert!(e.contains(expected), "expected {expected:?} in {e:?}");
+        }
+    }
+}
