@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::allocation::Allocator;
 use rotorpilot::control::ControllerKind;
@@ -70,18 +70,8 @@ enum Command {
         /// Nominal principal inertia Ixx,Iyy,Izz [kg·m²].
         #[arg(long)]
         inertia: String,
-        /// Estimator order r.
-        #[arg(long)]
-        order: usize,
-        /// Chebyshev passband ripple [dB].
-        #[arg(long = "ripple-db")]
-        ripple_db: f64,
-        /// Chebyshev passband edge [rad/s].
-        #[arg(long)]
-        wp: f64,
-        /// Sample time of the log [s].
-        #[arg(long, default_value_t = 0.001)]
-        ts: f64,
+        #[command(flatten)]
+        design: DesignArgs,
         /// Write t,fx,fy,fz,tx,ty,tz,mass per sample to this CSV file.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -98,22 +88,39 @@ enum Command {
     /// Design wrench-estimator gains from an analog Chebyshev type-I low-pass (control.md §7.3).
     #[command(allow_negative_numbers = true)]
     Gains {
-        /// Estimator (filter) order r.
-        #[arg(long)]
-        order: usize,
-        /// Passband ripple [dB].
-        #[arg(long = "ripple-db")]
-        ripple_db: f64,
-        /// Passband edge [rad/s].
-        #[arg(long)]
-        wp: f64,
-        /// Estimator sample time [s].
-        #[arg(long, default_value_t = 0.001)]
-        ts: f64,
+        #[command(flatten)]
+        design: DesignArgs,
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
     },
+}
+
+/// A Chebyshev estimator design on the command line (control.md §7.3).
+#[derive(Debug, Args)]
+struct DesignArgs {
+    /// Estimator (filter) order r.
+    #[arg(long)]
+    order: usize,
+    /// Passband ripple [dB].
+    #[arg(long = "ripple-db")]
+    ripple_db: f64,
+    /// Passband edge [rad/s].
+    #[arg(long)]
+    wp: f64,
+    /// Estimator sample time [s] (the log's, for `estimate`).
+    #[arg(long, default_value_t = 0.001)]
+    ts: f64,
+}
+
+impl DesignArgs {
+    fn design(&self) -> ChebyshevDesign {
+        ChebyshevDesign {
+            order: self.order,
+            ripple_db: self.ripple_db,
+            passband_rad_s: self.wp,
+        }
+    }
 }
 
 fn main() -> ExitCode {
@@ -165,12 +172,9 @@ fn execute(command: Command) -> Result<String, String> {
             log,
             mass,
             inertia,
-            order,
-            ripple_db,
-            wp,
-            ts,
+            design,
             out,
-        } => estimate(&log, mass, &inertia, order, ripple_db, wp, ts, out.as_deref()),
+        } => estimate(&log, mass, &inertia, &design, out.as_deref()),
         Command::Alloc { airframe, json } => {
             let src = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
             let af = Airframe::from_source(&src).map_err(|e| e.to_string())?;
@@ -182,19 +186,8 @@ fn execute(command: Command) -> Result<String, String> {
                 Ok(report.to_table())
             }
         }
-        Command::Gains {
-            order,
-            ripple_db,
-            wp,
-            ts,
-            json,
-        } => {
-            let design = ChebyshevDesign {
-                order,
-                ripple_db,
-                passband_rad_s: wp,
-            };
-            let report = GainsReport::new(&design, ts).map_err(|e| e.to_string())?;
+        Command::Gains { design, json } => {
+            let report = GainsReport::new(&design.design(), design.ts).map_err(|e| e.to_string())?;
             if json {
                 serde_json::to_string(&report).map_err(|e| e.to_string())
             } else {
@@ -205,17 +198,14 @@ fn execute(command: Command) -> Result<String, String> {
 }
 
 /// `rotorpilot estimate`: reads the log, runs the estimator, writes OUT.csv, returns the JSON.
-#[allow(clippy::too_many_arguments)]
 fn estimate(
     log: &std::path::Path,
     mass: f64,
     inertia: &str,
-    order: usize,
-    ripple_db: f64,
-    wp: f64,
-    ts: f64,
+    args: &DesignArgs,
     out: Option<&std::path::Path>,
 ) -> Result<String, String> {
+    let ts = args.ts;
     let inertia: Vec<f64> = inertia
         .split(',')
         .map(|s| s.trim().parse::<f64>())
@@ -227,12 +217,7 @@ fn estimate(
             inertia.len()
         ));
     };
-    let design = ChebyshevDesign {
-        order,
-        ripple_db,
-        passband_rad_s: wp,
-    };
-    let gains = design.gains(ts).map_err(|e| format!("estimator design: {e}"))?;
+    let gains = args.design().gains(ts).map_err(|e| format!("estimator design: {e}"))?;
     let observer = WrenchObserver::new(mass, Vec3::new(ixx, iyy, izz), gains, ts)
         .map_err(|e| format!("--mass {mass} / --inertia: {e}"))?;
     let origin = log.display().to_string();

@@ -11,14 +11,13 @@
 //!
 //! `I_b Q τ̃ = Q⁻ᵀ M τ̃` and the middle terms are `Q⁻ᵀ C η̇` (§2.2), so neither M⁻¹ nor C is formed.
 
-use crate::allocation::Wrench;
 use crate::math::{Mat3, Vec3};
 use crate::rpy;
 
 use super::gains::{ControlLimits, HierarchicalGains, VehicleModel};
 use super::reference::{HeadingReference, TranslationReference};
 use super::rpy_reference::RpyReference;
-use super::{ControlFlags, ControlOutput, ExternalWrench, TrackingErrors};
+use super::{ControlFlags, ControlOutput, ExternalWrench};
 
 /// State of the hierarchical law between ticks (the desired-angle derivative filters).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,21 +62,7 @@ impl HierarchicalLaw {
         let torque_b = inertia * (t.q * tau_tilde + rpy::q_dot(&t.eta, &t.eta_dot) * t.eta_dot)
             + w.cross(&(inertia * w))
             - tau_hat;
-        Some(ControlOutput {
-            wrench: Wrench {
-                thrust_n: t.thrust_n,
-                torque_b,
-            },
-            r_wb_desired: rpy::rotation(&t.eta_d),
-            eta_desired: t.eta_d,
-            errors: TrackingErrors {
-                pos_w: tr.e_p,
-                vel_w: tr.e_v,
-                attitude: t.e_eta,
-                rate: t.e_eta_dot,
-            },
-            flags: *flags,
-        })
+        Some(t.output(torque_b, tr, *flags))
     }
 }
 

@@ -13,14 +13,13 @@
 //! C is the skew-consistent Coriolis matrix of §2.2 (erratum E4), for which the passivity
 //! argument holds. `Q⁻ᵀ τ̂_e = τ̂_e^b`, so the compensation is subtracted in body coordinates.
 
-use crate::allocation::Wrench;
 use crate::math::{Mat3, Vec3};
 use crate::rpy;
 
 use super::gains::{ControlLimits, PassivityGains, VehicleModel};
 use super::reference::{HeadingReference, TranslationReference};
 use super::rpy_reference::RpyReference;
-use super::{ControlFlags, ControlOutput, ExternalWrench, TrackingErrors};
+use super::{ControlFlags, ControlOutput, ExternalWrench};
 
 /// State of the passivity-based law between ticks (the desired-angle derivative filters).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,21 +67,7 @@ impl PassivityLaw {
         let tau_eta = m * eta_r_ddot + c * eta_r_dot - gains.d_a.component_mul(&nu) - gains.k_a.component_mul(&t.e_eta);
         let tau_hat = ext.map_or(Vec3::zeros(), |e| e.torque_b);
         let torque_b = t.q_inv.transpose() * tau_eta - tau_hat;
-        Some(ControlOutput {
-            wrench: Wrench {
-                thrust_n: t.thrust_n,
-                torque_b,
-            },
-            r_wb_desired: rpy::rotation(&t.eta_d),
-            eta_desired: t.eta_d,
-            errors: TrackingErrors {
-                pos_w: tr.e_p,
-                vel_w: tr.e_v,
-                attitude: t.e_eta,
-                rate: t.e_eta_dot,
-            },
-            flags: *flags,
-        })
+        Some(t.output(torque_b, tr, *flags))
     }
 }
 

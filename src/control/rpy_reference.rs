@@ -5,14 +5,15 @@
 //! twice (§4.2); ψ_d, ψ̇_d, ψ̈_d come from the planner. `e_η = η − η_d` with the yaw wrapped into
 //! (−π, π]; `η̇ = Q(η)⁻¹ ω_b`.
 
+use crate::allocation::Wrench;
 use crate::math::{euler_zyx, wrap_pi, Mat3, Vec3};
 use crate::rpy;
 
 use super::filters::DirtyDerivative;
 use super::gains::{ControlLimits, VehicleModel};
-use super::reference::HeadingReference;
+use super::reference::{HeadingReference, TranslationReference};
 use super::rpy_extraction::{extract, ExtractionLimits};
-use super::ControlFlags;
+use super::{ControlFlags, ControlOutput, TrackingErrors};
 
 /// Desired and measured attitude in RPY coordinates for one tick.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,6 +38,28 @@ pub struct RpyTracking {
     pub e_eta: Vec3,
     /// ė_η [rad/s].
     pub e_eta_dot: Vec3,
+}
+
+impl RpyTracking {
+    /// The law's output for body torque `torque_b` [N·m]: this tick's thrust, desired attitude
+    /// and errors (e_p, ė_p from `tr`; e_η, ė_η as the attitude and rate errors).
+    pub fn output(&self, torque_b: Vec3, tr: &TranslationReference, flags: ControlFlags) -> ControlOutput {
+        ControlOutput {
+            wrench: Wrench {
+                thrust_n: self.thrust_n,
+                torque_b,
+            },
+            r_wb_desired: rpy::rotation(&self.eta_d),
+            eta_desired: self.eta_d,
+            errors: TrackingErrors {
+                pos_w: tr.e_p,
+                vel_w: tr.e_v,
+                attitude: self.e_eta,
+                rate: self.e_eta_dot,
+            },
+            flags,
+        }
+    }
 }
 
 /// Filters that turn the extracted angles into η_d, η̇_d, η̈_d.
