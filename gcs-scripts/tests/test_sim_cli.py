@@ -59,3 +59,19 @@ def test_bad_scenario_names_the_field(rotorpilot, tmp_path):
     assert proc.returncode != 0
     assert "bad.toml" in proc.stderr and "lqr" in proc.stderr
     assert not (tmp_path / "out" / "summary.json").exists()
+
+
+def test_plot_run_renders_a_real_run(rotorpilot, tmp_path):
+    import subprocess
+    import sys
+
+    out = tmp_path / "ex4"
+    scenario = (ROOT / "scenarios" / "ex4_estimator.toml").read_text().replace("duration = 40.0", "duration = 3.0")
+    (tmp_path / "short.toml").write_text(scenario)
+    assert rotorpilot("sim", str(tmp_path / "short.toml"), "--out", str(out)).returncode == 0
+    proc = subprocess.run([sys.executable, str(ROOT / "gcs-scripts" / "plot_run.py"), str(out)],
+                          capture_output=True, text=True, timeout=300, check=False)
+    assert proc.returncode == 0, proc.stderr
+    for name in ["position", "errors", "attitude", "inputs", "rotors", "wrench", "mass"]:
+        png = out / f"{name}.png"
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000, name
