@@ -15,6 +15,7 @@
 //! - [`core`]: one flight-controller tick: estimator → controller → allocation → estimator.
 //! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
 //! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
+//! - [`mav`]: MAVLink codec (datagram ↔ frames, hand-built ACK for unknown commands).
 //! - [`navigation`]: setpoint generators (take-off climb; hover, quintic, waypoint and circle
 //!   trajectories with a `[trajectory]` TOML spec).
 //! - [`report`]: what the `alloc` and `gains` commands print.
@@ -33,6 +34,7 @@ pub mod core;
 pub mod estimation;
 pub mod headless;
 pub mod math;
+pub mod mav;
 pub mod navigation;
 pub mod report;
 pub mod rpy;
