@@ -10,6 +10,8 @@
 //! - [`math`]: numeric aliases, hat/vee, Euler angles, angle wrapping.
 //! - [`airframe`]: the FC's view of an airframe file (presets, validation, errors naming the field).
 //! - [`allocation`]: G_q from the airframe, min-norm inverse, saturation policy (control.md §3).
+//! - [`commander`]: arm/disarm, PX4 flight modes, take-off/hold/land/return, land detection
+//!   and auto-disarm on simulated time.
 //! - [`control`]: vehicle state, setpoints and the geometric, hierarchical and passivity-based
 //!   controllers behind one interface (control.md §4–§6).
 //! - [`core`]: one flight-controller tick: estimator → controller → allocation → estimator.
@@ -29,6 +31,7 @@
 
 pub mod airframe;
 pub mod allocation;
+pub mod commander;
 pub mod control;
 pub mod core;
 pub mod estimation;

@@ -1,7 +1,10 @@
-//! Setpoint generators: the take-off climb and the trajectory generators.
+//! Setpoint generators: the take-off climb, the trajectory generators and the guidance of the
+//! commander's modes.
 
 mod climb;
+mod guidance;
 pub mod trajectory;
 
 pub use climb::ClimbProfile;
+pub use guidance::Guidance;
 pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};

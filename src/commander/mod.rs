@@ -1,0 +1,396 @@
+//! The commander (PX4 semantics, mavlink.md §2–§3): armed state, flight mode, landed state,
+//! take-off / hold / land / return, land detection and auto-disarm, all on simulated time.
+//! Pure: requests and the vehicle state in, a result and a setpoint out.
+//!
+//! Home is the local NED origin. Wrong-state results follow mavlink.md §3.3.
+
+mod mode;
+
+pub use mode::{FlightMode, ModeRefusal};
+
+use crate::control::{FlatSetpoint, VehicleState};
+use crate::math::{euler_zyx, Vec3};
+use crate::navigation::Guidance;
+
+/// Speed below which a vehicle that is asked to descend counts as landed [m/s].
+const LANDED_SPEED_M_S: f64 = 0.1;
+/// How long it must stay that slow [s].
+const LANDED_CONFIRM_S: f64 = 1.0;
+/// Take-off is complete within this distance of the target [m].
+const TAKEOFF_ACCEPT_M: f64 = 0.2;
+
+/// Commander settings (PX4 parameter names in brackets).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CommanderParams {
+    /// Take-off height above home [m] (`MIS_TAKEOFF_ALT`, 2.5).
+    pub takeoff_alt_m: f64,
+    /// Climb speed [m/s] (`MPC_Z_VEL_MAX_UP`, 3.0).
+    pub climb_speed_m_s: f64,
+    /// Landing descent speed [m/s] (`MPC_LAND_SPEED`, 0.7).
+    pub land_speed_m_s: f64,
+    /// Horizontal cruise speed of the AUTO modes [m/s] (`MPC_XY_CRUISE`, 5.0).
+    pub cruise_speed_m_s: f64,
+    /// Return altitude above home [m] (`RTL_RETURN_ALT`, 60).
+    pub rtl_return_alt_m: f64,
+    /// Disarm this long after landing [s] (`COM_DISARM_LAND`, 2.0; ≤ 0 never).
+    pub disarm_land_s: f64,
+    /// Disarm this long after arming without taking off [s] (`COM_DISARM_PRFLT`, 10; ≤ 0 never).
+    pub disarm_preflight_s: f64,
+}
+
+impl Default for CommanderParams {
+    fn default() -> Self {
+        Self {
+            takeoff_alt_m: 2.5,
+            climb_speed_m_s: 3.0,
+            land_speed_m_s: 0.7,
+            cruise_speed_m_s: 5.0,
+            rtl_return_alt_m: 60.0,
+            disarm_land_s: 2.0,
+            disarm_preflight_s: 10.0,
+        }
+    }
+}
+
+/// MAVLink landed state (EXTENDED_SYS_STATE).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LandedState {
+    /// On the ground.
+    OnGround,
+    /// Flying.
+    InAir,
+    /// Climbing out after take-off.
+    Takeoff,
+    /// Descending to land.
+    Landing,
+}
+
+/// A request from a ground station.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Request {
+    /// Arm; `force` skips the pre-arm checks.
+    Arm {
+        /// Force (21196 / 2989).
+        force: bool,
+    },
+    /// Disarm; `force` also in the air.
+    Disarm {
+        /// Force (21196 / 2989).
+        force: bool,
+    },
+    /// Switch mode.
+    SetMode(FlightMode),
+    /// NAV_TAKEOFF to `height_m` above home [m] (`None`: `MIS_TAKEOFF_ALT`).
+    Takeoff {
+        /// Target height above home [m].
+        height_m: Option<f64>,
+    },
+    /// NAV_LAND here.
+    Land,
+    /// NAV_RETURN_TO_LAUNCH.
+    ReturnToLaunch,
+}
+
+/// The result of a request (MAV_RESULT), with the reason of a refusal for STATUSTEXT.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Outcome {
+    /// Valid and started.
+    Accepted,
+    /// Not now; fixable by waiting.
+    TemporarilyRejected(String),
+    /// Invalid.
+    Denied(String),
+}
+
+/// Something the commander did on its own, to announce.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Event {
+    /// Auto-disarm, with the reason.
+    Disarmed(&'static str),
+    /// The mode changed without a request (take-off done → loiter, landed → ...).
+    ModeChanged(FlightMode),
+    /// Touch-down detected.
+    Landed,
+}
+
+/// One tick's output.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CommanderTick {
+    /// Setpoint to fly; `None`: motors off.
+    pub setpoint: Option<FlatSetpoint>,
+    /// What happened on its own this tick.
+    pub events: Vec<Event>,
+}
+
+/// RTL phases.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RtlPhase {
+    Climb,
+    Return,
+    Descend,
+}
+
+/// Armed state, mode and guidance of one vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Commander {
+    /// Settings.
+    pub params: CommanderParams,
+    armed: bool,
+    mode: FlightMode,
+    landed: LandedState,
+    guidance: Guidance,
+    takeoff_target_w: Option<Vec3>,
+    rtl_phase: RtlPhase,
+    armed_at_s: f64,
+    slow_since_s: Option<f64>,
+    landed_at_s: Option<f64>,
+    took_off: bool,
+}
+
+impl Commander {
+    /// Disarmed on the ground in AUTO.LOITER (PX4's default "Hold").
+    pub fn new(params: CommanderParams) -> Self {
+        Self {
+            params,
+            armed: false,
+            mode: FlightMode::Loiter,
+            landed: LandedState::OnGround,
+            guidance: Guidance::Idle,
+            takeoff_target_w: None,
+            rtl_phase: RtlPhase::Climb,
+            armed_at_s: 0.0,
+            slow_since_s: None,
+            landed_at_s: None,
+            took_off: false,
+        }
+    }
+
+    /// Armed.
+    pub fn armed(&self) -> bool {
+        self.armed
+    }
+
+    /// Current mode.
+    pub fn mode(&self) -> FlightMode {
+        self.mode
+    }
+
+    /// Landed state.
+    pub fn landed_state(&self) -> LandedState {
+        self.landed
+    }
+
+    /// Handles `request` at simulated time `t_s` [s] with the vehicle in state `x`.
+    pub fn request(&mut self, request: Request, x: &VehicleState, t_s: f64) -> Outcome {
+        match request {
+            Request::Arm { force } => self.arm(force, x, t_s),
+            Request::Disarm { force } => {
+                if self.armed && self.landed != LandedState::OnGround && !force {
+                    return Outcome::TemporarilyRejected("Disarm refused: vehicle in the air".into());
+                }
+                self.disarm();
+                Outcome::Accepted
+            }
+            Request::SetMode(mode) => self.set_mode(mode, x, t_s),
+            Request::Takeoff { height_m } => {
+                if self.armed && self.landed != LandedState::OnGround {
+                    return Outcome::TemporarilyRejected("Takeoff refused: already flying".into());
+                }
+                let h = height_m.unwrap_or(self.params.takeoff_alt_m);
+                if !(h.is_finite() && h > 0.0 && h <= 1000.0) {
+                    return Outcome::Denied(format!("Takeoff refused: height {h} m"));
+                }
+                self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
+                self.enter(FlightMode::Takeoff, x, t_s);
+                Outcome::Accepted
+            }
+            Request::Land => self.set_mode(FlightMode::Land, x, t_s),
+            Request::ReturnToLaunch => self.set_mode(FlightMode::ReturnToLaunch, x, t_s),
+        }
+    }
+
+    fn arm(&mut self, force: bool, x: &VehicleState, t_s: f64) -> Outcome {
+        if self.armed {
+            return Outcome::Accepted;
+        }
+        if !force {
+            match self.mode {
+                FlightMode::Mission => return Outcome::TemporarilyRejected("Arming denied: no mission".into()),
+                FlightMode::Offboard => {
+                    return Outcome::TemporarilyRejected("Arming denied: no offboard setpoints".into())
+                }
+                FlightMode::Land | FlightMode::ReturnToLaunch => {
+                    return Outcome::TemporarilyRejected(format!("Arming denied: not in {}", self.mode.name()))
+                }
+                _ => {}
+            }
+        }
+        self.armed = true;
+        self.armed_at_s = t_s;
+        self.took_off = false;
+        self.landed_at_s = None;
+        self.enter(self.mode, x, t_s);
+        Outcome::Accepted
+    }
+
+    fn disarm(&mut self) {
+        self.armed = false;
+        self.guidance = Guidance::Idle;
+        self.landed = LandedState::OnGround;
+        if matches!(
+            self.mode,
+            FlightMode::Takeoff | FlightMode::Land | FlightMode::ReturnToLaunch
+        ) {
+            self.mode = FlightMode::Loiter;
+        }
+    }
+
+    fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
+        match mode {
+            FlightMode::Mission => Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into()),
+            FlightMode::Offboard => Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into()),
+            FlightMode::Takeoff if self.takeoff_target_w.is_none() || self.landed != LandedState::OnGround => {
+                let h = self.params.takeoff_alt_m;
+                self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
+                self.enter(mode, x, t_s);
+                Outcome::Accepted
+            }
+            _ => {
+                self.enter(mode, x, t_s);
+                Outcome::Accepted
+            }
+        }
+    }
+
+    /// Switches to `mode` and sets its guidance from the current state.
+    fn enter(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) {
+        self.mode = mode;
+        let yaw = euler_zyx(&x.r_wb).z;
+        let on_ground = self.landed == LandedState::OnGround;
+        self.slow_since_s = None;
+        self.guidance = if !self.armed {
+            Guidance::Idle
+        } else {
+            match mode {
+                FlightMode::Takeoff => {
+                    let target = self
+                        .takeoff_target_w
+                        .unwrap_or(x.pos_w - Vec3::new(0.0, 0.0, self.params.takeoff_alt_m));
+                    self.landed = LandedState::Takeoff;
+                    self.took_off = true;
+                    Guidance::path(x.pos_w, target, yaw, self.params.climb_speed_m_s, t_s)
+                }
+                FlightMode::Land => {
+                    if !on_ground {
+                        self.landed = LandedState::Landing;
+                    }
+                    self.descend(x, yaw, t_s)
+                }
+                FlightMode::ReturnToLaunch => {
+                    self.rtl_phase = RtlPhase::Climb;
+                    let z = x.pos_w.z.min(-self.params.rtl_return_alt_m);
+                    Guidance::path(
+                        x.pos_w,
+                        Vec3::new(x.pos_w.x, x.pos_w.y, z),
+                        yaw,
+                        self.params.climb_speed_m_s,
+                        t_s,
+                    )
+                }
+                // Armed on the ground in a hold mode: motors idle until a take-off.
+                _ if on_ground => Guidance::Idle,
+                _ => Guidance::Hold {
+                    pos_w: x.pos_w,
+                    yaw_rad: yaw,
+                },
+            }
+        };
+    }
+
+    fn descend(&self, x: &VehicleState, yaw: f64, t_s: f64) -> Guidance {
+        Guidance::Descend {
+            xy_w: x.pos_w,
+            yaw_rad: yaw,
+            z_start_m: x.pos_w.z,
+            start_s: t_s,
+            speed_m_s: self.params.land_speed_m_s,
+        }
+    }
+
+    /// One tick at simulated time `t_s` [s]: mode progress, land detection, auto-disarm, setpoint.
+    pub fn update(&mut self, x: &VehicleState, t_s: f64) -> CommanderTick {
+        let mut events = Vec::new();
+        if !self.armed {
+            return CommanderTick { setpoint: None, events };
+        }
+        let yaw = euler_zyx(&x.r_wb).z;
+        match self.mode {
+            FlightMode::Takeoff => {
+                let near = self
+                    .takeoff_target_w
+                    .is_none_or(|p| (x.pos_w - p).norm() < TAKEOFF_ACCEPT_M);
+                if self.guidance.finished(t_s) && near {
+                    self.landed = LandedState::InAir;
+                    self.mode = FlightMode::Loiter;
+                    self.guidance = Guidance::Hold {
+                        pos_w: self.takeoff_target_w.unwrap_or(x.pos_w),
+                        yaw_rad: yaw,
+                    };
+                    events.push(Event::ModeChanged(FlightMode::Loiter));
+                }
+            }
+            FlightMode::ReturnToLaunch => self.advance_rtl(x, yaw, t_s),
+            _ => {}
+        }
+        // Land detection: asked to descend, but no longer moving.
+        if matches!(self.guidance, Guidance::Descend { .. }) && self.landed != LandedState::OnGround {
+            if x.vel_w.norm() < LANDED_SPEED_M_S {
+                let since = *self.slow_since_s.get_or_insert(t_s);
+                if t_s - since >= LANDED_CONFIRM_S {
+                    self.landed = LandedState::OnGround;
+                    self.landed_at_s = Some(t_s);
+                    events.push(Event::Landed);
+                }
+            } else {
+                self.slow_since_s = None;
+            }
+        }
+        if self.landed == LandedState::OnGround {
+            let p = &self.params;
+            let landed_for = self.landed_at_s.map(|l| t_s - l);
+            if p.disarm_land_s > 0.0 && landed_for.is_some_and(|d| d >= p.disarm_land_s) {
+                self.disarm();
+                events.push(Event::Disarmed("landed"));
+                return CommanderTick { setpoint: None, events };
+            }
+            if p.disarm_preflight_s > 0.0 && !self.took_off && t_s - self.armed_at_s >= p.disarm_preflight_s {
+                self.disarm();
+                events.push(Event::Disarmed("no takeoff"));
+                return CommanderTick { setpoint: None, events };
+            }
+        }
+        CommanderTick {
+            setpoint: self.guidance.setpoint(t_s, x),
+            events,
+        }
+    }
+
+    fn advance_rtl(&mut self, x: &VehicleState, yaw: f64, t_s: f64) {
+        if !self.guidance.finished(t_s) {
+            return;
+        }
+        match self.rtl_phase {
+            RtlPhase::Climb => {
+                self.rtl_phase = RtlPhase::Return;
+                let home_at_alt = Vec3::new(0.0, 0.0, x.pos_w.z);
+                self.guidance = Guidance::path(x.pos_w, home_at_alt, yaw, self.params.cruise_speed_m_s, t_s);
+            }
+            RtlPhase::Return => {
+                self.rtl_phase = RtlPhase::Descend;
+                self.landed = LandedState::Landing;
+                self.guidance = self.descend(x, yaw, t_s);
+            }
+            RtlPhase::Descend => {}
+        }
+    }
+}

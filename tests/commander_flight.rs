@@ -1,0 +1,144 @@
+//! The commander flies the plant through the flight core: take-off (requested while disarmed, as
+//! QGC does), hold, land with touch-down detection and auto-disarm, and return to launch.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use rotorpilot::airframe::{Airframe, AirframeSource};
+use rotorpilot::commander::{Commander, CommanderParams, Event, FlightMode, LandedState, Outcome, Request};
+use rotorpilot::control::{ControllerKind, VehicleState};
+use rotorpilot::core::FlightCore;
+use rotorpilot::sitl::SimPlant;
+
+struct Sim {
+    core: FlightCore,
+    plant: SimPlant,
+    commander: Commander,
+    tick: u64,
+    events: Vec<Event>,
+}
+
+impl Sim {
+    fn new(airframe: &str, params: CommanderParams) -> Self {
+        let src = AirframeSource::resolve(airframe).unwrap();
+        let af = Airframe::from_source(&src).unwrap();
+        Self {
+            core: FlightCore::for_airframe(&af, ControllerKind::Geometric, 1e-3).unwrap(),
+            plant: SimPlant::from_source(&src, 0).unwrap(),
+            commander: Commander::new(params),
+            tick: 0,
+            events: Vec::new(),
+        }
+    }
+
+    fn t(&self) -> f64 {
+        self.tick as f64 * 1e-3
+    }
+
+    fn state(&mut self) -> VehicleState {
+        self.plant.sense()
+    }
+
+    fn request(&mut self, r: Request) -> Outcome {
+        let x = self.state();
+        let t = self.t();
+        self.commander.request(r, &x, t)
+    }
+
+    fn run(&mut self, seconds: f64) {
+        for _ in 0..(seconds * 1000.0).round() as u64 {
+            let x = self.plant.sense();
+            let tick = self.commander.update(&x, self.t());
+            self.events.extend(tick.events);
+            let speeds = match tick.setpoint {
+                Some(sp) => self.core.step(&x, &sp).allocation.omega().as_slice().to_vec(),
+                None => vec![0.0; self.core.allocator().rotor_count()],
+            };
+            self.plant.step(&speeds, 1e-3);
+            self.tick += 1;
+        }
+    }
+}
+
+#[test]
+fn takeoff_hold_land_and_auto_disarm() {
+    let mut sim = Sim::new("quad_x", CommanderParams::default());
+    assert_eq!(sim.request(Request::Takeoff { height_m: None }), Outcome::Accepted);
+    assert_eq!(sim.commander.mode(), FlightMode::Takeoff);
+    assert!(!sim.commander.armed());
+    assert_eq!(sim.request(Request::Arm { force: false }), Outcome::Accepted);
+    sim.run(6.0);
+    assert_eq!(sim.commander.mode(), FlightMode::Loiter, "take-off complete → hold");
+    assert_eq!(sim.commander.landed_state(), LandedState::InAir);
+    assert!(sim.events.contains(&Event::ModeChanged(FlightMode::Loiter)));
+    let z = sim.plant.truth().pos_w.z;
+    assert!((z + 2.5).abs() < 0.05, "MIS_TAKEOFF_ALT above home: {z}");
+    // In the air: plain disarm and a second take-off are refused.
+    assert!(matches!(
+        sim.request(Request::Disarm { force: false }),
+        Outcome::TemporarilyRejected(_)
+    ));
+    assert!(matches!(
+        sim.request(Request::Takeoff { height_m: None }),
+        Outcome::TemporarilyRejected(_)
+    ));
+    assert_eq!(sim.request(Request::Land), Outcome::Accepted);
+    assert_eq!(sim.commander.landed_state(), LandedState::Landing);
+    sim.run(8.0);
+    assert!(sim.events.contains(&Event::Landed));
+    assert!(sim.events.contains(&Event::Disarmed("landed")), "{:?}", sim.events);
+    assert!(!sim.commander.armed());
+    assert!(sim.plant.truth().on_ground);
+}
+
+#[test]
+fn return_to_launch_climbs_returns_and_lands() {
+    let params = CommanderParams {
+        rtl_return_alt_m: 6.0,
+        ..Default::default()
+    };
+    let mut sim = Sim::new("hexa_x", params);
+    sim.request(Request::Takeoff { height_m: Some(4.0) });
+    sim.request(Request::Arm { force: false });
+    sim.run(6.0);
+    assert_eq!(sim.request(Request::ReturnToLaunch), Outcome::Accepted);
+    let mut top: f64 = 0.0;
+    for _ in 0..200 {
+        sim.run(0.1);
+        top = top.min(sim.plant.truth().pos_w.z);
+    }
+    assert!((top + 6.0).abs() < 0.1, "climbed to RTL_RETURN_ALT: {top}");
+    assert!(!sim.commander.armed(), "landed and disarmed: {:?}", sim.events);
+    let p = sim.plant.truth().pos_w;
+    assert!(p.x.abs() < 0.05 && p.y.abs() < 0.05);
+}
+
+#[test]
+fn wrong_state_requests_are_refused_and_idle_arming_times_out() {
+    let mut sim = Sim::new("quad_x", CommanderParams::default());
+    assert!(matches!(
+        sim.request(Request::SetMode(FlightMode::Mission)),
+        Outcome::TemporarilyRejected(_)
+    ));
+    assert!(matches!(
+        sim.request(Request::SetMode(FlightMode::Offboard)),
+        Outcome::TemporarilyRejected(_)
+    ));
+    assert!(matches!(
+        sim.request(Request::Takeoff { height_m: Some(-1.0) }),
+        Outcome::Denied(_)
+    ));
+    assert_eq!(
+        sim.request(Request::Disarm { force: false }),
+        Outcome::Accepted,
+        "idempotent"
+    );
+    assert_eq!(sim.request(Request::SetMode(FlightMode::Loiter)), Outcome::Accepted);
+    assert_eq!(sim.request(Request::Arm { force: false }), Outcome::Accepted);
+    assert_eq!(
+        sim.request(Request::Arm { force: false }),
+        Outcome::Accepted,
+        "idempotent"
+    );
+    sim.run(10.5);
+    assert!(sim.events.contains(&Event::Disarmed("no takeoff")));
+    assert!(sim.plant.truth().on_ground);
+}
