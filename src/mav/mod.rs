@@ -1,3 +1,5 @@
-//! MAVLink: the only module that names the `mavlink` crate (architecture.md §3).
+//! MAVLink: the only module that names the `mavlink` crate (architecture.md §3): the codec
+//! (bytes ↔ frames) and the translation between messages and the commander.
 
 pub mod codec;
+pub mod translate;

@@ -1,0 +1,306 @@
+//! MAVLink messages ↔ the commander's requests and state (mavlink.md §1–§3). Pure.
+//!
+//! Addressing (§3.1): a command is ours when `target_system ∈ {own, 0}` and
+//! `target_component ∈ {1, 0}` and it does not come from our own ids. NaN parameters mean
+//! "not set". Results map to MAV_RESULT with the refusal reason kept for STATUSTEXT.
+
+use mavlink::dialects::common::{
+    MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavResult, MavState, MavType, COMMAND_ACK_DATA, COMMAND_LONG_DATA,
+    HEARTBEAT_DATA,
+};
+use mavlink::MavHeader;
+
+use crate::commander::{FlightMode, ModeRefusal, Outcome, Request};
+
+/// Force-arm magic numbers in ARM_DISARM param2: the spec's and MAVProxy's.
+const FORCE_MAGIC: [f32; 2] = [21196.0, 2989.0];
+
+/// Who we are on the link.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Identity {
+    /// System id, 1–255.
+    pub system_id: u8,
+    /// Component id (1, autopilot).
+    pub component_id: u8,
+    /// Vehicle type from the rotor count.
+    pub mav_type: MavType,
+}
+
+impl Identity {
+    /// Autopilot `system_id`/1 with the vehicle type of `rotors` rotors (§1).
+    pub fn autopilot(system_id: u8, rotors: usize) -> Self {
+        let mav_type = match rotors {
+            4 => MavType::MAV_TYPE_QUADROTOR,
+            6 => MavType::MAV_TYPE_HEXAROTOR,
+            8 => MavType::MAV_TYPE_OCTOROTOR,
+            10 => MavType::MAV_TYPE_DECAROTOR,
+            12 => MavType::MAV_TYPE_DODECAROTOR,
+            _ => MavType::MAV_TYPE_GENERIC_MULTIROTOR,
+        };
+        Self {
+            system_id,
+            component_id: 1,
+            mav_type,
+        }
+    }
+
+    /// True when a message addressed to `target_system`/`target_component` from `sender` is ours.
+    pub fn accepts(&self, sender: &MavHeader, target_system: u8, target_component: u8) -> bool {
+        let from_self = sender.system_id == u32::from(self.system_id) && sender.component_id == self.component_id;
+        !from_self
+            && (target_system == self.system_id || target_system == 0)
+            && (target_component == self.component_id || target_component == 0)
+    }
+}
+
+/// What to do with a COMMAND_LONG.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CommandDecision {
+    /// Not addressed to us: ignore silently.
+    NotForUs,
+    /// A commander request to execute; its outcome is the ACK.
+    Execute(Request),
+    /// Refused before execution (bad parameters, unknown mode), with the reason.
+    Refuse(Outcome),
+    /// A command this emulator does not implement.
+    Unsupported,
+}
+
+/// `None` for NaN ("not set", §3.1).
+fn param(x: f32) -> Option<f32> {
+    (!x.is_nan()).then_some(x)
+}
+
+/// Decides what a COMMAND_LONG from `sender` means; `home_amsl_m` [m] turns NAV_TAKEOFF's AMSL
+/// param7 into a height above home (a value below home AMSL is taken as the height itself, as
+/// MAVProxy's `takeoff 5` sends).
+pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA, home_amsl_m: f64) -> CommandDecision {
+    if !id.accepts(sender, cmd.target_system, cmd.target_component) {
+        return CommandDecision::NotForUs;
+    }
+    match cmd.command {
+        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM => {
+            let force = FORCE_MAGIC.contains(&cmd.param2);
+            match param(cmd.param1) {
+                Some(1.0) => CommandDecision::Execute(Request::Arm { force }),
+                Some(0.0) => CommandDecision::Execute(Request::Disarm { force }),
+                _ => CommandDecision::Refuse(Outcome::Denied(format!(
+                    "Arm/disarm: param1 {} is not 0 or 1",
+                    cmd.param1
+                ))),
+            }
+        }
+        MavCmd::MAV_CMD_NAV_TAKEOFF => {
+            let height_m = param(cmd.param7).map(|amsl| {
+                let amsl = f64::from(amsl);
+                if amsl >= home_amsl_m {
+                    amsl - home_amsl_m
+                } else {
+                    amsl
+                }
+            });
+            CommandDecision::Execute(Request::Takeoff { height_m })
+        }
+        MavCmd::MAV_CMD_NAV_LAND => CommandDecision::Execute(Request::Land),
+        MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH => CommandDecision::Execute(Request::ReturnToLaunch),
+        MavCmd::MAV_CMD_DO_SET_MODE => {
+            let custom = param(cmd.param1).is_some_and(|p| (p as u32) & 1 == 1);
+            let (Some(main), sub) = (param(cmd.param2), param(cmd.param3).unwrap_or(0.0)) else {
+                return CommandDecision::Refuse(Outcome::Denied("Set mode: no main mode".into()));
+            };
+            if !custom {
+                return CommandDecision::Refuse(Outcome::Denied("Set mode: only PX4 custom modes".into()));
+            }
+            match FlightMode::from_px4(main as u8, sub as u8) {
+                Ok(mode) => CommandDecision::Execute(Request::SetMode(mode)),
+                Err(ModeRefusal::NeedsManualControl) => {
+                    CommandDecision::Refuse(Outcome::TemporarilyRejected("Mode needs manual control input".into()))
+                }
+                Err(ModeRefusal::Unknown) => {
+                    CommandDecision::Refuse(Outcome::Denied(format!("Unknown mode {main}/{sub}")))
+                }
+            }
+        }
+        _ => CommandDecision::Unsupported,
+    }
+}
+
+/// MAV_RESULT of an outcome.
+pub fn result_of(outcome: &Outcome) -> MavResult {
+    match outcome {
+        Outcome::Accepted => MavResult::MAV_RESULT_ACCEPTED,
+        Outcome::TemporarilyRejected(_) => MavResult::MAV_RESULT_TEMPORARILY_REJECTED,
+        Outcome::Denied(_) => MavResult::MAV_RESULT_DENIED,
+    }
+}
+
+/// COMMAND_ACK for `command` addressed back to `sender` (MAVSDK matches on the target ids).
+pub fn command_ack(sender: &MavHeader, command: MavCmd, result: MavResult) -> MavMessage {
+    MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
+        command,
+        result,
+        target_system: sender.system_id as u8,
+        target_component: sender.component_id,
+        ..Default::default()
+    })
+}
+
+/// HEARTBEAT for the commander's state (§1): PX4 autopilot, custom mode, armed bit, and the
+/// base-mode flags pymavlink's PX4 table sends (POSCTL: manual | stabilize; AUTO and OFFBOARD:
+/// auto | guided | stabilize).
+pub fn heartbeat(id: &Identity, armed: bool, mode: FlightMode) -> MavMessage {
+    let mut base = MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | MavModeFlag::MAV_MODE_FLAG_STABILIZE_ENABLED;
+    base |= match mode {
+        FlightMode::Position => MavModeFlag::MAV_MODE_FLAG_MANUAL_INPUT_ENABLED,
+        _ => MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED | MavModeFlag::MAV_MODE_FLAG_GUIDED_ENABLED,
+    };
+    if armed {
+        base |= MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED;
+    }
+    MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+        custom_mode: mode.custom_mode(),
+        mavtype: id.mav_type,
+        autopilot: MavAutopilot::MAV_AUTOPILOT_PX4,
+        base_mode: base,
+        system_status: if armed {
+            MavState::MAV_STATE_ACTIVE
+        } else {
+            MavState::MAV_STATE_STANDBY
+        },
+        mavlink_version: 3,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn gcs() -> MavHeader {
+        MavHeader {
+            system_id: 255,
+            component_id: 190,
+            sequence: 0,
+        }
+    }
+
+    fn cmd(command: MavCmd, params: [f32; 7], target: (u8, u8)) -> COMMAND_LONG_DATA {
+        COMMAND_LONG_DATA {
+            command,
+            param1: params[0],
+            param2: params[1],
+            param3: params[2],
+            param4: params[3],
+            param5: params[4],
+            param6: params[5],
+            param7: params[6],
+            target_system: target.0,
+            target_component: target.1,
+            confirmation: 0,
+        }
+    }
+
+    const NAN: f32 = f32::NAN;
+
+    #[test]
+    fn addressing_follows_the_rules() {
+        let id = Identity::autopilot(1, 4);
+        let arm = |t| {
+            decode_command(
+                &id,
+                &gcs(),
+                &cmd(
+                    MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                    [1.0, 0.0, NAN, NAN, NAN, NAN, NAN],
+                    t,
+                ),
+                488.0,
+            )
+        };
+        assert_eq!(arm((1, 1)), CommandDecision::Execute(Request::Arm { force: false }));
+        assert_eq!(arm((0, 0)), CommandDecision::Execute(Request::Arm { force: false }));
+        assert_eq!(arm((2, 1)), CommandDecision::NotForUs);
+        assert_eq!(arm((1, 100)), CommandDecision::NotForUs);
+        let own = MavHeader {
+            system_id: 1,
+            component_id: 1,
+            sequence: 0,
+        };
+        assert!(!id.accepts(&own, 1, 1));
+    }
+
+    #[test]
+    fn arm_force_takeoff_altitude_and_modes_decode() {
+        let id = Identity::autopilot(1, 6);
+        let d = |c, p| decode_command(&id, &gcs(), &cmd(c, p, (1, 1)), 488.0);
+        for magic in FORCE_MAGIC {
+            assert_eq!(
+                d(
+                    MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                    [0.0, magic, 0.0, 0.0, 0.0, 0.0, 0.0]
+                ),
+                CommandDecision::Execute(Request::Disarm { force: true })
+            );
+        }
+        assert!(matches!(
+            d(
+                MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                [2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+            ),
+            CommandDecision::Refuse(Outcome::Denied(_))
+        ));
+        let takeoff = |p7| d(MavCmd::MAV_CMD_NAV_TAKEOFF, [NAN, NAN, NAN, NAN, NAN, NAN, p7]);
+        assert_eq!(
+            takeoff(NAN),
+            CommandDecision::Execute(Request::Takeoff { height_m: None })
+        );
+        assert_eq!(
+            takeoff(498.0),
+            CommandDecision::Execute(Request::Takeoff { height_m: Some(10.0) }),
+            "AMSL"
+        );
+        assert_eq!(
+            takeoff(5.0),
+            CommandDecision::Execute(Request::Takeoff { height_m: Some(5.0) }),
+            "MAVProxy"
+        );
+        // MAVSDK's offboard.stop() sends p1 = 129 (custom | armed): only the custom bit counts.
+        assert_eq!(
+            d(MavCmd::MAV_CMD_DO_SET_MODE, [129.0, 4.0, 3.0, NAN, NAN, NAN, NAN]),
+            CommandDecision::Execute(Request::SetMode(FlightMode::Loiter))
+        );
+        assert!(matches!(
+            d(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+            CommandDecision::Refuse(Outcome::TemporarilyRejected(_))
+        ));
+        assert!(matches!(
+            d(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 4.0, 12.0, 0.0, 0.0, 0.0, 0.0]),
+            CommandDecision::Refuse(Outcome::Denied(_))
+        ));
+        assert_eq!(d(MavCmd::MAV_CMD_DO_SET_SERVO, [0.0; 7]), CommandDecision::Unsupported);
+    }
+
+    #[test]
+    fn heartbeat_and_ack_carry_what_clients_read() {
+        let id = Identity::autopilot(3, 8);
+        let MavMessage::HEARTBEAT(hb) = heartbeat(&id, true, FlightMode::Takeoff) else {
+            panic!("not a heartbeat");
+        };
+        assert_eq!(hb.mavtype, MavType::MAV_TYPE_OCTOROTOR);
+        assert_eq!(hb.custom_mode, 33_816_576);
+        assert_eq!(hb.base_mode.bits(), 128 | 29);
+        let MavMessage::HEARTBEAT(hb) = heartbeat(&id, false, FlightMode::Position) else {
+            panic!("not a heartbeat");
+        };
+        assert_eq!(hb.base_mode.bits(), 81);
+        let MavMessage::COMMAND_ACK(ack) = command_ack(
+            &gcs(),
+            MavCmd::MAV_CMD_NAV_LAND,
+            result_of(&Outcome::Denied("x".into())),
+        ) else {
+            panic!("not an ack");
+        };
+        assert_eq!((ack.target_system, ack.target_component), (255, 190));
+        assert_eq!(ack.result, MavResult::MAV_RESULT_DENIED);
+        assert_eq!(Identity::autopilot(1, 5).mav_type, MavType::MAV_TYPE_GENERIC_MULTIROTOR);
+    }
+}
