@@ -24,6 +24,8 @@
 //! - [`scenario`]: scenario files (airframe, mismatch, disturbances, controller, estimator,
 //!   trajectory) validated into a run description; run statistics.
 //! - [`simulate`]: headless scenario runs writing run.csv and summary.json (runtime layer).
+//! - [`telemetry`]: the per-tick snapshot the links stream.
+//! - [`runtime`]: the autopilot process: 1 kHz tick thread and MAVLink UDP links (runtime layer).
 //! - [`sitl`]: the only seam between the flight controller and the plant.
 //! - [`headless`]: a headless flight in lockstep with the plant (runtime layer: wall clock, files).
 #![warn(missing_docs)]
@@ -41,6 +43,8 @@ pub mod mav;
 pub mod navigation;
 pub mod report;
 pub mod rpy;
+pub mod runtime;
 pub mod scenario;
 pub mod simulate;
 pub mod sitl;
+pub mod telemetry;

@@ -1,5 +1,6 @@
 //! `rotorpilot` command line: parses options, sets up logging, calls the library, prints results.
 
+use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -11,7 +12,9 @@ use rotorpilot::estimation::log_replay::{parse_log, replay};
 use rotorpilot::estimation::{ChebyshevDesign, WrenchObserver};
 use rotorpilot::headless::{fly, HeadlessOptions};
 use rotorpilot::math::Vec3;
+use rotorpilot::navigation::Home;
 use rotorpilot::report::{estimate_csv, AllocReport, EstimateReport, GainsReport};
+use rotorpilot::runtime::{self, RunConfig};
 use rotorpilot::scenario::Scenario;
 use rotorpilot::simulate::simulate;
 
@@ -25,10 +28,45 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Fly the vehicle: for now a headless take-off and hover in lockstep with the plant,
-    /// printing a JSON summary.
+    /// Run the autopilot: the vehicle at 1 kHz, MAVLink 2 over UDP (PX4 SITL ports), until
+    /// Ctrl-C / SIGTERM. Prints one JSON line with the bound addresses when ready.
     #[command(allow_negative_numbers = true)]
     Run {
+        /// Airframe preset name or path to a TOML file.
+        #[arg(long, default_value = "quad_x")]
+        airframe: String,
+        /// Control law: geometric, hierarchical or passivity.
+        #[arg(long, default_value = "geometric")]
+        controller: ControllerKind,
+        /// Where GCS telemetry goes (QGC, MAVProxy, pymavlink udpin).
+        #[arg(long, default_value = "127.0.0.1:14550")]
+        gcs: SocketAddr,
+        /// Where API telemetry goes (MAVSDK).
+        #[arg(long, default_value = "127.0.0.1:14540")]
+        api: SocketAddr,
+        /// Local address of the GCS link (port 0: any free port).
+        #[arg(long = "bind-gcs", default_value = "127.0.0.1:18570")]
+        bind_gcs: SocketAddr,
+        /// Local address of the API link (port 0: any free port).
+        #[arg(long = "bind-api", default_value = "127.0.0.1:14580")]
+        bind_api: SocketAddr,
+        /// Home as LAT,LON,ALT [deg, deg, m AMSL].
+        #[arg(long, default_value = "47.397742,8.545594,488.0")]
+        home: String,
+        /// MAVLink system id (1–255).
+        #[arg(long, default_value_t = 1)]
+        sysid: u8,
+        /// Sensor-noise seed.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Stop after this many wall-clock seconds (default: run until Ctrl-C / SIGTERM).
+        #[arg(long)]
+        duration: Option<f64>,
+    },
+    /// Headless take-off and hover in lockstep with the plant, as fast as the CPU allows,
+    /// printing a JSON summary.
+    #[command(allow_negative_numbers = true)]
+    Fly {
         /// Airframe preset name or path to a TOML file.
         #[arg(long, default_value = "quad_x")]
         airframe: String,
@@ -123,6 +161,51 @@ impl DesignArgs {
     }
 }
 
+/// `LAT,LON,ALT` [deg, deg, m AMSL].
+fn parse_home(text: &str) -> Result<Home, String> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("--home {text:?}: {e}; expected LAT,LON,ALT"))?;
+    match v[..] {
+        [lat, lon, alt] if lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite() => Ok(Home {
+            lat_deg: lat,
+            lon_deg: lon,
+            alt_amsl_m: alt,
+        }),
+        _ => Err(format!(
+            "--home {text:?}: expected LAT,LON,ALT with |LAT| ≤ 90 and |LON| ≤ 180"
+        )),
+    }
+}
+
+/// Completes on Ctrl-C, SIGTERM or after `duration_s` wall-clock seconds.
+async fn shutdown_signal(duration_s: Option<f64>) {
+    let timeout = async {
+        match duration_s {
+            Some(d) => tokio::time::sleep(std::time::Duration::from_secs_f64(d)).await,
+            None => std::future::pending().await,
+        }
+    };
+    #[cfg(unix)]
+    let terminate = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut s) => {
+                s.recv().await;
+            }
+            Err(_) => std::future::pending().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let terminate = std::future::pending::<()>();
+    tokio::select! {
+        _ = tokio::signal::ctrl_c() => {}
+        _ = terminate => {}
+        _ = timeout => {}
+    }
+}
+
 fn main() -> ExitCode {
     tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
@@ -131,7 +214,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match execute(cli.command) {
         Ok(text) => {
-            println!("{text}");
+            if !text.is_empty() {
+                println!("{text}");
+            }
             ExitCode::SUCCESS
         }
         Err(message) => {
@@ -144,6 +229,48 @@ fn main() -> ExitCode {
 fn execute(command: Command) -> Result<String, String> {
     match command {
         Command::Run {
+            airframe,
+            controller,
+            gcs,
+            api,
+            bind_gcs,
+            bind_api,
+            home,
+            sysid,
+            seed,
+            duration,
+        } => {
+            let config = RunConfig {
+                airframe: AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?,
+                controller,
+                system_id: if sysid == 0 {
+                    return Err("--sysid must be 1 to 255".into());
+                } else {
+                    sysid
+                },
+                bind_gcs,
+                gcs,
+                bind_api,
+                api,
+                home: parse_home(&home)?,
+                seed,
+                dt_s: 1e-3,
+            };
+            if let Some(d) = duration {
+                if !(d.is_finite() && d > 0.0) {
+                    return Err(format!("--duration {d}: must be a positive number of seconds"));
+                }
+            }
+            runtime::run(config, shutdown_signal(duration), |ready| {
+                if let Ok(line) = serde_json::to_string(ready) {
+                    println!("{line}");
+                    let _ = std::io::Write::flush(&mut std::io::stdout());
+                }
+            })
+            .map_err(|e| e.to_string())?;
+            Ok(String::new())
+        }
+        Command::Fly {
             airframe,
             duration,
             altitude,

@@ -5,7 +5,7 @@ import json
 
 def test_take_off_and_hover_at_two_metres(rotorpilot, tmp_path):
     log = tmp_path / "run.csv"
-    proc = rotorpilot("run", "--airframe", "octo", "--duration", "8", "--altitude", "2", "--out", str(log))
+    proc = rotorpilot("fly", "--airframe", "octo", "--duration", "8", "--altitude", "2", "--out", str(log))
     assert proc.returncode == 0, proc.stderr
     summary = json.loads(proc.stdout)
     assert summary["airframe"] == "octo" and summary["rotors"] == 8
@@ -22,6 +22,6 @@ def test_take_off_and_hover_at_two_metres(rotorpilot, tmp_path):
 
 
 def test_bad_option_is_refused(rotorpilot):
-    proc = rotorpilot("run", "--duration", "-1")
+    proc = rotorpilot("fly", "--duration", "-1")
     assert proc.returncode == 2
     assert "--duration" in proc.stderr

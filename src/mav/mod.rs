@@ -2,4 +2,8 @@
 //! (bytes ↔ frames) and the translation between messages and the commander.
 
 pub mod codec;
+pub mod telemetry;
 pub mod translate;
+
+pub use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavSeverity};
+pub use mavlink::MavHeader;

@@ -125,6 +125,16 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
     }
 }
 
+/// The mode a SET_MODE message (#11) asks for, when it is addressed to us and names a PX4 mode.
+/// The message is deprecated in the spec but QGC 4.x changes modes with it (mavlink.md §2.2).
+#[allow(deprecated)]
+pub fn decode_set_mode(id: &Identity, message: &MavMessage) -> Option<FlightMode> {
+    match message {
+        MavMessage::SET_MODE(m) if m.target_system == id.system_id => FlightMode::from_custom_mode(m.custom_mode).ok(),
+        _ => None,
+    }
+}
+
 /// MAV_RESULT of an outcome.
 pub fn result_of(outcome: &Outcome) -> MavResult {
     match outcome {

@@ -2,9 +2,11 @@
 //! commander's modes.
 
 mod climb;
+pub mod geo;
 mod guidance;
 pub mod trajectory;
 
 pub use climb::ClimbProfile;
+pub use geo::Home;
 pub use guidance::Guidance;
 pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};

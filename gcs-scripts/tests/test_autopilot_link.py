@@ -1,0 +1,132 @@
+"""`rotorpilot run` driven over MAVLink by pymavlink: heartbeat, command/ACK rules, modes,
+take-off → hold → land → auto-disarm. Ports are all ephemeral (port 0)."""
+import json
+import math
+import os
+import pathlib
+import subprocess
+import time
+
+import pytest
+
+os.environ["MAVLINK20"] = "1"
+from pymavlink import mavutil  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+BINARY = pathlib.Path(os.environ.get("ROTORPILOT_BIN", ROOT / "target" / "release" / "rotorpilot"))
+NAN = float("nan")
+ACCEPTED, TEMPORARILY_REJECTED, DENIED, UNSUPPORTED = 0, 1, 2, 3
+
+
+class Autopilot:
+    """A running `rotorpilot run` with a pymavlink GCS connection on an ephemeral port."""
+
+    def __init__(self, *args):
+        self.gcs = mavutil.mavlink_connection("udpin:127.0.0.1:0", source_system=255, source_component=190)
+        port = self.gcs.port.getsockname()[1]
+        self.started = time.monotonic()
+        self.proc = subprocess.Popen(
+            [str(BINARY), "run", "--bind-gcs", "127.0.0.1:0", "--bind-api", "127.0.0.1:0",
+             "--gcs", f"127.0.0.1:{port}", "--api", "127.0.0.1:9", "--duration", "120", *args],
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.ready = json.loads(self.proc.stdout.readline())
+
+    def heartbeat(self, timeout=5):
+        hb = self.gcs.recv_match(type="HEARTBEAT", blocking=True, timeout=timeout)
+        assert hb is not None, "no HEARTBEAT"
+        return hb
+
+    def command(self, command, *params, target=(1, 1)):
+        """COMMAND_LONG; returns the COMMAND_ACK for it (within the 0.5 s budget of mavlink.md §3.1)."""
+        p = list(params) + [NAN] * (7 - len(params))
+        self.gcs.mav.command_long_send(target[0], target[1], command, 0, *p)
+        deadline = time.monotonic() + 0.5
+        while time.monotonic() < deadline:
+            ack = self.gcs.recv_match(type="COMMAND_ACK", blocking=True, timeout=max(0.0, deadline - time.monotonic()))
+            if ack is not None and ack.command == command:
+                return ack
+        return None
+
+    def wait(self, predicate, types, timeout):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            m = self.gcs.recv_match(type=types, blocking=True, timeout=0.5)
+            if m is not None and predicate(m):
+                return m
+        return None
+
+    def close(self):
+        if self.proc.poll() is None:
+            self.proc.terminate()
+        code = self.proc.wait(timeout=10)
+        self.gcs.close()
+        return code
+
+
+@pytest.fixture
+def autopilot():
+    if not BINARY.exists():
+        pytest.fail(f"rotorpilot binary not found at {BINARY}: run cargo build --release first")
+    ap = Autopilot()
+    yield ap
+    ap.close()
+
+
+def test_ready_line_and_first_heartbeat(autopilot):
+    assert autopilot.ready["event"] == "ready" and autopilot.ready["sysid"] == 1
+    assert autopilot.ready["gcs_bind"].startswith("127.0.0.1:") and not autopilot.ready["gcs_bind"].endswith(":0")
+    hb = autopilot.heartbeat()
+    assert hb.get_srcSystem() == 1 and hb.get_srcComponent() == 1
+    assert hb.autopilot == mavutil.mavlink.MAV_AUTOPILOT_PX4 and hb.type == mavutil.mavlink.MAV_TYPE_QUADROTOR
+    assert hb.base_mode & 1 and not hb.base_mode & 128
+    assert hb.custom_mode == (4 << 16) | (3 << 24), "AUTO.LOITER"
+
+
+def test_command_rules(autopilot):
+    autopilot.heartbeat()
+    autopilot.gcs.mav.heartbeat_send(6, 8, 0, 0, 0)
+    assert autopilot.command(31999).result == UNSUPPORTED, "ids the crate does not know"
+    assert autopilot.command(mavutil.mavlink.MAV_CMD_DO_SET_SERVO, 1, 1500).result == UNSUPPORTED
+    ack = autopilot.command(400, 2.0)
+    assert ack.result == DENIED and (ack.target_system, ack.target_component) == (255, 190)
+    text = autopilot.wait(lambda m: True, "STATUSTEXT", 2)
+    assert text is not None and "param1" in text.text
+    assert autopilot.command(400, 1.0, target=(7, 1)) is None, "other systems' commands are ignored"
+    assert autopilot.command(176, 1, 1, 0).result == TEMPORARILY_REJECTED, "MANUAL needs sticks"
+    assert autopilot.command(176, 1, 4, 12).result == DENIED
+    assert autopilot.command(176, 1, 4, 4).result == TEMPORARILY_REJECTED, "no mission"
+    assert autopilot.command(176, 1, 3, 0, target=(0, 0)).result == ACCEPTED
+    hb = autopilot.wait(lambda m: m.custom_mode == 3 << 16, "HEARTBEAT", 2)
+    assert hb is not None, "POSCTL shows in the next heartbeat"
+    # SET_MODE (#11), QGC's way: no ACK, the heartbeat confirms.
+    autopilot.gcs.mav.set_mode_send(1, 1, (4 << 16) | (3 << 24))
+    assert autopilot.wait(lambda m: m.custom_mode == (4 << 16) | (3 << 24), "HEARTBEAT", 2) is not None
+
+
+def test_takeoff_hold_land_and_auto_disarm(autopilot):
+    autopilot.heartbeat()
+    assert autopilot.command(22).result == ACCEPTED, "NAV_TAKEOFF while disarmed (PX4)"
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    armed = autopilot.wait(lambda m: m.base_mode & 128, "HEARTBEAT", 2)
+    assert armed is not None and armed.system_status == 4
+    in_air = autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10)
+    assert in_air is not None, "take-off completes"
+    pos = autopilot.wait(lambda m: True, "LOCAL_POSITION_NED", 3)
+    assert abs(pos.z + 2.5) < 0.05 and math.hypot(pos.x, pos.y) < 0.05, "MIS_TAKEOFF_ALT above home"
+    glob = autopilot.wait(lambda m: True, "GLOBAL_POSITION_INT", 3)
+    assert abs(glob.relative_alt - 2500) < 50 and abs(glob.alt - 490_500) < 50
+    assert autopilot.command(400, 0.0).result == TEMPORARILY_REJECTED, "no disarm in the air"
+    assert autopilot.command(21).result == ACCEPTED
+    disarmed = autopilot.wait(lambda m: "Disarmed" in m.text, "STATUSTEXT", 15)
+    assert disarmed is not None
+    hb = autopilot.wait(lambda m: not m.base_mode & 128, "HEARTBEAT", 3)
+    assert hb is not None and hb.system_status == 3
+    on_ground = autopilot.wait(lambda m: m.landed_state == 1, "EXTENDED_SYS_STATE", 3)
+    assert on_ground is not None
+
+
+def test_sigterm_stops_cleanly(autopilot):
+    autopilot.heartbeat()
+    autopilot.proc.terminate()
+    assert autopilot.proc.wait(timeout=10) == 0
+    assert "stopped after" in autopilot.proc.stderr.read()

@@ -1,0 +1,203 @@
+//! The autopilot process (`rotorpilot run`): one vehicle ticking at 1 kHz on its own thread and
+//! two MAVLink UDP links (GCS and API, PX4 SITL ports) served by tokio. Runtime layer: clocks,
+//! sockets, threads; every decision is made by the pure modules it calls.
+
+pub mod link;
+pub mod scheduler;
+pub mod vehicle;
+
+use std::future::Future;
+use std::net::SocketAddr;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use serde::Serialize;
+use thiserror::Error;
+use tokio::net::UdpSocket;
+use tokio::sync::{broadcast, mpsc, watch};
+
+use crate::airframe::AirframeSource;
+use crate::commander::{FlightMode, LandedState};
+use crate::control::ControllerKind;
+use crate::math::Vec3;
+use crate::mav::translate::Identity;
+use crate::navigation::Home;
+use crate::telemetry::Snapshot;
+
+use link::{run_link, LinkContext};
+use scheduler::{SchedulerIo, SchedulerStats};
+use vehicle::{Vehicle, VehicleError};
+
+/// Bound of the request queue into the tick thread: commands are never dropped silently; when
+/// it is full the link answers TEMPORARILY_REJECTED at once.
+const INBOX_CAPACITY: usize = 256;
+/// Bound of the event queue out of the tick thread (announcements only; dropped when full).
+const EVENT_CAPACITY: usize = 64;
+
+/// Everything `rotorpilot run` needs.
+#[derive(Debug, Clone)]
+pub struct RunConfig {
+    /// Airframe text.
+    pub airframe: AirframeSource,
+    /// Control law.
+    pub controller: ControllerKind,
+    /// System id (1–255).
+    pub system_id: u8,
+    /// GCS link: local bind address and the remote that always gets telemetry.
+    pub bind_gcs: SocketAddr,
+    /// Remote GCS address.
+    pub gcs: SocketAddr,
+    /// API link bind address.
+    pub bind_api: SocketAddr,
+    /// Remote API address.
+    pub api: SocketAddr,
+    /// Geodetic home.
+    pub home: Home,
+    /// Sensor-noise seed.
+    pub seed: u64,
+    /// Tick [s].
+    pub dt_s: f64,
+}
+
+/// Why the process could not run.
+#[derive(Debug, Error)]
+pub enum RuntimeError {
+    /// The vehicle could not be built.
+    #[error(transparent)]
+    Vehicle(#[from] VehicleError),
+    /// A socket could not be bound.
+    #[error("cannot bind {addr}: {source}")]
+    Bind {
+        /// Address.
+        addr: SocketAddr,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// The tokio runtime could not start.
+    #[error("runtime: {0}")]
+    Runtime(std::io::Error),
+}
+
+/// The machine-readable start-up line (printed as JSON on stdout).
+#[derive(Debug, Clone, Serialize)]
+pub struct Ready {
+    /// Always "ready".
+    pub event: &'static str,
+    /// System id.
+    pub sysid: u8,
+    /// Bound GCS address.
+    pub gcs_bind: String,
+    /// Bound API address.
+    pub api_bind: String,
+    /// Remote GCS address.
+    pub gcs: String,
+    /// Remote API address.
+    pub api: String,
+}
+
+/// Runs the autopilot until `shutdown` completes; `on_ready` receives the bound addresses once
+/// the sockets are open and the tick thread runs.
+pub fn run(
+    config: RunConfig,
+    shutdown: impl Future<Output = ()> + Send + 'static,
+    on_ready: impl FnOnce(&Ready),
+) -> Result<(), RuntimeError> {
+    let vehicle = Vehicle::new(
+        &config.airframe,
+        config.controller,
+        config.home,
+        config.seed,
+        config.dt_s,
+    )?;
+    let identity = Identity::autopilot(config.system_id, vehicle.rotor_count());
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .map_err(RuntimeError::Runtime)?;
+    let bind = |addr: SocketAddr| {
+        rt.block_on(UdpSocket::bind(addr))
+            .map_err(|source| RuntimeError::Bind { addr, source })
+    };
+    let gcs_socket = bind(config.bind_gcs)?;
+    let api_socket = bind(config.bind_api)?;
+    let local = |s: &UdpSocket| s.local_addr().map(|a| a.to_string()).unwrap_or_default();
+    let ready = Ready {
+        event: "ready",
+        sysid: config.system_id,
+        gcs_bind: local(&gcs_socket),
+        api_bind: local(&api_socket),
+        gcs: config.gcs.to_string(),
+        api: config.api.to_string(),
+    };
+
+    let (inbox_tx, inbox_rx) = mpsc::channel(INBOX_CAPACITY);
+    let (snapshot_tx, snapshot_rx) = watch::channel(initial_snapshot(config.home));
+    let (event_tx, mut event_rx) = mpsc::channel(EVENT_CAPACITY);
+    let (announce_tx, _) = broadcast::channel(EVENT_CAPACITY);
+    let (shutdown_tx, shutdown_rx) = watch::channel(false);
+    let stop = Arc::new(AtomicBool::new(false));
+    let stats = Arc::new(SchedulerStats::default());
+    let dt = Duration::from_secs_f64(config.dt_s);
+    let io = SchedulerIo {
+        inbox: inbox_rx,
+        snapshot: snapshot_tx,
+        events: event_tx,
+        stop: stop.clone(),
+        stats: stats.clone(),
+    };
+    let tick_thread = std::thread::Builder::new()
+        .name("rotorpilot-tick".into())
+        .spawn(move || scheduler::run(vehicle, dt, io))
+        .map_err(RuntimeError::Runtime)?;
+
+    let link = |socket, remote| {
+        let ctx = LinkContext {
+            identity,
+            inbox: inbox_tx.clone(),
+            snapshot: snapshot_rx.clone(),
+            announcements: announce_tx.subscribe(),
+            shutdown: shutdown_rx.clone(),
+        };
+        rt.spawn(run_link(socket, remote, ctx))
+    };
+    let gcs_task = link(gcs_socket, config.gcs);
+    let api_task = link(api_socket, config.api);
+    let fan_out = rt.spawn(async move {
+        while let Some(e) = event_rx.recv().await {
+            let _ = announce_tx.send(e);
+        }
+    });
+    on_ready(&ready);
+
+    rt.block_on(async move {
+        shutdown.await;
+        let _ = shutdown_tx.send(true);
+        let _ = gcs_task.await;
+        let _ = api_task.await;
+    });
+    stop.store(true, Ordering::Relaxed);
+    let _ = tick_thread.join();
+    fan_out.abort();
+    tracing::info!(
+        "stopped after {} ticks, {} overruns",
+        stats.ticks.load(Ordering::Relaxed),
+        stats.overruns.load(Ordering::Relaxed)
+    );
+    Ok(())
+}
+
+fn initial_snapshot(home: Home) -> Snapshot {
+    Snapshot {
+        t_s: 0.0,
+        pos_w: Vec3::zeros(),
+        vel_w: Vec3::zeros(),
+        eta: Vec3::zeros(),
+        omega_b: Vec3::zeros(),
+        armed: false,
+        mode: FlightMode::Loiter,
+        landed: LandedState::OnGround,
+        home,
+    }
+}

@@ -1,0 +1,122 @@
+//! One simulated vehicle: commander + flight core + plant, stepped in lockstep at a fixed dt.
+//! Simulated time is `tick × dt`; nothing here reads a clock.
+
+use crate::airframe::{Airframe, AirframeSource};
+use crate::commander::{Commander, CommanderParams, Event, Outcome, Request};
+use crate::control::ControllerKind;
+use crate::core::{CoreError, FlightCore};
+use crate::math::euler_zyx;
+use crate::navigation::Home;
+use crate::sitl::{SimPlant, SitlError};
+use crate::telemetry::Snapshot;
+
+/// A vehicle that cannot be built.
+#[derive(Debug, thiserror::Error)]
+pub enum VehicleError {
+    /// The FC refused the airframe.
+    #[error(transparent)]
+    Airframe(#[from] crate::airframe::AirframeError),
+    /// The flight core cannot be built.
+    #[error(transparent)]
+    Core(#[from] CoreError),
+    /// The plant refused the airframe.
+    #[error(transparent)]
+    Plant(#[from] SitlError),
+}
+
+/// Commander, flight core and plant of one vehicle.
+#[derive(Debug)]
+pub struct Vehicle {
+    core: FlightCore,
+    plant: SimPlant,
+    commander: Commander,
+    home: Home,
+    tick: u64,
+    dt_s: f64,
+    idle: Vec<f64>,
+}
+
+/// What one tick produced for the links.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TickOutput {
+    /// Latest state.
+    pub snapshot: Snapshot,
+    /// What the commander did on its own.
+    pub events: Vec<Event>,
+}
+
+impl Vehicle {
+    /// Vehicle of airframe `src` flown by `kind`, home `home`, sensor seed `seed`, step `dt_s` [s].
+    pub fn new(
+        src: &AirframeSource,
+        kind: ControllerKind,
+        home: Home,
+        seed: u64,
+        dt_s: f64,
+    ) -> Result<Self, VehicleError> {
+        let airframe = Airframe::from_source(src)?;
+        let core = FlightCore::for_airframe(&airframe, kind, dt_s)?;
+        let plant = SimPlant::from_source(src, seed)?;
+        for w in plant.warnings() {
+            tracing::warn!("{w}");
+        }
+        let idle = vec![0.0; core.allocator().rotor_count()];
+        Ok(Self {
+            core,
+            plant,
+            commander: Commander::new(CommanderParams::default()),
+            home,
+            tick: 0,
+            dt_s,
+            idle,
+        })
+    }
+
+    /// Rotor count.
+    pub fn rotor_count(&self) -> usize {
+        self.idle.len()
+    }
+
+    /// Simulated time [s].
+    pub fn time_s(&self) -> f64 {
+        self.tick as f64 * self.dt_s
+    }
+
+    /// Applies a ground-station request at the current tick boundary.
+    pub fn apply(&mut self, request: Request) -> Outcome {
+        let x = self.plant.sense();
+        self.commander.request(request, &x, self.time_s())
+    }
+
+    /// One tick: sense → commander → flight core → plant.
+    pub fn step(&mut self) -> TickOutput {
+        let t_s = self.time_s();
+        let x = self.plant.sense();
+        let tick = self.commander.update(&x, t_s);
+        match tick.setpoint {
+            Some(sp) => {
+                let out = self.core.step(&x, &sp);
+                self.plant.step(out.allocation.omega().as_slice(), self.dt_s);
+            }
+            None => {
+                self.plant.step(&self.idle, self.dt_s);
+            }
+        }
+        self.tick += 1;
+        let eta = euler_zyx(&x.r_wb);
+        TickOutput {
+            snapshot: Snapshot {
+                t_s,
+                pos_w: x.pos_w,
+                vel_w: x.vel_w,
+                eta,
+                omega_b: x.omega_b,
+                armed: self.commander.armed(),
+                mode: self.commander.mode(),
+                landed: self.commander.landed_state(),
+                home: self.home,
+            },
+            events: tick.events,
+        }
+    }
+}

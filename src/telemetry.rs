@@ -1,0 +1,29 @@
+//! What the vehicle publishes every tick for the links to stream: the latest values only, plain
+//! data in SI units (NED world, FRD body), independent of MAVLink.
+
+use crate::commander::{FlightMode, LandedState};
+use crate::math::Vec3;
+use crate::navigation::Home;
+
+/// Latest vehicle state for telemetry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Snapshot {
+    /// Simulated time since start [s].
+    pub t_s: f64,
+    /// Position, world NED relative to home [m].
+    pub pos_w: Vec3,
+    /// Velocity, world NED [m/s].
+    pub vel_w: Vec3,
+    /// Roll, pitch, yaw [rad].
+    pub eta: Vec3,
+    /// Body rates, FRD [rad/s].
+    pub omega_b: Vec3,
+    /// Armed.
+    pub armed: bool,
+    /// Flight mode.
+    pub mode: FlightMode,
+    /// Landed state.
+    pub landed: LandedState,
+    /// Geodetic home.
+    pub home: Home,
+}
