@@ -130,3 +130,42 @@ def test_sigterm_stops_cleanly(autopilot):
     autopilot.proc.terminate()
     assert autopilot.proc.wait(timeout=10) == 0
     assert "stopped after" in autopilot.proc.stderr.read()
+
+
+def test_discovery_services(autopilot):
+    autopilot.heartbeat()
+    assert autopilot.command(512, 148).result == ACCEPTED
+    version = autopilot.wait(lambda m: True, "AUTOPILOT_VERSION", 2)
+    assert version is not None and version.capabilities & 8192, "MAVLINK2"
+    assert autopilot.command(520).result == ACCEPTED
+    assert autopilot.wait(lambda m: True, "AUTOPILOT_VERSION", 2) is not None
+    assert autopilot.command(410).result == ACCEPTED
+    home = autopilot.wait(lambda m: True, "HOME_POSITION", 2)
+    assert home is not None and (home.latitude, home.longitude, home.altitude) == (473977420, 85455940, 488000)
+    assert autopilot.command(512, 435).result == DENIED, "AVAILABLE_MODES not produced"
+    autopilot.gcs.mav.ping_send(123456, 9, 0, 0)
+    ping = autopilot.wait(lambda m: m.seq == 9, "PING", 2)
+    assert ping is not None and ping.time_usec == 123456 and ping.target_system == 255
+    autopilot.gcs.mav.timesync_send(0, 777)
+    sync = autopilot.wait(lambda m: m.ts1 == 777, "TIMESYNC", 2)
+    assert sync is not None and sync.tc1 > 0
+    payload = [0] * 251
+    payload[0:2] = [5, 0]
+    payload[3] = 4  # OpenFileRO
+    autopilot.gcs.mav.file_transfer_protocol_send(0, 1, 1, payload)
+    ftp = autopilot.wait(lambda m: True, "FILE_TRANSFER_PROTOCOL", 2)
+    assert ftp is not None and list(ftp.payload[:6]) == [6, 0, 0, 129, 1, 4] and ftp.payload[12] == 10
+
+
+def test_duplicates_and_command_int(autopilot):
+    autopilot.heartbeat()
+    first = autopilot.command(176, 1, 3, 0)
+    again = autopilot.command(176, 1, 3, 0)
+    assert first.result == again.result == ACCEPTED, "a retransmission gets the cached result"
+    # COMMAND_INT NAV_TAKEOFF with z AMSL 493 m = 5 m above home.
+    autopilot.gcs.mav.command_int_send(1, 1, 0, 22, 0, 0, NAN, 0, 0, NAN, 2147483647, 2147483647, 493.0)
+    ack = autopilot.wait(lambda m: m.command == 22, "COMMAND_ACK", 2)
+    assert ack is not None and ack.result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    pos = autopilot.wait(lambda m: abs(m.z + 5.0) < 0.05, "LOCAL_POSITION_NED", 12)
+    assert pos is not None, "climbed to 5 m above home"

@@ -2,8 +2,10 @@
 //! (bytes ↔ frames) and the translation between messages and the commander.
 
 pub mod codec;
+pub mod duplicates;
+pub mod services;
 pub mod telemetry;
 pub mod translate;
 
-pub use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavSeverity};
+pub use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavSeverity, COMMAND_LONG_DATA};
 pub use mavlink::MavHeader;

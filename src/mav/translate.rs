@@ -5,12 +5,14 @@
 //! "not set". Results map to MAV_RESULT with the refusal reason kept for STATUSTEXT.
 
 use mavlink::dialects::common::{
-    MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavResult, MavState, MavType, COMMAND_ACK_DATA, COMMAND_LONG_DATA,
-    HEARTBEAT_DATA,
+    MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavResult, MavState, MavType, COMMAND_ACK_DATA, COMMAND_INT_DATA,
+    COMMAND_LONG_DATA, HEARTBEAT_DATA,
 };
 use mavlink::MavHeader;
 
 use crate::commander::{FlightMode, ModeRefusal, Outcome, Request};
+
+use super::telemetry::Stream;
 
 /// Force-arm magic numbers in ARM_DISARM param2: the spec's and MAVProxy's.
 const FORCE_MAGIC: [f32; 2] = [21196.0, 2989.0];
@@ -64,6 +66,49 @@ pub enum CommandDecision {
     Refuse(Outcome),
     /// A command this emulator does not implement.
     Unsupported,
+    /// ACK ACCEPTED, then send this message to the requester (REQUEST_MESSAGE and friends).
+    Reply(OneShot),
+}
+
+/// A message sent on request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OneShot {
+    /// AUTOPILOT_VERSION (148).
+    AutopilotVersion,
+    /// One message of a telemetry stream.
+    Stream(Stream),
+}
+
+/// The message REQUEST_MESSAGE(`id`) asks for, when we can produce it.
+fn one_shot(id: f32) -> Option<OneShot> {
+    Some(match id as u32 {
+        148 => OneShot::AutopilotVersion,
+        1 => OneShot::Stream(Stream::SysStatus),
+        30 => OneShot::Stream(Stream::Attitude),
+        32 => OneShot::Stream(Stream::LocalPosition),
+        33 => OneShot::Stream(Stream::GlobalPosition),
+        242 => OneShot::Stream(Stream::HomePosition),
+        245 => OneShot::Stream(Stream::ExtendedSysState),
+        _ => return None,
+    })
+}
+
+/// COMMAND_INT as the equivalent COMMAND_LONG: x/y (INT32_MAX = unset) become param5/param6.
+pub fn command_int_as_long(c: &COMMAND_INT_DATA) -> COMMAND_LONG_DATA {
+    let unset = |v: i32| if v == i32::MAX { f32::NAN } else { v as f32 };
+    COMMAND_LONG_DATA {
+        param1: c.param1,
+        param2: c.param2,
+        param3: c.param3,
+        param4: c.param4,
+        param5: unset(c.x),
+        param6: unset(c.y),
+        param7: c.z,
+        command: c.command,
+        target_system: c.target_system,
+        target_component: c.target_component,
+        confirmation: 0,
+    }
 }
 
 /// `None` for NaN ("not set", §3.1).
@@ -71,9 +116,13 @@ fn param(x: f32) -> Option<f32> {
     (!x.is_nan()).then_some(x)
 }
 
+/// GET_HOME_POSITION and REQUEST_AUTOPILOT_CAPABILITIES are deprecated but MAVProxy and MAVSDK
+/// still send them (mavlink.md §3.2, §12).
+///
 /// Decides what a COMMAND_LONG from `sender` means; `home_amsl_m` [m] turns NAV_TAKEOFF's AMSL
 /// param7 into a height above home (a value below home AMSL is taken as the height itself, as
 /// MAVProxy's `takeoff 5` sends).
+#[allow(deprecated)]
 pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA, home_amsl_m: f64) -> CommandDecision {
     if !id.accepts(sender, cmd.target_system, cmd.target_component) {
         return CommandDecision::NotForUs;
@@ -121,6 +170,12 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
                 }
             }
         }
+        MavCmd::MAV_CMD_REQUEST_MESSAGE => match one_shot(cmd.param1) {
+            Some(m) => CommandDecision::Reply(m),
+            None => CommandDecision::Refuse(Outcome::Denied(format!("Message {} not available", cmd.param1))),
+        },
+        MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => CommandDecision::Reply(OneShot::AutopilotVersion),
+        MavCmd::MAV_CMD_GET_HOME_POSITION => CommandDecision::Reply(OneShot::Stream(Stream::HomePosition)),
         _ => CommandDecision::Unsupported,
     }
 }
@@ -239,6 +294,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(deprecated)]
     fn arm_force_takeoff_altitude_and_modes_decode() {
         let id = Identity::autopilot(1, 6);
         let d = |c, p| decode_command(&id, &gcs(), &cmd(c, p, (1, 1)), 488.0);
@@ -287,6 +343,32 @@ mod tests {
             CommandDecision::Refuse(Outcome::Denied(_))
         ));
         assert_eq!(d(MavCmd::MAV_CMD_DO_SET_SERVO, [0.0; 7]), CommandDecision::Unsupported);
+        assert_eq!(
+            d(MavCmd::MAV_CMD_REQUEST_MESSAGE, [148.0, NAN, NAN, NAN, NAN, NAN, NAN]),
+            CommandDecision::Reply(OneShot::AutopilotVersion)
+        );
+        assert_eq!(
+            d(MavCmd::MAV_CMD_GET_HOME_POSITION, [NAN; 7]),
+            CommandDecision::Reply(OneShot::Stream(Stream::HomePosition))
+        );
+        assert!(matches!(
+            d(MavCmd::MAV_CMD_REQUEST_MESSAGE, [435.0, NAN, NAN, NAN, NAN, NAN, NAN]),
+            CommandDecision::Refuse(Outcome::Denied(_))
+        ));
+        let int = COMMAND_INT_DATA {
+            command: MavCmd::MAV_CMD_NAV_TAKEOFF,
+            x: i32::MAX,
+            z: 493.0,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        };
+        let long = command_int_as_long(&int);
+        assert!(long.param5.is_nan());
+        assert_eq!(
+            decode_command(&id, &gcs(), &long, 488.0),
+            CommandDecision::Execute(Request::Takeoff { height_m: Some(5.0) })
+        );
     }
 
     #[test]

@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 use std::net::SocketAddr;
 use std::sync::atomic::{AtomicU8, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use tokio::net::UdpSocket;
@@ -13,11 +13,14 @@ use tokio::sync::{broadcast, mpsc, oneshot, watch};
 
 use crate::commander::{Event, FlightMode, Outcome, Request};
 use crate::mav::codec::{decode_datagram, encode_v2, unsupported_command_ack, Inbound};
+use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
+use crate::mav::services::{autopilot_version, ftp_reply, ping_reply, timesync_reply};
 use crate::mav::telemetry::{message, status_text, GCS_STREAMS};
 use crate::mav::translate::{
-    command_ack, decode_command, decode_set_mode, heartbeat, result_of, CommandDecision, Identity,
+    command_ack, command_int_as_long, decode_command, decode_set_mode, heartbeat, result_of, CommandDecision, Identity,
+    OneShot,
 };
-use crate::mav::{MavHeader, MavMessage, MavSeverity};
+use crate::mav::{MavCmd, MavHeader, MavMessage, MavResult, MavSeverity, COMMAND_LONG_DATA};
 use crate::telemetry::Snapshot;
 
 use super::scheduler::VehicleCommand;
@@ -43,14 +46,21 @@ pub struct LinkContext {
     pub shutdown: watch::Receiver<bool>,
 }
 
-/// Sends frames to peers with a per-link sequence counter.
+/// Sends frames to peers with a per-link sequence counter; remembers recent command results.
 struct Sender {
     socket: Arc<UdpSocket>,
     identity: Identity,
     sequence: AtomicU8,
+    /// Shared by the receive loop and the ACK tasks; held for a hash-map update only.
+    duplicates: Mutex<DuplicateCache>,
+    start: Instant,
 }
 
 impl Sender {
+    fn now_s(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+
     fn header(&self) -> MavHeader {
         MavHeader {
             system_id: u32::from(self.identity.system_id),
@@ -74,6 +84,8 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
         socket: Arc::new(socket),
         identity: ctx.identity,
         sequence: AtomicU8::new(0),
+        duplicates: Mutex::new(DuplicateCache::default()),
+        start: Instant::now(),
     });
     let mut peers: HashMap<SocketAddr, Instant> = HashMap::new();
     let start = Instant::now();
@@ -172,28 +184,29 @@ fn handle_datagram(
     }
 }
 
+/// PING (deprecated, still sent by MAVSDK) is answered like the others.
+#[allow(deprecated)]
 fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, sender: &Arc<Sender>, ctx: &LinkContext) {
+    let reply = |msg: MavMessage| {
+        let s = sender.clone();
+        tokio::spawn(async move { s.send(&msg, from).await });
+    };
     match message {
-        MavMessage::COMMAND_LONG(cmd) => {
-            let home_amsl = ctx.snapshot.borrow().home.alt_amsl_m;
-            let decision = decode_command(&ctx.identity, header, cmd, home_amsl);
-            let command = cmd.command;
-            let header = *header;
-            match decision {
-                CommandDecision::NotForUs => {}
-                CommandDecision::Unsupported => {
-                    let s = sender.clone();
-                    tokio::spawn(async move {
-                        let ack = command_ack(&header, command, crate::mav::MavResult::MAV_RESULT_UNSUPPORTED);
-                        s.send(&ack, from).await;
-                    });
-                }
-                CommandDecision::Refuse(outcome) => {
-                    let s = sender.clone();
-                    tokio::spawn(async move { answer(&s, &header, command, &outcome, from).await });
-                }
-                CommandDecision::Execute(request) => execute(request, header, command, from, sender, ctx),
+        MavMessage::COMMAND_LONG(cmd) => handle_command(header, cmd, from, sender, ctx),
+        MavMessage::COMMAND_INT(cmd) => handle_command(header, &command_int_as_long(cmd), from, sender, ctx),
+        MavMessage::PING(p) => {
+            if let Some(r) = ping_reply(header, p) {
+                reply(r);
             }
+        }
+        MavMessage::TIMESYNC(t) => {
+            let now_ns = i64::try_from(sender.start.elapsed().as_nanos()).unwrap_or(i64::MAX);
+            if let Some(r) = timesync_reply(header, t, now_ns) {
+                reply(r);
+            }
+        }
+        MavMessage::FILE_TRANSFER_PROTOCOL(f) if ctx.identity.accepts(header, f.target_system, f.target_component) => {
+            reply(ftp_reply(header, f));
         }
         other => {
             if let Some(mode) = decode_set_mode(&ctx.identity, other) {
@@ -207,43 +220,104 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
     }
 }
 
-/// Sends `request` to the vehicle and answers the sender with its outcome.
-fn execute(
-    request: Request,
-    header: MavHeader,
-    command: crate::mav::MavCmd,
+/// One COMMAND_LONG (or COMMAND_INT as one): duplicate check, decision, exactly one ACK.
+fn handle_command(
+    header: &MavHeader,
+    cmd: &COMMAND_LONG_DATA,
     from: SocketAddr,
     sender: &Arc<Sender>,
     ctx: &LinkContext,
 ) {
-    let (tx, rx) = oneshot::channel();
-    let s = sender.clone();
-    if ctx
-        .inbox
-        .try_send(VehicleCommand {
-            request,
-            reply: Some(tx),
-        })
-        .is_err()
-    {
-        tokio::spawn(async move {
-            let busy = Outcome::TemporarilyRejected("Vehicle busy".into());
-            answer(&s, &header, command, &busy, from).await;
-        });
+    let home_amsl = ctx.snapshot.borrow().home.alt_amsl_m;
+    let decision = decode_command(&ctx.identity, header, cmd, home_amsl);
+    if decision == CommandDecision::NotForUs {
         return;
     }
-    tokio::spawn(async move {
-        let outcome = rx
-            .await
-            .unwrap_or(Outcome::TemporarilyRejected("Vehicle stopped".into()));
-        answer(&s, &header, command, &outcome, from).await;
-    });
+    let key = CommandKey::new(header, cmd);
+    let seen = sender
+        .duplicates
+        .lock()
+        .map(|mut c| c.check(key, sender.now_s()))
+        .unwrap_or(Seen::New);
+    let (header, command, s) = (*header, cmd.command, sender.clone());
+    match seen {
+        Seen::InProgress => {}
+        Seen::Answered(result) => {
+            tokio::spawn(async move { s.send(&command_ack(&header, command, result), from).await });
+        }
+        Seen::New => match decision {
+            CommandDecision::NotForUs => {}
+            CommandDecision::Unsupported => {
+                tokio::spawn(async move {
+                    answer(
+                        &s,
+                        key,
+                        &header,
+                        command,
+                        AckOf::Result(MavResult::MAV_RESULT_UNSUPPORTED),
+                        from,
+                    )
+                    .await
+                });
+            }
+            CommandDecision::Refuse(outcome) => {
+                tokio::spawn(async move { answer(&s, key, &header, command, AckOf::Outcome(&outcome), from).await });
+            }
+            CommandDecision::Reply(one_shot) => {
+                let msg = match one_shot {
+                    OneShot::AutopilotVersion => autopilot_version(&ctx.identity),
+                    OneShot::Stream(stream) => message(stream, &ctx.snapshot.borrow()),
+                };
+                tokio::spawn(async move {
+                    answer(
+                        &s,
+                        key,
+                        &header,
+                        command,
+                        AckOf::Result(MavResult::MAV_RESULT_ACCEPTED),
+                        from,
+                    )
+                    .await;
+                    s.send(&msg, from).await;
+                });
+            }
+            CommandDecision::Execute(request) => {
+                let (tx, rx) = oneshot::channel();
+                let queued = ctx.inbox.try_send(VehicleCommand {
+                    request,
+                    reply: Some(tx),
+                });
+                tokio::spawn(async move {
+                    let outcome = match queued {
+                        Ok(()) => rx
+                            .await
+                            .unwrap_or(Outcome::TemporarilyRejected("Vehicle stopped".into())),
+                        Err(_) => Outcome::TemporarilyRejected("Vehicle busy".into()),
+                    };
+                    answer(&s, key, &header, command, AckOf::Outcome(&outcome), from).await;
+                });
+            }
+        },
+    }
 }
 
-/// COMMAND_ACK to the sender, and a STATUSTEXT with the reason of a refusal.
-async fn answer(sender: &Sender, header: &MavHeader, command: crate::mav::MavCmd, outcome: &Outcome, to: SocketAddr) {
-    sender.send(&command_ack(header, command, result_of(outcome)), to).await;
-    if let Outcome::TemporarilyRejected(why) | Outcome::Denied(why) = outcome {
+/// What an ACK reports.
+enum AckOf<'a> {
+    Result(MavResult),
+    Outcome(&'a Outcome),
+}
+
+/// COMMAND_ACK to the sender (remembered for duplicates), and a STATUSTEXT with the reason of a refusal.
+async fn answer(sender: &Sender, key: CommandKey, header: &MavHeader, command: MavCmd, ack: AckOf<'_>, to: SocketAddr) {
+    let result = match &ack {
+        AckOf::Result(r) => *r,
+        AckOf::Outcome(o) => result_of(o),
+    };
+    if let Ok(mut cache) = sender.duplicates.lock() {
+        cache.answered(key, result, sender.now_s());
+    }
+    sender.send(&command_ack(header, command, result), to).await;
+    if let AckOf::Outcome(Outcome::TemporarilyRejected(why) | Outcome::Denied(why)) = ack {
         sender
             .send(&status_text(MavSeverity::MAV_SEVERITY_WARNING, why), to)
             .await;
