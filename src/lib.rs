@@ -20,6 +20,7 @@
 //! - [`mav`]: MAVLink codec (datagram ↔ frames, hand-built ACK for unknown commands).
 //! - [`navigation`]: setpoint generators (take-off climb; hover, quintic, waypoint and circle
 //!   trajectories with a `[trajectory]` TOML spec).
+//! - [`params`]: the parameter table (PX4 and RP_ names), validated as a whole.
 //! - [`report`]: what the `alloc` and `gains` commands print.
 //! - [`scenario`]: scenario files (airframe, mismatch, disturbances, controller, estimator,
 //!   trajectory) validated into a run description; run statistics.
@@ -41,6 +42,7 @@ pub mod headless;
 pub mod math;
 pub mod mav;
 pub mod navigation;
+pub mod params;
 pub mod report;
 pub mod rpy;
 pub mod runtime;

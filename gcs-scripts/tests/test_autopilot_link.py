@@ -169,3 +169,73 @@ def test_duplicates_and_command_int(autopilot):
     assert autopilot.command(400, 1.0).result == ACCEPTED
     pos = autopilot.wait(lambda m: abs(m.z + 5.0) < 0.05, "LOCAL_POSITION_NED", 12)
     assert pos is not None, "climbed to 5 m above home"
+
+
+def int32_bits(value):
+    """Byte-wise INT32 in the float field (mavlink.md §8.2)."""
+    import struct
+    return struct.unpack("<f", struct.pack("<i", value))[0]
+
+
+def float_bits_to_int(value):
+    import struct
+    return struct.unpack("<i", struct.pack("<f", value))[0]
+
+
+def test_parameter_protocol(autopilot):
+    autopilot.heartbeat()
+    autopilot.gcs.mav.param_request_list_send(1, 1)
+    values = {}
+    deadline = time.monotonic() + 5
+    count = None
+    while time.monotonic() < deadline and (count is None or len(values) < count):
+        m = autopilot.gcs.recv_match(type="PARAM_VALUE", blocking=True, timeout=1)
+        if m is not None:
+            count = m.param_count
+            values[m.param_id] = m
+    assert count is not None and len(values) == count >= 50
+    assert values["MIS_TAKEOFF_ALT"].param_value == 2.5
+    assert values["RP_CTRL"].param_type == 6 and float_bits_to_int(values["RP_CTRL"].param_value) == 0
+    index = values["RP_GEO_KP_Z"].param_index
+    autopilot.gcs.mav.param_request_read_send(1, 1, b"", index)
+    by_index = autopilot.wait(lambda m: m.param_index == index, "PARAM_VALUE", 2)
+    assert by_index is not None and by_index.param_id == "RP_GEO_KP_Z"
+    # fsr gains scaled to quad_x keep K_p (mass 1.5 kg on both).
+    assert by_index.param_value == 25.0
+
+    autopilot.gcs.mav.param_set_send(1, 1, b"MIS_TAKEOFF_ALT", 4.0, 9)
+    echo = autopilot.wait(lambda m: m.param_id == "MIS_TAKEOFF_ALT", "PARAM_VALUE", 2)
+    assert echo is not None and echo.param_value == 4.0
+    autopilot.gcs.mav.param_set_send(1, 1, b"RP_CTRL", int32_bits(5), 6)
+    echo = autopilot.wait(lambda m: m.param_id == "RP_CTRL", "PARAM_VALUE", 2)
+    assert echo is not None and float_bits_to_int(echo.param_value) == 0, "refused: unchanged value echoed"
+    text = autopilot.wait(lambda m: "RP_CTRL" in m.text, "STATUSTEXT", 2)
+    assert text is not None
+    autopilot.gcs.mav.param_set_send(1, 1, b"NO_SUCH_PARAM", 1.0, 9)
+    # PARAM_ERROR (345) is newer than pymavlink's dialect; the STATUSTEXT says it too.
+    assert autopilot.wait(lambda m: "NO_SUCH_PARAM" in m.text, "STATUSTEXT", 2) is not None
+
+    # The new take-off altitude is used.
+    assert autopilot.command(22).result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    pos = autopilot.wait(lambda m: abs(m.z + 4.0) < 0.05, "LOCAL_POSITION_NED", 12)
+    assert pos is not None
+
+
+def test_controller_and_estimator_switch_in_flight(autopilot):
+    autopilot.heartbeat()
+    assert autopilot.command(22).result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    for name, value in [(b"RP_CTRL", 2), (b"RP_EST_ORDER", 1), (b"RP_COMP", 1), (b"RP_CTRL", 1)]:
+        autopilot.gcs.mav.param_set_send(1, 1, name, int32_bits(value), 6)
+        echo = autopilot.wait(lambda m: m.param_id == name.decode(), "PARAM_VALUE", 2)
+        assert echo is not None and float_bits_to_int(echo.param_value) == value
+        # Bumpless: the hover stays within 5 cm while the law or the estimator changes.
+        end = time.monotonic() + 1.5
+        while time.monotonic() < end:
+            m = autopilot.gcs.recv_match(type="ATTITUDE", blocking=True, timeout=1)
+            pos = autopilot.gcs.messages.get("LOCAL_POSITION_NED")
+            if pos is not None:
+                assert abs(pos.z + 2.5) < 0.05 and math.hypot(pos.x, pos.y) < 0.05, (name, pos)
+            assert m is None or abs(m.roll) < 0.05

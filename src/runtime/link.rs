@@ -14,6 +14,7 @@ use tokio::sync::{broadcast, mpsc, oneshot, watch};
 use crate::commander::{Event, FlightMode, Outcome, Request};
 use crate::mav::codec::{decode_datagram, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
+use crate::mav::params::{decode_param_set, name_of, param_error_unknown, param_value};
 use crate::mav::services::{autopilot_version, ftp_reply, ping_reply, timesync_reply};
 use crate::mav::telemetry::{message, status_text, GCS_STREAMS};
 use crate::mav::translate::{
@@ -21,6 +22,7 @@ use crate::mav::translate::{
     OneShot,
 };
 use crate::mav::{MavCmd, MavHeader, MavMessage, MavResult, MavSeverity, COMMAND_LONG_DATA};
+use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::scheduler::VehicleCommand;
@@ -40,6 +42,8 @@ pub struct LinkContext {
     pub inbox: mpsc::Sender<VehicleCommand>,
     /// Latest vehicle state.
     pub snapshot: watch::Receiver<Snapshot>,
+    /// Current parameter table.
+    pub params: watch::Receiver<Arc<ParamTable>>,
     /// Announcements for every peer (STATUSTEXT).
     pub announcements: broadcast::Receiver<Event>,
     /// Becomes true at shutdown.
@@ -53,6 +57,8 @@ struct Sender {
     sequence: AtomicU8,
     /// Shared by the receive loop and the ACK tasks; held for a hash-map update only.
     duplicates: Mutex<DuplicateCache>,
+    /// The link's telemetry targets as of the last poll (for PARAM_VALUE echoes).
+    targets: Mutex<Vec<SocketAddr>>,
     start: Instant,
 }
 
@@ -85,6 +91,7 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
         identity: ctx.identity,
         sequence: AtomicU8::new(0),
         duplicates: Mutex::new(DuplicateCache::default()),
+        targets: Mutex::new(vec![remote]),
         start: Instant::now(),
     });
     let mut peers: HashMap<SocketAddr, Instant> = HashMap::new();
@@ -116,6 +123,9 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
             }
             _ = poll.tick() => {
                 let now = Instant::now();
+                if let Ok(mut t) = sender.targets.lock() {
+                    *t = targets(remote, &mut peers);
+                }
                 let snap = *ctx.snapshot.borrow();
                 let state = (snap.armed, snap.mode);
                 // One extra heartbeat right after arm, disarm or a mode change (mavlink.md §1).
@@ -205,13 +215,43 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
                 reply(r);
             }
         }
+        MavMessage::PARAM_REQUEST_LIST(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {
+            let table = ctx.params.borrow().clone();
+            let s = sender.clone();
+            tokio::spawn(async move {
+                // Paced at one per millisecond at most (mavlink.md §8.1).
+                for i in 0..table.len() {
+                    if let Some(msg) = param_value(&table, i) {
+                        s.send(&msg, from).await;
+                    }
+                    tokio::time::sleep(Duration::from_millis(1)).await;
+                }
+            });
+        }
+        MavMessage::PARAM_REQUEST_READ(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {
+            let table = ctx.params.borrow().clone();
+            let name = name_of(&r.param_id);
+            let index = if r.param_index < 0 {
+                table.index_of(&name)
+            } else {
+                Some(r.param_index as usize)
+            };
+            match index.and_then(|i| param_value(&table, i)) {
+                Some(msg) => reply(msg),
+                None => reply(param_error_unknown(header, &name)),
+            }
+        }
+        MavMessage::PARAM_SET(set) if ctx.identity.accepts(header, set.target_system, set.target_component) => {
+            let (name, value) = decode_param_set(set);
+            set_param(name, value, *header, from, sender, ctx);
+        }
         MavMessage::FILE_TRANSFER_PROTOCOL(f) if ctx.identity.accepts(header, f.target_system, f.target_component) => {
             reply(ftp_reply(header, f));
         }
         other => {
             if let Some(mode) = decode_set_mode(&ctx.identity, other) {
                 // SET_MODE has no ACK; the next heartbeat shows the result.
-                let _ = ctx.inbox.try_send(VehicleCommand {
+                let _ = ctx.inbox.try_send(VehicleCommand::Request {
                     request: Request::SetMode(mode),
                     reply: None,
                 });
@@ -283,7 +323,7 @@ fn handle_command(
             }
             CommandDecision::Execute(request) => {
                 let (tx, rx) = oneshot::channel();
-                let queued = ctx.inbox.try_send(VehicleCommand {
+                let queued = ctx.inbox.try_send(VehicleCommand::Request {
                     request,
                     reply: Some(tx),
                 });
@@ -299,6 +339,58 @@ fn handle_command(
             }
         },
     }
+}
+
+/// PARAM_SET: the vehicle applies it at the next tick; every peer of this link gets the
+/// resulting PARAM_VALUE (the unchanged value when refused, with a STATUSTEXT saying why); an
+/// unknown name gets PARAM_ERROR.
+fn set_param(name: String, value: f64, header: MavHeader, from: SocketAddr, sender: &Arc<Sender>, ctx: &LinkContext) {
+    let (tx, rx) = oneshot::channel();
+    let queued = ctx.inbox.try_send(VehicleCommand::SetParam {
+        name: name.clone(),
+        value,
+        reply: tx,
+    });
+    let s = sender.clone();
+    let mut params = ctx.params.clone();
+    tokio::spawn(async move {
+        let result = match queued {
+            Ok(()) => rx.await.ok(),
+            Err(_) => None,
+        };
+        let table = params.borrow_and_update().clone();
+        let targets = s.targets.lock().map(|p| p.clone()).unwrap_or_default();
+        match result {
+            Some(Ok(index)) => {
+                if let Some(msg) = param_value(&table, index) {
+                    let mut to_all = targets;
+                    if !to_all.contains(&from) {
+                        to_all.push(from);
+                    }
+                    for to in to_all {
+                        s.send(&msg, to).await;
+                    }
+                }
+            }
+            Some(Err(ParamError::Unknown(_))) => {
+                s.send(&param_error_unknown(&header, &name), from).await;
+                let text = format!("Unknown parameter {name}");
+                s.send(&status_text(MavSeverity::MAV_SEVERITY_WARNING, &text), from)
+                    .await;
+            }
+            refused => {
+                if let Some(msg) = table.index_of(&name).and_then(|i| param_value(&table, i)) {
+                    s.send(&msg, from).await;
+                }
+                let why = match refused {
+                    Some(Err(e)) => e.to_string(),
+                    _ => "Vehicle busy".to_string(),
+                };
+                s.send(&status_text(MavSeverity::MAV_SEVERITY_WARNING, &why), from)
+                    .await;
+            }
+        }
+    });
 }
 
 /// What an ACK reports.

@@ -134,6 +134,7 @@ pub fn run(
 
     let (inbox_tx, inbox_rx) = mpsc::channel(INBOX_CAPACITY);
     let (snapshot_tx, snapshot_rx) = watch::channel(initial_snapshot(config.home));
+    let (params_tx, params_rx) = watch::channel(Arc::new(vehicle.params().clone()));
     let (event_tx, mut event_rx) = mpsc::channel(EVENT_CAPACITY);
     let (announce_tx, _) = broadcast::channel(EVENT_CAPACITY);
     let (shutdown_tx, shutdown_rx) = watch::channel(false);
@@ -143,6 +144,7 @@ pub fn run(
     let io = SchedulerIo {
         inbox: inbox_rx,
         snapshot: snapshot_tx,
+        params: params_tx,
         events: event_tx,
         stop: stop.clone(),
         stats: stats.clone(),
@@ -157,6 +159,7 @@ pub fn run(
             identity,
             inbox: inbox_tx.clone(),
             snapshot: snapshot_rx.clone(),
+            params: params_rx.clone(),
             announcements: announce_tx.subscribe(),
             shutdown: shutdown_rx.clone(),
         };

@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use tokio::sync::{mpsc, oneshot, watch};
 
 use crate::commander::{Event, Outcome, Request};
+use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::vehicle::Vehicle;
@@ -18,13 +19,25 @@ use super::vehicle::Vehicle;
 /// Missed ticks run back-to-back before the schedule is rebased (100 ms at 1 kHz).
 pub const MAX_BACKLOG_TICKS: u64 = 100;
 
-/// A request for the vehicle, with where to send its outcome.
+/// Something for the vehicle to do at the next tick boundary, with where to send the result.
 #[derive(Debug)]
-pub struct VehicleCommand {
-    /// The request.
-    pub request: Request,
-    /// Outcome channel (the link answers the sender with it).
-    pub reply: Option<oneshot::Sender<Outcome>>,
+pub enum VehicleCommand {
+    /// A commander request.
+    Request {
+        /// The request.
+        request: Request,
+        /// Outcome channel (the link answers the sender with it).
+        reply: Option<oneshot::Sender<Outcome>>,
+    },
+    /// A parameter set.
+    SetParam {
+        /// Parameter name.
+        name: String,
+        /// New value.
+        value: f64,
+        /// Index of the parameter, or why it was refused.
+        reply: oneshot::Sender<Result<usize, ParamError>>,
+    },
 }
 
 /// Counters of the scheduler.
@@ -42,6 +55,8 @@ pub struct SchedulerIo {
     pub inbox: mpsc::Receiver<VehicleCommand>,
     /// Latest state.
     pub snapshot: watch::Sender<Snapshot>,
+    /// Current parameter table (republished after every accepted set).
+    pub params: watch::Sender<Arc<ParamTable>>,
     /// Commander events.
     pub events: mpsc::Sender<Event>,
     /// Set to stop at the next tick boundary.
@@ -66,9 +81,20 @@ pub fn run(mut vehicle: Vehicle, dt: Duration, mut io: SchedulerIo) {
             next = 0;
         }
         while let Ok(cmd) = io.inbox.try_recv() {
-            let outcome = vehicle.apply(cmd.request);
-            if let Some(reply) = cmd.reply {
-                let _ = reply.send(outcome);
+            match cmd {
+                VehicleCommand::Request { request, reply } => {
+                    let outcome = vehicle.apply(request);
+                    if let Some(reply) = reply {
+                        let _ = reply.send(outcome);
+                    }
+                }
+                VehicleCommand::SetParam { name, value, reply } => {
+                    let result = vehicle.set_param(&name, value);
+                    if result.is_ok() {
+                        io.params.send_replace(Arc::new(vehicle.params().clone()));
+                    }
+                    let _ = reply.send(result);
+                }
             }
         }
         let out = vehicle.step();

@@ -5,8 +5,10 @@ use crate::airframe::{Airframe, AirframeSource};
 use crate::commander::{Commander, CommanderParams, Event, Outcome, Request};
 use crate::control::ControllerKind;
 use crate::core::{CoreError, FlightCore};
+use crate::estimation::WrenchObserver;
 use crate::math::euler_zyx;
 use crate::navigation::Home;
+use crate::params::{ParamError, ParamTable, VehicleSettings};
 use crate::sitl::{SimPlant, SitlError};
 use crate::telemetry::Snapshot;
 
@@ -34,6 +36,9 @@ pub struct Vehicle {
     tick: u64,
     dt_s: f64,
     idle: Vec<f64>,
+    params: ParamTable,
+    believed_mass_kg: f64,
+    believed_inertia_kg_m2: crate::math::Vec3,
 }
 
 /// What one tick produced for the links.
@@ -61,6 +66,13 @@ impl Vehicle {
             tracing::warn!("{w}");
         }
         let idle = vec![0.0; core.allocator().rotor_count()];
+        let params = ParamTable::new(&VehicleSettings {
+            commander: CommanderParams::default(),
+            controller: kind,
+            compensation: false,
+            gains: *core.controller.gains(),
+            estimator: None,
+        });
         Ok(Self {
             core,
             plant,
@@ -69,7 +81,38 @@ impl Vehicle {
             tick: 0,
             dt_s,
             idle,
+            params,
+            believed_mass_kg: airframe.mass_kg,
+            believed_inertia_kg_m2: airframe.inertia_kg_m2,
         })
+    }
+
+    /// The parameter table.
+    pub fn params(&self) -> &ParamTable {
+        &self.params
+    }
+
+    /// Sets parameter `name` to `value` and applies the new settings at this tick boundary:
+    /// commander limits, control law (its filters restart from the next sample), compensation,
+    /// gains, and the estimator (a new design restarts it from ŵ = 0). Refused sets change nothing.
+    pub fn set_param(&mut self, name: &str, value: f64) -> Result<usize, ParamError> {
+        let before = self.params.settings();
+        let index = self.params.set(name, value, self.dt_s)?;
+        let s = self.params.settings();
+        self.commander.params = s.commander;
+        self.core.controller.set_kind(s.controller);
+        self.core.controller.set_compensation(s.compensation);
+        if let Err(e) = self.core.controller.set_gains(s.gains) {
+            tracing::warn!("{e}");
+        }
+        if s.estimator != before.estimator {
+            let observer = s.estimator.and_then(|d| {
+                let gains = d.gains(self.dt_s).ok()?;
+                WrenchObserver::new(self.believed_mass_kg, self.believed_inertia_kg_m2, gains, self.dt_s).ok()
+            });
+            self.core.set_observer(observer);
+        }
+        Ok(index)
     }
 
     /// Rotor count.

@@ -1,0 +1,121 @@
+//! Parameter protocol encoding (mavlink.md §8): PARAM_VALUE with INT32 values copied byte-wise
+//! into the float field, and the value of a PARAM_SET decoded by its `param_type` (a REAL32 set
+//! of an INT32 parameter is accepted when it is an exact integer; the table checks that). Pure.
+
+use mavlink::dialects::common::{
+    MavMessage, MavParamError, MavParamType, PARAM_ERROR_DATA, PARAM_SET_DATA, PARAM_VALUE_DATA,
+};
+use mavlink::types::CharArray;
+use mavlink::MavHeader;
+
+use crate::params::{ParamTable, ParamType};
+
+/// PARAM_VALUE for the parameter at `index`, or `None` past the end.
+pub fn param_value(table: &ParamTable, index: usize) -> Option<MavMessage> {
+    let (def, value) = table.get(index)?;
+    let (param_value, param_type) = match def.kind {
+        ParamType::Int32 => (f32::from_bits(value as i32 as u32), MavParamType::MAV_PARAM_TYPE_INT32),
+        ParamType::Real32 => (value as f32, MavParamType::MAV_PARAM_TYPE_REAL32),
+    };
+    Some(MavMessage::PARAM_VALUE(PARAM_VALUE_DATA {
+        param_value,
+        param_count: table.len() as u16,
+        param_index: index as u16,
+        param_id: param_id(def.name),
+        param_type,
+    }))
+}
+
+/// PARAM_ERROR DOES_NOT_EXIST for `name`, to `sender`.
+pub fn param_error_unknown(sender: &MavHeader, name: &str) -> MavMessage {
+    MavMessage::PARAM_ERROR(PARAM_ERROR_DATA {
+        param_index: -1,
+        target_system: sender.system_id as u8,
+        target_component: sender.component_id,
+        param_id: param_id(name),
+        error: MavParamError::MAV_PARAM_ERROR_DOES_NOT_EXIST,
+    })
+}
+
+/// Name and value of a PARAM_SET.
+pub fn decode_param_set(set: &PARAM_SET_DATA) -> (String, f64) {
+    let value = match set.param_type {
+        MavParamType::MAV_PARAM_TYPE_INT32
+        | MavParamType::MAV_PARAM_TYPE_UINT32
+        | MavParamType::MAV_PARAM_TYPE_INT16
+        | MavParamType::MAV_PARAM_TYPE_UINT16
+        | MavParamType::MAV_PARAM_TYPE_INT8
+        | MavParamType::MAV_PARAM_TYPE_UINT8 => f64::from(set.param_value.to_bits() as i32),
+        _ => f64::from(set.param_value),
+    };
+    (name_of(&set.param_id), value)
+}
+
+/// The text of a 16-byte, NUL-padded `param_id`.
+pub fn name_of(id: &CharArray<16>) -> String {
+    let bytes: &[u8] = &id[..];
+    let end = bytes.iter().position(|b| *b == 0).unwrap_or(bytes.len());
+    String::from_utf8_lossy(&bytes[..end]).into_owned()
+}
+
+fn param_id(name: &str) -> CharArray<16> {
+    let mut bytes = [0u8; 16];
+    for (b, c) in bytes.iter_mut().zip(name.bytes()) {
+        *b = c;
+    }
+    bytes.into()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::commander::CommanderParams;
+    use crate::control::{ControllerGains, ControllerKind};
+    use crate::params::VehicleSettings;
+
+    fn table() -> ParamTable {
+        ParamTable::new(&VehicleSettings {
+            commander: CommanderParams::default(),
+            controller: ControllerKind::Passivity,
+            compensation: false,
+            gains: ControllerGains::default(),
+            estimator: None,
+        })
+    }
+
+    #[test]
+    fn int32_travels_bytewise_and_real32_as_is() {
+        let t = table();
+        let i = t.index_of("RP_CTRL").unwrap();
+        let Some(MavMessage::PARAM_VALUE(v)) = param_value(&t, i) else {
+            panic!("no value");
+        };
+        assert_eq!(v.param_type, MavParamType::MAV_PARAM_TYPE_INT32);
+        assert_eq!(v.param_value.to_bits(), 2);
+        assert_eq!(name_of(&v.param_id), "RP_CTRL");
+        assert_eq!((v.param_index as usize, v.param_count as usize), (i, t.len()));
+        let Some(MavMessage::PARAM_VALUE(v)) = param_value(&t, 0) else {
+            panic!("no value");
+        };
+        assert_eq!((name_of(&v.param_id).as_str(), v.param_value), ("MIS_TAKEOFF_ALT", 2.5));
+        assert!(param_value(&t, t.len()).is_none());
+    }
+
+    #[test]
+    fn param_set_decodes_by_type() {
+        let set = |value: f32, param_type| PARAM_SET_DATA {
+            param_value: value,
+            target_system: 1,
+            target_component: 1,
+            param_id: param_id("RP_CTRL"),
+            param_type,
+        };
+        assert_eq!(
+            decode_param_set(&set(f32::from_bits(1), MavParamType::MAV_PARAM_TYPE_INT32)),
+            ("RP_CTRL".to_string(), 1.0)
+        );
+        assert_eq!(decode_param_set(&set(2.0, MavParamType::MAV_PARAM_TYPE_REAL32)).1, 2.0);
+        // A 16-character name has no terminating NUL.
+        assert_eq!(name_of(&param_id("ABCDEFGHIJKLMNOP")), "ABCDEFGHIJKLMNOP");
+    }
+}

@@ -1,0 +1,190 @@
+//! The fixed parameter list: names, types, ranges, and how each maps to a setting.
+
+use crate::commander::CommanderParams;
+use crate::control::{ControllerGains, ControllerKind};
+use crate::estimation::{ChebyshevDesign, MAX_ORDER};
+
+use super::{vec3, ParamDef, ParamType, VehicleSettings};
+
+/// Every parameter name, in index order.
+pub const PARAM_NAMES: [&str; 53] = [
+    "MIS_TAKEOFF_ALT",
+    "MPC_Z_VEL_MAX_UP",
+    "MPC_LAND_SPEED",
+    "MPC_XY_CRUISE",
+    "RTL_RETURN_ALT",
+    "COM_DISARM_LAND",
+    "COM_DISARM_PRFLT",
+    "RP_CTRL",
+    "RP_COMP",
+    "RP_EST_ORDER",
+    "RP_EST_RIPPLE",
+    "RP_EST_WP",
+    "RP_TILT_MAX",
+    "RP_DERIV_TAU",
+    "RP_GEO_KP_X",
+    "RP_GEO_KP_Y",
+    "RP_GEO_KP_Z",
+    "RP_GEO_KV_X",
+    "RP_GEO_KV_Y",
+    "RP_GEO_KV_Z",
+    "RP_GEO_KR_X",
+    "RP_GEO_KR_Y",
+    "RP_GEO_KR_Z",
+    "RP_GEO_KW_X",
+    "RP_GEO_KW_Y",
+    "RP_GEO_KW_Z",
+    "RP_HIE_KP_X",
+    "RP_HIE_KP_Y",
+    "RP_HIE_KP_Z",
+    "RP_HIE_KD_X",
+    "RP_HIE_KD_Y",
+    "RP_HIE_KD_Z",
+    "RP_HIE_KETA_R",
+    "RP_HIE_KETA_P",
+    "RP_HIE_KETA_Y",
+    "RP_HIE_KETAD_R",
+    "RP_HIE_KETAD_P",
+    "RP_HIE_KETAD_Y",
+    "RP_PAS_SIGMA",
+    "RP_PAS_DA_R",
+    "RP_PAS_DA_P",
+    "RP_PAS_DA_Y",
+    "RP_PAS_KA_R",
+    "RP_PAS_KA_P",
+    "RP_PAS_KA_Y",
+    "RP_PAS_DO_X",
+    "RP_PAS_DO_Y",
+    "RP_PAS_DO_Z",
+    "RP_PAS_KO_X",
+    "RP_PAS_KO_Y",
+    "RP_PAS_KO_Z",
+    "RP_EPS_Z",
+    "RP_EPS_A",
+];
+
+fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
+    ParamDef { name, kind, min, max }
+}
+
+/// Definitions and values for `s`, in [`PARAM_NAMES`] order. Units: metres, m/s, seconds,
+/// degrees (RP_TILT_MAX), rad/s (RP_EST_WP), dB, and the gain units of `control::gains`.
+pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
+    use ParamType::{Int32, Real32};
+    let c = &s.commander;
+    let g = &s.gains;
+    let est = s.estimator;
+    let mut out = vec![
+        (def(PARAM_NAMES[0], Real32, 0.5, 1000.0), c.takeoff_alt_m),
+        (def(PARAM_NAMES[1], Real32, 0.5, 20.0), c.climb_speed_m_s),
+        (def(PARAM_NAMES[2], Real32, 0.1, 5.0), c.land_speed_m_s),
+        (def(PARAM_NAMES[3], Real32, 0.5, 30.0), c.cruise_speed_m_s),
+        (def(PARAM_NAMES[4], Real32, 1.0, 500.0), c.rtl_return_alt_m),
+        (def(PARAM_NAMES[5], Real32, -1.0, 20.0), c.disarm_land_s),
+        (def(PARAM_NAMES[6], Real32, -1.0, 60.0), c.disarm_preflight_s),
+        (def(PARAM_NAMES[7], Int32, 0.0, 2.0), kind_index(s.controller)),
+        (
+            def(PARAM_NAMES[8], Int32, 0.0, 1.0),
+            f64::from(u8::from(s.compensation)),
+        ),
+        (
+            def(PARAM_NAMES[9], Int32, 0.0, MAX_ORDER as f64),
+            est.map_or(0.0, |d| d.order as f64),
+        ),
+        (
+            def(PARAM_NAMES[10], Real32, 0.01, 20.0),
+            est.map_or(3.0, |d| d.ripple_db),
+        ),
+        (
+            def(PARAM_NAMES[11], Real32, 0.01, 1000.0),
+            est.map_or(2.0, |d| d.passband_rad_s),
+        ),
+        (
+            def(PARAM_NAMES[12], Real32, 1.0, 79.0),
+            g.limits.tilt_max_rad.to_degrees(),
+        ),
+        (def(PARAM_NAMES[13], Real32, 0.001, 1.0), g.limits.derivative_tau_s),
+    ];
+    let vectors = [
+        g.geometric.kp,
+        g.geometric.kv,
+        g.geometric.kr,
+        g.geometric.komega,
+        g.hierarchical.kp,
+        g.hierarchical.kd,
+        g.hierarchical.k_eta,
+        g.hierarchical.k_eta_dot,
+    ];
+    let mut k = 14;
+    for v in &vectors {
+        for x in v.iter() {
+            out.push((def(PARAM_NAMES[k], Real32, 0.0, 1e6), *x));
+            k += 1;
+        }
+    }
+    out.push((def(PARAM_NAMES[k], Real32, 0.0, 1e3), g.passivity.sigma));
+    k += 1;
+    for v in [g.passivity.d_a, g.passivity.k_a, g.passivity.d_o, g.passivity.k_o] {
+        for x in v.iter() {
+            out.push((def(PARAM_NAMES[k], Real32, 0.0, 1e6), *x));
+            k += 1;
+        }
+    }
+    out.push((def(PARAM_NAMES[k], Real32, 0.01, 9.0), g.limits.eps_z_m_s2));
+    out.push((def(PARAM_NAMES[k + 1], Real32, 1e-6, 10.0), g.limits.eps_a_n));
+    out
+}
+
+fn kind_index(k: ControllerKind) -> f64 {
+    match k {
+        ControllerKind::Geometric => 0.0,
+        ControllerKind::Hierarchical => 1.0,
+        ControllerKind::Passivity => 2.0,
+    }
+}
+
+/// Settings from values in [`PARAM_NAMES`] order.
+pub(super) fn decode(v: &[f64]) -> VehicleSettings {
+    let mut gains = ControllerGains::default();
+    gains.limits.tilt_max_rad = v[12].to_radians();
+    gains.limits.derivative_tau_s = v[13];
+    gains.geometric.kp = vec3(&v[14..]);
+    gains.geometric.kv = vec3(&v[17..]);
+    gains.geometric.kr = vec3(&v[20..]);
+    gains.geometric.komega = vec3(&v[23..]);
+    gains.hierarchical.kp = vec3(&v[26..]);
+    gains.hierarchical.kd = vec3(&v[29..]);
+    gains.hierarchical.k_eta = vec3(&v[32..]);
+    gains.hierarchical.k_eta_dot = vec3(&v[35..]);
+    gains.passivity.sigma = v[38];
+    gains.passivity.d_a = vec3(&v[39..]);
+    gains.passivity.k_a = vec3(&v[42..]);
+    gains.passivity.d_o = vec3(&v[45..]);
+    gains.passivity.k_o = vec3(&v[48..]);
+    gains.limits.eps_z_m_s2 = v[51];
+    gains.limits.eps_a_n = v[52];
+    let order = v[9] as usize;
+    VehicleSettings {
+        commander: CommanderParams {
+            takeoff_alt_m: v[0],
+            climb_speed_m_s: v[1],
+            land_speed_m_s: v[2],
+            cruise_speed_m_s: v[3],
+            rtl_return_alt_m: v[4],
+            disarm_land_s: v[5],
+            disarm_preflight_s: v[6],
+        },
+        controller: match v[7] as i64 {
+            1 => ControllerKind::Hierarchical,
+            2 => ControllerKind::Passivity,
+            _ => ControllerKind::Geometric,
+        },
+        compensation: v[8] != 0.0,
+        gains,
+        estimator: (order > 0).then_some(ChebyshevDesign {
+            order,
+            ripple_db: v[10],
+            passband_rad_s: v[11],
+        }),
+    }
+}
