@@ -239,3 +239,56 @@ def test_controller_and_estimator_switch_in_flight(autopilot):
             if pos is not None:
                 assert abs(pos.z + 2.5) < 0.05 and math.hypot(pos.x, pos.y) < 0.05, (name, pos)
             assert m is None or abs(m.roll) < 0.05
+
+
+def stream_position(autopilot, x, y, z, seconds, mask=2552):
+    """Streams a LOCAL_NED position setpoint at 20 Hz for `seconds`; returns the last LOCAL_POSITION_NED."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        autopilot.gcs.mav.set_position_target_local_ned_send(0, 1, 1, 1, mask, x, y, z, 0, 0, 0, 0, 0, 0, 0, 0)
+        autopilot.gcs.recv_match(type="LOCAL_POSITION_NED", blocking=True, timeout=0.05)
+    return autopilot.gcs.messages.get("LOCAL_POSITION_NED")
+
+
+def test_offboard_square_and_setpoint_loss(autopilot):
+    autopilot.heartbeat()
+    assert autopilot.command(22).result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    assert autopilot.command(176, 1, 6, 0).result == TEMPORARILY_REJECTED, "no setpoint stream yet"
+    stream_position(autopilot, 0, 0, -2.5, 0.3)
+    autopilot.gcs.mav.set_position_target_local_ned_send(0, 1, 1, 1, 2552, 0, 0, -2.5, 0, 0, 0, 0, 0, 0, 0, 0)
+    assert autopilot.command(176, 1, 6, 0).result == ACCEPTED
+    assert autopilot.wait(lambda m: m.custom_mode == 6 << 16, "HEARTBEAT", 2) is not None
+    for x, y in [(2, 0), (2, 2), (0, 2), (0, 0)]:
+        pos = stream_position(autopilot, x, y, -2.5, 4.0)
+        assert math.hypot(pos.x - x, pos.y - y) < 0.1 and abs(pos.z + 2.5) < 0.1, (x, y, pos)
+    # A refused setpoint (force bit) says why.
+    autopilot.gcs.mav.set_position_target_local_ned_send(0, 1, 1, 1, 2552 | 512, 0, 0, -2.5, 0, 0, 0, 0, 0, 0, 0, 0)
+    assert autopilot.wait(lambda m: "force" in m.text, "STATUSTEXT", 2) is not None
+    # Stop streaming: after COM_OF_LOSS_T the vehicle holds position in POSCTL.
+    lost = autopilot.wait(lambda m: "Offboard lost" in m.text, "STATUSTEXT", 3)
+    assert lost is not None
+    assert autopilot.wait(lambda m: m.custom_mode == 3 << 16, "HEARTBEAT", 2) is not None
+    time.sleep(1.0)
+    pos = autopilot.wait(lambda m: True, "LOCAL_POSITION_NED", 2)
+    assert math.hypot(pos.x, pos.y) < 0.1 and abs(pos.z + 2.5) < 0.1
+
+
+def test_offboard_body_frame_velocity(autopilot):
+    autopilot.heartbeat()
+    autopilot.command(22)
+    autopilot.command(400, 1.0)
+    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    start = autopilot.wait(lambda m: True, "LOCAL_POSITION_NED", 2)
+    autopilot.gcs.mav.set_position_target_local_ned_send(0, 1, 1, 8, 1479, 0, 0, 0, 1.0, 0, 0, 0, 0, 0, 0, 0)
+    assert autopilot.command(176, 1, 6, 0).result == ACCEPTED
+    end = time.monotonic() + 8.0
+    pos = start
+    while time.monotonic() < end and pos.x - start.x < 2.0:
+        # MAVSDK's body-frame velocity: 1 m/s forward (heading 0 → north), no yaw rate.
+        autopilot.gcs.mav.set_position_target_local_ned_send(0, 1, 1, 8, 1479, 0, 0, 0, 1.0, 0, 0, 0, 0, 0, 0, 0)
+        autopilot.gcs.recv_match(type="LOCAL_POSITION_NED", blocking=True, timeout=0.05)
+        pos = autopilot.gcs.messages["LOCAL_POSITION_NED"]
+    assert pos.x - start.x >= 2.0, "flew forward"
+    assert abs(pos.vx - 1.0) < 0.1 and abs(pos.vy) < 0.1 and abs(pos.y - start.y) < 0.1

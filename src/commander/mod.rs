@@ -36,6 +36,8 @@ pub struct CommanderParams {
     pub disarm_land_s: f64,
     /// Disarm this long after arming without taking off [s] (`COM_DISARM_PRFLT`, 10; ≤ 0 never).
     pub disarm_preflight_s: f64,
+    /// Offboard setpoints older than this are lost [s] (`COM_OF_LOSS_T`, 1.0).
+    pub offboard_loss_s: f64,
 }
 
 impl Default for CommanderParams {
@@ -48,6 +50,7 @@ impl Default for CommanderParams {
             rtl_return_alt_m: 60.0,
             disarm_land_s: 2.0,
             disarm_preflight_s: 10.0,
+            offboard_loss_s: 1.0,
         }
     }
 }
@@ -89,6 +92,14 @@ pub enum Request {
     Land,
     /// NAV_RETURN_TO_LAUNCH.
     ReturnToLaunch,
+    /// An offboard setpoint (SET_POSITION_TARGET_*), kept as the latest; with `body_frame` its
+    /// velocity and acceleration are in the heading frame (MAV_FRAME_BODY_NED).
+    OffboardSetpoint {
+        /// The setpoint.
+        setpoint: FlatSetpoint,
+        /// Velocity/acceleration in the heading frame.
+        body_frame: bool,
+    },
 }
 
 /// The result of a request (MAV_RESULT), with the reason of a refusal for STATUSTEXT.
@@ -111,6 +122,20 @@ pub enum Event {
     ModeChanged(FlightMode),
     /// Touch-down detected.
     Landed,
+    /// Offboard setpoints stopped for `COM_OF_LOSS_T`; the vehicle holds position.
+    OffboardLost,
+}
+
+impl Event {
+    /// The STATUSTEXT announcing it.
+    pub fn describe(&self) -> String {
+        match self {
+            Self::Disarmed(why) => format!("Disarmed: {why}"),
+            Self::ModeChanged(mode) => format!("Mode {}", mode.name()),
+            Self::Landed => "Landing detected".to_string(),
+            Self::OffboardLost => "Offboard lost: holding position".to_string(),
+        }
+    }
 }
 
 /// One tick's output.
@@ -145,6 +170,7 @@ pub struct Commander {
     slow_since_s: Option<f64>,
     landed_at_s: Option<f64>,
     took_off: bool,
+    offboard: Option<(FlatSetpoint, bool, f64)>,
 }
 
 impl Commander {
@@ -162,7 +188,14 @@ impl Commander {
             slow_since_s: None,
             landed_at_s: None,
             took_off: false,
+            offboard: None,
         }
+    }
+
+    /// True when an offboard setpoint arrived within `COM_OF_LOSS_T` of `t_s`.
+    fn offboard_alive(&self, t_s: f64) -> bool {
+        self.offboard
+            .is_some_and(|(_, _, t)| t_s - t < self.params.offboard_loss_s)
     }
 
     /// Armed.
@@ -206,6 +239,10 @@ impl Commander {
             }
             Request::Land => self.set_mode(FlightMode::Land, x, t_s),
             Request::ReturnToLaunch => self.set_mode(FlightMode::ReturnToLaunch, x, t_s),
+            Request::OffboardSetpoint { setpoint, body_frame } => {
+                self.offboard = Some((setpoint, body_frame, t_s));
+                Outcome::Accepted
+            }
         }
     }
 
@@ -216,7 +253,7 @@ impl Commander {
         if !force {
             match self.mode {
                 FlightMode::Mission => return Outcome::TemporarilyRejected("Arming denied: no mission".into()),
-                FlightMode::Offboard => {
+                FlightMode::Offboard if !self.offboard_alive(t_s) => {
                     return Outcome::TemporarilyRejected("Arming denied: no offboard setpoints".into())
                 }
                 FlightMode::Land | FlightMode::ReturnToLaunch => {
@@ -248,7 +285,9 @@ impl Commander {
     fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
         match mode {
             FlightMode::Mission => Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into()),
-            FlightMode::Offboard => Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into()),
+            FlightMode::Offboard if !self.offboard_alive(t_s) => {
+                Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into())
+            }
             FlightMode::Takeoff if self.takeoff_target_w.is_none() || self.landed != LandedState::OnGround => {
                 let h = self.params.takeoff_alt_m;
                 self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
@@ -340,6 +379,22 @@ impl Commander {
                 }
             }
             FlightMode::ReturnToLaunch => self.advance_rtl(x, yaw, t_s),
+            FlightMode::Offboard => match self.offboard {
+                Some((sp, body_frame, _)) if self.offboard_alive(t_s) => {
+                    self.took_off = true;
+                    self.landed = LandedState::InAir;
+                    return CommanderTick {
+                        setpoint: Some(if body_frame { heading_to_world(sp, yaw) } else { sp }),
+                        events,
+                    };
+                }
+                _ => {
+                    // COM_OBL_RC_ACT 0 without RC: hold position (mavlink.md §6).
+                    self.enter(FlightMode::Position, x, t_s);
+                    events.push(Event::OffboardLost);
+                    events.push(Event::ModeChanged(FlightMode::Position));
+                }
+            },
             _ => {}
         }
         // Land detection: asked to descend, but no longer moving.
@@ -392,5 +447,16 @@ impl Commander {
             }
             RtlPhase::Descend => {}
         }
+    }
+}
+
+/// Rotates a heading-frame velocity and acceleration into world NED by heading `yaw` [rad].
+fn heading_to_world(sp: FlatSetpoint, yaw: f64) -> FlatSetpoint {
+    let (s, c) = yaw.sin_cos();
+    let rot = |v: Vec3| Vec3::new(c * v.x - s * v.y, s * v.x + c * v.y, v.z);
+    FlatSetpoint {
+        vel_w: sp.vel_w.map(rot),
+        acc_w: sp.acc_w.map(rot),
+        ..sp
     }
 }

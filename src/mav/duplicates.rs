@@ -1,7 +1,9 @@
 //! Idempotent command retransmissions (mavlink.md §3.1): a COMMAND_LONG/INT repeated within
 //! [`DUPLICATE_WINDOW_S`] (same sender, command and seven parameters bit for bit) gets the
 //! cached result and is not executed again; a repeat arriving while the first is still being
-//! executed is dropped. Pure: the caller passes the time.
+//! executed is dropped. A TEMPORARILY_REJECTED result is not remembered: it means "try again",
+//! and a retry after the state changed (e.g. OFFBOARD once setpoints stream) must be executed.
+//! Pure: the caller passes the time.
 
 use std::collections::HashMap;
 
@@ -64,9 +66,13 @@ impl DuplicateCache {
         }
     }
 
-    /// Records the result of `key`.
+    /// Records the result of `key` (forgets it when TEMPORARILY_REJECTED).
     pub fn answered(&mut self, key: CommandKey, result: MavResult, now_s: f64) {
-        self.entries.insert(key, (now_s, Some(result)));
+        if result == MavResult::MAV_RESULT_TEMPORARILY_REJECTED {
+            self.entries.remove(&key);
+        } else {
+            self.entries.insert(key, (now_s, Some(result)));
+        }
     }
 }
 
@@ -97,5 +103,7 @@ mod tests {
         let other = CommandKey::new(&sender, &COMMAND_LONG_DATA { param1: 0.0, ..cmd });
         assert_eq!(cache.check(other, 0.5), Seen::New);
         assert_eq!(cache.check(key, 3.3), Seen::New, "forgotten after the window");
+        cache.answered(key, MavResult::MAV_RESULT_TEMPORARILY_REJECTED, 3.4);
+        assert_eq!(cache.check(key, 3.5), Seen::New, "a temporary refusal may be retried");
     }
 }

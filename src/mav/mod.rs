@@ -3,6 +3,7 @@
 
 pub mod codec;
 pub mod duplicates;
+pub mod offboard;
 pub mod params;
 pub mod services;
 pub mod telemetry;

@@ -7,7 +7,7 @@ use crate::estimation::{ChebyshevDesign, MAX_ORDER};
 use super::{vec3, ParamDef, ParamType, VehicleSettings};
 
 /// Every parameter name, in index order.
-pub const PARAM_NAMES: [&str; 53] = [
+pub const PARAM_NAMES: [&str; 54] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -61,6 +61,7 @@ pub const PARAM_NAMES: [&str; 53] = [
     "RP_PAS_KO_Z",
     "RP_EPS_Z",
     "RP_EPS_A",
+    "COM_OF_LOSS_T",
 ];
 
 fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
@@ -132,6 +133,7 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
     }
     out.push((def(PARAM_NAMES[k], Real32, 0.01, 9.0), g.limits.eps_z_m_s2));
     out.push((def(PARAM_NAMES[k + 1], Real32, 1e-6, 10.0), g.limits.eps_a_n));
+    out.push((def(PARAM_NAMES[k + 2], Real32, 0.0, 60.0), c.offboard_loss_s));
     out
 }
 
@@ -173,6 +175,7 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
             rtl_return_alt_m: v[4],
             disarm_land_s: v[5],
             disarm_preflight_s: v[6],
+            offboard_loss_s: v[53],
         },
         controller: match v[7] as i64 {
             1 => ControllerKind::Hierarchical,

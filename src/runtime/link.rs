@@ -14,6 +14,7 @@ use tokio::sync::{broadcast, mpsc, oneshot, watch};
 use crate::commander::{Event, FlightMode, Outcome, Request};
 use crate::mav::codec::{decode_datagram, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
+use crate::mav::offboard::decode_local_target;
 use crate::mav::params::{decode_param_set, name_of, param_error_unknown, param_value};
 use crate::mav::services::{autopilot_version, ftp_reply, ping_reply, timesync_reply};
 use crate::mav::telemetry::{message, status_text, GCS_STREAMS};
@@ -110,12 +111,7 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
             }
             event = ctx.announcements.recv() => {
                 if let Ok(event) = event {
-                    let text = match event {
-                        Event::Disarmed(why) => format!("Disarmed: {why}"),
-                        Event::ModeChanged(mode) => format!("Mode {}", mode.name()),
-                        Event::Landed => "Landing detected".to_string(),
-                    };
-                    let msg = status_text(MavSeverity::MAV_SEVERITY_INFO, &text);
+                    let msg = status_text(MavSeverity::MAV_SEVERITY_INFO, &event.describe());
                     for to in targets(remote, &mut peers) {
                         sender.send(&msg, to).await;
                     }
@@ -213,6 +209,23 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
             let now_ns = i64::try_from(sender.start.elapsed().as_nanos()).unwrap_or(i64::MAX);
             if let Some(r) = timesync_reply(header, t, now_ns) {
                 reply(r);
+            }
+        }
+        MavMessage::SET_POSITION_TARGET_LOCAL_NED(t)
+            if ctx.identity.accepts(header, t.target_system, t.target_component) =>
+        {
+            match decode_local_target(t) {
+                // Setpoints stream at 20 Hz or more: a full queue drops one, the next replaces it.
+                Ok(target) => {
+                    let _ = ctx.inbox.try_send(VehicleCommand::Request {
+                        request: Request::OffboardSetpoint {
+                            setpoint: target.setpoint,
+                            body_frame: target.body_frame,
+                        },
+                        reply: None,
+                    });
+                }
+                Err(why) => reply(status_text(MavSeverity::MAV_SEVERITY_WARNING, &why)),
             }
         }
         MavMessage::PARAM_REQUEST_LIST(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {
