@@ -1,7 +1,7 @@
 //! What the vehicle publishes every tick for the links to stream: the latest values only, plain
 //! data in SI units (NED world, FRD body), independent of MAVLink.
 
-use crate::commander::{FlightMode, LandedState};
+use crate::commander::{FlightMode, LandedState, MissionState};
 use crate::math::Vec3;
 use crate::navigation::Home;
 
@@ -26,4 +26,10 @@ pub struct Snapshot {
     pub landed: LandedState,
     /// Geodetic home.
     pub home: Home,
+    /// Current mission item.
+    pub mission_seq: u16,
+    /// Mission item count.
+    pub mission_total: u16,
+    /// Mission state.
+    pub mission_state: MissionState,
 }

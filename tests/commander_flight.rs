@@ -142,3 +142,97 @@ fn wrong_state_requests_are_refused_and_idle_arming_times_out() {
     assert!(sim.events.contains(&Event::Disarmed("no takeoff")));
     assert!(sim.plant.truth().on_ground);
 }
+
+#[test]
+fn mission_takeoff_waypoints_and_land() {
+    use rotorpilot::commander::MissionState;
+    use rotorpilot::math::Vec3;
+    use rotorpilot::navigation::{Mission, MissionItem};
+
+    let mut sim = Sim::new("quad_x", CommanderParams::default());
+    assert!(matches!(
+        sim.request(Request::SetMode(FlightMode::Mission)),
+        Outcome::TemporarilyRejected(_)
+    ));
+    let wp = |x, y, z, hold_s| MissionItem::Waypoint {
+        pos_w: Vec3::new(x, y, z),
+        hold_s,
+        accept_m: 0.3,
+        yaw_rad: None,
+    };
+    let mission = Mission {
+        items: vec![
+            MissionItem::Takeoff { height_m: 3.0 },
+            wp(5.0, 0.0, -3.0, 1.0),
+            MissionItem::ChangeSpeed { speed_m_s: 2.0 },
+            wp(5.0, 5.0, -4.0, 0.0),
+            MissionItem::Land { pos_w: None },
+        ],
+    };
+    assert_eq!(sim.request(Request::SetMission(mission)), Outcome::Accepted);
+    assert_eq!(sim.commander.mission_progress(), (0, 5, MissionState::NotStarted));
+    assert_eq!(sim.request(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
+    assert_eq!(sim.request(Request::Arm { force: false }), Outcome::Accepted);
+    let mut top: f64 = 0.0;
+    for _ in 0..400 {
+        sim.run(0.1);
+        top = top.min(sim.plant.truth().pos_w.z);
+        if !sim.commander.armed() {
+            break;
+        }
+    }
+    let reached: Vec<u16> = sim
+        .events
+        .iter()
+        .filter_map(|e| match e {
+            Event::MissionItemReached(s) => Some(*s),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(reached, vec![0, 1, 2, 3, 4], "{:?}", sim.events);
+    assert_eq!(sim.commander.mission_progress().2, MissionState::Complete);
+    assert!(!sim.commander.armed(), "landed and disarmed");
+    let p = sim.plant.truth().pos_w;
+    assert!((p.x - 5.0).abs() < 0.1 && (p.y - 5.0).abs() < 0.1, "{p}");
+    assert!((top + 4.0).abs() < 0.1, "{top}");
+}
+
+#[test]
+fn mission_ending_in_return_to_launch() {
+    use rotorpilot::math::Vec3;
+    use rotorpilot::navigation::{Mission, MissionItem};
+    let params = CommanderParams {
+        rtl_return_alt_m: 5.0,
+        ..Default::default()
+    };
+    let mut sim = Sim::new("quad_x", params);
+    let mission = Mission {
+        items: vec![
+            MissionItem::Takeoff { height_m: 3.0 },
+            MissionItem::Waypoint {
+                pos_w: Vec3::new(5.0, 0.0, -3.0),
+                hold_s: 0.0,
+                accept_m: 0.5,
+                yaw_rad: None,
+            },
+            MissionItem::ReturnToLaunch,
+        ],
+    };
+    sim.request(Request::SetMission(mission));
+    sim.request(Request::SetMode(FlightMode::Mission));
+    sim.request(Request::Arm { force: false });
+    for _ in 0..600 {
+        sim.run(0.1);
+        if !sim.commander.armed() {
+            break;
+        }
+    }
+    assert!(
+        sim.events.contains(&Event::MissionItemReached(2)),
+        "{:?}",
+        &sim.events[..sim.events.len().min(12)]
+    );
+    assert!(!sim.commander.armed());
+    let p = sim.plant.truth().pos_w;
+    assert!(p.x.abs() < 0.1 && p.y.abs() < 0.1, "{p}");
+}

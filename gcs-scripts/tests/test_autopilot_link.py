@@ -292,3 +292,73 @@ def test_offboard_body_frame_velocity(autopilot):
         pos = autopilot.gcs.messages["LOCAL_POSITION_NED"]
     assert pos.x - start.x >= 2.0, "flew forward"
     assert abs(pos.vx - 1.0) < 0.1 and abs(pos.vy) < 0.1 and abs(pos.y - start.y) < 0.1
+
+
+HOME_LAT, HOME_LON = 473977420, 85455940
+METRE_LAT = 1e7 / (6371000 * math.pi / 180)  # degE7 per metre north
+
+
+def upload(autopilot, items):
+    """Uploads (command, x_degE7, y_degE7, z, p1) items in GLOBAL_RELATIVE_ALT_INT; returns the MISSION_ACK type."""
+    autopilot.gcs.mav.mission_count_send(1, 1, len(items), 0)
+    while True:
+        m = autopilot.gcs.recv_match(type=["MISSION_REQUEST_INT", "MISSION_ACK"], blocking=True, timeout=3)
+        assert m is not None, "vehicle stopped asking"
+        if m.get_type() == "MISSION_ACK":
+            return m.type
+        command, x, y, z, p1 = items[m.seq]
+        autopilot.gcs.mav.mission_item_int_send(1, 1, m.seq, 6, command, 0, 1, p1, 0, 0, NAN, x, y, z, 0)
+
+
+def download(autopilot):
+    autopilot.gcs.mav.mission_request_list_send(1, 1, 0)
+    count = autopilot.wait(lambda m: True, "MISSION_COUNT", 2).count
+    items = []
+    for seq in range(count):
+        autopilot.gcs.mav.mission_request_int_send(1, 1, seq, 0)
+        items.append(autopilot.wait(lambda m, s=seq: m.seq == s, "MISSION_ITEM_INT", 2))
+    return items
+
+
+def test_mission_upload_download_fly_and_return(autopilot):
+    autopilot.heartbeat()
+    assert autopilot.command(176, 1, 4, 4).result == TEMPORARILY_REJECTED, "no mission yet"
+    north = lambda m: HOME_LAT + round(m * METRE_LAT)  # noqa: E731
+    east = lambda m: HOME_LON + round(m * METRE_LAT / math.cos(math.radians(47.397742)))  # noqa: E731
+    square = [(22, HOME_LAT, HOME_LON, 3.0, 0)] + [
+        (16, north(x), east(y), 3.0, 0.0) for x, y in [(5, 0), (5, 5), (0, 5), (0, 0)]
+    ] + [(20, 0, 0, 0.0, 0)]
+    assert upload(autopilot, square) == 0
+    got = download(autopilot)
+    assert [m.command for m in got] == [22, 16, 16, 16, 16, 20] and got[2].x == north(5)
+    # A bad mission is refused with the item's result and leaves the stored one unchanged.
+    assert upload(autopilot, square[:2] + [(31000, 0, 0, 0.0, 0)]) == 3, "UNSUPPORTED"
+    assert len(download(autopilot)) == 6
+    current = autopilot.wait(lambda m: True, "MISSION_CURRENT", 3)
+    assert current.total == 6 and current.mission_state == 2, "NOT_STARTED"
+
+    autopilot.gcs.mav.param_set_send(1, 1, b"RTL_RETURN_ALT", 5.0, 9)
+    assert autopilot.wait(lambda m: m.param_id == "RTL_RETURN_ALT", "PARAM_VALUE", 2).param_value == 5.0
+    assert autopilot.command(176, 1, 4, 4).result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    reached, checked = [], []
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and len(reached) < 6:
+        m = autopilot.gcs.recv_match(type=["MISSION_ITEM_REACHED", "GLOBAL_POSITION_INT"], blocking=True, timeout=1)
+        if m is None:
+            continue
+        if m.get_type() == "MISSION_ITEM_REACHED":
+            reached.append(m.seq)
+        elif reached and 1 <= reached[-1] <= 4 and reached[-1] not in checked:
+            # The first position report after reaching a waypoint is near it (GLOBAL_POSITION_INT at 5 Hz).
+            x, y = [(5, 0), (5, 5), (0, 5), (0, 0)][reached[-1] - 1]
+            assert abs(m.lat - north(x)) < 0.6 * METRE_LAT and abs(m.lon - east(y)) < 0.6 * METRE_LAT / 0.67, m
+            assert abs(m.relative_alt - 3000) < 300
+            checked.append(reached[-1])
+    assert reached == [0, 1, 2, 3, 4, 5]
+    assert len(checked) >= 3
+    rtl = autopilot.wait(lambda m: m.custom_mode == (4 << 16) | (5 << 24), "HEARTBEAT", 3)
+    assert rtl is not None, "the RTL item switches to AUTO.RTL"
+    assert autopilot.wait(lambda m: "Disarmed" in m.text, "STATUSTEXT", 40) is not None
+    pos = autopilot.wait(lambda m: True, "LOCAL_POSITION_NED", 2)
+    assert math.hypot(pos.x, pos.y) < 0.2 and abs(pos.z) < 0.2, "landed at home"

@@ -4,13 +4,17 @@
 //!
 //! Home is the local NED origin. Wrong-state results follow mavlink.md §3.3.
 
+mod mission_run;
 mod mode;
 
+pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
+
+use mission_run::MissionRun;
 
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::Guidance;
+use crate::navigation::{Guidance, Mission};
 
 /// Speed below which a vehicle that is asked to descend counts as landed [m/s].
 const LANDED_SPEED_M_S: f64 = 0.1;
@@ -69,7 +73,7 @@ pub enum LandedState {
 }
 
 /// A request from a ground station.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Request {
     /// Arm; `force` skips the pre-arm checks.
     Arm {
@@ -100,6 +104,13 @@ pub enum Request {
         /// Velocity/acceleration in the heading frame.
         body_frame: bool,
     },
+    /// Replace the stored mission (a mission replaced during AUTO.MISSION switches to AUTO.LOITER).
+    SetMission(Mission),
+    /// MISSION_START: fly the stored mission from `first` (item index).
+    StartMission {
+        /// First item.
+        first: usize,
+    },
 }
 
 /// The result of a request (MAV_RESULT), with the reason of a refusal for STATUSTEXT.
@@ -124,6 +135,10 @@ pub enum Event {
     Landed,
     /// Offboard setpoints stopped for `COM_OF_LOSS_T`; the vehicle holds position.
     OffboardLost,
+    /// Mission item `seq` reached (MISSION_ITEM_REACHED).
+    MissionItemReached(u16),
+    /// The current mission item changed (MISSION_CURRENT at once).
+    MissionCurrent(u16),
 }
 
 impl Event {
@@ -134,6 +149,8 @@ impl Event {
             Self::ModeChanged(mode) => format!("Mode {}", mode.name()),
             Self::Landed => "Landing detected".to_string(),
             Self::OffboardLost => "Offboard lost: holding position".to_string(),
+            Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
+            Self::MissionCurrent(seq) => format!("Mission item {seq}"),
         }
     }
 }
@@ -171,6 +188,7 @@ pub struct Commander {
     landed_at_s: Option<f64>,
     took_off: bool,
     offboard: Option<(FlatSetpoint, bool, f64)>,
+    mission: MissionRun,
 }
 
 impl Commander {
@@ -189,7 +207,13 @@ impl Commander {
             landed_at_s: None,
             took_off: false,
             offboard: None,
+            mission: MissionRun::default(),
         }
+    }
+
+    /// Current mission item, item count and mission state (MISSION_CURRENT).
+    pub fn mission_progress(&self) -> (usize, usize, MissionState) {
+        (self.mission.seq, self.mission.mission.len(), self.mission.state)
     }
 
     /// True when an offboard setpoint arrived within `COM_OF_LOSS_T` of `t_s`.
@@ -243,6 +267,23 @@ impl Commander {
                 self.offboard = Some((setpoint, body_frame, t_s));
                 Outcome::Accepted
             }
+            Request::SetMission(mission) => {
+                self.mission.replace(mission);
+                if self.mode == FlightMode::Mission {
+                    self.enter(FlightMode::Loiter, x, t_s);
+                }
+                Outcome::Accepted
+            }
+            Request::StartMission { first } => {
+                if first >= self.mission.mission.len() {
+                    return Outcome::Denied(format!("Mission start: no item {first}"));
+                }
+                self.mission.seq = first;
+                if self.mission.state == MissionState::Complete {
+                    self.mission.state = MissionState::NotStarted;
+                }
+                self.set_mode(FlightMode::Mission, x, t_s)
+            }
         }
     }
 
@@ -252,7 +293,9 @@ impl Commander {
         }
         if !force {
             match self.mode {
-                FlightMode::Mission => return Outcome::TemporarilyRejected("Arming denied: no mission".into()),
+                FlightMode::Mission if self.mission.mission.is_empty() => {
+                    return Outcome::TemporarilyRejected("Arming denied: no mission".into())
+                }
                 FlightMode::Offboard if !self.offboard_alive(t_s) => {
                     return Outcome::TemporarilyRejected("Arming denied: no offboard setpoints".into())
                 }
@@ -284,7 +327,9 @@ impl Commander {
 
     fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
         match mode {
-            FlightMode::Mission => Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into()),
+            FlightMode::Mission if self.mission.mission.is_empty() => {
+                Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into())
+            }
             FlightMode::Offboard if !self.offboard_alive(t_s) => {
                 Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into())
             }
@@ -303,6 +348,10 @@ impl Commander {
 
     /// Switches to `mode` and sets its guidance from the current state.
     fn enter(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) {
+        if self.mode == FlightMode::Mission && mode != FlightMode::Mission && self.mission.state == MissionState::Active
+        {
+            self.mission.state = MissionState::Paused;
+        }
         self.mode = mode;
         let yaw = euler_zyx(&x.r_wb).z;
         let on_ground = self.landed == LandedState::OnGround;
@@ -335,6 +384,18 @@ impl Commander {
                         self.params.climb_speed_m_s,
                         t_s,
                     )
+                }
+                FlightMode::Mission => {
+                    // The mission's first tick sets the item's guidance.
+                    self.mission.start();
+                    if on_ground {
+                        Guidance::Idle
+                    } else {
+                        Guidance::Hold {
+                            pos_w: x.pos_w,
+                            yaw_rad: yaw,
+                        }
+                    }
                 }
                 // Armed on the ground in a hold mode: motors idle until a take-off.
                 _ if on_ground => Guidance::Idle,
@@ -379,6 +440,7 @@ impl Commander {
                 }
             }
             FlightMode::ReturnToLaunch => self.advance_rtl(x, yaw, t_s),
+            FlightMode::Mission => self.advance_mission(x, yaw, t_s, &mut events),
             FlightMode::Offboard => match self.offboard {
                 Some((sp, body_frame, _)) if self.offboard_alive(t_s) => {
                     self.took_off = true;

@@ -3,11 +3,16 @@
 
 pub mod codec;
 pub mod duplicates;
+pub mod mission_items;
+pub mod mission_xfer;
 pub mod offboard;
 pub mod params;
 pub mod services;
 pub mod telemetry;
 pub mod translate;
 
-pub use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavSeverity, COMMAND_LONG_DATA};
+pub use mavlink::dialects::common::{
+    MavCmd, MavMessage, MavMissionResult, MavMissionType, MavResult, MavSeverity, COMMAND_LONG_DATA,
+    MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
+};
 pub use mavlink::MavHeader;

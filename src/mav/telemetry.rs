@@ -2,20 +2,22 @@
 
 use mavlink::dialects::common::{
     MavLandedState, MavMessage, MavSeverity, MavSysStatusSensor, MavVtolState, ATTITUDE_DATA, EXTENDED_SYS_STATE_DATA,
-    GLOBAL_POSITION_INT_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA,
+    GLOBAL_POSITION_INT_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, MISSION_CURRENT_DATA, STATUSTEXT_DATA,
+    SYS_STATUS_DATA,
 };
 
-use crate::commander::LandedState;
+use crate::commander::{FlightMode, LandedState, MissionState};
 use crate::telemetry::Snapshot;
 
 /// Streams sent unasked and their period on the GCS link [s] (PX4 "normal" mode, §5.1).
-pub const GCS_STREAMS: [(Stream, f64); 6] = [
+pub const GCS_STREAMS: [(Stream, f64); 7] = [
     (Stream::SysStatus, 1.0),
     (Stream::ExtendedSysState, 1.0),
     (Stream::Attitude, 1.0 / 15.0),
     (Stream::LocalPosition, 1.0),
     (Stream::GlobalPosition, 0.2),
     (Stream::HomePosition, 2.0),
+    (Stream::MissionCurrent, 1.0),
 ];
 
 /// A periodic telemetry message.
@@ -33,6 +35,8 @@ pub enum Stream {
     GlobalPosition,
     /// HOME_POSITION (242).
     HomePosition,
+    /// MISSION_CURRENT (42).
+    MissionCurrent,
 }
 
 fn time_boot_ms(s: &Snapshot) -> u32 {
@@ -85,6 +89,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> MavMessage {
                 hdg: heading_cdeg,
             })
         }
+        Stream::MissionCurrent => mission_current(s, s.mission_seq),
         Stream::HomePosition => {
             let h = &s.home;
             MavMessage::HOME_POSITION(HOME_POSITION_DATA {
@@ -96,6 +101,28 @@ pub fn message(stream: Stream, s: &Snapshot) -> MavMessage {
             })
         }
     }
+}
+
+/// MISSION_CURRENT for item `seq` (mavlink.md §7 "Progress"): total UINT16_MAX without a mission,
+/// mission_mode 1 in AUTO.MISSION.
+pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
+    MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
+        seq,
+        total: if s.mission_total == 0 {
+            u16::MAX
+        } else {
+            s.mission_total
+        },
+        mission_state: match s.mission_state {
+            MissionState::NoMission => mavlink::dialects::common::MissionState::MISSION_STATE_NO_MISSION,
+            MissionState::NotStarted => mavlink::dialects::common::MissionState::MISSION_STATE_NOT_STARTED,
+            MissionState::Active => mavlink::dialects::common::MissionState::MISSION_STATE_ACTIVE,
+            MissionState::Paused => mavlink::dialects::common::MissionState::MISSION_STATE_PAUSED,
+            MissionState::Complete => mavlink::dialects::common::MissionState::MISSION_STATE_COMPLETE,
+        },
+        mission_mode: u8::from(s.mode == FlightMode::Mission),
+        ..Default::default()
+    })
 }
 
 /// SYS_STATUS with the sensors MAVSDK's `health_all_ok()` checks present, enabled and healthy,
@@ -141,7 +168,6 @@ pub fn status_text(severity: MavSeverity, text: &str) -> MavMessage {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::commander::FlightMode;
     use crate::math::Vec3;
     use crate::navigation::Home;
 
@@ -156,6 +182,9 @@ mod tests {
             mode: FlightMode::Loiter,
             landed: LandedState::InAir,
             home: Home::default(),
+            mission_seq: 0,
+            mission_total: 0,
+            mission_state: MissionState::NoMission,
         }
     }
 

@@ -170,6 +170,13 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
                 }
             }
         }
+        MavCmd::MAV_CMD_MISSION_START => {
+            let first = param(cmd.param1).unwrap_or(0.0);
+            if !(first >= 0.0 && first.fract() == 0.0) {
+                return CommandDecision::Refuse(Outcome::Denied(format!("Mission start: bad item {first}")));
+            }
+            CommandDecision::Execute(Request::StartMission { first: first as usize })
+        }
         MavCmd::MAV_CMD_REQUEST_MESSAGE => match one_shot(cmd.param1) {
             Some(m) => CommandDecision::Reply(m),
             None => CommandDecision::Refuse(Outcome::Denied(format!("Message {} not available", cmd.param1))),

@@ -4,9 +4,11 @@
 mod climb;
 pub mod geo;
 mod guidance;
+pub mod mission;
 pub mod trajectory;
 
 pub use climb::ClimbProfile;
 pub use geo::Home;
 pub use guidance::Guidance;
+pub use mission::{Mission, MissionItem};
 pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};

@@ -14,15 +14,21 @@ use tokio::sync::{broadcast, mpsc, oneshot, watch};
 use crate::commander::{Event, FlightMode, Outcome, Request};
 use crate::mav::codec::{decode_datagram, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
+use crate::mav::mission_items::parse_mission;
+use crate::mav::mission_xfer::{download_count, download_item, mission_ack, Completed, MissionTransfer};
 use crate::mav::offboard::decode_local_target;
 use crate::mav::params::{decode_param_set, name_of, param_error_unknown, param_value};
 use crate::mav::services::{autopilot_version, ftp_reply, ping_reply, timesync_reply};
-use crate::mav::telemetry::{message, status_text, GCS_STREAMS};
+use crate::mav::telemetry::{message, mission_current, status_text, GCS_STREAMS};
 use crate::mav::translate::{
     command_ack, command_int_as_long, decode_command, decode_set_mode, heartbeat, result_of, CommandDecision, Identity,
     OneShot,
 };
-use crate::mav::{MavCmd, MavHeader, MavMessage, MavResult, MavSeverity, COMMAND_LONG_DATA};
+use crate::mav::{
+    MavCmd, MavHeader, MavMessage, MavMissionResult, MavMissionType, MavResult, MavSeverity, COMMAND_LONG_DATA,
+    MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
+};
+use crate::navigation::Mission;
 use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
@@ -49,6 +55,9 @@ pub struct LinkContext {
     pub announcements: broadcast::Receiver<Event>,
     /// Becomes true at shutdown.
     pub shutdown: watch::Receiver<bool>,
+    /// The stored mission as uploaded (for downloads), shared by the links; replaced only when
+    /// an upload is accepted.
+    pub mission_store: Arc<Mutex<Vec<MISSION_ITEM_INT_DATA>>>,
 }
 
 /// Sends frames to peers with a per-link sequence counter; remembers recent command results.
@@ -100,6 +109,7 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
     let mut next_heartbeat = start;
     let mut next_stream: Vec<Instant> = GCS_STREAMS.iter().map(|_| start).collect();
     let mut last_state: Option<(bool, FlightMode)> = None;
+    let mut transfer = MissionTransfer::<SocketAddr>::default();
     let mut buf = vec![0u8; 65_536];
     let mut poll = tokio::time::interval(POLL);
     loop {
@@ -107,11 +117,15 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
             _ = ctx.shutdown.changed() => break,
             received = sender.socket.recv_from(&mut buf) => {
                 let Ok((n, from)) = received else { continue };
-                handle_datagram(&buf[..n], from, &sender, &ctx, &mut peers);
+                handle_datagram(&buf[..n], from, &sender, &ctx, &mut peers, &mut transfer);
             }
             event = ctx.announcements.recv() => {
                 if let Ok(event) = event {
-                    let msg = status_text(MavSeverity::MAV_SEVERITY_INFO, &event.describe());
+                    let msg = match event {
+                        Event::MissionItemReached(seq) => MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq }),
+                        Event::MissionCurrent(seq) => mission_current(&ctx.snapshot.borrow(), seq),
+                        other => status_text(MavSeverity::MAV_SEVERITY_INFO, &other.describe()),
+                    };
                     for to in targets(remote, &mut peers) {
                         sender.send(&msg, to).await;
                     }
@@ -121,6 +135,9 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
                 let now = Instant::now();
                 if let Ok(mut t) = sender.targets.lock() {
                     *t = targets(remote, &mut peers);
+                }
+                for (to, msg) in transfer.tick(sender.now_s()) {
+                    sender.send(&msg, to).await;
                 }
                 let snap = *ctx.snapshot.borrow();
                 let state = (snap.armed, snap.mode);
@@ -162,12 +179,15 @@ fn handle_datagram(
     sender: &Arc<Sender>,
     ctx: &LinkContext,
     peers: &mut HashMap<SocketAddr, Instant>,
+    transfer: &mut MissionTransfer<SocketAddr>,
 ) {
     for frame in decode_datagram(data) {
         match frame {
             Inbound::Message { header, message, .. } => {
                 peers.insert(from, Instant::now());
-                handle_message(&header, &message, from, sender, ctx);
+                if !handle_mission_message(&header, &message, from, sender, ctx, transfer) {
+                    handle_message(&header, &message, from, sender, ctx);
+                }
             }
             Inbound::UnknownCommand {
                 header,
@@ -188,6 +208,104 @@ fn handle_datagram(
             Inbound::Unparsable { message_id } => tracing::debug!("unparsable message {message_id} from {from}"),
         }
     }
+}
+
+/// The mission protocol (mavlink.md §7); returns false for other messages.
+#[allow(deprecated)]
+fn handle_mission_message(
+    header: &MavHeader,
+    message: &MavMessage,
+    from: SocketAddr,
+    sender: &Arc<Sender>,
+    ctx: &LinkContext,
+    transfer: &mut MissionTransfer<SocketAddr>,
+) -> bool {
+    let ids = (header.system_id as u8, header.component_id);
+    let send = |out: Vec<(SocketAddr, MavMessage)>| {
+        let s = sender.clone();
+        tokio::spawn(async move {
+            for (to, msg) in out {
+                s.send(&msg, to).await;
+            }
+        });
+    };
+    let mission_only = |t: MavMissionType| t == MavMissionType::MAV_MISSION_TYPE_MISSION;
+    let now = sender.now_s();
+    let (out, completed) = match message {
+        MavMessage::MISSION_COUNT(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
+            transfer.on_count(from, ids, m, now)
+        }
+        MavMessage::MISSION_ITEM_INT(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
+            transfer.on_item(from, m, now)
+        }
+        MavMessage::MISSION_CLEAR_ALL(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
+            if mission_only(m.mission_type) {
+                transfer.on_clear(from, ids)
+            } else {
+                (
+                    vec![(from, mission_ack(ids, MavMissionResult::MAV_MISSION_UNSUPPORTED))],
+                    None,
+                )
+            }
+        }
+        MavMessage::MISSION_REQUEST_LIST(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
+            let reply = if mission_only(m.mission_type) {
+                download_count(ids, &ctx.mission_store.lock().map(|s| s.clone()).unwrap_or_default())
+            } else {
+                mission_ack(ids, MavMissionResult::MAV_MISSION_UNSUPPORTED)
+            };
+            (vec![(from, reply)], None)
+        }
+        MavMessage::MISSION_REQUEST_INT(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
+            let stored = ctx.mission_store.lock().map(|s| s.clone()).unwrap_or_default();
+            (vec![(from, download_item(ids, m.seq, &stored))], None)
+        }
+        MavMessage::MISSION_REQUEST(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
+            let stored = ctx.mission_store.lock().map(|s| s.clone()).unwrap_or_default();
+            (vec![(from, download_item(ids, m.seq, &stored))], None)
+        }
+        MavMessage::MISSION_ACK(_) => (Vec::new(), None),
+        _ => return false,
+    };
+    send(out);
+    match completed {
+        Some(Completed::Items(items)) => {
+            let home = ctx.snapshot.borrow().home;
+            let result = match parse_mission(&items, &home) {
+                Ok(mission) => {
+                    let queued = ctx.inbox.try_send(VehicleCommand::Request {
+                        request: Request::SetMission(mission),
+                        reply: None,
+                    });
+                    if queued.is_ok() {
+                        if let Ok(mut store) = ctx.mission_store.lock() {
+                            *store = items;
+                        }
+                        MavMissionResult::MAV_MISSION_ACCEPTED
+                    } else {
+                        MavMissionResult::MAV_MISSION_ERROR
+                    }
+                }
+                Err(e) => {
+                    let why = format!("Mission item {} refused: {:?}", e.seq, e.result);
+                    send(vec![(from, status_text(MavSeverity::MAV_SEVERITY_WARNING, &why))]);
+                    e.result
+                }
+            };
+            send(transfer.finish(result));
+        }
+        Some(Completed::Cleared) => {
+            let _ = ctx.inbox.try_send(VehicleCommand::Request {
+                request: Request::SetMission(Mission::default()),
+                reply: None,
+            });
+            if let Ok(mut store) = ctx.mission_store.lock() {
+                store.clear();
+            }
+        }
+        None => {}
+    }
+    true
 }
 
 /// PING (deprecated, still sent by MAVSDK) is answered like the others.

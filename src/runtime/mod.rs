@@ -18,7 +18,7 @@ use tokio::net::UdpSocket;
 use tokio::sync::{broadcast, mpsc, watch};
 
 use crate::airframe::AirframeSource;
-use crate::commander::{FlightMode, LandedState};
+use crate::commander::{FlightMode, LandedState, MissionState};
 use crate::control::ControllerKind;
 use crate::math::Vec3;
 use crate::mav::translate::Identity;
@@ -138,6 +138,7 @@ pub fn run(
     let (event_tx, mut event_rx) = mpsc::channel(EVENT_CAPACITY);
     let (announce_tx, _) = broadcast::channel(EVENT_CAPACITY);
     let (shutdown_tx, shutdown_rx) = watch::channel(false);
+    let mission_store = Arc::new(std::sync::Mutex::new(Vec::new()));
     let stop = Arc::new(AtomicBool::new(false));
     let stats = Arc::new(SchedulerStats::default());
     let dt = Duration::from_secs_f64(config.dt_s);
@@ -162,6 +163,7 @@ pub fn run(
             params: params_rx.clone(),
             announcements: announce_tx.subscribe(),
             shutdown: shutdown_rx.clone(),
+            mission_store: mission_store.clone(),
         };
         rt.spawn(run_link(socket, remote, ctx))
     };
@@ -202,5 +204,8 @@ fn initial_snapshot(home: Home) -> Snapshot {
         mode: FlightMode::Loiter,
         landed: LandedState::OnGround,
         home,
+        mission_seq: 0,
+        mission_total: 0,
+        mission_state: MissionState::NoMission,
     }
 }

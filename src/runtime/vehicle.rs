@@ -147,6 +147,7 @@ impl Vehicle {
         }
         self.tick += 1;
         let eta = euler_zyx(&x.r_wb);
+        let progress = self.commander.mission_progress();
         TickOutput {
             snapshot: Snapshot {
                 t_s,
@@ -158,6 +159,9 @@ impl Vehicle {
                 mode: self.commander.mode(),
                 landed: self.commander.landed_state(),
                 home: self.home,
+                mission_seq: progress.0 as u16,
+                mission_total: progress.1 as u16,
+                mission_state: progress.2,
             },
             events: tick.events,
         }

@@ -1,0 +1,199 @@
+//! AUTO.MISSION execution (mavlink.md §7 "Execution", "Progress"): one item at a time, each
+//! turned into guidance; reached items are announced; after the last item the vehicle loiters
+//! (unless it landed or returns).
+
+use crate::control::VehicleState;
+use crate::math::Vec3;
+use crate::navigation::{Guidance, Mission, MissionItem};
+
+use super::{Commander, Event, FlightMode, LandedState};
+
+/// Distance within which a take-off or the end of a travel leg counts as arrived [m].
+const ARRIVE_M: f64 = 0.2;
+
+/// MAVLink MISSION_STATE.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MissionState {
+    /// No mission stored.
+    NoMission,
+    /// Stored, not started.
+    NotStarted,
+    /// Being flown.
+    Active,
+    /// Paused (another mode took over).
+    Paused,
+    /// Finished.
+    Complete,
+}
+
+/// Progress through the stored mission.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct MissionRun {
+    pub mission: Mission,
+    pub seq: usize,
+    pub state: MissionState,
+    phase: Phase,
+    speed_m_s: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Phase {
+    /// The item's guidance is not set yet.
+    Start,
+    /// Flying to the item's point.
+    Travel,
+    /// Holding until the time [s].
+    Hold(f64),
+    /// Descending to land.
+    Landing,
+    /// The mission ended here (landed).
+    Done,
+}
+
+impl Default for MissionRun {
+    fn default() -> Self {
+        Self {
+            mission: Mission::default(),
+            seq: 0,
+            state: MissionState::NoMission,
+            phase: Phase::Start,
+            speed_m_s: None,
+        }
+    }
+}
+
+impl MissionRun {
+    /// A new stored mission, not started.
+    pub fn replace(&mut self, mission: Mission) {
+        self.state = if mission.is_empty() {
+            MissionState::NoMission
+        } else {
+            MissionState::NotStarted
+        };
+        self.mission = mission;
+        self.seq = 0;
+        self.phase = Phase::Start;
+        self.speed_m_s = None;
+    }
+
+    /// Starts (or resumes) flying at the current item; a finished mission starts over.
+    pub fn start(&mut self) {
+        if self.state == MissionState::Complete {
+            self.seq = 0;
+        }
+        self.state = MissionState::Active;
+        self.phase = Phase::Start;
+    }
+}
+
+impl Commander {
+    /// One tick of AUTO.MISSION.
+    pub(super) fn advance_mission(&mut self, x: &VehicleState, yaw: f64, t_s: f64, events: &mut Vec<Event>) {
+        let Some(item) = self.mission.mission.items.get(self.mission.seq).copied() else {
+            return;
+        };
+        let speed = self.mission.speed_m_s.unwrap_or(self.params.cruise_speed_m_s);
+        match (self.mission.phase, item) {
+            (Phase::Start, MissionItem::Takeoff { height_m }) => {
+                let target = Vec3::new(x.pos_w.x, x.pos_w.y, -height_m);
+                self.takeoff_target_w = Some(target);
+                if self.landed == LandedState::OnGround {
+                    self.landed = LandedState::Takeoff;
+                }
+                self.took_off = true;
+                self.guidance = Guidance::path(x.pos_w, target, yaw, self.params.climb_speed_m_s, t_s);
+                self.mission.phase = Phase::Travel;
+            }
+            (Phase::Start, MissionItem::Waypoint { pos_w, .. } | MissionItem::LoiterTime { pos_w, .. }) => {
+                let heading = match item {
+                    MissionItem::Waypoint { yaw_rad: Some(y), .. } => y,
+                    _ => yaw,
+                };
+                self.guidance = Guidance::path(x.pos_w, pos_w, heading, speed, t_s);
+                self.mission.phase = Phase::Travel;
+            }
+            (Phase::Start, MissionItem::Land { pos_w }) => match pos_w {
+                Some(p) if (p - x.pos_w).xy().norm() > ARRIVE_M => {
+                    let above = Vec3::new(p.x, p.y, x.pos_w.z);
+                    self.guidance = Guidance::path(x.pos_w, above, yaw, speed, t_s);
+                    self.mission.phase = Phase::Travel;
+                }
+                _ => self.begin_landing(x, yaw, t_s),
+            },
+            (Phase::Start, MissionItem::ReturnToLaunch) => {
+                self.reached(events);
+                self.mission.state = MissionState::Complete;
+                self.enter(FlightMode::ReturnToLaunch, x, t_s);
+                events.push(Event::ModeChanged(FlightMode::ReturnToLaunch));
+            }
+            (Phase::Start, MissionItem::ChangeSpeed { speed_m_s }) => {
+                self.mission.speed_m_s = Some(speed_m_s);
+                self.next_item(x, t_s, events);
+            }
+            (Phase::Start, MissionItem::Delay { seconds }) => {
+                self.guidance = Guidance::Hold {
+                    pos_w: x.pos_w,
+                    yaw_rad: yaw,
+                };
+                self.mission.phase = Phase::Hold(t_s + seconds);
+            }
+            (Phase::Travel, _) => {
+                let goal = match item {
+                    MissionItem::Takeoff { .. } => self.takeoff_target_w.unwrap_or(x.pos_w),
+                    MissionItem::Waypoint { pos_w, .. } | MissionItem::LoiterTime { pos_w, .. } => pos_w,
+                    MissionItem::Land { pos_w: Some(p) } => Vec3::new(p.x, p.y, x.pos_w.z),
+                    _ => x.pos_w,
+                };
+                let accept = match item {
+                    MissionItem::Waypoint { accept_m, .. } => accept_m,
+                    _ => ARRIVE_M,
+                };
+                if self.guidance.finished(t_s) && (x.pos_w - goal).norm() <= accept.max(ARRIVE_M) {
+                    if matches!(item, MissionItem::Takeoff { .. }) {
+                        self.landed = LandedState::InAir;
+                    }
+                    match item {
+                        MissionItem::Land { .. } => self.begin_landing(x, yaw, t_s),
+                        MissionItem::Waypoint { hold_s, .. } if hold_s > 0.0 => {
+                            self.mission.phase = Phase::Hold(t_s + hold_s)
+                        }
+                        MissionItem::LoiterTime { seconds, .. } => self.mission.phase = Phase::Hold(t_s + seconds),
+                        _ => self.next_item(x, t_s, events),
+                    }
+                }
+            }
+            (Phase::Hold(until_s), _) if t_s >= until_s => self.next_item(x, t_s, events),
+            (Phase::Landing, _) if self.landed == LandedState::OnGround => {
+                self.reached(events);
+                self.mission.state = MissionState::Complete;
+                self.mission.phase = Phase::Done;
+            }
+            _ => {}
+        }
+    }
+
+    fn begin_landing(&mut self, x: &VehicleState, yaw: f64, t_s: f64) {
+        self.landed = LandedState::Landing;
+        self.guidance = self.descend(x, yaw, t_s);
+        self.mission.phase = Phase::Landing;
+    }
+
+    fn reached(&mut self, events: &mut Vec<Event>) {
+        events.push(Event::MissionItemReached(self.mission.seq as u16));
+    }
+
+    /// Marks the current item reached and moves on; after the last one, loiter here.
+    fn next_item(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
+        self.reached(events);
+        self.mission.seq += 1;
+        self.mission.phase = Phase::Start;
+        if self.mission.seq >= self.mission.mission.len() {
+            self.mission.seq = self.mission.mission.len().saturating_sub(1);
+            self.mission.state = MissionState::Complete;
+            self.enter(FlightMode::Loiter, x, t_s);
+            events.push(Event::ModeChanged(FlightMode::Loiter));
+        } else {
+            events.push(Event::MissionCurrent(self.mission.seq as u16));
+        }
+    }
+}

@@ -1,0 +1,207 @@
+//! MISSION_ITEM_INT ↔ [`MissionItem`] (mavlink.md §7): supported commands and frames, values
+//! checked, each refusal with the MAV_MISSION_RESULT a client expects. Pure.
+
+use mavlink::dialects::common::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
+
+use crate::math::Vec3;
+use crate::navigation::mission::DEFAULT_ACCEPT_RADIUS_M;
+use crate::navigation::{Home, Mission, MissionItem};
+
+/// Why a mission was refused: the item and the result.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ItemError {
+    /// Sequence number of the bad item.
+    pub seq: u16,
+    /// MAV_MISSION_RESULT.
+    pub result: MavMissionResult,
+}
+
+/// Parses uploaded items (in sequence order) into a mission about `home`.
+pub fn parse_mission(items: &[MISSION_ITEM_INT_DATA], home: &Home) -> Result<Mission, ItemError> {
+    let mut out = Vec::with_capacity(items.len());
+    for (i, item) in items.iter().enumerate() {
+        if usize::from(item.seq) != i {
+            return Err(ItemError {
+                seq: item.seq,
+                result: MavMissionResult::MAV_MISSION_INVALID_SEQUENCE,
+            });
+        }
+        out.push(parse_item(item, home).map_err(|result| ItemError { seq: item.seq, result })?);
+    }
+    Ok(Mission { items: out })
+}
+
+/// A position of a positional frame, local NED [m]; `None` for an unsupported frame.
+#[allow(deprecated)]
+fn position(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<Vec3, MavMissionResult> {
+    let z = f64::from(item.z);
+    let global = |relative: bool| {
+        let alt = if relative { home.alt_amsl_m + z } else { z };
+        home.to_local(f64::from(item.x) * 1e-7, f64::from(item.y) * 1e-7, alt)
+    };
+    let p = match item.frame {
+        MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT | MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT => global(true),
+        MavFrame::MAV_FRAME_GLOBAL_INT | MavFrame::MAV_FRAME_GLOBAL => global(false),
+        MavFrame::MAV_FRAME_LOCAL_NED => Vec3::new(f64::from(item.x) * 1e-4, f64::from(item.y) * 1e-4, z),
+        _ => return Err(MavMissionResult::MAV_MISSION_UNSUPPORTED_FRAME),
+    };
+    if !p.iter().all(|v| v.is_finite()) || p.xy().norm() > 100_000.0 {
+        return Err(MavMissionResult::MAV_MISSION_INVALID_PARAM5_X);
+    }
+    Ok(p)
+}
+
+fn non_negative(x: f32, bad: MavMissionResult) -> Result<f64, MavMissionResult> {
+    if x.is_nan() {
+        return Ok(0.0);
+    }
+    if x.is_finite() && x >= 0.0 {
+        Ok(f64::from(x))
+    } else {
+        Err(bad)
+    }
+}
+
+#[allow(deprecated)]
+fn parse_item(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<MissionItem, MavMissionResult> {
+    use MavMissionResult::*;
+    Ok(match item.command {
+        MavCmd::MAV_CMD_NAV_TAKEOFF => {
+            // Only the altitude counts: the climb is over the current position.
+            let z = f64::from(item.z);
+            let height_m = match item.frame {
+                MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT | MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT => z,
+                MavFrame::MAV_FRAME_GLOBAL_INT | MavFrame::MAV_FRAME_GLOBAL => z - home.alt_amsl_m,
+                MavFrame::MAV_FRAME_LOCAL_NED => -z,
+                _ => return Err(MAV_MISSION_UNSUPPORTED_FRAME),
+            };
+            if !(height_m.is_finite() && height_m > 0.0) {
+                return Err(MAV_MISSION_INVALID_PARAM7);
+            }
+            MissionItem::Takeoff { height_m }
+        }
+        MavCmd::MAV_CMD_NAV_WAYPOINT => {
+            let accept = non_negative(item.param2, MAV_MISSION_INVALID_PARAM2)?;
+            MissionItem::Waypoint {
+                pos_w: position(item, home)?,
+                hold_s: non_negative(item.param1, MAV_MISSION_INVALID_PARAM1)?,
+                accept_m: if accept > 0.0 { accept } else { DEFAULT_ACCEPT_RADIUS_M },
+                yaw_rad: item.param4.is_finite().then(|| f64::from(item.param4).to_radians()),
+            }
+        }
+        MavCmd::MAV_CMD_NAV_LOITER_TIME => MissionItem::LoiterTime {
+            pos_w: position(item, home)?,
+            seconds: non_negative(item.param1, MAV_MISSION_INVALID_PARAM1)?,
+        },
+        MavCmd::MAV_CMD_NAV_LAND => MissionItem::Land {
+            pos_w: if item.x == 0 && item.y == 0 {
+                None
+            } else {
+                Some(position(item, home)?)
+            },
+        },
+        MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH => MissionItem::ReturnToLaunch,
+        MavCmd::MAV_CMD_DO_CHANGE_SPEED => {
+            let v = item.param2;
+            if !(v.is_finite() && v > 0.0 && v <= 30.0) {
+                return Err(MAV_MISSION_INVALID_PARAM2);
+            }
+            MissionItem::ChangeSpeed {
+                speed_m_s: f64::from(v),
+            }
+        }
+        MavCmd::MAV_CMD_NAV_DELAY => {
+            let s = item.param1;
+            if !(s.is_finite() && s >= 0.0) {
+                return Err(MAV_MISSION_INVALID_PARAM1);
+            }
+            MissionItem::Delay { seconds: f64::from(s) }
+        }
+        _ => return Err(MAV_MISSION_UNSUPPORTED),
+    })
+}
+
+#[cfg(test)]
+#[allow(deprecated)] // MAVSDK uploads in MAV_FRAME_GLOBAL_RELATIVE_ALT_INT
+mod tests {
+    use super::*;
+
+    fn item(seq: u16, command: MavCmd, frame: MavFrame, x: i32, y: i32, z: f32) -> MISSION_ITEM_INT_DATA {
+        MISSION_ITEM_INT_DATA {
+            seq,
+            command,
+            frame,
+            x,
+            y,
+            z,
+            param1: 0.0,
+            param2: 0.0,
+            param3: 0.0,
+            param4: f32::NAN,
+            autocontinue: 1,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn a_mavsdk_style_mission_parses() {
+        let home = Home::default();
+        let (lat, lon) = ((home.lat_deg * 1e7) as i32, (home.lon_deg * 1e7) as i32);
+        let rel = MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
+        let mut wp = item(1, MavCmd::MAV_CMD_NAV_WAYPOINT, rel, lat + 900, lon, 10.0);
+        wp.param1 = 2.0;
+        let items = [
+            item(0, MavCmd::MAV_CMD_NAV_TAKEOFF, rel, lat, lon, 5.0),
+            wp,
+            item(
+                2,
+                MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH,
+                MavFrame::MAV_FRAME_MISSION,
+                0,
+                0,
+                0.0,
+            ),
+        ];
+        let m = parse_mission(&items, &home).unwrap();
+        assert_eq!(m.len(), 3);
+        assert!(matches!(m.items[0], MissionItem::Takeoff { height_m } if (height_m - 5.0).abs() < 1e-6));
+        let MissionItem::Waypoint {
+            pos_w,
+            hold_s,
+            accept_m,
+            yaw_rad,
+        } = m.items[1]
+        else {
+            panic!("not a waypoint");
+        };
+        // 900e-7 deg of latitude ≈ 10.0 m north.
+        assert!((pos_w.x - 10.0).abs() < 0.01 && pos_w.y.abs() < 0.01 && (pos_w.z + 10.0).abs() < 1e-6);
+        assert_eq!((hold_s, accept_m, yaw_rad), (2.0, DEFAULT_ACCEPT_RADIUS_M, None));
+    }
+
+    #[test]
+    fn bad_items_name_their_sequence_and_result() {
+        let home = Home::default();
+        let rel = MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
+        let bad = |items: &[MISSION_ITEM_INT_DATA]| parse_mission(items, &home).unwrap_err();
+        let ok = item(0, MavCmd::MAV_CMD_NAV_WAYPOINT, rel, 473977420, 85455940, 5.0);
+        let e = bad(&[ok.clone(), item(1, MavCmd::MAV_CMD_DO_SET_SERVO, rel, 0, 0, 0.0)]);
+        assert_eq!((e.seq, e.result), (1, MavMissionResult::MAV_MISSION_UNSUPPORTED));
+        let e = bad(&[item(
+            0,
+            MavCmd::MAV_CMD_NAV_WAYPOINT,
+            MavFrame::MAV_FRAME_BODY_FRD,
+            0,
+            0,
+            0.0,
+        )]);
+        assert_eq!(e.result, MavMissionResult::MAV_MISSION_UNSUPPORTED_FRAME);
+        let e = bad(&[ok.clone(), ok.clone()]);
+        assert_eq!(e.result, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE);
+        let mut neg = ok.clone();
+        neg.param1 = -1.0;
+        assert_eq!(bad(&[neg]).result, MavMissionResult::MAV_MISSION_INVALID_PARAM1);
+        let e = bad(&[item(0, MavCmd::MAV_CMD_NAV_TAKEOFF, rel, 0, 0, -3.0)]);
+        assert_eq!(e.result, MavMissionResult::MAV_MISSION_INVALID_PARAM7);
+    }
+}
