@@ -5,6 +5,17 @@ use crate::commander::{FlightMode, LandedState, MissionState};
 use crate::math::Vec3;
 use crate::navigation::Home;
 
+/// The wrench estimator's latest output.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EstimateSnapshot {
+    /// f̂_e, world NED [N].
+    pub force_w: Vec3,
+    /// τ̂_e^b, body FRD [N·m].
+    pub torque_b: Vec3,
+    /// Mass estimate [kg].
+    pub mass_kg: f64,
+}
+
 /// Latest vehicle state for telemetry.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Snapshot {
@@ -32,4 +43,6 @@ pub struct Snapshot {
     pub mission_total: u16,
     /// Mission state.
     pub mission_state: MissionState,
+    /// Wrench estimate, when the estimator runs and the vehicle flies.
+    pub estimate: Option<EstimateSnapshot>,
 }

@@ -362,3 +362,30 @@ def test_mission_upload_download_fly_and_return(autopilot):
     assert autopilot.wait(lambda m: "Disarmed" in m.text, "STATUSTEXT", 40) is not None
     pos = autopilot.wait(lambda m: True, "LOCAL_POSITION_NED", 2)
     assert math.hypot(pos.x, pos.y) < 0.2 and abs(pos.z) < 0.2, "landed at home"
+
+
+def test_live_wrench_estimate(tmp_path):
+    """The estimator's external force and mass estimate stream on DEBUG_VECT / NAMED_VALUE_FLOAT."""
+    frame = tmp_path / "heavy.toml"
+    frame.write_text((ROOT / "airframes" / "quad_x.toml").read_text() + "\n[fc]\nmass = 1.3 # [kg] believed\n")
+    ap = Autopilot("--airframe", str(frame))
+    try:
+        ap.heartbeat()
+        for name, value in [(b"RP_EST_ORDER", 1), (b"RP_EST_WP", None), (b"RP_COMP", 1)]:
+            if value is None:
+                ap.gcs.mav.param_set_send(1, 1, name, 5.0, 9)
+            else:
+                ap.gcs.mav.param_set_send(1, 1, name, int32_bits(value), 6)
+            assert ap.wait(lambda m: m.param_id == name.decode(), "PARAM_VALUE", 2) is not None
+        assert ap.command(22).result == ACCEPTED
+        assert ap.command(400, 1.0).result == ACCEPTED
+        assert ap.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 15) is not None
+        time.sleep(2.0)
+        mass = ap.wait(lambda m: m.name == "EXT_MASS", "NAMED_VALUE_FLOAT", 2)
+        force = ap.wait(lambda m: m.name == "EXT_F", "DEBUG_VECT", 2)
+        assert mass is not None and abs(mass.value - 1.5) < 0.0075, mass
+        assert force is not None and abs(force.z - 0.2 * 9.81) < 0.02 and abs(force.x) < 0.01, force
+        pos = ap.wait(lambda m: True, "LOCAL_POSITION_NED", 2)
+        assert abs(pos.z + 2.5) < 0.02, "compensation removes the sag of the unmodelled 0.2 kg"
+    finally:
+        ap.close()

@@ -1,16 +1,17 @@
 //! Telemetry messages from a [`Snapshot`] (mavlink.md §4–§5). Pure.
 
 use mavlink::dialects::common::{
-    MavLandedState, MavMessage, MavSeverity, MavSysStatusSensor, MavVtolState, ATTITUDE_DATA, EXTENDED_SYS_STATE_DATA,
-    GLOBAL_POSITION_INT_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, MISSION_CURRENT_DATA, STATUSTEXT_DATA,
-    SYS_STATUS_DATA,
+    MavLandedState, MavMessage, MavSeverity, MavSysStatusSensor, MavVtolState, ATTITUDE_DATA, DEBUG_VECT_DATA,
+    EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA,
+    MISSION_CURRENT_DATA, NAMED_VALUE_FLOAT_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA,
 };
 
 use crate::commander::{FlightMode, LandedState, MissionState};
+use crate::math::Vec3;
 use crate::telemetry::Snapshot;
 
 /// Streams sent unasked and their period on the GCS link [s] (PX4 "normal" mode, §5.1).
-pub const GCS_STREAMS: [(Stream, f64); 7] = [
+pub const GCS_STREAMS: [(Stream, f64); 10] = [
     (Stream::SysStatus, 1.0),
     (Stream::ExtendedSysState, 1.0),
     (Stream::Attitude, 1.0 / 15.0),
@@ -18,6 +19,9 @@ pub const GCS_STREAMS: [(Stream, f64); 7] = [
     (Stream::GlobalPosition, 0.2),
     (Stream::HomePosition, 2.0),
     (Stream::MissionCurrent, 1.0),
+    (Stream::ExternalForce, 0.1),
+    (Stream::ExternalTorque, 0.1),
+    (Stream::MassEstimate, 0.1),
 ];
 
 /// A periodic telemetry message.
@@ -37,15 +41,38 @@ pub enum Stream {
     HomePosition,
     /// MISSION_CURRENT (42).
     MissionCurrent,
+    /// DEBUG_VECT "EXT_F": estimated external force, world NED [N] (only while estimating).
+    ExternalForce,
+    /// DEBUG_VECT "EXT_T": estimated external torque, body FRD [N·m] (only while estimating).
+    ExternalTorque,
+    /// NAMED_VALUE_FLOAT "EXT_MASS": mass estimate [kg] (only while estimating).
+    MassEstimate,
 }
 
 fn time_boot_ms(s: &Snapshot) -> u32 {
     (s.t_s * 1000.0) as u32
 }
 
-/// The message of `stream` for snapshot `s`.
-pub fn message(stream: Stream, s: &Snapshot) -> MavMessage {
-    match stream {
+/// The message of `stream` for snapshot `s`; `None` when there is nothing to report (no estimate).
+pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
+    let time_usec = (s.t_s * 1e6) as u64;
+    let vector = |name: &str, v: Vec3| {
+        MavMessage::DEBUG_VECT(DEBUG_VECT_DATA {
+            time_usec,
+            x: v.x as f32,
+            y: v.y as f32,
+            z: v.z as f32,
+            name: name.into(),
+        })
+    };
+    Some(match stream {
+        Stream::ExternalForce => vector("EXT_F", s.estimate?.force_w),
+        Stream::ExternalTorque => vector("EXT_T", s.estimate?.torque_b),
+        Stream::MassEstimate => MavMessage::NAMED_VALUE_FLOAT(NAMED_VALUE_FLOAT_DATA {
+            time_boot_ms: time_boot_ms(s),
+            value: s.estimate?.mass_kg as f32,
+            name: "EXT_MASS".into(),
+        }),
         Stream::SysStatus => sys_status(),
         Stream::ExtendedSysState => MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
             vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
@@ -100,7 +127,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> MavMessage {
                 ..Default::default()
             })
         }
-    }
+    })
 }
 
 /// MISSION_CURRENT for item `seq` (mavlink.md §7 "Progress"): total UINT16_MAX without a mission,
@@ -185,12 +212,13 @@ mod tests {
             mission_seq: 0,
             mission_total: 0,
             mission_state: MissionState::NoMission,
+            estimate: None,
         }
     }
 
     #[test]
     fn positions_are_scaled_as_the_spec_says() {
-        let MavMessage::GLOBAL_POSITION_INT(g) = message(Stream::GlobalPosition, &snapshot()) else {
+        let Some(MavMessage::GLOBAL_POSITION_INT(g)) = message(Stream::GlobalPosition, &snapshot()) else {
             panic!("wrong message");
         };
         assert_eq!(g.time_boot_ms, 12_345);
@@ -199,7 +227,7 @@ mod tests {
         assert_eq!((g.vx, g.vz), (50, -25));
         assert_eq!(g.hdg, 30_270, "yaw −1 rad = 302.7°");
         assert!(g.lat > 473_977_420 && g.lon < 85_455_940);
-        let MavMessage::EXTENDED_SYS_STATE(e) = message(Stream::ExtendedSysState, &snapshot()) else {
+        let Some(MavMessage::EXTENDED_SYS_STATE(e)) = message(Stream::ExtendedSysState, &snapshot()) else {
             panic!("wrong message");
         };
         assert_eq!(e.landed_state, MavLandedState::MAV_LANDED_STATE_IN_AIR);

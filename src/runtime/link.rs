@@ -153,9 +153,10 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
                 for ((stream, period), due) in GCS_STREAMS.iter().zip(next_stream.iter_mut()) {
                     if now >= *due {
                         *due = now + Duration::from_secs_f64(*period);
-                        let msg = message(*stream, &snap);
-                        for to in targets(remote, &mut peers) {
-                            sender.send(&msg, to).await;
+                        if let Some(msg) = message(*stream, &snap) {
+                            for to in targets(remote, &mut peers) {
+                                sender.send(&msg, to).await;
+                            }
                         }
                     }
                 }
@@ -436,7 +437,7 @@ fn handle_command(
             }
             CommandDecision::Reply(one_shot) => {
                 let msg = match one_shot {
-                    OneShot::AutopilotVersion => autopilot_version(&ctx.identity),
+                    OneShot::AutopilotVersion => Some(autopilot_version(&ctx.identity)),
                     OneShot::Stream(stream) => message(stream, &ctx.snapshot.borrow()),
                 };
                 tokio::spawn(async move {
@@ -449,7 +450,9 @@ fn handle_command(
                         from,
                     )
                     .await;
-                    s.send(&msg, from).await;
+                    if let Some(msg) = msg {
+                        s.send(&msg, from).await;
+                    }
                 });
             }
             CommandDecision::Execute(request) => {

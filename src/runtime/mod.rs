@@ -207,5 +207,6 @@ fn initial_snapshot(home: Home) -> Snapshot {
         mission_seq: 0,
         mission_total: 0,
         mission_state: MissionState::NoMission,
+        estimate: None,
     }
 }

@@ -10,7 +10,7 @@ use crate::math::euler_zyx;
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable, VehicleSettings};
 use crate::sitl::{SimPlant, SitlError};
-use crate::telemetry::Snapshot;
+use crate::telemetry::{EstimateSnapshot, Snapshot};
 
 /// A vehicle that cannot be built.
 #[derive(Debug, thiserror::Error)]
@@ -136,15 +136,21 @@ impl Vehicle {
         let t_s = self.time_s();
         let x = self.plant.sense();
         let tick = self.commander.update(&x, t_s);
-        match tick.setpoint {
+        let estimate = match tick.setpoint {
             Some(sp) => {
                 let out = self.core.step(&x, &sp);
                 self.plant.step(out.allocation.omega().as_slice(), self.dt_s);
+                out.estimate.map(|e| EstimateSnapshot {
+                    force_w: e.force_w,
+                    torque_b: e.torque_b,
+                    mass_kg: e.mass_kg,
+                })
             }
             None => {
                 self.plant.step(&self.idle, self.dt_s);
+                None
             }
-        }
+        };
         self.tick += 1;
         let eta = euler_zyx(&x.r_wb);
         let progress = self.commander.mission_progress();
@@ -162,6 +168,7 @@ impl Vehicle {
                 mission_seq: progress.0 as u16,
                 mission_total: progress.1 as u16,
                 mission_state: progress.2,
+                estimate,
             },
             events: tick.events,
         }
