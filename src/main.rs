@@ -62,6 +62,9 @@ enum Command {
         /// Stop after this many wall-clock seconds (default: run until Ctrl-C / SIGTERM).
         #[arg(long)]
         duration: Option<f64>,
+        /// Write DIR/flight.tlog (MAVLink telemetry log) and DIR/run.csv (every 1 kHz tick).
+        #[arg(long)]
+        log: Option<PathBuf>,
     },
     /// Headless take-off and hover in lockstep with the plant, as fast as the CPU allows,
     /// printing a JSON summary.
@@ -239,6 +242,7 @@ fn execute(command: Command) -> Result<String, String> {
             sysid,
             seed,
             duration,
+            log,
         } => {
             let config = RunConfig {
                 airframe: AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?,
@@ -255,6 +259,7 @@ fn execute(command: Command) -> Result<String, String> {
                 home: parse_home(&home)?,
                 seed,
                 dt_s: 1e-3,
+                log_dir: log,
             };
             if let Some(d) = duration {
                 if !(d.is_finite() && d > 0.0) {

@@ -389,3 +389,33 @@ def test_live_wrench_estimate(tmp_path):
         assert abs(pos.z + 2.5) < 0.02, "compensation removes the sag of the unmodelled 0.2 kg"
     finally:
         ap.close()
+
+
+def test_log_dir_writes_tlog_and_tick_csv(tmp_path):
+    import csv
+
+    ap = Autopilot("--log", str(tmp_path / "log"))
+    try:
+        ap.heartbeat()
+        assert ap.command(22).result == ACCEPTED
+        assert ap.command(400, 1.0).result == ACCEPTED
+        assert ap.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    finally:
+        assert ap.close() == 0
+    with open(tmp_path / "log" / "run.csv", newline="") as f:
+        rows = list(csv.reader(f))
+    header, data = rows[0], rows[1:]
+    assert header[:4] == ["t", "x", "y", "z"] and "mass_hat" in header
+    assert len(data) > 2000 and all(len(r) == len(header) for r in data)
+    t = [float(r[0]) for r in data]
+    assert all(b - a == pytest.approx(0.001) for a, b in zip(t, t[1:])), "one row per 1 ms tick"
+    z = [float(r[3]) for r in data]
+    assert min(z) < -2.4, "the climb is in the log"
+    log = mavutil.mavlink_connection(str(tmp_path / "log" / "flight.tlog"))
+    seen = set()
+    while True:
+        m = log.recv_match()
+        if m is None:
+            break
+        seen.add((m.get_srcSystem(), m.get_type()))
+    assert (1, "HEARTBEAT") in seen and (1, "COMMAND_ACK") in seen and (255, "COMMAND_LONG") in seen

@@ -32,6 +32,7 @@ use crate::navigation::Mission;
 use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
+use super::flight_log::LogSender;
 use super::scheduler::VehicleCommand;
 
 /// Learned peers are forgotten after this much silence (mavlink.md §11.1).
@@ -58,6 +59,8 @@ pub struct LinkContext {
     /// The stored mission as uploaded (for downloads), shared by the links; replaced only when
     /// an upload is accepted.
     pub mission_store: Arc<Mutex<Vec<MISSION_ITEM_INT_DATA>>>,
+    /// The tlog of `--log DIR`, when logging.
+    pub log: Option<LogSender>,
 }
 
 /// Sends frames to peers with a per-link sequence counter; remembers recent command results.
@@ -70,6 +73,7 @@ struct Sender {
     /// The link's telemetry targets as of the last poll (for PARAM_VALUE echoes).
     targets: Mutex<Vec<SocketAddr>>,
     start: Instant,
+    log: Option<LogSender>,
 }
 
 impl Sender {
@@ -88,6 +92,9 @@ impl Sender {
     async fn send(&self, msg: &MavMessage, to: SocketAddr) {
         let mut buf = Vec::with_capacity(300);
         encode_v2(self.header(), msg, &mut buf);
+        if let Some(log) = &self.log {
+            log.frame(&buf);
+        }
         if let Err(e) = self.socket.send_to(&buf, to).await {
             tracing::debug!("send to {to}: {e}");
         }
@@ -103,6 +110,7 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
         duplicates: Mutex::new(DuplicateCache::default()),
         targets: Mutex::new(vec![remote]),
         start: Instant::now(),
+        log: ctx.log.clone(),
     });
     let mut peers: HashMap<SocketAddr, Instant> = HashMap::new();
     let start = Instant::now();
@@ -186,6 +194,11 @@ fn handle_datagram(
         match frame {
             Inbound::Message { header, message, .. } => {
                 peers.insert(from, Instant::now());
+                if let Some(log) = &sender.log {
+                    let mut frame = Vec::with_capacity(300);
+                    encode_v2(header, &message, &mut frame);
+                    log.frame(&frame);
+                }
                 if !handle_mission_message(&header, &message, from, sender, ctx, transfer) {
                     handle_message(&header, &message, from, sender, ctx);
                 }

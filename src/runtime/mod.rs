@@ -2,6 +2,7 @@
 //! two MAVLink UDP links (GCS and API, PX4 SITL ports) served by tokio. Runtime layer: clocks,
 //! sockets, threads; every decision is made by the pure modules it calls.
 
+pub mod flight_log;
 pub mod link;
 pub mod scheduler;
 pub mod vehicle;
@@ -58,6 +59,8 @@ pub struct RunConfig {
     pub seed: u64,
     /// Tick [s].
     pub dt_s: f64,
+    /// `--log DIR`: tlog and 1 kHz CSV.
+    pub log_dir: Option<std::path::PathBuf>,
 }
 
 /// Why the process could not run.
@@ -71,6 +74,14 @@ pub enum RuntimeError {
     Bind {
         /// Address.
         addr: SocketAddr,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// The log directory could not be written.
+    #[error("--log {dir}: {source}")]
+    Log {
+        /// Directory.
+        dir: String,
         /// Cause.
         source: std::io::Error,
     },
@@ -103,13 +114,25 @@ pub fn run(
     shutdown: impl Future<Output = ()> + Send + 'static,
     on_ready: impl FnOnce(&Ready),
 ) -> Result<(), RuntimeError> {
-    let vehicle = Vehicle::new(
+    let mut vehicle = Vehicle::new(
         &config.airframe,
         config.controller,
         config.home,
         config.seed,
         config.dt_s,
     )?;
+    let log = match &config.log_dir {
+        Some(dir) => {
+            let (sender, writer) =
+                flight_log::start(dir, vehicle.rotor_count()).map_err(|source| RuntimeError::Log {
+                    dir: dir.display().to_string(),
+                    source,
+                })?;
+            vehicle.set_log(sender.clone());
+            Some((sender, writer))
+        }
+        None => None,
+    };
     let identity = Identity::autopilot(config.system_id, vehicle.rotor_count());
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
@@ -164,6 +187,7 @@ pub fn run(
             announcements: announce_tx.subscribe(),
             shutdown: shutdown_rx.clone(),
             mission_store: mission_store.clone(),
+            log: log.as_ref().map(|(s, _)| s.clone()),
         };
         rt.spawn(run_link(socket, remote, ctx))
     };
@@ -185,6 +209,15 @@ pub fn run(
     stop.store(true, Ordering::Relaxed);
     let _ = tick_thread.join();
     fan_out.abort();
+    drop(rt);
+    if let Some((sender, writer)) = log {
+        let dropped = sender.dropped();
+        drop(sender);
+        let _ = writer.join();
+        if dropped > 0 {
+            tracing::warn!("log: {dropped} records dropped (writer too slow)");
+        }
+    }
     tracing::info!(
         "stopped after {} ticks, {} overruns",
         stats.ticks.load(Ordering::Relaxed),

@@ -12,6 +12,8 @@ use crate::params::{ParamError, ParamTable, VehicleSettings};
 use crate::sitl::{SimPlant, SitlError};
 use crate::telemetry::{EstimateSnapshot, Snapshot};
 
+use super::flight_log::{LogSender, TickLog};
+
 /// A vehicle that cannot be built.
 #[derive(Debug, thiserror::Error)]
 pub enum VehicleError {
@@ -37,6 +39,7 @@ pub struct Vehicle {
     dt_s: f64,
     idle: Vec<f64>,
     params: ParamTable,
+    log: Option<LogSender>,
     believed_mass_kg: f64,
     believed_inertia_kg_m2: crate::math::Vec3,
 }
@@ -82,9 +85,15 @@ impl Vehicle {
             dt_s,
             idle,
             params,
+            log: None,
             believed_mass_kg: airframe.mass_kg,
             believed_inertia_kg_m2: airframe.inertia_kg_m2,
         })
+    }
+
+    /// Sends every tick to `log` (`run.csv` of `--log DIR`).
+    pub fn set_log(&mut self, log: LogSender) {
+        self.log = Some(log);
     }
 
     /// The parameter table.
@@ -136,21 +145,28 @@ impl Vehicle {
         let t_s = self.time_s();
         let x = self.plant.sense();
         let tick = self.commander.update(&x, t_s);
-        let estimate = match tick.setpoint {
-            Some(sp) => {
-                let out = self.core.step(&x, &sp);
-                self.plant.step(out.allocation.omega().as_slice(), self.dt_s);
-                out.estimate.map(|e| EstimateSnapshot {
-                    force_w: e.force_w,
-                    torque_b: e.torque_b,
-                    mass_kg: e.mass_kg,
-                })
-            }
-            None => {
-                self.plant.step(&self.idle, self.dt_s);
-                None
-            }
+        let step = tick.setpoint.map(|sp| self.core.step(&x, &sp));
+        match &step {
+            Some(out) => self.plant.step(out.allocation.omega().as_slice(), self.dt_s),
+            None => self.plant.step(&self.idle, self.dt_s),
         };
+        let estimate = step.and_then(|s| s.estimate).map(|e| EstimateSnapshot {
+            force_w: e.force_w,
+            torque_b: e.torque_b,
+            mass_kg: e.mass_kg,
+        });
+        if let Some(log) = &self.log {
+            let truth = self.plant.truth();
+            log.tick(TickLog {
+                t_s,
+                state: x,
+                ref_w: tick.setpoint.and_then(|sp| sp.pos_w).unwrap_or(x.pos_w),
+                step,
+                motor_speeds: self.plant.motor_speeds().to_vec(),
+                true_force_w: truth.external_force_w,
+                true_torque_b: truth.external_torque_b,
+            });
+        }
         self.tick += 1;
         let eta = euler_zyx(&x.r_wb);
         let progress = self.commander.mission_progress();

@@ -154,7 +154,7 @@ pub fn simulate(scn: &Scenario, out_dir: Option<&Path>) -> Result<SimSummary, Si
                 t_s,
                 state: &state,
                 ref_w: sample.pos_w,
-                step: &step,
+                step: Some(&step),
                 motor_speeds: plant.motor_speeds(),
                 true_force_w: truth.external_force_w,
                 true_torque_b: truth.external_torque_b,

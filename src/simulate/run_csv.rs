@@ -44,8 +44,8 @@ pub struct RunRow<'a> {
     pub state: &'a VehicleState,
     /// Reference position [m].
     pub ref_w: Vec3,
-    /// The tick's outputs.
-    pub step: &'a CoreStep,
+    /// The tick's outputs; `None` while the motors are off (control columns left empty).
+    pub step: Option<&'a CoreStep>,
     /// True motor speeds [rad/s].
     pub motor_speeds: &'a [f64],
     /// True scripted external force, world NED [N].
@@ -69,29 +69,39 @@ impl RunCsv {
     pub fn row(&mut self, r: &RunRow) -> std::io::Result<()> {
         let l = &mut self.line;
         l.clear();
-        let c = &r.step.control;
         let eta = euler_zyx(&r.state.r_wb);
-        let applied = &r.step.allocation.applied;
         let _ = write!(l, "{}", r.t_s);
-        let groups = [
-            r.state.pos_w,
-            r.ref_w,
-            c.errors.pos_w,
-            c.errors.vel_w,
-            eta,
-            c.eta_desired,
-            c.errors.attitude,
-            c.errors.rate,
-        ];
-        for v in groups {
+        for v in [r.state.pos_w, r.ref_w] {
             let _ = write!(l, ",{},{},{}", v.x, v.y, v.z);
         }
-        let t = &applied.torque_b;
-        let _ = write!(l, ",{},{},{},{}", applied.thrust_n, t.x, t.y, t.z);
+        match r.step {
+            Some(step) => {
+                let c = &step.control;
+                for v in [
+                    c.errors.pos_w,
+                    c.errors.vel_w,
+                    eta,
+                    c.eta_desired,
+                    c.errors.attitude,
+                    c.errors.rate,
+                ] {
+                    let _ = write!(l, ",{},{},{}", v.x, v.y, v.z);
+                }
+                let applied = &step.allocation.applied;
+                let t = &applied.torque_b;
+                let _ = write!(l, ",{},{},{},{}", applied.thrust_n, t.x, t.y, t.z);
+            }
+            None => {
+                l.push_str(",,,,,,");
+                let _ = write!(l, ",{},{},{}", eta.x, eta.y, eta.z);
+                l.push_str(",,,,,,,,,,0,0,0,0");
+            }
+        }
         for w in r.motor_speeds {
             let _ = write!(l, ",{w}");
         }
-        match &r.step.estimate {
+        let estimate = r.step.and_then(|s| s.estimate);
+        match &estimate {
             Some(e) => {
                 let (f, tq) = (e.force_w, e.torque_b);
                 let _ = write!(l, ",{},{},{},{},{},{}", f.x, f.y, f.z, tq.x, tq.y, tq.z);
@@ -100,14 +110,20 @@ impl RunCsv {
         }
         let (f, tq) = (r.true_force_w, r.true_torque_b);
         let _ = write!(l, ",{},{},{},{},{},{}", f.x, f.y, f.z, tq.x, tq.y, tq.z);
-        match &r.step.estimate {
+        match &estimate {
             Some(e) => {
                 let _ = write!(l, ",{}", e.mass_kg);
             }
             None => l.push(','),
         }
-        let _ = writeln!(l, ",{}", u8::from(r.step.allocation.saturation.is_saturated()));
+        let saturated = r.step.is_some_and(|s| s.allocation.saturation.is_saturated());
+        let _ = writeln!(l, ",{}", u8::from(saturated));
         self.out.write_all(l.as_bytes())
+    }
+
+    /// Flushes the buffer to the file.
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
     }
 
     /// Flushes the file.
