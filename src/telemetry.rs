@@ -1,7 +1,9 @@
 //! What the vehicle publishes every tick for the links to stream: the latest values only, plain
 //! data in SI units (NED world, FRD body), independent of MAVLink.
 
+use crate::airframe::MAX_ROTORS;
 use crate::commander::{FlightMode, LandedState, MissionState};
+use crate::control::FlatSetpoint;
 use crate::math::Vec3;
 use crate::navigation::Home;
 
@@ -45,4 +47,16 @@ pub struct Snapshot {
     pub mission_state: MissionState,
     /// Wrench estimate, when the estimator runs and the vehicle flies.
     pub estimate: Option<EstimateSnapshot>,
+    /// Setpoint flown, when the motors run.
+    pub setpoint: Option<FlatSetpoint>,
+    /// Desired roll, pitch, yaw of the controller [rad], when the motors run.
+    pub eta_desired: Option<Vec3>,
+    /// Applied collective thrust over the maximum [-].
+    pub thrust_fraction: f64,
+    /// True rotor speeds [rad/s]; the first `rotor_count` are used.
+    pub rotor_speeds: [f64; MAX_ROTORS],
+    /// Number of rotors.
+    pub rotor_count: usize,
+    /// Highest rotor speed [rad/s].
+    pub rotor_max_rad_s: f64,
 }

@@ -419,3 +419,42 @@ def test_log_dir_writes_tlog_and_tick_csv(tmp_path):
             break
         seen.add((m.get_srcSystem(), m.get_type()))
     assert (1, "HEARTBEAT") in seen and (1, "COMMAND_ACK") in seen and (255, "COMMAND_LONG") in seen
+
+
+def test_stream_rates_and_default_telemetry(autopilot):
+    autopilot.heartbeat()
+    autopilot.gcs.mav.heartbeat_send(6, 8, 0, 0, 0)
+    # Everything of PX4's GCS defaults arrives unasked.
+    wanted = {"SYS_STATUS", "EXTENDED_SYS_STATE", "ATTITUDE", "LOCAL_POSITION_NED", "GLOBAL_POSITION_INT",
+              "GPS_RAW_INT", "VFR_HUD", "HOME_POSITION", "BATTERY_STATUS", "SERVO_OUTPUT_RAW", "MISSION_CURRENT"}
+    seen = set()
+    deadline = time.monotonic() + 3
+    while time.monotonic() < deadline and not wanted <= seen:
+        m = autopilot.gcs.recv_match(blocking=True, timeout=0.5)
+        if m is not None:
+            seen.add(m.get_type())
+    assert wanted <= seen, wanted - seen
+    gps = autopilot.gcs.messages["GPS_RAW_INT"]
+    assert gps.fix_type == 3 and gps.lat == 473977420
+    # LOCAL_POSITION_NED at 50 Hz instead of 1 Hz, then off.
+    assert autopilot.command(511, 32, 20000).result == ACCEPTED
+    start, n = time.monotonic(), 0
+    while time.monotonic() - start < 1.0:
+        if autopilot.gcs.recv_match(type="LOCAL_POSITION_NED", blocking=True, timeout=0.2) is not None:
+            n += 1
+    assert 35 <= n <= 60, n
+    assert autopilot.command(510, 32).result == ACCEPTED
+    interval = autopilot.wait(lambda m: m.message_id == 32, "MESSAGE_INTERVAL", 2)
+    assert interval is not None and interval.interval_us == 20000
+    assert autopilot.command(511, 32, -1).result == ACCEPTED
+    time.sleep(0.2)
+    assert autopilot.wait(lambda m: True, "LOCAL_POSITION_NED", 1.5) is None, "stream off"
+    assert autopilot.command(511, 9999, 1000).result == DENIED, "not a stream"
+    # MAVProxy's REQUEST_DATA_STREAM(ALL, 4 Hz): ATTITUDE at 4 Hz.
+    autopilot.gcs.mav.request_data_stream_send(1, 1, 0, 4, 1)
+    time.sleep(0.3)
+    start, n = time.monotonic(), 0
+    while time.monotonic() - start < 2.0:
+        if autopilot.gcs.recv_match(type="ATTITUDE", blocking=True, timeout=0.3) is not None:
+            n += 1
+    assert 6 <= n <= 12, n  # 8 expected; the socket may hold a few from before the window

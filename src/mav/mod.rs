@@ -8,11 +8,12 @@ pub mod mission_xfer;
 pub mod offboard;
 pub mod params;
 pub mod services;
+pub mod streams;
 pub mod telemetry;
 pub mod translate;
 
 pub use mavlink::dialects::common::{
     MavCmd, MavMessage, MavMissionResult, MavMissionType, MavResult, MavSeverity, COMMAND_LONG_DATA,
-    MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
+    MESSAGE_INTERVAL_DATA, MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
 };
 pub use mavlink::MavHeader;

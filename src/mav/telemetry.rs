@@ -1,32 +1,34 @@
 //! Telemetry messages from a [`Snapshot`] (mavlink.md §4–§5). Pure.
 
 use mavlink::dialects::common::{
-    MavLandedState, MavMessage, MavSeverity, MavSysStatusSensor, MavVtolState, ATTITUDE_DATA, DEBUG_VECT_DATA,
-    EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA,
-    MISSION_CURRENT_DATA, NAMED_VALUE_FLOAT_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA,
+    GpsFixType, MavFrame, MavLandedState, MavMessage, MavSeverity, MavSysStatusSensor, MavVtolState,
+    PositionTargetTypemask, ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA, BATTERY_STATUS_DATA,
+    DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, HOME_POSITION_DATA,
+    LOCAL_POSITION_NED_DATA, MISSION_CURRENT_DATA, NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA,
+    SERVO_OUTPUT_RAW_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA, VFR_HUD_DATA,
 };
 
 use crate::commander::{FlightMode, LandedState, MissionState};
-use crate::math::Vec3;
+use crate::math::{UnitQuat, Vec3};
 use crate::telemetry::Snapshot;
-
-/// Streams sent unasked and their period on the GCS link [s] (PX4 "normal" mode, §5.1).
-pub const GCS_STREAMS: [(Stream, f64); 10] = [
-    (Stream::SysStatus, 1.0),
-    (Stream::ExtendedSysState, 1.0),
-    (Stream::Attitude, 1.0 / 15.0),
-    (Stream::LocalPosition, 1.0),
-    (Stream::GlobalPosition, 0.2),
-    (Stream::HomePosition, 2.0),
-    (Stream::MissionCurrent, 1.0),
-    (Stream::ExternalForce, 0.1),
-    (Stream::ExternalTorque, 0.1),
-    (Stream::MassEstimate, 0.1),
-];
 
 /// A periodic telemetry message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stream {
+    /// ATTITUDE_QUATERNION (31).
+    AttitudeQuaternion,
+    /// GPS_RAW_INT (24).
+    GpsRawInt,
+    /// VFR_HUD (74).
+    VfrHud,
+    /// BATTERY_STATUS (147).
+    BatteryStatus,
+    /// ATTITUDE_TARGET (83): the attitude and thrust the controller aims for.
+    AttitudeTarget,
+    /// POSITION_TARGET_LOCAL_NED (85): the setpoint flown.
+    PositionTarget,
+    /// SERVO_OUTPUT_RAW (36): rotor speeds as 1000–2000 µs (ω / ω_max).
+    ServoOutputRaw,
     /// SYS_STATUS (1).
     SysStatus,
     /// EXTENDED_SYS_STATE (245).
@@ -49,6 +51,64 @@ pub enum Stream {
     MassEstimate,
 }
 
+impl Stream {
+    /// Every stream.
+    pub const ALL: [Stream; 17] = [
+        Stream::SysStatus,
+        Stream::ExtendedSysState,
+        Stream::Attitude,
+        Stream::AttitudeQuaternion,
+        Stream::LocalPosition,
+        Stream::GlobalPosition,
+        Stream::GpsRawInt,
+        Stream::VfrHud,
+        Stream::HomePosition,
+        Stream::BatteryStatus,
+        Stream::AttitudeTarget,
+        Stream::PositionTarget,
+        Stream::ServoOutputRaw,
+        Stream::MissionCurrent,
+        Stream::ExternalForce,
+        Stream::ExternalTorque,
+        Stream::MassEstimate,
+    ];
+
+    /// MAVLink message id.
+    pub fn message_id(self) -> u32 {
+        match self {
+            Stream::SysStatus => 1,
+            Stream::GpsRawInt => 24,
+            Stream::Attitude => 30,
+            Stream::AttitudeQuaternion => 31,
+            Stream::LocalPosition => 32,
+            Stream::GlobalPosition => 33,
+            Stream::ServoOutputRaw => 36,
+            Stream::MissionCurrent => 42,
+            Stream::VfrHud => 74,
+            Stream::AttitudeTarget => 83,
+            Stream::PositionTarget => 85,
+            Stream::BatteryStatus => 147,
+            Stream::HomePosition => 242,
+            Stream::ExtendedSysState => 245,
+            Stream::ExternalForce | Stream::ExternalTorque => 250,
+            Stream::MassEstimate => 251,
+        }
+    }
+}
+
+/// Heading [cdeg, 0..35999].
+fn heading_cdeg(s: &Snapshot) -> u16 {
+    (s.eta.z.to_degrees().rem_euclid(360.0) * 100.0).round() as u16 % 36000
+}
+
+/// Course over ground [cdeg], UINT16_MAX when not moving.
+fn course_cdeg(s: &Snapshot) -> u16 {
+    if s.vel_w.xy().norm() < 0.1 {
+        return u16::MAX;
+    }
+    (s.vel_w.y.atan2(s.vel_w.x).to_degrees().rem_euclid(360.0) * 100.0).round() as u16 % 36000
+}
+
 fn time_boot_ms(s: &Snapshot) -> u32 {
     (s.t_s * 1000.0) as u32
 }
@@ -66,6 +126,129 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         })
     };
     Some(match stream {
+        Stream::AttitudeQuaternion => {
+            let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);
+            MavMessage::ATTITUDE_QUATERNION(ATTITUDE_QUATERNION_DATA {
+                time_boot_ms: time_boot_ms(s),
+                q1: q.w as f32,
+                q2: q.i as f32,
+                q3: q.j as f32,
+                q4: q.k as f32,
+                rollspeed: s.omega_b.x as f32,
+                pitchspeed: s.omega_b.y as f32,
+                yawspeed: s.omega_b.z as f32,
+                repr_offset_q: [0.0; 4],
+            })
+        }
+        Stream::GpsRawInt => {
+            let (lat, lon, alt) = s.home.to_global(&s.pos_w);
+            MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
+                time_usec,
+                lat: (lat * 1e7).round() as i32,
+                lon: (lon * 1e7).round() as i32,
+                alt: (alt * 1000.0).round() as i32,
+                eph: 80,
+                epv: 120,
+                vel: (s.vel_w.xy().norm() * 100.0).round() as u16,
+                cog: course_cdeg(s),
+                fix_type: GpsFixType::GPS_FIX_TYPE_3D_FIX,
+                satellites_visible: 12,
+                ..Default::default()
+            })
+        }
+        Stream::VfrHud => MavMessage::VFR_HUD(VFR_HUD_DATA {
+            airspeed: s.vel_w.norm() as f32,
+            groundspeed: s.vel_w.xy().norm() as f32,
+            alt: s.home.to_global(&s.pos_w).2 as f32,
+            climb: (-s.vel_w.z) as f32,
+            heading: (heading_cdeg(s) / 100) as i16,
+            throttle: (s.thrust_fraction.clamp(0.0, 1.0) * 100.0).round() as u16,
+        }),
+        Stream::BatteryStatus => MavMessage::BATTERY_STATUS(BATTERY_STATUS_DATA {
+            voltages: [
+                4050,
+                4050,
+                4050,
+                4050,
+                u16::MAX,
+                u16::MAX,
+                u16::MAX,
+                u16::MAX,
+                u16::MAX,
+                u16::MAX,
+            ],
+            current_battery: -1,
+            current_consumed: -1,
+            energy_consumed: -1,
+            temperature: i16::MAX,
+            battery_remaining: 100,
+            ..Default::default()
+        }),
+        Stream::AttitudeTarget => {
+            let eta = s.eta_desired?;
+            let q = UnitQuat::from_euler_angles(eta.x, eta.y, eta.z);
+            MavMessage::ATTITUDE_TARGET(ATTITUDE_TARGET_DATA {
+                time_boot_ms: time_boot_ms(s),
+                q: [q.w as f32, q.i as f32, q.j as f32, q.k as f32],
+                thrust: s.thrust_fraction as f32,
+                ..Default::default()
+            })
+        }
+        Stream::PositionTarget => {
+            let sp = s.setpoint?;
+            let nan3 = |v: Option<Vec3>| v.map_or([f32::NAN; 3], |v| [v.x as f32, v.y as f32, v.z as f32]);
+            let (p, v, a) = (nan3(sp.pos_w), nan3(sp.vel_w), nan3(sp.acc_w));
+            let mut mask = 0u16;
+            mask |= if sp.pos_w.is_none() { 0b111 } else { 0 };
+            mask |= if sp.vel_w.is_none() { 0b111 << 3 } else { 0 };
+            mask |= if sp.acc_w.is_none() { 0b111 << 6 } else { 0 };
+            mask |= if sp.yaw_rad.is_none() { 1 << 10 } else { 0 };
+            mask |= if sp.yaw_rate_rad_s.is_none() { 1 << 11 } else { 0 };
+            MavMessage::POSITION_TARGET_LOCAL_NED(POSITION_TARGET_LOCAL_NED_DATA {
+                time_boot_ms: time_boot_ms(s),
+                x: p[0],
+                y: p[1],
+                z: p[2],
+                vx: v[0],
+                vy: v[1],
+                vz: v[2],
+                afx: a[0],
+                afy: a[1],
+                afz: a[2],
+                yaw: sp.yaw_rad.map_or(f32::NAN, |y| y as f32),
+                yaw_rate: sp.yaw_rate_rad_s.map_or(f32::NAN, |y| y as f32),
+                type_mask: PositionTargetTypemask::from_bits_truncate(mask),
+                coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
+            })
+        }
+        Stream::ServoOutputRaw => {
+            let pwm = |i: usize| -> u16 {
+                if i >= s.rotor_count {
+                    return 0;
+                }
+                (1000.0 + 1000.0 * (s.rotor_speeds[i] / s.rotor_max_rad_s).clamp(0.0, 1.0)).round() as u16
+            };
+            MavMessage::SERVO_OUTPUT_RAW(SERVO_OUTPUT_RAW_DATA {
+                time_usec: time_usec as u32,
+                servo1_raw: pwm(0),
+                servo2_raw: pwm(1),
+                servo3_raw: pwm(2),
+                servo4_raw: pwm(3),
+                servo5_raw: pwm(4),
+                servo6_raw: pwm(5),
+                servo7_raw: pwm(6),
+                servo8_raw: pwm(7),
+                port: 0,
+                servo9_raw: pwm(8),
+                servo10_raw: pwm(9),
+                servo11_raw: pwm(10),
+                servo12_raw: pwm(11),
+                servo13_raw: pwm(12),
+                servo14_raw: pwm(13),
+                servo15_raw: pwm(14),
+                servo16_raw: pwm(15),
+            })
+        }
         Stream::ExternalForce => vector("EXT_F", s.estimate?.force_w),
         Stream::ExternalTorque => vector("EXT_T", s.estimate?.torque_b),
         Stream::MassEstimate => MavMessage::NAMED_VALUE_FLOAT(NAMED_VALUE_FLOAT_DATA {
@@ -103,7 +286,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         }),
         Stream::GlobalPosition => {
             let (lat, lon, alt) = s.home.to_global(&s.pos_w);
-            let heading_cdeg = (s.eta.z.to_degrees().rem_euclid(360.0) * 100.0).round() as u16 % 36000;
+            let heading_cdeg = heading_cdeg(s);
             MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
                 time_boot_ms: time_boot_ms(s),
                 lat: (lat * 1e7).round() as i32,
@@ -213,6 +396,12 @@ mod tests {
             mission_total: 0,
             mission_state: MissionState::NoMission,
             estimate: None,
+            setpoint: None,
+            eta_desired: None,
+            thrust_fraction: 0.5,
+            rotor_speeds: [0.0; crate::airframe::MAX_ROTORS],
+            rotor_count: 4,
+            rotor_max_rad_s: 1100.0,
         }
     }
 

@@ -68,6 +68,18 @@ pub enum CommandDecision {
     Unsupported,
     /// ACK ACCEPTED, then send this message to the requester (REQUEST_MESSAGE and friends).
     Reply(OneShot),
+    /// SET_MESSAGE_INTERVAL on this link (§5.2): −1 off, 0 default, else µs.
+    SetMessageInterval {
+        /// Message id.
+        message_id: u32,
+        /// Interval [µs].
+        interval_us: f32,
+    },
+    /// GET_MESSAGE_INTERVAL: ACK, then MESSAGE_INTERVAL.
+    GetMessageInterval {
+        /// Message id.
+        message_id: u32,
+    },
 }
 
 /// A message sent on request.
@@ -180,6 +192,17 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
         MavCmd::MAV_CMD_REQUEST_MESSAGE => match one_shot(cmd.param1) {
             Some(m) => CommandDecision::Reply(m),
             None => CommandDecision::Refuse(Outcome::Denied(format!("Message {} not available", cmd.param1))),
+        },
+        MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL => match (param(cmd.param1), param(cmd.param2)) {
+            (Some(id), Some(interval_us)) if id >= 0.0 => CommandDecision::SetMessageInterval {
+                message_id: id as u32,
+                interval_us,
+            },
+            _ => CommandDecision::Refuse(Outcome::Denied("Set message interval: bad parameters".into())),
+        },
+        MavCmd::MAV_CMD_GET_MESSAGE_INTERVAL => match param(cmd.param1) {
+            Some(id) if id >= 0.0 => CommandDecision::GetMessageInterval { message_id: id as u32 },
+            _ => CommandDecision::Refuse(Outcome::Denied("Get message interval: bad message id".into())),
         },
         MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => CommandDecision::Reply(OneShot::AutopilotVersion),
         MavCmd::MAV_CMD_GET_HOME_POSITION => CommandDecision::Reply(OneShot::Stream(Stream::HomePosition)),

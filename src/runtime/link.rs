@@ -19,14 +19,15 @@ use crate::mav::mission_xfer::{download_count, download_item, mission_ack, Compl
 use crate::mav::offboard::decode_local_target;
 use crate::mav::params::{decode_param_set, name_of, param_error_unknown, param_value};
 use crate::mav::services::{autopilot_version, ftp_reply, ping_reply, timesync_reply};
-use crate::mav::telemetry::{message, mission_current, status_text, GCS_STREAMS};
+use crate::mav::streams::{LinkKind, StreamTable};
+use crate::mav::telemetry::{message, mission_current, status_text};
 use crate::mav::translate::{
     command_ack, command_int_as_long, decode_command, decode_set_mode, heartbeat, result_of, CommandDecision, Identity,
     OneShot,
 };
 use crate::mav::{
     MavCmd, MavHeader, MavMessage, MavMissionResult, MavMissionType, MavResult, MavSeverity, COMMAND_LONG_DATA,
-    MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
+    MESSAGE_INTERVAL_DATA, MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
 };
 use crate::navigation::Mission;
 use crate::params::{ParamError, ParamTable};
@@ -61,6 +62,8 @@ pub struct LinkContext {
     pub mission_store: Arc<Mutex<Vec<MISSION_ITEM_INT_DATA>>>,
     /// The tlog of `--log DIR`, when logging.
     pub log: Option<LogSender>,
+    /// GCS or API defaults for the stream rates.
+    pub kind: LinkKind,
 }
 
 /// Sends frames to peers with a per-link sequence counter; remembers recent command results.
@@ -74,6 +77,8 @@ struct Sender {
     targets: Mutex<Vec<SocketAddr>>,
     start: Instant,
     log: Option<LogSender>,
+    /// Stream rates; changed by commands handled in spawned tasks, read by the loop.
+    streams: Mutex<StreamTable>,
 }
 
 impl Sender {
@@ -111,11 +116,11 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
         targets: Mutex::new(vec![remote]),
         start: Instant::now(),
         log: ctx.log.clone(),
+        streams: Mutex::new(StreamTable::new(ctx.kind)),
     });
     let mut peers: HashMap<SocketAddr, Instant> = HashMap::new();
     let start = Instant::now();
     let mut next_heartbeat = start;
-    let mut next_stream: Vec<Instant> = GCS_STREAMS.iter().map(|_| start).collect();
     let mut last_state: Option<(bool, FlightMode)> = None;
     let mut transfer = MissionTransfer::<SocketAddr>::default();
     let mut buf = vec![0u8; 65_536];
@@ -158,13 +163,11 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
                         sender.send(&hb, to).await;
                     }
                 }
-                for ((stream, period), due) in GCS_STREAMS.iter().zip(next_stream.iter_mut()) {
-                    if now >= *due {
-                        *due = now + Duration::from_secs_f64(*period);
-                        if let Some(msg) = message(*stream, &snap) {
-                            for to in targets(remote, &mut peers) {
-                                sender.send(&msg, to).await;
-                            }
+                let due = sender.streams.lock().map(|mut t| t.due(sender.now_s())).unwrap_or_default();
+                for stream in due {
+                    if let Some(msg) = message(stream, &snap) {
+                        for to in targets(remote, &mut peers) {
+                            sender.send(&msg, to).await;
                         }
                     }
                 }
@@ -360,6 +363,11 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
                 Err(why) => reply(status_text(MavSeverity::MAV_SEVERITY_WARNING, &why)),
             }
         }
+        MavMessage::REQUEST_DATA_STREAM(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {
+            if let Ok(mut t) = sender.streams.lock() {
+                t.request_data_stream(r.req_stream_id as u8, r.req_message_rate, r.start_stop != 0);
+            }
+        }
         MavMessage::PARAM_REQUEST_LIST(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {
             let table = ctx.params.borrow().clone();
             let s = sender.clone();
@@ -465,6 +473,54 @@ fn handle_command(
                     .await;
                     if let Some(msg) = msg {
                         s.send(&msg, from).await;
+                    }
+                });
+            }
+            CommandDecision::SetMessageInterval {
+                message_id,
+                interval_us,
+            } => {
+                let result = match sender
+                    .streams
+                    .lock()
+                    .map(|mut t| t.set_interval(message_id, interval_us))
+                {
+                    Ok(Ok(())) => MavResult::MAV_RESULT_ACCEPTED,
+                    _ => MavResult::MAV_RESULT_DENIED,
+                };
+                tokio::spawn(async move { answer(&s, key, &header, command, AckOf::Result(result), from).await });
+            }
+            CommandDecision::GetMessageInterval { message_id } => {
+                let interval = sender.streams.lock().ok().and_then(|t| t.interval_us(message_id));
+                tokio::spawn(async move {
+                    match interval {
+                        Some(interval_us) => {
+                            answer(
+                                &s,
+                                key,
+                                &header,
+                                command,
+                                AckOf::Result(MavResult::MAV_RESULT_ACCEPTED),
+                                from,
+                            )
+                            .await;
+                            let msg = MavMessage::MESSAGE_INTERVAL(MESSAGE_INTERVAL_DATA {
+                                interval_us,
+                                message_id: message_id as u16,
+                            });
+                            s.send(&msg, from).await;
+                        }
+                        None => {
+                            answer(
+                                &s,
+                                key,
+                                &header,
+                                command,
+                                AckOf::Result(MavResult::MAV_RESULT_DENIED),
+                                from,
+                            )
+                            .await
+                        }
                     }
                 });
             }

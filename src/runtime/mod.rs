@@ -22,6 +22,7 @@ use crate::airframe::AirframeSource;
 use crate::commander::{FlightMode, LandedState, MissionState};
 use crate::control::ControllerKind;
 use crate::math::Vec3;
+use crate::mav::streams::LinkKind;
 use crate::mav::translate::Identity;
 use crate::navigation::Home;
 use crate::telemetry::Snapshot;
@@ -178,7 +179,7 @@ pub fn run(
         .spawn(move || scheduler::run(vehicle, dt, io))
         .map_err(RuntimeError::Runtime)?;
 
-    let link = |socket, remote| {
+    let link = |socket, remote, kind| {
         let ctx = LinkContext {
             identity,
             inbox: inbox_tx.clone(),
@@ -188,11 +189,12 @@ pub fn run(
             shutdown: shutdown_rx.clone(),
             mission_store: mission_store.clone(),
             log: log.as_ref().map(|(s, _)| s.clone()),
+            kind,
         };
         rt.spawn(run_link(socket, remote, ctx))
     };
-    let gcs_task = link(gcs_socket, config.gcs);
-    let api_task = link(api_socket, config.api);
+    let gcs_task = link(gcs_socket, config.gcs, LinkKind::Gcs);
+    let api_task = link(api_socket, config.api, LinkKind::Api);
     let fan_out = rt.spawn(async move {
         while let Some(e) = event_rx.recv().await {
             let _ = announce_tx.send(e);
@@ -241,5 +243,11 @@ fn initial_snapshot(home: Home) -> Snapshot {
         mission_total: 0,
         mission_state: MissionState::NoMission,
         estimate: None,
+        setpoint: None,
+        eta_desired: None,
+        thrust_fraction: 0.0,
+        rotor_speeds: [0.0; crate::airframe::MAX_ROTORS],
+        rotor_count: 0,
+        rotor_max_rad_s: 1.0,
     }
 }

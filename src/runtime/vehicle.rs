@@ -1,7 +1,7 @@
 //! One simulated vehicle: commander + flight core + plant, stepped in lockstep at a fixed dt.
 //! Simulated time is `tick × dt`; nothing here reads a clock.
 
-use crate::airframe::{Airframe, AirframeSource};
+use crate::airframe::{Airframe, AirframeSource, MAX_ROTORS};
 use crate::commander::{Commander, CommanderParams, Event, Outcome, Request};
 use crate::control::ControllerKind;
 use crate::core::{CoreError, FlightCore};
@@ -41,6 +41,7 @@ pub struct Vehicle {
     params: ParamTable,
     log: Option<LogSender>,
     believed_mass_kg: f64,
+    rotor_max_rad_s: f64,
     believed_inertia_kg_m2: crate::math::Vec3,
 }
 
@@ -87,6 +88,7 @@ impl Vehicle {
             params,
             log: None,
             believed_mass_kg: airframe.mass_kg,
+            rotor_max_rad_s: airframe.omega_max_rad_s,
             believed_inertia_kg_m2: airframe.inertia_kg_m2,
         })
     }
@@ -170,6 +172,10 @@ impl Vehicle {
         self.tick += 1;
         let eta = euler_zyx(&x.r_wb);
         let progress = self.commander.mission_progress();
+        let mut rotor_speeds = [0.0; MAX_ROTORS];
+        for (slot, w) in rotor_speeds.iter_mut().zip(self.plant.motor_speeds()) {
+            *slot = *w;
+        }
         TickOutput {
             snapshot: Snapshot {
                 t_s,
@@ -185,6 +191,14 @@ impl Vehicle {
                 mission_total: progress.1 as u16,
                 mission_state: progress.2,
                 estimate,
+                setpoint: tick.setpoint,
+                eta_desired: step.map(|s| s.control.eta_desired),
+                thrust_fraction: step.map_or(0.0, |s| {
+                    s.allocation.applied.thrust_n / self.core.allocator().thrust_max_n()
+                }),
+                rotor_speeds,
+                rotor_count: self.idle.len(),
+                rotor_max_rad_s: self.rotor_max_rad_s,
             },
             events: tick.events,
         }
