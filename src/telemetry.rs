@@ -37,8 +37,10 @@ pub struct Snapshot {
     pub mode: FlightMode,
     /// Landed state.
     pub landed: LandedState,
-    /// Geodetic home.
+    /// Geodetic position of the local NED origin (where the vehicle started).
     pub home: Home,
+    /// Home (where RTL returns), local NED [m]; the origin unless DO_SET_HOME moved it.
+    pub home_w: Vec3,
     /// Current mission item.
     pub mission_seq: u16,
     /// Mission item count.

@@ -458,3 +458,28 @@ def test_stream_rates_and_default_telemetry(autopilot):
         if autopilot.gcs.recv_match(type="ATTITUDE", blocking=True, timeout=0.3) is not None:
             n += 1
     assert 6 <= n <= 12, n  # 8 expected; the socket may hold a few from before the window
+
+
+def test_reposition_change_speed_and_set_home(autopilot):
+    autopilot.heartbeat()
+    assert autopilot.command(22).result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    assert autopilot.command(178, 1, 2.0).result == ACCEPTED
+    assert autopilot.command(178, 1, -3.0).result == DENIED
+    # MAVSDK's goto_location: COMMAND_INT DO_REPOSITION, frame GLOBAL_INT (AMSL), 6 m north, 4 m above home.
+    lat = HOME_LAT + round(6 * METRE_LAT)
+    autopilot.gcs.mav.command_int_send(1, 1, 5, 192, 0, 0, -1, 1, 0, NAN, lat, HOME_LON, 488.0 + 4.0)
+    ack = autopilot.wait(lambda m: m.command == 192, "COMMAND_ACK", 2)
+    assert ack is not None and ack.result == ACCEPTED
+    assert autopilot.wait(lambda m: m.custom_mode == (4 << 16) | (3 << 24), "HEARTBEAT", 2) is not None
+    pos = autopilot.wait(lambda m: abs(m.x - 6) < 0.1 and abs(m.z + 4) < 0.1, "LOCAL_POSITION_NED", 15)
+    assert pos is not None, "flew to the reposition target and holds there"
+    # Home here; RTL now returns here (climbs to RTL_RETURN_ALT above it, then lands back).
+    assert autopilot.command(179, 1).result == ACCEPTED
+    home = autopilot.wait(lambda m: abs(m.x - 6) < 0.2, "HOME_POSITION", 3)
+    assert home is not None and abs(home.latitude - lat) < 0.3 * METRE_LAT and abs(home.z + 4) < 0.2
+    # A reposition in a local frame is refused: UNSUPPORTED_MAV_FRAME (9).
+    autopilot.gcs.mav.command_int_send(1, 1, 1, 192, 0, 0, -1, 1, 0, NAN, 0, 0, -3.0)
+    ack = autopilot.wait(lambda m: m.command == 192, "COMMAND_ACK", 2)
+    assert ack is not None and ack.result == 9

@@ -92,7 +92,7 @@ impl Commander {
         let Some(item) = self.mission.mission.items.get(self.mission.seq).copied() else {
             return;
         };
-        let speed = self.mission.speed_m_s.unwrap_or(self.params.cruise_speed_m_s);
+        let speed = self.mission.speed_m_s.unwrap_or(self.cruise_speed());
         match (self.mission.phase, item) {
             (Phase::Start, MissionItem::Takeoff { height_m }) => {
                 let target = Vec3::new(x.pos_w.x, x.pos_w.y, -height_m);

@@ -111,6 +111,24 @@ pub enum Request {
         /// First item.
         first: usize,
     },
+    /// DO_REPOSITION: go to `pos_w` and hold there in AUTO.LOITER; unset coordinates keep the
+    /// current ones, `yaw_rad` `None` keeps the heading, `speed_m_s` `None` the cruise speed.
+    Reposition {
+        /// Target north [m], `None` = current.
+        north_m: Option<f64>,
+        /// Target east [m], `None` = current.
+        east_m: Option<f64>,
+        /// Target down [m], `None` = current.
+        down_m: Option<f64>,
+        /// Heading [rad].
+        yaw_rad: Option<f64>,
+        /// Ground speed [m/s].
+        speed_m_s: Option<f64>,
+    },
+    /// DO_CHANGE_SPEED: horizontal speed of the AUTO modes [m/s] until changed again.
+    ChangeSpeed(f64),
+    /// DO_SET_HOME: the local NED point RTL returns to [m]; `None`: the current position.
+    SetHome(Option<Vec3>),
 }
 
 /// The result of a request (MAV_RESULT), with the reason of a refusal for STATUSTEXT.
@@ -122,6 +140,8 @@ pub enum Outcome {
     TemporarilyRejected(String),
     /// Invalid.
     Denied(String),
+    /// A coordinate frame the command cannot use (MAV_RESULT_UNSUPPORTED_MAV_FRAME).
+    Unsupported(String),
 }
 
 /// Something the commander did on its own, to announce.
@@ -189,6 +209,8 @@ pub struct Commander {
     took_off: bool,
     offboard: Option<(FlatSetpoint, bool, f64)>,
     mission: MissionRun,
+    speed_override: Option<f64>,
+    home_w: Vec3,
 }
 
 impl Commander {
@@ -208,7 +230,19 @@ impl Commander {
             took_off: false,
             offboard: None,
             mission: MissionRun::default(),
+            speed_override: None,
+            home_w: Vec3::zeros(),
         }
+    }
+
+    /// Horizontal speed of the AUTO modes [m/s]: DO_CHANGE_SPEED's, else `MPC_XY_CRUISE`.
+    fn cruise_speed(&self) -> f64 {
+        self.speed_override.unwrap_or(self.params.cruise_speed_m_s)
+    }
+
+    /// The local NED point RTL returns to [m].
+    pub fn home_w(&self) -> Vec3 {
+        self.home_w
     }
 
     /// Current mission item, item count and mission state (MISSION_CURRENT).
@@ -272,6 +306,45 @@ impl Commander {
                 if self.mode == FlightMode::Mission {
                     self.enter(FlightMode::Loiter, x, t_s);
                 }
+                Outcome::Accepted
+            }
+            Request::Reposition {
+                north_m,
+                east_m,
+                down_m,
+                yaw_rad,
+                speed_m_s,
+            } => {
+                if !self.armed || self.landed == LandedState::OnGround {
+                    return Outcome::TemporarilyRejected("Reposition refused: not flying".into());
+                }
+                let target = Vec3::new(
+                    north_m.unwrap_or(x.pos_w.x),
+                    east_m.unwrap_or(x.pos_w.y),
+                    down_m.unwrap_or(x.pos_w.z),
+                );
+                if !target.iter().all(|v| v.is_finite()) {
+                    return Outcome::Denied("Reposition refused: bad target".into());
+                }
+                self.enter(FlightMode::Loiter, x, t_s);
+                let yaw = yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z);
+                let speed = speed_m_s.filter(|v| *v > 0.0).unwrap_or(self.cruise_speed());
+                self.guidance = Guidance::path(x.pos_w, target, yaw, speed, t_s);
+                Outcome::Accepted
+            }
+            Request::ChangeSpeed(v) => {
+                if !(v.is_finite() && v > 0.0 && v <= 30.0) {
+                    return Outcome::Denied(format!("Change speed refused: {v} m/s"));
+                }
+                self.speed_override = Some(v);
+                Outcome::Accepted
+            }
+            Request::SetHome(p) => {
+                let p = p.unwrap_or(x.pos_w);
+                if !p.iter().all(|v| v.is_finite()) {
+                    return Outcome::Denied("Set home refused: bad position".into());
+                }
+                self.home_w = p;
                 Outcome::Accepted
             }
             Request::StartMission { first } => {
@@ -376,7 +449,7 @@ impl Commander {
                 }
                 FlightMode::ReturnToLaunch => {
                     self.rtl_phase = RtlPhase::Climb;
-                    let z = x.pos_w.z.min(-self.params.rtl_return_alt_m);
+                    let z = x.pos_w.z.min(self.home_w.z - self.params.rtl_return_alt_m);
                     Guidance::path(
                         x.pos_w,
                         Vec3::new(x.pos_w.x, x.pos_w.y, z),
@@ -499,8 +572,8 @@ impl Commander {
         match self.rtl_phase {
             RtlPhase::Climb => {
                 self.rtl_phase = RtlPhase::Return;
-                let home_at_alt = Vec3::new(0.0, 0.0, x.pos_w.z);
-                self.guidance = Guidance::path(x.pos_w, home_at_alt, yaw, self.params.cruise_speed_m_s, t_s);
+                let home_at_alt = Vec3::new(self.home_w.x, self.home_w.y, x.pos_w.z);
+                self.guidance = Guidance::path(x.pos_w, home_at_alt, yaw, self.cruise_speed(), t_s);
             }
             RtlPhase::Return => {
                 self.rtl_phase = RtlPhase::Descend;

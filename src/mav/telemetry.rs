@@ -301,11 +301,14 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         }
         Stream::MissionCurrent => mission_current(s, s.mission_seq),
         Stream::HomePosition => {
-            let h = &s.home;
+            let (lat, lon, alt) = s.home.to_global(&s.home_w);
             MavMessage::HOME_POSITION(HOME_POSITION_DATA {
-                latitude: (h.lat_deg * 1e7).round() as i32,
-                longitude: (h.lon_deg * 1e7).round() as i32,
-                altitude: (h.alt_amsl_m * 1000.0).round() as i32,
+                latitude: (lat * 1e7).round() as i32,
+                longitude: (lon * 1e7).round() as i32,
+                altitude: (alt * 1000.0).round() as i32,
+                x: s.home_w.x as f32,
+                y: s.home_w.y as f32,
+                z: s.home_w.z as f32,
                 q: [1.0, 0.0, 0.0, 0.0],
                 ..Default::default()
             })
@@ -392,6 +395,7 @@ mod tests {
             mode: FlightMode::Loiter,
             landed: LandedState::InAir,
             home: Home::default(),
+            home_w: Vec3::zeros(),
             mission_seq: 0,
             mission_total: 0,
             mission_state: MissionState::NoMission,

@@ -5,12 +5,13 @@
 //! "not set". Results map to MAV_RESULT with the refusal reason kept for STATUSTEXT.
 
 use mavlink::dialects::common::{
-    MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavResult, MavState, MavType, COMMAND_ACK_DATA, COMMAND_INT_DATA,
-    COMMAND_LONG_DATA, HEARTBEAT_DATA,
+    MavAutopilot, MavCmd, MavFrame, MavMessage, MavModeFlag, MavResult, MavState, MavType, COMMAND_ACK_DATA,
+    COMMAND_INT_DATA, COMMAND_LONG_DATA, HEARTBEAT_DATA,
 };
 use mavlink::MavHeader;
 
 use crate::commander::{FlightMode, ModeRefusal, Outcome, Request};
+use crate::navigation::Home;
 
 use super::telemetry::Stream;
 
@@ -135,7 +136,8 @@ fn param(x: f32) -> Option<f32> {
 /// param7 into a height above home (a value below home AMSL is taken as the height itself, as
 /// MAVProxy's `takeoff 5` sends).
 #[allow(deprecated)]
-pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA, home_amsl_m: f64) -> CommandDecision {
+pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA, origin: &Home) -> CommandDecision {
+    let home_amsl_m = origin.alt_amsl_m;
     if !id.accepts(sender, cmd.target_system, cmd.target_component) {
         return CommandDecision::NotForUs;
     }
@@ -182,6 +184,36 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
                 }
             }
         }
+        MavCmd::MAV_CMD_DO_REPOSITION => {
+            // COMMAND_LONG form: p5/p6 latitude/longitude [deg], p7 AMSL [m] (NaN = keep).
+            let (lat, lon) = (param(cmd.param5), param(cmd.param6));
+            let local = origin.to_local(
+                f64::from(lat.unwrap_or(0.0)),
+                f64::from(lon.unwrap_or(0.0)),
+                f64::from(param(cmd.param7).unwrap_or(0.0)),
+            );
+            reposition(
+                cmd,
+                lat.and(lon).map(|_| (local.x, local.y)),
+                param(cmd.param7).map(|_| local.z),
+            )
+        }
+        MavCmd::MAV_CMD_DO_CHANGE_SPEED => match param(cmd.param2) {
+            Some(v) if v > 0.0 => CommandDecision::Execute(Request::ChangeSpeed(f64::from(v))),
+            _ => CommandDecision::Refuse(Outcome::Denied(format!("Change speed: {} m/s", cmd.param2))),
+        },
+        MavCmd::MAV_CMD_DO_SET_HOME => {
+            if param(cmd.param1) == Some(1.0) {
+                CommandDecision::Execute(Request::SetHome(None))
+            } else {
+                match (param(cmd.param5), param(cmd.param6), param(cmd.param7)) {
+                    (Some(lat), Some(lon), Some(alt)) => CommandDecision::Execute(Request::SetHome(Some(
+                        origin.to_local(f64::from(lat), f64::from(lon), f64::from(alt)),
+                    ))),
+                    _ => CommandDecision::Refuse(Outcome::Denied("Set home: position not given".into())),
+                }
+            }
+        }
         MavCmd::MAV_CMD_MISSION_START => {
             let first = param(cmd.param1).unwrap_or(0.0);
             if !(first >= 0.0 && first.fract() == 0.0) {
@@ -220,12 +252,51 @@ pub fn decode_set_mode(id: &Identity, message: &MavMessage) -> Option<FlightMode
     }
 }
 
+/// DO_REPOSITION with a local target (`xy`, `down` in NED metres; `None` = keep current).
+fn reposition(cmd: &COMMAND_LONG_DATA, xy: Option<(f64, f64)>, down: Option<f64>) -> CommandDecision {
+    CommandDecision::Execute(Request::Reposition {
+        north_m: xy.map(|p| p.0),
+        east_m: xy.map(|p| p.1),
+        down_m: down,
+        yaw_rad: param(cmd.param4).map(f64::from),
+        speed_m_s: param(cmd.param1).filter(|v| *v > 0.0).map(f64::from),
+    })
+}
+
+/// A COMMAND_INT: positional commands use the exact degE7 x/y and the frame of z (mavlink.md
+/// §3.2: GLOBAL(_INT) → z AMSL, GLOBAL_RELATIVE_ALT(_INT) → z above home; other frames
+/// UNSUPPORTED_MAV_FRAME); the rest decode as the equivalent COMMAND_LONG.
+#[allow(deprecated)]
+pub fn decode_command_int(id: &Identity, sender: &MavHeader, cmd: &COMMAND_INT_DATA, origin: &Home) -> CommandDecision {
+    let long = command_int_as_long(cmd);
+    if cmd.command != MavCmd::MAV_CMD_DO_REPOSITION || !id.accepts(sender, cmd.target_system, cmd.target_component) {
+        return decode_command(id, sender, &long, origin);
+    }
+    let alt_amsl = |z: f32| match cmd.frame {
+        MavFrame::MAV_FRAME_GLOBAL | MavFrame::MAV_FRAME_GLOBAL_INT => Some(f64::from(z)),
+        MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT | MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT => {
+            Some(origin.alt_amsl_m + f64::from(z))
+        }
+        _ => None,
+    };
+    let Some(_) = alt_amsl(0.0) else {
+        return CommandDecision::Refuse(Outcome::Unsupported("Reposition: frame not supported".into()));
+    };
+    let xy = (cmd.x != i32::MAX && cmd.y != i32::MAX).then(|| {
+        let p = origin.to_local(f64::from(cmd.x) * 1e-7, f64::from(cmd.y) * 1e-7, origin.alt_amsl_m);
+        (p.x, p.y)
+    });
+    let down = param(cmd.z).and_then(alt_amsl).map(|amsl| origin.alt_amsl_m - amsl);
+    reposition(&long, xy, down)
+}
+
 /// MAV_RESULT of an outcome.
 pub fn result_of(outcome: &Outcome) -> MavResult {
     match outcome {
         Outcome::Accepted => MavResult::MAV_RESULT_ACCEPTED,
         Outcome::TemporarilyRejected(_) => MavResult::MAV_RESULT_TEMPORARILY_REJECTED,
         Outcome::Denied(_) => MavResult::MAV_RESULT_DENIED,
+        Outcome::Unsupported(_) => MavResult::MAV_RESULT_COMMAND_UNSUPPORTED_MAV_FRAME,
     }
 }
 
@@ -308,7 +379,7 @@ mod tests {
                     [1.0, 0.0, NAN, NAN, NAN, NAN, NAN],
                     t,
                 ),
-                488.0,
+                &Home::default(),
             )
         };
         assert_eq!(arm((1, 1)), CommandDecision::Execute(Request::Arm { force: false }));
@@ -327,7 +398,7 @@ mod tests {
     #[allow(deprecated)]
     fn arm_force_takeoff_altitude_and_modes_decode() {
         let id = Identity::autopilot(1, 6);
-        let d = |c, p| decode_command(&id, &gcs(), &cmd(c, p, (1, 1)), 488.0);
+        let d = |c, p| decode_command(&id, &gcs(), &cmd(c, p, (1, 1)), &Home::default());
         for magic in FORCE_MAGIC {
             assert_eq!(
                 d(
@@ -396,9 +467,51 @@ mod tests {
         let long = command_int_as_long(&int);
         assert!(long.param5.is_nan());
         assert_eq!(
-            decode_command(&id, &gcs(), &long, 488.0),
+            decode_command(&id, &gcs(), &long, &Home::default()),
             CommandDecision::Execute(Request::Takeoff { height_m: Some(5.0) })
         );
+    }
+
+    #[test]
+    #[allow(deprecated)]
+    fn reposition_uses_exact_coordinates_and_the_frame_of_z() {
+        let id = Identity::autopilot(1, 4);
+        let home = Home::default();
+        let north_5m =
+            (home.lat_deg * 1e7).round() as i32 + (5.0 / 6_371_000f64).to_degrees().mul_add(1e7, 0.0).round() as i32;
+        let cmd = COMMAND_INT_DATA {
+            command: MavCmd::MAV_CMD_DO_REPOSITION,
+            param1: -1.0,
+            param4: NAN,
+            x: north_5m,
+            y: (home.lon_deg * 1e7).round() as i32,
+            z: 4.0,
+            frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        };
+        let CommandDecision::Execute(Request::Reposition {
+            north_m,
+            east_m,
+            down_m,
+            yaw_rad,
+            speed_m_s,
+        }) = decode_command_int(&id, &gcs(), &cmd, &home)
+        else {
+            panic!("not a reposition");
+        };
+        assert!((north_m.unwrap() - 5.0).abs() < 0.02 && east_m.unwrap().abs() < 0.02);
+        assert!((down_m.unwrap() + 4.0).abs() < 1e-9);
+        assert_eq!((yaw_rad, speed_m_s), (None, None));
+        let local = COMMAND_INT_DATA {
+            frame: MavFrame::MAV_FRAME_LOCAL_NED,
+            ..cmd
+        };
+        assert!(matches!(
+            decode_command_int(&id, &gcs(), &local, &home),
+            CommandDecision::Refuse(Outcome::Unsupported(_))
+        ));
     }
 
     #[test]

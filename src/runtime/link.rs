@@ -22,8 +22,8 @@ use crate::mav::services::{autopilot_version, ftp_reply, ping_reply, timesync_re
 use crate::mav::streams::{LinkKind, StreamTable};
 use crate::mav::telemetry::{message, mission_current, status_text};
 use crate::mav::translate::{
-    command_ack, command_int_as_long, decode_command, decode_set_mode, heartbeat, result_of, CommandDecision, Identity,
-    OneShot,
+    command_ack, command_int_as_long, decode_command, decode_command_int, decode_set_mode, heartbeat, result_of,
+    CommandDecision, Identity, OneShot,
 };
 use crate::mav::{
     MavCmd, MavHeader, MavMessage, MavMissionResult, MavMissionType, MavResult, MavSeverity, COMMAND_LONG_DATA,
@@ -333,8 +333,16 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
         tokio::spawn(async move { s.send(&msg, from).await });
     };
     match message {
-        MavMessage::COMMAND_LONG(cmd) => handle_command(header, cmd, from, sender, ctx),
-        MavMessage::COMMAND_INT(cmd) => handle_command(header, &command_int_as_long(cmd), from, sender, ctx),
+        MavMessage::COMMAND_LONG(cmd) => {
+            let origin = ctx.snapshot.borrow().home;
+            let decision = decode_command(&ctx.identity, header, cmd, &origin);
+            handle_command(header, cmd, decision, from, sender, ctx);
+        }
+        MavMessage::COMMAND_INT(cmd) => {
+            let origin = ctx.snapshot.borrow().home;
+            let decision = decode_command_int(&ctx.identity, header, cmd, &origin);
+            handle_command(header, &command_int_as_long(cmd), decision, from, sender, ctx);
+        }
         MavMessage::PING(p) => {
             if let Some(r) = ping_reply(header, p) {
                 reply(r);
@@ -417,12 +425,11 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
 fn handle_command(
     header: &MavHeader,
     cmd: &COMMAND_LONG_DATA,
+    decision: CommandDecision,
     from: SocketAddr,
     sender: &Arc<Sender>,
     ctx: &LinkContext,
 ) {
-    let home_amsl = ctx.snapshot.borrow().home.alt_amsl_m;
-    let decision = decode_command(&ctx.identity, header, cmd, home_amsl);
     if decision == CommandDecision::NotForUs {
         return;
     }

@@ -239,6 +239,7 @@ fn initial_snapshot(home: Home) -> Snapshot {
         mode: FlightMode::Loiter,
         landed: LandedState::OnGround,
         home,
+        home_w: Vec3::zeros(),
         mission_seq: 0,
         mission_total: 0,
         mission_state: MissionState::NoMission,

@@ -187,6 +187,7 @@ impl Vehicle {
                 mode: self.commander.mode(),
                 landed: self.commander.landed_state(),
                 home: self.home,
+                home_w: self.commander.home_w(),
                 mission_seq: progress.0 as u16,
                 mission_total: progress.1 as u16,
                 mission_state: progress.2,
