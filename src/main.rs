@@ -13,6 +13,7 @@ use rotorpilot::estimation::{ChebyshevDesign, WrenchObserver};
 use rotorpilot::headless::{fly, HeadlessOptions};
 use rotorpilot::math::Vec3;
 use rotorpilot::navigation::Home;
+use rotorpilot::params::parse_param_file;
 use rotorpilot::report::{estimate_csv, AllocReport, EstimateReport, GainsReport};
 use rotorpilot::runtime::{self, RunConfig};
 use rotorpilot::scenario::Scenario;
@@ -65,6 +66,9 @@ enum Command {
         /// Write DIR/flight.tlog (MAVLink telemetry log) and DIR/run.csv (every 1 kHz tick).
         #[arg(long)]
         log: Option<PathBuf>,
+        /// Parameter file (QGC `SYSID COMPID NAME VALUE TYPE` lines or `NAME VALUE` lines).
+        #[arg(long)]
+        params: Option<PathBuf>,
     },
     /// Headless take-off and hover in lockstep with the plant, as fast as the CPU allows,
     /// printing a JSON summary.
@@ -243,7 +247,20 @@ fn execute(command: Command) -> Result<String, String> {
             seed,
             duration,
             log,
+            params,
         } => {
+            let params = match params {
+                Some(path) => {
+                    let origin = path.display().to_string();
+                    let text = std::fs::read_to_string(&path).map_err(|e| format!("--params {origin}: {e}"))?;
+                    parse_param_file(&text, &origin)
+                        .map_err(|e| format!("--params {e}"))?
+                        .into_iter()
+                        .map(|(line, name, value)| (format!("{origin}:{line}"), name, value))
+                        .collect()
+                }
+                None => Vec::new(),
+            };
             let config = RunConfig {
                 airframe: AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?,
                 controller,
@@ -260,6 +277,7 @@ fn execute(command: Command) -> Result<String, String> {
                 seed,
                 dt_s: 1e-3,
                 log_dir: log,
+                params,
             };
             if let Some(d) = duration {
                 if !(d.is_finite() && d > 0.0) {

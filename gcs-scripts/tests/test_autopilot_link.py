@@ -483,3 +483,36 @@ def test_reposition_change_speed_and_set_home(autopilot):
     autopilot.gcs.mav.command_int_send(1, 1, 1, 192, 0, 0, -1, 1, 0, NAN, 0, 0, -3.0)
     ack = autopilot.wait(lambda m: m.command == 192, "COMMAND_ACK", 2)
     assert ack is not None and ack.result == 9
+
+
+def test_params_file(tmp_path):
+    good = tmp_path / "vehicle.params"
+    good.write_text("# Onboard parameters for Vehicle 1\n1\t1\tMIS_TAKEOFF_ALT\t4.000000\t9\nRP_CTRL 1\n")
+    ap = Autopilot("--params", str(good))
+    try:
+        ap.heartbeat()
+        for name, check in [(b"MIS_TAKEOFF_ALT", lambda v: v.param_value == 4.0),
+                            (b"RP_CTRL", lambda v: float_bits_to_int(v.param_value) == 1)]:
+            ap.gcs.mav.param_request_read_send(1, 1, name, -1)
+            value = ap.wait(lambda m: m.param_id == name.decode(), "PARAM_VALUE", 2)
+            assert value is not None and check(value)
+    finally:
+        ap.close()
+    bad = tmp_path / "bad.params"
+    bad.write_text("MIS_TAKEOFF_ALT 3\nRP_CTRL 7\n")
+    proc = subprocess.run([str(BINARY), "run", "--bind-gcs", "127.0.0.1:0", "--bind-api", "127.0.0.1:0",
+                           "--params", str(bad), "--duration", "5"], capture_output=True, text=True, timeout=30)
+    assert proc.returncode == 2 and "bad.params:2" in proc.stderr and "RP_CTRL" in proc.stderr
+
+
+def test_gcs_link_loss_returns_to_launch(autopilot):
+    autopilot.heartbeat()
+    for name, value in [(b"NAV_DLL_ACT", 2), (b"COM_DL_LOSS_T", 5)]:
+        autopilot.gcs.mav.param_set_send(1, 1, name, int32_bits(value), 6)
+        assert autopilot.wait(lambda m: m.param_id == name.decode(), "PARAM_VALUE", 2) is not None
+    autopilot.gcs.mav.heartbeat_send(6, 8, 0, 0, 0)  # one GCS heartbeat, then silence
+    assert autopilot.command(22).result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    lost = autopilot.wait(lambda m: "link lost" in m.text, "STATUSTEXT", 9)
+    assert lost is not None and "returning" in lost.text
+    assert autopilot.wait(lambda m: m.custom_mode == (4 << 16) | (5 << 24), "HEARTBEAT", 2) is not None

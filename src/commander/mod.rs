@@ -42,6 +42,10 @@ pub struct CommanderParams {
     pub disarm_preflight_s: f64,
     /// Offboard setpoints older than this are lost [s] (`COM_OF_LOSS_T`, 1.0).
     pub offboard_loss_s: f64,
+    /// GCS link-loss action (`NAV_DLL_ACT`: 0 off, 1 hold, 2 return, 3 land, 5 terminate, 6 disarm).
+    pub link_loss_action: i32,
+    /// GCS silence that counts as link loss [s] (`COM_DL_LOSS_T`, 10).
+    pub link_loss_s: f64,
 }
 
 impl Default for CommanderParams {
@@ -55,6 +59,8 @@ impl Default for CommanderParams {
             disarm_land_s: 2.0,
             disarm_preflight_s: 10.0,
             offboard_loss_s: 1.0,
+            link_loss_action: 0,
+            link_loss_s: 10.0,
         }
     }
 }
@@ -129,6 +135,8 @@ pub enum Request {
     ChangeSpeed(f64),
     /// DO_SET_HOME: the local NED point RTL returns to [m]; `None`: the current position.
     SetHome(Option<Vec3>),
+    /// No GCS heartbeat for `COM_DL_LOSS_T`: run `NAV_DLL_ACT` if flying.
+    GcsLinkLost,
 }
 
 /// The result of a request (MAV_RESULT), with the reason of a refusal for STATUSTEXT.
@@ -159,6 +167,18 @@ pub enum Event {
     MissionItemReached(u16),
     /// The current mission item changed (MISSION_CURRENT at once).
     MissionCurrent(u16),
+}
+
+/// What NAV_DLL_ACT did, for the announcement.
+fn link_loss_text(action: i32) -> &'static str {
+    match action {
+        1 => "GCS link lost: holding",
+        2 => "GCS link lost: returning",
+        3 => "GCS link lost: landing",
+        5 => "GCS link lost: terminating",
+        6 => "GCS link lost: disarming",
+        _ => "GCS link lost",
+    }
 }
 
 impl Event {
@@ -346,6 +366,20 @@ impl Commander {
                 }
                 self.home_w = p;
                 Outcome::Accepted
+            }
+            Request::GcsLinkLost => {
+                let action = self.params.link_loss_action;
+                if action == 0 || !self.armed || self.landed == LandedState::OnGround {
+                    return Outcome::Accepted;
+                }
+                match action {
+                    1 => self.enter(FlightMode::Loiter, x, t_s),
+                    2 => self.enter(FlightMode::ReturnToLaunch, x, t_s),
+                    3 => self.enter(FlightMode::Land, x, t_s),
+                    5 | 6 => self.disarm(),
+                    _ => {}
+                }
+                Outcome::TemporarilyRejected(link_loss_text(action).to_string())
             }
             Request::StartMission { first } => {
                 if first >= self.mission.mission.len() {

@@ -3,6 +3,7 @@
 //! built once per vehicle with the airframe's default gains; values are validated as a whole
 //! before they change, so a refused set leaves everything as it was. Pure.
 
+mod file;
 mod names;
 
 use thiserror::Error;
@@ -12,6 +13,7 @@ use crate::control::{ControllerGains, ControllerKind};
 use crate::estimation::ChebyshevDesign;
 use crate::math::Vec3;
 
+pub use file::{parse_param_file, ParamFileError};
 pub use names::PARAM_NAMES;
 
 /// How a parameter travels (MAV_PARAM_TYPE).

@@ -7,7 +7,7 @@ use crate::estimation::{ChebyshevDesign, MAX_ORDER};
 use super::{vec3, ParamDef, ParamType, VehicleSettings};
 
 /// Every parameter name, in index order.
-pub const PARAM_NAMES: [&str; 54] = [
+pub const PARAM_NAMES: [&str; 56] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -62,6 +62,8 @@ pub const PARAM_NAMES: [&str; 54] = [
     "RP_EPS_Z",
     "RP_EPS_A",
     "COM_OF_LOSS_T",
+    "NAV_DLL_ACT",
+    "COM_DL_LOSS_T",
 ];
 
 fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
@@ -134,6 +136,8 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
     out.push((def(PARAM_NAMES[k], Real32, 0.01, 9.0), g.limits.eps_z_m_s2));
     out.push((def(PARAM_NAMES[k + 1], Real32, 1e-6, 10.0), g.limits.eps_a_n));
     out.push((def(PARAM_NAMES[k + 2], Real32, 0.0, 60.0), c.offboard_loss_s));
+    out.push((def(PARAM_NAMES[k + 3], Int32, 0.0, 6.0), f64::from(c.link_loss_action)));
+    out.push((def(PARAM_NAMES[k + 4], Int32, 5.0, 300.0), c.link_loss_s));
     out
 }
 
@@ -176,6 +180,8 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
             disarm_land_s: v[5],
             disarm_preflight_s: v[6],
             offboard_loss_s: v[53],
+            link_loss_action: v[54] as i32,
+            link_loss_s: v[55],
         },
         controller: match v[7] as i64 {
             1 => ControllerKind::Hierarchical,

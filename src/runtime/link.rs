@@ -26,8 +26,8 @@ use crate::mav::translate::{
     CommandDecision, Identity, OneShot,
 };
 use crate::mav::{
-    MavCmd, MavHeader, MavMessage, MavMissionResult, MavMissionType, MavResult, MavSeverity, COMMAND_LONG_DATA,
-    MESSAGE_INTERVAL_DATA, MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
+    MavCmd, MavHeader, MavMessage, MavMissionResult, MavMissionType, MavResult, MavSeverity, MavType,
+    COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA, MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
 };
 use crate::navigation::Mission;
 use crate::params::{ParamError, ParamTable};
@@ -79,6 +79,8 @@ struct Sender {
     log: Option<LogSender>,
     /// Stream rates; changed by commands handled in spawned tasks, read by the loop.
     streams: Mutex<StreamTable>,
+    /// Last HEARTBEAT from a ground station (type GCS) on this link.
+    last_gcs_heartbeat: Mutex<Option<Instant>>,
 }
 
 impl Sender {
@@ -117,12 +119,14 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
         start: Instant::now(),
         log: ctx.log.clone(),
         streams: Mutex::new(StreamTable::new(ctx.kind)),
+        last_gcs_heartbeat: Mutex::new(None),
     });
     let mut peers: HashMap<SocketAddr, Instant> = HashMap::new();
     let start = Instant::now();
     let mut next_heartbeat = start;
     let mut last_state: Option<(bool, FlightMode)> = None;
     let mut transfer = MissionTransfer::<SocketAddr>::default();
+    let mut link_lost = false;
     let mut buf = vec![0u8; 65_536];
     let mut poll = tokio::time::interval(POLL);
     loop {
@@ -151,6 +155,9 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
                 }
                 for (to, msg) in transfer.tick(sender.now_s()) {
                     sender.send(&msg, to).await;
+                }
+                if ctx.kind == LinkKind::Gcs {
+                    check_link_loss(&sender, &ctx, &mut link_lost, remote, &mut peers).await;
                 }
                 let snap = *ctx.snapshot.borrow();
                 let state = (snap.armed, snap.mode);
@@ -333,6 +340,11 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
         tokio::spawn(async move { s.send(&msg, from).await });
     };
     match message {
+        MavMessage::HEARTBEAT(hb) if hb.mavtype == MavType::MAV_TYPE_GCS => {
+            if let Ok(mut last) = sender.last_gcs_heartbeat.lock() {
+                *last = Some(Instant::now());
+            }
+        }
         MavMessage::COMMAND_LONG(cmd) => {
             let origin = ctx.snapshot.borrow().home;
             let decision = decode_command(&ctx.identity, header, cmd, &origin);
@@ -416,6 +428,43 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
                     request: Request::SetMode(mode),
                     reply: None,
                 });
+            }
+        }
+    }
+}
+
+/// GCS link loss (mavlink.md §11.2): after a GCS heartbeat was seen, `COM_DL_LOSS_T` seconds of
+/// silence (wall clock: the ground station lives in wall time) run `NAV_DLL_ACT` once per loss.
+async fn check_link_loss(
+    sender: &Arc<Sender>,
+    ctx: &LinkContext,
+    lost: &mut bool,
+    remote: SocketAddr,
+    peers: &mut HashMap<SocketAddr, Instant>,
+) {
+    let Some(last) = sender.last_gcs_heartbeat.lock().ok().and_then(|l| *l) else {
+        return;
+    };
+    let settings = ctx.params.borrow().settings().commander;
+    let silent = last.elapsed().as_secs_f64() >= settings.link_loss_s;
+    if !silent {
+        *lost = false;
+        return;
+    }
+    if *lost || settings.link_loss_action == 0 {
+        return;
+    }
+    *lost = true;
+    let (tx, rx) = oneshot::channel();
+    let queued = ctx.inbox.try_send(VehicleCommand::Request {
+        request: Request::GcsLinkLost,
+        reply: Some(tx),
+    });
+    if queued.is_ok() {
+        if let Ok(Outcome::TemporarilyRejected(what)) = rx.await {
+            let msg = status_text(MavSeverity::MAV_SEVERITY_CRITICAL, &what);
+            for to in targets(remote, peers) {
+                sender.send(&msg, to).await;
             }
         }
     }

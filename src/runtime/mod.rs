@@ -62,6 +62,8 @@ pub struct RunConfig {
     pub dt_s: f64,
     /// `--log DIR`: tlog and 1 kHz CSV.
     pub log_dir: Option<std::path::PathBuf>,
+    /// Parameter values applied before start (`--params FILE`): (where, name, value).
+    pub params: Vec<(String, String, f64)>,
 }
 
 /// Why the process could not run.
@@ -78,6 +80,9 @@ pub enum RuntimeError {
         /// Cause.
         source: std::io::Error,
     },
+    /// A `--params` value was refused.
+    #[error("--params {0}")]
+    Params(String),
     /// The log directory could not be written.
     #[error("--log {dir}: {source}")]
     Log {
@@ -122,6 +127,11 @@ pub fn run(
         config.seed,
         config.dt_s,
     )?;
+    for (origin, name, value) in &config.params {
+        vehicle
+            .set_param(name, *value)
+            .map_err(|e| RuntimeError::Params(format!("{origin}: {e}")))?;
+    }
     let log = match &config.log_dir {
         Some(dir) => {
             let (sender, writer) =
