@@ -151,8 +151,8 @@ pub fn run(
         .build()
         .map_err(RuntimeError::Runtime)?;
     let bind = |addr: SocketAddr| {
-        rt.block_on(UdpSocket::bind(addr))
-            .map_err(|source| RuntimeError::Bind { addr, source })
+        let _guard = rt.enter();
+        bind_udp(addr).map_err(|source| RuntimeError::Bind { addr, source })
     };
     let gcs_socket = bind(config.bind_gcs)?;
     let api_socket = bind(config.bind_api)?;
@@ -236,6 +236,20 @@ pub fn run(
         stats.overruns.load(Ordering::Relaxed)
     );
     Ok(())
+}
+
+/// Kernel receive buffer of each link socket [bytes]: large enough that a burst of garbage
+/// datagrams does not make the kernel drop the legitimate command behind it.
+const RECV_BUFFER_BYTES: usize = 4 << 20;
+
+/// A non-blocking UDP socket bound to `addr` with a large receive buffer, for tokio.
+fn bind_udp(addr: SocketAddr) -> std::io::Result<UdpSocket> {
+    let socket = socket2::Socket::new(socket2::Domain::for_address(addr), socket2::Type::DGRAM, None)?;
+    // Best effort: the kernel caps it at net.core.rmem_max.
+    let _ = socket.set_recv_buffer_size(RECV_BUFFER_BYTES);
+    socket.set_nonblocking(true)?;
+    socket.bind(&addr.into())?;
+    UdpSocket::from_std(socket.into())
 }
 
 fn initial_snapshot(home: Home) -> Snapshot {
