@@ -13,8 +13,8 @@ use thiserror::Error;
 use crate::airframe::Airframe;
 use crate::allocation::{Allocation, AllocationError, Allocator};
 use crate::control::{
-    ControlInput, ControlOutput, Controller, ControllerError, ControllerGains, ControllerKind, ExternalWrench,
-    FlatSetpoint, VehicleModel, VehicleState,
+    AttitudeTarget, ControlInput, ControlOutput, Controller, ControllerError, ControllerGains, ControllerKind,
+    ExternalWrench, FlatSetpoint, VehicleModel, VehicleState,
 };
 use crate::estimation::{WrenchEstimate, WrenchObserver};
 use crate::math::{euler_zyx, Vec3};
@@ -102,13 +102,7 @@ impl FlightCore {
 
     /// One tick for state `x` and setpoint `sp`.
     pub fn step(&mut self, x: &VehicleState, sp: &FlatSetpoint) -> CoreStep {
-        let estimate = self.observer.as_mut().map(|obs| {
-            let eta = euler_zyx(&x.r_wb);
-            match rpy::q_inverse(&eta, ESTIMATOR_COS_THETA_MIN) {
-                Some(q_inv) => obs.observe(&x.vel_w, &eta, &(q_inv * x.omega_b)),
-                None => obs.observe(&x.vel_w, &eta, &Vec3::repeat(f64::NAN)),
-            }
-        });
+        let estimate = self.observe(x);
         let control = self.controller.update(&ControlInput {
             state: x,
             setpoint: sp,
@@ -117,6 +111,29 @@ impl FlightCore {
                 torque_b: e.torque_b,
             }),
         });
+        self.allocate(control, estimate)
+    }
+
+    /// One tick of direct attitude / rate control (offboard SET_ATTITUDE_TARGET).
+    pub fn step_attitude(&mut self, x: &VehicleState, target: &AttitudeTarget) -> CoreStep {
+        let estimate = self.observe(x);
+        let control = self.controller.update_attitude(x, target);
+        self.allocate(control, estimate)
+    }
+
+    /// ŵ_k from this tick's momentum and β_{k−1}.
+    fn observe(&mut self, x: &VehicleState) -> Option<WrenchEstimate> {
+        self.observer.as_mut().map(|obs| {
+            let eta = euler_zyx(&x.r_wb);
+            match rpy::q_inverse(&eta, ESTIMATOR_COS_THETA_MIN) {
+                Some(q_inv) => obs.observe(&x.vel_w, &eta, &(q_inv * x.omega_b)),
+                None => obs.observe(&x.vel_w, &eta, &Vec3::repeat(f64::NAN)),
+            }
+        })
+    }
+
+    /// Allocation of the controller's wrench, and β_k from the applied one.
+    fn allocate(&mut self, control: ControlOutput, estimate: Option<WrenchEstimate>) -> CoreStep {
         let allocation = self.allocator.allocate(&control.wrench);
         if let Some(obs) = self.observer.as_mut() {
             obs.apply(allocation.applied.thrust_n, &allocation.applied.torque_b);

@@ -568,3 +568,41 @@ def test_garbage_flood_during_hover(autopilot):
     assert worst < 0.05, f"hover disturbed by {worst} m"
     assert answered == ACCEPTED
     assert autopilot.proc.poll() is None, "still running"
+
+
+def test_offboard_attitude_and_global_targets(autopilot):
+    autopilot.heartbeat()
+    assert autopilot.command(512, 148).result == ACCEPTED
+    caps = autopilot.wait(lambda m: True, "AUTOPILOT_VERSION", 2).capabilities
+    for bit in (4, 8, 16, 64, 128, 256, 8192):
+        assert caps & bit, bit
+    assert not caps & 32, "no FTP"
+    assert autopilot.command(22).result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    hover = 1.5 * 9.81 / (4 * 5.84e-6 * 1100.0 ** 2)
+    roll = math.radians(10)
+    q = [math.cos(roll / 2), math.sin(roll / 2), 0.0, 0.0]
+
+    def stream_attitude(seconds, quat, mask=7, rates=(0, 0, 0)):
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            autopilot.gcs.mav.set_attitude_target_send(0, 1, 1, mask, quat, *rates, hover)
+            autopilot.gcs.recv_match(type="ATTITUDE", blocking=True, timeout=0.05)
+        return autopilot.gcs.messages["ATTITUDE"]
+
+    stream_attitude(0.2, [1, 0, 0, 0])
+    assert autopilot.command(176, 1, 6, 0).result == ACCEPTED
+    att = stream_attitude(1.5, q)
+    assert abs(att.roll - roll) < 0.01 and abs(att.pitch) < 0.01, att
+    # Rates + thrust (mask 128): yaw at 0.5 rad/s.
+    att = stream_attitude(1.0, [1, 0, 0, 0], mask=128, rates=(0, 0, 0.5))
+    assert abs(att.yawspeed - 0.5) < 0.05, att
+    # SET_POSITION_TARGET_GLOBAL_INT: 3 m north of home, 3 m above it.
+    lat = HOME_LAT + round(3 * METRE_LAT)
+    end = time.monotonic() + 5
+    while time.monotonic() < end:
+        autopilot.gcs.mav.set_position_target_global_int_send(0, 1, 1, 6, 2552, lat, HOME_LON, 3.0, 0, 0, 0, 0, 0, 0, 0, 0)
+        autopilot.gcs.recv_match(type="LOCAL_POSITION_NED", blocking=True, timeout=0.05)
+    pos = autopilot.gcs.messages["LOCAL_POSITION_NED"]
+    assert abs(pos.x - 3) < 0.1 and abs(pos.z + 3) < 0.1, pos

@@ -12,7 +12,7 @@ pub use mode::{FlightMode, ModeRefusal};
 
 use mission_run::MissionRun;
 
-use crate::control::{FlatSetpoint, VehicleState};
+use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::{Guidance, Mission};
 
@@ -110,6 +110,8 @@ pub enum Request {
         /// Velocity/acceleration in the heading frame.
         body_frame: bool,
     },
+    /// An offboard attitude / rate target (SET_ATTITUDE_TARGET), kept as the latest.
+    OffboardAttitude(AttitudeTarget),
     /// Replace the stored mission (a mission replaced during AUTO.MISSION switches to AUTO.LOITER).
     SetMission(Mission),
     /// MISSION_START: fly the stored mission from `first` (item index).
@@ -198,10 +200,21 @@ impl Event {
 /// One tick's output.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CommanderTick {
-    /// Setpoint to fly; `None`: motors off.
+    /// Setpoint to fly; `None`: motors off (or `attitude` flies).
     pub setpoint: Option<FlatSetpoint>,
+    /// Offboard attitude / rate target to fly instead of `setpoint`.
+    pub attitude: Option<AttitudeTarget>,
     /// What happened on its own this tick.
     pub events: Vec<Event>,
+}
+
+/// The latest offboard target.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum OffboardKind {
+    /// Position / velocity / acceleration, with the body-frame flag.
+    Flat(FlatSetpoint, bool),
+    /// Attitude or rates with thrust.
+    Attitude(AttitudeTarget),
 }
 
 /// RTL phases.
@@ -227,7 +240,7 @@ pub struct Commander {
     slow_since_s: Option<f64>,
     landed_at_s: Option<f64>,
     took_off: bool,
-    offboard: Option<(FlatSetpoint, bool, f64)>,
+    offboard: Option<(OffboardKind, f64)>,
     mission: MissionRun,
     speed_override: Option<f64>,
     home_w: Vec3,
@@ -273,7 +286,7 @@ impl Commander {
     /// True when an offboard setpoint arrived within `COM_OF_LOSS_T` of `t_s`.
     fn offboard_alive(&self, t_s: f64) -> bool {
         self.offboard
-            .is_some_and(|(_, _, t)| t_s - t < self.params.offboard_loss_s)
+            .is_some_and(|(_, t)| t_s - t < self.params.offboard_loss_s)
     }
 
     /// Armed.
@@ -318,7 +331,11 @@ impl Commander {
             Request::Land => self.set_mode(FlightMode::Land, x, t_s),
             Request::ReturnToLaunch => self.set_mode(FlightMode::ReturnToLaunch, x, t_s),
             Request::OffboardSetpoint { setpoint, body_frame } => {
-                self.offboard = Some((setpoint, body_frame, t_s));
+                self.offboard = Some((OffboardKind::Flat(setpoint, body_frame), t_s));
+                Outcome::Accepted
+            }
+            Request::OffboardAttitude(target) => {
+                self.offboard = Some((OffboardKind::Attitude(target), t_s));
                 Outcome::Accepted
             }
             Request::SetMission(mission) => {
@@ -528,7 +545,11 @@ impl Commander {
     pub fn update(&mut self, x: &VehicleState, t_s: f64) -> CommanderTick {
         let mut events = Vec::new();
         if !self.armed {
-            return CommanderTick { setpoint: None, events };
+            return CommanderTick {
+                setpoint: None,
+                attitude: None,
+                events,
+            };
         }
         let yaw = euler_zyx(&x.r_wb).z;
         match self.mode {
@@ -549,12 +570,20 @@ impl Commander {
             FlightMode::ReturnToLaunch => self.advance_rtl(x, yaw, t_s),
             FlightMode::Mission => self.advance_mission(x, yaw, t_s, &mut events),
             FlightMode::Offboard => match self.offboard {
-                Some((sp, body_frame, _)) if self.offboard_alive(t_s) => {
+                Some((kind, _)) if self.offboard_alive(t_s) => {
                     self.took_off = true;
                     self.landed = LandedState::InAir;
-                    return CommanderTick {
-                        setpoint: Some(if body_frame { heading_to_world(sp, yaw) } else { sp }),
-                        events,
+                    return match kind {
+                        OffboardKind::Flat(sp, body_frame) => CommanderTick {
+                            setpoint: Some(if body_frame { heading_to_world(sp, yaw) } else { sp }),
+                            attitude: None,
+                            events,
+                        },
+                        OffboardKind::Attitude(target) => CommanderTick {
+                            setpoint: None,
+                            attitude: Some(target),
+                            events,
+                        },
                     };
                 }
                 _ => {
@@ -585,16 +614,25 @@ impl Commander {
             if p.disarm_land_s > 0.0 && landed_for.is_some_and(|d| d >= p.disarm_land_s) {
                 self.disarm();
                 events.push(Event::Disarmed("landed"));
-                return CommanderTick { setpoint: None, events };
+                return CommanderTick {
+                    setpoint: None,
+                    attitude: None,
+                    events,
+                };
             }
             if p.disarm_preflight_s > 0.0 && !self.took_off && t_s - self.armed_at_s >= p.disarm_preflight_s {
                 self.disarm();
                 events.push(Event::Disarmed("no takeoff"));
-                return CommanderTick { setpoint: None, events };
+                return CommanderTick {
+                    setpoint: None,
+                    attitude: None,
+                    events,
+                };
             }
         }
         CommanderTick {
             setpoint: self.guidance.setpoint(t_s, x),
+            attitude: None,
             events,
         }
     }

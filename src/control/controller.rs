@@ -11,6 +11,7 @@ use thiserror::Error;
 use crate::allocation::Wrench;
 use crate::math::{Mat3, Vec3};
 
+use super::attitude_target::AttitudeTarget;
 use super::gains::{ControllerGains, VehicleModel};
 use super::geometric::{DesiredRateMode, GeometricLaw};
 use super::hierarchical::HierarchicalLaw;
@@ -232,6 +233,27 @@ impl Controller {
                 ..flags
             }),
             None => self.hold(flags),
+        }
+    }
+
+    /// One tick of direct attitude / rate control (offboard SET_ATTITUDE_TARGET), with the
+    /// geometric attitude gains whatever law is active; same fault rule as [`Self::update`].
+    pub fn update_attitude(&mut self, x: &VehicleState, target: &AttitudeTarget) -> ControlOutput {
+        if !(x.is_finite() && target.is_finite()) {
+            return self.hold(ControlFlags {
+                non_finite: true,
+                ..Default::default()
+            });
+        }
+        let out = super::attitude_target::track_attitude(&self.model, &self.gains.geometric, x, target);
+        if out.is_finite() {
+            self.last_good = Some(out);
+            out
+        } else {
+            self.hold(ControlFlags {
+                non_finite: true,
+                ..out.flags
+            })
         }
     }
 

@@ -6,6 +6,7 @@
 //! - [`hierarchical`]: RPY, feedback-linearised inner loop (control.md §4).
 //! - [`passivity`]: RPY, passivity-based, no feedback linearisation (control.md §6).
 
+pub mod attitude_target;
 mod controller;
 mod external;
 pub mod filters;
@@ -20,6 +21,7 @@ mod rpy_reference;
 mod setpoint;
 mod state;
 
+pub use attitude_target::AttitudeTarget;
 pub use controller::{ControlInput, Controller, ControllerError, ControllerKind};
 pub use external::ExternalWrench;
 pub use gains::{

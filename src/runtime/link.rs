@@ -16,7 +16,7 @@ use crate::mav::codec::{decode_datagram, encode_v2, unsupported_command_ack, Inb
 use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
 use crate::mav::mission_items::parse_mission;
 use crate::mav::mission_xfer::{download_count, download_item, mission_ack, Completed, MissionTransfer};
-use crate::mav::offboard::decode_local_target;
+use crate::mav::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
 use crate::mav::params::{decode_param_set, name_of, param_error_unknown, param_value};
 use crate::mav::services::{autopilot_version, ftp_reply, ping_reply, timesync_reply};
 use crate::mav::streams::{LinkKind, StreamTable};
@@ -386,6 +386,34 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
         MavMessage::REQUEST_DATA_STREAM(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {
             if let Ok(mut t) = sender.streams.lock() {
                 t.request_data_stream(r.req_stream_id as u8, r.req_message_rate, r.start_stop != 0);
+            }
+        }
+        MavMessage::SET_POSITION_TARGET_GLOBAL_INT(t)
+            if ctx.identity.accepts(header, t.target_system, t.target_component) =>
+        {
+            let origin = ctx.snapshot.borrow().home;
+            match decode_global_target(t, &origin) {
+                Ok(target) => {
+                    let _ = ctx.inbox.try_send(VehicleCommand::Request {
+                        request: Request::OffboardSetpoint {
+                            setpoint: target.setpoint,
+                            body_frame: target.body_frame,
+                        },
+                        reply: None,
+                    });
+                }
+                Err(why) => reply(status_text(MavSeverity::MAV_SEVERITY_WARNING, &why)),
+            }
+        }
+        MavMessage::SET_ATTITUDE_TARGET(t) if ctx.identity.accepts(header, t.target_system, t.target_component) => {
+            match decode_attitude_target(t) {
+                Ok(target) => {
+                    let _ = ctx.inbox.try_send(VehicleCommand::Request {
+                        request: Request::OffboardAttitude(target),
+                        reply: None,
+                    });
+                }
+                Err(why) => reply(status_text(MavSeverity::MAV_SEVERITY_WARNING, &why)),
             }
         }
         MavMessage::PARAM_REQUEST_LIST(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {

@@ -147,7 +147,11 @@ impl Vehicle {
         let t_s = self.time_s();
         let x = self.plant.sense();
         let tick = self.commander.update(&x, t_s);
-        let step = tick.setpoint.map(|sp| self.core.step(&x, &sp));
+        let step = match (tick.setpoint, tick.attitude) {
+            (Some(sp), _) => Some(self.core.step(&x, &sp)),
+            (None, Some(target)) => Some(self.core.step_attitude(&x, &target)),
+            (None, None) => None,
+        };
         match &step {
             Some(out) => self.plant.step(out.allocation.omega().as_slice(), self.dt_s),
             None => self.plant.step(&self.idle, self.dt_s),
