@@ -24,6 +24,7 @@ pub type PlantStatus = StepStatus;
 pub struct SimPlant {
     plant: Plant,
     rng: ChaCha8Rng,
+    accel_b: Vec3,
 }
 
 /// Exact plant quantities for logs (never fed to the controller).
@@ -46,6 +47,7 @@ impl SimPlant {
         Ok(Self {
             plant: Plant::new(params),
             rng: rand_chacha_seed(seed),
+            accel_b: Vec3::zeros(),
         })
     }
 
@@ -57,6 +59,7 @@ impl SimPlant {
     /// Sensor sample as the controller's state.
     pub fn sense(&mut self) -> VehicleState {
         let s = self.plant.sense(&mut self.rng);
+        self.accel_b = s.accel_b;
         VehicleState {
             t_s: s.t_s,
             pos_w: s.pos_w,
@@ -64,6 +67,11 @@ impl SimPlant {
             r_wb: s.q_wb.to_rotation_matrix().into_inner(),
             omega_b: s.omega_b,
         }
+    }
+
+    /// Specific force of the last sample, body FRD [m/s²] (accelerometer).
+    pub fn accel_b(&self) -> Vec3 {
+        self.accel_b
     }
 
     /// Advances the plant by `dt_s` [s] with rotor speeds `omega_rad_s` [rad/s].
@@ -85,6 +93,11 @@ impl SimPlant {
             external_force_w: t.external_force_w,
             external_torque_b: t.external_torque_b,
         }
+    }
+
+    /// Turns the plant's ground and ceiling effects on or off (contact stays).
+    pub fn set_proximity_effects(&mut self, ground: bool, ceiling: bool) {
+        self.plant.set_proximity_effects(ground, ceiling);
     }
 
     /// True mass of the simulated vehicle [kg] (for reports, never for the controller).

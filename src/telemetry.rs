@@ -31,6 +31,8 @@ pub struct Snapshot {
     pub eta: Vec3,
     /// Body rates, FRD [rad/s].
     pub omega_b: Vec3,
+    /// Specific force (accelerometer), body FRD [m/s²].
+    pub accel_b: Vec3,
     /// Armed.
     pub armed: bool,
     /// Flight mode.

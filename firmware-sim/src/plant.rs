@@ -76,6 +76,8 @@ pub struct Plant {
     at_ceiling: bool,
     external_force_w: Vector3<f64>,
     external_torque_b: Vector3<f64>,
+    /// Ground and ceiling effect switched on (contact is always on).
+    proximity_enabled: (bool, bool),
 }
 
 impl Plant {
@@ -115,6 +117,7 @@ impl Plant {
             at_ceiling: false,
             external_force_w: Vector3::zeros(),
             external_torque_b: Vector3::zeros(),
+            proximity_enabled: (true, true),
         }
     }
 
@@ -263,17 +266,28 @@ impl Plant {
 
     /// Thrust factor of each rotor from its hub's distance to ground and ceiling
     /// (control.md §8.4 rules 1–2), held over the step.
+    /// Turns the aerodynamic ground and ceiling effects on or off (contact with the planes
+    /// stays); an effect the airframe file does not configure stays off.
+    pub fn set_proximity_effects(&mut self, ground: bool, ceiling: bool) {
+        self.proximity_enabled = (ground, ceiling);
+        if !ground && !ceiling {
+            self.factor.iter_mut().for_each(|f| *f = 1.0);
+        }
+    }
+
     fn update_proximity_factors(&mut self) {
         let ground = &self.params.ground;
-        let ceiling = self.params.ceiling.as_ref();
-        if ground.effect.is_none() && ceiling.is_none() {
+        let ceiling = self.params.ceiling.as_ref().filter(|_| self.proximity_enabled.1);
+        let ground_effect = ground.effect.as_ref().filter(|_| self.proximity_enabled.0);
+        if ground_effect.is_none() && ceiling.is_none() {
+            self.factor.iter_mut().for_each(|f| *f = 1.0);
             return;
         }
         let r_wb = self.body.q_wb.to_rotation_matrix();
         for (k, rotor) in self.factor.iter_mut().zip(&self.params.rotors) {
             let hub_z = self.body.pos_w.z + (r_wb * rotor.hub_b).z;
             let mut f = 1.0;
-            if let Some(effect) = &ground.effect {
+            if let Some(effect) = ground_effect {
                 f *= effect.factor(ground.plane_z_m - hub_z);
             }
             if let Some(c) = ceiling {

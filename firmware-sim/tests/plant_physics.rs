@@ -166,6 +166,18 @@ fn ground_effect_factor_in_the_loop() {
         "{}",
         plant.truth().accel_w.z
     );
+    // Switched off at the same height: exactly 1, and back on again.
+    plant.set_proximity_effects(false, false);
+    plant.set_body_state(airborne(-rho));
+    plant.step(&hover, DEFAULT_DT_S);
+    assert!(plant.proximity_factors().iter().all(|f| *f == 1.0));
+    plant.set_proximity_effects(true, true);
+    plant.set_body_state(airborne(-rho));
+    plant.step(&hover, DEFAULT_DT_S);
+    assert!(plant
+        .proximity_factors()
+        .iter()
+        .all(|f| (f - 16.0 / 15.0).abs() < 1e-12));
     // Far from the ground: exactly 1.
     plant.set_body_state(airborne(-50.0));
     plant.step(&hover, DEFAULT_DT_S);

@@ -606,3 +606,14 @@ def test_offboard_attitude_and_global_targets(autopilot):
         autopilot.gcs.recv_match(type="LOCAL_POSITION_NED", blocking=True, timeout=0.05)
     pos = autopilot.gcs.messages["LOCAL_POSITION_NED"]
     assert abs(pos.x - 3) < 0.1 and abs(pos.z + 3) < 0.1, pos
+
+
+def test_highres_imu_and_ground_effect_switch(autopilot):
+    autopilot.heartbeat()
+    assert autopilot.command(511, 105, 100000).result == ACCEPTED
+    imu = autopilot.wait(lambda m: True, "HIGHRES_IMU", 2)
+    assert imu is not None and abs(imu.zacc + 9.81) < 0.05 and abs(imu.abs_pressure - 955.0) < 5.0, imu
+    for value in (0, 1):
+        autopilot.gcs.mav.param_set_send(1, 1, b"RP_GND_EFFECT", int32_bits(value), 6)
+        echo = autopilot.wait(lambda m: m.param_id == "RP_GND_EFFECT", "PARAM_VALUE", 2)
+        assert echo is not None and float_bits_to_int(echo.param_value) == value

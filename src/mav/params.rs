@@ -80,6 +80,8 @@ mod tests {
             compensation: false,
             gains: ControllerGains::default(),
             estimator: None,
+            ground_effect: true,
+            ceiling_effect: true,
         })
     }
 

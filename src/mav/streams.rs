@@ -32,6 +32,7 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         HomePosition | BatteryStatus => (0.5, 0.5),
         MissionCurrent => (1.0, 1.0),
         ServoOutputRaw => (1.0, 10.0),
+        HighresImu => (0.0, 50.0),
         ExternalForce | ExternalTorque | MassEstimate => (10.0, 10.0),
     };
     match kind {
@@ -106,6 +107,7 @@ impl StreamTable {
         use Stream::*;
         let group: &[Stream] = match stream_id {
             0 => &Stream::ALL,
+            1 => &[HighresImu],
             2 => &[SysStatus, ExtendedSysState, GpsRawInt, MissionCurrent],
             6 => &[GlobalPosition, LocalPosition],
             10 => &[Attitude],

@@ -1,11 +1,11 @@
 //! Telemetry messages from a [`Snapshot`] (mavlink.md §4–§5). Pure.
 
 use mavlink::dialects::common::{
-    GpsFixType, MavFrame, MavLandedState, MavMessage, MavSeverity, MavSysStatusSensor, MavVtolState,
-    PositionTargetTypemask, ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA, BATTERY_STATUS_DATA,
-    DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, HOME_POSITION_DATA,
-    LOCAL_POSITION_NED_DATA, MISSION_CURRENT_DATA, NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA,
-    SERVO_OUTPUT_RAW_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA, VFR_HUD_DATA,
+    GpsFixType, HighresImuUpdatedFlags, MavFrame, MavLandedState, MavMessage, MavSeverity, MavSysStatusSensor,
+    MavVtolState, PositionTargetTypemask, ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA,
+    BATTERY_STATUS_DATA, DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA,
+    HIGHRES_IMU_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, MISSION_CURRENT_DATA, NAMED_VALUE_FLOAT_DATA,
+    POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA, VFR_HUD_DATA,
 };
 
 use crate::commander::{FlightMode, LandedState, MissionState};
@@ -29,6 +29,8 @@ pub enum Stream {
     PositionTarget,
     /// SERVO_OUTPUT_RAW (36): rotor speeds as 1000–2000 µs (ω / ω_max).
     ServoOutputRaw,
+    /// HIGHRES_IMU (105): accelerometer, gyro, magnetometer (a fixed field) and barometer.
+    HighresImu,
     /// SYS_STATUS (1).
     SysStatus,
     /// EXTENDED_SYS_STATE (245).
@@ -53,7 +55,8 @@ pub enum Stream {
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 17] = [
+    pub const ALL: [Stream; 18] = [
+        Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
         Stream::Attitude,
@@ -83,6 +86,7 @@ impl Stream {
             Stream::LocalPosition => 32,
             Stream::GlobalPosition => 33,
             Stream::ServoOutputRaw => 36,
+            Stream::HighresImu => 105,
             Stream::MissionCurrent => 42,
             Stream::VfrHud => 74,
             Stream::AttitudeTarget => 83,
@@ -249,6 +253,30 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 servo16_raw: pwm(15),
             })
         }
+        Stream::HighresImu => {
+            let alt = s.home.to_global(&s.pos_w).2;
+            // Earth field about Zürich, rotated into the body (gauss); ISA pressure at altitude.
+            let mag_w = Vec3::new(0.21, 0.015, 0.43);
+            let mag_b = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z).inverse() * mag_w;
+            let pressure_hpa = 1013.25 * (1.0 - 2.25577e-5 * alt).powf(5.25588);
+            MavMessage::HIGHRES_IMU(HIGHRES_IMU_DATA {
+                time_usec,
+                xacc: s.accel_b.x as f32,
+                yacc: s.accel_b.y as f32,
+                zacc: s.accel_b.z as f32,
+                xgyro: s.omega_b.x as f32,
+                ygyro: s.omega_b.y as f32,
+                zgyro: s.omega_b.z as f32,
+                xmag: mag_b.x as f32,
+                ymag: mag_b.y as f32,
+                zmag: mag_b.z as f32,
+                abs_pressure: pressure_hpa as f32,
+                pressure_alt: alt as f32,
+                temperature: 20.0,
+                fields_updated: HighresImuUpdatedFlags::from_bits_truncate(0x1FFF),
+                ..Default::default()
+            })
+        }
         Stream::ExternalForce => vector("EXT_F", s.estimate?.force_w),
         Stream::ExternalTorque => vector("EXT_T", s.estimate?.torque_b),
         Stream::MassEstimate => MavMessage::NAMED_VALUE_FLOAT(NAMED_VALUE_FLOAT_DATA {
@@ -391,6 +419,7 @@ mod tests {
             vel_w: Vec3::new(0.5, 0.0, -0.25),
             eta: Vec3::new(0.1, -0.2, -1.0),
             omega_b: Vec3::new(0.01, 0.02, 0.03),
+            accel_b: Vec3::new(0.0, 0.0, -9.81),
             armed: true,
             mode: FlightMode::Loiter,
             landed: LandedState::InAir,

@@ -74,6 +74,10 @@ pub struct VehicleSettings {
     pub gains: ControllerGains,
     /// Estimator design; `None` when off (order 0).
     pub estimator: Option<ChebyshevDesign>,
+    /// The plant's ground effect (as its airframe file configures it) switched on.
+    pub ground_effect: bool,
+    /// The plant's ceiling effect switched on.
+    pub ceiling_effect: bool,
 }
 
 impl ParamTable {
@@ -160,6 +164,8 @@ mod tests {
             compensation: false,
             gains: ControllerGains::default(),
             estimator: None,
+            ground_effect: true,
+            ceiling_effect: true,
         }
     }
 

@@ -7,7 +7,7 @@ use crate::estimation::{ChebyshevDesign, MAX_ORDER};
 use super::{vec3, ParamDef, ParamType, VehicleSettings};
 
 /// Every parameter name, in index order.
-pub const PARAM_NAMES: [&str; 56] = [
+pub const PARAM_NAMES: [&str; 58] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -64,6 +64,8 @@ pub const PARAM_NAMES: [&str; 56] = [
     "COM_OF_LOSS_T",
     "NAV_DLL_ACT",
     "COM_DL_LOSS_T",
+    "RP_GND_EFFECT",
+    "RP_CEIL_EFFECT",
 ];
 
 fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
@@ -138,6 +140,14 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
     out.push((def(PARAM_NAMES[k + 2], Real32, 0.0, 60.0), c.offboard_loss_s));
     out.push((def(PARAM_NAMES[k + 3], Int32, 0.0, 6.0), f64::from(c.link_loss_action)));
     out.push((def(PARAM_NAMES[k + 4], Int32, 5.0, 300.0), c.link_loss_s));
+    out.push((
+        def(PARAM_NAMES[k + 5], Int32, 0.0, 1.0),
+        f64::from(u8::from(s.ground_effect)),
+    ));
+    out.push((
+        def(PARAM_NAMES[k + 6], Int32, 0.0, 1.0),
+        f64::from(u8::from(s.ceiling_effect)),
+    ));
     out
 }
 
@@ -189,6 +199,8 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
             _ => ControllerKind::Geometric,
         },
         compensation: v[8] != 0.0,
+        ground_effect: v[56] != 0.0,
+        ceiling_effect: v[57] != 0.0,
         gains,
         estimator: (order > 0).then_some(ChebyshevDesign {
             order,

@@ -259,6 +259,7 @@ fn initial_snapshot(home: Home) -> Snapshot {
         vel_w: Vec3::zeros(),
         eta: Vec3::zeros(),
         omega_b: Vec3::zeros(),
+        accel_b: Vec3::zeros(),
         armed: false,
         mode: FlightMode::Loiter,
         landed: LandedState::OnGround,

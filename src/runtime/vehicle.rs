@@ -76,6 +76,8 @@ impl Vehicle {
             compensation: false,
             gains: *core.controller.gains(),
             estimator: None,
+            ground_effect: true,
+            ceiling_effect: true,
         });
         Ok(Self {
             core,
@@ -116,6 +118,7 @@ impl Vehicle {
         if let Err(e) = self.core.controller.set_gains(s.gains) {
             tracing::warn!("{e}");
         }
+        self.plant.set_proximity_effects(s.ground_effect, s.ceiling_effect);
         if s.estimator != before.estimator {
             let observer = s.estimator.and_then(|d| {
                 let gains = d.gains(self.dt_s).ok()?;
@@ -187,6 +190,7 @@ impl Vehicle {
                 vel_w: x.vel_w,
                 eta,
                 omega_b: x.omega_b,
+                accel_b: self.plant.accel_b(),
                 armed: self.commander.armed(),
                 mode: self.commander.mode(),
                 landed: self.commander.landed_state(),
