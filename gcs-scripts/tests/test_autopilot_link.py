@@ -617,3 +617,47 @@ def test_highres_imu_and_ground_effect_switch(autopilot):
         autopilot.gcs.mav.param_set_send(1, 1, b"RP_GND_EFFECT", int32_bits(value), 6)
         echo = autopilot.wait(lambda m: m.param_id == "RP_GND_EFFECT", "PARAM_VALUE", 2)
         assert echo is not None and float_bits_to_int(echo.param_value) == value
+
+
+def test_full_flight_takeoff_offboard_square_mission_rtl_land(autopilot):
+    """The issue's end-to-end flight: arm → take-off → offboard square → 4-waypoint mission →
+    RTL → land → auto-disarm, positions checked against the plan."""
+    autopilot.heartbeat()
+    north = lambda m: HOME_LAT + round(m * METRE_LAT)  # noqa: E731
+    east = lambda m: HOME_LON + round(m * METRE_LAT / math.cos(math.radians(47.397742)))  # noqa: E731
+    plan = [(4, 0), (4, 4), (0, 4), (0, 0)]
+    items = [(16, north(x), east(y), 3.0, 0.0) for x, y in plan] + [(20, 0, 0, 0.0, 0)]
+    assert upload(autopilot, items) == 0
+    autopilot.gcs.mav.param_set_send(1, 1, b"RTL_RETURN_ALT", 4.0, 9)
+    assert autopilot.wait(lambda m: m.param_id == "RTL_RETURN_ALT", "PARAM_VALUE", 2) is not None
+    assert autopilot.command(22).result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+
+    stream_position(autopilot, 0, 0, -2.5, 0.3)
+    assert autopilot.command(176, 1, 6, 0).result == ACCEPTED
+    for x, y in [(2, 0), (2, 2), (0, 2), (0, 0)]:
+        pos = stream_position(autopilot, x, y, -2.5, 3.0)
+        assert math.hypot(pos.x - x, pos.y - y) < 0.1 and abs(pos.z + 2.5) < 0.1, (x, y, pos)
+
+    assert autopilot.command(176, 1, 4, 4).result == ACCEPTED
+    reached, checked = [], []
+    deadline = time.monotonic() + 40
+    while time.monotonic() < deadline and len(reached) < 5:
+        m = autopilot.gcs.recv_match(type=["MISSION_ITEM_REACHED", "GLOBAL_POSITION_INT"], blocking=True, timeout=1)
+        if m is None:
+            continue
+        if m.get_type() == "MISSION_ITEM_REACHED":
+            reached.append(m.seq)
+        elif reached and reached[-1] < 4 and reached[-1] not in checked:
+            x, y = plan[reached[-1]]
+            assert abs(m.lat - north(x)) < 0.6 * METRE_LAT and abs(m.lon - east(y)) < 0.6 * METRE_LAT / 0.67, m
+            assert abs(m.relative_alt - 3000) < 300
+            checked.append(reached[-1])
+    assert reached == [0, 1, 2, 3, 4] and len(checked) >= 3
+    top = autopilot.wait(lambda m: m.relative_alt > 3900, "GLOBAL_POSITION_INT", 10)
+    assert top is not None, "RTL climbs to RTL_RETURN_ALT"
+    assert autopilot.wait(lambda m: "Disarmed" in m.text, "STATUSTEXT", 30) is not None
+    pos = autopilot.wait(lambda m: True, "LOCAL_POSITION_NED", 2)
+    assert math.hypot(pos.x, pos.y) < 0.2 and abs(pos.z) < 0.2, "landed at home"
+    assert autopilot.wait(lambda m: not m.base_mode & 128, "HEARTBEAT", 2) is not None
