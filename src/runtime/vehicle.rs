@@ -5,7 +5,7 @@ use crate::airframe::{Airframe, AirframeSource, MAX_ROTORS};
 use crate::commander::{Commander, CommanderParams, Event, Outcome, Request};
 use crate::control::ControllerKind;
 use crate::core::{CoreError, FlightCore};
-use crate::estimation::WrenchObserver;
+use crate::estimation::{ChebyshevDesign, WrenchObserver};
 use crate::math::euler_zyx;
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable, VehicleSettings};
@@ -13,6 +13,15 @@ use crate::sitl::{SimPlant, SitlError};
 use crate::telemetry::{EstimateSnapshot, Snapshot};
 
 use super::flight_log::{LogSender, TickLog};
+
+/// The estimator the autopilot starts with: the homework's first-order design (Chebyshev
+/// 3 dB ripple, passband edge 2 rad/s), observing only (RP_COMP = 0) so it changes nothing in
+/// flight but streams the wrench and mass estimate.
+pub const DEFAULT_ESTIMATOR: ChebyshevDesign = ChebyshevDesign {
+    order: 1,
+    ripple_db: 3.0,
+    passband_rad_s: 2.0,
+};
 
 /// A vehicle that cannot be built.
 #[derive(Debug, thiserror::Error)]
@@ -75,11 +84,11 @@ impl Vehicle {
             controller: kind,
             compensation: false,
             gains: *core.controller.gains(),
-            estimator: None,
+            estimator: Some(DEFAULT_ESTIMATOR),
             ground_effect: true,
             ceiling_effect: true,
         });
-        Ok(Self {
+        let mut vehicle = Self {
             core,
             plant,
             commander: Commander::new(CommanderParams::default()),
@@ -92,7 +101,18 @@ impl Vehicle {
             believed_mass_kg: airframe.mass_kg,
             rotor_max_rad_s: airframe.omega_max_rad_s,
             believed_inertia_kg_m2: airframe.inertia_kg_m2,
-        })
+        };
+        vehicle.install_observer(Some(DEFAULT_ESTIMATOR));
+        Ok(vehicle)
+    }
+
+    /// Replaces the wrench observer by one of `design` (none when `None` or not realisable).
+    fn install_observer(&mut self, design: Option<ChebyshevDesign>) {
+        let observer = design.and_then(|d| {
+            let gains = d.gains(self.dt_s).ok()?;
+            WrenchObserver::new(self.believed_mass_kg, self.believed_inertia_kg_m2, gains, self.dt_s).ok()
+        });
+        self.core.set_observer(observer);
     }
 
     /// Sends every tick to `log` (`run.csv` of `--log DIR`).
@@ -120,11 +140,7 @@ impl Vehicle {
         }
         self.plant.set_proximity_effects(s.ground_effect, s.ceiling_effect);
         if s.estimator != before.estimator {
-            let observer = s.estimator.and_then(|d| {
-                let gains = d.gains(self.dt_s).ok()?;
-                WrenchObserver::new(self.believed_mass_kg, self.believed_inertia_kg_m2, gains, self.dt_s).ok()
-            });
-            self.core.set_observer(observer);
+            self.install_observer(s.estimator);
         }
         Ok(index)
     }
