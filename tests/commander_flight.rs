@@ -236,3 +236,45 @@ fn mission_ending_in_return_to_launch() {
     let p = sim.plant.truth().pos_w;
     assert!(p.x.abs() < 0.1 && p.y.abs() < 0.1, "{p}");
 }
+
+#[test]
+fn auto_paths_keep_mpc_xy_vel_max_and_mpc_z_vel_max_dn() {
+    let params = CommanderParams {
+        xy_vel_max_m_s: 2.0,
+        descent_speed_m_s: 0.8,
+        ..Default::default()
+    };
+    let mut sim = Sim::new("quad_x", params);
+    sim.request(Request::Takeoff { height_m: Some(6.0) });
+    sim.request(Request::Arm { force: false });
+    sim.run(8.0);
+    // A 10 m/s request is capped at MPC_XY_VEL_MAX; a straight descent keeps MPC_Z_VEL_MAX_DN.
+    let moves = [(Some(12.0), -6.0, 2.0, 0.0), (None, -2.0, 0.0, 0.8)];
+    for (north_m, down_m, horizontal_limit, down_limit) in moves {
+        let reposition = Request::Reposition {
+            north_m,
+            east_m: None,
+            down_m: Some(down_m),
+            yaw_rad: None,
+            speed_m_s: Some(10.0),
+        };
+        assert_eq!(sim.request(reposition), Outcome::Accepted);
+        let (mut horizontal, mut down): (f64, f64) = (0.0, 0.0);
+        for _ in 0..150 {
+            sim.run(0.1);
+            let v = sim.state().vel_w;
+            horizontal = horizontal.max(v.xy().norm());
+            down = down.max(v.z);
+        }
+        for (peak, limit, name) in [
+            (horizontal, horizontal_limit, "MPC_XY_VEL_MAX"),
+            (down, down_limit, "MPC_Z_VEL_MAX_DN"),
+        ] {
+            if limit > 0.0 {
+                assert!(peak < limit * 1.05 && peak > limit * 0.9, "{name}: {peak}");
+            }
+        }
+    }
+    let p = sim.plant.truth().pos_w;
+    assert!((p.x - 12.0).abs() < 0.05 && (p.z + 2.0).abs() < 0.05, "{p:?}");
+}

@@ -101,7 +101,7 @@ impl Commander {
                     self.landed = LandedState::Takeoff;
                 }
                 self.took_off = true;
-                self.guidance = Guidance::path(x.pos_w, target, yaw, self.params.climb_speed_m_s, t_s);
+                self.guidance = Guidance::path(x.pos_w, target, yaw, self.limits(self.cruise_speed()), t_s);
                 self.mission.phase = Phase::Travel;
             }
             (Phase::Start, MissionItem::Waypoint { pos_w, .. } | MissionItem::LoiterTime { pos_w, .. }) => {
@@ -109,13 +109,13 @@ impl Commander {
                     MissionItem::Waypoint { yaw_rad: Some(y), .. } => y,
                     _ => yaw,
                 };
-                self.guidance = Guidance::path(x.pos_w, pos_w, heading, speed, t_s);
+                self.guidance = Guidance::path(x.pos_w, pos_w, heading, self.limits(speed), t_s);
                 self.mission.phase = Phase::Travel;
             }
             (Phase::Start, MissionItem::Land { pos_w }) => match pos_w {
                 Some(p) if (p - x.pos_w).xy().norm() > ARRIVE_M => {
                     let above = Vec3::new(p.x, p.y, x.pos_w.z);
-                    self.guidance = Guidance::path(x.pos_w, above, yaw, speed, t_s);
+                    self.guidance = Guidance::path(x.pos_w, above, yaw, self.limits(speed), t_s);
                     self.mission.phase = Phase::Travel;
                 }
                 _ => self.begin_landing(x, yaw, t_s),

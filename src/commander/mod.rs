@@ -14,7 +14,7 @@ use mission_run::MissionRun;
 
 use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Guidance, Mission};
+use crate::navigation::{Guidance, Mission, SpeedLimits};
 
 /// Speed below which a vehicle that is asked to descend counts as landed [m/s].
 const LANDED_SPEED_M_S: f64 = 0.1;
@@ -46,6 +46,12 @@ pub struct CommanderParams {
     pub link_loss_action: i32,
     /// GCS silence that counts as link loss [s] (`COM_DL_LOSS_T`, 10).
     pub link_loss_s: f64,
+    /// Largest horizontal speed of any AUTO path [m/s] (`MPC_XY_VEL_MAX`, 12); caps cruise and
+    /// DO_CHANGE_SPEED / DO_REPOSITION speeds.
+    pub xy_vel_max_m_s: f64,
+    /// Largest descent speed of any AUTO path [m/s] (`MPC_Z_VEL_MAX_DN`, 1.5); the final landing
+    /// descends at `land_speed_m_s`.
+    pub descent_speed_m_s: f64,
 }
 
 impl Default for CommanderParams {
@@ -61,6 +67,8 @@ impl Default for CommanderParams {
             offboard_loss_s: 1.0,
             link_loss_action: 0,
             link_loss_s: 10.0,
+            xy_vel_max_m_s: 12.0,
+            descent_speed_m_s: 1.5,
         }
     }
 }
@@ -273,6 +281,16 @@ impl Commander {
         self.speed_override.unwrap_or(self.params.cruise_speed_m_s)
     }
 
+    /// Path speed limits for a horizontal speed of `horizontal_m_s` [m/s], capped at
+    /// `MPC_XY_VEL_MAX`; climbs at `MPC_Z_VEL_MAX_UP`, descents at `MPC_Z_VEL_MAX_DN`.
+    fn limits(&self, horizontal_m_s: f64) -> SpeedLimits {
+        SpeedLimits {
+            horizontal_m_s: horizontal_m_s.min(self.params.xy_vel_max_m_s),
+            up_m_s: self.params.climb_speed_m_s,
+            down_m_s: self.params.descent_speed_m_s,
+        }
+    }
+
     /// The local NED point RTL returns to [m].
     pub fn home_w(&self) -> Vec3 {
         self.home_w
@@ -366,7 +384,7 @@ impl Commander {
                 self.enter(FlightMode::Loiter, x, t_s);
                 let yaw = yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z);
                 let speed = speed_m_s.filter(|v| *v > 0.0).unwrap_or(self.cruise_speed());
-                self.guidance = Guidance::path(x.pos_w, target, yaw, speed, t_s);
+                self.guidance = Guidance::path(x.pos_w, target, yaw, self.limits(speed), t_s);
                 Outcome::Accepted
             }
             Request::ChangeSpeed(v) => {
@@ -490,7 +508,7 @@ impl Commander {
                         .unwrap_or(x.pos_w - Vec3::new(0.0, 0.0, self.params.takeoff_alt_m));
                     self.landed = LandedState::Takeoff;
                     self.took_off = true;
-                    Guidance::path(x.pos_w, target, yaw, self.params.climb_speed_m_s, t_s)
+                    Guidance::path(x.pos_w, target, yaw, self.limits(self.cruise_speed()), t_s)
                 }
                 FlightMode::Land => {
                     if !on_ground {
@@ -505,7 +523,7 @@ impl Commander {
                         x.pos_w,
                         Vec3::new(x.pos_w.x, x.pos_w.y, z),
                         yaw,
-                        self.params.climb_speed_m_s,
+                        self.limits(self.cruise_speed()),
                         t_s,
                     )
                 }
@@ -645,7 +663,7 @@ impl Commander {
             RtlPhase::Climb => {
                 self.rtl_phase = RtlPhase::Return;
                 let home_at_alt = Vec3::new(self.home_w.x, self.home_w.y, x.pos_w.z);
-                self.guidance = Guidance::path(x.pos_w, home_at_alt, yaw, self.cruise_speed(), t_s);
+                self.guidance = Guidance::path(x.pos_w, home_at_alt, yaw, self.limits(self.cruise_speed()), t_s);
             }
             RtlPhase::Return => {
                 self.rtl_phase = RtlPhase::Descend;

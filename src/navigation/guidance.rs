@@ -11,6 +11,32 @@ use super::trajectory::Quintic;
 /// error (and so the thrust reduction) bounded once the ground stops the descent.
 const LAND_LEAD_MAX_M: f64 = 0.5;
 
+/// Peak speeds of a path [m/s]; each component of the motion keeps below its own.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedLimits {
+    /// Horizontal speed [m/s].
+    pub horizontal_m_s: f64,
+    /// Climb speed [m/s].
+    pub up_m_s: f64,
+    /// Descent speed [m/s].
+    pub down_m_s: f64,
+}
+
+impl SpeedLimits {
+    /// The shortest duration [s] of a quintic over `delta_w` [m] that keeps every limit: its peak
+    /// speed is 1.875 × the mean, per component along a straight line.
+    fn duration_s(&self, delta_w: Vec3) -> f64 {
+        let slowest = f64::max(
+            delta_w.xy().norm() / self.horizontal_m_s.max(0.1),
+            f64::max(
+                (-delta_w.z).max(0.0) / self.up_m_s.max(0.1),
+                delta_w.z.max(0.0) / self.down_m_s.max(0.1),
+            ),
+        );
+        1.875 * slowest
+    }
+}
+
 /// The reference generator of the active mode.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Guidance {
@@ -46,10 +72,10 @@ pub enum Guidance {
 }
 
 impl Guidance {
-    /// A rest-to-rest path from `from_w` to `to_w` [m] whose peak speed stays below `speed_m_s`
-    /// [m/s] (a quintic's peak is 1.875 × the mean), at least 1 s long.
-    pub fn path(from_w: Vec3, to_w: Vec3, yaw_rad: f64, speed_m_s: f64, start_s: f64) -> Self {
-        let duration_s = (1.875 * (to_w - from_w).norm() / speed_m_s.max(0.1)).max(1.0);
+    /// A rest-to-rest path from `from_w` to `to_w` [m] whose horizontal, climb and descent speeds
+    /// stay below `limits`, at least 1 s long.
+    pub fn path(from_w: Vec3, to_w: Vec3, yaw_rad: f64, limits: SpeedLimits, start_s: f64) -> Self {
+        let duration_s = limits.duration_s(to_w - from_w).max(1.0);
         Self::Path {
             path: Quintic {
                 start_w: from_w,
@@ -108,20 +134,45 @@ mod tests {
         }
     }
 
+    const LIMITS: SpeedLimits = SpeedLimits {
+        horizontal_m_s: 5.0,
+        up_m_s: 2.0,
+        down_m_s: 1.0,
+    };
+
+    /// Peak (horizontal, up, down) speeds of `g` over 30 s from `start_s` [m/s].
+    fn peaks(g: &Guidance, start_s: f64) -> (f64, f64, f64) {
+        let mut peak = (0.0_f64, 0.0_f64, 0.0_f64);
+        for k in 0..3000 {
+            let v = g.setpoint(start_s + k as f64 * 0.01, &at(0.0)).unwrap().vel_w.unwrap();
+            peak = (peak.0.max(v.xy().norm()), peak.1.max(-v.z), peak.2.max(v.z));
+        }
+        peak
+    }
+
     #[test]
     fn path_respects_the_speed_limit_and_ends_at_rest() {
-        let g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 0.0, -5.0), 0.0, 2.0, 10.0);
-        let mut peak: f64 = 0.0;
-        for k in 0..1000 {
-            let sp = g.setpoint(10.0 + k as f64 * 0.01, &at(0.0)).unwrap();
-            peak = peak.max(sp.vel_w.unwrap().norm());
-        }
+        let g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 0.0, -5.0), 0.0, LIMITS, 10.0);
+        let (_, peak, _) = peaks(&g, 10.0);
         assert!(peak <= 2.0 + 1e-9 && peak > 1.9, "{peak}");
         assert!(g.finished(14.7) && !g.finished(14.6));
         assert_eq!(
             g.setpoint(20.0, &at(0.0)).unwrap().pos_w,
             Some(Vec3::new(0.0, 0.0, -5.0))
         );
+    }
+
+    #[test]
+    fn each_component_keeps_its_own_limit() {
+        // 10 m north and 4 m down: the descent (1 m/s) sets the duration, not the cruise speed.
+        let g = Guidance::path(Vec3::zeros(), Vec3::new(10.0, 0.0, 4.0), 0.0, LIMITS, 0.0);
+        let (horizontal, up, down) = peaks(&g, 0.0);
+        assert!(down <= 1.0 + 1e-9 && down > 0.99, "{down}");
+        assert!((horizontal - 2.5).abs() < 0.01 && up == 0.0, "{horizontal} {up}");
+        // 20 m east and 1 m up: the horizontal limit binds.
+        let g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 20.0, -1.0), 0.0, LIMITS, 0.0);
+        let (horizontal, _, _) = peaks(&g, 0.0);
+        assert!(horizontal <= 5.0 + 1e-9 && horizontal > 4.99, "{horizontal}");
     }
 
     #[test]

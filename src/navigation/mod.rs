@@ -9,6 +9,6 @@ pub mod trajectory;
 
 pub use climb::ClimbProfile;
 pub use geo::Home;
-pub use guidance::Guidance;
+pub use guidance::{Guidance, SpeedLimits};
 pub use mission::{Mission, MissionItem};
 pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};

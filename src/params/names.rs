@@ -7,7 +7,7 @@ use crate::estimation::{ChebyshevDesign, MAX_ORDER};
 use super::{vec3, ParamDef, ParamType, VehicleSettings};
 
 /// Every parameter name, in index order.
-pub const PARAM_NAMES: [&str; 58] = [
+pub const PARAM_NAMES: [&str; 60] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -66,6 +66,8 @@ pub const PARAM_NAMES: [&str; 58] = [
     "COM_DL_LOSS_T",
     "RP_GND_EFFECT",
     "RP_CEIL_EFFECT",
+    "MPC_XY_VEL_MAX",
+    "MPC_Z_VEL_MAX_DN",
 ];
 
 fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
@@ -148,6 +150,8 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
         def(PARAM_NAMES[k + 6], Int32, 0.0, 1.0),
         f64::from(u8::from(s.ceiling_effect)),
     ));
+    out.push((def(PARAM_NAMES[k + 7], Real32, 0.5, 50.0), c.xy_vel_max_m_s));
+    out.push((def(PARAM_NAMES[k + 8], Real32, 0.1, 10.0), c.descent_speed_m_s));
     out
 }
 
@@ -192,6 +196,8 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
             offboard_loss_s: v[53],
             link_loss_action: v[54] as i32,
             link_loss_s: v[55],
+            xy_vel_max_m_s: v[58],
+            descent_speed_m_s: v[59],
         },
         controller: match v[7] as i64 {
             1 => ControllerKind::Hierarchical,
