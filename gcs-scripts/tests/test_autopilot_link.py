@@ -426,7 +426,8 @@ def test_stream_rates_and_default_telemetry(autopilot):
     autopilot.gcs.mav.heartbeat_send(6, 8, 0, 0, 0)
     # Everything of PX4's GCS defaults arrives unasked.
     wanted = {"SYS_STATUS", "EXTENDED_SYS_STATE", "ATTITUDE", "LOCAL_POSITION_NED", "GLOBAL_POSITION_INT",
-              "GPS_RAW_INT", "VFR_HUD", "HOME_POSITION", "BATTERY_STATUS", "SERVO_OUTPUT_RAW", "MISSION_CURRENT"}
+              "GPS_RAW_INT", "VFR_HUD", "HOME_POSITION", "BATTERY_STATUS", "SERVO_OUTPUT_RAW", "ACTUATOR_OUTPUT_STATUS",
+              "MISSION_CURRENT"}
     seen = set()
     deadline = time.monotonic() + 3
     while time.monotonic() < deadline and not wanted <= seen:
@@ -436,6 +437,8 @@ def test_stream_rates_and_default_telemetry(autopilot):
     assert wanted <= seen, wanted - seen
     gps = autopilot.gcs.messages["GPS_RAW_INT"]
     assert gps.fix_type == 3 and gps.lat == 473977420
+    actuators = autopilot.gcs.messages["ACTUATOR_OUTPUT_STATUS"]
+    assert actuators.active == 4 and list(actuators.actuator) == [0.0] * 32, "disarmed: rotors stopped"
     # LOCAL_POSITION_NED at 50 Hz instead of 1 Hz, then off.
     assert autopilot.command(511, 32, 20000).result == ACCEPTED
     start, n = time.monotonic(), 0

@@ -31,7 +31,7 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         VfrHud => (4.0, 10.0),
         HomePosition | BatteryStatus => (0.5, 0.5),
         MissionCurrent => (1.0, 1.0),
-        ServoOutputRaw => (1.0, 10.0),
+        ServoOutputRaw | ActuatorOutputStatus => (1.0, 10.0),
         HighresImu => (0.0, 50.0),
         ExternalForce | ExternalTorque | MassEstimate => (10.0, 10.0),
     };

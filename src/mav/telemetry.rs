@@ -2,10 +2,11 @@
 
 use mavlink::dialects::common::{
     GpsFixType, HighresImuUpdatedFlags, MavFrame, MavLandedState, MavMessage, MavSeverity, MavSysStatusSensor,
-    MavVtolState, PositionTargetTypemask, ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA,
-    BATTERY_STATUS_DATA, DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA,
-    HIGHRES_IMU_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, MISSION_CURRENT_DATA, NAMED_VALUE_FLOAT_DATA,
-    POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA, VFR_HUD_DATA,
+    MavVtolState, PositionTargetTypemask, ACTUATOR_OUTPUT_STATUS_DATA, ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA,
+    ATTITUDE_TARGET_DATA, BATTERY_STATUS_DATA, DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA,
+    GPS_RAW_INT_DATA, HIGHRES_IMU_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, MISSION_CURRENT_DATA,
+    NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA,
+    VFR_HUD_DATA,
 };
 
 use crate::commander::{FlightMode, LandedState, MissionState};
@@ -29,6 +30,8 @@ pub enum Stream {
     PositionTarget,
     /// SERVO_OUTPUT_RAW (36): rotor speeds as 1000–2000 µs (ω / ω_max).
     ServoOutputRaw,
+    /// ACTUATOR_OUTPUT_STATUS (375): rotor speeds [rad/s], one per rotor.
+    ActuatorOutputStatus,
     /// HIGHRES_IMU (105): accelerometer, gyro, magnetometer (a fixed field) and barometer.
     HighresImu,
     /// SYS_STATUS (1).
@@ -55,7 +58,7 @@ pub enum Stream {
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 18] = [
+    pub const ALL: [Stream; 19] = [
         Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
@@ -70,6 +73,7 @@ impl Stream {
         Stream::AttitudeTarget,
         Stream::PositionTarget,
         Stream::ServoOutputRaw,
+        Stream::ActuatorOutputStatus,
         Stream::MissionCurrent,
         Stream::ExternalForce,
         Stream::ExternalTorque,
@@ -86,6 +90,7 @@ impl Stream {
             Stream::LocalPosition => 32,
             Stream::GlobalPosition => 33,
             Stream::ServoOutputRaw => 36,
+            Stream::ActuatorOutputStatus => 375,
             Stream::HighresImu => 105,
             Stream::MissionCurrent => 42,
             Stream::VfrHud => 74,
@@ -251,6 +256,17 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 servo14_raw: pwm(13),
                 servo15_raw: pwm(14),
                 servo16_raw: pwm(15),
+            })
+        }
+        Stream::ActuatorOutputStatus => {
+            let mut actuator = [0.0_f32; 32];
+            for (a, w) in actuator.iter_mut().zip(&s.rotor_speeds[..s.rotor_count]) {
+                *a = *w as f32;
+            }
+            MavMessage::ACTUATOR_OUTPUT_STATUS(ACTUATOR_OUTPUT_STATUS_DATA {
+                time_usec,
+                active: s.rotor_count as u32,
+                actuator,
             })
         }
         Stream::HighresImu => {
@@ -453,6 +469,21 @@ mod tests {
             panic!("wrong message");
         };
         assert_eq!(e.landed_state, MavLandedState::MAV_LANDED_STATE_IN_AIR);
+    }
+
+    #[test]
+    fn rotor_speeds_go_out_in_rad_s_and_as_pwm() {
+        let mut s = snapshot();
+        s.rotor_speeds[..4].copy_from_slice(&[550.0, 560.0, 570.0, 1100.0]);
+        let Some(MavMessage::ACTUATOR_OUTPUT_STATUS(a)) = message(Stream::ActuatorOutputStatus, &s) else {
+            panic!("wrong message");
+        };
+        assert_eq!((a.active, a.time_usec), (4, 12_345_000));
+        assert_eq!(&a.actuator[..5], &[550.0, 560.0, 570.0, 1100.0, 0.0]);
+        let Some(MavMessage::SERVO_OUTPUT_RAW(r)) = message(Stream::ServoOutputRaw, &s) else {
+            panic!("wrong message");
+        };
+        assert_eq!((r.servo1_raw, r.servo4_raw, r.servo5_raw), (1500, 2000, 0));
     }
 
     #[test]
