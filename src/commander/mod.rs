@@ -160,6 +160,8 @@ pub enum Outcome {
     Denied(String),
     /// A coordinate frame the command cannot use (MAV_RESULT_UNSUPPORTED_MAV_FRAME).
     Unsupported(String),
+    /// Understood but not possible on this vehicle (MAV_RESULT_FAILED).
+    Failed(String),
 }
 
 /// Something the commander did on its own, to announce.

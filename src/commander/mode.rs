@@ -81,6 +81,19 @@ impl FlightMode {
         Self::from_px4(((custom_mode >> 16) & 0xFF) as u8, ((custom_mode >> 24) & 0xFF) as u8)
     }
 
+    /// The mode for a MAV_STANDARD_MODE (DO_SET_STANDARD_MODE p1, mavlink.md §2.2): position hold
+    /// (1), safe recovery (5, return), mission (6), land (7), take-off (8); `None` for the others.
+    pub fn from_standard_mode(standard_mode: u8) -> Option<Self> {
+        match standard_mode {
+            1 => Some(Self::Position),
+            5 => Some(Self::ReturnToLaunch),
+            6 => Some(Self::Mission),
+            7 => Some(Self::Land),
+            8 => Some(Self::Takeoff),
+            _ => None,
+        }
+    }
+
     /// PX4's display name.
     pub fn name(self) -> &'static str {
         match self {

@@ -184,6 +184,15 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
                 }
             }
         }
+        MavCmd::MAV_CMD_DO_SET_STANDARD_MODE => match param(cmd.param1) {
+            Some(p) => match FlightMode::from_standard_mode(p as u8) {
+                Some(mode) if p.fract() == 0.0 && (0.0..=255.0).contains(&p) => {
+                    CommandDecision::Execute(Request::SetMode(mode))
+                }
+                _ => CommandDecision::Refuse(Outcome::Failed(format!("Standard mode {p} not available"))),
+            },
+            None => CommandDecision::Refuse(Outcome::Denied("Set standard mode: no mode".into())),
+        },
         MavCmd::MAV_CMD_DO_REPOSITION => {
             // COMMAND_LONG form: p5/p6 latitude/longitude [deg], p7 AMSL [m] (NaN = keep).
             let (lat, lon) = (param(cmd.param5), param(cmd.param6));
@@ -297,6 +306,7 @@ pub fn result_of(outcome: &Outcome) -> MavResult {
         Outcome::TemporarilyRejected(_) => MavResult::MAV_RESULT_TEMPORARILY_REJECTED,
         Outcome::Denied(_) => MavResult::MAV_RESULT_DENIED,
         Outcome::Unsupported(_) => MavResult::MAV_RESULT_COMMAND_UNSUPPORTED_MAV_FRAME,
+        Outcome::Failed(_) => MavResult::MAV_RESULT_FAILED,
     }
 }
 
@@ -434,6 +444,27 @@ mod tests {
         assert_eq!(
             d(MavCmd::MAV_CMD_DO_SET_MODE, [129.0, 4.0, 3.0, NAN, NAN, NAN, NAN]),
             CommandDecision::Execute(Request::SetMode(FlightMode::Loiter))
+        );
+        assert_eq!(
+            d(
+                MavCmd::MAV_CMD_DO_SET_STANDARD_MODE,
+                [5.0, NAN, NAN, NAN, NAN, NAN, NAN]
+            ),
+            CommandDecision::Execute(Request::SetMode(FlightMode::ReturnToLaunch))
+        );
+        assert!(matches!(
+            d(
+                MavCmd::MAV_CMD_DO_SET_STANDARD_MODE,
+                [2.0, NAN, NAN, NAN, NAN, NAN, NAN]
+            ),
+            CommandDecision::Refuse(Outcome::Failed(_))
+        ));
+        assert_eq!(
+            d(
+                MavCmd::MAV_CMD_DO_SET_STANDARD_MODE,
+                [6.0, NAN, NAN, NAN, NAN, NAN, NAN]
+            ),
+            CommandDecision::Execute(Request::SetMode(FlightMode::Mission))
         );
         assert!(matches!(
             d(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]),

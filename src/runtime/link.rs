@@ -696,7 +696,10 @@ async fn answer(sender: &Sender, key: CommandKey, header: &MavHeader, command: M
         cache.answered(key, result, sender.now_s());
     }
     sender.send(&command_ack(header, command, result), to).await;
-    if let AckOf::Outcome(Outcome::TemporarilyRejected(why) | Outcome::Denied(why)) = ack {
+    if let AckOf::Outcome(
+        Outcome::TemporarilyRejected(why) | Outcome::Denied(why) | Outcome::Unsupported(why) | Outcome::Failed(why),
+    ) = ack
+    {
         sender
             .send(&status_text(MavSeverity::MAV_SEVERITY_WARNING, why), to)
             .await;
