@@ -64,9 +64,7 @@ class Autopilot:
 
 
 @pytest.fixture
-def autopilot():
-    if not BINARY.exists():
-        pytest.fail(f"rotorpilot binary not found at {BINARY}: run cargo build --release first")
+def autopilot(rotorpilot_bin):
     ap = Autopilot()
     yield ap
     ap.close()
@@ -302,6 +300,37 @@ def test_offboard_body_frame_velocity(autopilot):
 
 HOME_LAT, HOME_LON = 473977420, 85455940
 METRE_LAT = 1e7 / (6371000 * math.pi / 180)  # degE7 per metre north
+METRE_LON = METRE_LAT / math.cos(math.radians(47.397742))  # degE7 per metre east at home
+
+
+def north(metres):
+    """degE7 latitude `metres` north of home."""
+    return HOME_LAT + round(metres * METRE_LAT)
+
+
+def east(metres):
+    """degE7 longitude `metres` east of home."""
+    return HOME_LON + round(metres * METRE_LON)
+
+
+def follow_mission(autopilot, waypoints, first_seq, count, timeout):
+    """Collects MISSION_ITEM_REACHED until `count` items are reached; the first GLOBAL_POSITION_INT
+    after reaching waypoint item `first_seq + i` (GLOBAL_POSITION_INT streams at 5 Hz) must be
+    within 0.6 m of `waypoints[i]` (north, east) at 3 m. Returns (reached, checked)."""
+    reached, checked = [], []
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and len(reached) < count:
+        m = autopilot.gcs.recv_match(type=["MISSION_ITEM_REACHED", "GLOBAL_POSITION_INT"], blocking=True, timeout=1)
+        if m is None:
+            continue
+        if m.get_type() == "MISSION_ITEM_REACHED":
+            reached.append(m.seq)
+        elif reached and 0 <= reached[-1] - first_seq < len(waypoints) and reached[-1] not in checked:
+            x, y = waypoints[reached[-1] - first_seq]
+            assert abs(m.lat - north(x)) < 0.6 * METRE_LAT and abs(m.lon - east(y)) < 0.6 * METRE_LON, m
+            assert abs(m.relative_alt - 3000) < 300
+            checked.append(reached[-1])
+    return reached, checked
 
 
 def upload(autopilot, items):
@@ -329,8 +358,6 @@ def download(autopilot):
 def test_mission_upload_download_fly_and_return(autopilot):
     autopilot.heartbeat()
     assert autopilot.command(176, 1, 4, 4).result == TEMPORARILY_REJECTED, "no mission yet"
-    north = lambda m: HOME_LAT + round(m * METRE_LAT)  # noqa: E731
-    east = lambda m: HOME_LON + round(m * METRE_LAT / math.cos(math.radians(47.397742)))  # noqa: E731
     square = [(22, HOME_LAT, HOME_LON, 3.0, 0)] + [
         (16, north(x), east(y), 3.0, 0.0) for x, y in [(5, 0), (5, 5), (0, 5), (0, 0)]
     ] + [(20, 0, 0, 0.0, 0)]
@@ -347,20 +374,7 @@ def test_mission_upload_download_fly_and_return(autopilot):
     assert autopilot.wait(lambda m: m.param_id == "RTL_RETURN_ALT", "PARAM_VALUE", 2).param_value == 5.0
     assert autopilot.command(176, 1, 4, 4).result == ACCEPTED
     assert autopilot.command(400, 1.0).result == ACCEPTED
-    reached, checked = [], []
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and len(reached) < 6:
-        m = autopilot.gcs.recv_match(type=["MISSION_ITEM_REACHED", "GLOBAL_POSITION_INT"], blocking=True, timeout=1)
-        if m is None:
-            continue
-        if m.get_type() == "MISSION_ITEM_REACHED":
-            reached.append(m.seq)
-        elif reached and 1 <= reached[-1] <= 4 and reached[-1] not in checked:
-            # The first position report after reaching a waypoint is near it (GLOBAL_POSITION_INT at 5 Hz).
-            x, y = [(5, 0), (5, 5), (0, 5), (0, 0)][reached[-1] - 1]
-            assert abs(m.lat - north(x)) < 0.6 * METRE_LAT and abs(m.lon - east(y)) < 0.6 * METRE_LAT / 0.67, m
-            assert abs(m.relative_alt - 3000) < 300
-            checked.append(reached[-1])
+    reached, checked = follow_mission(autopilot, [(5, 0), (5, 5), (0, 5), (0, 0)], 1, 6, 60)
     assert reached == [0, 1, 2, 3, 4, 5]
     assert len(checked) >= 3
     rtl = autopilot.wait(lambda m: m.custom_mode == (4 << 16) | (5 << 24), "HEARTBEAT", 3)
@@ -370,7 +384,7 @@ def test_mission_upload_download_fly_and_return(autopilot):
     assert math.hypot(pos.x, pos.y) < 0.2 and abs(pos.z) < 0.2, "landed at home"
 
 
-def test_live_wrench_estimate(tmp_path):
+def test_live_wrench_estimate(tmp_path, rotorpilot_bin):
     """The estimator's external force and mass estimate stream on DEBUG_VECT / NAMED_VALUE_FLOAT."""
     frame = tmp_path / "heavy.toml"
     frame.write_text((ROOT / "airframes" / "quad_x.toml").read_text() + "\n[fc]\nmass = 1.3 # [kg] believed\n")
@@ -397,7 +411,7 @@ def test_live_wrench_estimate(tmp_path):
         ap.close()
 
 
-def test_log_dir_writes_tlog_and_tick_csv(tmp_path):
+def test_log_dir_writes_tlog_and_tick_csv(tmp_path, rotorpilot_bin):
     import csv
 
     ap = Autopilot("--log", str(tmp_path / "log"))
@@ -494,7 +508,7 @@ def test_reposition_change_speed_and_set_home(autopilot):
     assert ack is not None and ack.result == 9
 
 
-def test_params_file(tmp_path):
+def test_params_file(tmp_path, rotorpilot_bin):
     good = tmp_path / "vehicle.params"
     good.write_text("# Onboard parameters for Vehicle 1\n1\t1\tMIS_TAKEOFF_ALT\t4.000000\t9\nRP_CTRL 1\n")
     ap = Autopilot("--params", str(good))
@@ -632,8 +646,6 @@ def test_full_flight_takeoff_offboard_square_mission_rtl_land(autopilot):
     """The issue's end-to-end flight: arm → take-off → offboard square → 4-waypoint mission →
     RTL → land → auto-disarm, positions checked against the plan."""
     autopilot.heartbeat()
-    north = lambda m: HOME_LAT + round(m * METRE_LAT)  # noqa: E731
-    east = lambda m: HOME_LON + round(m * METRE_LAT / math.cos(math.radians(47.397742)))  # noqa: E731
     plan = [(4, 0), (4, 4), (0, 4), (0, 0)]
     items = [(16, north(x), east(y), 3.0, 0.0) for x, y in plan] + [(20, 0, 0, 0.0, 0)]
     assert upload(autopilot, items) == 0
@@ -650,19 +662,7 @@ def test_full_flight_takeoff_offboard_square_mission_rtl_land(autopilot):
         assert math.hypot(pos.x - x, pos.y - y) < 0.1 and abs(pos.z + 2.5) < 0.1, (x, y, pos)
 
     assert autopilot.command(176, 1, 4, 4).result == ACCEPTED
-    reached, checked = [], []
-    deadline = time.monotonic() + 40
-    while time.monotonic() < deadline and len(reached) < 5:
-        m = autopilot.gcs.recv_match(type=["MISSION_ITEM_REACHED", "GLOBAL_POSITION_INT"], blocking=True, timeout=1)
-        if m is None:
-            continue
-        if m.get_type() == "MISSION_ITEM_REACHED":
-            reached.append(m.seq)
-        elif reached and reached[-1] < 4 and reached[-1] not in checked:
-            x, y = plan[reached[-1]]
-            assert abs(m.lat - north(x)) < 0.6 * METRE_LAT and abs(m.lon - east(y)) < 0.6 * METRE_LAT / 0.67, m
-            assert abs(m.relative_alt - 3000) < 300
-            checked.append(reached[-1])
+    reached, checked = follow_mission(autopilot, plan, 0, 5, 40)
     assert reached == [0, 1, 2, 3, 4] and len(checked) >= 3
     top = autopilot.wait(lambda m: m.relative_alt > 3900, "GLOBAL_POSITION_INT", 10)
     assert top is not None, "RTL climbs to RTL_RETURN_ALT"

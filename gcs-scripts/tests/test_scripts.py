@@ -54,9 +54,7 @@ def run_script(name, *args, timeout=90):
 
 
 @pytest.fixture
-def autopilot():
-    if not BINARY.exists():
-        pytest.fail(f"rotorpilot binary not found at {BINARY}: run cargo build --release first")
+def autopilot(rotorpilot_bin):
     ap = Autopilot()
     yield ap
     ap.close()
