@@ -2,124 +2,14 @@
 //! command/ACK rules, garbage on the socket, and two vehicles in one process.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::net::{SocketAddr, UdpSocket};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+mod support;
 
-use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavType, COMMAND_LONG_DATA, HEARTBEAT_DATA};
+use std::time::Duration;
+
+use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavType, HEARTBEAT_DATA};
 use mavlink::MavHeader;
-use rotorpilot::airframe::AirframeSource;
-use rotorpilot::control::ControllerKind;
-use rotorpilot::mav::codec::{decode_datagram, encode_v2, Inbound};
-use rotorpilot::navigation::Home;
-use rotorpilot::runtime::{run, RunConfig};
-
-struct Vehicle {
-    gcs: UdpSocket,
-    autopilot: SocketAddr,
-    stop: Option<tokio::sync::oneshot::Sender<()>>,
-    thread: Option<std::thread::JoinHandle<()>>,
-    seq: u8,
-}
-
-impl Vehicle {
-    fn start(sysid: u8, airframe: &str) -> Self {
-        let gcs = UdpSocket::bind("127.0.0.1:0").unwrap();
-        gcs.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
-        let config = RunConfig {
-            airframe: AirframeSource::resolve(airframe).unwrap(),
-            controller: ControllerKind::Geometric,
-            system_id: sysid,
-            bind_gcs: "127.0.0.1:0".parse().unwrap(),
-            gcs: gcs.local_addr().unwrap(),
-            bind_api: "127.0.0.1:0".parse().unwrap(),
-            api: "127.0.0.1:9".parse().unwrap(),
-            home: Home::default(),
-            seed: 0,
-            dt_s: 1e-3,
-            log_dir: None,
-            params: Vec::new(),
-        };
-        let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
-        let (ready_tx, ready_rx) = mpsc::channel();
-        let thread = std::thread::spawn(move || {
-            run(config, async move { drop(stop_rx.await) }, |ready| {
-                ready_tx.send(ready.gcs_bind.clone()).unwrap();
-            })
-            .unwrap();
-        });
-        let autopilot = ready_rx.recv_timeout(Duration::from_secs(10)).unwrap().parse().unwrap();
-        Self {
-            gcs,
-            autopilot,
-            stop: Some(stop_tx),
-            thread: Some(thread),
-            seq: 0,
-        }
-    }
-
-    fn send(&mut self, msg: &MavMessage) {
-        let mut buf = Vec::new();
-        self.seq = self.seq.wrapping_add(1);
-        let header = MavHeader {
-            system_id: 255,
-            component_id: 190,
-            sequence: self.seq,
-        };
-        encode_v2(header, msg, &mut buf);
-        self.gcs.send_to(&buf, self.autopilot).unwrap();
-    }
-
-    /// The first message from the vehicle matching `pick` within `timeout`.
-    fn wait<T>(&self, timeout: Duration, mut pick: impl FnMut(&MavHeader, &MavMessage) -> Option<T>) -> Option<T> {
-        let end = Instant::now() + timeout;
-        let mut buf = [0u8; 2048];
-        while Instant::now() < end {
-            let Ok((n, _)) = self.gcs.recv_from(&mut buf) else {
-                continue;
-            };
-            for frame in decode_datagram(&buf[..n]) {
-                if let Inbound::Message { header, message, .. } = frame {
-                    if let Some(t) = pick(&header, &message) {
-                        return Some(t);
-                    }
-                }
-            }
-        }
-        None
-    }
-
-    fn command(&mut self, command: MavCmd, p1: f32, target: (u8, u8)) -> Option<MavResult> {
-        self.send(&MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-            command,
-            param1: p1,
-            param2: f32::NAN,
-            param3: f32::NAN,
-            param4: f32::NAN,
-            param5: f32::NAN,
-            param6: f32::NAN,
-            param7: f32::NAN,
-            target_system: target.0,
-            target_component: target.1,
-            confirmation: 0,
-        }));
-        self.wait(Duration::from_millis(500), |_, m| match m {
-            MavMessage::COMMAND_ACK(a) if a.command == command => Some(a.result),
-            _ => None,
-        })
-    }
-}
-
-impl Drop for Vehicle {
-    fn drop(&mut self) {
-        if let Some(stop) = self.stop.take() {
-            let _ = stop.send(());
-        }
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
-}
+use rotorpilot::mav::codec::encode_v2;
+use support::Vehicle;
 
 #[test]
 fn heartbeat_commands_and_garbage() {
