@@ -39,18 +39,33 @@ enum Command {
         /// Control law: geometric, hierarchical or passivity.
         #[arg(long, default_value = "geometric")]
         controller: ControllerKind,
-        /// Where GCS telemetry goes (QGC, MAVProxy, pymavlink udpin).
+        /// Where GCS telemetry goes (QGC, MAVProxy, pymavlink udpin); shared by all vehicles.
         #[arg(long, default_value = "127.0.0.1:14550")]
         gcs: SocketAddr,
-        /// Where API telemetry goes (MAVSDK).
-        #[arg(long, default_value = "127.0.0.1:14540")]
-        api: SocketAddr,
-        /// Local address of the GCS link (port 0: any free port).
-        #[arg(long = "bind-gcs", default_value = "127.0.0.1:18570")]
-        bind_gcs: SocketAddr,
-        /// Local address of the API link (port 0: any free port).
-        #[arg(long = "bind-api", default_value = "127.0.0.1:14580")]
-        bind_api: SocketAddr,
+        /// Where API telemetry of the first vehicle goes (MAVSDK) [default: 127.0.0.1:14540 + port base].
+        #[arg(long)]
+        api: Option<SocketAddr>,
+        /// Local address of the first vehicle's GCS link; vehicle i binds port + i (port 0: any
+        /// free port) [default: 127.0.0.1:18570 + port base].
+        #[arg(long = "bind-gcs")]
+        bind_gcs: Option<SocketAddr>,
+        /// Local address of the first vehicle's API link; vehicle i binds port + i (port 0: any
+        /// free port) [default: 127.0.0.1:14580 + port base].
+        #[arg(long = "bind-api")]
+        bind_api: Option<SocketAddr>,
+        /// Number of vehicles in this process (sysid, ports and seed count up from the first).
+        #[arg(long, default_value_t = 1)]
+        count: usize,
+        /// PX4 instance number of the first vehicle: shifts the default ports (18570, 14580,
+        /// 14540) so several processes can share one machine.
+        #[arg(long = "port-base", default_value_t = 0)]
+        port_base: u16,
+        /// Distance between neighbouring vehicles on the start grid [m].
+        #[arg(long, default_value_t = runtime::DEFAULT_SPACING_M)]
+        spacing: f64,
+        /// Simulated seconds per wall second (0.1 to 1000), or `max` for as fast as possible.
+        #[arg(long, default_value = "1")]
+        speedup: runtime::Pace,
         /// Home as LAT,LON,ALT [deg, deg, m AMSL].
         #[arg(long, default_value = "47.397742,8.545594,488.0")]
         home: String,
@@ -242,6 +257,10 @@ fn execute(command: Command) -> Result<String, String> {
             api,
             bind_gcs,
             bind_api,
+            count,
+            port_base,
+            spacing,
+            speedup,
             home,
             sysid,
             seed,
@@ -249,6 +268,22 @@ fn execute(command: Command) -> Result<String, String> {
             log,
             params,
         } => {
+            let local = |port: u16| {
+                port.checked_add(port_base)
+                    .map(|p| SocketAddr::from(([127, 0, 0, 1], p)))
+                    .ok_or_else(|| format!("--port-base {port_base}: ports end at 65535"))
+            };
+            let (bind_gcs, bind_api, api) = (
+                bind_gcs.map_or_else(|| local(18570), Ok)?,
+                bind_api.map_or_else(|| local(14580), Ok)?,
+                api.map_or_else(|| local(14540), Ok)?,
+            );
+            if count == 0 {
+                return Err("--count must be at least 1".into());
+            }
+            if !(spacing.is_finite() && spacing >= 0.0) {
+                return Err(format!("--spacing {spacing}: must be a distance in metres >= 0"));
+            }
             let params = match params {
                 Some(path) => {
                     let origin = path.display().to_string();
@@ -278,6 +313,9 @@ fn execute(command: Command) -> Result<String, String> {
                 dt_s: 1e-3,
                 log_dir: log,
                 params,
+                count,
+                spacing_m: spacing,
+                pace: speedup,
             };
             if let Some(d) = duration {
                 if !(d.is_finite() && d > 0.0) {

@@ -303,6 +303,16 @@ impl Commander {
         (self.mission.seq, self.mission.mission.len(), self.mission.state)
     }
 
+    /// Restamps the latest offboard setpoint at `t_s` [s]: the runtime calls this while the
+    /// setpoint stream is alive in wall time, so a ground station streaming in wall time does not
+    /// lose offboard just because simulated time runs faster (mavlink.md §11.2). A stream that
+    /// stops is lost once it is silent for `COM_OF_LOSS_T` in both clocks.
+    pub fn refresh_offboard(&mut self, t_s: f64) {
+        if let Some((_, t)) = &mut self.offboard {
+            *t = t.max(t_s);
+        }
+    }
+
     /// True when an offboard setpoint arrived within `COM_OF_LOSS_T` of `t_s`.
     fn offboard_alive(&self, t_s: f64) -> bool {
         self.offboard

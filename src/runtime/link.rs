@@ -66,6 +66,23 @@ pub struct LinkContext {
     pub kind: LinkKind,
 }
 
+impl LinkContext {
+    /// The same vehicle's context for a link of `kind`, with its own announcement receiver.
+    pub fn with_kind(&self, kind: LinkKind) -> Self {
+        Self {
+            identity: self.identity,
+            inbox: self.inbox.clone(),
+            snapshot: self.snapshot.clone(),
+            params: self.params.clone(),
+            announcements: self.announcements.resubscribe(),
+            shutdown: self.shutdown.clone(),
+            mission_store: self.mission_store.clone(),
+            log: self.log.clone(),
+            kind,
+        }
+    }
+}
+
 /// Sends frames to peers with a per-link sequence counter; remembers recent command results.
 struct Sender {
     socket: Arc<UdpSocket>,
@@ -79,12 +96,15 @@ struct Sender {
     log: Option<LogSender>,
     /// Stream rates; changed by commands handled in spawned tasks, read by the loop.
     streams: Mutex<StreamTable>,
-    /// Last HEARTBEAT from a ground station (type GCS) on this link.
-    last_gcs_heartbeat: Mutex<Option<Instant>>,
+    /// Last HEARTBEAT from a ground station (type GCS) on this link: wall time and simulated
+    /// time [s].
+    last_gcs_heartbeat: Mutex<Option<(Instant, f64)>>,
 }
 
 impl Sender {
-    fn now_s(&self) -> f64 {
+    /// Wall time since the link started [s]: the clock of protocol duties (retransmissions,
+    /// the duplicate-command window).
+    fn wall_s(&self) -> f64 {
         self.start.elapsed().as_secs_f64()
     }
 
@@ -124,6 +144,7 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
     let mut peers: HashMap<SocketAddr, Instant> = HashMap::new();
     let start = Instant::now();
     let mut next_heartbeat = start;
+    let mut next_heartbeat_sim_s = 0.0;
     let mut last_state: Option<(bool, FlightMode)> = None;
     let mut transfer = MissionTransfer::<SocketAddr>::default();
     let mut link_lost = false;
@@ -153,7 +174,7 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
                 if let Ok(mut t) = sender.targets.lock() {
                     *t = targets(remote, &mut peers);
                 }
-                for (to, msg) in transfer.tick(sender.now_s()) {
+                for (to, msg) in transfer.tick(sender.wall_s()) {
                     sender.send(&msg, to).await;
                 }
                 if ctx.kind == LinkKind::Gcs {
@@ -161,16 +182,24 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
                 }
                 let snap = *ctx.snapshot.borrow();
                 let state = (snap.armed, snap.mode);
-                // One extra heartbeat right after arm, disarm or a mode change (mavlink.md §1).
-                if now >= next_heartbeat || last_state.is_some_and(|s| s != state) {
+                // At least 1 Hz in wall time (MAVSDK drops a silent link after 3 s) and 1 Hz in
+                // simulated time (scripts pacing themselves in simulated time see the same rate at
+                // any speed-up), plus one right after arm, disarm or a mode change (mavlink.md §1).
+                if now >= next_heartbeat
+                    || snap.t_s >= next_heartbeat_sim_s
+                    || last_state.is_some_and(|s| s != state)
+                {
                     next_heartbeat = now + HEARTBEAT_PERIOD;
+                    next_heartbeat_sim_s = snap.t_s + HEARTBEAT_PERIOD.as_secs_f64();
                     last_state = Some(state);
                     let hb = heartbeat(&ctx.identity, snap.armed, snap.mode);
                     for to in targets(remote, &mut peers) {
                         sender.send(&hb, to).await;
                     }
                 }
-                let due = sender.streams.lock().map(|mut t| t.due(sender.now_s())).unwrap_or_default();
+                // Stream rates count simulated time; each stream goes out at most once per poll,
+                // which caps it at 200 Hz wall when simulated time runs fast.
+                let due = sender.streams.lock().map(|mut t| t.due(snap.t_s)).unwrap_or_default();
                 for stream in due {
                     if let Some(msg) = message(stream, &snap) {
                         for to in targets(remote, &mut peers) {
@@ -254,7 +283,7 @@ fn handle_mission_message(
         });
     };
     let mission_only = |t: MavMissionType| t == MavMissionType::MAV_MISSION_TYPE_MISSION;
-    let now = sender.now_s();
+    let now = sender.wall_s();
     let (out, completed) = match message {
         MavMessage::MISSION_COUNT(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
             transfer.on_count(from, ids, m, now)
@@ -342,7 +371,7 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
     match message {
         MavMessage::HEARTBEAT(hb) if hb.mavtype == MavType::MAV_TYPE_GCS => {
             if let Ok(mut last) = sender.last_gcs_heartbeat.lock() {
-                *last = Some(Instant::now());
+                *last = Some((Instant::now(), ctx.snapshot.borrow().t_s));
             }
         }
         MavMessage::COMMAND_LONG(cmd) => {
@@ -462,7 +491,9 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
 }
 
 /// GCS link loss (mavlink.md §11.2): after a GCS heartbeat was seen, `COM_DL_LOSS_T` seconds of
-/// silence (wall clock: the ground station lives in wall time) run `NAV_DLL_ACT` once per loss.
+/// silence in simulated time *and* in wall time run `NAV_DLL_ACT` once per loss. A ground
+/// station pacing itself in simulated time sees the same failsafe at any speed-up; one sending
+/// in wall time does not trip it just because simulated time runs faster.
 async fn check_link_loss(
     sender: &Arc<Sender>,
     ctx: &LinkContext,
@@ -470,11 +501,13 @@ async fn check_link_loss(
     remote: SocketAddr,
     peers: &mut HashMap<SocketAddr, Instant>,
 ) {
-    let Some(last) = sender.last_gcs_heartbeat.lock().ok().and_then(|l| *l) else {
+    let Some((last_wall, last_sim_s)) = sender.last_gcs_heartbeat.lock().ok().and_then(|l| *l) else {
         return;
     };
     let settings = ctx.params.borrow().settings().commander;
-    let silent = last.elapsed().as_secs_f64() >= settings.link_loss_s;
+    let now_sim_s = ctx.snapshot.borrow().t_s;
+    let silent =
+        last_wall.elapsed().as_secs_f64() >= settings.link_loss_s && now_sim_s - last_sim_s >= settings.link_loss_s;
     if !silent {
         *lost = false;
         return;
@@ -514,7 +547,7 @@ fn handle_command(
     let seen = sender
         .duplicates
         .lock()
-        .map(|mut c| c.check(key, sender.now_s()))
+        .map(|mut c| c.check(key, sender.wall_s()))
         .unwrap_or(Seen::New);
     let (header, command, s) = (*header, cmd.command, sender.clone());
     match seen {
@@ -693,7 +726,7 @@ async fn answer(sender: &Sender, key: CommandKey, header: &MavHeader, command: M
         AckOf::Outcome(o) => result_of(o),
     };
     if let Ok(mut cache) = sender.duplicates.lock() {
-        cache.answered(key, result, sender.now_s());
+        cache.answered(key, result, sender.wall_s());
     }
     sender.send(&command_ack(header, command, result), to).await;
     if let AckOf::Outcome(

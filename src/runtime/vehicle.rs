@@ -161,6 +161,17 @@ impl Vehicle {
         self.commander.request(request, &x, self.time_s())
     }
 
+    /// Keeps the offboard setpoint fresh at this tick (the stream is alive in wall time).
+    pub fn refresh_offboard(&mut self) {
+        let t_s = self.time_s();
+        self.commander.refresh_offboard(t_s);
+    }
+
+    /// The parameter settings that the runtime's own timers read (`COM_OF_LOSS_T`, …).
+    pub fn offboard_loss_s(&self) -> f64 {
+        self.commander.params.offboard_loss_s
+    }
+
     /// One tick: sense → commander → flight core → plant.
     pub fn step(&mut self) -> TickOutput {
         let t_s = self.time_s();

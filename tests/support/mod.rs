@@ -11,7 +11,6 @@ use mavlink::MavHeader;
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::mav::codec::{decode_datagram, encode_v2, Inbound};
-use rotorpilot::navigation::Home;
 use rotorpilot::runtime::{run, RunConfig};
 
 /// A running vehicle and the GCS socket its telemetry goes to.
@@ -30,24 +29,21 @@ impl Vehicle {
         let gcs = UdpSocket::bind("127.0.0.1:0").unwrap();
         gcs.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
         let config = RunConfig {
-            airframe: AirframeSource::resolve(airframe).unwrap(),
-            controller: ControllerKind::Geometric,
-            system_id: sysid,
             bind_gcs: "127.0.0.1:0".parse().unwrap(),
             gcs: gcs.local_addr().unwrap(),
             bind_api: "127.0.0.1:0".parse().unwrap(),
             api: "127.0.0.1:9".parse().unwrap(),
-            home: Home::default(),
-            seed: 0,
-            dt_s: 1e-3,
-            log_dir: None,
-            params: Vec::new(),
+            ..RunConfig::single(
+                AirframeSource::resolve(airframe).unwrap(),
+                ControllerKind::Geometric,
+                sysid,
+            )
         };
         let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
         let (ready_tx, ready_rx) = mpsc::channel();
         let thread = std::thread::spawn(move || {
             run(config, async move { drop(stop_rx.await) }, |ready| {
-                ready_tx.send(ready.gcs_bind.clone()).unwrap();
+                ready_tx.send(ready.first.gcs_bind.clone()).unwrap();
             })
             .unwrap();
         });
