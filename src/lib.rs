@@ -9,6 +9,7 @@
 //!
 //! - [`math`]: numeric aliases, hat/vee, Euler angles, angle wrapping.
 //! - [`airframe`]: the FC's view of an airframe file (presets, validation, errors naming the field).
+//! - [`bench`]: `rotorpilot bench`: ticks/s, speed-up, vehicles at real time, start-up, ACK latency (runtime layer).
 //! - [`allocation`]: G_q from the airframe, min-norm inverse, saturation policy (control.md §3).
 //! - [`commander`]: arm/disarm, PX4 flight modes, take-off/hold/land/return, land detection
 //!   and auto-disarm on simulated time.
@@ -34,6 +35,7 @@
 
 pub mod airframe;
 pub mod allocation;
+pub mod bench;
 pub mod commander;
 pub mod control;
 pub mod core;

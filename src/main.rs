@@ -145,6 +145,29 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Measure speed and scale: headless ticks/s per control law, the real-time factor at
+    /// --speedup max, the largest vehicle count at real time, start-up time to the first
+    /// HEARTBEAT and the COMMAND_ACK round trip.
+    Bench {
+        /// Airframe preset name or path to a TOML file.
+        #[arg(long, default_value = "quad_x")]
+        airframe: String,
+        /// Print one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// A few seconds' smoke run with rough figures (small counts, short windows).
+        #[arg(long)]
+        quick: bool,
+        /// Wall time of each real-time trial and of the max-speed run [s].
+        #[arg(long)]
+        window: Option<f64>,
+        /// Largest vehicle count to try.
+        #[arg(long = "max-count")]
+        max_count: Option<usize>,
+        /// Vehicle count of the first real-time trial (doubled until real time fails).
+        #[arg(long = "first-count")]
+        first_count: Option<usize>,
+    },
     /// Design wrench-estimator gains from an analog Chebyshev type-I low-pass (control.md §7.3).
     #[command(allow_negative_numbers = true)]
     Gains {
@@ -372,6 +395,42 @@ fn execute(command: Command) -> Result<String, String> {
                 serde_json::to_string(&report).map_err(|e| e.to_string())
             } else {
                 Ok(report.to_table())
+            }
+        }
+        Command::Bench {
+            airframe,
+            json,
+            quick,
+            window,
+            max_count,
+            first_count,
+        } => {
+            let airframe = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
+            let mut options = if quick {
+                rotorpilot::bench::BenchOptions::quick(airframe)
+            } else {
+                rotorpilot::bench::BenchOptions::full(airframe)
+            };
+            if let Some(w) = window {
+                if !(w.is_finite() && w > 0.0) {
+                    return Err(format!("--window {w}: must be a positive number of seconds"));
+                }
+                options.window_s = w;
+            }
+            if let Some(n) = max_count {
+                options.max_count = n;
+            }
+            if let Some(n) = first_count {
+                if n == 0 {
+                    return Err("--first-count must be at least 1".into());
+                }
+                options.first_count = n;
+            }
+            let report = rotorpilot::bench::run(&options).map_err(|e| format!("bench: {e}"))?;
+            if json {
+                serde_json::to_string(&report).map_err(|e| e.to_string())
+            } else {
+                Ok(report.to_text())
             }
         }
         Command::Gains { design, json } => {

@@ -118,7 +118,7 @@ impl Commander {
                     self.guidance = Guidance::path(x.pos_w, above, yaw, self.limits(speed), t_s);
                     self.mission.phase = Phase::Travel;
                 }
-                _ => self.begin_landing(x, yaw, t_s),
+                _ => self.begin_landing(x, pos_w, yaw, t_s),
             },
             (Phase::Start, MissionItem::ReturnToLaunch) => {
                 self.reached(events);
@@ -153,7 +153,7 @@ impl Commander {
                         self.landed = LandedState::InAir;
                     }
                     match item {
-                        MissionItem::Land { .. } => self.begin_landing(x, yaw, t_s),
+                        MissionItem::Land { pos_w } => self.begin_landing(x, pos_w, yaw, t_s),
                         MissionItem::Waypoint { hold_s, .. } if hold_s > 0.0 => {
                             self.mission.phase = Phase::Hold(t_s + hold_s)
                         }
@@ -172,9 +172,15 @@ impl Commander {
         }
     }
 
-    fn begin_landing(&mut self, x: &VehicleState, yaw: f64, t_s: f64) {
+    /// Descends over the item's position `at_w` (PX4 lands on the item, not where the vehicle
+    /// happened to be when it came within the acceptance radius), or here without one.
+    fn begin_landing(&mut self, x: &VehicleState, at_w: Option<Vec3>, yaw: f64, t_s: f64) {
         self.landed = LandedState::Landing;
-        self.guidance = self.descend(x, yaw, t_s);
+        let mut guidance = self.descend(x, yaw, t_s);
+        if let (Guidance::Descend { xy_w, .. }, Some(at_w)) = (&mut guidance, at_w) {
+            *xy_w = at_w;
+        }
+        self.guidance = guidance;
         self.mission.phase = Phase::Landing;
     }
 

@@ -1,0 +1,274 @@
+//! The benchmarks that run the autopilot itself: in this process (speed-up, scale, ACK latency)
+//! or as a child process (start-up).
+
+use std::net::SocketAddr;
+use std::sync::mpsc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use super::client::BenchClient;
+use super::{ms, percentile, resident_kib, BenchError, BenchOptions, Latency, Trial, REALTIME_FACTOR};
+use crate::control::ControllerKind;
+use crate::mav::MavCmd;
+use crate::runtime::{self, Pace, Ready, RunConfig, RunReport, RuntimeError};
+
+/// How long a command may take before the benchmark gives up on it.
+const COMMAND_TIMEOUT: Duration = Duration::from_secs(2);
+const NAN: f32 = f32::NAN;
+
+/// `rotorpilot run` on a thread of this process, all sockets on ephemeral loopback ports.
+struct InProcess {
+    ready: Ready,
+    stop: Option<tokio::sync::oneshot::Sender<()>>,
+    thread: Option<JoinHandle<Result<RunReport, RuntimeError>>>,
+}
+
+impl InProcess {
+    /// `count` vehicles at `pace` sending all telemetry to `gcs`.
+    fn start(options: &BenchOptions, count: usize, pace: Pace, gcs: SocketAddr) -> Result<Self, BenchError> {
+        let any = SocketAddr::from(([127, 0, 0, 1], 0));
+        let config = RunConfig {
+            bind_gcs: any,
+            bind_api: any,
+            gcs,
+            api: gcs,
+            count,
+            pace,
+            ..RunConfig::single(options.airframe.clone(), ControllerKind::Geometric, 1)
+        };
+        let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
+        let (ready_tx, ready_rx) = mpsc::channel();
+        let thread = std::thread::Builder::new()
+            .name("bench-autopilot".into())
+            .spawn(move || {
+                runtime::run(config, async move { drop(stop_rx.await) }, |ready| {
+                    let _ = ready_tx.send(ready.clone());
+                })
+            })
+            .map_err(|source| BenchError::Io {
+                what: "autopilot thread",
+                source,
+            })?;
+        let ready = match ready_rx.recv_timeout(Duration::from_secs(60)) {
+            Ok(ready) => ready,
+            Err(_) => {
+                return match thread.join() {
+                    Ok(Err(e)) => Err(e.into()),
+                    _ => Err(BenchError::Silent("the autopilot did not start")),
+                }
+            }
+        };
+        Ok(Self {
+            ready,
+            stop: Some(stop_tx),
+            thread: Some(thread),
+        })
+    }
+
+    /// Every vehicle's GCS-link address and system id.
+    fn vehicles(&self) -> Vec<(SocketAddr, u8)> {
+        self.ready
+            .vehicles
+            .iter()
+            .filter_map(|v| Some((v.gcs_bind.parse().ok()?, v.sysid)))
+            .collect()
+    }
+
+    /// Stops the process and returns what it did.
+    fn finish(mut self) -> Result<RunReport, BenchError> {
+        if let Some(stop) = self.stop.take() {
+            let _ = stop.send(());
+        }
+        match self.thread.take().map(JoinHandle::join) {
+            Some(Ok(report)) => Ok(report?),
+            _ => Err(BenchError::Silent("the autopilot thread panicked")),
+        }
+    }
+}
+
+impl Drop for InProcess {
+    fn drop(&mut self) {
+        if let Some(stop) = self.stop.take() {
+            let _ = stop.send(());
+        }
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn bind_client() -> Result<(BenchClient, SocketAddr), BenchError> {
+    let io = |source| BenchError::Io {
+        what: "bench ground station",
+        source,
+    };
+    let client = BenchClient::bind().map_err(io)?;
+    let addr = client.local_addr().map_err(io)?;
+    Ok((client, addr))
+}
+
+/// NAV_TAKEOFF to 2 m and ARM for every vehicle.
+fn take_off_all(client: &mut BenchClient, vehicles: &[(SocketAddr, u8)]) -> Result<(), BenchError> {
+    for &(addr, sysid) in vehicles {
+        client.heartbeat(addr);
+        let takeoff = [NAN, NAN, NAN, NAN, NAN, NAN, NAN];
+        client
+            .command(addr, sysid, MavCmd::MAV_CMD_NAV_TAKEOFF, takeoff, COMMAND_TIMEOUT)
+            .ok_or(BenchError::Silent("NAV_TAKEOFF"))?;
+        let arm = [1.0, NAN, NAN, NAN, NAN, NAN, NAN];
+        client
+            .command(addr, sysid, MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, arm, COMMAND_TIMEOUT)
+            .ok_or(BenchError::Silent("ARM"))?;
+    }
+    Ok(())
+}
+
+/// Simulated seconds per wall second of one flying vehicle at `--speedup max`.
+pub(super) fn speedup_max_factor(options: &BenchOptions) -> Result<f64, BenchError> {
+    let (mut client, addr) = bind_client()?;
+    let autopilot = InProcess::start(options, 1, Pace::Max, addr)?;
+    take_off_all(&mut client, &autopilot.vehicles())?;
+    let drain = client.drain().map_err(|source| BenchError::Io {
+        what: "bench ground station",
+        source,
+    })?;
+    std::thread::sleep(Duration::from_secs_f64(options.window_s));
+    let report = autopilot.finish()?;
+    drop(drain);
+    Ok(report.vehicle_ticks as f64 * 1e-3 / report.wall_s.max(1e-9))
+}
+
+/// One trial: `count` flying vehicles at 1× for the window.
+fn realtime_trial(options: &BenchOptions, count: usize) -> Result<Trial, BenchError> {
+    let before_kib = resident_kib();
+    let (mut client, addr) = bind_client()?;
+    let autopilot = InProcess::start(options, count, Pace::Speedup(1.0), addr)?;
+    take_off_all(&mut client, &autopilot.vehicles())?;
+    let drain = client.drain().map_err(|source| BenchError::Io {
+        what: "bench ground station",
+        source,
+    })?;
+    let window = Instant::now();
+    std::thread::sleep(Duration::from_secs_f64(options.window_s));
+    let during_kib = resident_kib();
+    let received = drain.received();
+    let window_s = window.elapsed().as_secs_f64();
+    let report = autopilot.finish()?;
+    drop(drain);
+    let memory = match (before_kib, during_kib) {
+        (Some(a), Some(b)) => (b - a).max(0.0) / count as f64,
+        _ => 0.0,
+    };
+    Ok(Trial {
+        count,
+        realtime_factor: report.vehicle_ticks as f64 * 1e-3 / (count as f64 * report.wall_s.max(1e-9)),
+        overruns: report.overruns,
+        telemetry_per_s: received as f64 / window_s.max(1e-9),
+        memory_per_vehicle_kib: memory,
+    })
+}
+
+/// Doubles the vehicle count from `first_count` until real time fails (or `max_count`), then
+/// halves the gap twice between the last count that held and the first that did not.
+pub(super) fn realtime_trials(options: &BenchOptions) -> Result<Vec<Trial>, BenchError> {
+    let mut trials = Vec::new();
+    let mut good = 0;
+    let mut bad = None;
+    let mut count = options.first_count.max(1);
+    while count <= options.max_count {
+        let trial = realtime_trial(options, count)?;
+        trials.push(trial);
+        if trial.realtime_factor >= REALTIME_FACTOR {
+            good = count;
+            count *= 2;
+        } else {
+            bad = Some(count);
+            break;
+        }
+    }
+    if let Some(mut bad) = bad {
+        for _ in 0..2 {
+            let mid = (good + bad) / 2;
+            if mid <= good || mid >= bad {
+                break;
+            }
+            let trial = realtime_trial(options, mid)?;
+            trials.push(trial);
+            if trial.realtime_factor >= REALTIME_FACTOR {
+                good = mid;
+            } else {
+                bad = mid;
+            }
+        }
+    }
+    Ok(trials)
+}
+
+/// Median time from spawning this executable's `run` to its first HEARTBEAT [ms].
+pub(super) fn first_heartbeat_ms(options: &BenchOptions) -> Result<f64, BenchError> {
+    let exe = std::env::current_exe().map_err(|source| BenchError::Io {
+        what: "finding rotorpilot",
+        source,
+    })?;
+    let mut samples = Vec::with_capacity(options.startups);
+    for _ in 0..options.startups.max(1) {
+        let (client, addr) = bind_client()?;
+        let spawned = Instant::now();
+        let mut child = std::process::Command::new(&exe)
+            .args([
+                "run",
+                "--bind-gcs",
+                "127.0.0.1:0",
+                "--bind-api",
+                "127.0.0.1:0",
+                "--api",
+                "127.0.0.1:9",
+            ])
+            .args(["--gcs", &addr.to_string(), "--duration", "5"])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .map_err(|source| BenchError::Io {
+                what: "spawning rotorpilot run",
+                source,
+            })?;
+        let heard = client.first_heartbeat(Duration::from_secs(5));
+        let _ = child.kill();
+        let _ = child.wait();
+        let heard_at = heard.ok_or(BenchError::Silent("no HEARTBEAT from rotorpilot run"))?;
+        samples.push(ms(heard_at.duration_since(spawned)));
+    }
+    samples.sort_by(f64::total_cmp);
+    Ok(percentile(&samples, 50.0))
+}
+
+/// Round trips of DO_SET_MODE (alternating POSCTL and AUTO.LOITER, so no repeat is answered
+/// from the duplicate cache) to one vehicle at 1×.
+pub(super) fn command_ack_latency(options: &BenchOptions) -> Result<Latency, BenchError> {
+    let (mut client, addr) = bind_client()?;
+    let autopilot = InProcess::start(options, 1, Pace::Speedup(1.0), addr)?;
+    let (vehicle, sysid) = autopilot
+        .vehicles()
+        .first()
+        .copied()
+        .ok_or(BenchError::Silent("no vehicle"))?;
+    client.heartbeat(vehicle);
+    let mut samples = Vec::with_capacity(options.acks);
+    for k in 0..options.acks {
+        let (main, sub) = if k % 2 == 0 { (3.0, 0.0) } else { (4.0, 3.0) };
+        let params = [1.0, main, sub, NAN, NAN, NAN, NAN];
+        let (_, rtt) = client
+            .command(vehicle, sysid, MavCmd::MAV_CMD_DO_SET_MODE, params, COMMAND_TIMEOUT)
+            .ok_or(BenchError::Silent("DO_SET_MODE"))?;
+        samples.push(ms(rtt));
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    autopilot.finish()?;
+    samples.sort_by(f64::total_cmp);
+    Ok(Latency {
+        p50_ms: percentile(&samples, 50.0),
+        p99_ms: percentile(&samples, 99.0),
+        max_ms: samples.last().copied().unwrap_or(0.0),
+        samples: samples.len(),
+    })
+}
