@@ -143,7 +143,7 @@ pub struct BenchReport {
     pub trials: Vec<Trial>,
     /// Median time from spawning `rotorpilot run` to its first HEARTBEAT [ms].
     pub first_heartbeat_ms: f64,
-    /// COMMAND_ACK round trip over loopback (DO_SET_MODE through the tick thread, 1×).
+    /// COMMAND_ACK round trip over loopback (DO_CHANGE_SPEED through the tick thread, 1×).
     pub command_ack: Latency,
 }
 

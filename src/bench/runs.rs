@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use super::client::BenchClient;
 use super::{ms, percentile, resident_kib, BenchError, BenchOptions, Latency, Trial, REALTIME_FACTOR};
 use crate::control::ControllerKind;
-use crate::mav::MavCmd;
+use crate::mav::{MavCmd, MavResult};
 use crate::runtime::{self, Pace, Ready, RunConfig, RunReport, RuntimeError};
 
 /// How long a command may take before the benchmark gives up on it.
@@ -168,23 +168,31 @@ fn realtime_trial(options: &BenchOptions, count: usize) -> Result<Trial, BenchEr
     })
 }
 
-/// Doubles the vehicle count from `first_count` until real time fails (or `max_count`), then
+/// Vehicles one process can fly (system ids 1–255).
+const MAX_VEHICLES: usize = 255;
+
+/// Doubles the vehicle count from `first_count` until real time fails (or `max_count`, at most
+/// 255), then
 /// halves the gap twice between the last count that held and the first that did not.
 pub(super) fn realtime_trials(options: &BenchOptions) -> Result<Vec<Trial>, BenchError> {
     let mut trials = Vec::new();
     let mut good = 0;
     let mut bad = None;
-    let mut count = options.first_count.max(1);
-    while count <= options.max_count {
+    // System ids end at 255: one process (one MAVLink network) flies at most 255 vehicles.
+    let cap = options.max_count.min(MAX_VEHICLES);
+    let mut count = options.first_count.clamp(1, cap.max(1));
+    loop {
         let trial = realtime_trial(options, count)?;
         trials.push(trial);
-        if trial.realtime_factor >= REALTIME_FACTOR {
-            good = count;
-            count *= 2;
-        } else {
+        if trial.realtime_factor < REALTIME_FACTOR {
             bad = Some(count);
             break;
         }
+        good = count;
+        if count >= cap {
+            break;
+        }
+        count = (count * 2).min(cap);
     }
     if let Some(mut bad) = bad {
         for _ in 0..2 {
@@ -242,8 +250,9 @@ pub(super) fn first_heartbeat_ms(options: &BenchOptions) -> Result<f64, BenchErr
     Ok(percentile(&samples, 50.0))
 }
 
-/// Round trips of DO_SET_MODE (alternating POSCTL and AUTO.LOITER, so no repeat is answered
-/// from the duplicate cache) to one vehicle at 1×.
+/// Round trips of DO_CHANGE_SPEED to one vehicle at 1×: each goes through the tick thread (the
+/// commander applies it at the next tick boundary), and each speed differs, so no repeat is
+/// answered from the duplicate cache.
 pub(super) fn command_ack_latency(options: &BenchOptions) -> Result<Latency, BenchError> {
     let (mut client, addr) = bind_client()?;
     let autopilot = InProcess::start(options, 1, Pace::Speedup(1.0), addr)?;
@@ -255,11 +264,14 @@ pub(super) fn command_ack_latency(options: &BenchOptions) -> Result<Latency, Ben
     client.heartbeat(vehicle);
     let mut samples = Vec::with_capacity(options.acks);
     for k in 0..options.acks {
-        let (main, sub) = if k % 2 == 0 { (3.0, 0.0) } else { (4.0, 3.0) };
-        let params = [1.0, main, sub, NAN, NAN, NAN, NAN];
-        let (_, rtt) = client
-            .command(vehicle, sysid, MavCmd::MAV_CMD_DO_SET_MODE, params, COMMAND_TIMEOUT)
-            .ok_or(BenchError::Silent("DO_SET_MODE"))?;
+        let speed = 5.0 + 0.001 * k as f32;
+        let params = [NAN, speed, NAN, NAN, NAN, NAN, NAN];
+        let (result, rtt) = client
+            .command(vehicle, sysid, MavCmd::MAV_CMD_DO_CHANGE_SPEED, params, COMMAND_TIMEOUT)
+            .ok_or(BenchError::Silent("DO_CHANGE_SPEED"))?;
+        if result != MavResult::MAV_RESULT_ACCEPTED {
+            return Err(BenchError::Silent("DO_CHANGE_SPEED was not accepted"));
+        }
         samples.push(ms(rtt));
         std::thread::sleep(Duration::from_millis(2));
     }
