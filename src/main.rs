@@ -17,7 +17,7 @@ use rotorpilot::params::parse_param_file;
 use rotorpilot::report::{estimate_csv, AllocReport, EstimateReport, GainsReport};
 use rotorpilot::runtime::{self, RunConfig};
 use rotorpilot::scenario::Scenario;
-use rotorpilot::simulate::simulate;
+use rotorpilot::simulate::simulate_paced;
 
 /// MAVLink-speaking multirotor flight-controller emulator.
 #[derive(Debug, Parser)]
@@ -116,6 +116,10 @@ enum Command {
         /// Output directory (created if missing).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Simulated seconds per wall second (0.1 to 1000), or `max` (default): the output is
+        /// the same at any speed.
+        #[arg(long, default_value = "max")]
+        speedup: runtime::Pace,
     },
     /// Run the wrench estimator offline over a flight log (homework exercise 4) and print
     /// {"samples", "final", "mass_estimate"} as JSON.
@@ -374,9 +378,9 @@ fn execute(command: Command) -> Result<String, String> {
             let summary = fly(&src, &opts).map_err(|e| e.to_string())?;
             serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
         }
-        Command::Sim { scenario, out } => {
+        Command::Sim { scenario, out, speedup } => {
             let scn = Scenario::load(&scenario).map_err(|e| e.to_string())?;
-            let summary = simulate(&scn, out.as_deref()).map_err(|e| e.to_string())?;
+            let summary = simulate_paced(&scn, out.as_deref(), speedup).map_err(|e| e.to_string())?;
             serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
         }
         Command::Estimate {

@@ -1,12 +1,14 @@
-//! Same scenario and seed give a bit-identical run.csv; another seed gives another run.
+//! Same scenario and seed give a bit-identical run.csv at any speed-up; another seed gives
+//! another run.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::{Path, PathBuf};
 
+use rotorpilot::runtime::Pace;
 use rotorpilot::scenario::Scenario;
-use rotorpilot::simulate::simulate;
+use rotorpilot::simulate::simulate_paced;
 
-fn run(seed: u64, dir: &str) -> (Vec<u8>, PathBuf) {
+fn run(seed: u64, pace: Pace, dir: &str) -> (Vec<u8>, PathBuf) {
     let text = format!(
         r#"
 duration = 3.0
@@ -33,19 +35,22 @@ period = 4.0
     );
     let out = std::env::temp_dir().join(format!("rotorpilot-determinism-{}-{dir}", std::process::id()));
     let scn = Scenario::from_toml_str(&text, "det", "det", Path::new(".")).unwrap();
-    simulate(&scn, Some(&out)).unwrap();
+    simulate_paced(&scn, Some(&out), pace).unwrap();
     (std::fs::read(out.join("run.csv")).unwrap(), out)
 }
 
 #[test]
 fn same_seed_same_bytes_other_seed_other_run() {
-    let (a, da) = run(7, "a");
-    let (b, db) = run(7, "b");
-    let (c, dc) = run(8, "c");
+    let (a, da) = run(7, Pace::Max, "a");
+    let (b, db) = run(7, Pace::Max, "b");
+    let (c, dc) = run(8, Pace::Max, "c");
+    // 3 simulated seconds at 20× take 0.15 s of wall time, paced tick by tick.
+    let (d, dd) = run(7, Pace::Speedup(20.0), "d");
     assert!(a.len() > 100_000);
     assert!(a == b, "same scenario and seed must give identical run.csv");
+    assert!(a == d, "the speed-up must not change run.csv");
     assert!(a != c, "the seed must change the noise");
-    for d in [da, db, dc] {
+    for d in [da, db, dc, dd] {
         let _ = std::fs::remove_dir_all(d);
     }
 }

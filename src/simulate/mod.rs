@@ -7,13 +7,14 @@
 pub mod run_csv;
 
 use std::path::Path;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use thiserror::Error;
 
 use crate::core::CoreError;
 use crate::math::GRAVITY_M_S2;
+use crate::runtime::Pace;
 use crate::scenario::summary::{RunStats, TickRecord, TrackingSummary};
 use crate::scenario::Scenario;
 use crate::sitl::{SimPlant, SitlError};
@@ -95,8 +96,15 @@ pub struct SimSummary {
     pub real_time_factor: f64,
 }
 
-/// Flies `scn`; with `out_dir`, writes `run.csv` and `summary.json` there (creating the directory).
+/// Flies `scn` as fast as the CPU allows; with `out_dir`, writes `run.csv` and `summary.json`
+/// there (creating the directory).
 pub fn simulate(scn: &Scenario, out_dir: Option<&Path>) -> Result<SimSummary, SimError> {
+    simulate_paced(scn, out_dir, Pace::Max)
+}
+
+/// [`simulate`] with simulated time paced against the wall clock (`--speedup`): the same ticks in
+/// the same order whatever the pace, so `run.csv` is bit-identical at any speed-up.
+pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Result<SimSummary, SimError> {
     let mut core = scn.flight_core()?;
     let mut plant = SimPlant::from_source(&scn.airframe_source, scn.seed)?;
     for w in plant.warnings() {
@@ -127,7 +135,18 @@ pub fn simulate(scn: &Scenario, out_dir: Option<&Path>) -> Result<SimSummary, Si
     let wall = Instant::now();
     let mut ticks_run = 0;
     let mut last_estimate = None;
+    let tick_wall = match pace {
+        Pace::Speedup(x) => Some(Duration::from_secs_f64(scn.dt_s / x)),
+        Pace::Max => None,
+    };
     for tick in 0..ticks {
+        if let Some(period) = tick_wall {
+            let deadline = wall + period.mul_f64(tick as f64);
+            let now = Instant::now();
+            if deadline > now {
+                std::thread::sleep(deadline - now);
+            }
+        }
         let t_s = tick as f64 * scn.dt_s;
         let state = plant.sense();
         let sample = scn.trajectory.sample(t_s);
