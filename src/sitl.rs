@@ -74,6 +74,19 @@ impl SimPlant {
         self.accel_b
     }
 
+    /// Electrical power the rotors draw [W]: shaft power Σ c_q·|ω_i|³ of the actual motor speeds
+    /// over a motor-and-ESC efficiency of 0.7 (the battery's current sensor).
+    pub fn electrical_power_w(&self) -> f64 {
+        const EFFICIENCY: f64 = 0.7;
+        let c_q = self.plant.params().rotor.c_q;
+        self.plant
+            .motor_speeds()
+            .iter()
+            .map(|w| c_q * w.abs().powi(3))
+            .sum::<f64>()
+            / EFFICIENCY
+    }
+
     /// Advances the plant by `dt_s` [s] with rotor speeds `omega_rad_s` [rad/s].
     pub fn step(&mut self, omega_rad_s: &[f64], dt_s: f64) -> PlantStatus {
         self.plant.step(omega_rad_s, dt_s)

@@ -18,6 +18,37 @@ pub struct EstimateSnapshot {
     pub mass_kg: f64,
 }
 
+/// The battery as its gauge reads it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BatterySnapshot {
+    /// Remaining fraction [0, 1].
+    pub fraction: f64,
+    /// Cell voltage [V].
+    pub cell_v: f64,
+    /// Cells in series.
+    pub cells: u32,
+    /// Current [A].
+    pub current_a: f64,
+    /// Charge drawn [mAh].
+    pub consumed_mah: f64,
+    /// Energy drawn [J].
+    pub energy_j: f64,
+}
+
+impl BatterySnapshot {
+    /// A full pack of `cells` cells at rest.
+    pub fn full(cells: u32) -> Self {
+        Self {
+            fraction: 1.0,
+            cell_v: 4.2,
+            cells,
+            current_a: 0.0,
+            consumed_mah: 0.0,
+            energy_j: 0.0,
+        }
+    }
+}
+
 /// Latest vehicle state for telemetry.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Snapshot {
@@ -63,4 +94,6 @@ pub struct Snapshot {
     pub rotor_count: usize,
     /// Highest rotor speed [rad/s].
     pub rotor_max_rad_s: f64,
+    /// Battery.
+    pub battery: BatterySnapshot,
 }

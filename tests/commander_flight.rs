@@ -3,7 +3,9 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use rotorpilot::airframe::{Airframe, AirframeSource};
-use rotorpilot::commander::{Commander, CommanderParams, Event, FlightMode, LandedState, Outcome, Request};
+use rotorpilot::commander::{
+    BatteryParams, Commander, CommanderParams, Event, FailsafeParams, FlightMode, LandedState, Outcome, Request,
+};
 use rotorpilot::control::{ControllerKind, VehicleState};
 use rotorpilot::core::FlightCore;
 use rotorpilot::sitl::SimPlant;
@@ -46,6 +48,9 @@ impl Sim {
     fn run(&mut self, seconds: f64) {
         for _ in 0..(seconds * 1000.0).round() as u64 {
             let x = self.plant.sense();
+            let power_w = self.plant.electrical_power_w();
+            let failsafes = self.commander.check_failsafes(&x, power_w, 1e-3, self.t());
+            self.events.extend(failsafes);
             let tick = self.commander.update(&x, self.t());
             self.events.extend(tick.events);
             let speeds = match tick.setpoint {
@@ -277,4 +282,95 @@ fn auto_paths_keep_mpc_xy_vel_max_and_mpc_z_vel_max_dn() {
     }
     let p = sim.plant.truth().pos_w;
     assert!((p.x - 12.0).abs() < 0.05 && (p.z + 2.0).abs() < 0.05, "{p:?}");
+}
+
+fn failsafe_texts(events: &[Event]) -> Vec<String> {
+    events
+        .iter()
+        .filter_map(|e| match e {
+            Event::Failsafe(text) => Some(text.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn geofence_breach_returns_and_lands_at_home() {
+    let params = CommanderParams {
+        failsafe: FailsafeParams {
+            geofence_action: 3,
+            geofence_max_hor_m: 5.0,
+            ..Default::default()
+        },
+        rtl_return_alt_m: 3.0,
+        ..Default::default()
+    };
+    let mut sim = Sim::new("quad_x", params);
+    sim.request(Request::Takeoff { height_m: Some(2.5) });
+    sim.request(Request::Arm { force: false });
+    sim.run(5.0);
+    let reposition = Request::Reposition {
+        north_m: Some(9.0),
+        east_m: None,
+        down_m: None,
+        yaw_rad: None,
+        speed_m_s: Some(2.0),
+    };
+    assert_eq!(sim.request(reposition), Outcome::Accepted);
+    let mut farthest: f64 = 0.0;
+    for _ in 0..300 {
+        sim.run(0.1);
+        farthest = farthest.max(sim.plant.truth().pos_w.x);
+    }
+    let texts = failsafe_texts(&sim.events);
+    assert_eq!(texts.len(), 1, "{texts:?}");
+    assert!(
+        texts[0].starts_with("Geofence breached (5.0 m from home"),
+        "{}",
+        texts[0]
+    );
+    assert!(sim.events.contains(&Event::ModeChanged(FlightMode::ReturnToLaunch)));
+    assert!(farthest < 6.5, "turned back soon after the fence: {farthest}");
+    let p = sim.plant.truth().pos_w;
+    assert!(p.x.abs() < 0.1 && p.y.abs() < 0.1 && !sim.commander.armed(), "{p:?}");
+}
+
+#[test]
+fn battery_failsafes_warn_return_then_land() {
+    let params = CommanderParams {
+        failsafe: FailsafeParams {
+            low_battery_action: 3,
+            ..Default::default()
+        },
+        // About 12 s of hover for quad_x (≈ 1 kW electrical).
+        battery: BatteryParams {
+            capacity_mah: 300.0,
+            cells: 3,
+        },
+        ..Default::default()
+    };
+    let mut sim = Sim::new("quad_x", params);
+    sim.request(Request::Takeoff { height_m: Some(2.5) });
+    sim.request(Request::Arm { force: false });
+    sim.run(30.0);
+    let texts = failsafe_texts(&sim.events);
+    assert_eq!(texts.len(), 3, "{texts:?}");
+    assert!(texts[0].starts_with("Low battery: 15%"), "{texts:?}");
+    assert!(texts[1].starts_with("Critical battery (7%): returning"), "{texts:?}");
+    assert!(texts[2].starts_with("Emergency battery (5%): landing"), "{texts:?}");
+    let modes: Vec<_> = sim
+        .events
+        .iter()
+        .filter_map(|e| match e {
+            Event::ModeChanged(m) => Some(*m),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        modes.ends_with(&[FlightMode::ReturnToLaunch, FlightMode::Land]),
+        "{modes:?}"
+    );
+    assert!(!sim.commander.armed() && sim.plant.truth().on_ground);
+    let (gauge, pack) = sim.commander.battery();
+    assert!(gauge.fraction(&pack) < 0.05);
 }

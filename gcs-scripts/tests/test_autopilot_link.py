@@ -701,3 +701,33 @@ def test_full_flight_takeoff_offboard_square_mission_rtl_land(autopilot):
     pos = autopilot.wait(lambda m: True, "LOCAL_POSITION_NED", 2)
     assert math.hypot(pos.x, pos.y) < 0.2 and abs(pos.z) < 0.2, "landed at home"
     assert autopilot.wait(lambda m: not m.base_mode & 128, "HEARTBEAT", 2) is not None
+
+
+def test_battery_failsafe_announces_and_changes_mode(autopilot):
+    """A small pack: BATTERY_STATUS drains, the failsafes announce themselves (critical
+    STATUSTEXT) and the heartbeat shows AUTO.RTL, then AUTO.LAND."""
+    autopilot.heartbeat()
+    for name, value in [(b"BAT1_CAPACITY", 300.0), (b"COM_LOW_BAT_ACT", int32_bits(3))]:
+        autopilot.gcs.mav.param_set_send(1, 1, name, value, 9 if name == b"BAT1_CAPACITY" else 6)
+        assert autopilot.wait(lambda m, n=name.decode(): m.param_id == n, "PARAM_VALUE", 2) is not None
+    full = autopilot.wait(lambda m: True, "BATTERY_STATUS", 3)
+    assert full.battery_remaining == 100 and full.voltages[:3] == [4200] * 3 and full.voltages[3] == 65535
+    assert autopilot.command(22).result == ACCEPTED
+    assert autopilot.command(400, 1.0).result == ACCEPTED
+    texts, modes = [], []
+    deadline = time.monotonic() + 25
+    while time.monotonic() < deadline and len(texts) < 3:
+        m = autopilot.gcs.recv_match(type=["STATUSTEXT", "HEARTBEAT"], blocking=True, timeout=0.5)
+        if m is None:
+            continue
+        if m.get_type() == "STATUSTEXT" and "battery" in m.text.lower():
+            texts.append((m.severity, m.text))
+        elif m.get_type() == "HEARTBEAT" and m.get_srcComponent() == 1 and m.custom_mode not in modes:
+            modes.append(m.custom_mode)
+    assert [t for _, t in texts] == ["Low battery: 15% remaining", "Critical battery (7%): returning",
+                                     "Emergency battery (5%): landing"], texts
+    assert all(severity == 2 for severity, _ in texts), "MAV_SEVERITY_CRITICAL"
+    assert autopilot.wait(lambda m: m.custom_mode == (4 << 16) | (6 << 24), "HEARTBEAT", 3) is not None
+    assert (4 << 16) | (5 << 24) in modes, "AUTO.RTL shown before AUTO.LAND"
+    low = autopilot.wait(lambda m: True, "BATTERY_STATUS", 3)
+    assert low.battery_remaining <= 5 and low.current_consumed > 280 and low.voltages[0] < 3550

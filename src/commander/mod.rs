@@ -4,9 +4,13 @@
 //!
 //! Home is the local NED origin. Wrong-state results follow mavlink.md §3.3.
 
+mod battery;
+mod failsafe;
 mod mission_run;
 mod mode;
 
+pub use battery::{BatteryGauge, BatteryParams};
+pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
 pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
 
@@ -46,6 +50,10 @@ pub struct CommanderParams {
     pub link_loss_action: i32,
     /// GCS silence that counts as link loss [s] (`COM_DL_LOSS_T`, 10).
     pub link_loss_s: f64,
+    /// Geofence and battery failsafes.
+    pub failsafe: FailsafeParams,
+    /// The battery pack.
+    pub battery: BatteryParams,
     /// Largest horizontal speed of any AUTO path [m/s] (`MPC_XY_VEL_MAX`, 12); caps cruise and
     /// DO_CHANGE_SPEED / DO_REPOSITION speeds.
     pub xy_vel_max_m_s: f64,
@@ -69,6 +77,8 @@ impl Default for CommanderParams {
             link_loss_s: 10.0,
             xy_vel_max_m_s: 12.0,
             descent_speed_m_s: 1.5,
+            failsafe: FailsafeParams::default(),
+            battery: BatteryParams::default(),
         }
     }
 }
@@ -175,6 +185,8 @@ pub enum Event {
     Landed,
     /// Offboard setpoints stopped for `COM_OF_LOSS_T`; the vehicle holds position.
     OffboardLost,
+    /// A geofence or battery failsafe triggered (the announcement).
+    Failsafe(String),
     /// Mission item `seq` reached (MISSION_ITEM_REACHED).
     MissionItemReached(u16),
     /// The current mission item changed (MISSION_CURRENT at once).
@@ -201,6 +213,7 @@ impl Event {
             Self::ModeChanged(mode) => format!("Mode {}", mode.name()),
             Self::Landed => "Landing detected".to_string(),
             Self::OffboardLost => "Offboard lost: holding position".to_string(),
+            Self::Failsafe(text) => text.clone(),
             Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
             Self::MissionCurrent(seq) => format!("Mission item {seq}"),
         }
@@ -254,6 +267,8 @@ pub struct Commander {
     mission: MissionRun,
     speed_override: Option<f64>,
     home_w: Vec3,
+    failsafes: FailsafeMonitor,
+    battery: BatteryGauge,
 }
 
 impl Commander {
@@ -275,6 +290,8 @@ impl Commander {
             mission: MissionRun::default(),
             speed_override: None,
             home_w: Vec3::zeros(),
+            failsafes: FailsafeMonitor::default(),
+            battery: BatteryGauge::default(),
         }
     }
 
@@ -301,6 +318,48 @@ impl Commander {
     /// Current mission item, item count and mission state (MISSION_CURRENT).
     pub fn mission_progress(&self) -> (usize, usize, MissionState) {
         (self.mission.seq, self.mission.mission.len(), self.mission.state)
+    }
+
+    /// Draws `power_w` [W] from the battery for `dt_s` [s], then runs the geofence and battery
+    /// failsafes for state `x` at `t_s` [s]: each announces itself and switches the mode (hold,
+    /// return, land) or terminates, which the next heartbeat shows.
+    pub fn check_failsafes(&mut self, x: &VehicleState, power_w: f64, dt_s: f64, t_s: f64) -> Vec<Event> {
+        self.battery.draw(power_w, dt_s);
+        let rel = x.pos_w - self.home_w;
+        let in_air = self.armed && self.landed != LandedState::OnGround;
+        let fired = self.failsafes.check(
+            &self.params.failsafe,
+            [rel.x, rel.y, rel.z],
+            self.battery.fraction(&self.params.battery),
+            in_air,
+        );
+        let mut events = Vec::new();
+        for failsafe in fired {
+            events.push(Event::Failsafe(failsafe.text));
+            let mode = match failsafe.action {
+                FailsafeAction::Warn => None,
+                FailsafeAction::Hold => Some(FlightMode::Loiter),
+                FailsafeAction::Return => Some(FlightMode::ReturnToLaunch),
+                FailsafeAction::Land => Some(FlightMode::Land),
+                FailsafeAction::Terminate => {
+                    self.disarm();
+                    events.push(Event::Disarmed("flight termination"));
+                    None
+                }
+            };
+            // Never step back from landing to a return, nor restart a mode already running.
+            let landing = self.mode == FlightMode::Land;
+            if let Some(mode) = mode.filter(|m| *m != self.mode && !landing) {
+                self.enter(mode, x, t_s);
+                events.push(Event::ModeChanged(mode));
+            }
+        }
+        events
+    }
+
+    /// The battery gauge and the pack it measures.
+    pub fn battery(&self) -> (BatteryGauge, BatteryParams) {
+        (self.battery, self.params.battery)
     }
 
     /// Restamps the latest offboard setpoint at `t_s` [s]: the runtime calls this while the

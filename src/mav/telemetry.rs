@@ -11,7 +11,7 @@ use mavlink::dialects::common::{
 
 use crate::commander::{FlightMode, LandedState, MissionState};
 use crate::math::{UnitQuat, Vec3};
-use crate::telemetry::Snapshot;
+use crate::telemetry::{BatterySnapshot, Snapshot};
 
 /// A periodic telemetry message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -122,6 +122,35 @@ fn time_boot_ms(s: &Snapshot) -> u32 {
     (s.t_s * 1000.0) as u32
 }
 
+/// Pack voltage [mV].
+fn millivolts(b: &BatterySnapshot) -> u16 {
+    (b.cell_v * f64::from(b.cells) * 1000.0).round().clamp(0.0, 65_534.0) as u16
+}
+
+/// Remaining charge [%].
+fn percent(b: &BatterySnapshot) -> i8 {
+    (b.fraction * 100.0).round().clamp(0.0, 100.0) as i8
+}
+
+/// BATTERY_STATUS: cell voltages (up to ten cells, UINT16_MAX for the rest), current [cA],
+/// charge drawn [mAh], energy drawn [hJ], remaining [%].
+fn battery_status(b: &BatterySnapshot) -> MavMessage {
+    let mut voltages = [u16::MAX; 10];
+    let cell_mv = (b.cell_v * 1000.0).round().clamp(0.0, 65_534.0) as u16;
+    for v in voltages.iter_mut().take(b.cells.min(10) as usize) {
+        *v = cell_mv;
+    }
+    MavMessage::BATTERY_STATUS(BATTERY_STATUS_DATA {
+        voltages,
+        current_battery: (b.current_a * 100.0).round().clamp(0.0, f64::from(i16::MAX)) as i16,
+        current_consumed: b.consumed_mah.round().clamp(0.0, f64::from(i32::MAX)) as i32,
+        energy_consumed: (b.energy_j / 100.0).round().clamp(0.0, f64::from(i32::MAX)) as i32,
+        temperature: i16::MAX,
+        battery_remaining: percent(b),
+        ..Default::default()
+    })
+}
+
 /// The message of `stream` for snapshot `s`; `None` when there is nothing to report (no estimate).
 pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
     let time_usec = (s.t_s * 1e6) as u64;
@@ -173,26 +202,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
             heading: (heading_cdeg(s) / 100) as i16,
             throttle: (s.thrust_fraction.clamp(0.0, 1.0) * 100.0).round() as u16,
         }),
-        Stream::BatteryStatus => MavMessage::BATTERY_STATUS(BATTERY_STATUS_DATA {
-            voltages: [
-                4050,
-                4050,
-                4050,
-                4050,
-                u16::MAX,
-                u16::MAX,
-                u16::MAX,
-                u16::MAX,
-                u16::MAX,
-                u16::MAX,
-            ],
-            current_battery: -1,
-            current_consumed: -1,
-            energy_consumed: -1,
-            temperature: i16::MAX,
-            battery_remaining: 100,
-            ..Default::default()
-        }),
+        Stream::BatteryStatus => battery_status(&s.battery),
         Stream::AttitudeTarget => {
             let eta = s.eta_desired?;
             let q = UnitQuat::from_euler_angles(eta.x, eta.y, eta.z);
@@ -300,7 +310,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
             value: s.estimate?.mass_kg as f32,
             name: "EXT_MASS".into(),
         }),
-        Stream::SysStatus => sys_status(),
+        Stream::SysStatus => sys_status(&s.battery),
         Stream::ExtendedSysState => MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
             vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
             landed_state: match s.landed {
@@ -384,7 +394,7 @@ pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
 
 /// SYS_STATUS with the sensors MAVSDK's `health_all_ok()` checks present, enabled and healthy,
 /// and the pre-arm check healthy (the emulator is armable at once, §4).
-fn sys_status() -> MavMessage {
+fn sys_status(b: &BatterySnapshot) -> MavMessage {
     let sensors = MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO
         | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_ACCEL
         | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_MAG
@@ -395,9 +405,9 @@ fn sys_status() -> MavMessage {
         onboard_control_sensors_present: sensors,
         onboard_control_sensors_enabled: sensors,
         onboard_control_sensors_health: sensors,
-        voltage_battery: 16_200,
-        current_battery: -1,
-        battery_remaining: 100,
+        voltage_battery: millivolts(b),
+        current_battery: (b.current_a * 100.0).round().clamp(0.0, f64::from(i16::MAX)) as i16,
+        battery_remaining: percent(b),
         ..Default::default()
     })
 }
@@ -451,6 +461,7 @@ mod tests {
             rotor_speeds: [0.0; crate::airframe::MAX_ROTORS],
             rotor_count: 4,
             rotor_max_rad_s: 1100.0,
+            battery: crate::telemetry::BatterySnapshot::full(3),
         }
     }
 

@@ -140,6 +140,13 @@ impl ParamTable {
         values[index] = value;
         let s = names::decode(&values);
         s.gains.validate().map_err(invalid)?;
+        let f = &s.commander.failsafe;
+        if !(f.battery_emergency < f.battery_critical && f.battery_critical < f.battery_low) {
+            return Err(invalid(format!(
+                "battery thresholds must fall: BAT_LOW_THR {} > BAT_CRIT_THR {} > BAT_EMERGEN_THR {}",
+                f.battery_low, f.battery_critical, f.battery_emergency
+            )));
+        }
         if let Some(design) = s.estimator {
             design.gains(ts_s).map_err(|e| invalid(e.to_string()))?;
         }
@@ -212,6 +219,10 @@ mod tests {
         assert_eq!(t.settings().estimator.map(|d| d.order), Some(13));
         t.set("RP_EST_ORDER", 0.0, 1e-3).unwrap();
         assert_eq!(t.settings().estimator, None);
+        let e = t.set("BAT_CRIT_THR", 0.2, 1e-3).unwrap_err().to_string();
+        assert!(e.starts_with("BAT_CRIT_THR: battery thresholds must fall"), "{e}");
+        t.set("BAT_CRIT_THR", 0.1, 1e-3).unwrap();
+        assert_eq!(t.settings().commander.failsafe.battery_critical, 0.1);
         assert_eq!(before.settings().controller, ControllerKind::Hierarchical);
     }
 }

@@ -1,13 +1,13 @@
 //! The fixed parameter list: names, types, ranges, and how each maps to a setting.
 
-use crate::commander::CommanderParams;
+use crate::commander::{BatteryParams, CommanderParams, FailsafeParams};
 use crate::control::{ControllerGains, ControllerKind};
 use crate::estimation::{ChebyshevDesign, MAX_ORDER};
 
 use super::{vec3, ParamDef, ParamType, VehicleSettings};
 
 /// Every parameter name, in index order.
-pub const PARAM_NAMES: [&str; 60] = [
+pub const PARAM_NAMES: [&str; 69] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -68,6 +68,15 @@ pub const PARAM_NAMES: [&str; 60] = [
     "RP_CEIL_EFFECT",
     "MPC_XY_VEL_MAX",
     "MPC_Z_VEL_MAX_DN",
+    "GF_ACTION",
+    "GF_MAX_HOR_DIST",
+    "GF_MAX_VER_DIST",
+    "COM_LOW_BAT_ACT",
+    "BAT_LOW_THR",
+    "BAT_CRIT_THR",
+    "BAT_EMERGEN_THR",
+    "BAT1_CAPACITY",
+    "BAT1_N_CELLS",
 ];
 
 fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
@@ -152,6 +161,19 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
     ));
     out.push((def(PARAM_NAMES[k + 7], Real32, 0.5, 50.0), c.xy_vel_max_m_s));
     out.push((def(PARAM_NAMES[k + 8], Real32, 0.1, 10.0), c.descent_speed_m_s));
+    let f = &c.failsafe;
+    out.push((def(PARAM_NAMES[k + 9], Int32, 0.0, 5.0), f64::from(f.geofence_action)));
+    out.push((def(PARAM_NAMES[k + 10], Real32, 0.0, 1e4), f.geofence_max_hor_m));
+    out.push((def(PARAM_NAMES[k + 11], Real32, 0.0, 1e4), f.geofence_max_ver_m));
+    out.push((
+        def(PARAM_NAMES[k + 12], Int32, 0.0, 3.0),
+        f64::from(f.low_battery_action),
+    ));
+    out.push((def(PARAM_NAMES[k + 13], Real32, 0.12, 0.5), f.battery_low));
+    out.push((def(PARAM_NAMES[k + 14], Real32, 0.05, 0.25), f.battery_critical));
+    out.push((def(PARAM_NAMES[k + 15], Real32, 0.03, 0.1), f.battery_emergency));
+    out.push((def(PARAM_NAMES[k + 16], Real32, 1.0, 1e5), c.battery.capacity_mah));
+    out.push((def(PARAM_NAMES[k + 17], Int32, 1.0, 14.0), f64::from(c.battery.cells)));
     out
 }
 
@@ -198,6 +220,19 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
             link_loss_s: v[55],
             xy_vel_max_m_s: v[58],
             descent_speed_m_s: v[59],
+            failsafe: FailsafeParams {
+                geofence_action: v[60] as i32,
+                geofence_max_hor_m: v[61],
+                geofence_max_ver_m: v[62],
+                low_battery_action: v[63] as i32,
+                battery_low: v[64],
+                battery_critical: v[65],
+                battery_emergency: v[66],
+            },
+            battery: BatteryParams {
+                capacity_mah: v[67],
+                cells: v[68] as u32,
+            },
         },
         controller: match v[7] as i64 {
             1 => ControllerKind::Hierarchical,

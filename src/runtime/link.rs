@@ -162,6 +162,7 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
                     let msg = match event {
                         Event::MissionItemReached(seq) => MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq }),
                         Event::MissionCurrent(seq) => mission_current(&ctx.snapshot.borrow(), seq),
+                        Event::Failsafe(text) => status_text(MavSeverity::MAV_SEVERITY_CRITICAL, &text),
                         other => status_text(MavSeverity::MAV_SEVERITY_INFO, &other.describe()),
                     };
                     for to in targets(remote, &mut peers) {

@@ -440,5 +440,6 @@ fn initial_snapshot(home: Home) -> Snapshot {
         rotor_speeds: [0.0; crate::airframe::MAX_ROTORS],
         rotor_count: 0,
         rotor_max_rad_s: 1.0,
+        battery: crate::telemetry::BatterySnapshot::full(3),
     }
 }

@@ -10,7 +10,7 @@ use crate::math::euler_zyx;
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable, VehicleSettings};
 use crate::sitl::{SimPlant, SitlError};
-use crate::telemetry::{EstimateSnapshot, Snapshot};
+use crate::telemetry::{BatterySnapshot, EstimateSnapshot, Snapshot};
 
 use super::flight_log::{LogSender, TickLog};
 
@@ -176,7 +176,12 @@ impl Vehicle {
     pub fn step(&mut self) -> TickOutput {
         let t_s = self.time_s();
         let x = self.plant.sense();
-        let tick = self.commander.update(&x, t_s);
+        let power_w = self.plant.electrical_power_w();
+        let failsafe_events = self.commander.check_failsafes(&x, power_w, self.dt_s, t_s);
+        let mut tick = self.commander.update(&x, t_s);
+        if !failsafe_events.is_empty() {
+            tick.events.splice(0..0, failsafe_events);
+        }
         let step = match (tick.setpoint, tick.attitude) {
             (Some(sp), _) => Some(self.core.step(&x, &sp)),
             (None, Some(target)) => Some(self.core.step_attitude(&x, &target)),
@@ -235,6 +240,17 @@ impl Vehicle {
                 rotor_speeds,
                 rotor_count: self.idle.len(),
                 rotor_max_rad_s: self.rotor_max_rad_s,
+                battery: {
+                    let (gauge, pack) = self.commander.battery();
+                    BatterySnapshot {
+                        fraction: gauge.fraction(&pack),
+                        cell_v: gauge.cell_voltage_v(&pack),
+                        cells: pack.cells,
+                        current_a: gauge.current_a(&pack),
+                        consumed_mah: gauge.consumed_mah(&pack),
+                        energy_j: gauge.used_j(),
+                    }
+                },
             },
             events: tick.events,
         }

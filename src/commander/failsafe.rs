@@ -1,0 +1,258 @@
+//! Geofence and battery failsafes (mavlink.md §11.2, PX4 names and semantics). Pure: the
+//! commander feeds the position relative to home and the battery's remaining fraction each tick
+//! and gets back the failsafes that have just triggered, each with the action to take.
+
+/// Failsafe settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FailsafeParams {
+    /// Geofence breach action (`GF_ACTION`: 0 none, 1 warning, 2 hold, 3 return, 4 terminate,
+    /// 5 land; default 2).
+    pub geofence_action: i32,
+    /// Largest horizontal distance from home [m] (`GF_MAX_HOR_DIST`; 0 = no limit).
+    pub geofence_max_hor_m: f64,
+    /// Largest height above home [m] (`GF_MAX_VER_DIST`; 0 = no limit).
+    pub geofence_max_ver_m: f64,
+    /// Action at the critical battery level (`COM_LOW_BAT_ACT`: 0 warning, 2 land, 3 return
+    /// then land at the emergency level; default 0).
+    pub low_battery_action: i32,
+    /// Low battery level, fraction remaining (`BAT_LOW_THR`, 0.15): a warning.
+    pub battery_low: f64,
+    /// Critical battery level (`BAT_CRIT_THR`, 0.07): `COM_LOW_BAT_ACT`.
+    pub battery_critical: f64,
+    /// Emergency battery level (`BAT_EMERGEN_THR`, 0.05): land whatever the action.
+    pub battery_emergency: f64,
+}
+
+impl Default for FailsafeParams {
+    fn default() -> Self {
+        Self {
+            geofence_action: 2,
+            geofence_max_hor_m: 0.0,
+            geofence_max_ver_m: 0.0,
+            low_battery_action: 0,
+            battery_low: 0.15,
+            battery_critical: 0.07,
+            battery_emergency: 0.05,
+        }
+    }
+}
+
+/// What a failsafe makes the vehicle do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FailsafeAction {
+    /// Announce only.
+    Warn,
+    /// Hold position (AUTO.LOITER).
+    Hold,
+    /// Return to launch.
+    Return,
+    /// Land here.
+    Land,
+    /// Stop the motors (flight termination).
+    Terminate,
+}
+
+/// A failsafe that has just triggered.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Failsafe {
+    /// What to do.
+    pub action: FailsafeAction,
+    /// The announcement (STATUSTEXT).
+    pub text: String,
+}
+
+/// Battery state by threshold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Default)]
+pub enum BatteryLevel {
+    /// Above `BAT_LOW_THR`.
+    #[default]
+    Ok,
+    /// At or below `BAT_LOW_THR`.
+    Low,
+    /// At or below `BAT_CRIT_THR`.
+    Critical,
+    /// At or below `BAT_EMERGEN_THR`.
+    Emergency,
+}
+
+/// Remembers which failsafes have fired, so each fires once per breach (a new breach after
+/// the vehicle came back inside the fence fires again; battery levels only go down).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FailsafeMonitor {
+    fence_breached: bool,
+    battery: BatteryLevel,
+}
+
+impl FailsafeMonitor {
+    /// The battery level last seen.
+    pub fn battery_level(&self) -> BatteryLevel {
+        self.battery
+    }
+
+    /// Failsafes triggered by being at `rel_home_w` [m] from home (NED) with `battery_fraction`
+    /// [0, 1] remaining. Only checked in flight: the caller passes `in_air`.
+    pub fn check(
+        &mut self,
+        p: &FailsafeParams,
+        rel_home_w: [f64; 3],
+        battery_fraction: f64,
+        in_air: bool,
+    ) -> Vec<Failsafe> {
+        let mut out = Vec::new();
+        let level = battery_level(p, battery_fraction);
+        if level > self.battery {
+            self.battery = level;
+            if in_air {
+                out.extend(battery_failsafe(p, level, battery_fraction));
+            }
+        }
+        let horizontal = rel_home_w[0].hypot(rel_home_w[1]);
+        let height = -rel_home_w[2];
+        let outside = (p.geofence_max_hor_m > 0.0 && horizontal > p.geofence_max_hor_m)
+            || (p.geofence_max_ver_m > 0.0 && height > p.geofence_max_ver_m);
+        if outside && !self.fence_breached && in_air && p.geofence_action != 0 {
+            out.push(Failsafe {
+                action: match p.geofence_action {
+                    2 => FailsafeAction::Hold,
+                    3 => FailsafeAction::Return,
+                    4 => FailsafeAction::Terminate,
+                    5 => FailsafeAction::Land,
+                    _ => FailsafeAction::Warn,
+                },
+                text: format!(
+                    "Geofence breached ({horizontal:.1} m from home, {height:.1} m up; limits {} m / {} m)",
+                    p.geofence_max_hor_m, p.geofence_max_ver_m
+                ),
+            });
+        }
+        self.fence_breached = outside;
+        out
+    }
+}
+
+/// The level of `fraction` against the thresholds.
+pub fn battery_level(p: &FailsafeParams, fraction: f64) -> BatteryLevel {
+    if fraction <= p.battery_emergency {
+        BatteryLevel::Emergency
+    } else if fraction <= p.battery_critical {
+        BatteryLevel::Critical
+    } else if fraction <= p.battery_low {
+        BatteryLevel::Low
+    } else {
+        BatteryLevel::Ok
+    }
+}
+
+fn battery_failsafe(p: &FailsafeParams, level: BatteryLevel, fraction: f64) -> Option<Failsafe> {
+    let percent = (fraction * 100.0).max(0.0);
+    let (action, text) = match level {
+        BatteryLevel::Ok => return None,
+        BatteryLevel::Low => (FailsafeAction::Warn, format!("Low battery: {percent:.0}% remaining")),
+        BatteryLevel::Critical => match p.low_battery_action {
+            2 => (
+                FailsafeAction::Land,
+                format!("Critical battery ({percent:.0}%): landing"),
+            ),
+            3 => (
+                FailsafeAction::Return,
+                format!("Critical battery ({percent:.0}%): returning"),
+            ),
+            _ => (
+                FailsafeAction::Warn,
+                format!("Critical battery: {percent:.0}% remaining"),
+            ),
+        },
+        BatteryLevel::Emergency => match p.low_battery_action {
+            0 => (
+                FailsafeAction::Warn,
+                format!("Emergency battery: {percent:.0}% remaining"),
+            ),
+            _ => (
+                FailsafeAction::Land,
+                format!("Emergency battery ({percent:.0}%): landing"),
+            ),
+        },
+    };
+    Some(Failsafe { action, text })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fence(action: i32) -> FailsafeParams {
+        FailsafeParams {
+            geofence_action: action,
+            geofence_max_hor_m: 10.0,
+            geofence_max_ver_m: 5.0,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn fence_fires_once_per_breach_and_only_in_the_air() {
+        let p = fence(3);
+        let mut m = FailsafeMonitor::default();
+        assert!(m.check(&p, [9.0, 0.0, -4.0], 1.0, true).is_empty());
+        let fired = m.check(&p, [8.0, 8.0, -4.0], 1.0, true);
+        assert_eq!(fired.len(), 1);
+        assert_eq!(fired[0].action, FailsafeAction::Return);
+        assert!(fired[0].text.contains("11.3 m from home"), "{}", fired[0].text);
+        assert!(m.check(&p, [8.0, 8.0, -4.0], 1.0, true).is_empty(), "once per breach");
+        assert!(m.check(&p, [1.0, 0.0, -4.0], 1.0, true).is_empty());
+        assert_eq!(
+            m.check(&p, [0.0, 0.0, -6.0], 1.0, true)[0].action,
+            FailsafeAction::Return,
+            "too high"
+        );
+        let mut ground = FailsafeMonitor::default();
+        assert!(ground.check(&p, [20.0, 0.0, 0.0], 1.0, false).is_empty());
+    }
+
+    #[test]
+    fn fence_actions_follow_gf_action_and_zero_limits_are_off() {
+        let at = |action| FailsafeMonitor::default().check(&fence(action), [11.0, 0.0, 0.0], 1.0, true);
+        assert_eq!(at(1)[0].action, FailsafeAction::Warn);
+        assert_eq!(at(2)[0].action, FailsafeAction::Hold);
+        assert_eq!(at(4)[0].action, FailsafeAction::Terminate);
+        assert_eq!(at(5)[0].action, FailsafeAction::Land);
+        assert!(at(0).is_empty());
+        let off = FailsafeParams::default();
+        assert!(FailsafeMonitor::default()
+            .check(&off, [1e4, 0.0, -1e3], 1.0, true)
+            .is_empty());
+    }
+
+    #[test]
+    fn battery_levels_fire_in_order_with_com_low_bat_act() {
+        let p = FailsafeParams {
+            low_battery_action: 3,
+            ..Default::default()
+        };
+        let mut m = FailsafeMonitor::default();
+        let mut actions = Vec::new();
+        for percent in (0..=100).rev() {
+            for f in m.check(&p, [0.0; 3], f64::from(percent) / 100.0, true) {
+                actions.push((percent, f.action));
+            }
+        }
+        assert_eq!(
+            actions,
+            vec![
+                (15, FailsafeAction::Warn),
+                (7, FailsafeAction::Return),
+                (5, FailsafeAction::Land)
+            ]
+        );
+        assert_eq!(m.battery_level(), BatteryLevel::Emergency);
+        // A battery that recovers (noise) does not re-arm the failsafes.
+        assert!(m.check(&p, [0.0; 3], 0.5, true).is_empty());
+        let warn_only = FailsafeParams::default();
+        let mut m = FailsafeMonitor::default();
+        let fired = m.check(&warn_only, [0.0; 3], 0.06, true);
+        assert_eq!(
+            (fired[0].action, fired[0].text.as_str()),
+            (FailsafeAction::Warn, "Critical battery: 6% remaining")
+        );
+    }
+}
