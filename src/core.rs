@@ -11,7 +11,7 @@
 use thiserror::Error;
 
 use crate::airframe::Airframe;
-use crate::allocation::{Allocation, AllocationError, Allocator};
+use crate::allocation::{Allocation, AllocationError, Allocator, FailedRotors};
 use crate::control::{
     AttitudeTarget, ControlInput, ControlOutput, Controller, ControllerError, ControllerGains, ControllerKind,
     ExternalWrench, FlatSetpoint, VehicleModel, VehicleState,
@@ -65,6 +65,8 @@ pub struct FlightCore {
     /// The active control law.
     pub controller: Controller,
     allocator: Allocator,
+    /// The allocator with every rotor working (rotor failures are applied to it).
+    nominal: Allocator,
     observer: Option<WrenchObserver>,
 }
 
@@ -73,6 +75,7 @@ impl FlightCore {
     pub fn new(controller: Controller, allocator: Allocator, observer: Option<WrenchObserver>) -> Self {
         Self {
             controller,
+            nominal: allocator.clone(),
             allocator,
             observer,
         }
@@ -93,6 +96,19 @@ impl FlightCore {
     /// The allocator.
     pub fn allocator(&self) -> &Allocator {
         &self.allocator
+    }
+
+    /// Allocates around the rotors marked in `failed` from now on (all `false`: the nominal
+    /// allocator again); what can still be controlled, or why nothing can (the allocator is
+    /// then left as it was).
+    pub fn set_failed_rotors(&mut self, failed: &[bool]) -> Result<FailedRotors, AllocationError> {
+        if !failed.iter().any(|f| *f) {
+            self.allocator = self.nominal.clone();
+            return Ok(FailedRotors::FullControl);
+        }
+        let (allocator, mode) = self.nominal.with_failed_rotors(failed)?;
+        self.allocator = allocator;
+        Ok(mode)
     }
 
     /// Replaces (or removes) the estimator; a new one starts from ŵ = 0.

@@ -66,6 +66,10 @@ enum Command {
         /// Simulated seconds per wall second (0.1 to 1000), or `max` for as fast as possible.
         #[arg(long, default_value = "1")]
         speedup: runtime::Pace,
+        /// Stop rotor ROTOR (1-based) at SECONDS of simulated time, on every vehicle
+        /// (repeatable), e.g. `--fail-rotor 2@20`.
+        #[arg(long = "fail-rotor", value_name = "ROTOR@SECONDS")]
+        fail_rotor: Vec<runtime::rotor_failures::ScheduledFailure>,
         /// Home as LAT,LON,ALT [deg, deg, m AMSL].
         #[arg(long, default_value = "47.397742,8.545594,488.0")]
         home: String,
@@ -288,6 +292,7 @@ fn execute(command: Command) -> Result<String, String> {
             port_base,
             spacing,
             speedup,
+            fail_rotor,
             home,
             sysid,
             seed,
@@ -343,6 +348,7 @@ fn execute(command: Command) -> Result<String, String> {
                 count,
                 spacing_m: spacing,
                 pace: speedup,
+                rotor_failures: fail_rotor,
             };
             if let Some(d) = duration {
                 if !(d.is_finite() && d > 0.0) {

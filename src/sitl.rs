@@ -74,6 +74,16 @@ impl SimPlant {
         self.accel_b
     }
 
+    /// Fails (`true`) or repairs rotor `index` (0-based); false when there is no such rotor.
+    pub fn set_rotor_failed(&mut self, index: usize, failed: bool) -> bool {
+        self.plant.set_rotor_failed(index, failed)
+    }
+
+    /// Which rotors have failed, as the ESCs report it.
+    pub fn failed_rotors(&self) -> &[bool] {
+        self.plant.failed_rotors()
+    }
+
     /// Electrical power the rotors draw [W]: shaft power Σ c_q·|ω_i|³ of the actual motor speeds
     /// over a motor-and-ESC efficiency of 0.7 (the battery's current sensor).
     pub fn electrical_power_w(&self) -> f64 {

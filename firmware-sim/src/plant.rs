@@ -78,6 +78,9 @@ pub struct Plant {
     external_torque_b: Vector3<f64>,
     /// Ground and ceiling effect switched on (contact is always on).
     proximity_enabled: (bool, bool),
+    /// Rotors that have failed: commanded zero whatever the controller asks (they spin down
+    /// with the motor lag).
+    failed: Vec<bool>,
 }
 
 impl Plant {
@@ -118,6 +121,7 @@ impl Plant {
             external_force_w: Vector3::zeros(),
             external_torque_b: Vector3::zeros(),
             proximity_enabled: (true, true),
+            failed: vec![false; n],
         }
     }
 
@@ -254,6 +258,7 @@ impl Plant {
         let mut rejected = cmd.len() != self.command.len();
         for (i, slot) in self.command.iter_mut().enumerate() {
             *slot = match cmd.get(i) {
+                _ if self.failed[i] => 0.0,
                 Some(w) if w.is_finite() => w.clamp(rc.omega_min_rad_s, rc.omega_max_rad_s),
                 _ => {
                     rejected = true;
@@ -266,6 +271,22 @@ impl Plant {
 
     /// Thrust factor of each rotor from its hub's distance to ground and ceiling
     /// (control.md §8.4 rules 1–2), held over the step.
+    /// Fails (`true`) or repairs rotor `index` (0-based); false when there is no such rotor.
+    pub fn set_rotor_failed(&mut self, index: usize, failed: bool) -> bool {
+        match self.failed.get_mut(index) {
+            Some(slot) => {
+                *slot = failed;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Which rotors have failed (the ESCs report it).
+    pub fn failed_rotors(&self) -> &[bool] {
+        &self.failed
+    }
+
     /// Turns the aerodynamic ground and ceiling effects on or off (contact with the planes
     /// stays); an effect the airframe file does not configure stays off.
     pub fn set_proximity_effects(&mut self, ground: bool, ceiling: bool) {

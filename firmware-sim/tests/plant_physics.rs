@@ -292,3 +292,29 @@ fn motor_lag_limits_and_external_step() {
     assert_eq!(t.external_force_w, Vector3::new(1.5, 0.0, 0.0));
     assert!(t.body.vel_w.x > 0.0);
 }
+
+#[test]
+fn a_failed_rotor_spins_down_whatever_it_is_commanded() {
+    let p = params(QUAD_X);
+    let hover = vec![p.hover_speed_rad_s(); 4];
+    let mut plant = Plant::new(p);
+    plant.set_body_state(airborne(-10.0));
+    plant.set_motor_speeds(&hover);
+    assert!(plant.set_rotor_failed(1, true) && !plant.set_rotor_failed(4, true));
+    assert_eq!(plant.failed_rotors(), &[false, true, false, false]);
+    for _ in 0..500 {
+        plant.step(&hover, DEFAULT_DT_S);
+    }
+    let speeds = plant.motor_speeds();
+    assert!(speeds[1] < 1.0, "rotor 2 stopped: {}", speeds[1]);
+    assert!((speeds[0] - hover[0]).abs() < 1e-9);
+    assert!(
+        plant.truth().body.omega_b.norm() > 0.1,
+        "the lost thrust makes it tumble"
+    );
+    plant.set_rotor_failed(1, false);
+    for _ in 0..500 {
+        plant.step(&hover, DEFAULT_DT_S);
+    }
+    assert!((plant.motor_speeds()[1] - hover[1]).abs() < 1.0, "repaired");
+}

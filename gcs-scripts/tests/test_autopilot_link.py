@@ -731,3 +731,27 @@ def test_battery_failsafe_announces_and_changes_mode(autopilot):
     assert (4 << 16) | (5 << 24) in modes, "AUTO.RTL shown before AUTO.LAND"
     low = autopilot.wait(lambda m: True, "BATTERY_STATUS", 3)
     assert low.battery_remaining <= 5 and low.current_consumed > 280 and low.voltages[0] < 3550
+
+
+def test_motor_failure_injection_lands_the_octocopter(rotorpilot_bin):
+    """MAV_CMD_INJECT_FAILURE (motor 3 off) needs SYS_FAILURE_EN; the octocopter announces the
+    failure, shows AUTO.LAND in its heartbeat, lands and disarms."""
+    ap = Autopilot("--airframe", "octo")
+    try:
+        ap.heartbeat()
+        assert ap.command(420, 101, 1, 3).result == DENIED, "SYS_FAILURE_EN = 0"
+        ap.gcs.mav.param_set_send(1, 1, b"SYS_FAILURE_EN", int32_bits(1), 6)
+        assert ap.wait(lambda m: m.param_id == "SYS_FAILURE_EN", "PARAM_VALUE", 2) is not None
+        assert ap.command(22).result == ACCEPTED and ap.command(400, 1.0).result == ACCEPTED
+        assert ap.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+        assert ap.command(420, 101, 1, 3).result == ACCEPTED
+        text = ap.wait(lambda m: m.text.startswith("Motor 3 failed"), "STATUSTEXT", 3)
+        assert text is not None and text.text == "Motor 3 failed: landing" and text.severity == 2
+        assert ap.wait(lambda m: m.custom_mode == (4 << 16) | (6 << 24), "HEARTBEAT", 3) is not None
+        assert ap.wait(lambda m: "Disarmed" in m.text, "STATUSTEXT", 20) is not None
+        actuators = ap.wait(lambda m: True, "ACTUATOR_OUTPUT_STATUS", 3)
+        assert actuators.actuator[2] == 0.0
+        pos = ap.wait(lambda m: True, "LOCAL_POSITION_NED", 2)
+        assert math.hypot(pos.x, pos.y) < 0.5, "landed where it was"
+    finally:
+        ap.close()

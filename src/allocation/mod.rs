@@ -4,10 +4,12 @@
 //! The hot path ([`Allocator::allocate`]) works on fixed-size arrays and never allocates.
 
 mod effectiveness;
+mod failure;
 mod inverse;
 mod saturation;
 
 pub use effectiveness::effectiveness_matrix;
+pub use failure::FailedRotors;
 pub use inverse::{closed_form_ring_inverse, min_norm_inverse, MAX_CONDITION};
 pub use saturation::Saturation;
 
@@ -112,7 +114,17 @@ impl Allocator {
     pub fn new(af: &Airframe) -> Result<Self, AllocationError> {
         let g = effectiveness_matrix(af);
         let a = min_norm_inverse(&g)?;
-        let n = af.rotors.len();
+        Ok(Self::from_parts(
+            g,
+            a,
+            af.omega_min_rad_s.powi(2),
+            af.omega_max_rad_s.powi(2),
+        ))
+    }
+
+    /// An allocator for `g` (4 × n) with inverse `a` (n × 4) and squared-speed bounds.
+    pub(super) fn from_parts(g: DMatrix<f64>, a: DMatrix<f64>, lo: f64, hi: f64) -> Self {
+        let n = g.ncols();
         let mut g_rows = [[0.0; MAX_ROTORS]; 4];
         let mut a_cols = [[0.0; MAX_ROTORS]; 4];
         for k in 0..4 {
@@ -121,19 +133,14 @@ impl Allocator {
                 a_cols[k][i] = a[(i, k)];
             }
         }
-        let hi = af.omega_max_rad_s.powi(2);
-        Ok(Self {
+        Self {
             thrust_max_n: g.row(0).sum() * hi,
             g,
             a,
             g_rows,
             a_cols,
-            bounds: SpeedBox {
-                n,
-                lo: af.omega_min_rad_s.powi(2),
-                hi,
-            },
-        })
+            bounds: SpeedBox { n, lo, hi },
+        }
     }
 
     /// G_q (4 × n), rows [u_T, τx, τy, τz].
@@ -144,6 +151,11 @@ impl Allocator {
     /// The min-norm inverse A (n × 4).
     pub fn inverse(&self) -> &DMatrix<f64> {
         &self.a
+    }
+
+    /// Squared-speed bounds (lo, hi) [(rad/s)²].
+    pub(super) fn squared_speed_bounds(&self) -> (f64, f64) {
+        (self.bounds.lo, self.bounds.hi)
     }
 
     /// Number of rotors.

@@ -118,7 +118,13 @@ pub(crate) fn allocate(
         Some(k) => k,
         None => {
             // 3. Yaw dropped: shift the collective.
-            let fit_collective = |s: f64| bounds.interval(&combine(n, &[(&roll_pitch, s)]), col_t);
+            // A collective that fits must also be one the motors can give, [0, u_max]: after a
+            // rotor failure a rotor may have (almost) no thrust column, so no collective lifts it.
+            let fit_collective = |s: f64| {
+                bounds
+                    .interval(&combine(n, &[(&roll_pitch, s)]), col_t)
+                    .filter(|(lo, hi)| *hi >= 0.0 && *lo <= thrust_max_n)
+            };
             let (lo, hi) = match fit_collective(1.0) {
                 Some(range) => range,
                 None => {
@@ -136,7 +142,7 @@ pub(crate) fn allocate(
                     fit_collective(good).unwrap_or((0.0, 0.0))
                 }
             };
-            u = u.clamp(lo.max(0.0), hi.max(0.0));
+            u = u.clamp(lo.max(0.0), hi.clamp(0.0, thrust_max_n));
             // 5. Recover what yaw the margin allows.
             let base = combine(n, &[(col_t, u), (&roll_pitch, rp_scale)]);
             bounds.largest_fraction(&base, &yaw).unwrap_or(0.0)

@@ -16,6 +16,7 @@ pub use mode::{FlightMode, ModeRefusal};
 
 use mission_run::MissionRun;
 
+use crate::allocation::FailedRotors;
 use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::{Guidance, Mission, SpeedLimits};
@@ -54,6 +55,8 @@ pub struct CommanderParams {
     pub failsafe: FailsafeParams,
     /// The battery pack.
     pub battery: BatteryParams,
+    /// Failure injection allowed (`SYS_FAILURE_EN`, 0).
+    pub failure_injection: bool,
     /// Largest horizontal speed of any AUTO path [m/s] (`MPC_XY_VEL_MAX`, 12); caps cruise and
     /// DO_CHANGE_SPEED / DO_REPOSITION speeds.
     pub xy_vel_max_m_s: f64,
@@ -79,6 +82,7 @@ impl Default for CommanderParams {
             descent_speed_m_s: 1.5,
             failsafe: FailsafeParams::default(),
             battery: BatteryParams::default(),
+            failure_injection: false,
         }
     }
 }
@@ -150,6 +154,15 @@ pub enum Request {
         yaw_rad: Option<f64>,
         /// Ground speed [m/s].
         speed_m_s: Option<f64>,
+    },
+    /// MAV_CMD_INJECT_FAILURE for motors (`SYS_FAILURE_EN` = 1): rotor `rotor` (1-based; 0 =
+    /// every rotor) stops (`failed`) or works again. The vehicle applies it to the plant; the
+    /// commander hears of it through [`Commander::rotor_failed`].
+    InjectRotorFailure {
+        /// Rotor, 1-based; 0 = all.
+        rotor: usize,
+        /// Stop (true) or restore (false).
+        failed: bool,
     },
     /// DO_CHANGE_SPEED: horizontal speed of the AUTO modes [m/s] until changed again.
     ChangeSpeed(f64),
@@ -357,6 +370,32 @@ impl Commander {
         events
     }
 
+    /// Rotor `rotor` (1-based) has failed; `control` says what the allocation can still do
+    /// (`None`: nothing useful). In flight the vehicle lands where it is, as well as it can.
+    pub fn rotor_failed(
+        &mut self,
+        rotor: usize,
+        control: Option<FailedRotors>,
+        x: &VehicleState,
+        t_s: f64,
+    ) -> Vec<Event> {
+        let what = match control {
+            Some(FailedRotors::FullControl) => "",
+            Some(FailedRotors::YawUncontrolled) => ", yaw lost",
+            None => ", no allocation left",
+        };
+        let in_air = self.armed && self.landed != LandedState::OnGround;
+        let mut events = vec![Event::Failsafe(format!(
+            "Motor {rotor} failed{what}{}",
+            if in_air { ": landing" } else { "" }
+        ))];
+        if in_air && self.mode != FlightMode::Land {
+            self.enter(FlightMode::Land, x, t_s);
+            events.push(Event::ModeChanged(FlightMode::Land));
+        }
+        events
+    }
+
     /// The battery gauge and the pack it measures.
     pub fn battery(&self) -> (BatteryGauge, BatteryParams) {
         (self.battery, self.params.battery)
@@ -486,6 +525,9 @@ impl Commander {
                     _ => {}
                 }
                 Outcome::TemporarilyRejected(link_loss_text(action).to_string())
+            }
+            Request::InjectRotorFailure { .. } => {
+                Outcome::Denied("Failure injection is applied by the vehicle, not the commander".into())
             }
             Request::StartMission { first } => {
                 if first >= self.mission.mission.len() {

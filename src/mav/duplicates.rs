@@ -1,8 +1,9 @@
 //! Idempotent command retransmissions (mavlink.md §3.1): a COMMAND_LONG/INT repeated within
 //! [`DUPLICATE_WINDOW_S`] (same sender, command and seven parameters bit for bit) gets the
 //! cached result and is not executed again; a repeat arriving while the first is still being
-//! executed is dropped. A TEMPORARILY_REJECTED result is not remembered: it means "try again",
-//! and a retry after the state changed (e.g. OFFBOARD once setpoints stream) must be executed.
+//! executed is dropped. Only ACCEPTED results are remembered: a refusal changed nothing, so a
+//! repeat is simply judged again, and one sent after the state changed (OFFBOARD once setpoints
+//! stream, failure injection once `SYS_FAILURE_EN` is set) gets the current answer.
 //! Pure: the caller passes the time.
 
 use std::collections::HashMap;
@@ -66,12 +67,12 @@ impl DuplicateCache {
         }
     }
 
-    /// Records the result of `key` (forgets it when TEMPORARILY_REJECTED).
+    /// Records the result of `key`: kept when ACCEPTED, forgotten for a refusal.
     pub fn answered(&mut self, key: CommandKey, result: MavResult, now_s: f64) {
-        if result == MavResult::MAV_RESULT_TEMPORARILY_REJECTED {
-            self.entries.remove(&key);
-        } else {
+        if result == MavResult::MAV_RESULT_ACCEPTED {
             self.entries.insert(key, (now_s, Some(result)));
+        } else {
+            self.entries.remove(&key);
         }
     }
 }
@@ -105,5 +106,7 @@ mod tests {
         assert_eq!(cache.check(key, 3.3), Seen::New, "forgotten after the window");
         cache.answered(key, MavResult::MAV_RESULT_TEMPORARILY_REJECTED, 3.4);
         assert_eq!(cache.check(key, 3.5), Seen::New, "a temporary refusal may be retried");
+        cache.answered(key, MavResult::MAV_RESULT_DENIED, 3.6);
+        assert_eq!(cache.check(key, 3.7), Seen::New, "so may a denial, judged again");
     }
 }

@@ -193,6 +193,7 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             },
             None => CommandDecision::Refuse(Outcome::Denied("Set standard mode: no mode".into())),
         },
+        MavCmd::MAV_CMD_INJECT_FAILURE => inject_failure(cmd),
         MavCmd::MAV_CMD_DO_REPOSITION => {
             // COMMAND_LONG form: p5/p6 latitude/longitude [deg], p7 AMSL [m] (NaN = keep).
             let (lat, lon) = (param(cmd.param5), param(cmd.param6));
@@ -297,6 +298,25 @@ pub fn decode_command_int(id: &Identity, sender: &MavHeader, cmd: &COMMAND_INT_D
     });
     let down = param(cmd.z).and_then(alt_amsl).map(|amsl| origin.alt_amsl_m - amsl);
     reposition(&long, xy, down)
+}
+
+/// MAV_CMD_INJECT_FAILURE (420): p1 FAILURE_UNIT_SYSTEM_MOTOR (101), p2 FAILURE_TYPE_OK (0,
+/// restore) or FAILURE_TYPE_OFF (1, stop), p3 motor (1-based, 0 = all). Other units and types
+/// are UNSUPPORTED, as PX4 answers.
+fn inject_failure(cmd: &COMMAND_LONG_DATA) -> CommandDecision {
+    const MOTOR_UNIT: f32 = 101.0;
+    let failed = match (param(cmd.param1), param(cmd.param2)) {
+        (Some(MOTOR_UNIT), Some(0.0)) => false,
+        (Some(MOTOR_UNIT), Some(1.0)) => true,
+        _ => return CommandDecision::Unsupported,
+    };
+    match param(cmd.param3).unwrap_or(0.0) {
+        r if r >= 0.0 && r.fract() == 0.0 && r <= 255.0 => CommandDecision::Execute(Request::InjectRotorFailure {
+            rotor: r as usize,
+            failed,
+        }),
+        r => CommandDecision::Refuse(Outcome::Denied(format!("Failure injection: bad motor {r}"))),
+    }
 }
 
 /// MAV_RESULT of an outcome.

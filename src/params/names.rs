@@ -7,7 +7,7 @@ use crate::estimation::{ChebyshevDesign, MAX_ORDER};
 use super::{vec3, ParamDef, ParamType, VehicleSettings};
 
 /// Every parameter name, in index order.
-pub const PARAM_NAMES: [&str; 69] = [
+pub const PARAM_NAMES: [&str; 70] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -77,6 +77,7 @@ pub const PARAM_NAMES: [&str; 69] = [
     "BAT_EMERGEN_THR",
     "BAT1_CAPACITY",
     "BAT1_N_CELLS",
+    "SYS_FAILURE_EN",
 ];
 
 fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
@@ -174,6 +175,10 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
     out.push((def(PARAM_NAMES[k + 15], Real32, 0.03, 0.1), f.battery_emergency));
     out.push((def(PARAM_NAMES[k + 16], Real32, 1.0, 1e5), c.battery.capacity_mah));
     out.push((def(PARAM_NAMES[k + 17], Int32, 1.0, 14.0), f64::from(c.battery.cells)));
+    out.push((
+        def(PARAM_NAMES[k + 18], Int32, 0.0, 1.0),
+        f64::from(u8::from(c.failure_injection)),
+    ));
     out
 }
 
@@ -233,6 +238,7 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
                 capacity_mah: v[67],
                 cells: v[68] as u32,
             },
+            failure_injection: v[69] != 0.0,
         },
         controller: match v[7] as i64 {
             1 => ControllerKind::Hierarchical,

@@ -4,6 +4,7 @@
 
 pub mod flight_log;
 pub mod link;
+pub mod rotor_failures;
 pub mod scheduler;
 pub mod vehicle;
 
@@ -30,6 +31,7 @@ use crate::telemetry::Snapshot;
 use crate::commander::Event;
 use flight_log::LogSender;
 use link::{run_link, LinkContext};
+use rotor_failures::ScheduledFailure;
 pub use scheduler::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
 use vehicle::{Vehicle, VehicleError};
@@ -73,6 +75,8 @@ pub struct RunConfig {
     pub spacing_m: f64,
     /// Simulated against wall time.
     pub pace: Pace,
+    /// Rotors that stop at a simulated time, on every vehicle (`--fail-rotor`).
+    pub rotor_failures: Vec<ScheduledFailure>,
 }
 
 impl RunConfig {
@@ -95,6 +99,7 @@ impl RunConfig {
             count: 1,
             spacing_m: DEFAULT_SPACING_M,
             pace: Pace::Speedup(1.0),
+            rotor_failures: Vec::new(),
         }
     }
 }
@@ -119,6 +124,9 @@ pub enum RuntimeError {
     /// A `--params` value was refused.
     #[error("--params {0}")]
     Params(String),
+    /// A `--fail-rotor` schedule does not fit the airframe.
+    #[error("--fail-rotor {0}")]
+    RotorFailure(String),
     /// The log directory could not be written.
     #[error("--log {dir}: {source}")]
     Log {
@@ -236,6 +244,11 @@ fn setup_vehicle(
         vehicle
             .set_param(name, *value)
             .map_err(|e| RuntimeError::Params(format!("{origin}: {e}")))?;
+    }
+    for failure in &config.rotor_failures {
+        vehicle
+            .schedule_rotor_failure(*failure)
+            .map_err(RuntimeError::RotorFailure)?;
     }
     let log = match &config.log_dir {
         Some(dir) => {

@@ -13,6 +13,7 @@ use crate::sitl::{SimPlant, SitlError};
 use crate::telemetry::{BatterySnapshot, EstimateSnapshot, Snapshot};
 
 use super::flight_log::{LogSender, TickLog};
+use super::rotor_failures::{RotorFailures, ScheduledFailure};
 
 /// The estimator the autopilot starts with: the homework's first-order design (Chebyshev
 /// 3 dB ripple, passband edge 2 rad/s), observing only (RP_COMP = 0) so it changes nothing in
@@ -52,6 +53,7 @@ pub struct Vehicle {
     believed_mass_kg: f64,
     rotor_max_rad_s: f64,
     believed_inertia_kg_m2: crate::math::Vec3,
+    rotor_failures: RotorFailures,
 }
 
 /// What one tick produced for the links.
@@ -101,6 +103,7 @@ impl Vehicle {
             believed_mass_kg: airframe.mass_kg,
             rotor_max_rad_s: airframe.omega_max_rad_s,
             believed_inertia_kg_m2: airframe.inertia_kg_m2,
+            rotor_failures: RotorFailures::new(airframe.rotors.len()),
         };
         vehicle.install_observer(Some(DEFAULT_ESTIMATOR));
         Ok(vehicle)
@@ -155,10 +158,25 @@ impl Vehicle {
         self.tick as f64 * self.dt_s
     }
 
-    /// Applies a ground-station request at the current tick boundary.
+    /// Applies a ground-station request at the current tick boundary: failure injection goes
+    /// to the plant (when `SYS_FAILURE_EN` allows it), everything else to the commander.
     pub fn apply(&mut self, request: Request) -> Outcome {
+        if let Request::InjectRotorFailure { rotor, failed } = request {
+            if !self.commander.params.failure_injection {
+                return Outcome::Denied("Failure injection disabled (SYS_FAILURE_EN = 0)".into());
+            }
+            return match RotorFailures::inject(&mut self.plant, rotor, failed) {
+                Ok(()) => Outcome::Accepted,
+                Err(why) => Outcome::Denied(why),
+            };
+        }
         let x = self.plant.sense();
         self.commander.request(request, &x, self.time_s())
+    }
+
+    /// Stops a rotor at a simulated time (`--fail-rotor`).
+    pub fn schedule_rotor_failure(&mut self, failure: ScheduledFailure) -> Result<(), String> {
+        self.rotor_failures.schedule(failure)
     }
 
     /// Keeps the offboard setpoint fresh at this tick (the stream is alive in wall time).
@@ -177,7 +195,10 @@ impl Vehicle {
         let t_s = self.time_s();
         let x = self.plant.sense();
         let power_w = self.plant.electrical_power_w();
-        let failsafe_events = self.commander.check_failsafes(&x, power_w, self.dt_s, t_s);
+        let mut failsafe_events =
+            self.rotor_failures
+                .tick(t_s, &x, &mut self.plant, &mut self.core, &mut self.commander);
+        failsafe_events.extend(self.commander.check_failsafes(&x, power_w, self.dt_s, t_s));
         let mut tick = self.commander.update(&x, t_s);
         if !failsafe_events.is_empty() {
             tick.events.splice(0..0, failsafe_events);
