@@ -27,6 +27,13 @@ pub struct OffboardTarget {
     pub body_frame: bool,
 }
 
+/// Largest offboard position component from home [m]: farther is not a setpoint but a mistake.
+pub const MAX_POSITION_M: f64 = 10_000.0;
+/// Largest offboard velocity component [m/s].
+pub const MAX_SPEED_M_S: f64 = 100.0;
+/// Largest offboard acceleration component [m/s²].
+pub const MAX_ACCEL_M_S2: f64 = 100.0;
+
 /// Decodes `m`, or says why it is refused (PX4 multicopter combinations only). MAV_FRAME_BODY_NED
 /// is deprecated in the spec, but MAVSDK's body-frame velocity uses it.
 #[allow(deprecated)]
@@ -40,23 +47,29 @@ pub fn decode_local_target(m: &SET_POSITION_TARGET_LOCAL_NED_DATA) -> Result<Off
     if mask & FORCE != 0 {
         return Err("Offboard: force setpoints not supported".into());
     }
-    let group = |bits: u16, v: [f32; 3]| -> Result<Option<Vec3>, String> {
+    let group = |bits: u16, v: [f32; 3], (what, limit): (&str, f64)| -> Result<Option<Vec3>, String> {
         match mask & bits {
             0 => {
                 let v = Vec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]));
-                if v.iter().all(|x| x.is_finite()) {
-                    Ok(Some(v))
-                } else {
+                if !v.iter().all(|x| x.is_finite()) {
                     Err("Offboard: non-finite setpoint".into())
+                } else if v.amax() > limit {
+                    Err(format!("Offboard: {what} {:.0} beyond {limit}", v.amax()))
+                } else {
+                    Ok(Some(v))
                 }
             }
             b if b == bits => Ok(None),
             _ => Err(format!("Offboard: type_mask {mask} mixes axes")),
         }
     };
-    let pos = group(IGNORE_POS, [m.x, m.y, m.z])?;
-    let vel = group(IGNORE_VEL, [m.vx, m.vy, m.vz])?;
-    let acc = group(IGNORE_ACC, [m.afx, m.afy, m.afz])?;
+    let pos = group(IGNORE_POS, [m.x, m.y, m.z], ("position [m]", MAX_POSITION_M))?;
+    let vel = group(IGNORE_VEL, [m.vx, m.vy, m.vz], ("velocity [m/s]", MAX_SPEED_M_S))?;
+    let acc = group(
+        IGNORE_ACC,
+        [m.afx, m.afy, m.afz],
+        ("acceleration [m/s²]", MAX_ACCEL_M_S2),
+    )?;
     if pos.is_none() && vel.is_none() && acc.is_none() {
         return Err("Offboard: no position, velocity or acceleration".into());
     }

@@ -197,6 +197,17 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
         MavCmd::MAV_CMD_DO_REPOSITION => {
             // COMMAND_LONG form: p5/p6 latitude/longitude [deg], p7 AMSL [m] (NaN = keep).
             let (lat, lon) = (param(cmd.param5), param(cmd.param6));
+            let alt = param(cmd.param7);
+            if !on_earth(
+                f64::from(lat.unwrap_or(0.0)),
+                f64::from(lon.unwrap_or(0.0)),
+                f64::from(alt.unwrap_or(0.0)),
+            ) {
+                return CommandDecision::Refuse(Outcome::Denied(format!(
+                    "Reposition: {:.2}, {:.2}, {:.0} m is not a place",
+                    cmd.param5, cmd.param6, cmd.param7
+                )));
+            }
             let local = origin.to_local(
                 f64::from(lat.unwrap_or(0.0)),
                 f64::from(lon.unwrap_or(0.0)),
@@ -209,7 +220,7 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             )
         }
         MavCmd::MAV_CMD_DO_CHANGE_SPEED => match param(cmd.param2) {
-            Some(v) if v > 0.0 => CommandDecision::Execute(Request::ChangeSpeed(f64::from(v))),
+            Some(v) if v > 0.0 && v.is_finite() => CommandDecision::Execute(Request::ChangeSpeed(f64::from(v))),
             _ => CommandDecision::Refuse(Outcome::Denied(format!("Change speed: {} m/s", cmd.param2))),
         },
         MavCmd::MAV_CMD_DO_SET_HOME => {
@@ -217,6 +228,11 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
                 CommandDecision::Execute(Request::SetHome(None))
             } else {
                 match (param(cmd.param5), param(cmd.param6), param(cmd.param7)) {
+                    (Some(lat), Some(lon), Some(alt)) if !on_earth(f64::from(lat), f64::from(lon), f64::from(alt)) => {
+                        CommandDecision::Refuse(Outcome::Denied(format!(
+                            "Set home: {lat:.2}, {lon:.2}, {alt:.0} m is no place"
+                        )))
+                    }
                     (Some(lat), Some(lon), Some(alt)) => CommandDecision::Execute(Request::SetHome(Some(
                         origin.to_local(f64::from(lat), f64::from(lon), f64::from(alt)),
                     ))),
@@ -292,7 +308,14 @@ pub fn decode_command_int(id: &Identity, sender: &MavHeader, cmd: &COMMAND_INT_D
     let Some(_) = alt_amsl(0.0) else {
         return CommandDecision::Refuse(Outcome::Unsupported("Reposition: frame not supported".into()));
     };
-    let xy = (cmd.x != i32::MAX && cmd.y != i32::MAX).then(|| {
+    let given = cmd.x != i32::MAX && cmd.y != i32::MAX;
+    if given && !on_earth(f64::from(cmd.x) * 1e-7, f64::from(cmd.y) * 1e-7, 0.0) {
+        let (lat, lon) = (f64::from(cmd.x) * 1e-7, f64::from(cmd.y) * 1e-7);
+        return CommandDecision::Refuse(Outcome::Denied(format!(
+            "Reposition: {lat:.2}, {lon:.2} is not a place"
+        )));
+    }
+    let xy = given.then(|| {
         let p = origin.to_local(f64::from(cmd.x) * 1e-7, f64::from(cmd.y) * 1e-7, origin.alt_amsl_m);
         (p.x, p.y)
     });
@@ -317,6 +340,11 @@ fn inject_failure(cmd: &COMMAND_LONG_DATA) -> CommandDecision {
         }),
         r => CommandDecision::Refuse(Outcome::Denied(format!("Failure injection: bad motor {r}"))),
     }
+}
+
+/// Latitude [deg] in ±90, longitude [deg] in ±180 and altitude [m AMSL] in −1 km … 100 km.
+fn on_earth(lat_deg: f64, lon_deg: f64, alt_m: f64) -> bool {
+    lat_deg.abs() <= 90.0 && lon_deg.abs() <= 180.0 && (-1_000.0..=100_000.0).contains(&alt_m)
 }
 
 /// MAV_RESULT of an outcome.
