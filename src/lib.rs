@@ -18,6 +18,8 @@
 //! - [`core`]: one flight-controller tick: estimator → controller → allocation → estimator.
 //! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
 //! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
+//! - [`montecarlo`]: `rotorpilot montecarlo`: random initial states and wrenches in an envelope,
+//!   convergence rate per law (sampling, runs and statistics pure; threads in its runner).
 //! - [`mav`]: MAVLink codec (datagram ↔ frames, hand-built ACK for unknown commands).
 //! - [`navigation`]: setpoint generators (take-off climb; hover, quintic, waypoint and circle
 //!   trajectories with a `[trajectory]` TOML spec).
@@ -43,6 +45,7 @@ pub mod estimation;
 pub mod headless;
 pub mod math;
 pub mod mav;
+pub mod montecarlo;
 pub mod navigation;
 pub mod params;
 pub mod report;

@@ -176,6 +176,11 @@ enum Command {
         #[arg(long = "first-count")]
         first_count: Option<usize>,
     },
+    /// Monte Carlo robustness campaign: every law flies to a hover at the origin from random
+    /// initial states under random constant wrenches, with the estimator running; prints the
+    /// convergence rate, non-finite values, faults, panics and convergence times.
+    #[command(allow_negative_numbers = true)]
+    Montecarlo(MonteCarloArgs),
     /// Design wrench-estimator gains from an analog Chebyshev type-I low-pass (control.md §7.3).
     #[command(allow_negative_numbers = true)]
     Gains {
@@ -185,6 +190,76 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+}
+
+/// `rotorpilot montecarlo` options; unset envelope bounds keep the airframe's defaults.
+#[derive(Debug, Args)]
+struct MonteCarloArgs {
+    /// Control law: geometric, hierarchical, passivity or all.
+    #[arg(long, default_value = "all")]
+    controller: String,
+    /// Airframe preset name or path to a TOML file.
+    #[arg(long, default_value = "quad_x")]
+    airframe: String,
+    /// Runs per control law.
+    #[arg(long, default_value_t = 1000)]
+    runs: usize,
+    /// Seed of the draws (same seed, same report).
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Simulated time per run [s].
+    #[arg(long, default_value_t = 6.0)]
+    duration: f64,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Largest initial tilt from the vertical [deg] [default: 60].
+    #[arg(long = "max-tilt")]
+    max_tilt: Option<f64>,
+    /// Largest initial body-rate magnitude [rad/s] [default: 3].
+    #[arg(long = "max-rate")]
+    max_rate: Option<f64>,
+    /// Largest initial speed [m/s] [default: 3].
+    #[arg(long = "max-speed")]
+    max_speed: Option<f64>,
+    /// Largest initial distance from the setpoint [m] [default: 1].
+    #[arg(long = "max-offset")]
+    max_offset: Option<f64>,
+    /// Largest constant external force [N] [default: 0.2 × believed weight].
+    #[arg(long = "max-force")]
+    max_force: Option<f64>,
+    /// Largest constant external torque per body axis, T or TX,TY,TZ [N·m] [default: 0.2 × each
+    /// axis' authority at hover].
+    #[arg(long = "max-torque")]
+    max_torque: Option<String>,
+    /// Position tolerance of the criterion [m].
+    #[arg(long = "pos-tol", default_value_t = 0.1)]
+    pos_tol: f64,
+    /// Attitude tolerance of the criterion [deg].
+    #[arg(long = "att-tol", default_value_t = 5.0)]
+    att_tol: f64,
+    /// The criterion must hold over this final window [s].
+    #[arg(long, default_value_t = 1.0)]
+    window: f64,
+    /// Estimator order (0: no estimator).
+    #[arg(long = "est-order", default_value_t = 1)]
+    est_order: usize,
+    /// Estimator passband ripple [dB].
+    #[arg(long = "est-ripple-db", default_value_t = 3.0)]
+    est_ripple_db: f64,
+    /// Estimator passband edge [rad/s].
+    #[arg(long = "est-wp", default_value_t = 2.0)]
+    est_wp: f64,
+    /// Fly without subtracting the estimated wrench.
+    #[arg(long = "no-compensation")]
+    no_compensation: bool,
+    /// Heading of the hover setpoint: zero (north; the vehicle also turns by up to 180°) or
+    /// initial (the run's initial heading).
+    #[arg(long, default_value = "zero")]
+    heading: rotorpilot::montecarlo::Heading,
+    /// Worker threads [default: one per core].
+    #[arg(long)]
+    threads: Option<usize>,
 }
 
 /// A Chebyshev estimator design on the command line (control.md §7.3).
@@ -443,6 +518,7 @@ fn execute(command: Command) -> Result<String, String> {
                 Ok(report.to_text())
             }
         }
+        Command::Montecarlo(args) => montecarlo(&args),
         Command::Gains { design, json } => {
             let report = GainsReport::new(&design.design(), design.ts).map_err(|e| e.to_string())?;
             if json {
@@ -486,4 +562,79 @@ fn estimate(
     }
     let report = EstimateReport::new(&rows).ok_or_else(|| format!("{origin}: no samples"))?;
     serde_json::to_string(&report).map_err(|e| e.to_string())
+}
+
+/// `rotorpilot montecarlo`: builds the campaign from the options, runs it, returns the table or
+/// JSON (the table ends with the wall time, which the JSON leaves out so it is reproducible).
+fn montecarlo(a: &MonteCarloArgs) -> Result<String, String> {
+    use rotorpilot::montecarlo::{self, Campaign, Criterion, EnvelopeOverrides};
+    let controllers = match a.controller.as_str() {
+        "all" => ControllerKind::ALL.to_vec(),
+        name => vec![name
+            .parse::<ControllerKind>()
+            .map_err(|e| format!("--controller: {e} or all"))?],
+    };
+    let max_torque = match &a.max_torque {
+        None => None,
+        Some(text) => {
+            let v: Vec<f64> = text
+                .split(',')
+                .map(|s| s.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("--max-torque {text:?}: {e}; expected T or TX,TY,TZ in N·m"))?;
+            match v[..] {
+                [t] => Some([t; 3]),
+                [x, y, z] => Some([x, y, z]),
+                _ => return Err(format!("--max-torque {text:?}: expected T or TX,TY,TZ in N·m")),
+            }
+        }
+    };
+    for (name, v) in [("--pos-tol", a.pos_tol), ("--att-tol", a.att_tol)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(format!("{name} {v}: must be a positive number"));
+        }
+    }
+    if a.threads == Some(0) {
+        return Err("--threads must be at least 1".into());
+    }
+    let mut campaign = Campaign::new(AirframeSource::resolve(&a.airframe).map_err(|e| e.to_string())?);
+    campaign.controllers = controllers;
+    campaign.runs = a.runs;
+    campaign.seed = a.seed;
+    campaign.duration_s = a.duration;
+    campaign.envelope = EnvelopeOverrides {
+        max_tilt_deg: a.max_tilt,
+        max_rate_rad_s: a.max_rate,
+        max_speed_m_s: a.max_speed,
+        max_offset_m: a.max_offset,
+        max_force_n: a.max_force,
+        max_torque_n_m: max_torque,
+    };
+    campaign.criterion = Criterion {
+        position_m: a.pos_tol,
+        attitude_rad: a.att_tol.to_radians(),
+        window_s: a.window,
+    };
+    campaign.estimator = (a.est_order > 0).then_some(ChebyshevDesign {
+        order: a.est_order,
+        ripple_db: a.est_ripple_db,
+        passband_rad_s: a.est_wp,
+    });
+    campaign.compensation = !a.no_compensation;
+    campaign.heading = a.heading;
+    if let Some(n) = a.threads {
+        campaign.threads = n;
+    }
+    let wall = std::time::Instant::now();
+    let report = montecarlo::run(&campaign).map_err(|e| e.to_string())?;
+    if a.json {
+        serde_json::to_string(&report).map_err(|e| e.to_string())
+    } else {
+        Ok(format!(
+            "{}\n\nwall time {:.1} s on {} thread(s)",
+            report.to_text(),
+            wall.elapsed().as_secs_f64(),
+            campaign.threads
+        ))
+    }
 }

@@ -32,6 +32,12 @@ pub struct SimPlant {
 pub struct PlantTruth {
     /// True position, world NED [m].
     pub pos_w: Vec3,
+    /// True velocity, world NED [m/s].
+    pub vel_w: Vec3,
+    /// True attitude, body FRD → world NED.
+    pub q_wb: UnitQuat,
+    /// True body rates, FRD [rad/s].
+    pub omega_b: Vec3,
     /// Resting on the ground.
     pub on_ground: bool,
     /// Scripted external force over the last step, world NED [N].
@@ -112,6 +118,9 @@ impl SimPlant {
         let t = self.plant.truth();
         PlantTruth {
             pos_w: t.body.pos_w,
+            vel_w: t.body.vel_w,
+            q_wb: t.body.q_wb,
+            omega_b: t.body.omega_b,
             on_ground: t.on_ground,
             external_force_w: t.external_force_w,
             external_torque_b: t.external_torque_b,

@@ -6,4 +6,4 @@ pub mod log_replay;
 mod wrench_observer;
 
 pub use chebyshev::{estimator_gains, ChebyshevDesign, DesignError, Pole, MAX_ORDER};
-pub use wrench_observer::{ObserverInput, WrenchEstimate, WrenchObserver};
+pub use wrench_observer::{ObserverError, ObserverInput, WrenchEstimate, WrenchObserver};

@@ -1,0 +1,154 @@
+//! Runs of one control law spread over worker threads (runtime layer). Each run is guarded by
+//! `catch_unwind`, so a panic is counted instead of ending the campaign; results are stored by
+//! run index, so the thread count never changes a report.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use crate::control::ControllerKind;
+
+use super::envelope::Draw;
+use super::stats::RunResult;
+use super::trial::{fly, Outcome, TrialError, TrialSetup};
+
+/// The text of a panic payload.
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "non-text panic payload".into())
+}
+
+/// One guarded run.
+fn guarded<F>(run: &F, draw: &Draw) -> Result<RunResult, TrialError>
+where
+    F: Fn(&Draw) -> Result<Outcome, TrialError>,
+{
+    match catch_unwind(AssertUnwindSafe(|| run(draw))) {
+        Ok(Ok(outcome)) => Ok(RunResult::Flew(outcome)),
+        Ok(Err(e)) => Err(e),
+        Err(payload) => Ok(RunResult::Panicked(panic_message(payload.as_ref()))),
+    }
+}
+
+/// Flies `kind` from every draw on `threads` worker threads (at least one).
+pub fn fly_all(
+    setup: &TrialSetup,
+    kind: ControllerKind,
+    draws: &[Draw],
+    threads: usize,
+) -> Result<Vec<RunResult>, TrialError> {
+    run_guarded(draws, threads, |d| fly(setup, kind, d))
+}
+
+/// Calls `run` on every draw on `threads` worker threads (at least one), each call guarded by
+/// `catch_unwind`; worker w takes draws w, w + threads, … so slow regions of the envelope are
+/// shared out. The first setup error ends the campaign.
+pub fn run_guarded<F>(draws: &[Draw], threads: usize, run: F) -> Result<Vec<RunResult>, TrialError>
+where
+    F: Fn(&Draw) -> Result<Outcome, TrialError> + Sync,
+{
+    let threads = threads.clamp(1, draws.len().max(1));
+    let run = &run;
+    let per_worker: Vec<Result<Vec<(usize, RunResult)>, TrialError>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|w| {
+                scope.spawn(move || {
+                    (w..draws.len())
+                        .step_by(threads)
+                        .map(|i| guarded(run, &draws[i]).map(|r| (i, r)))
+                        .collect::<Result<Vec<_>, _>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join().unwrap_or_else(|payload| {
+                    Err(TrialError::Worker(format!(
+                        "panicked outside a run: {}",
+                        panic_message(payload.as_ref())
+                    )))
+                })
+            })
+            .collect()
+    });
+    let mut slots: Vec<Option<RunResult>> = vec![None; draws.len()];
+    for worker in per_worker {
+        for (i, r) in worker? {
+            slots[i] = Some(r);
+        }
+    }
+    Ok(slots
+        .into_iter()
+        .map(|r| r.unwrap_or_else(|| RunResult::Panicked("run lost".into())))
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::montecarlo::envelope::{draws, Envelope};
+    use crate::montecarlo::trial::RunEnd;
+
+    fn outcome(ticks: u64) -> Outcome {
+        Outcome {
+            end: RunEnd::Complete,
+            converged: true,
+            convergence_time_s: Some(0.0),
+            final_position_error_m: 0.0,
+            final_attitude_error_rad: 0.0,
+            max_tilt_rad: 0.0,
+            non_finite: false,
+            fault_ticks: 0,
+            saturated_ticks: 0,
+            ticks,
+        }
+    }
+
+    #[test]
+    fn a_panicking_run_is_counted_and_the_others_finish_in_order() {
+        let env = Envelope {
+            max_tilt_rad: 1.0,
+            max_rate_rad_s: 1.0,
+            max_speed_m_s: 1.0,
+            max_offset_m: 1.0,
+            max_force_n: 1.0,
+            max_torque_n_m: [0.1; 3],
+        };
+        let ds = draws(&env, 0, 7);
+        let poisoned = ds[4].noise_seed;
+        for threads in [1, 2, 16] {
+            let results = run_guarded(&ds, threads, |d| {
+                assert_ne!(d.noise_seed, poisoned, "boom");
+                Ok(outcome(d.noise_seed % 1000))
+            })
+            .unwrap();
+            assert_eq!(results.len(), 7);
+            for (i, (r, d)) in results.iter().zip(&ds).enumerate() {
+                match r {
+                    RunResult::Panicked(msg) => assert!(i == 4 && msg.contains("boom"), "{i}: {msg}"),
+                    RunResult::Flew(o) => assert_eq!(o.ticks, d.noise_seed % 1000, "run {i} in its slot"),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_setup_error_ends_the_campaign() {
+        let ds = draws(
+            &Envelope {
+                max_tilt_rad: 0.0,
+                max_rate_rad_s: 0.0,
+                max_speed_m_s: 0.0,
+                max_offset_m: 0.0,
+                max_force_n: 0.0,
+                max_torque_n_m: [0.0; 3],
+            },
+            0,
+            3,
+        );
+        let err = run_guarded(&ds, 2, |_| Err(TrialError::Timing("bad".into()))).unwrap_err();
+        assert_eq!(err, TrialError::Timing("bad".into()));
+    }
+}

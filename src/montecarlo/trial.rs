@@ -1,0 +1,552 @@
+//! One Monte Carlo run: the flight core and the plant in lockstep from a drawn initial state,
+//! holding hover at the origin against a constant external wrench, judged by a
+//! controller-independent criterion on the true state. The setpoint heading ψ_sp is 0 (the
+//! vehicle must also turn to north) or the initial heading ([`Heading`]).
+//!
+//! Each tick k (architecture.md §4): sense → [`FlightCore::step`] → plant step. The criterion
+//! compares the true state with the equilibrium of the true vehicle under the drawn force f_e:
+//!
+//! ```text
+//! e_p  = ‖p − 0‖                                    position error [m]
+//! b3*  = (m g e3 + f_e) / ‖m g e3 + f_e‖            thrust axis that balances weight and f_e
+//! b2*  = b3* × b1d / ‖·‖,  b1* = b2* × b3*          b1d = (cos ψ_sp, sin ψ_sp, 0) (Lee et al.)
+//! e_R  = arccos((tr(R*ᵀ R) − 1) / 2)                 geodesic attitude error [rad]
+//! ```
+//!
+//! A run *converges* when it completes, no value was ever non-finite, the controller never set
+//! a fault flag ([`ControlFlags::is_fault`](crate::control::ControlFlags::is_fault)), and
+//! `e_p < position_m` and `e_R < attitude_rad` at every tick of the last `window_s`. Its
+//! convergence time is the start of the final stretch inside the tolerances.
+
+use thiserror::Error;
+
+use crate::airframe::{Airframe, AirframeSource};
+use crate::control::{ControllerKind, FlatSetpoint};
+use crate::core::{CoreError, FlightCore};
+use crate::estimation::{ChebyshevDesign, DesignError, ObserverError, WrenchObserver};
+use crate::math::{e3, euler_zyx, wrap_pi, Mat3, Vec3, GRAVITY_M_S2};
+use crate::sitl::{SimPlant, SitlError};
+
+use super::envelope::Draw;
+
+/// Beyond this distance from the setpoint a run is stopped as a fly-away [m].
+const FLY_AWAY_M: f64 = 1e3;
+
+/// Height of the ground plane below the setpoint (NED z) [m]: far enough that no run touches it.
+const GROUND_BELOW_M: f64 = 1e4;
+
+/// A campaign that cannot be set up (the same for every draw).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum TrialError {
+    /// The FC's view of the airframe was refused.
+    #[error(transparent)]
+    Airframe(#[from] crate::airframe::AirframeError),
+    /// The flight core cannot be built.
+    #[error(transparent)]
+    Core(#[from] CoreError),
+    /// The plant refused the airframe.
+    #[error(transparent)]
+    Plant(#[from] SitlError),
+    /// The estimator design is not usable.
+    #[error("estimator design: {0}")]
+    Design(#[from] DesignError),
+    /// The estimator refused its settings.
+    #[error("estimator: {0}")]
+    Observer(#[from] ObserverError),
+    /// The airframe text could not be rewritten with the run's disturbance.
+    #[error("{origin}: {reason}")]
+    Text {
+        /// Airframe name.
+        origin: String,
+        /// What failed.
+        reason: String,
+    },
+    /// A step or duration that is not a positive number.
+    #[error("{0}")]
+    Timing(String),
+    /// A worker thread failed outside a guarded run.
+    #[error("worker thread: {0}")]
+    Worker(String),
+}
+
+/// When a run counts as converged (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Criterion {
+    /// Largest position error over the window [m].
+    pub position_m: f64,
+    /// Largest geodesic attitude error from the equilibrium attitude over the window [rad].
+    pub attitude_rad: f64,
+    /// Length of the final window [s].
+    pub window_s: f64,
+}
+
+impl Default for Criterion {
+    /// 0.1 m and 5° over the last second.
+    fn default() -> Self {
+        Self {
+            position_m: 0.1,
+            attitude_rad: 5f64.to_radians(),
+            window_s: 1.0,
+        }
+    }
+}
+
+/// The heading of the hover setpoint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Heading {
+    /// ψ_sp = 0 (north): the vehicle recovers and turns by up to 180°.
+    #[default]
+    Zero,
+    /// ψ_sp = the initial ZYX yaw: recovery without a heading change.
+    Initial,
+}
+
+impl Heading {
+    /// ψ_sp for a run starting from `draw` [rad].
+    pub fn setpoint_yaw_rad(self, draw: &Draw) -> f64 {
+        match self {
+            Self::Zero => 0.0,
+            Self::Initial => euler_zyx(&draw.q_wb.to_rotation_matrix().into_inner()).z,
+        }
+    }
+
+    /// |ψ_0 − ψ_sp| wrapped to [0, π]: the heading change the run asks for [rad].
+    pub fn heading_error_rad(self, draw: &Draw) -> f64 {
+        let yaw0 = euler_zyx(&draw.q_wb.to_rotation_matrix().into_inner()).z;
+        wrap_pi(yaw0 - self.setpoint_yaw_rad(draw)).abs()
+    }
+}
+
+impl std::str::FromStr for Heading {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "zero" => Ok(Self::Zero),
+            "initial" => Ok(Self::Initial),
+            _ => Err(format!("unknown heading {s:?}; expected zero or initial")),
+        }
+    }
+}
+
+/// What every run of a campaign shares.
+#[derive(Debug, Clone)]
+pub struct TrialSetup {
+    /// The FC's view of the airframe.
+    pub airframe: Airframe,
+    origin: String,
+    plant_table: toml::Table,
+    estimator: Option<ChebyshevDesign>,
+    estimator_gains: Vec<f64>,
+    compensation: bool,
+    dt_s: f64,
+    duration_s: f64,
+    /// Convergence criterion.
+    pub criterion: Criterion,
+    /// Heading of the setpoint.
+    pub heading: Heading,
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunEnd {
+    /// Flew the full duration.
+    Complete,
+    /// The plant reported a non-finite state or refused the step.
+    PlantFault,
+    /// Left the 1 km sphere around the setpoint.
+    FlyAway,
+}
+
+/// The result of one run that did not panic.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outcome {
+    /// How it ended.
+    pub end: RunEnd,
+    /// Met the criterion (module docs).
+    pub converged: bool,
+    /// Start of the final stretch inside the tolerances, when converged [s].
+    pub convergence_time_s: Option<f64>,
+    /// Position error at the end [m].
+    pub final_position_error_m: f64,
+    /// Geodesic attitude error from the equilibrium at the end [rad].
+    pub final_attitude_error_rad: f64,
+    /// Largest tilt of body z from the vertical [rad].
+    pub max_tilt_rad: f64,
+    /// Some state, controller output, rotor command or estimate was not finite.
+    pub non_finite: bool,
+    /// Ticks on which the controller set a fault flag.
+    pub fault_ticks: u64,
+    /// Ticks on which the allocation saturated.
+    pub saturated_ticks: u64,
+    /// Ticks flown.
+    pub ticks: u64,
+}
+
+impl TrialSetup {
+    /// Setup for `src` with the estimator `estimator` (`None`: off), compensation on or off, step
+    /// `dt_s` [s] and run length `duration_s` [s]. Builds one core and one plant to refuse a bad
+    /// configuration here rather than in every run.
+    pub fn new(
+        src: &AirframeSource,
+        estimator: Option<ChebyshevDesign>,
+        compensation: bool,
+        dt_s: f64,
+        duration_s: f64,
+        criterion: Criterion,
+    ) -> Result<Self, TrialError> {
+        if !(dt_s.is_finite() && dt_s > 0.0 && dt_s <= 0.01) {
+            return Err(TrialError::Timing(format!("step {dt_s} s must be in (0, 0.01]")));
+        }
+        if !(duration_s.is_finite() && duration_s > 0.0 && duration_s <= 3600.0) {
+            return Err(TrialError::Timing(format!(
+                "--duration {duration_s}: must be a positive number of seconds up to 3600"
+            )));
+        }
+        if !(criterion.window_s.is_finite() && criterion.window_s > 0.0 && criterion.window_s < duration_s) {
+            return Err(TrialError::Timing(format!(
+                "--window {}: must be positive and shorter than the duration {duration_s} s",
+                criterion.window_s
+            )));
+        }
+        let text_err = |reason: String| TrialError::Text {
+            origin: src.origin.clone(),
+            reason,
+        };
+        let airframe = Airframe::from_source(src)?;
+        let mut plant_table: toml::Table = toml::from_str(&src.text).map_err(|e| text_err(e.to_string()))?;
+        let plant = plant_table
+            .entry("plant")
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        let toml::Value::Table(plant) = plant else {
+            return Err(text_err("plant: must be a table".into()));
+        };
+        // The run flies in free air: no ceiling, no scripted wrench but its own, no start pose.
+        for key in ["ceiling", "disturbance", "initial"] {
+            plant.remove(key);
+        }
+        let ground = plant
+            .entry("ground")
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        if let toml::Value::Table(ground) = ground {
+            ground.insert("height".into(), toml::Value::Float(GROUND_BELOW_M));
+        }
+        let estimator_gains = match &estimator {
+            Some(d) => d.gains(dt_s)?,
+            None => Vec::new(),
+        };
+        let setup = Self {
+            airframe,
+            origin: src.origin.clone(),
+            plant_table,
+            estimator,
+            estimator_gains,
+            compensation,
+            dt_s,
+            duration_s,
+            criterion,
+            heading: Heading::Zero,
+        };
+        setup.core(ControllerKind::Geometric)?;
+        setup.plant(&Vec3::zeros(), &Vec3::zeros(), 0)?;
+        Ok(setup)
+    }
+
+    /// Estimator design (`None`: no estimator).
+    pub fn estimator(&self) -> Option<&ChebyshevDesign> {
+        self.estimator.as_ref()
+    }
+
+    /// Subtract the estimated wrench.
+    pub fn compensation(&self) -> bool {
+        self.compensation
+    }
+
+    /// Control and integration step [s].
+    pub fn dt_s(&self) -> f64 {
+        self.dt_s
+    }
+
+    /// Simulated duration of each run [s].
+    pub fn duration_s(&self) -> f64 {
+        self.duration_s
+    }
+
+    /// Number of ticks of one run.
+    pub fn ticks(&self) -> u64 {
+        (self.duration_s / self.dt_s).round() as u64
+    }
+
+    /// The flight core of one run: default gains, compensation as set, a fresh estimator.
+    fn core(&self, kind: ControllerKind) -> Result<FlightCore, TrialError> {
+        let mut core = FlightCore::for_airframe(&self.airframe, kind, self.dt_s)?;
+        core.controller.set_compensation(self.compensation);
+        if self.estimator.is_some() {
+            let observer = WrenchObserver::new(
+                self.airframe.mass_kg,
+                self.airframe.inertia_kg_m2,
+                self.estimator_gains.clone(),
+                self.dt_s,
+            )?;
+            core.set_observer(Some(observer));
+        }
+        Ok(core)
+    }
+
+    /// The plant of one run with a constant wrench (`force_w` world NED [N], `torque_b` body
+    /// FRD [N·m]) and sensor-noise seed `seed`.
+    fn plant(&self, force_w: &Vec3, torque_b: &Vec3, seed: u64) -> Result<SimPlant, TrialError> {
+        let mut table = self.plant_table.clone();
+        let mut component = toml::Table::new();
+        let arr = |v: &Vec3| toml::Value::Array(v.iter().map(|x| toml::Value::Float(*x)).collect());
+        component.insert("kind".into(), toml::Value::String("constant".into()));
+        component.insert("force".into(), arr(force_w));
+        component.insert("torque".into(), arr(torque_b));
+        if let Some(toml::Value::Table(plant)) = table.get_mut("plant") {
+            plant.insert(
+                "disturbance".into(),
+                toml::Value::Array(vec![toml::Value::Table(component)]),
+            );
+        }
+        let text = toml::to_string(&table).map_err(|e| TrialError::Text {
+            origin: self.origin.clone(),
+            reason: e.to_string(),
+        })?;
+        let src = AirframeSource {
+            origin: format!("{} (monte carlo run)", self.origin),
+            text,
+        };
+        Ok(SimPlant::from_source(&src, seed)?)
+    }
+}
+
+/// The equilibrium attitude R* of a vehicle of mass `mass_kg` [kg] under force `force_w`
+/// [N, world NED] at heading `yaw_rad` [rad] (module docs). Falls back to level when
+/// m g e3 + f_e vanishes.
+pub fn equilibrium_attitude(mass_kg: f64, force_w: &Vec3, yaw_rad: f64) -> Mat3 {
+    let b3 = (mass_kg * GRAVITY_M_S2 * e3() + force_w)
+        .try_normalize(1e-9)
+        .unwrap_or_else(e3);
+    let b1d = Vec3::new(yaw_rad.cos(), yaw_rad.sin(), 0.0);
+    let b2 = b3
+        .cross(&b1d)
+        .try_normalize(1e-9)
+        .unwrap_or_else(|| Vec3::new(-yaw_rad.sin(), yaw_rad.cos(), 0.0));
+    let b1 = b2.cross(&b3);
+    Mat3::from_columns(&[b1, b2, b3])
+}
+
+/// Geodesic angle between two rotations, `arccos((tr(Aᵀ B) − 1)/2)` [rad].
+pub fn rotation_angle(a: &Mat3, b: &Mat3) -> f64 {
+    (((a.transpose() * b).trace() - 1.0) / 2.0).clamp(-1.0, 1.0).acos()
+}
+
+/// Flies one run of `kind` from `draw` (module docs). Never panics by design; the runner still
+/// guards it.
+pub fn fly(setup: &TrialSetup, kind: ControllerKind, draw: &Draw) -> Result<Outcome, TrialError> {
+    let mut core = setup.core(kind)?;
+    let mut plant = setup.plant(&draw.force_w, &draw.torque_b, draw.noise_seed)?;
+    plant.set_initial_state(Some(draw.pos_w), draw.vel_w, draw.q_wb, draw.omega_b, true);
+    let yaw_sp = setup.heading.setpoint_yaw_rad(draw);
+    let r_eq = equilibrium_attitude(plant.true_mass_kg(), &draw.force_w, yaw_sp);
+    let setpoint = FlatSetpoint::hold(Vec3::zeros(), yaw_sp);
+    let crit = setup.criterion;
+    let ticks = setup.ticks();
+    let window_ticks = (crit.window_s / setup.dt_s).round() as u64;
+
+    // Samples are numbered by the tick they follow: sample 0 is the initial state, sample k+1
+    // the state after tick k. `settled_from` is the first sample of the current in-tolerance
+    // stretch.
+    let errors = |truth: &crate::sitl::PlantTruth| {
+        let r = truth.q_wb.to_rotation_matrix().into_inner();
+        (
+            truth.pos_w.norm(),
+            rotation_angle(&r_eq, &r),
+            r[(2, 2)].clamp(-1.0, 1.0).acos(),
+        )
+    };
+    let inside = |(e_p, e_r): (f64, f64)| e_p < crit.position_m && e_r < crit.attitude_rad;
+    let (e_p, e_r, tilt) = errors(&plant.truth());
+    let mut settled_from = if inside((e_p, e_r)) { Some(0) } else { None };
+    let (mut final_p, mut final_r, mut max_tilt) = (e_p, e_r, tilt);
+    let mut non_finite = false;
+    let (mut fault_ticks, mut saturated_ticks, mut flown) = (0, 0, 0);
+    let mut end = RunEnd::Complete;
+    for _ in 0..ticks {
+        let state = plant.sense();
+        let step = core.step(&state, &setpoint);
+        let omega = step.allocation.omega();
+        let status = plant.step(omega.as_slice(), setup.dt_s);
+        flown += 1;
+        let truth = plant.truth();
+        let estimate_finite = step
+            .estimate
+            .is_none_or(|e| e.force_w.iter().chain(e.torque_b.iter()).all(|x| x.is_finite()) && e.mass_kg.is_finite());
+        non_finite |= !(state.is_finite()
+            && step.control.is_finite()
+            && omega.as_slice().iter().all(|w| w.is_finite())
+            && estimate_finite
+            && truth.pos_w.iter().chain(truth.vel_w.iter()).all(|x| x.is_finite())
+            && truth.omega_b.iter().all(|x| x.is_finite())
+            && truth.q_wb.coords.iter().all(|x| x.is_finite()));
+        fault_ticks += u64::from(step.control.flags.is_fault());
+        saturated_ticks += u64::from(step.allocation.saturation.is_saturated());
+        let (e_p, e_r, tilt) = errors(&truth);
+        (final_p, final_r) = (e_p, e_r);
+        max_tilt = max_tilt.max(tilt);
+        settled_from = match (inside((e_p, e_r)), settled_from) {
+            (true, Some(k)) => Some(k),
+            (true, None) => Some(flown),
+            (false, _) => None,
+        };
+        if status.state_non_finite || status.dt_rejected {
+            end = RunEnd::PlantFault;
+            break;
+        }
+        let distance_m = truth.pos_w.norm();
+        if distance_m.is_nan() || distance_m > FLY_AWAY_M {
+            end = RunEnd::FlyAway;
+            break;
+        }
+    }
+    let converged = end == RunEnd::Complete
+        && !non_finite
+        && fault_ticks == 0
+        && settled_from.is_some_and(|k| flown - k >= window_ticks);
+    Ok(Outcome {
+        end,
+        converged,
+        convergence_time_s: settled_from.filter(|_| converged).map(|k| k as f64 * setup.dt_s),
+        final_position_error_m: final_p,
+        final_attitude_error_rad: final_r,
+        max_tilt_rad: max_tilt,
+        non_finite,
+        fault_ticks,
+        saturated_ticks,
+        ticks: flown,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::UnitQuat;
+
+    fn setup(duration_s: f64) -> TrialSetup {
+        setup_with(duration_s, Criterion::default())
+    }
+
+    fn setup_with(duration_s: f64, criterion: Criterion) -> TrialSetup {
+        let design = ChebyshevDesign {
+            order: 1,
+            ripple_db: 3.0,
+            passband_rad_s: 2.0,
+        };
+        TrialSetup::new(
+            &AirframeSource::resolve("quad_x").unwrap(),
+            Some(design),
+            true,
+            1e-3,
+            duration_s,
+            criterion,
+        )
+        .unwrap()
+    }
+
+    fn hover_draw() -> Draw {
+        Draw {
+            pos_w: Vec3::zeros(),
+            vel_w: Vec3::zeros(),
+            q_wb: UnitQuat::identity(),
+            omega_b: Vec3::zeros(),
+            force_w: Vec3::zeros(),
+            torque_b: Vec3::zeros(),
+            noise_seed: 0,
+        }
+    }
+
+    #[test]
+    fn the_equilibrium_attitude_balances_weight_and_force() {
+        let f = Vec3::new(2.0, -1.0, 0.5);
+        let r = equilibrium_attitude(1.5, &f, 0.0);
+        assert!((r.transpose() * r - Mat3::identity()).norm() < 1e-12);
+        assert!((r.determinant() - 1.0).abs() < 1e-12);
+        // Thrust −u R e3 cancels m g e3 + f for u = ‖m g e3 + f‖.
+        let total = 1.5 * GRAVITY_M_S2 * e3() + f;
+        assert!((total - total.norm() * r * e3()).norm() < 1e-12);
+        assert_eq!(equilibrium_attitude(1.5, &Vec3::zeros(), 0.0), Mat3::identity());
+        // Level at heading ψ is Rz(ψ).
+        let yawed = equilibrium_attitude(1.5, &Vec3::zeros(), 2.0);
+        let rz = crate::math::UnitQuat::from_euler_angles(0.0, 0.0, 2.0)
+            .to_rotation_matrix()
+            .into_inner();
+        assert!((yawed - rz).norm() < 1e-12);
+        assert!((rotation_angle(&Mat3::identity(), &r) - total.normalize().dot(&e3()).acos()).abs() < 0.05);
+    }
+
+    #[test]
+    fn a_vehicle_at_rest_in_hover_converges_at_once() {
+        let s = setup(2.0);
+        for kind in ControllerKind::ALL {
+            let o = fly(&s, kind, &hover_draw()).unwrap();
+            assert!(o.converged, "{kind:?}: {o:?}");
+            assert_eq!(o.convergence_time_s, Some(0.0), "{kind:?}");
+            assert!(o.final_position_error_m < 1e-6, "{kind:?}: {o:?}");
+            assert_eq!(o.ticks, 2000);
+        }
+    }
+
+    #[test]
+    fn a_disturbed_start_settles_later_and_is_reproducible() {
+        let s = setup(6.0);
+        let draw = Draw {
+            pos_w: Vec3::new(0.5, -0.3, 0.2),
+            vel_w: Vec3::new(1.0, 0.0, -1.0),
+            q_wb: UnitQuat::from_euler_angles(0.5, -0.3, 0.4),
+            omega_b: Vec3::new(1.0, -1.0, 0.5),
+            force_w: Vec3::new(1.0, 1.0, 0.5),
+            torque_b: Vec3::new(0.1, -0.1, 0.05),
+            noise_seed: 9,
+        };
+        for kind in ControllerKind::ALL {
+            let a = fly(&s, kind, &draw).unwrap();
+            assert!(a.converged, "{kind:?}: {a:?}");
+            let t = a.convergence_time_s.unwrap();
+            assert!(t > 0.2 && t < 5.0, "{kind:?}: {t}");
+            assert_eq!(a, fly(&s, kind, &draw).unwrap(), "{kind:?}");
+        }
+    }
+
+    #[test]
+    fn a_run_still_outside_the_tolerance_at_the_end_has_not_converged() {
+        // 0.5 s is too short to recover from 2 m away.
+        let s = setup_with(
+            0.5,
+            Criterion {
+                window_s: 0.1,
+                ..Criterion::default()
+            },
+        );
+        let draw = Draw {
+            pos_w: Vec3::new(2.0, 0.0, 0.0),
+            ..hover_draw()
+        };
+        let o = fly(&s, ControllerKind::Geometric, &draw).unwrap();
+        assert!(!o.converged && o.convergence_time_s.is_none(), "{o:?}");
+        assert!(o.final_position_error_m > 0.1);
+        assert_eq!(o.end, RunEnd::Complete);
+    }
+
+    #[test]
+    fn bad_timing_is_refused() {
+        let src = AirframeSource::resolve("quad_x").unwrap();
+        let c = Criterion::default();
+        assert!(TrialSetup::new(&src, None, false, 0.0, 6.0, c).is_err());
+        assert!(TrialSetup::new(&src, None, false, 1e-3, f64::NAN, c).is_err());
+        assert!(
+            TrialSetup::new(&src, None, false, 1e-3, 0.5, c).is_err(),
+            "window ≥ duration"
+        );
+    }
+}
