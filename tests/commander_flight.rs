@@ -374,3 +374,40 @@ fn battery_failsafes_warn_return_then_land() {
     let (gauge, pack) = sim.commander.battery();
     assert!(gauge.fraction(&pack) < 0.05);
 }
+
+#[test]
+fn offboard_loss_runs_com_obl_rc_act() {
+    use rotorpilot::control::FlatSetpoint;
+    for (action, expect) in [
+        (0, Some(FlightMode::Position)),
+        (3, Some(FlightMode::ReturnToLaunch)),
+        (4, Some(FlightMode::Land)),
+        (5, Some(FlightMode::Loiter)),
+        (7, None),
+    ] {
+        let params = CommanderParams {
+            offboard_loss_action: action,
+            ..Default::default()
+        };
+        let mut sim = Sim::new("quad_x", params);
+        sim.request(Request::Takeoff { height_m: Some(2.0) });
+        sim.request(Request::Arm { force: false });
+        sim.run(5.0);
+        let hold = FlatSetpoint {
+            pos_w: Some(sim.plant.truth().pos_w),
+            ..Default::default()
+        };
+        let setpoint = Request::OffboardSetpoint {
+            setpoint: hold,
+            body_frame: false,
+        };
+        assert_eq!(sim.request(setpoint), Outcome::Accepted);
+        assert_eq!(sim.request(Request::SetMode(FlightMode::Offboard)), Outcome::Accepted);
+        sim.run(1.5);
+        assert!(sim.events.contains(&Event::OffboardLost), "COM_OBL_RC_ACT {action}");
+        match expect {
+            Some(mode) => assert_eq!(sim.commander.mode(), mode, "COM_OBL_RC_ACT {action}"),
+            None => assert!(!sim.commander.armed(), "COM_OBL_RC_ACT {action} disarms"),
+        }
+    }
+}

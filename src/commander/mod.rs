@@ -57,6 +57,9 @@ pub struct CommanderParams {
     pub battery: BatteryParams,
     /// Failure injection allowed (`SYS_FAILURE_EN`, 0).
     pub failure_injection: bool,
+    /// Offboard-loss action (`COM_OBL_RC_ACT`: 0–2 hold position (no RC), 3 return, 4 land,
+    /// 5 hold (AUTO.LOITER), 6 terminate, 7 disarm; default 0).
+    pub offboard_loss_action: i32,
     /// Largest horizontal speed of any AUTO path [m/s] (`MPC_XY_VEL_MAX`, 12); caps cruise and
     /// DO_CHANGE_SPEED / DO_REPOSITION speeds.
     pub xy_vel_max_m_s: f64,
@@ -83,6 +86,7 @@ impl Default for CommanderParams {
             failsafe: FailsafeParams::default(),
             battery: BatteryParams::default(),
             failure_injection: false,
+            offboard_loss_action: 0,
         }
     }
 }
@@ -225,7 +229,7 @@ impl Event {
             Self::Disarmed(why) => format!("Disarmed: {why}"),
             Self::ModeChanged(mode) => format!("Mode {}", mode.name()),
             Self::Landed => "Landing detected".to_string(),
-            Self::OffboardLost => "Offboard lost: holding position".to_string(),
+            Self::OffboardLost => "Offboard lost".to_string(),
             Self::Failsafe(text) => text.clone(),
             Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
             Self::MissionCurrent(seq) => format!("Mission item {seq}"),
@@ -718,10 +722,25 @@ impl Commander {
                     };
                 }
                 _ => {
-                    // COM_OBL_RC_ACT 0 without RC: hold position (mavlink.md §6).
-                    self.enter(FlightMode::Position, x, t_s);
+                    // COM_OBL_RC_ACT (mavlink.md §6); without RC the stick modes hold position.
                     events.push(Event::OffboardLost);
-                    events.push(Event::ModeChanged(FlightMode::Position));
+                    let mode = match self.params.offboard_loss_action {
+                        3 => Some(FlightMode::ReturnToLaunch),
+                        4 => Some(FlightMode::Land),
+                        5 => Some(FlightMode::Loiter),
+                        6 | 7 => None,
+                        _ => Some(FlightMode::Position),
+                    };
+                    match mode {
+                        Some(mode) => {
+                            self.enter(mode, x, t_s);
+                            events.push(Event::ModeChanged(mode));
+                        }
+                        None => {
+                            self.disarm();
+                            events.push(Event::Disarmed("offboard lost (COM_OBL_RC_ACT)"));
+                        }
+                    }
                 }
             },
             _ => {}

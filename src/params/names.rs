@@ -7,7 +7,7 @@ use crate::estimation::{ChebyshevDesign, MAX_ORDER};
 use super::{vec3, ParamDef, ParamType, VehicleSettings};
 
 /// Every parameter name, in index order.
-pub const PARAM_NAMES: [&str; 70] = [
+pub const PARAM_NAMES: [&str; 71] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -78,6 +78,7 @@ pub const PARAM_NAMES: [&str; 70] = [
     "BAT1_CAPACITY",
     "BAT1_N_CELLS",
     "SYS_FAILURE_EN",
+    "COM_OBL_RC_ACT",
 ];
 
 fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
@@ -179,6 +180,10 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
         def(PARAM_NAMES[k + 18], Int32, 0.0, 1.0),
         f64::from(u8::from(c.failure_injection)),
     ));
+    out.push((
+        def(PARAM_NAMES[k + 19], Int32, 0.0, 7.0),
+        f64::from(c.offboard_loss_action),
+    ));
     out
 }
 
@@ -239,6 +244,7 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
                 cells: v[68] as u32,
             },
             failure_injection: v[69] != 0.0,
+            offboard_loss_action: v[70] as i32,
         },
         controller: match v[7] as i64 {
             1 => ControllerKind::Hierarchical,
