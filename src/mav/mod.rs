@@ -8,6 +8,7 @@ pub mod mission_xfer;
 pub mod offboard;
 pub mod params;
 pub mod services;
+pub mod signing;
 pub mod streams;
 pub mod telemetry;
 pub mod translate;
