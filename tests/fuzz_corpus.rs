@@ -69,7 +69,10 @@ fn gcs_heartbeat() -> MavMessage {
 }
 
 fn arm() -> MavMessage {
-    command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, [1.0, 0.0, NAN, NAN, NAN, NAN, NAN])
+    command(
+        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+        [1.0, 0.0, NAN, NAN, NAN, NAN, NAN],
+    )
 }
 
 fn takeoff(amsl_m: f32) -> MavMessage {
@@ -132,7 +135,10 @@ fn mavlink_seeds() -> Vec<(&'static str, Vec<u8>)> {
                 takeoff(NAN),
                 takeoff(493.0),
                 command(MavCmd::MAV_CMD_NAV_LAND, [NAN; 7]),
-                command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, [0.0, 21196.0, NAN, NAN, NAN, NAN, NAN]),
+                command(
+                    MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                    [0.0, 21196.0, NAN, NAN, NAN, NAN, NAN],
+                ),
             ]),
         ),
         (
@@ -142,7 +148,10 @@ fn mavlink_seeds() -> Vec<(&'static str, Vec<u8>)> {
                 set_mode(4.0, 3.0),
                 set_mode(4.0, 5.0),
                 set_mode(1.0, 0.0),
-                command(MavCmd::MAV_CMD_DO_SET_STANDARD_MODE, [1.0, NAN, NAN, NAN, NAN, NAN, NAN]),
+                command(
+                    MavCmd::MAV_CMD_DO_SET_STANDARD_MODE,
+                    [1.0, NAN, NAN, NAN, NAN, NAN, NAN],
+                ),
                 MavMessage::SET_MODE(SET_MODE_DATA {
                     custom_mode: (4 << 16) | (6 << 24),
                     target_system: 1,
@@ -279,8 +288,14 @@ fn mavlink_seeds() -> Vec<(&'static str, Vec<u8>)> {
                 }),
                 command(MavCmd::MAV_CMD_REQUEST_MESSAGE, [148.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
                 command(MavCmd::MAV_CMD_REQUEST_MESSAGE, [242.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
-                command(MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, [30.0, 20_000.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
-                command(MavCmd::MAV_CMD_GET_MESSAGE_INTERVAL, [30.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+                command(
+                    MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                    [30.0, 20_000.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                ),
+                command(
+                    MavCmd::MAV_CMD_GET_MESSAGE_INTERVAL,
+                    [30.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                ),
                 MavMessage::REQUEST_DATA_STREAM(REQUEST_DATA_STREAM_DATA {
                     req_message_rate: 10,
                     target_system: 1,
@@ -314,12 +329,28 @@ fn mavlink_seeds() -> Vec<(&'static str, Vec<u8>)> {
                     ..Default::default()
                 }),
                 command(MavCmd::MAV_CMD_DO_CHANGE_SPEED, [1.0, 3.0, -1.0, 0.0, 0.0, 0.0, 0.0]),
-                command(MavCmd::MAV_CMD_DO_SET_HOME, [0.0, 0.0, 0.0, 0.0, 47.3978, 8.5456, 490.0]),
+                command(
+                    MavCmd::MAV_CMD_DO_SET_HOME,
+                    [0.0, 0.0, 0.0, 0.0, 47.3978, 8.5456, 490.0],
+                ),
                 command(MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH, [NAN; 7]),
             ]),
         ),
         ("mavlink1_land", v1),
     ]
+}
+
+/// `datagram` in the fuzz target's framed form: `F`, then (message id u16 LE, payload length,
+/// payload) per MAVLink 2 frame.
+fn framed(datagram: &[u8]) -> Vec<u8> {
+    let mut reader = mavlink::MavlinkReader::with_capacity(0, datagram);
+    let mut out = vec![b'F'];
+    while let Ok(mavlink::MAVLinkMessageRaw::V2(raw)) = reader.read_any_raw_message::<MavMessage>() {
+        out.extend_from_slice(&(raw.message_id() as u16).to_le_bytes());
+        out.push(raw.payload_length());
+        out.extend_from_slice(raw.payload());
+    }
+    out
 }
 
 /// The QGroundControl-style and plain parameter-file seeds.
@@ -332,7 +363,8 @@ fn param_file_seeds() -> Vec<(&'static str, Vec<u8>)> {
                1\t1\tRP_CTRL\t2\t6\n\
                1\t1\tRP_EST_ORDER\t3\t6\n\
                1\t1\tRP_EST_WP\t1.500000000000000000\t9\n";
-    let plain = "# plain NAME VALUE lines\nRP_COMP 1   # compensate\nRP_GEO_KP_X 6.5\nCOM_OF_LOSS_T 0.5\nRP_TILT_MAX 35\n";
+    let plain =
+        "# plain NAME VALUE lines\nRP_COMP 1   # compensate\nRP_GEO_KP_X 6.5\nCOM_OF_LOSS_T 0.5\nRP_TILT_MAX 35\n";
     vec![("qgc", qgc.into()), ("plain", plain.into())]
 }
 
@@ -342,7 +374,12 @@ fn toml_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .map(|p| (p.file_stem().unwrap().to_string_lossy().into_owned(), std::fs::read(&p).unwrap()))
+        .map(|p| {
+            (
+                p.file_stem().unwrap().to_string_lossy().into_owned(),
+                std::fs::read(&p).unwrap(),
+            )
+        })
         .collect();
     out.sort();
     out
@@ -352,6 +389,10 @@ fn toml_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
 fn seeds(root: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     let mut out = Vec::new();
     for (name, bytes) in mavlink_seeds() {
+        out.push((
+            PathBuf::from(format!("mavlink_ingest/seed-framed-{name}.bin")),
+            framed(&bytes),
+        ));
         out.push((PathBuf::from(format!("mavlink_ingest/seed-{name}.bin")), bytes));
     }
     for (name, bytes) in toml_files(&root.join("airframes")) {

@@ -23,7 +23,10 @@ fuzz_target!(|data: &[u8]| {
     };
     let fc = Airframe::from_source(&src);
     if let Err(e) = &fc {
-        assert!(!e.field.is_empty() && !e.reason.is_empty(), "error without field or reason: {e:?}");
+        assert!(
+            !e.field.is_empty() && !e.reason.is_empty(),
+            "error without field or reason: {e:?}"
+        );
     }
     let plant = SimPlant::from_source(&src, 0);
     if let Err(e) = &plant {

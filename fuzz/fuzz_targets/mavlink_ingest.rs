@@ -4,6 +4,9 @@
 //! — duplicate cache, stream table, parameter table, mission transfer and validation — against
 //! a `Commander` flying a perfectly tracking vehicle, stepped after every frame.
 //!
+//! An input starting with `F` is read as framed chunks instead (see `framed`): valid CRCs around
+//! fuzzed payloads.
+//!
 //! Invariants beyond "no panic": every reply encodes and decodes again as one frame; a request
 //! carrying a non-finite number is never accepted; the commander's setpoints, attitude targets
 //! and home stay finite; an accepted parameter set reads back.
@@ -14,7 +17,7 @@ use libfuzzer_sys::fuzz_target;
 use rotorpilot::commander::{Commander, CommanderParams, Outcome, Request};
 use rotorpilot::control::{ControllerGains, ControllerKind, FlatSetpoint, VehicleState};
 use rotorpilot::math::{Mat3, UnitQuat, Vec3};
-use rotorpilot::mav::codec::{decode_datagram, encode_v2, unsupported_command_ack, Inbound};
+use rotorpilot::mav::codec::{decode_datagram, encode_v2, frame_v2, unsupported_command_ack, Inbound};
 use rotorpilot::mav::duplicates::{CommandKey, DuplicateCache, Seen};
 use rotorpilot::mav::ingest::{ingest, Action, MissionStep};
 use rotorpilot::mav::mission_items::parse_mission;
@@ -36,8 +39,12 @@ const FRAME_DT_S: f64 = 0.05;
 const DT_S: f64 = 1e-3;
 
 fuzz_target!(|data: &[u8]| {
+    let datagram = match data.split_first() {
+        Some((&FRAMED, chunks)) => framed(chunks),
+        _ => data.to_vec(),
+    };
     let mut link = Link::new();
-    for frame in decode_datagram(data) {
+    for frame in decode_datagram(&datagram) {
         link.frame(frame);
         link.step(FRAME_DT_S);
     }
@@ -46,6 +53,29 @@ fuzz_target!(|data: &[u8]| {
         link.step(0.5);
     }
 });
+
+/// First byte of an input in framed form (see [`framed`]); any other input is one raw datagram.
+const FRAMED: u8 = b'F';
+
+/// Chunks of (message id u16 LE, payload length u8, payload) → one datagram of MAVLink 2 frames
+/// from the ground station with valid CRCs, so that mutations reach the payload decoders and
+/// the handlers instead of dying at the checksum.
+fn framed(mut chunks: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut sequence = 0u8;
+    while let [lo, hi, len, rest @ ..] = chunks {
+        let n = usize::from(*len).min(rest.len());
+        let header = MavHeader {
+            system_id: 255,
+            component_id: 190,
+            sequence,
+        };
+        frame_v2(header, u32::from(u16::from_le_bytes([*lo, *hi])), &rest[..n], &mut out);
+        sequence = sequence.wrapping_add(1);
+        chunks = &rest[n..];
+    }
+    out
+}
 
 /// One link and the vehicle behind it.
 struct Link {
@@ -240,7 +270,10 @@ impl Link {
                     Some(Completed::Items(items)) => {
                         let result = match parse_mission(&items, &self.home) {
                             Ok(mission) => {
-                                assert!(mission_is_finite(&mission), "accepted mission item not finite: {mission:?}");
+                                assert!(
+                                    mission_is_finite(&mission),
+                                    "accepted mission item not finite: {mission:?}"
+                                );
                                 self.request(Request::SetMission(mission));
                                 self.store = items;
                                 MavMissionResult::MAV_MISSION_ACCEPTED
@@ -297,10 +330,7 @@ impl Link {
         self.t_s += dt_s;
         self.x.t_s = self.t_s;
         let tick = self.commander.update(&self.x, self.t_s);
-        assert!(
-            self.commander.home_w().iter().all(|v| v.is_finite()),
-            "home not finite"
-        );
+        assert!(self.commander.home_w().iter().all(|v| v.is_finite()), "home not finite");
         if let Some(att) = &tick.attitude {
             assert!(att.is_finite(), "attitude target not finite: {att:?}");
         }
@@ -344,6 +374,7 @@ impl Link {
             rotor_speeds: [0.0; rotorpilot::airframe::MAX_ROTORS],
             rotor_count: 4,
             rotor_max_rad_s: 1100.0,
+            battery: rotorpilot::telemetry::BatterySnapshot::full(3),
         }
     }
 }
@@ -386,7 +417,8 @@ fn request_is_finite(r: &Request) -> bool {
         | Request::Land
         | Request::ReturnToLaunch
         | Request::StartMission { .. }
-        | Request::GcsLinkLost => true,
+        | Request::GcsLinkLost
+        | Request::InjectRotorFailure { .. } => true,
         Request::Takeoff { height_m } => opt(height_m),
         Request::OffboardSetpoint { setpoint, .. } => setpoint_is_finite(setpoint),
         Request::OffboardAttitude(t) => t.is_finite(),

@@ -26,6 +26,9 @@ fuzz_target!(|data: &[u8]| {
             assert!(scenario.dt_s.is_finite() && scenario.dt_s > 0.0);
             let _ = scenario.flight_core();
         }
-        Err(e) => assert!(!e.field.is_empty() && !e.reason.is_empty(), "error without field or reason: {e:?}"),
+        Err(e) => assert!(
+            !e.field.is_empty() && !e.reason.is_empty(),
+            "error without field or reason: {e:?}"
+        ),
     }
 });
