@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test of rotorpilot on a fresh machine: formatting, lints, architecture rules,
-# Rust unit/integration/doc tests (release build, reused by the Python tests) and the pytest
+# Rust unit/integration/doc tests (release build, reused by the Python tests), a bounded run of
+# every fuzz target from the committed corpus, and the pytest
 # suite in a venv with the pinned gcs-scripts/requirements.txt. Exits non-zero on any failure,
 # including a pytest run that collects no test.
 set -euo pipefail
@@ -16,6 +17,9 @@ bash tests/architecture-rules.sh
 echo "== Rust tests"
 cargo build --release --bin rotorpilot
 cargo test --workspace --release
+
+echo "== fuzz smoke run (README \"Fuzzing\")"
+bash tests/fuzz-smoke.sh
 
 echo "== Python tests"
 venv=".venv"

@@ -88,6 +88,21 @@ pub fn encode_v2(header: MavHeader, message: &MavMessage, buf: &mut Vec<u8>) {
     buf.extend_from_slice(raw.raw_bytes());
 }
 
+/// Appends one MAVLink 2 frame of message `message_id` from `header` carrying `payload` as is
+/// (at most 255 bytes; longer is cut), with the CRC the dialect expects for that id: what a
+/// sender that got the fields wrong but the framing right would send (fuzzing, flood tests).
+pub fn frame_v2(header: MavHeader, message_id: u32, payload: &[u8], buf: &mut Vec<u8>) {
+    let payload = &payload[..payload.len().min(255)];
+    let start = buf.len();
+    buf.push(mavlink::MAV_STX_V2);
+    buf.push(payload.len() as u8);
+    buf.extend_from_slice(&[0, 0, header.sequence, header.system_id as u8, header.component_id]);
+    buf.extend_from_slice(&message_id.to_le_bytes()[..3]);
+    buf.extend_from_slice(payload);
+    let crc = mavlink::calculate_crc(&buf[start + 1..], MavMessage::extra_crc(message_id));
+    buf.extend_from_slice(&crc.to_le_bytes());
+}
+
 /// A MAVLink 2 COMMAND_ACK with `MAV_RESULT_UNSUPPORTED` for a command id the dialect may not
 /// know, addressed to `target_system`/`target_component` (mavlink.md §13.4): the crate encodes an
 /// ACK for a placeholder command, then the command bytes are replaced and the CRC recomputed.
@@ -121,6 +136,17 @@ mod tests {
             component_id: 190,
             sequence: 7,
         }
+    }
+
+    #[test]
+    fn frame_v2_matches_the_crate_encoder() {
+        let hb = MavMessage::HEARTBEAT(HEARTBEAT_DATA::default());
+        let mut expected = Vec::new();
+        encode_v2(header(255), &hb, &mut expected);
+        let payload = &expected[10..expected.len() - 2];
+        let mut framed = Vec::new();
+        frame_v2(header(255), 0, payload, &mut framed);
+        assert_eq!(framed, expected);
     }
 
     #[test]

@@ -3,6 +3,7 @@
 
 pub mod codec;
 pub mod duplicates;
+pub mod ingest;
 pub mod mission_items;
 pub mod mission_xfer;
 pub mod offboard;

@@ -14,20 +14,17 @@ use tokio::sync::{broadcast, mpsc, oneshot, watch};
 use crate::commander::{Event, FlightMode, Outcome, Request};
 use crate::mav::codec::{decode_datagram, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
+use crate::mav::ingest::{ingest, Action, MissionStep};
 use crate::mav::mission_items::parse_mission;
-use crate::mav::mission_xfer::{download_count, download_item, mission_ack, Completed, MissionTransfer};
-use crate::mav::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
-use crate::mav::params::{decode_param_set, name_of, param_error_unknown, param_value};
-use crate::mav::services::{autopilot_version, ftp_reply, ping_reply, timesync_reply};
+use crate::mav::mission_xfer::{download_count, download_item, Completed, Ids, MissionTransfer};
+use crate::mav::params::{param_error_unknown, param_value};
+use crate::mav::services::autopilot_version;
 use crate::mav::streams::{LinkKind, StreamTable};
 use crate::mav::telemetry::{message, mission_current, status_text};
-use crate::mav::translate::{
-    command_ack, command_int_as_long, decode_command, decode_command_int, decode_set_mode, heartbeat, result_of,
-    CommandDecision, Identity, OneShot,
-};
+use crate::mav::translate::{command_ack, heartbeat, result_of, CommandDecision, Identity, OneShot};
 use crate::mav::{
-    MavCmd, MavHeader, MavMessage, MavMissionResult, MavMissionType, MavResult, MavSeverity, MavType,
-    COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA, MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
+    MavCmd, MavHeader, MavMessage, MavMissionResult, MavResult, MavSeverity, COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA,
+    MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
 };
 use crate::navigation::Mission;
 use crate::params::{ParamError, ParamTable};
@@ -239,9 +236,10 @@ fn handle_datagram(
                     encode_v2(header, &message, &mut frame);
                     log.frame(&frame);
                 }
-                if !handle_mission_message(&header, &message, from, sender, ctx, transfer) {
-                    handle_message(&header, &message, from, sender, ctx);
-                }
+                let origin = ctx.snapshot.borrow().home;
+                let now_ns = i64::try_from(sender.start.elapsed().as_nanos()).unwrap_or(i64::MAX);
+                let action = ingest(&ctx.identity, &header, &message, &origin, now_ns);
+                handle_action(&header, action, from, sender, ctx, transfer);
             }
             Inbound::UnknownCommand {
                 header,
@@ -264,17 +262,16 @@ fn handle_datagram(
     }
 }
 
-/// The mission protocol (mavlink.md §7); returns false for other messages.
-#[allow(deprecated)]
-fn handle_mission_message(
-    header: &MavHeader,
-    message: &MavMessage,
+/// The mission protocol (mavlink.md §7): uploads through `transfer`, downloads from the store;
+/// an accepted upload replaces the vehicle's mission and the store.
+fn handle_mission(
+    ids: Ids,
+    step: MissionStep,
     from: SocketAddr,
     sender: &Arc<Sender>,
     ctx: &LinkContext,
     transfer: &mut MissionTransfer<SocketAddr>,
-) -> bool {
-    let ids = (header.system_id as u8, header.component_id);
+) {
     let send = |out: Vec<(SocketAddr, MavMessage)>| {
         let s = sender.clone();
         tokio::spawn(async move {
@@ -283,43 +280,14 @@ fn handle_mission_message(
             }
         });
     };
-    let mission_only = |t: MavMissionType| t == MavMissionType::MAV_MISSION_TYPE_MISSION;
+    let stored = || ctx.mission_store.lock().map(|s| s.clone()).unwrap_or_default();
     let now = sender.wall_s();
-    let (out, completed) = match message {
-        MavMessage::MISSION_COUNT(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
-            transfer.on_count(from, ids, m, now)
-        }
-        MavMessage::MISSION_ITEM_INT(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
-            transfer.on_item(from, m, now)
-        }
-        MavMessage::MISSION_CLEAR_ALL(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
-            if mission_only(m.mission_type) {
-                transfer.on_clear(from, ids)
-            } else {
-                (
-                    vec![(from, mission_ack(ids, MavMissionResult::MAV_MISSION_UNSUPPORTED))],
-                    None,
-                )
-            }
-        }
-        MavMessage::MISSION_REQUEST_LIST(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
-            let reply = if mission_only(m.mission_type) {
-                download_count(ids, &ctx.mission_store.lock().map(|s| s.clone()).unwrap_or_default())
-            } else {
-                mission_ack(ids, MavMissionResult::MAV_MISSION_UNSUPPORTED)
-            };
-            (vec![(from, reply)], None)
-        }
-        MavMessage::MISSION_REQUEST_INT(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
-            let stored = ctx.mission_store.lock().map(|s| s.clone()).unwrap_or_default();
-            (vec![(from, download_item(ids, m.seq, &stored))], None)
-        }
-        MavMessage::MISSION_REQUEST(m) if ctx.identity.accepts(header, m.target_system, m.target_component) => {
-            let stored = ctx.mission_store.lock().map(|s| s.clone()).unwrap_or_default();
-            (vec![(from, download_item(ids, m.seq, &stored))], None)
-        }
-        MavMessage::MISSION_ACK(_) => (Vec::new(), None),
-        _ => return false,
+    let (out, completed) = match step {
+        MissionStep::Count(m) => transfer.on_count(from, ids, &m, now),
+        MissionStep::Item(m) => transfer.on_item(from, &m, now),
+        MissionStep::Clear => transfer.on_clear(from, ids),
+        MissionStep::RequestList => (vec![(from, download_count(ids, &stored()))], None),
+        MissionStep::RequestItem(seq) => (vec![(from, download_item(ids, seq, &stored()))], None),
     };
     send(out);
     match completed {
@@ -359,94 +327,46 @@ fn handle_mission_message(
         }
         None => {}
     }
-    true
 }
 
-/// PING (deprecated, still sent by MAVSDK) is answered like the others.
-#[allow(deprecated)]
-fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, sender: &Arc<Sender>, ctx: &LinkContext) {
+/// Performs what [`ingest`] decided for one message from `from`.
+fn handle_action(
+    header: &MavHeader,
+    action: Action,
+    from: SocketAddr,
+    sender: &Arc<Sender>,
+    ctx: &LinkContext,
+    transfer: &mut MissionTransfer<SocketAddr>,
+) {
     let reply = |msg: MavMessage| {
         let s = sender.clone();
         tokio::spawn(async move { s.send(&msg, from).await });
     };
-    match message {
-        MavMessage::HEARTBEAT(hb) if hb.mavtype == MavType::MAV_TYPE_GCS => {
+    match action {
+        Action::Ignore => {}
+        Action::GcsHeartbeat => {
             if let Ok(mut last) = sender.last_gcs_heartbeat.lock() {
                 *last = Some((Instant::now(), ctx.snapshot.borrow().t_s));
             }
         }
-        MavMessage::COMMAND_LONG(cmd) => {
-            let origin = ctx.snapshot.borrow().home;
-            let decision = decode_command(&ctx.identity, header, cmd, &origin);
-            handle_command(header, cmd, decision, from, sender, ctx);
+        Action::Command { command, decision } => handle_command(header, &command, decision, from, sender, ctx),
+        // Setpoints stream at 20 Hz or more: a full queue drops one, the next replaces it;
+        // SET_MODE has no ACK, the next heartbeat shows the result.
+        Action::Request(request) => {
+            let _ = ctx.inbox.try_send(VehicleCommand::Request { request, reply: None });
         }
-        MavMessage::COMMAND_INT(cmd) => {
-            let origin = ctx.snapshot.borrow().home;
-            let decision = decode_command_int(&ctx.identity, header, cmd, &origin);
-            handle_command(header, &command_int_as_long(cmd), decision, from, sender, ctx);
-        }
-        MavMessage::PING(p) => {
-            if let Some(r) = ping_reply(header, p) {
-                reply(r);
-            }
-        }
-        MavMessage::TIMESYNC(t) => {
-            let now_ns = i64::try_from(sender.start.elapsed().as_nanos()).unwrap_or(i64::MAX);
-            if let Some(r) = timesync_reply(header, t, now_ns) {
-                reply(r);
-            }
-        }
-        MavMessage::SET_POSITION_TARGET_LOCAL_NED(t)
-            if ctx.identity.accepts(header, t.target_system, t.target_component) =>
-        {
-            match decode_local_target(t) {
-                // Setpoints stream at 20 Hz or more: a full queue drops one, the next replaces it.
-                Ok(target) => {
-                    let _ = ctx.inbox.try_send(VehicleCommand::Request {
-                        request: Request::OffboardSetpoint {
-                            setpoint: target.setpoint,
-                            body_frame: target.body_frame,
-                        },
-                        reply: None,
-                    });
-                }
-                Err(why) => reply(status_text(MavSeverity::MAV_SEVERITY_WARNING, &why)),
-            }
-        }
-        MavMessage::REQUEST_DATA_STREAM(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {
+        Action::Refuse(why) => reply(status_text(MavSeverity::MAV_SEVERITY_WARNING, &why)),
+        Action::Reply(msg) => reply(*msg),
+        Action::DataStream {
+            stream_id,
+            rate_hz,
+            start,
+        } => {
             if let Ok(mut t) = sender.streams.lock() {
-                t.request_data_stream(r.req_stream_id as u8, r.req_message_rate, r.start_stop != 0);
+                t.request_data_stream(stream_id, rate_hz, start);
             }
         }
-        MavMessage::SET_POSITION_TARGET_GLOBAL_INT(t)
-            if ctx.identity.accepts(header, t.target_system, t.target_component) =>
-        {
-            let origin = ctx.snapshot.borrow().home;
-            match decode_global_target(t, &origin) {
-                Ok(target) => {
-                    let _ = ctx.inbox.try_send(VehicleCommand::Request {
-                        request: Request::OffboardSetpoint {
-                            setpoint: target.setpoint,
-                            body_frame: target.body_frame,
-                        },
-                        reply: None,
-                    });
-                }
-                Err(why) => reply(status_text(MavSeverity::MAV_SEVERITY_WARNING, &why)),
-            }
-        }
-        MavMessage::SET_ATTITUDE_TARGET(t) if ctx.identity.accepts(header, t.target_system, t.target_component) => {
-            match decode_attitude_target(t) {
-                Ok(target) => {
-                    let _ = ctx.inbox.try_send(VehicleCommand::Request {
-                        request: Request::OffboardAttitude(target),
-                        reply: None,
-                    });
-                }
-                Err(why) => reply(status_text(MavSeverity::MAV_SEVERITY_WARNING, &why)),
-            }
-        }
-        MavMessage::PARAM_REQUEST_LIST(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {
+        Action::ParamList => {
             let table = ctx.params.borrow().clone();
             let s = sender.clone();
             tokio::spawn(async move {
@@ -459,35 +379,18 @@ fn handle_message(header: &MavHeader, message: &MavMessage, from: SocketAddr, se
                 }
             });
         }
-        MavMessage::PARAM_REQUEST_READ(r) if ctx.identity.accepts(header, r.target_system, r.target_component) => {
+        Action::ParamRead { name, index } => {
             let table = ctx.params.borrow().clone();
-            let name = name_of(&r.param_id);
-            let index = if r.param_index < 0 {
-                table.index_of(&name)
-            } else {
-                Some(r.param_index as usize)
-            };
-            match index.and_then(|i| param_value(&table, i)) {
+            match index
+                .or_else(|| table.index_of(&name))
+                .and_then(|i| param_value(&table, i))
+            {
                 Some(msg) => reply(msg),
                 None => reply(param_error_unknown(header, &name)),
             }
         }
-        MavMessage::PARAM_SET(set) if ctx.identity.accepts(header, set.target_system, set.target_component) => {
-            let (name, value) = decode_param_set(set);
-            set_param(name, value, *header, from, sender, ctx);
-        }
-        MavMessage::FILE_TRANSFER_PROTOCOL(f) if ctx.identity.accepts(header, f.target_system, f.target_component) => {
-            reply(ftp_reply(header, f));
-        }
-        other => {
-            if let Some(mode) = decode_set_mode(&ctx.identity, other) {
-                // SET_MODE has no ACK; the next heartbeat shows the result.
-                let _ = ctx.inbox.try_send(VehicleCommand::Request {
-                    request: Request::SetMode(mode),
-                    reply: None,
-                });
-            }
-        }
+        Action::ParamSet { name, value } => set_param(name, value, *header, from, sender, ctx),
+        Action::Mission { ids, step } => handle_mission(ids, step, from, sender, ctx, transfer),
     }
 }
 

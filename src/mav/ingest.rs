@@ -1,0 +1,348 @@
+//! One inbound message → what the link does with it (mavlink.md §1–§9), decided without
+//! sockets, clocks or shared state. Pure: the link (`runtime::link`) matches on the
+//! [`Action`] and performs it; the fuzz target `mavlink_ingest` does the same without sockets.
+//!
+//! The decision functions are the protocol modules' own ([`decode_command`],
+//! [`decode_command_int`], the offboard decoders, [`decode_param_set`], …); this module only
+//! routes a message to them and applies the addressing rule of §3.1 to the messages that carry
+//! a target.
+
+use mavlink::dialects::common::{MavMessage, MavMissionResult, MavMissionType, MavType, COMMAND_LONG_DATA};
+use mavlink::MavHeader;
+
+use crate::commander::Request;
+use crate::navigation::Home;
+
+use super::mission_xfer::{mission_ack, Ids};
+use super::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
+use super::params::{decode_param_set, name_of};
+use super::services::{ftp_reply, ping_reply, timesync_reply};
+use super::translate::{
+    command_int_as_long, decode_command, decode_command_int, decode_set_mode, CommandDecision, Identity,
+};
+
+/// What the link does with one inbound message.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// Nothing: not addressed to us, or a message we only log.
+    Ignore,
+    /// A ground station's HEARTBEAT: restarts the GCS link-loss timer.
+    GcsHeartbeat,
+    /// A COMMAND_LONG, or a COMMAND_INT as the equivalent COMMAND_LONG (for the duplicate cache
+    /// and the ACK), and what it means; every decision but `NotForUs` gets exactly one ACK.
+    Command {
+        /// The command as a COMMAND_LONG.
+        command: COMMAND_LONG_DATA,
+        /// What to do.
+        decision: CommandDecision,
+    },
+    /// A commander request that gets no ACK: an offboard setpoint or SET_MODE (#11).
+    Request(Request),
+    /// A refused message: announce the reason to the sender in a STATUSTEXT warning.
+    Refuse(String),
+    /// Reply to the sender with this message (PING, TIMESYNC, FTP NAK, mission-type refusals).
+    Reply(Box<MavMessage>),
+    /// REQUEST_DATA_STREAM on this link.
+    DataStream {
+        /// MAV_DATA_STREAM id.
+        stream_id: u8,
+        /// Rate [Hz].
+        rate_hz: u16,
+        /// Start (true) or stop.
+        start: bool,
+    },
+    /// PARAM_REQUEST_LIST: stream every parameter to the sender.
+    ParamList,
+    /// PARAM_REQUEST_READ: one parameter by `index`, or by `name` when no index is given.
+    ParamRead {
+        /// Parameter name (used when `index` is `None`).
+        name: String,
+        /// Parameter index.
+        index: Option<usize>,
+    },
+    /// PARAM_SET: set `name` to `value` (decoded by its MAV_PARAM_TYPE).
+    ParamSet {
+        /// Parameter name.
+        name: String,
+        /// Value (INT32 types decoded byte-wise).
+        value: f64,
+    },
+    /// A step of the mission protocol from the peer with MAVLink ids `ids`.
+    Mission {
+        /// The sender's system and component ids (targets of the replies).
+        ids: Ids,
+        /// What it asks.
+        step: MissionStep,
+    },
+}
+
+/// A mission-protocol message addressed to us (mavlink.md §7), mission type already checked
+/// where the protocol step needs it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MissionStep {
+    /// MISSION_COUNT: start (or, with 0, clear) an upload.
+    Count(mavlink::dialects::common::MISSION_COUNT_DATA),
+    /// MISSION_ITEM_INT of an upload.
+    Item(Box<mavlink::dialects::common::MISSION_ITEM_INT_DATA>),
+    /// MISSION_CLEAR_ALL of the mission.
+    Clear,
+    /// MISSION_REQUEST_LIST: start a download.
+    RequestList,
+    /// MISSION_REQUEST_INT / MISSION_REQUEST: one stored item of a download.
+    RequestItem(u16),
+}
+
+/// What the link does with `message` from `sender`; `origin` is the vehicle's home (global
+/// coordinates → local NED) and `now_ns` the link's clock for TIMESYNC [ns].
+///
+/// ```
+/// use rotorpilot::commander::Request;
+/// use rotorpilot::mav::ingest::{ingest, Action};
+/// use rotorpilot::mav::translate::{CommandDecision, Identity};
+/// use rotorpilot::mav::{MavCmd, MavHeader, MavMessage, COMMAND_LONG_DATA};
+/// let arm = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+///     command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+///     param1: 1.0,
+///     target_system: 1,
+///     target_component: 1,
+///     ..Default::default()
+/// });
+/// let gcs = MavHeader { system_id: 255, component_id: 190, sequence: 0 };
+/// let action = ingest(&Identity::autopilot(1, 4), &gcs, &arm, &Default::default(), 0);
+/// assert!(matches!(action, Action::Command {
+///     decision: CommandDecision::Execute(Request::Arm { force: false }), ..
+/// }));
+/// ```
+#[allow(deprecated)]
+pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &Home, now_ns: i64) -> Action {
+    let ours = |target_system: u8, target_component: u8| id.accepts(sender, target_system, target_component);
+    let ids = (sender.system_id as u8, sender.component_id);
+    let mission = |step: MissionStep| Action::Mission { ids, step };
+    let mission_only = |t: MavMissionType| t == MavMissionType::MAV_MISSION_TYPE_MISSION;
+    let unsupported_type = || Action::Reply(Box::new(mission_ack(ids, MavMissionResult::MAV_MISSION_UNSUPPORTED)));
+    let offboard = |decoded: Result<super::offboard::OffboardTarget, String>| match decoded {
+        Ok(target) => Action::Request(Request::OffboardSetpoint {
+            setpoint: target.setpoint,
+            body_frame: target.body_frame,
+        }),
+        Err(why) => Action::Refuse(why),
+    };
+    match message {
+        MavMessage::MISSION_COUNT(m) if ours(m.target_system, m.target_component) => {
+            mission(MissionStep::Count(m.clone()))
+        }
+        MavMessage::MISSION_ITEM_INT(m) if ours(m.target_system, m.target_component) => {
+            mission(MissionStep::Item(Box::new(m.clone())))
+        }
+        MavMessage::MISSION_CLEAR_ALL(m) if ours(m.target_system, m.target_component) => {
+            if mission_only(m.mission_type) {
+                mission(MissionStep::Clear)
+            } else {
+                unsupported_type()
+            }
+        }
+        MavMessage::MISSION_REQUEST_LIST(m) if ours(m.target_system, m.target_component) => {
+            if mission_only(m.mission_type) {
+                mission(MissionStep::RequestList)
+            } else {
+                unsupported_type()
+            }
+        }
+        MavMessage::MISSION_REQUEST_INT(m) if ours(m.target_system, m.target_component) => {
+            mission(MissionStep::RequestItem(m.seq))
+        }
+        MavMessage::MISSION_REQUEST(m) if ours(m.target_system, m.target_component) => {
+            mission(MissionStep::RequestItem(m.seq))
+        }
+        MavMessage::HEARTBEAT(hb) if hb.mavtype == MavType::MAV_TYPE_GCS => Action::GcsHeartbeat,
+        MavMessage::COMMAND_LONG(cmd) => Action::Command {
+            command: cmd.clone(),
+            decision: decode_command(id, sender, cmd, origin),
+        },
+        MavMessage::COMMAND_INT(cmd) => Action::Command {
+            command: command_int_as_long(cmd),
+            decision: decode_command_int(id, sender, cmd, origin),
+        },
+        MavMessage::PING(p) => ping_reply(sender, p).map_or(Action::Ignore, |r| Action::Reply(Box::new(r))),
+        MavMessage::TIMESYNC(t) => {
+            timesync_reply(sender, t, now_ns).map_or(Action::Ignore, |r| Action::Reply(Box::new(r)))
+        }
+        MavMessage::SET_POSITION_TARGET_LOCAL_NED(t) if ours(t.target_system, t.target_component) => {
+            offboard(decode_local_target(t))
+        }
+        MavMessage::SET_POSITION_TARGET_GLOBAL_INT(t) if ours(t.target_system, t.target_component) => {
+            offboard(decode_global_target(t, origin))
+        }
+        MavMessage::SET_ATTITUDE_TARGET(t) if ours(t.target_system, t.target_component) => {
+            match decode_attitude_target(t) {
+                Ok(target) => Action::Request(Request::OffboardAttitude(target)),
+                Err(why) => Action::Refuse(why),
+            }
+        }
+        MavMessage::REQUEST_DATA_STREAM(r) if ours(r.target_system, r.target_component) => Action::DataStream {
+            stream_id: r.req_stream_id as u8,
+            rate_hz: r.req_message_rate,
+            start: r.start_stop != 0,
+        },
+        MavMessage::PARAM_REQUEST_LIST(r) if ours(r.target_system, r.target_component) => Action::ParamList,
+        MavMessage::PARAM_REQUEST_READ(r) if ours(r.target_system, r.target_component) => Action::ParamRead {
+            name: name_of(&r.param_id),
+            index: usize::try_from(r.param_index).ok(),
+        },
+        MavMessage::PARAM_SET(set) if ours(set.target_system, set.target_component) => {
+            let (name, value) = decode_param_set(set);
+            Action::ParamSet { name, value }
+        }
+        MavMessage::FILE_TRANSFER_PROTOCOL(f) if ours(f.target_system, f.target_component) => {
+            Action::Reply(Box::new(ftp_reply(sender, f)))
+        }
+        // MISSION_ACK ends a download; nothing to answer.
+        MavMessage::MISSION_ACK(_) => Action::Ignore,
+        // SET_MODE has no ACK; the next heartbeat shows the result.
+        other => decode_set_mode(id, other).map_or(Action::Ignore, |mode| Action::Request(Request::SetMode(mode))),
+    }
+}
+
+#[cfg(test)]
+#[allow(deprecated)]
+mod tests {
+    use super::*;
+    use crate::commander::FlightMode;
+    use mavlink::dialects::common::{
+        MavCmd, MavFrame, PositionTargetTypemask, HEARTBEAT_DATA, MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA,
+        MISSION_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA, SET_MODE_DATA,
+        SET_POSITION_TARGET_LOCAL_NED_DATA,
+    };
+
+    fn gcs() -> MavHeader {
+        MavHeader {
+            system_id: 255,
+            component_id: 190,
+            sequence: 0,
+        }
+    }
+
+    fn run(message: MavMessage) -> Action {
+        ingest(&Identity::autopilot(1, 4), &gcs(), &message, &Home::default(), 0)
+    }
+
+    #[test]
+    fn commands_heartbeats_and_set_mode_route_to_their_decoders() {
+        let takeoff = COMMAND_LONG_DATA {
+            command: MavCmd::MAV_CMD_NAV_TAKEOFF,
+            param7: 3.0,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        };
+        assert_eq!(
+            run(MavMessage::COMMAND_LONG(takeoff.clone())),
+            Action::Command {
+                command: takeoff,
+                decision: CommandDecision::Execute(Request::Takeoff { height_m: Some(3.0) })
+            }
+        );
+        let gcs_hb = HEARTBEAT_DATA {
+            mavtype: MavType::MAV_TYPE_GCS,
+            ..Default::default()
+        };
+        assert_eq!(run(MavMessage::HEARTBEAT(gcs_hb)), Action::GcsHeartbeat);
+        assert_eq!(run(MavMessage::HEARTBEAT(HEARTBEAT_DATA::default())), Action::Ignore);
+        let set_mode = SET_MODE_DATA {
+            custom_mode: FlightMode::Land.custom_mode(),
+            target_system: 1,
+            ..Default::default()
+        };
+        assert_eq!(
+            run(MavMessage::SET_MODE(set_mode)),
+            Action::Request(Request::SetMode(FlightMode::Land))
+        );
+    }
+
+    #[test]
+    fn offboard_setpoints_and_refusals() {
+        let mut sp = SET_POSITION_TARGET_LOCAL_NED_DATA {
+            z: -2.0,
+            type_mask: PositionTargetTypemask::from_bits_truncate(2552),
+            coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        };
+        assert!(matches!(
+            run(MavMessage::SET_POSITION_TARGET_LOCAL_NED(sp.clone())),
+            Action::Request(Request::OffboardSetpoint { body_frame: false, .. })
+        ));
+        sp.coordinate_frame = MavFrame::MAV_FRAME_GLOBAL;
+        assert!(matches!(
+            run(MavMessage::SET_POSITION_TARGET_LOCAL_NED(sp.clone())),
+            Action::Refuse(why) if why.contains("frame")
+        ));
+        sp.target_system = 2;
+        assert_eq!(run(MavMessage::SET_POSITION_TARGET_LOCAL_NED(sp)), Action::Ignore);
+    }
+
+    #[test]
+    fn parameters_and_missions_are_addressed() {
+        let mut id = [0u8; 16];
+        id[..7].copy_from_slice(b"RP_CTRL");
+        let set = PARAM_SET_DATA {
+            param_value: f32::from_bits(2),
+            target_system: 1,
+            target_component: 1,
+            param_id: id.into(),
+            param_type: mavlink::dialects::common::MavParamType::MAV_PARAM_TYPE_INT32,
+        };
+        assert_eq!(
+            run(MavMessage::PARAM_SET(set)),
+            Action::ParamSet {
+                name: "RP_CTRL".into(),
+                value: 2.0
+            }
+        );
+        let read = PARAM_REQUEST_READ_DATA {
+            param_index: -1,
+            target_system: 0,
+            target_component: 0,
+            param_id: id.into(),
+        };
+        assert_eq!(
+            run(MavMessage::PARAM_REQUEST_READ(read)),
+            Action::ParamRead {
+                name: "RP_CTRL".into(),
+                index: None
+            }
+        );
+        let count = MISSION_COUNT_DATA {
+            count: 3,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        };
+        assert_eq!(
+            run(MavMessage::MISSION_COUNT(count.clone())),
+            Action::Mission {
+                ids: (255, 190),
+                step: MissionStep::Count(count)
+            }
+        );
+        let fence = MISSION_CLEAR_ALL_DATA {
+            target_system: 1,
+            target_component: 1,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_FENCE,
+        };
+        assert_eq!(
+            run(MavMessage::MISSION_CLEAR_ALL(fence)),
+            Action::Reply(Box::new(mission_ack(
+                (255, 190),
+                MavMissionResult::MAV_MISSION_UNSUPPORTED
+            )))
+        );
+        let other_system = MISSION_REQUEST_LIST_DATA {
+            target_system: 7,
+            target_component: 1,
+            ..Default::default()
+        };
+        assert_eq!(run(MavMessage::MISSION_REQUEST_LIST(other_system)), Action::Ignore);
+    }
+}
