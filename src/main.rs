@@ -70,6 +70,12 @@ enum Command {
         /// (repeatable), e.g. `--fail-rotor 2@20`.
         #[arg(long = "fail-rotor", value_name = "ROTOR@SECONDS")]
         fail_rotor: Vec<runtime::rotor_failures::ScheduledFailure>,
+        /// MAVLink 2 signing key: a file of exactly 32 key bytes, or a passphrase (hashed with
+        /// SHA-256 as MAVProxy does). With a key, only signed frames are obeyed and every frame
+        /// sent is signed; a missing file means no key until SETUP_SIGNING stores one there.
+        /// The signing timestamp is kept in FILE.timestamp.
+        #[arg(long = "signing-key", value_name = "FILE")]
+        signing_key: Option<PathBuf>,
         /// Home as LAT,LON,ALT [deg, deg, m AMSL].
         #[arg(long, default_value = "47.397742,8.545594,488.0")]
         home: String,
@@ -368,6 +374,7 @@ fn execute(command: Command) -> Result<String, String> {
             spacing,
             speedup,
             fail_rotor,
+            signing_key,
             home,
             sysid,
             seed,
@@ -424,6 +431,7 @@ fn execute(command: Command) -> Result<String, String> {
                 spacing_m: spacing,
                 pace: speedup,
                 rotor_failures: fail_rotor,
+                signing_key,
             };
             if let Some(d) = duration {
                 if !(d.is_finite() && d > 0.0) {

@@ -164,7 +164,7 @@ impl Link {
                         sequence: 0,
                     };
                     let bytes = unsupported_command_ack(ours, command, header.system_id as u8, header.component_id);
-                    assert_eq!(decode_datagram(&bytes).len(), 1, "the hand-built ACK is one frame");
+                    assert_eq!(decode_datagram(bytes.raw_bytes()).len(), 1, "the hand-built ACK is one frame");
                 }
             }
             Inbound::Unparsable { .. } => {}
@@ -254,6 +254,8 @@ impl Link {
                 }
                 Err(e) => self.send(&status_text(MavSeverity::MAV_SEVERITY_WARNING, &e.to_string())),
             },
+            // The key and its storage are the runtime's (`runtime::link`), outside this harness.
+            Action::SetupSigning { key, .. } => assert_eq!(format!("{key:?}"), "SigningKey(<redacted>)"),
             Action::Mission { ids, step } => {
                 let peer = ids.0;
                 let (out, completed) = match step {

@@ -6,7 +6,7 @@
 //! answered with `MAV_RESULT_UNSUPPORTED`; [`unsupported_command_ack`] builds that reply by hand.
 
 use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, COMMAND_ACK_DATA};
-use mavlink::{MAVLinkV2MessageRaw, MavHeader, MavlinkVersion, Message};
+use mavlink::{MAVLinkMessageRaw, MAVLinkV2MessageRaw, MavHeader, MavlinkVersion, Message};
 
 /// COMMAND_INT message id.
 const COMMAND_INT_ID: u32 = 75;
@@ -49,16 +49,31 @@ pub enum Inbound {
 
 /// Every frame in `datagram`, in order; garbage between frames is skipped.
 pub fn decode_datagram(datagram: &[u8]) -> Vec<Inbound> {
+    decode_datagram_checked(datagram, |_| Some(()))
+        .into_iter()
+        .map(|(frame, ())| frame)
+        .collect()
+}
+
+/// Every CRC-valid frame of `datagram` that `check` admits, with what `check` said of it;
+/// frames it refuses (`None`: a bad signature, say) are skipped before their payload is parsed.
+pub fn decode_datagram_checked<T>(
+    datagram: &[u8],
+    mut check: impl FnMut(&MAVLinkMessageRaw) -> Option<T>,
+) -> Vec<(Inbound, T)> {
     let mut reader = mavlink::MavlinkReader::with_capacity(0, datagram);
     let mut out = Vec::new();
     while let Ok(raw) = reader.read_any_raw_message::<MavMessage>() {
+        let Some(verdict) = check(&raw) else {
+            continue;
+        };
         let header = MavHeader {
             system_id: raw.system_id(),
             component_id: raw.component_id(),
             sequence: raw.sequence(),
         };
         let id = raw.message_id();
-        out.push(match MavMessage::parse(raw.version(), id, raw.payload()) {
+        let frame = match MavMessage::parse(raw.version(), id, raw.payload()) {
             Ok(message) => Inbound::Message {
                 header,
                 version: raw.version(),
@@ -76,16 +91,23 @@ pub fn decode_datagram(datagram: &[u8]) -> Vec<Inbound> {
                 }
             }
             Err(_) => Inbound::Unparsable { message_id: id },
-        });
+        };
+        out.push((frame, verdict));
     }
     out
 }
 
-/// Appends `message` from `header` as one MAVLink 2 frame to `buf`.
-pub fn encode_v2(header: MavHeader, message: &MavMessage, buf: &mut Vec<u8>) {
+/// `message` from `header` as one unsigned MAVLink 2 frame (to be sealed by `signing` or sent
+/// as `raw_bytes()`).
+pub fn frame_message(header: MavHeader, message: &MavMessage) -> MAVLinkV2MessageRaw {
     let mut raw = MAVLinkV2MessageRaw::new();
     raw.serialize_message(header, message);
-    buf.extend_from_slice(raw.raw_bytes());
+    raw
+}
+
+/// Appends `message` from `header` as one unsigned MAVLink 2 frame to `buf`.
+pub fn encode_v2(header: MavHeader, message: &MavMessage, buf: &mut Vec<u8>) {
+    buf.extend_from_slice(frame_message(header, message).raw_bytes());
 }
 
 /// Appends one MAVLink 2 frame of message `message_id` from `header` carrying `payload` as is
@@ -106,7 +128,12 @@ pub fn frame_v2(header: MavHeader, message_id: u32, payload: &[u8], buf: &mut Ve
 /// A MAVLink 2 COMMAND_ACK with `MAV_RESULT_UNSUPPORTED` for a command id the dialect may not
 /// know, addressed to `target_system`/`target_component` (mavlink.md §13.4): the crate encodes an
 /// ACK for a placeholder command, then the command bytes are replaced and the CRC recomputed.
-pub fn unsupported_command_ack(header: MavHeader, command: u16, target_system: u8, target_component: u8) -> Vec<u8> {
+pub fn unsupported_command_ack(
+    header: MavHeader,
+    command: u16,
+    target_system: u8,
+    target_component: u8,
+) -> MAVLinkV2MessageRaw {
     let ack = MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
         command: MavCmd::MAV_CMD_NAV_WAYPOINT,
         result: MavResult::MAV_RESULT_UNSUPPORTED,
@@ -122,7 +149,7 @@ pub fn unsupported_command_ack(header: MavHeader, command: u16, target_system: u
     bytes[10..12].copy_from_slice(&command.to_le_bytes());
     let crc = mavlink::calculate_crc(&bytes[1..10 + len], MavMessage::extra_crc(ack.message_id()));
     bytes[10 + len..12 + len].copy_from_slice(&crc.to_le_bytes());
-    raw.raw_bytes().to_vec()
+    raw
 }
 
 #[cfg(test)]
@@ -232,10 +259,10 @@ mod tests {
             }),
             &mut expected,
         );
-        assert_eq!(ack, expected);
+        assert_eq!(ack.raw_bytes(), expected);
         let unknown = unsupported_command_ack(header(1), 31999, 255, 190);
         assert!(matches!(
-            &decode_datagram(&unknown)[0],
+            &decode_datagram(unknown.raw_bytes())[0],
             Inbound::Unparsable { message_id: 77 }
         ));
     }

@@ -17,6 +17,7 @@ use super::mission_xfer::{mission_ack, Ids};
 use super::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
 use super::params::{decode_param_set, name_of};
 use super::services::{ftp_reply, ping_reply, timesync_reply};
+use super::signing::SigningKey;
 use super::translate::{
     command_int_as_long, decode_command, decode_command_int, decode_set_mode, CommandDecision, Identity,
 };
@@ -66,6 +67,15 @@ pub enum Action {
         name: String,
         /// Value (INT32 types decoded byte-wise).
         value: f64,
+    },
+    /// SETUP_SIGNING addressed to us exactly (never broadcast): the new key (all zero: signing
+    /// off) and initial timestamp [10 µs]. Whether it may apply (not armed; signed with the
+    /// current key once there is one) is the link's to check.
+    SetupSigning {
+        /// The key (its `Debug` is redacted).
+        key: SigningKey,
+        /// Initial timestamp [10 µs since 2015].
+        initial_timestamp: u64,
     },
     /// A step of the mission protocol from the peer with MAVLink ids `ids`.
     Mission {
@@ -195,6 +205,12 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
         }
         MavMessage::FILE_TRANSFER_PROTOCOL(f) if ours(f.target_system, f.target_component) => {
             Action::Reply(Box::new(ftp_reply(sender, f)))
+        }
+        MavMessage::SETUP_SIGNING(m) if m.target_system == id.system_id && m.target_component == id.component_id => {
+            Action::SetupSigning {
+                key: SigningKey::from_bytes(m.secret_key),
+                initial_timestamp: m.initial_timestamp,
+            }
         }
         // MISSION_ACK ends a download; nothing to answer.
         MavMessage::MISSION_ACK(_) => Action::Ignore,
@@ -338,6 +354,25 @@ mod tests {
                 MavMissionResult::MAV_MISSION_UNSUPPORTED
             )))
         );
+        let setup = |target_system, target_component| {
+            run(MavMessage::SETUP_SIGNING(
+                mavlink::dialects::common::SETUP_SIGNING_DATA {
+                    initial_timestamp: 9,
+                    target_system,
+                    target_component,
+                    secret_key: [4; 32],
+                },
+            ))
+        };
+        assert_eq!(
+            setup(1, 1),
+            Action::SetupSigning {
+                key: SigningKey::from_bytes([4; 32]),
+                initial_timestamp: 9
+            }
+        );
+        assert_eq!(setup(0, 0), Action::Ignore, "never broadcast");
+        assert_eq!(setup(1, 0), Action::Ignore);
         let other_system = MISSION_REQUEST_LIST_DATA {
             target_system: 7,
             target_component: 1,

@@ -18,4 +18,4 @@ pub use mavlink::dialects::common::{
     MavCmd, MavMessage, MavMissionResult, MavMissionType, MavResult, MavSeverity, MavType, COMMAND_LONG_DATA,
     HEARTBEAT_DATA, MESSAGE_INTERVAL_DATA, MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
 };
-pub use mavlink::MavHeader;
+pub use mavlink::{MAVLinkV2MessageRaw, MavHeader};

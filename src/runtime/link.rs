@@ -12,19 +12,20 @@ use tokio::net::UdpSocket;
 use tokio::sync::{broadcast, mpsc, oneshot, watch};
 
 use crate::commander::{Event, FlightMode, Outcome, Request};
-use crate::mav::codec::{decode_datagram, encode_v2, unsupported_command_ack, Inbound};
+use crate::mav::codec::{decode_datagram_checked, encode_v2, frame_message, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
 use crate::mav::ingest::{ingest, Action, MissionStep};
 use crate::mav::mission_items::parse_mission;
 use crate::mav::mission_xfer::{download_count, download_item, Completed, Ids, MissionTransfer};
 use crate::mav::params::{param_error_unknown, param_value};
 use crate::mav::services::autopilot_version;
+use crate::mav::signing::{SigningKey, Verdict};
 use crate::mav::streams::{LinkKind, StreamTable};
 use crate::mav::telemetry::{message, mission_current, status_text};
 use crate::mav::translate::{command_ack, heartbeat, result_of, CommandDecision, Identity, OneShot};
 use crate::mav::{
-    MavCmd, MavHeader, MavMessage, MavMissionResult, MavResult, MavSeverity, COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA,
-    MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
+    MAVLinkV2MessageRaw, MavCmd, MavHeader, MavMessage, MavMissionResult, MavResult, MavSeverity, COMMAND_LONG_DATA,
+    MESSAGE_INTERVAL_DATA, MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
 };
 use crate::navigation::Mission;
 use crate::params::{ParamError, ParamTable};
@@ -32,6 +33,7 @@ use crate::telemetry::Snapshot;
 
 use super::flight_log::LogSender;
 use super::scheduler::VehicleCommand;
+use super::signing_store::{signing_now, SharedSigning, SigningStore};
 
 /// Learned peers are forgotten after this much silence (mavlink.md §11.1).
 const PEER_TIMEOUT: Duration = Duration::from_secs(10);
@@ -61,6 +63,10 @@ pub struct LinkContext {
     pub log: Option<LogSender>,
     /// GCS or API defaults for the stream rates.
     pub kind: LinkKind,
+    /// The vehicle's signing state (shared by its links).
+    pub signing: SharedSigning,
+    /// Where SETUP_SIGNING stores the key (`--signing-key FILE`); `None`: memory only.
+    pub signing_store: Option<Arc<SigningStore>>,
 }
 
 impl LinkContext {
@@ -76,6 +82,8 @@ impl LinkContext {
             mission_store: self.mission_store.clone(),
             log: self.log.clone(),
             kind,
+            signing: self.signing.clone(),
+            signing_store: self.signing_store.clone(),
         }
     }
 }
@@ -96,6 +104,10 @@ struct Sender {
     /// Last HEARTBEAT from a ground station (type GCS) on this link: wall time and simulated
     /// time [s].
     last_gcs_heartbeat: Mutex<Option<(Instant, f64)>>,
+    /// The vehicle's signing state: outgoing frames are sealed with it.
+    signing: SharedSigning,
+    /// Signature link id of this link's outgoing frames (GCS 0, API 1).
+    link_id: u8,
 }
 
 impl Sender {
@@ -114,14 +126,21 @@ impl Sender {
     }
 
     async fn send(&self, msg: &MavMessage, to: SocketAddr) {
-        let mut buf = Vec::with_capacity(300);
-        encode_v2(self.header(), msg, &mut buf);
+        let frame = self.seal(frame_message(self.header(), msg));
         if let Some(log) = &self.log {
-            log.frame(&buf);
+            log.frame(frame.raw_bytes());
         }
-        if let Err(e) = self.socket.send_to(&buf, to).await {
+        if let Err(e) = self.socket.send_to(frame.raw_bytes(), to).await {
             tracing::debug!("send to {to}: {e}");
         }
+    }
+
+    /// `frame` signed when the vehicle has a key (mavlink.md §10), as it is otherwise.
+    fn seal(&self, mut frame: MAVLinkV2MessageRaw) -> MAVLinkV2MessageRaw {
+        if let Ok(mut signing) = self.signing.lock() {
+            signing.seal(&mut frame, self.link_id, signing_now());
+        }
+        frame
     }
 }
 
@@ -137,6 +156,11 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
         log: ctx.log.clone(),
         streams: Mutex::new(StreamTable::new(ctx.kind)),
         last_gcs_heartbeat: Mutex::new(None),
+        signing: ctx.signing.clone(),
+        link_id: match ctx.kind {
+            LinkKind::Gcs => 0,
+            LinkKind::Api => 1,
+        },
     });
     let mut peers: HashMap<SocketAddr, Instant> = HashMap::new();
     let start = Instant::now();
@@ -227,15 +251,28 @@ fn handle_datagram(
     peers: &mut HashMap<SocketAddr, Instant>,
     transfer: &mut MissionTransfer<SocketAddr>,
 ) {
-    for frame in decode_datagram(data) {
+    // With a key, only signed frames with fresh timestamps pass, and HEARTBEAT-like ones unsigned
+    // (mavlink.md §10); only a trusted frame makes its sender a peer.
+    let frames = match sender.signing.lock() {
+        Ok(mut signing) => {
+            let now = signing_now();
+            decode_datagram_checked(data, |raw| match signing.check(raw, now) {
+                Verdict::Dropped(_) => None,
+                verdict => Some(verdict == Verdict::Trusted),
+            })
+        }
+        Err(_) => Vec::new(),
+    };
+    for (frame, trusted) in frames {
         match frame {
+            // An unsigned HEARTBEAT while signing is on is only logged: it neither registers a
+            // peer nor counts as a ground station's liveness.
+            Inbound::Message { header, message, .. } if !trusted => {
+                log_received(sender, header, &message);
+            }
             Inbound::Message { header, message, .. } => {
                 peers.insert(from, Instant::now());
-                if let Some(log) = &sender.log {
-                    let mut frame = Vec::with_capacity(300);
-                    encode_v2(header, &message, &mut frame);
-                    log.frame(&frame);
-                }
+                log_received(sender, header, &message);
                 let origin = ctx.snapshot.borrow().home;
                 let now_ns = i64::try_from(sender.start.elapsed().as_nanos()).unwrap_or(i64::MAX);
                 let action = ingest(&ctx.identity, &header, &message, &origin, now_ns);
@@ -248,17 +285,68 @@ fn handle_datagram(
                 target_component,
             } => {
                 peers.insert(from, Instant::now());
-                if ctx.identity.accepts(&header, target_system, target_component) {
-                    let bytes =
-                        unsupported_command_ack(sender.header(), command, header.system_id as u8, header.component_id);
+                if trusted && ctx.identity.accepts(&header, target_system, target_component) {
+                    let ack = sender.seal(unsupported_command_ack(
+                        sender.header(),
+                        command,
+                        header.system_id as u8,
+                        header.component_id,
+                    ));
                     let socket = sender.socket.clone();
                     tokio::spawn(async move {
-                        let _ = socket.send_to(&bytes, from).await;
+                        let _ = socket.send_to(ack.raw_bytes(), from).await;
                     });
                 }
             }
             Inbound::Unparsable { message_id } => tracing::debug!("unparsable message {message_id} from {from}"),
         }
+    }
+}
+
+/// Writes a received message to the tlog, re-encoded; SETUP_SIGNING never (it carries the key).
+fn log_received(sender: &Sender, header: MavHeader, message: &MavMessage) {
+    if let Some(log) = &sender.log {
+        if !matches!(message, MavMessage::SETUP_SIGNING(_)) {
+            let mut frame = Vec::with_capacity(300);
+            encode_v2(header, message, &mut frame);
+            log.frame(&frame);
+        }
+    }
+}
+
+/// SETUP_SIGNING (mavlink.md §10): refused while armed; otherwise the key (all zero: off) takes
+/// effect at once for both links and is stored in the `--signing-key` file. It reached here
+/// only unsigned with no key set, or signed with the current key.
+fn setup_signing(key: SigningKey, initial_timestamp: u64, ctx: &LinkContext) -> (MavSeverity, String) {
+    if ctx.snapshot.borrow().armed {
+        return (
+            MavSeverity::MAV_SEVERITY_WARNING,
+            "SETUP_SIGNING refused: disarm first".into(),
+        );
+    }
+    let Ok(mut signing) = ctx.signing.lock() else {
+        return (MavSeverity::MAV_SEVERITY_ERROR, "SETUP_SIGNING failed".into());
+    };
+    signing.set_key(key.clone(), initial_timestamp);
+    let enabled = signing.enabled();
+    let timestamp = signing.timestamp();
+    drop(signing);
+    let stored = ctx.signing_store.as_ref().map(|store| {
+        store
+            .save_key(enabled.then_some(&key))
+            .and_then(|()| store.save_timestamp(timestamp))
+    });
+    let state = if enabled { "Signing enabled" } else { "Signing disabled" };
+    match stored {
+        Some(Err(e)) => {
+            tracing::warn!("signing key file: {e}");
+            (
+                MavSeverity::MAV_SEVERITY_WARNING,
+                format!("{state}; key file not written"),
+            )
+        }
+        Some(Ok(())) => (MavSeverity::MAV_SEVERITY_INFO, format!("{state}; key stored")),
+        None => (MavSeverity::MAV_SEVERITY_INFO, format!("{state} until restart")),
     }
 }
 
@@ -391,6 +479,10 @@ fn handle_action(
         }
         Action::ParamSet { name, value } => set_param(name, value, *header, from, sender, ctx),
         Action::Mission { ids, step } => handle_mission(ids, step, from, sender, ctx, transfer),
+        Action::SetupSigning { key, initial_timestamp } => {
+            let (severity, text) = setup_signing(key, initial_timestamp, ctx);
+            reply(status_text(severity, &text));
+        }
     }
 }
 

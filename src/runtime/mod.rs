@@ -6,6 +6,7 @@ pub mod flight_log;
 pub mod link;
 pub mod rotor_failures;
 pub mod scheduler;
+pub mod signing_store;
 pub mod vehicle;
 
 use std::future::Future;
@@ -23,6 +24,7 @@ use crate::airframe::AirframeSource;
 use crate::commander::{FlightMode, LandedState, MissionState};
 use crate::control::ControllerKind;
 use crate::math::Vec3;
+use crate::mav::signing::{Signing, SigningKey};
 use crate::mav::streams::LinkKind;
 use crate::mav::translate::Identity;
 use crate::navigation::Home;
@@ -34,6 +36,7 @@ use link::{run_link, LinkContext};
 use rotor_failures::ScheduledFailure;
 pub use scheduler::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
+use signing_store::{signing_now, SharedSigning, SigningFileError, SigningStore};
 use vehicle::{Vehicle, VehicleError};
 
 /// Bound of the request queue into the tick thread: commands are never dropped silently; when
@@ -77,6 +80,9 @@ pub struct RunConfig {
     pub pace: Pace,
     /// Rotors that stop at a simulated time, on every vehicle (`--fail-rotor`).
     pub rotor_failures: Vec<ScheduledFailure>,
+    /// `--signing-key FILE`: the MAVLink 2 signing key of every vehicle (the file may not exist
+    /// yet; SETUP_SIGNING then creates it), its timestamp kept in `FILE.timestamp`.
+    pub signing_key: Option<std::path::PathBuf>,
 }
 
 impl RunConfig {
@@ -100,6 +106,7 @@ impl RunConfig {
             spacing_m: DEFAULT_SPACING_M,
             pace: Pace::Speedup(1.0),
             rotor_failures: Vec::new(),
+            signing_key: None,
         }
     }
 }
@@ -145,6 +152,9 @@ pub enum RuntimeError {
         /// What does not fit.
         why: &'static str,
     },
+    /// The signing key or timestamp file could not be read.
+    #[error(transparent)]
+    Signing(#[from] SigningFileError),
     /// The tokio runtime or a thread could not start.
     #[error("runtime: {0}")]
     Runtime(std::io::Error),
@@ -220,6 +230,7 @@ fn setup_vehicle(
     i: usize,
     rt: &tokio::runtime::Runtime,
     shutdown: &watch::Receiver<bool>,
+    signing: &SigningSetup,
 ) -> Result<VehicleSetup, RuntimeError> {
     let too_many = |why| RuntimeError::Count {
         count: config.count,
@@ -298,6 +309,11 @@ fn setup_vehicle(
         mission_store: Arc::new(std::sync::Mutex::new(Vec::new())),
         log: log.as_ref().map(|(s, _)| s.clone()),
         kind: LinkKind::Gcs,
+        signing: Arc::new(std::sync::Mutex::new(Signing::new(
+            signing.key.clone(),
+            signing.timestamp,
+        ))),
+        signing_store: signing.store.clone(),
     };
     let io = VehicleIo {
         inbox: inbox_rx,
@@ -338,10 +354,16 @@ pub fn run(
         .build()
         .map_err(RuntimeError::Runtime)?;
     let (shutdown_tx, shutdown_rx) = watch::channel(false);
+    let signing = SigningSetup::load(config.signing_key.clone())?;
     let mut setups = Vec::with_capacity(config.count.max(1));
     for i in 0..config.count.max(1) {
-        setups.push(setup_vehicle(&config, i, &rt, &shutdown_rx)?);
+        setups.push(setup_vehicle(&config, i, &rt, &shutdown_rx, &signing)?);
     }
+    let keeper = rt.spawn(signing_keeper(
+        setups.iter().map(|s| s.context.signing.clone()).collect(),
+        signing.store.clone(),
+        shutdown_rx.clone(),
+    ));
     let stop = Arc::new(AtomicBool::new(false));
     let stats = Arc::new(SchedulerStats::default());
     let dt = Duration::from_secs_f64(config.dt_s);
@@ -388,6 +410,7 @@ pub fn run(
         for task in tasks {
             let _ = task.await;
         }
+        let _ = keeper.await;
     });
     stop.store(true, Ordering::Relaxed);
     for handle in tick_threads {
@@ -414,6 +437,72 @@ pub fn run(
         report.overruns
     );
     Ok(report)
+}
+
+/// The signing key and timestamp every vehicle starts from, and where they are kept.
+struct SigningSetup {
+    key: Option<SigningKey>,
+    /// Start timestamp: the persisted one or the wall clock, whichever is later [10 µs].
+    timestamp: u64,
+    store: Option<Arc<SigningStore>>,
+}
+
+impl SigningSetup {
+    fn load(key_path: Option<std::path::PathBuf>) -> Result<Self, SigningFileError> {
+        let Some(path) = key_path else {
+            return Ok(Self {
+                key: None,
+                timestamp: signing_now(),
+                store: None,
+            });
+        };
+        let store = SigningStore::new(path);
+        let (key, stored) = store.load()?;
+        Ok(Self {
+            key,
+            timestamp: stored.max(signing_now()),
+            store: Some(Arc::new(store)),
+        })
+    }
+}
+
+/// How often the signing timestamp is persisted and dropped frames are reported.
+const SIGNING_KEEP_PERIOD: Duration = Duration::from_secs(10);
+
+/// Persists the latest signing timestamp of all vehicles every [`SIGNING_KEEP_PERIOD`] and at
+/// shutdown (mavlink.md §10: at least once a minute), and logs how many frames signing dropped.
+async fn signing_keeper(
+    vehicles: Vec<SharedSigning>,
+    store: Option<Arc<SigningStore>>,
+    mut shutdown: watch::Receiver<bool>,
+) {
+    let mut reported = 0;
+    let mut period = tokio::time::interval(SIGNING_KEEP_PERIOD);
+    loop {
+        let stopping = tokio::select! {
+            _ = shutdown.changed() => true,
+            _ = period.tick() => false,
+        };
+        let (mut timestamp, mut dropped) = (0, 0);
+        for signing in &vehicles {
+            if let Ok(s) = signing.lock() {
+                timestamp = timestamp.max(s.timestamp());
+                dropped += s.dropped().total();
+            }
+        }
+        if dropped > reported {
+            tracing::warn!("signing: {dropped} frames dropped (unsigned, wrongly signed or replayed)");
+            reported = dropped;
+        }
+        if let Some(store) = &store {
+            if let Err(e) = store.save_timestamp(timestamp) {
+                tracing::warn!("signing timestamp file: {e}");
+            }
+        }
+        if stopping {
+            break;
+        }
+    }
 }
 
 /// Kernel receive buffer of each link socket [bytes]: large enough that a burst of garbage
