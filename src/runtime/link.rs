@@ -39,6 +39,12 @@ use super::signing_store::{signing_now, SharedSigning, SigningStore};
 const PEER_TIMEOUT: Duration = Duration::from_secs(10);
 /// How often the link looks at what is due.
 const POLL: Duration = Duration::from_millis(5);
+/// The largest datagram read whole [bytes]: 29 MAVLink 2 frames of the largest size (280 bytes,
+/// signed). The kernel cuts longer datagrams to this (PX4 reads 1,600 bytes), so a flood of
+/// 64 KiB garbage costs no more to skip than a flood of small ones.
+const MAX_DATAGRAM_BYTES: usize = 8_192;
+/// Datagrams read in a row once one has arrived, before the link looks at its other duties.
+const RECV_BATCH: usize = 256;
 /// HEARTBEAT period (wall clock).
 const HEARTBEAT_PERIOD: Duration = Duration::from_secs(1);
 
@@ -169,7 +175,7 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
     let mut last_state: Option<(bool, FlightMode)> = None;
     let mut transfer = MissionTransfer::<SocketAddr>::default();
     let mut link_lost = false;
-    let mut buf = vec![0u8; 65_536];
+    let mut buf = vec![0u8; MAX_DATAGRAM_BYTES];
     let mut poll = tokio::time::interval(POLL);
     loop {
         tokio::select! {
@@ -177,6 +183,12 @@ pub async fn run_link(socket: UdpSocket, remote: SocketAddr, mut ctx: LinkContex
             received = sender.socket.recv_from(&mut buf) => {
                 let Ok((n, from)) = received else { continue };
                 handle_datagram(&buf[..n], from, &sender, &ctx, &mut peers, &mut transfer);
+                // Under a burst, read what is queued without going round the select (a flood
+                // then costs the decoding only); the batch is bounded so telemetry stays on time.
+                for _ in 0..RECV_BATCH {
+                    let Ok((n, from)) = sender.socket.try_recv_from(&mut buf) else { break };
+                    handle_datagram(&buf[..n], from, &sender, &ctx, &mut peers, &mut transfer);
+                }
             }
             event = ctx.announcements.recv() => {
                 if let Ok(event) = event {
