@@ -411,3 +411,47 @@ fn offboard_loss_runs_com_obl_rc_act() {
         }
     }
 }
+
+#[test]
+fn gcs_link_loss_runs_nav_dll_act_in_flight_only() {
+    for (action, expect) in [
+        (0, Some(FlightMode::Position)),
+        (1, Some(FlightMode::Loiter)),
+        (2, Some(FlightMode::ReturnToLaunch)),
+        (3, Some(FlightMode::Land)),
+        (6, None),
+    ] {
+        let params = CommanderParams {
+            link_loss_action: action,
+            ..Default::default()
+        };
+        let mut sim = Sim::new("quad_x", params);
+        assert_eq!(
+            sim.request(Request::GcsLinkLost),
+            Outcome::Accepted,
+            "on the ground: nothing"
+        );
+        sim.request(Request::Takeoff { height_m: Some(2.0) });
+        sim.request(Request::Arm { force: false });
+        sim.run(5.0);
+        assert_eq!(sim.request(Request::SetMode(FlightMode::Position)), Outcome::Accepted);
+        let outcome = sim.request(Request::GcsLinkLost);
+        match expect {
+            Some(mode) => assert_eq!(sim.commander.mode(), mode, "NAV_DLL_ACT {action}"),
+            None => assert!(!sim.commander.armed(), "NAV_DLL_ACT {action} disarms"),
+        }
+        if action == 0 {
+            assert_eq!(outcome, Outcome::Accepted);
+        } else {
+            assert!(
+                matches!(&outcome, Outcome::TemporarilyRejected(t) if t.starts_with("GCS link lost")),
+                "{outcome:?}"
+            );
+        }
+        if action == 2 {
+            // Up to RTL_RETURN_ALT (60 m), back over home, down at MPC_LAND_SPEED, auto-disarm.
+            sim.run(200.0);
+            assert!(!sim.commander.armed(), "returned, landed and disarmed");
+        }
+    }
+}
