@@ -375,6 +375,16 @@ fn battery_failsafes_warn_return_then_land() {
     assert!(gauge.fraction(&pack) < 0.05);
 }
 
+/// A `quad_x` taken off to 2 m and holding there (AUTO.LOITER).
+fn hovering_at_2_m(params: CommanderParams) -> Sim {
+    let mut sim = Sim::new("quad_x", params);
+    sim.request(Request::Takeoff { height_m: Some(2.0) });
+    sim.request(Request::Arm { force: false });
+    sim.run(5.0);
+    assert_eq!(sim.commander.mode(), FlightMode::Loiter);
+    sim
+}
+
 #[test]
 fn offboard_loss_runs_com_obl_rc_act() {
     use rotorpilot::control::FlatSetpoint;
@@ -385,14 +395,10 @@ fn offboard_loss_runs_com_obl_rc_act() {
         (5, Some(FlightMode::Loiter)),
         (7, None),
     ] {
-        let params = CommanderParams {
+        let mut sim = hovering_at_2_m(CommanderParams {
             offboard_loss_action: action,
             ..Default::default()
-        };
-        let mut sim = Sim::new("quad_x", params);
-        sim.request(Request::Takeoff { height_m: Some(2.0) });
-        sim.request(Request::Arm { force: false });
-        sim.run(5.0);
+        });
         let hold = FlatSetpoint {
             pos_w: Some(sim.plant.truth().pos_w),
             ..Default::default()

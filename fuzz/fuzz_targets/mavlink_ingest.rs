@@ -94,15 +94,11 @@ struct Link {
 
 impl Link {
     fn new() -> Self {
-        let params = ParamTable::new(&VehicleSettings {
-            commander: CommanderParams::default(),
-            controller: ControllerKind::Geometric,
-            compensation: false,
-            gains: ControllerGains::default(),
-            estimator: Some(DEFAULT_ESTIMATOR),
-            ground_effect: true,
-            ceiling_effect: true,
-        });
+        let params = ParamTable::new(&VehicleSettings::new(
+            ControllerKind::Geometric,
+            ControllerGains::default(),
+            Some(DEFAULT_ESTIMATOR),
+        ));
         Self {
             id: Identity::autopilot(1, 4),
             home: Home::default(),
@@ -164,7 +160,11 @@ impl Link {
                         sequence: 0,
                     };
                     let bytes = unsupported_command_ack(ours, command, header.system_id as u8, header.component_id);
-                    assert_eq!(decode_datagram(bytes.raw_bytes()).len(), 1, "the hand-built ACK is one frame");
+                    assert_eq!(
+                        decode_datagram(bytes.raw_bytes()).len(),
+                        1,
+                        "the hand-built ACK is one frame"
+                    );
                 }
             }
             Inbound::Unparsable { .. } => {}

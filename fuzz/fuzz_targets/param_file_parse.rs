@@ -5,7 +5,6 @@
 
 use libfuzzer_sys::fuzz_target;
 
-use rotorpilot::commander::CommanderParams;
 use rotorpilot::control::{ControllerGains, ControllerKind};
 use rotorpilot::params::{parse_param_file, ParamTable, VehicleSettings};
 use rotorpilot::runtime::vehicle::DEFAULT_ESTIMATOR;
@@ -21,15 +20,11 @@ fuzz_target!(|data: &[u8]| {
             return;
         }
     };
-    let mut table = ParamTable::new(&VehicleSettings {
-        commander: CommanderParams::default(),
-        controller: ControllerKind::Geometric,
-        compensation: false,
-        gains: ControllerGains::default(),
-        estimator: Some(DEFAULT_ESTIMATOR),
-        ground_effect: true,
-        ceiling_effect: true,
-    });
+    let mut table = ParamTable::new(&VehicleSettings::new(
+        ControllerKind::Geometric,
+        ControllerGains::default(),
+        Some(DEFAULT_ESTIMATOR),
+    ));
     for (line, name, value) in assignments {
         assert!(line >= 1 && line <= lines);
         let before = table.clone();

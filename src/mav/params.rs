@@ -69,20 +69,15 @@ fn param_id(name: &str) -> CharArray<16> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::commander::CommanderParams;
     use crate::control::{ControllerGains, ControllerKind};
     use crate::params::VehicleSettings;
 
     fn table() -> ParamTable {
-        ParamTable::new(&VehicleSettings {
-            commander: CommanderParams::default(),
-            controller: ControllerKind::Passivity,
-            compensation: false,
-            gains: ControllerGains::default(),
-            estimator: None,
-            ground_effect: true,
-            ceiling_effect: true,
-        })
+        ParamTable::new(&VehicleSettings::new(
+            ControllerKind::Passivity,
+            ControllerGains::default(),
+            None,
+        ))
     }
 
     #[test]

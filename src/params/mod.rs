@@ -80,6 +80,22 @@ pub struct VehicleSettings {
     pub ceiling_effect: bool,
 }
 
+impl VehicleSettings {
+    /// `controller` with `gains` and the wrench `estimator`; everything else at its default
+    /// (PX4's commander defaults, no compensation, ground and ceiling effect on).
+    pub fn new(controller: ControllerKind, gains: ControllerGains, estimator: Option<ChebyshevDesign>) -> Self {
+        Self {
+            commander: CommanderParams::default(),
+            controller,
+            compensation: false,
+            gains,
+            estimator,
+            ground_effect: true,
+            ceiling_effect: true,
+        }
+    }
+}
+
 impl ParamTable {
     /// The table with `settings` as the values.
     pub fn new(settings: &VehicleSettings) -> Self {
@@ -165,15 +181,7 @@ mod tests {
     use super::*;
 
     fn settings() -> VehicleSettings {
-        VehicleSettings {
-            commander: CommanderParams::default(),
-            controller: ControllerKind::Geometric,
-            compensation: false,
-            gains: ControllerGains::default(),
-            estimator: None,
-            ground_effect: true,
-            ceiling_effect: true,
-        }
+        VehicleSettings::new(ControllerKind::Geometric, ControllerGains::default(), None)
     }
 
     #[test]

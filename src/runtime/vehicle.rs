@@ -81,15 +81,11 @@ impl Vehicle {
             tracing::warn!("{w}");
         }
         let idle = vec![0.0; core.allocator().rotor_count()];
-        let params = ParamTable::new(&VehicleSettings {
-            commander: CommanderParams::default(),
-            controller: kind,
-            compensation: false,
-            gains: *core.controller.gains(),
-            estimator: Some(DEFAULT_ESTIMATOR),
-            ground_effect: true,
-            ceiling_effect: true,
-        });
+        let params = ParamTable::new(&VehicleSettings::new(
+            kind,
+            *core.controller.gains(),
+            Some(DEFAULT_ESTIMATOR),
+        ));
         let mut vehicle = Self {
             core,
             plant,
