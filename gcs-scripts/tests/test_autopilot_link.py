@@ -16,6 +16,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 BINARY = pathlib.Path(os.environ.get("ROTORPILOT_BIN", ROOT / "target" / "release" / "rotorpilot"))
 NAN = float("nan")
 ACCEPTED, TEMPORARILY_REJECTED, DENIED, UNSUPPORTED = 0, 1, 2, 3
+# One-shot messages (events and replies) that `Autopilot.command` keeps for `wait` when they arrive
+# before the ACK; periodic telemetry is not kept (the next one is fresher).
+ONE_SHOT = {"STATUSTEXT", "MISSION_ITEM_REACHED", "PARAM_VALUE", "AUTOPILOT_VERSION", "MESSAGE_INTERVAL"}
+PENDING_MAX = 100
 
 
 class Autopilot:
@@ -30,6 +34,7 @@ class Autopilot:
              "--gcs", f"127.0.0.1:{port}", "--api", "127.0.0.1:9", "--duration", "120", *args],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.ready = json.loads(self.proc.stdout.readline())
+        self.pending = []
 
     def heartbeat(self, timeout=5):
         hb = self.gcs.recv_match(type="HEARTBEAT", blocking=True, timeout=timeout)
@@ -37,17 +42,30 @@ class Autopilot:
         return hb
 
     def command(self, command, *params, target=(1, 1)):
-        """COMMAND_LONG; returns the COMMAND_ACK for it (within the 0.5 s budget of mavlink.md §3.1)."""
+        """COMMAND_LONG; returns the COMMAND_ACK for it (within the 0.5 s budget of mavlink.md §3.1).
+        One-shot messages arriving meanwhile are kept for `wait` (a STATUSTEXT may overtake the ACK)."""
         p = list(params) + [NAN] * (7 - len(params))
         self.gcs.mav.command_long_send(target[0], target[1], command, 0, *p)
         deadline = time.monotonic() + 0.5
         while time.monotonic() < deadline:
-            ack = self.gcs.recv_match(type="COMMAND_ACK", blocking=True, timeout=max(0.0, deadline - time.monotonic()))
-            if ack is not None and ack.command == command:
-                return ack
+            m = self.gcs.recv_match(blocking=True, timeout=max(0.0, deadline - time.monotonic()))
+            if m is None:
+                continue
+            if m.get_type() == "COMMAND_ACK" and m.command == command:
+                return m
+            if m.get_type() in ONE_SHOT:
+                self.pending = (self.pending + [m])[-PENDING_MAX:]
         return None
 
     def wait(self, predicate, types, timeout):
+        """The first message of `types` (a name or a list) satisfying `predicate` within `timeout`,
+        looking first at the one-shot messages `command` kept."""
+        names = [types] if isinstance(types, str) else list(types)
+        for i, m in enumerate(self.pending):
+            if m.get_type() in names and predicate(m):
+                del self.pending[: i + 1]
+                return m
+        self.pending = []
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             m = self.gcs.recv_match(type=types, blocking=True, timeout=0.5)
