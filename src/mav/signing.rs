@@ -16,9 +16,10 @@ use sha2::{Digest, Sha256};
 pub const SIGNING_EPOCH_UNIX_S: u64 = 1_420_070_400;
 /// A stream not seen before is accepted only this far behind our timestamp: 60 s [10 µs].
 pub const NEW_STREAM_WINDOW: u64 = 6_000_000;
-/// Messages accepted unsigned while a key is set (as PX4): HEARTBEAT, RADIO_STATUS,
-/// ADSB_VEHICLE, COLLISION.
-pub const UNSIGNED_ALLOWED: [u32; 4] = [0, 109, 246, 247];
+/// Messages accepted unsigned while a key is set: HEARTBEAT and RADIO_STATUS (what a radio
+/// modem sends on its own). PX4 also lets ADSB_VEHICLE and COLLISION through; this vehicle does
+/// nothing with them, so they are dropped like the rest.
+pub const UNSIGNED_ALLOWED: [u32; 2] = [0, 109];
 /// Streams remembered at most; beyond, the stalest is forgotten (it then has to pass the
 /// new-stream window again).
 pub const MAX_STREAMS: usize = 4096;
@@ -327,10 +328,21 @@ mod tests {
             NOW,
         );
         assert_eq!(vehicle.check(&received(&heartbeat), NOW), Verdict::UnsignedAllowed);
+        let radio = frame(
+            &MavMessage::RADIO_STATUS(Default::default()),
+            &mut Signing::default(),
+            NOW,
+        );
+        assert_eq!(vehicle.check(&received(&radio), NOW), Verdict::UnsignedAllowed);
+        let collision = frame(&MavMessage::COLLISION(Default::default()), &mut Signing::default(), NOW);
+        assert_eq!(
+            vehicle.check(&received(&collision), NOW),
+            Verdict::Dropped(DropReason::Unsigned)
+        );
         assert_eq!(
             vehicle.dropped(),
             DropCounts {
-                unsigned: 1,
+                unsigned: 2,
                 bad_signature: 1,
                 old_timestamp: 1
             }
