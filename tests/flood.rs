@@ -17,7 +17,9 @@ use mavlink::dialects::common::{
     COMMAND_LONG_DATA, MISSION_COUNT_DATA, PARAM_SET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
 use mavlink::MavHeader;
-use rotorpilot::mav::codec::{decode_datagram, encode_v2, frame_v2, Inbound};
+use rotorpilot::mav::codec::{encode_v2, frame_v2};
+
+mod support;
 
 /// Sends of one command before the client gives up.
 const SENDS: usize = 12;
@@ -82,21 +84,7 @@ impl Autopilot {
 
     /// The first message matching `pick` within `timeout`.
     fn wait<T>(&self, timeout: Duration, mut pick: impl FnMut(&MavMessage) -> Option<T>) -> Option<T> {
-        let end = Instant::now() + timeout;
-        let mut buf = [0u8; 2048];
-        while Instant::now() < end {
-            let Ok((n, _)) = self.gcs.recv_from(&mut buf) else {
-                continue;
-            };
-            for frame in decode_datagram(&buf[..n]) {
-                if let Inbound::Message { message, .. } = frame {
-                    if let Some(t) = pick(&message) {
-                        return Some(t);
-                    }
-                }
-            }
-        }
-        None
+        support::wait_on(&self.gcs, timeout, |_, m| pick(m))
     }
 
     /// COMMAND_LONG with `p1`, `p2`, sent up to [`SENDS`] times 0.5 s apart until it is

@@ -11,13 +11,16 @@ use std::path::{Path, PathBuf};
 use mavlink::dialects::common::{
     AttitudeTargetTypemask, MavCmd, MavDataStream, MavFrame, MavMessage, MavMissionType, MavModeFlag, MavParamType,
     MavType, PositionTargetTypemask, COMMAND_INT_DATA, COMMAND_LONG_DATA, FILE_TRANSFER_PROTOCOL_DATA, HEARTBEAT_DATA,
-    MISSION_ACK_DATA, MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA, MISSION_REQUEST_INT_DATA,
-    MISSION_REQUEST_LIST_DATA, PARAM_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA, PING_DATA,
-    REQUEST_DATA_STREAM_DATA, SET_ATTITUDE_TARGET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_GLOBAL_INT_DATA,
-    SET_POSITION_TARGET_LOCAL_NED_DATA, TIMESYNC_DATA,
+    MISSION_ACK_DATA, MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA, MISSION_REQUEST_INT_DATA, MISSION_REQUEST_LIST_DATA,
+    PARAM_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA, PING_DATA, REQUEST_DATA_STREAM_DATA,
+    SET_ATTITUDE_TARGET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_GLOBAL_INT_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
+    TIMESYNC_DATA,
 };
 use mavlink::MavHeader;
 use rotorpilot::mav::codec::{decode_datagram, encode_v2, Inbound};
+
+mod support;
+use support::mission_item;
 
 const NAN: f32 = f32::NAN;
 
@@ -83,23 +86,6 @@ fn param_id(name: &str) -> mavlink::types::CharArray<16> {
     let mut id = [0u8; 16];
     id[..name.len()].copy_from_slice(name.as_bytes());
     id.into()
-}
-
-fn mission_item(seq: u16, command: MavCmd, north_e7: i32, z: f32) -> MavMessage {
-    MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
-        param4: NAN,
-        x: 473_977_420 + north_e7,
-        y: 85_455_940,
-        z,
-        seq,
-        command,
-        target_system: 1,
-        target_component: 1,
-        frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
-        autocontinue: 1,
-        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
-        ..Default::default()
-    })
 }
 
 fn local_target(mask: u16, frame: MavFrame) -> MavMessage {

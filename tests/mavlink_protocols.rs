@@ -11,10 +11,10 @@ use std::time::{Duration, Instant};
 
 use mavlink::dialects::common::{
     MavCmd, MavFrame, MavMessage, MavMissionResult, MavMissionType, MavModeFlag, MavParamType, MavResult,
-    PositionTargetTypemask, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA, MISSION_REQUEST_LIST_DATA,
-    PARAM_REQUEST_READ_DATA, PARAM_SET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
+    PositionTargetTypemask, MISSION_COUNT_DATA, MISSION_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA,
+    SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
-use support::Vehicle;
+use support::{mission_item, Vehicle};
 
 const POSCTL: u32 = 3 << 16;
 const AUTO_LOITER: u32 = (4 << 16) | (3 << 24);
@@ -133,26 +133,6 @@ fn parameter_protocol_reads_sets_and_refuses() {
         _ => None,
     });
     assert!(why.is_some_and(|t| t.contains("MIS_TAKEOFF_ALT")));
-}
-
-fn mission_item(seq: u16, command: MavCmd, north_e7: i32, z: f32) -> MavMessage {
-    MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
-        param1: 0.0,
-        param2: 0.0,
-        param3: 0.0,
-        param4: NAN,
-        x: 473_977_420 + north_e7,
-        y: 85_455_940,
-        z,
-        seq,
-        command,
-        target_system: 1,
-        target_component: 1,
-        frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
-        current: 0,
-        autocontinue: 1,
-        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
-    })
 }
 
 /// Uploads `items` answering each MISSION_REQUEST_INT; the MISSION_ACK result.

@@ -1,12 +1,14 @@
 //! A vehicle of `rotorpilot run` in this process on ephemeral ports, and a GCS socket that talks
 //! to it with the crate's codec (shared by the MAVLink integration tests).
-#![allow(dead_code, clippy::unwrap_used, clippy::expect_used)]
+#![allow(dead_code, deprecated, clippy::unwrap_used, clippy::expect_used)]
 
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, COMMAND_LONG_DATA};
+use mavlink::dialects::common::{
+    MavCmd, MavFrame, MavMessage, MavMissionType, MavResult, COMMAND_LONG_DATA, MISSION_ITEM_INT_DATA,
+};
 use mavlink::MavHeader;
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
@@ -70,22 +72,8 @@ impl Vehicle {
     }
 
     /// The first message from the vehicle matching `pick` within `timeout`.
-    pub fn wait<T>(&self, timeout: Duration, mut pick: impl FnMut(&MavHeader, &MavMessage) -> Option<T>) -> Option<T> {
-        let end = Instant::now() + timeout;
-        let mut buf = [0u8; 2048];
-        while Instant::now() < end {
-            let Ok((n, _)) = self.gcs.recv_from(&mut buf) else {
-                continue;
-            };
-            for frame in decode_datagram(&buf[..n]) {
-                if let Inbound::Message { header, message, .. } = frame {
-                    if let Some(t) = pick(&header, &message) {
-                        return Some(t);
-                    }
-                }
-            }
-        }
-        None
+    pub fn wait<T>(&self, timeout: Duration, pick: impl FnMut(&MavHeader, &MavMessage) -> Option<T>) -> Option<T> {
+        wait_on(&self.gcs, timeout, pick)
     }
 
     /// COMMAND_LONG with `p1` (others NaN) to `target`; the ACK's result within 0.5 s.
@@ -127,4 +115,50 @@ impl Drop for Vehicle {
             let _ = t.join();
         }
     }
+}
+
+/// A MISSION_ITEM_INT for system 1 in GLOBAL_RELATIVE_ALT_INT, `north_e7` (1e-7 deg) north of
+/// PX4's default home, at height `z` [m].
+pub fn mission_item(seq: u16, command: MavCmd, north_e7: i32, z: f32) -> MavMessage {
+    MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
+        param1: 0.0,
+        param2: 0.0,
+        param3: 0.0,
+        param4: f32::NAN,
+        x: 473_977_420 + north_e7,
+        y: 85_455_940,
+        z,
+        seq,
+        command,
+        target_system: 1,
+        target_component: 1,
+        frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+        current: 0,
+        autocontinue: 1,
+        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+    })
+}
+
+/// The first message arriving on `socket` (with a read timeout set) that `pick` accepts within
+/// `timeout`.
+pub fn wait_on<T>(
+    socket: &UdpSocket,
+    timeout: Duration,
+    mut pick: impl FnMut(&MavHeader, &MavMessage) -> Option<T>,
+) -> Option<T> {
+    let end = Instant::now() + timeout;
+    let mut buf = [0u8; 2048];
+    while Instant::now() < end {
+        let Ok((n, _)) = socket.recv_from(&mut buf) else {
+            continue;
+        };
+        for frame in decode_datagram(&buf[..n]) {
+            if let Inbound::Message { header, message, .. } = frame {
+                if let Some(t) = pick(&header, &message) {
+                    return Some(t);
+                }
+            }
+        }
+    }
+    None
 }
