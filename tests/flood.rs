@@ -17,9 +17,8 @@ use mavlink::dialects::common::{
     COMMAND_LONG_DATA, MISSION_COUNT_DATA, PARAM_SET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
 use mavlink::MavHeader;
+use rotorpilot::bench::client::BenchClient;
 use rotorpilot::mav::codec::{encode_v2, frame_v2};
-
-mod support;
 
 /// Sends of one command before the client gives up.
 const SENDS: usize = 12;
@@ -29,15 +28,13 @@ const FLOOD_S: f64 = 6.0;
 /// The autopilot process and a GCS socket that receives its telemetry.
 struct Autopilot {
     child: Child,
-    gcs: UdpSocket,
+    gcs: BenchClient,
     link: SocketAddr,
-    seq: u8,
 }
 
 impl Autopilot {
     fn start() -> Self {
-        let gcs = UdpSocket::bind("127.0.0.1:0").unwrap();
-        gcs.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
+        let gcs = BenchClient::bind().unwrap();
         let mut child = Command::new(env!("CARGO_BIN_EXE_rotorpilot"))
             .args([
                 "run",
@@ -59,32 +56,17 @@ impl Autopilot {
             .unwrap();
         let ready: serde_json::Value = serde_json::from_str(&line).unwrap();
         let link = ready["gcs_bind"].as_str().unwrap().parse().unwrap();
-        Self {
-            child,
-            gcs,
-            link,
-            seq: 0,
-        }
-    }
-
-    fn send(&mut self, msg: &MavMessage) {
-        self.seq = self.seq.wrapping_add(1);
-        let mut buf = Vec::new();
-        encode_v2(gcs_header(self.seq), msg, &mut buf);
-        self.gcs.send_to(&buf, self.link).unwrap();
+        Self { child, gcs, link }
     }
 
     /// Drops every datagram already queued on the GCS socket (so the next one is current).
     fn drain(&self) {
-        self.gcs.set_nonblocking(true).unwrap();
-        let mut buf = [0u8; 2048];
-        while self.gcs.recv_from(&mut buf).is_ok() {}
-        self.gcs.set_nonblocking(false).unwrap();
+        self.gcs.discard_queued();
     }
 
     /// The first message matching `pick` within `timeout`.
     fn wait<T>(&self, timeout: Duration, mut pick: impl FnMut(&MavMessage) -> Option<T>) -> Option<T> {
-        support::wait_on(&self.gcs, timeout, |_, m| pick(m))
+        self.gcs.wait(timeout, |_, m| pick(m))
     }
 
     /// COMMAND_LONG with `p1`, `p2`, sent up to [`SENDS`] times 0.5 s apart until it is
@@ -97,13 +79,12 @@ impl Autopilot {
     /// [`Self::command`] and how many sends it took.
     fn command_tries(&mut self, command: MavCmd, p1: f32, p2: f32) -> (Option<MavResult>, usize) {
         for tries in 1..=SENDS {
-            self.send(&command_long(command, p1, p2, 1));
-            let ack = self.wait(Duration::from_millis(500), |m| match m {
-                MavMessage::COMMAND_ACK(a) if a.command == command => Some(a.result),
-                _ => None,
-            });
-            if ack.is_some() {
-                return (ack, tries);
+            let params = [p1, p2, f32::NAN, f32::NAN, f32::NAN, f32::NAN, f32::NAN];
+            let ack = self
+                .gcs
+                .command(self.link, 1, command, params, Duration::from_millis(500));
+            if let Some((result, _)) = ack {
+                return (Some(result), tries);
             }
         }
         (None, SENDS)

@@ -215,14 +215,7 @@ fn position_setpoint(v: &mut Vehicle, z: f32) {
 fn offboard_needs_a_stream_and_its_loss_holds_position() {
     let mut v = Vehicle::start(1, "quad_x");
     assert!(heartbeat_mode(&v, Duration::from_secs(3), |_| true).is_some());
-    assert_eq!(
-        v.command(MavCmd::MAV_CMD_NAV_TAKEOFF, NAN, (1, 1)),
-        Some(MavResult::MAV_RESULT_ACCEPTED)
-    );
-    assert_eq!(
-        v.command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, (1, 1)),
-        Some(MavResult::MAV_RESULT_ACCEPTED)
-    );
+    v.take_off();
     assert_eq!(
         heartbeat_mode(&v, Duration::from_secs(10), |m| m == AUTO_LOITER),
         Some(AUTO_LOITER)

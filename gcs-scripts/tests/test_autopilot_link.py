@@ -57,6 +57,12 @@ class Autopilot:
                 self.pending = (self.pending + [m])[-PENDING_MAX:]
         return None
 
+    def take_off(self, timeout=10):
+        """NAV_TAKEOFF and arm, both ACCEPTED, then in the air (EXTENDED_SYS_STATE) within `timeout`."""
+        assert self.command(22).result == ACCEPTED
+        assert self.command(400, 1.0).result == ACCEPTED
+        assert self.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", timeout) is not None, "in the air"
+
     def wait(self, predicate, types, timeout):
         """The first message of `types` (a name or a list) satisfying `predicate` within `timeout`,
         looking first at the one-shot messages `command` kept."""
@@ -246,9 +252,7 @@ def test_parameter_protocol(autopilot):
 
 def test_controller_and_estimator_switch_in_flight(autopilot):
     autopilot.heartbeat()
-    assert autopilot.command(22).result == ACCEPTED
-    assert autopilot.command(400, 1.0).result == ACCEPTED
-    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    autopilot.take_off()
     for name, value in [(b"RP_CTRL", 2), (b"RP_EST_ORDER", 1), (b"RP_COMP", 1), (b"RP_CTRL", 1)]:
         autopilot.gcs.mav.param_set_send(1, 1, name, int32_bits(value), 6)
         echo = autopilot.wait(lambda m: m.param_id == name.decode(), "PARAM_VALUE", 2)
@@ -274,9 +278,7 @@ def stream_position(autopilot, x, y, z, seconds, mask=2552):
 
 def test_offboard_square_and_setpoint_loss(autopilot):
     autopilot.heartbeat()
-    assert autopilot.command(22).result == ACCEPTED
-    assert autopilot.command(400, 1.0).result == ACCEPTED
-    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    autopilot.take_off()
     assert autopilot.command(176, 1, 6, 0).result == TEMPORARILY_REJECTED, "no setpoint stream yet"
     stream_position(autopilot, 0, 0, -2.5, 0.3)
     autopilot.gcs.mav.set_position_target_local_ned_send(0, 1, 1, 1, 2552, 0, 0, -2.5, 0, 0, 0, 0, 0, 0, 0, 0)
@@ -415,9 +417,7 @@ def test_live_wrench_estimate(tmp_path, rotorpilot_bin):
             else:
                 ap.gcs.mav.param_set_send(1, 1, name, int32_bits(value), 6)
             assert ap.wait(lambda m: m.param_id == name.decode(), "PARAM_VALUE", 2) is not None
-        assert ap.command(22).result == ACCEPTED
-        assert ap.command(400, 1.0).result == ACCEPTED
-        assert ap.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 15) is not None
+        ap.take_off(timeout=15)
         time.sleep(2.0)
         mass = ap.wait(lambda m: m.name == "EXT_MASS", "NAMED_VALUE_FLOAT", 2)
         force = ap.wait(lambda m: m.name == "EXT_F", "DEBUG_VECT", 2)
@@ -435,9 +435,7 @@ def test_log_dir_writes_tlog_and_tick_csv(tmp_path, rotorpilot_bin):
     ap = Autopilot("--log", str(tmp_path / "log"))
     try:
         ap.heartbeat()
-        assert ap.command(22).result == ACCEPTED
-        assert ap.command(400, 1.0).result == ACCEPTED
-        assert ap.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+        ap.take_off()
     finally:
         assert ap.close() == 0
     with open(tmp_path / "log" / "run.csv", newline="") as f:
@@ -467,9 +465,7 @@ def test_kill_9_keeps_every_record_older_than_200_ms(tmp_path, rotorpilot_bin):
     ap = Autopilot("--log", str(tmp_path / "log"))
     try:
         ap.heartbeat()
-        assert ap.command(22).result == ACCEPTED
-        assert ap.command(400, 1.0).result == ACCEPTED
-        assert ap.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+        ap.take_off()
         att = ap.wait(lambda m: True, "ATTITUDE", 2)
         received = time.monotonic()
         ap.proc.send_signal(signal.SIGKILL)
@@ -534,9 +530,7 @@ def test_stream_rates_and_default_telemetry(autopilot):
 
 def test_reposition_change_speed_and_set_home(autopilot):
     autopilot.heartbeat()
-    assert autopilot.command(22).result == ACCEPTED
-    assert autopilot.command(400, 1.0).result == ACCEPTED
-    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    autopilot.take_off()
     assert autopilot.command(178, 1, 2.0).result == ACCEPTED
     assert autopilot.command(178, 1, -3.0).result == DENIED
     # MAVSDK's goto_location: COMMAND_INT DO_REPOSITION, frame GLOBAL_INT (AMSL), 6 m north, 4 m above home.
@@ -597,9 +591,7 @@ def test_offboard_attitude_and_global_targets(autopilot):
     for bit in (4, 8, 16, 64, 128, 256, 8192):
         assert caps & bit, bit
     assert not caps & 32, "no FTP"
-    assert autopilot.command(22).result == ACCEPTED
-    assert autopilot.command(400, 1.0).result == ACCEPTED
-    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    autopilot.take_off()
     hover = 1.5 * 9.81 / (4 * 5.84e-6 * 1100.0 ** 2)
     roll = math.radians(10)
     q = [math.cos(roll / 2), math.sin(roll / 2), 0.0, 0.0]
@@ -648,9 +640,7 @@ def test_full_flight_takeoff_offboard_square_mission_rtl_land(autopilot):
     assert upload(autopilot, items) == 0
     autopilot.gcs.mav.param_set_send(1, 1, b"RTL_RETURN_ALT", 4.0, 9)
     assert autopilot.wait(lambda m: m.param_id == "RTL_RETURN_ALT", "PARAM_VALUE", 2) is not None
-    assert autopilot.command(22).result == ACCEPTED
-    assert autopilot.command(400, 1.0).result == ACCEPTED
-    assert autopilot.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+    autopilot.take_off()
 
     stream_position(autopilot, 0, 0, -2.5, 0.3)
     assert autopilot.command(176, 1, 6, 0).result == ACCEPTED
@@ -708,8 +698,7 @@ def test_motor_failure_injection_lands_the_octocopter(rotorpilot_bin):
         assert ap.command(420, 101, 1, 3).result == DENIED, "SYS_FAILURE_EN = 0"
         ap.gcs.mav.param_set_send(1, 1, b"SYS_FAILURE_EN", int32_bits(1), 6)
         assert ap.wait(lambda m: m.param_id == "SYS_FAILURE_EN", "PARAM_VALUE", 2) is not None
-        assert ap.command(22).result == ACCEPTED and ap.command(400, 1.0).result == ACCEPTED
-        assert ap.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None
+        ap.take_off()
         assert ap.command(420, 101, 1, 3).result == ACCEPTED
         text = ap.wait(lambda m: m.text.startswith("Motor 3 failed"), "STATUSTEXT", 3)
         assert text is not None and text.text == "Motor 3 failed: landing" and text.severity == 2

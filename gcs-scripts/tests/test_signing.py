@@ -57,8 +57,7 @@ def test_signed_gcs_flies_and_everything_it_receives_is_signed(rotorpilot_bin, t
         ap.gcs.setup_signing(KEY, sign_outgoing=True, link_id=1)
         ap.heartbeat()
         ap.gcs.mav.heartbeat_send(6, 8, 0, 0, 0)
-        assert ap.command(22).result == ACCEPTED and ap.command(400, 1.0).result == ACCEPTED
-        assert ap.wait(lambda m: m.landed_state == 2, "EXTENDED_SYS_STATE", 10) is not None, "took off"
+        ap.take_off()
         assert ap.command(21).result == ACCEPTED
         assert ap.wait(lambda m: "Disarmed" in m.text, "STATUSTEXT", 15) is not None, "landed and disarmed"
         signing = ap.gcs.mav.signing

@@ -29,7 +29,8 @@ impl BenchClient {
         self.socket.local_addr()
     }
 
-    fn send(&mut self, message: &MavMessage, to: SocketAddr) {
+    /// `message` from the ground station (255, 190) to `to`, sequence numbers counting up.
+    pub fn send(&mut self, message: &MavMessage, to: SocketAddr) {
         let mut buf = Vec::with_capacity(64);
         self.sequence = self.sequence.wrapping_add(1);
         let header = MavHeader {
@@ -38,7 +39,40 @@ impl BenchClient {
             sequence: self.sequence,
         };
         encode_v2(header, message, &mut buf);
-        let _ = self.socket.send_to(&buf, to);
+        self.send_bytes(&buf, to);
+    }
+
+    /// `bytes` as one datagram to `to` (send errors are ignored, as UDP loses datagrams anyway).
+    pub fn send_bytes(&self, bytes: &[u8], to: SocketAddr) {
+        let _ = self.socket.send_to(bytes, to);
+    }
+
+    /// The first received message that `pick` accepts within `timeout`, or `None`.
+    pub fn wait<T>(&self, timeout: Duration, mut pick: impl FnMut(&MavHeader, &MavMessage) -> Option<T>) -> Option<T> {
+        let start = Instant::now();
+        let mut buf = [0u8; 2048];
+        while start.elapsed() < timeout {
+            let Ok((n, _)) = self.socket.recv_from(&mut buf) else {
+                continue;
+            };
+            for frame in decode_datagram(&buf[..n]) {
+                if let Inbound::Message { header, message, .. } = frame {
+                    if let Some(t) = pick(&header, &message) {
+                        return Some(t);
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// Throws away every datagram already queued (so the next one received is current).
+    pub fn discard_queued(&self) {
+        if self.socket.set_nonblocking(true).is_ok() {
+            let mut buf = [0u8; 2048];
+            while self.socket.recv_from(&mut buf).is_ok() {}
+            let _ = self.socket.set_nonblocking(false);
+        }
     }
 
     /// A GCS heartbeat to `to` (registers this socket as a peer).
@@ -74,41 +108,19 @@ impl BenchClient {
             }),
             to,
         );
-        let mut buf = [0u8; 2048];
-        while sent.elapsed() < timeout {
-            let Ok((n, _)) = self.socket.recv_from(&mut buf) else {
-                continue;
-            };
-            for frame in decode_datagram(&buf[..n]) {
-                if let Inbound::Message { header, message, .. } = frame {
-                    if let MavMessage::COMMAND_ACK(ack) = *message {
-                        if ack.command == command && header.system_id == u32::from(sysid) {
-                            return Some((ack.result, sent.elapsed()));
-                        }
-                    }
-                }
+        self.wait(timeout, |header, message| match message {
+            MavMessage::COMMAND_ACK(ack) if ack.command == command && header.system_id == u32::from(sysid) => {
+                Some((ack.result, sent.elapsed()))
             }
-        }
-        None
+            _ => None,
+        })
     }
 
     /// Waits for the first HEARTBEAT from an autopilot; when it arrived.
     pub fn first_heartbeat(&self, timeout: Duration) -> Option<Instant> {
-        let start = Instant::now();
-        let mut buf = [0u8; 2048];
-        while start.elapsed() < timeout {
-            let Ok((n, _)) = self.socket.recv_from(&mut buf) else {
-                continue;
-            };
-            let heard = decode_datagram(&buf[..n]).into_iter().any(|f| {
-                matches!(f, Inbound::Message { header, message, .. }
-                    if header.component_id == 1 && matches!(*message, MavMessage::HEARTBEAT(_)))
-            });
-            if heard {
-                return Some(Instant::now());
-            }
-        }
-        None
+        self.wait(timeout, |header, message| {
+            (header.component_id == 1 && matches!(message, MavMessage::HEARTBEAT(_))).then(Instant::now)
+        })
     }
 
     /// Reads and counts every datagram on a thread until the returned drain is stopped.

@@ -143,13 +143,22 @@ pub fn unsupported_command_ack(
     });
     let mut raw = MAVLinkV2MessageRaw::new();
     raw.serialize_message(header, &ack);
-    let len = usize::from(raw.payload_length());
-    let bytes = raw.as_mut_slice();
     // STX, 9 header bytes, payload (command u16 LE first), CRC.
-    bytes[10..12].copy_from_slice(&command.to_le_bytes());
-    let crc = mavlink::calculate_crc(&bytes[1..10 + len], MavMessage::extra_crc(ack.message_id()));
-    bytes[10 + len..12 + len].copy_from_slice(&crc.to_le_bytes());
+    raw.as_mut_slice()[V2_HEADER_LEN..V2_HEADER_LEN + 2].copy_from_slice(&command.to_le_bytes());
+    recompute_crc(&mut raw);
     raw
+}
+
+/// STX and the 9 header bytes of a MAVLink 2 frame.
+const V2_HEADER_LEN: usize = 10;
+
+/// Recomputes the CRC of `raw` after its header or payload bytes were changed in place.
+pub fn recompute_crc(raw: &mut MAVLinkV2MessageRaw) {
+    let len = usize::from(raw.payload_length());
+    let extra = MavMessage::extra_crc(raw.message_id());
+    let bytes = raw.as_mut_slice();
+    let crc = mavlink::calculate_crc(&bytes[1..V2_HEADER_LEN + len], extra);
+    bytes[V2_HEADER_LEN + len..V2_HEADER_LEN + len + 2].copy_from_slice(&crc.to_le_bytes());
 }
 
 #[cfg(test)]

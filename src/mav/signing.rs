@@ -8,9 +8,10 @@
 
 use std::collections::HashMap;
 
-use mavlink::dialects::common::MavMessage;
-use mavlink::{MAVLinkMessageRaw, MAVLinkV2MessageRaw, Message};
+use mavlink::{MAVLinkMessageRaw, MAVLinkV2MessageRaw};
 use sha2::{Digest, Sha256};
+
+use super::codec::recompute_crc;
 
 /// Unix time of the signing epoch, 2015-01-01 00:00:00 UTC [s].
 pub const SIGNING_EPOCH_UNIX_S: u64 = 1_420_070_400;
@@ -25,8 +26,6 @@ pub const UNSIGNED_ALLOWED: [u32; 2] = [0, 109];
 pub const MAX_STREAMS: usize = 4096;
 /// Incompatibility flag of a signed frame.
 const IFLAG_SIGNED: u8 = 0x01;
-/// STX + the 9 header bytes of a MAVLink 2 frame.
-const V2_HEADER_LEN: usize = 10;
 
 /// A 32-byte signing key. Its `Debug` never shows the bytes.
 #[derive(Clone, PartialEq, Eq)]
@@ -241,11 +240,7 @@ impl Signing {
             return;
         };
         *frame.incompatibility_flags_mut() |= IFLAG_SIGNED;
-        let len = usize::from(frame.payload_length());
-        let extra = MavMessage::extra_crc(frame.message_id());
-        let bytes = frame.as_mut_slice();
-        let crc = mavlink::calculate_crc(&bytes[1..V2_HEADER_LEN + len], extra);
-        bytes[V2_HEADER_LEN + len..V2_HEADER_LEN + len + 2].copy_from_slice(&crc.to_le_bytes());
+        recompute_crc(frame);
         self.timestamp = now.max(self.timestamp + 1);
         *frame.signature_link_id_mut() = link_id;
         frame
@@ -260,8 +255,8 @@ impl Signing {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::common::{MavCmd, COMMAND_LONG_DATA, HEARTBEAT_DATA};
-    use mavlink::MavHeader;
+    use mavlink::dialects::common::{MavCmd, MavMessage, COMMAND_LONG_DATA, HEARTBEAT_DATA};
+    use mavlink::{MavHeader, Message};
 
     const NOW: u64 = 40_000_000_000;
 

@@ -144,7 +144,9 @@ impl Sender {
     /// `frame` signed when the vehicle has a key (mavlink.md §10), as it is otherwise.
     fn seal(&self, mut frame: MAVLinkV2MessageRaw) -> MAVLinkV2MessageRaw {
         if let Ok(mut signing) = self.signing.lock() {
-            signing.seal(&mut frame, self.link_id, signing_now());
+            if signing.enabled() {
+                signing.seal(&mut frame, self.link_id, signing_now());
+            }
         }
         frame
     }

@@ -2,34 +2,32 @@
 //! to it with the crate's codec (shared by the MAVLink integration tests).
 #![allow(dead_code, deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-use std::net::{SocketAddr, UdpSocket};
+use std::net::SocketAddr;
 use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use mavlink::dialects::common::{
     MavCmd, MavFrame, MavMessage, MavMissionType, MavResult, COMMAND_LONG_DATA, MISSION_ITEM_INT_DATA,
 };
 use mavlink::MavHeader;
 use rotorpilot::airframe::AirframeSource;
+use rotorpilot::bench::client::BenchClient;
 use rotorpilot::control::ControllerKind;
-use rotorpilot::mav::codec::{decode_datagram, encode_v2, Inbound};
 use rotorpilot::runtime::{run, RunConfig};
 
 /// A running vehicle and the GCS socket its telemetry goes to.
 pub struct Vehicle {
     /// The GCS socket.
-    pub gcs: UdpSocket,
+    pub gcs: BenchClient,
     /// The vehicle's GCS-link address.
     pub autopilot: SocketAddr,
     stop: Option<tokio::sync::oneshot::Sender<()>>,
     thread: Option<std::thread::JoinHandle<()>>,
-    seq: u8,
 }
 
 impl Vehicle {
     pub fn start(sysid: u8, airframe: &str) -> Self {
-        let gcs = UdpSocket::bind("127.0.0.1:0").unwrap();
-        gcs.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
+        let gcs = BenchClient::bind().unwrap();
         let config = RunConfig {
             bind_gcs: "127.0.0.1:0".parse().unwrap(),
             gcs: gcs.local_addr().unwrap(),
@@ -55,25 +53,26 @@ impl Vehicle {
             autopilot,
             stop: Some(stop_tx),
             thread: Some(thread),
-            seq: 0,
         }
     }
 
     pub fn send(&mut self, msg: &MavMessage) {
-        let mut buf = Vec::new();
-        self.seq = self.seq.wrapping_add(1);
-        let header = MavHeader {
-            system_id: 255,
-            component_id: 190,
-            sequence: self.seq,
-        };
-        encode_v2(header, msg, &mut buf);
-        self.gcs.send_to(&buf, self.autopilot).unwrap();
+        self.gcs.send(msg, self.autopilot);
     }
 
     /// The first message from the vehicle matching `pick` within `timeout`.
     pub fn wait<T>(&self, timeout: Duration, pick: impl FnMut(&MavHeader, &MavMessage) -> Option<T>) -> Option<T> {
-        wait_on(&self.gcs, timeout, pick)
+        self.gcs.wait(timeout, pick)
+    }
+
+    /// NAV_TAKEOFF (MIS_TAKEOFF_ALT) and arm, both ACCEPTED; the climb follows.
+    pub fn take_off(&mut self) {
+        let accepted = Some(MavResult::MAV_RESULT_ACCEPTED);
+        assert_eq!(self.command(MavCmd::MAV_CMD_NAV_TAKEOFF, f32::NAN, (1, 1)), accepted);
+        assert_eq!(
+            self.command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, (1, 1)),
+            accepted
+        );
     }
 
     /// COMMAND_LONG with `p1` (others NaN) to `target`; the ACK's result within 0.5 s.
@@ -137,28 +136,4 @@ pub fn mission_item(seq: u16, command: MavCmd, north_e7: i32, z: f32) -> MavMess
         autocontinue: 1,
         mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
     })
-}
-
-/// The first message arriving on `socket` (with a read timeout set) that `pick` accepts within
-/// `timeout`.
-pub fn wait_on<T>(
-    socket: &UdpSocket,
-    timeout: Duration,
-    mut pick: impl FnMut(&MavHeader, &MavMessage) -> Option<T>,
-) -> Option<T> {
-    let end = Instant::now() + timeout;
-    let mut buf = [0u8; 2048];
-    while Instant::now() < end {
-        let Ok((n, _)) = socket.recv_from(&mut buf) else {
-            continue;
-        };
-        for frame in decode_datagram(&buf[..n]) {
-            if let Inbound::Message { header, message, .. } = frame {
-                if let Some(t) = pick(&header, &message) {
-                    return Some(t);
-                }
-            }
-        }
-    }
-    None
 }
