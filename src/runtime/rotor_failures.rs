@@ -93,15 +93,18 @@ impl RotorFailures {
         core: &mut FlightCore,
         commander: &mut Commander,
     ) -> Vec<Event> {
-        let due: Vec<ScheduledFailure> = self.scheduled.iter().copied().filter(|f| f.at_s <= t_s).collect();
-        self.scheduled.retain(|f| f.at_s > t_s);
-        for f in due {
-            plant.set_rotor_failed(f.rotor - 1, true);
-        }
-        let reported = plant.failed_rotors().to_vec();
-        if reported == self.known {
+        self.scheduled.retain(|f| {
+            let due = f.at_s <= t_s;
+            if due {
+                plant.set_rotor_failed(f.rotor - 1, true);
+            }
+            !due
+        });
+        // Nothing to allocate on the 1 kHz path unless the ESC report changed.
+        if plant.failed_rotors() == self.known.as_slice() {
             return Vec::new();
         }
+        let reported = plant.failed_rotors().to_vec();
         let control = core.set_failed_rotors(&reported).ok();
         let mut events = Vec::new();
         for (i, (now, before)) in reported.iter().zip(&self.known).enumerate() {
