@@ -16,6 +16,9 @@ struct Sim {
     commander: Commander,
     tick: u64,
     events: Vec<Event>,
+    /// Last tick's collective thrust over the believed weight.
+    thrust_over_weight: f64,
+    weight_n: f64,
 }
 
 impl Sim {
@@ -28,6 +31,8 @@ impl Sim {
             commander: Commander::new(params),
             tick: 0,
             events: Vec::new(),
+            thrust_over_weight: 0.0,
+            weight_n: af.mass_kg * 9.81,
         }
     }
 
@@ -51,10 +56,12 @@ impl Sim {
             let power_w = self.plant.electrical_power_w();
             let failsafes = self.commander.check_failsafes(&x, power_w, 1e-3, self.t());
             self.events.extend(failsafes);
-            let tick = self.commander.update(&x, self.t());
+            let tick = self.commander.update(&x, self.thrust_over_weight, self.t());
             self.events.extend(tick.events);
-            let speeds = match tick.setpoint {
-                Some(sp) => self.core.step(&x, &sp).allocation.omega().as_slice().to_vec(),
+            let step = tick.setpoint.map(|sp| self.core.step(&x, &sp));
+            self.thrust_over_weight = step.map_or(0.0, |s| s.allocation.applied.thrust_n / self.weight_n);
+            let speeds = match step {
+                Some(s) => s.allocation.omega().as_slice().to_vec(),
                 None => vec![0.0; self.core.allocator().rotor_count()],
             };
             self.plant.step(&speeds, 1e-3);
@@ -244,11 +251,9 @@ fn mission_ending_in_return_to_launch() {
 
 #[test]
 fn auto_paths_keep_mpc_xy_vel_max_and_mpc_z_vel_max_dn() {
-    let params = CommanderParams {
-        xy_vel_max_m_s: 2.0,
-        descent_speed_m_s: 0.8,
-        ..Default::default()
-    };
+    let mut params = CommanderParams::default();
+    params.motion.horizontal_m_s = 2.0;
+    params.motion.down_m_s = 0.8;
     let mut sim = Sim::new("quad_x", params);
     sim.request(Request::Takeoff { height_m: Some(6.0) });
     sim.request(Request::Arm { force: false });

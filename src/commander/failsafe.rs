@@ -89,6 +89,12 @@ impl FailsafeMonitor {
         self.battery
     }
 
+    /// True while the vehicle was outside the geofence (`GF_MAX_HOR_DIST` / `GF_MAX_VER_DIST`)
+    /// at the last check: what SYS_STATUS reports as an unhealthy geofence.
+    pub fn geofence_breached(&self) -> bool {
+        self.fence_breached
+    }
+
     /// Failsafes triggered by being at `rel_home_w` [m] from home (NED) with `battery_fraction`
     /// [0, 1] remaining. Only checked in flight: the caller passes `in_air`.
     pub fn check(

@@ -6,7 +6,7 @@ use crate::control::VehicleState;
 use crate::math::Vec3;
 use crate::navigation::{Guidance, Mission, MissionItem};
 
-use super::{Commander, Event, FlightMode, LandedState};
+use super::{Commander, Event, FlightMode};
 
 /// Distance within which a take-off or the end of a travel leg counts as arrived [m].
 const ARRIVE_M: f64 = 0.2;
@@ -40,6 +40,9 @@ pub(super) struct MissionRun {
 enum Phase {
     /// The item's guidance is not set yet.
     Start,
+    /// Climbing vertically to the first item's height (started on the ground with an item
+    /// that is not a take-off, as PX4 does).
+    ClimbFirst,
     /// Flying to the item's point.
     Travel,
     /// Holding until the time [s].
@@ -93,29 +96,45 @@ impl Commander {
             return;
         };
         let speed = self.mission.speed_m_s.unwrap_or(self.cruise_speed());
+        let on_ground = !self.in_air();
         match (self.mission.phase, item) {
             (Phase::Start, MissionItem::Takeoff { height_m }) => {
                 let target = Vec3::new(x.pos_w.x, x.pos_w.y, -height_m);
                 self.takeoff_target_w = Some(target);
-                if self.landed == LandedState::OnGround {
-                    self.landed = LandedState::Takeoff;
-                }
-                self.took_off = true;
-                self.guidance = Guidance::path(x.pos_w, target, yaw, self.limits(self.cruise_speed()), t_s);
+                self.climbing_out = on_ground;
+                self.guidance = self.path_to(x, target, yaw, self.cruise_speed(), t_s);
                 self.mission.phase = Phase::Travel;
+            }
+            (Phase::Start, MissionItem::Waypoint { pos_w, .. } | MissionItem::LoiterTime { pos_w, .. })
+                if on_ground =>
+            {
+                // Take off straight up to the item's height (at least MIS_TAKEOFF_ALT) first.
+                let height = (-pos_w.z).max(self.params.takeoff_alt_m);
+                let target = Vec3::new(x.pos_w.x, x.pos_w.y, -height);
+                self.takeoff_target_w = Some(target);
+                self.climbing_out = true;
+                self.guidance = self.path_to(x, target, yaw, self.cruise_speed(), t_s);
+                self.mission.phase = Phase::ClimbFirst;
+            }
+            (Phase::ClimbFirst, _) => {
+                let target = self.takeoff_target_w.unwrap_or(x.pos_w);
+                if self.guidance.finished(t_s) && (x.pos_w - target).norm() <= ARRIVE_M {
+                    self.climbing_out = false;
+                    self.mission.phase = Phase::Start;
+                }
             }
             (Phase::Start, MissionItem::Waypoint { pos_w, .. } | MissionItem::LoiterTime { pos_w, .. }) => {
                 let heading = match item {
                     MissionItem::Waypoint { yaw_rad: Some(y), .. } => y,
                     _ => yaw,
                 };
-                self.guidance = Guidance::path(x.pos_w, pos_w, heading, self.limits(speed), t_s);
+                self.guidance = self.path_to(x, pos_w, heading, speed, t_s);
                 self.mission.phase = Phase::Travel;
             }
             (Phase::Start, MissionItem::Land { pos_w }) => match pos_w {
                 Some(p) if (p - x.pos_w).xy().norm() > ARRIVE_M => {
                     let above = Vec3::new(p.x, p.y, x.pos_w.z);
-                    self.guidance = Guidance::path(x.pos_w, above, yaw, self.limits(speed), t_s);
+                    self.guidance = self.path_to(x, above, yaw, speed, t_s);
                     self.mission.phase = Phase::Travel;
                 }
                 _ => self.begin_landing(x, pos_w, yaw, t_s),
@@ -150,7 +169,7 @@ impl Commander {
                 };
                 if self.guidance.finished(t_s) && (x.pos_w - goal).norm() <= accept.max(ARRIVE_M) {
                     if matches!(item, MissionItem::Takeoff { .. }) {
-                        self.landed = LandedState::InAir;
+                        self.climbing_out = false;
                     }
                     match item {
                         MissionItem::Land { pos_w } => self.begin_landing(x, pos_w, yaw, t_s),
@@ -163,7 +182,7 @@ impl Commander {
                 }
             }
             (Phase::Hold(until_s), _) if t_s >= until_s => self.next_item(x, t_s, events),
-            (Phase::Landing, _) if self.landed == LandedState::OnGround => {
+            (Phase::Landing, _) if on_ground => {
                 self.reached(events);
                 self.mission.state = MissionState::Complete;
                 self.mission.phase = Phase::Done;
@@ -175,7 +194,6 @@ impl Commander {
     /// Descends over the item's position `at_w` (PX4 lands on the item, not where the vehicle
     /// happened to be when it came within the acceptance radius), or here without one.
     fn begin_landing(&mut self, x: &VehicleState, at_w: Option<Vec3>, yaw: f64, t_s: f64) {
-        self.landed = LandedState::Landing;
         let mut guidance = self.descend(x, yaw, t_s);
         if let (Guidance::Descend { xy_w, .. }, Some(at_w)) = (&mut guidance, at_w) {
             *xy_w = at_w;

@@ -1,30 +1,46 @@
-//! The commander (PX4 semantics, mavlink.md §2–§3): armed state, flight mode, landed state,
-//! take-off / hold / land / return, land detection and auto-disarm, all on simulated time.
-//! Pure: requests and the vehicle state in, a result and a setpoint out.
+//! The commander (PX4 semantics): armed state, flight mode, landed state, take-off / hold /
+//! land / return / mission / offboard, all on simulated time. Pure: requests and the vehicle
+//! state in, a result and a setpoint out.
 //!
-//! Home is the local NED origin. Wrong-state results follow mavlink.md §3.3.
+//! # Layout
+//! - `mod.rs`: requests, modes and their guidance, the tick.
+//! - [`land_detector`]: on the ground or in the air, from what the vehicle does.
+//! - `landing.rs`: what the verdict changes: touch-down thrust cut, idle on the ground,
+//!   hold after a lift-off, auto-disarm (only ever on the ground).
+//! - `offboard.rs`: the offboard setpoint stream, its limiter and its loss.
+//! - `mission_run.rs`: AUTO.MISSION, item by item.
+//! - `reactions.rs`: failsafes, rotor failures and GCS link loss.
+//! - `failsafe.rs`, `battery.rs`, `mode.rs`: geofence/battery monitor, energy gauge, PX4 modes.
+//!
+//! Home is the local NED origin. Wrong-state results follow PX4 (TEMPORARILY_REJECTED when
+//! waiting can fix it, DENIED for bad values).
 
 mod battery;
 mod failsafe;
+pub mod land_detector;
+mod landing;
 mod mission_run;
 mod mode;
+mod offboard;
+mod reactions;
 
 pub use battery::{BatteryGauge, BatteryParams};
 pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
+pub use land_detector::{LandDetectorParams, LandStage};
 pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
 
+use land_detector::LandDetector;
+use landing::Command;
 use mission_run::MissionRun;
+use offboard::{Offboard, OffboardTarget};
 
-use crate::allocation::FailedRotors;
 use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Guidance, Mission, SpeedLimits};
+use crate::navigation::{Guidance, Mission, MotionLimits};
 
-/// Speed below which a vehicle that is asked to descend counts as landed [m/s].
-const LANDED_SPEED_M_S: f64 = 0.1;
-/// How long it must stay that slow [s].
-const LANDED_CONFIRM_S: f64 = 1.0;
+/// Tick length assumed before the second tick [s].
+const DEFAULT_DT_S: f64 = 0.001;
 /// Take-off is complete within this distance of the target [m].
 const TAKEOFF_ACCEPT_M: f64 = 0.2;
 
@@ -33,8 +49,6 @@ const TAKEOFF_ACCEPT_M: f64 = 0.2;
 pub struct CommanderParams {
     /// Take-off height above home [m] (`MIS_TAKEOFF_ALT`, 2.5).
     pub takeoff_alt_m: f64,
-    /// Climb speed [m/s] (`MPC_Z_VEL_MAX_UP`, 3.0).
-    pub climb_speed_m_s: f64,
     /// Landing descent speed [m/s] (`MPC_LAND_SPEED`, 0.7).
     pub land_speed_m_s: f64,
     /// Horizontal cruise speed of the AUTO modes [m/s] (`MPC_XY_CRUISE`, 5.0).
@@ -60,19 +74,17 @@ pub struct CommanderParams {
     /// Offboard-loss action (`COM_OBL_RC_ACT`: 0–2 hold position (no RC), 3 return, 4 land,
     /// 5 hold (AUTO.LOITER), 6 terminate, 7 disarm; default 0).
     pub offboard_loss_action: i32,
-    /// Largest horizontal speed of any AUTO path [m/s] (`MPC_XY_VEL_MAX`, 12); caps cruise and
-    /// DO_CHANGE_SPEED / DO_REPOSITION speeds.
-    pub xy_vel_max_m_s: f64,
-    /// Largest descent speed of any AUTO path [m/s] (`MPC_Z_VEL_MAX_DN`, 1.5); the final landing
-    /// descends at `land_speed_m_s`.
-    pub descent_speed_m_s: f64,
+    /// Limits of every AUTO path and every offboard setpoint (`MPC_XY_VEL_MAX` caps cruise,
+    /// DO_CHANGE_SPEED and DO_REPOSITION speeds; the final landing descends at `land_speed_m_s`).
+    pub motion: MotionLimits,
+    /// Land detector.
+    pub land_detector: LandDetectorParams,
 }
 
 impl Default for CommanderParams {
     fn default() -> Self {
         Self {
             takeoff_alt_m: 2.5,
-            climb_speed_m_s: 3.0,
             land_speed_m_s: 0.7,
             cruise_speed_m_s: 5.0,
             rtl_return_alt_m: 60.0,
@@ -81,8 +93,8 @@ impl Default for CommanderParams {
             offboard_loss_s: 1.0,
             link_loss_action: 0,
             link_loss_s: 10.0,
-            xy_vel_max_m_s: 12.0,
-            descent_speed_m_s: 1.5,
+            motion: MotionLimits::default(),
+            land_detector: LandDetectorParams::default(),
             failsafe: FailsafeParams::default(),
             battery: BatteryParams::default(),
             failure_injection: false,
@@ -200,6 +212,8 @@ pub enum Event {
     ModeChanged(FlightMode),
     /// Touch-down detected.
     Landed,
+    /// Lift-off detected.
+    Airborne,
     /// Offboard setpoints stopped for `COM_OF_LOSS_T`; the vehicle holds position.
     OffboardLost,
     /// A geofence or battery failsafe triggered (the announcement).
@@ -210,18 +224,6 @@ pub enum Event {
     MissionCurrent(u16),
 }
 
-/// What NAV_DLL_ACT did, for the announcement.
-fn link_loss_text(action: i32) -> &'static str {
-    match action {
-        1 => "GCS link lost: holding",
-        2 => "GCS link lost: returning",
-        3 => "GCS link lost: landing",
-        5 => "GCS link lost: terminating",
-        6 => "GCS link lost: disarming",
-        _ => "GCS link lost",
-    }
-}
-
 impl Event {
     /// The STATUSTEXT announcing it.
     pub fn describe(&self) -> String {
@@ -229,6 +231,7 @@ impl Event {
             Self::Disarmed(why) => format!("Disarmed: {why}"),
             Self::ModeChanged(mode) => format!("Mode {}", mode.name()),
             Self::Landed => "Landing detected".to_string(),
+            Self::Airborne => "Takeoff detected".to_string(),
             Self::OffboardLost => "Offboard lost".to_string(),
             Self::Failsafe(text) => text.clone(),
             Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
@@ -248,13 +251,29 @@ pub struct CommanderTick {
     pub events: Vec<Event>,
 }
 
-/// The latest offboard target.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum OffboardKind {
-    /// Position / velocity / acceleration, with the body-frame flag.
-    Flat(FlatSetpoint, bool),
-    /// Attitude or rates with thrust.
-    Attitude(AttitudeTarget),
+/// Armed state, mode and guidance of one vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Commander {
+    /// Settings.
+    pub params: CommanderParams,
+    armed: bool,
+    mode: FlightMode,
+    detector: LandDetector,
+    /// A take-off climb is under way (AUTO.TAKEOFF, a mission's take-off or first climb).
+    climbing_out: bool,
+    guidance: Guidance,
+    takeoff_target_w: Option<Vec3>,
+    rtl_phase: RtlPhase,
+    armed_at_s: f64,
+    /// The vehicle has been in the air since it was armed.
+    took_off: bool,
+    offboard: Offboard,
+    mission: MissionRun,
+    speed_override: Option<f64>,
+    home_w: Vec3,
+    failsafes: FailsafeMonitor,
+    battery: BatteryGauge,
+    last_update_s: Option<f64>,
 }
 
 /// RTL phases.
@@ -265,29 +284,6 @@ enum RtlPhase {
     Descend,
 }
 
-/// Armed state, mode and guidance of one vehicle.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Commander {
-    /// Settings.
-    pub params: CommanderParams,
-    armed: bool,
-    mode: FlightMode,
-    landed: LandedState,
-    guidance: Guidance,
-    takeoff_target_w: Option<Vec3>,
-    rtl_phase: RtlPhase,
-    armed_at_s: f64,
-    slow_since_s: Option<f64>,
-    landed_at_s: Option<f64>,
-    took_off: bool,
-    offboard: Option<(OffboardKind, f64)>,
-    mission: MissionRun,
-    speed_override: Option<f64>,
-    home_w: Vec3,
-    failsafes: FailsafeMonitor,
-    battery: BatteryGauge,
-}
-
 impl Commander {
     /// Disarmed on the ground in AUTO.LOITER (PX4's default "Hold").
     pub fn new(params: CommanderParams) -> Self {
@@ -295,20 +291,20 @@ impl Commander {
             params,
             armed: false,
             mode: FlightMode::Loiter,
-            landed: LandedState::OnGround,
+            detector: LandDetector::default(),
+            climbing_out: false,
             guidance: Guidance::Idle,
             takeoff_target_w: None,
             rtl_phase: RtlPhase::Climb,
             armed_at_s: 0.0,
-            slow_since_s: None,
-            landed_at_s: None,
             took_off: false,
-            offboard: None,
+            offboard: Offboard::default(),
             mission: MissionRun::default(),
             speed_override: None,
             home_w: Vec3::zeros(),
             failsafes: FailsafeMonitor::default(),
             battery: BatteryGauge::default(),
+            last_update_s: None,
         }
     }
 
@@ -317,14 +313,20 @@ impl Commander {
         self.speed_override.unwrap_or(self.params.cruise_speed_m_s)
     }
 
-    /// Path speed limits for a horizontal speed of `horizontal_m_s` [m/s], capped at
-    /// `MPC_XY_VEL_MAX`; climbs at `MPC_Z_VEL_MAX_UP`, descents at `MPC_Z_VEL_MAX_DN`.
-    fn limits(&self, horizontal_m_s: f64) -> SpeedLimits {
-        SpeedLimits {
-            horizontal_m_s: horizontal_m_s.min(self.params.xy_vel_max_m_s),
-            up_m_s: self.params.climb_speed_m_s,
-            down_m_s: self.params.descent_speed_m_s,
+    /// Path limits for a horizontal speed of `horizontal_m_s` [m/s], capped at
+    /// `MPC_XY_VEL_MAX`; every other limit as set.
+    fn limits(&self, horizontal_m_s: f64) -> MotionLimits {
+        MotionLimits {
+            horizontal_m_s: horizontal_m_s.min(self.params.motion.horizontal_m_s),
+            ..self.params.motion
         }
+    }
+
+    /// A path at the cruise speed from where the vehicle is to `to_w` [m], ending at heading
+    /// `to_yaw_rad` [rad] (turned the short way within `MPC_YAWRAUTO_MAX`).
+    fn path_to(&self, x: &VehicleState, to_w: Vec3, to_yaw_rad: f64, speed_m_s: f64, t_s: f64) -> Guidance {
+        let yaw = euler_zyx(&x.r_wb).z;
+        Guidance::path(x.pos_w, to_w, yaw, to_yaw_rad, &self.limits(speed_m_s), t_s)
     }
 
     /// The local NED point RTL returns to [m].
@@ -337,88 +339,9 @@ impl Commander {
         (self.mission.seq, self.mission.mission.len(), self.mission.state)
     }
 
-    /// Draws `power_w` [W] from the battery for `dt_s` [s], then runs the geofence and battery
-    /// failsafes for state `x` at `t_s` [s]: each announces itself and switches the mode (hold,
-    /// return, land) or terminates, which the next heartbeat shows.
-    pub fn check_failsafes(&mut self, x: &VehicleState, power_w: f64, dt_s: f64, t_s: f64) -> Vec<Event> {
-        self.battery.draw(power_w, dt_s);
-        let rel = x.pos_w - self.home_w;
-        let in_air = self.armed && self.landed != LandedState::OnGround;
-        let fired = self.failsafes.check(
-            &self.params.failsafe,
-            [rel.x, rel.y, rel.z],
-            self.battery.fraction(&self.params.battery),
-            in_air,
-        );
-        let mut events = Vec::new();
-        for failsafe in fired {
-            events.push(Event::Failsafe(failsafe.text));
-            let mode = match failsafe.action {
-                FailsafeAction::Warn => None,
-                FailsafeAction::Hold => Some(FlightMode::Loiter),
-                FailsafeAction::Return => Some(FlightMode::ReturnToLaunch),
-                FailsafeAction::Land => Some(FlightMode::Land),
-                FailsafeAction::Terminate => {
-                    self.disarm();
-                    events.push(Event::Disarmed("flight termination"));
-                    None
-                }
-            };
-            // Never step back from landing to a return, nor restart a mode already running.
-            let landing = self.mode == FlightMode::Land;
-            if let Some(mode) = mode.filter(|m| *m != self.mode && !landing) {
-                self.enter(mode, x, t_s);
-                events.push(Event::ModeChanged(mode));
-            }
-        }
-        events
-    }
-
-    /// Rotor `rotor` (1-based) has failed; `control` says what the allocation can still do
-    /// (`None`: nothing useful). In flight the vehicle lands where it is, as well as it can.
-    pub fn rotor_failed(
-        &mut self,
-        rotor: usize,
-        control: Option<FailedRotors>,
-        x: &VehicleState,
-        t_s: f64,
-    ) -> Vec<Event> {
-        let what = match control {
-            Some(FailedRotors::FullControl) => "",
-            Some(FailedRotors::YawUncontrolled) => ", yaw lost",
-            None => ", no allocation left",
-        };
-        let in_air = self.armed && self.landed != LandedState::OnGround;
-        let mut events = vec![Event::Failsafe(format!(
-            "Motor {rotor} failed{what}{}",
-            if in_air { ": landing" } else { "" }
-        ))];
-        if in_air && self.mode != FlightMode::Land {
-            self.enter(FlightMode::Land, x, t_s);
-            events.push(Event::ModeChanged(FlightMode::Land));
-        }
-        events
-    }
-
     /// The battery gauge and the pack it measures.
     pub fn battery(&self) -> (BatteryGauge, BatteryParams) {
         (self.battery, self.params.battery)
-    }
-
-    /// Restamps the latest offboard setpoint at `t_s` [s]: the runtime calls this while the
-    /// setpoint stream is alive in wall time, so a ground station streaming in wall time does not
-    /// lose offboard just because simulated time runs faster (mavlink.md §11.2). A stream that
-    /// stops is lost once it is silent for `COM_OF_LOSS_T` in both clocks.
-    pub fn refresh_offboard(&mut self, t_s: f64) {
-        if let Some((_, t)) = &mut self.offboard {
-            *t = t.max(t_s);
-        }
-    }
-
-    /// True when an offboard setpoint arrived within `COM_OF_LOSS_T` of `t_s`.
-    fn offboard_alive(&self, t_s: f64) -> bool {
-        self.offboard
-            .is_some_and(|(_, t)| t_s - t < self.params.offboard_loss_s)
     }
 
     /// Armed.
@@ -431,9 +354,28 @@ impl Commander {
         self.mode
     }
 
-    /// Landed state.
+    /// Armed and not on the ground (the land detector's verdict).
+    pub fn in_air(&self) -> bool {
+        self.armed && !self.detector.landed()
+    }
+
+    /// The land detector's stage.
+    pub fn land_stage(&self) -> LandStage {
+        self.detector.stage()
+    }
+
+    /// Landed state (EXTENDED_SYS_STATE): on the ground when the land detector says so; in the
+    /// air, taking off during a take-off climb and landing during a final descent.
     pub fn landed_state(&self) -> LandedState {
-        self.landed
+        if !self.in_air() {
+            LandedState::OnGround
+        } else if self.climbing_out {
+            LandedState::Takeoff
+        } else if matches!(self.guidance, Guidance::Descend { .. }) {
+            LandedState::Landing
+        } else {
+            LandedState::InAir
+        }
     }
 
     /// Handles `request` at simulated time `t_s` [s] with the vehicle in state `x`.
@@ -441,7 +383,7 @@ impl Commander {
         match request {
             Request::Arm { force } => self.arm(force, x, t_s),
             Request::Disarm { force } => {
-                if self.armed && self.landed != LandedState::OnGround && !force {
+                if self.in_air() && !force {
                     return Outcome::TemporarilyRejected("Disarm refused: vehicle in the air".into());
                 }
                 self.disarm();
@@ -449,7 +391,7 @@ impl Commander {
             }
             Request::SetMode(mode) => self.set_mode(mode, x, t_s),
             Request::Takeoff { height_m } => {
-                if self.armed && self.landed != LandedState::OnGround {
+                if self.in_air() {
                     return Outcome::TemporarilyRejected("Takeoff refused: already flying".into());
                 }
                 let h = height_m.unwrap_or(self.params.takeoff_alt_m);
@@ -463,11 +405,11 @@ impl Commander {
             Request::Land => self.set_mode(FlightMode::Land, x, t_s),
             Request::ReturnToLaunch => self.set_mode(FlightMode::ReturnToLaunch, x, t_s),
             Request::OffboardSetpoint { setpoint, body_frame } => {
-                self.offboard = Some((OffboardKind::Flat(setpoint, body_frame), t_s));
+                self.offboard.latest = Some((OffboardTarget::Flat(setpoint, body_frame), t_s));
                 Outcome::Accepted
             }
             Request::OffboardAttitude(target) => {
-                self.offboard = Some((OffboardKind::Attitude(target), t_s));
+                self.offboard.latest = Some((OffboardTarget::Attitude(target), t_s));
                 Outcome::Accepted
             }
             Request::SetMission(mission) => {
@@ -484,7 +426,7 @@ impl Commander {
                 yaw_rad,
                 speed_m_s,
             } => {
-                if !self.armed || self.landed == LandedState::OnGround {
+                if !self.in_air() {
                     return Outcome::TemporarilyRejected("Reposition refused: not flying".into());
                 }
                 let target = Vec3::new(
@@ -498,7 +440,7 @@ impl Commander {
                 self.enter(FlightMode::Loiter, x, t_s);
                 let yaw = yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z);
                 let speed = speed_m_s.filter(|v| *v > 0.0).unwrap_or(self.cruise_speed());
-                self.guidance = Guidance::path(x.pos_w, target, yaw, self.limits(speed), t_s);
+                self.guidance = self.path_to(x, target, yaw, speed, t_s);
                 Outcome::Accepted
             }
             Request::ChangeSpeed(v) => {
@@ -516,20 +458,7 @@ impl Commander {
                 self.home_w = p;
                 Outcome::Accepted
             }
-            Request::GcsLinkLost => {
-                let action = self.params.link_loss_action;
-                if action == 0 || !self.armed || self.landed == LandedState::OnGround {
-                    return Outcome::Accepted;
-                }
-                match action {
-                    1 => self.enter(FlightMode::Loiter, x, t_s),
-                    2 => self.enter(FlightMode::ReturnToLaunch, x, t_s),
-                    3 => self.enter(FlightMode::Land, x, t_s),
-                    5 | 6 => self.disarm(),
-                    _ => {}
-                }
-                Outcome::TemporarilyRejected(link_loss_text(action).to_string())
-            }
+            Request::GcsLinkLost => self.gcs_link_lost(x, t_s),
             Request::InjectRotorFailure { .. } => {
                 Outcome::Denied("Failure injection is applied by the vehicle, not the commander".into())
             }
@@ -566,16 +495,16 @@ impl Commander {
         }
         self.armed = true;
         self.armed_at_s = t_s;
-        self.took_off = false;
-        self.landed_at_s = None;
+        self.took_off = !self.detector.landed();
         self.enter(self.mode, x, t_s);
         Outcome::Accepted
     }
 
+    /// Motors off (explicit disarm, auto-disarm on the ground, or a termination).
     fn disarm(&mut self) {
         self.armed = false;
         self.guidance = Guidance::Idle;
-        self.landed = LandedState::OnGround;
+        self.climbing_out = false;
         if matches!(
             self.mode,
             FlightMode::Takeoff | FlightMode::Land | FlightMode::ReturnToLaunch
@@ -592,7 +521,7 @@ impl Commander {
             FlightMode::Offboard if !self.offboard_alive(t_s) => {
                 Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into())
             }
-            FlightMode::Takeoff if self.takeoff_target_w.is_none() || self.landed != LandedState::OnGround => {
+            FlightMode::Takeoff if self.takeoff_target_w.is_none() || self.in_air() => {
                 let h = self.params.takeoff_alt_m;
                 self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
                 self.enter(mode, x, t_s);
@@ -612,9 +541,14 @@ impl Commander {
             self.mission.state = MissionState::Paused;
         }
         self.mode = mode;
+        self.climbing_out = false;
+        self.offboard.limiter = None;
         let yaw = euler_zyx(&x.r_wb).z;
-        let on_ground = self.landed == LandedState::OnGround;
-        self.slow_since_s = None;
+        let on_ground = !self.in_air();
+        let hold = Guidance::Hold {
+            pos_w: x.pos_w,
+            yaw_rad: yaw,
+        };
         self.guidance = if !self.armed {
             Guidance::Idle
         } else {
@@ -623,26 +557,14 @@ impl Commander {
                     let target = self
                         .takeoff_target_w
                         .unwrap_or(x.pos_w - Vec3::new(0.0, 0.0, self.params.takeoff_alt_m));
-                    self.landed = LandedState::Takeoff;
-                    self.took_off = true;
-                    Guidance::path(x.pos_w, target, yaw, self.limits(self.cruise_speed()), t_s)
+                    self.climbing_out = true;
+                    self.path_to(x, target, yaw, self.cruise_speed(), t_s)
                 }
-                FlightMode::Land => {
-                    if !on_ground {
-                        self.landed = LandedState::Landing;
-                    }
-                    self.descend(x, yaw, t_s)
-                }
+                FlightMode::Land => self.descend(x, yaw, t_s),
                 FlightMode::ReturnToLaunch => {
                     self.rtl_phase = RtlPhase::Climb;
                     let z = x.pos_w.z.min(self.home_w.z - self.params.rtl_return_alt_m);
-                    Guidance::path(
-                        x.pos_w,
-                        Vec3::new(x.pos_w.x, x.pos_w.y, z),
-                        yaw,
-                        self.limits(self.cruise_speed()),
-                        t_s,
-                    )
+                    self.path_to(x, Vec3::new(x.pos_w.x, x.pos_w.y, z), yaw, self.cruise_speed(), t_s)
                 }
                 FlightMode::Mission => {
                     // The mission's first tick sets the item's guidance.
@@ -650,18 +572,12 @@ impl Commander {
                     if on_ground {
                         Guidance::Idle
                     } else {
-                        Guidance::Hold {
-                            pos_w: x.pos_w,
-                            yaw_rad: yaw,
-                        }
+                        hold
                     }
                 }
                 // Armed on the ground in a hold mode: motors idle until a take-off.
                 _ if on_ground => Guidance::Idle,
-                _ => Guidance::Hold {
-                    pos_w: x.pos_w,
-                    yaw_rad: yaw,
-                },
+                _ => hold,
             }
         };
     }
@@ -676,114 +592,67 @@ impl Commander {
         }
     }
 
-    /// One tick at simulated time `t_s` [s]: mode progress, land detection, auto-disarm, setpoint.
-    pub fn update(&mut self, x: &VehicleState, t_s: f64) -> CommanderTick {
+    /// One tick at simulated time `t_s` [s] with the vehicle in state `x` and the last tick's
+    /// collective thrust over the believed weight `thrust_over_weight` [-]: mode progress, then
+    /// land detection, touch-down and auto-disarm (see [`land_detector`]), then what to fly.
+    pub fn update(&mut self, x: &VehicleState, thrust_over_weight: f64, t_s: f64) -> CommanderTick {
+        let dt_s = self
+            .last_update_s
+            .map_or(DEFAULT_DT_S, |last| (t_s - last).clamp(1e-6, 0.1));
+        self.last_update_s = Some(t_s);
         let mut events = Vec::new();
         if !self.armed {
-            return CommanderTick {
-                setpoint: None,
-                attitude: None,
-                events,
-            };
+            self.detect_landing(x, Command::Idle, thrust_over_weight, t_s, &mut events);
+            return CommanderTick::idle(events);
         }
         let yaw = euler_zyx(&x.r_wb).z;
-        match self.mode {
+        let command = match self.mode {
             FlightMode::Takeoff => {
                 let near = self
                     .takeoff_target_w
                     .is_none_or(|p| (x.pos_w - p).norm() < TAKEOFF_ACCEPT_M);
                 if self.guidance.finished(t_s) && near {
-                    self.landed = LandedState::InAir;
                     self.mode = FlightMode::Loiter;
+                    self.climbing_out = false;
                     self.guidance = Guidance::Hold {
                         pos_w: self.takeoff_target_w.unwrap_or(x.pos_w),
                         yaw_rad: yaw,
                     };
                     events.push(Event::ModeChanged(FlightMode::Loiter));
                 }
+                None
             }
-            FlightMode::ReturnToLaunch => self.advance_rtl(x, yaw, t_s),
-            FlightMode::Mission => self.advance_mission(x, yaw, t_s, &mut events),
-            FlightMode::Offboard => match self.offboard {
-                Some((kind, _)) if self.offboard_alive(t_s) => {
-                    self.took_off = true;
-                    self.landed = LandedState::InAir;
-                    return match kind {
-                        OffboardKind::Flat(sp, body_frame) => CommanderTick {
-                            setpoint: Some(if body_frame { heading_to_world(sp, yaw) } else { sp }),
-                            attitude: None,
-                            events,
-                        },
-                        OffboardKind::Attitude(target) => CommanderTick {
-                            setpoint: None,
-                            attitude: Some(target),
-                            events,
-                        },
-                    };
-                }
-                _ => {
-                    // COM_OBL_RC_ACT (mavlink.md §6); without RC the stick modes hold position.
-                    events.push(Event::OffboardLost);
-                    let mode = match self.params.offboard_loss_action {
-                        3 => Some(FlightMode::ReturnToLaunch),
-                        4 => Some(FlightMode::Land),
-                        5 => Some(FlightMode::Loiter),
-                        6 | 7 => None,
-                        _ => Some(FlightMode::Position),
-                    };
-                    match mode {
-                        Some(mode) => {
-                            self.enter(mode, x, t_s);
-                            events.push(Event::ModeChanged(mode));
-                        }
-                        None => {
-                            self.disarm();
-                            events.push(Event::Disarmed("offboard lost (COM_OBL_RC_ACT)"));
-                        }
-                    }
-                }
+            FlightMode::ReturnToLaunch => {
+                self.advance_rtl(x, yaw, t_s);
+                None
+            }
+            FlightMode::Mission => {
+                self.advance_mission(x, yaw, t_s, &mut events);
+                None
+            }
+            FlightMode::Offboard => self.offboard_command(x, yaw, dt_s, t_s, &mut events),
+            _ => None,
+        };
+        if !self.armed {
+            return CommanderTick::idle(events);
+        }
+        let command = command.unwrap_or_else(|| match self.guidance.setpoint(t_s, x) {
+            Some(sp) => Command::Flat(sp),
+            None => Command::Idle,
+        });
+        let command = self.detect_landing(x, command, thrust_over_weight, t_s, &mut events);
+        match command {
+            Command::Flat(sp) => CommanderTick {
+                setpoint: Some(sp),
+                attitude: None,
+                events,
             },
-            _ => {}
-        }
-        // Land detection: asked to descend, but no longer moving.
-        if matches!(self.guidance, Guidance::Descend { .. }) && self.landed != LandedState::OnGround {
-            if x.vel_w.norm() < LANDED_SPEED_M_S {
-                let since = *self.slow_since_s.get_or_insert(t_s);
-                if t_s - since >= LANDED_CONFIRM_S {
-                    self.landed = LandedState::OnGround;
-                    self.landed_at_s = Some(t_s);
-                    events.push(Event::Landed);
-                }
-            } else {
-                self.slow_since_s = None;
-            }
-        }
-        if self.landed == LandedState::OnGround {
-            let p = &self.params;
-            let landed_for = self.landed_at_s.map(|l| t_s - l);
-            if p.disarm_land_s > 0.0 && landed_for.is_some_and(|d| d >= p.disarm_land_s) {
-                self.disarm();
-                events.push(Event::Disarmed("landed"));
-                return CommanderTick {
-                    setpoint: None,
-                    attitude: None,
-                    events,
-                };
-            }
-            if p.disarm_preflight_s > 0.0 && !self.took_off && t_s - self.armed_at_s >= p.disarm_preflight_s {
-                self.disarm();
-                events.push(Event::Disarmed("no takeoff"));
-                return CommanderTick {
-                    setpoint: None,
-                    attitude: None,
-                    events,
-                };
-            }
-        }
-        CommanderTick {
-            setpoint: self.guidance.setpoint(t_s, x),
-            attitude: None,
-            events,
+            Command::Attitude(target) => CommanderTick {
+                setpoint: None,
+                attitude: Some(target),
+                events,
+            },
+            Command::Idle => CommanderTick::idle(events),
         }
     }
 
@@ -795,11 +664,10 @@ impl Commander {
             RtlPhase::Climb => {
                 self.rtl_phase = RtlPhase::Return;
                 let home_at_alt = Vec3::new(self.home_w.x, self.home_w.y, x.pos_w.z);
-                self.guidance = Guidance::path(x.pos_w, home_at_alt, yaw, self.limits(self.cruise_speed()), t_s);
+                self.guidance = self.path_to(x, home_at_alt, yaw, self.cruise_speed(), t_s);
             }
             RtlPhase::Return => {
                 self.rtl_phase = RtlPhase::Descend;
-                self.landed = LandedState::Landing;
                 self.guidance = self.descend(x, yaw, t_s);
             }
             RtlPhase::Descend => {}
@@ -807,13 +675,13 @@ impl Commander {
     }
 }
 
-/// Rotates a heading-frame velocity and acceleration into world NED by heading `yaw` [rad].
-fn heading_to_world(sp: FlatSetpoint, yaw: f64) -> FlatSetpoint {
-    let (s, c) = yaw.sin_cos();
-    let rot = |v: Vec3| Vec3::new(c * v.x - s * v.y, s * v.x + c * v.y, v.z);
-    FlatSetpoint {
-        vel_w: sp.vel_w.map(rot),
-        acc_w: sp.acc_w.map(rot),
-        ..sp
+impl CommanderTick {
+    /// Motors off (disarmed, or idle on the ground).
+    fn idle(events: Vec<Event>) -> Self {
+        Self {
+            setpoint: None,
+            attitude: None,
+            events,
+        }
     }
 }

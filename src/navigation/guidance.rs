@@ -6,36 +6,11 @@ use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::Vec3;
 
 use super::trajectory::Quintic;
+use super::MotionLimits;
 
 /// How far the landing reference may run ahead of the vehicle below it [m]; keeps the position
 /// error (and so the thrust reduction) bounded once the ground stops the descent.
 const LAND_LEAD_MAX_M: f64 = 0.5;
-
-/// Peak speeds of a path [m/s]; each component of the motion keeps below its own.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpeedLimits {
-    /// Horizontal speed [m/s].
-    pub horizontal_m_s: f64,
-    /// Climb speed [m/s].
-    pub up_m_s: f64,
-    /// Descent speed [m/s].
-    pub down_m_s: f64,
-}
-
-impl SpeedLimits {
-    /// The shortest duration [s] of a quintic over `delta_w` [m] that keeps every limit: its peak
-    /// speed is 1.875 × the mean, per component along a straight line.
-    fn duration_s(&self, delta_w: Vec3) -> f64 {
-        let slowest = f64::max(
-            delta_w.xy().norm() / self.horizontal_m_s.max(0.1),
-            f64::max(
-                (-delta_w.z).max(0.0) / self.up_m_s.max(0.1),
-                delta_w.z.max(0.0) / self.down_m_s.max(0.1),
-            ),
-        );
-        1.875 * slowest
-    }
-}
 
 /// The reference generator of the active mode.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -72,17 +47,26 @@ pub enum Guidance {
 }
 
 impl Guidance {
-    /// A rest-to-rest path from `from_w` to `to_w` [m] whose horizontal, climb and descent speeds
-    /// stay below `limits`, at least 1 s long.
-    pub fn path(from_w: Vec3, to_w: Vec3, yaw_rad: f64, limits: SpeedLimits, start_s: f64) -> Self {
-        let duration_s = limits.duration_s(to_w - from_w).max(1.0);
+    /// A rest-to-rest path from `from_w` to `to_w` [m], turning from heading `from_yaw_rad` to
+    /// `to_yaw_rad` [rad] the short way, whose speeds, accelerations and heading rate stay within
+    /// `limits`, at least 1 s long.
+    pub fn path(
+        from_w: Vec3,
+        to_w: Vec3,
+        from_yaw_rad: f64,
+        to_yaw_rad: f64,
+        limits: &MotionLimits,
+        start_s: f64,
+    ) -> Self {
+        let dyaw = crate::math::wrap_pi(to_yaw_rad - from_yaw_rad);
+        let duration_s = limits.quintic_duration_s(to_w - from_w, dyaw).max(1.0);
         Self::Path {
             path: Quintic {
                 start_w: from_w,
                 goal_w: to_w,
                 duration_s,
-                start_yaw_rad: yaw_rad,
-                goal_yaw_rad: yaw_rad,
+                start_yaw_rad: from_yaw_rad,
+                goal_yaw_rad: to_yaw_rad,
             },
             start_s,
         }
@@ -134,10 +118,15 @@ mod tests {
         }
     }
 
-    const LIMITS: SpeedLimits = SpeedLimits {
+    const LIMITS: MotionLimits = MotionLimits {
         horizontal_m_s: 5.0,
         up_m_s: 2.0,
         down_m_s: 1.0,
+        acc_horizontal_m_s2: 100.0,
+        acc_up_m_s2: 100.0,
+        acc_down_m_s2: 100.0,
+        yaw_rate_auto_rad_s: 1.0,
+        yaw_rate_max_rad_s: 3.0,
     };
 
     /// Peak (horizontal, up, down) speeds of `g` over 30 s from `start_s` [m/s].
@@ -152,7 +141,7 @@ mod tests {
 
     #[test]
     fn path_respects_the_speed_limit_and_ends_at_rest() {
-        let g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 0.0, -5.0), 0.0, LIMITS, 10.0);
+        let g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 0.0, -5.0), 0.0, 0.0, &LIMITS, 10.0);
         let (_, peak, _) = peaks(&g, 10.0);
         assert!(peak <= 2.0 + 1e-9 && peak > 1.9, "{peak}");
         assert!(g.finished(14.7) && !g.finished(14.6));
@@ -165,12 +154,12 @@ mod tests {
     #[test]
     fn each_component_keeps_its_own_limit() {
         // 10 m north and 4 m down: the descent (1 m/s) sets the duration, not the cruise speed.
-        let g = Guidance::path(Vec3::zeros(), Vec3::new(10.0, 0.0, 4.0), 0.0, LIMITS, 0.0);
+        let g = Guidance::path(Vec3::zeros(), Vec3::new(10.0, 0.0, 4.0), 0.0, 0.0, &LIMITS, 0.0);
         let (horizontal, up, down) = peaks(&g, 0.0);
         assert!(down <= 1.0 + 1e-9 && down > 0.99, "{down}");
         assert!((horizontal - 2.5).abs() < 0.01 && up == 0.0, "{horizontal} {up}");
         // 20 m east and 1 m up: the horizontal limit binds.
-        let g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 20.0, -1.0), 0.0, LIMITS, 0.0);
+        let g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 20.0, -1.0), 0.0, 0.0, &LIMITS, 0.0);
         let (horizontal, _, _) = peaks(&g, 0.0);
         assert!(horizontal <= 5.0 + 1e-9 && horizontal > 4.99, "{horizontal}");
     }

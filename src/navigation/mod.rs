@@ -1,14 +1,18 @@
-//! Setpoint generators: the take-off climb, the trajectory generators and the guidance of the
-//! commander's modes.
+//! Setpoint generators: the take-off climb, the trajectory generators, the guidance of the
+//! commander's modes, the motion limits they keep and the limiter offboard setpoints go through.
 
 mod climb;
 pub mod geo;
 mod guidance;
+mod limits;
 pub mod mission;
+mod setpoint_limiter;
 pub mod trajectory;
 
 pub use climb::ClimbProfile;
 pub use geo::Home;
-pub use guidance::{Guidance, SpeedLimits};
+pub use guidance::Guidance;
+pub use limits::MotionLimits;
 pub use mission::{Mission, MissionItem};
+pub use setpoint_limiter::SetpointLimiter;
 pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};

@@ -1,13 +1,14 @@
 //! The fixed parameter list: names, types, ranges, and how each maps to a setting.
 
-use crate::commander::{BatteryParams, CommanderParams, FailsafeParams};
+use crate::commander::{BatteryParams, CommanderParams, FailsafeParams, LandDetectorParams};
 use crate::control::{ControllerGains, ControllerKind};
 use crate::estimation::{ChebyshevDesign, MAX_ORDER};
+use crate::navigation::MotionLimits;
 
 use super::{vec3, ParamDef, ParamType, VehicleSettings};
 
 /// Every parameter name, in index order.
-pub const PARAM_NAMES: [&str; 71] = [
+pub const PARAM_NAMES: [&str; 80] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -20,7 +21,7 @@ pub const PARAM_NAMES: [&str; 71] = [
     "RP_EST_ORDER",
     "RP_EST_RIPPLE",
     "RP_EST_WP",
-    "RP_TILT_MAX",
+    "MPC_TILTMAX_AIR",
     "RP_DERIV_TAU",
     "RP_GEO_KP_X",
     "RP_GEO_KP_Y",
@@ -79,6 +80,15 @@ pub const PARAM_NAMES: [&str; 71] = [
     "BAT1_N_CELLS",
     "SYS_FAILURE_EN",
     "COM_OBL_RC_ACT",
+    "MPC_ACC_HOR",
+    "MPC_ACC_UP_MAX",
+    "MPC_ACC_DOWN_MAX",
+    "MPC_YAWRAUTO_MAX",
+    "MC_YAWRATE_MAX",
+    "LNDMC_Z_VEL_MAX",
+    "LNDMC_XY_VEL_MAX",
+    "LNDMC_ROT_MAX",
+    "LNDMC_TRIG_TIME",
 ];
 
 fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
@@ -86,7 +96,7 @@ fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
 }
 
 /// Definitions and values for `s`, in [`PARAM_NAMES`] order. Units: metres, m/s, seconds,
-/// degrees (RP_TILT_MAX), rad/s (RP_EST_WP), dB, and the gain units of `control::gains`.
+/// degrees (MPC_TILTMAX_AIR, MPC_YAWRAUTO_MAX, MC_YAWRATE_MAX, LNDMC_ROT_MAX), rad/s (RP_EST_WP), dB, and the gain units of `control::gains`.
 pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
     use ParamType::{Int32, Real32};
     let c = &s.commander;
@@ -94,7 +104,7 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
     let est = s.estimator;
     let mut out = vec![
         (def(PARAM_NAMES[0], Real32, 0.5, 1000.0), c.takeoff_alt_m),
-        (def(PARAM_NAMES[1], Real32, 0.5, 20.0), c.climb_speed_m_s),
+        (def(PARAM_NAMES[1], Real32, 0.5, 20.0), c.motion.up_m_s),
         (def(PARAM_NAMES[2], Real32, 0.1, 5.0), c.land_speed_m_s),
         (def(PARAM_NAMES[3], Real32, 0.5, 30.0), c.cruise_speed_m_s),
         (def(PARAM_NAMES[4], Real32, 1.0, 500.0), c.rtl_return_alt_m),
@@ -161,8 +171,8 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
         def(PARAM_NAMES[k + 6], Int32, 0.0, 1.0),
         f64::from(u8::from(s.ceiling_effect)),
     ));
-    out.push((def(PARAM_NAMES[k + 7], Real32, 0.5, 50.0), c.xy_vel_max_m_s));
-    out.push((def(PARAM_NAMES[k + 8], Real32, 0.1, 10.0), c.descent_speed_m_s));
+    out.push((def(PARAM_NAMES[k + 7], Real32, 0.5, 50.0), c.motion.horizontal_m_s));
+    out.push((def(PARAM_NAMES[k + 8], Real32, 0.1, 10.0), c.motion.down_m_s));
     let f = &c.failsafe;
     out.push((def(PARAM_NAMES[k + 9], Int32, 0.0, 5.0), f64::from(f.geofence_action)));
     out.push((def(PARAM_NAMES[k + 10], Real32, 0.0, 1e4), f.geofence_max_hor_m));
@@ -184,6 +194,26 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
         def(PARAM_NAMES[k + 19], Int32, 0.0, 7.0),
         f64::from(c.offboard_loss_action),
     ));
+    let m = &c.motion;
+    let l = &c.land_detector;
+    out.push((def(PARAM_NAMES[k + 20], Real32, 0.5, 15.0), m.acc_horizontal_m_s2));
+    out.push((def(PARAM_NAMES[k + 21], Real32, 1.0, 15.0), m.acc_up_m_s2));
+    out.push((def(PARAM_NAMES[k + 22], Real32, 1.0, 15.0), m.acc_down_m_s2));
+    out.push((
+        def(PARAM_NAMES[k + 23], Real32, 5.0, 360.0),
+        m.yaw_rate_auto_rad_s.to_degrees(),
+    ));
+    out.push((
+        def(PARAM_NAMES[k + 24], Real32, 5.0, 1800.0),
+        m.yaw_rate_max_rad_s.to_degrees(),
+    ));
+    out.push((def(PARAM_NAMES[k + 25], Real32, 0.05, 1.0), l.z_vel_max_m_s));
+    out.push((def(PARAM_NAMES[k + 26], Real32, 0.1, 5.0), l.xy_vel_max_m_s));
+    out.push((
+        def(PARAM_NAMES[k + 27], Real32, 5.0, 360.0),
+        l.rot_max_rad_s.to_degrees(),
+    ));
+    out.push((def(PARAM_NAMES[k + 28], Real32, 0.1, 10.0), l.trigger_time_s));
     out
 }
 
@@ -219,7 +249,6 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
     VehicleSettings {
         commander: CommanderParams {
             takeoff_alt_m: v[0],
-            climb_speed_m_s: v[1],
             land_speed_m_s: v[2],
             cruise_speed_m_s: v[3],
             rtl_return_alt_m: v[4],
@@ -228,8 +257,22 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
             offboard_loss_s: v[53],
             link_loss_action: v[54] as i32,
             link_loss_s: v[55],
-            xy_vel_max_m_s: v[58],
-            descent_speed_m_s: v[59],
+            motion: MotionLimits {
+                horizontal_m_s: v[58],
+                up_m_s: v[1],
+                down_m_s: v[59],
+                acc_horizontal_m_s2: v[71],
+                acc_up_m_s2: v[72],
+                acc_down_m_s2: v[73],
+                yaw_rate_auto_rad_s: v[74].to_radians(),
+                yaw_rate_max_rad_s: v[75].to_radians(),
+            },
+            land_detector: LandDetectorParams {
+                z_vel_max_m_s: v[76],
+                xy_vel_max_m_s: v[77],
+                rot_max_rad_s: v[78].to_radians(),
+                trigger_time_s: v[79],
+            },
             failsafe: FailsafeParams {
                 geofence_action: v[60] as i32,
                 geofence_max_hor_m: v[61],

@@ -24,6 +24,10 @@ pub const DEFAULT_ESTIMATOR: ChebyshevDesign = ChebyshevDesign {
     passband_rad_s: 2.0,
 };
 
+/// The autopilot's tilt limit [deg] (PX4's `MPC_TILTMAX_AIR` default; the homework
+/// scenarios keep the controllers' own 40°).
+pub const AUTOPILOT_TILT_MAX_DEG: f64 = 45.0;
+
 /// A vehicle that cannot be built.
 #[derive(Debug, thiserror::Error)]
 pub enum VehicleError {
@@ -54,6 +58,8 @@ pub struct Vehicle {
     rotor_max_rad_s: f64,
     believed_inertia_kg_m2: crate::math::Vec3,
     rotor_failures: RotorFailures,
+    /// Collective thrust of the last tick over the believed weight [-] (land detector input).
+    thrust_over_weight: f64,
 }
 
 /// What one tick produced for the links.
@@ -75,17 +81,16 @@ impl Vehicle {
         dt_s: f64,
     ) -> Result<Self, VehicleError> {
         let airframe = Airframe::from_source(src)?;
-        let core = FlightCore::for_airframe(&airframe, kind, dt_s)?;
+        let mut core = FlightCore::for_airframe(&airframe, kind, dt_s)?;
+        let mut gains = *core.controller.gains();
+        gains.limits.tilt_max_rad = AUTOPILOT_TILT_MAX_DEG.to_radians();
+        core.controller.set_gains(gains).map_err(CoreError::from)?;
         let plant = SimPlant::from_source(src, seed)?;
         for w in plant.warnings() {
             tracing::warn!("{w}");
         }
         let idle = vec![0.0; core.allocator().rotor_count()];
-        let params = ParamTable::new(&VehicleSettings::new(
-            kind,
-            *core.controller.gains(),
-            Some(DEFAULT_ESTIMATOR),
-        ));
+        let params = ParamTable::new(&VehicleSettings::new(kind, gains, Some(DEFAULT_ESTIMATOR)));
         let mut vehicle = Self {
             core,
             plant,
@@ -100,6 +105,7 @@ impl Vehicle {
             rotor_max_rad_s: airframe.omega_max_rad_s,
             believed_inertia_kg_m2: airframe.inertia_kg_m2,
             rotor_failures: RotorFailures::new(airframe.rotors.len()),
+            thrust_over_weight: 0.0,
         };
         vehicle.install_observer(Some(DEFAULT_ESTIMATOR));
         Ok(vehicle)
@@ -195,7 +201,7 @@ impl Vehicle {
             self.rotor_failures
                 .tick(t_s, &x, &mut self.plant, &mut self.core, &mut self.commander);
         failsafe_events.extend(self.commander.check_failsafes(&x, power_w, self.dt_s, t_s));
-        let mut tick = self.commander.update(&x, t_s);
+        let mut tick = self.commander.update(&x, self.thrust_over_weight, t_s);
         if !failsafe_events.is_empty() {
             tick.events.splice(0..0, failsafe_events);
         }
@@ -208,6 +214,9 @@ impl Vehicle {
             Some(out) => self.plant.step(out.allocation.omega().as_slice(), self.dt_s),
             None => self.plant.step(&self.idle, self.dt_s),
         };
+        self.thrust_over_weight = step.map_or(0.0, |s| {
+            s.allocation.applied.thrust_n / (self.believed_mass_kg * crate::math::GRAVITY_M_S2)
+        });
         let estimate = step.and_then(|s| s.estimate).map(|e| EstimateSnapshot {
             force_w: e.force_w,
             torque_b: e.torque_b,
@@ -245,6 +254,7 @@ impl Vehicle {
                 landed: self.commander.landed_state(),
                 home: self.home,
                 home_w: self.commander.home_w(),
+                geofence_breached: self.commander.geofence_breached(),
                 mission_seq: progress.0 as u16,
                 mission_total: progress.1 as u16,
                 mission_state: progress.2,

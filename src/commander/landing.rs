@@ -1,0 +1,235 @@
+//! What the land detector's verdict changes (PX4's land detector and auto-disarm):
+//! - on the ground, a setpoint that does not ask to climb idles the motors;
+//! - pushed against the ground (ground contact, maybe landed), the thrust is cut with a
+//!   touch-down reference below the vehicle, so "maybe landed" can follow;
+//! - a lift-off with nothing to fly (idle in a hold mode, lifted by a gust) holds position;
+//! - auto-disarm (`COM_DISARM_LAND` after a touch-down, `COM_DISARM_PRFLT` when never airborne
+//!   since arming) happens only while the detector says landed, so no path stops the motors in
+//!   the air except a termination.
+
+use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
+use crate::math::{euler_zyx, Vec3};
+use crate::navigation::Guidance;
+
+use super::land_detector::{LandInput, LandTransition};
+use super::{Commander, Event};
+
+/// A position setpoint this far below (above) the vehicle asks to descend (climb) [m].
+const SETPOINT_MARGIN_M: f64 = 0.05;
+/// A vertical speed setpoint beyond this asks to descend or climb [m/s].
+const SETPOINT_SPEED_M_S: f64 = 0.1;
+/// How far below the vehicle the touch-down reference sits [m] (the landing guidance's lead).
+const TOUCH_DOWN_LEAD_M: f64 = 0.5;
+/// An attitude target with thrust below this fraction of the weight asks to descend [-].
+const DESCENT_THRUST_OF_WEIGHT: f64 = 0.9;
+
+/// What the mode asks the motors to do this tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Command {
+    /// Fly a position / velocity / acceleration setpoint.
+    Flat(FlatSetpoint),
+    /// Fly an attitude or rate target with thrust.
+    Attitude(AttitudeTarget),
+    /// Motors off.
+    Idle,
+}
+
+/// The setpoint asks the vehicle in `x` to go down or to stay below where it is.
+pub(super) fn asks_descent(sp: &FlatSetpoint, x: &VehicleState) -> bool {
+    sp.vel_w.is_some_and(|v| v.z > SETPOINT_SPEED_M_S)
+        || sp.pos_w.is_some_and(|p| p.z > x.pos_w.z + SETPOINT_MARGIN_M)
+        || (sp.pos_w.is_none() && sp.vel_w.is_none() && sp.acc_w.is_some_and(|a| a.z > SETPOINT_SPEED_M_S))
+}
+
+/// The setpoint asks the vehicle in `x` to go up.
+pub(super) fn asks_climb(sp: &FlatSetpoint, x: &VehicleState) -> bool {
+    sp.vel_w.is_some_and(|v| v.z < -SETPOINT_SPEED_M_S)
+        || sp.pos_w.is_some_and(|p| p.z < x.pos_w.z - SETPOINT_MARGIN_M)
+        || (sp.pos_w.is_none() && sp.vel_w.is_none() && sp.acc_w.is_some_and(|a| a.z < -SETPOINT_SPEED_M_S))
+}
+
+impl Commander {
+    /// Runs the land detector on this tick's `command` and applies its verdict: the command to
+    /// fly, with touch-down, lift-off and auto-disarm events.
+    pub(super) fn detect_landing(
+        &mut self,
+        x: &VehicleState,
+        command: Command,
+        thrust_over_weight: f64,
+        t_s: f64,
+        events: &mut Vec<Event>,
+    ) -> Command {
+        let descent_commanded = match &command {
+            Command::Flat(sp) => asks_descent(sp, x),
+            Command::Attitude(_) => thrust_over_weight < DESCENT_THRUST_OF_WEIGHT,
+            Command::Idle => true,
+        };
+        let input = LandInput {
+            armed: self.armed,
+            descent_commanded,
+            thrust_over_weight,
+        };
+        match self.detector.update(&self.params.land_detector, &input, x, t_s) {
+            Some(LandTransition::Landed) if self.armed => {
+                self.climbing_out = false;
+                events.push(Event::Landed);
+            }
+            Some(LandTransition::Airborne) => {
+                self.took_off = true;
+                events.push(Event::Airborne);
+                if self.guidance == Guidance::Idle && !matches!(command, Command::Attitude(_)) {
+                    // Lifted with nothing to fly (idle in a hold mode): hold where it is.
+                    self.guidance = Guidance::Hold {
+                        pos_w: x.pos_w,
+                        yaw_rad: euler_zyx(&x.r_wb).z,
+                    };
+                    return Command::Flat(FlatSetpoint::hold(x.pos_w, euler_zyx(&x.r_wb).z));
+                }
+            }
+            _ => {}
+        }
+        if !self.armed {
+            return Command::Idle;
+        }
+        if self.detector.landed() {
+            if let Some(why) = self.auto_disarm_reason(t_s) {
+                self.disarm();
+                events.push(Event::Disarmed(why));
+                return Command::Idle;
+            }
+            return match command {
+                Command::Flat(sp) if asks_climb(&sp, x) => command,
+                Command::Attitude(_) => command,
+                _ => Command::Idle,
+            };
+        }
+        match command {
+            Command::Flat(sp) if self.detector.touching_down() => {
+                Command::Flat(touch_down(x, &sp, self.params.land_speed_m_s))
+            }
+            _ => command,
+        }
+    }
+
+    /// Why the vehicle, landed, disarms now: `COM_DISARM_LAND` after a touch-down,
+    /// `COM_DISARM_PRFLT` when it has not been in the air since arming.
+    fn auto_disarm_reason(&self, t_s: f64) -> Option<&'static str> {
+        let p = &self.params;
+        if self.took_off {
+            let landed_for = self.detector.landed_at_s().map(|at| t_s - at);
+            (p.disarm_land_s > 0.0 && landed_for.is_some_and(|d| d >= p.disarm_land_s)).then_some("landed")
+        } else {
+            (p.disarm_preflight_s > 0.0 && t_s - self.armed_at_s >= p.disarm_preflight_s).then_some("no takeoff")
+        }
+    }
+}
+
+/// The reference that cuts the thrust of a vehicle in `x` pushed against the ground: below it,
+/// descending at `speed_m_s` [m/s] (`MPC_LAND_SPEED`), level at the setpoint's heading.
+fn touch_down(x: &VehicleState, sp: &FlatSetpoint, speed_m_s: f64) -> FlatSetpoint {
+    let below = x.pos_w + Vec3::new(0.0, 0.0, TOUCH_DOWN_LEAD_M);
+    FlatSetpoint {
+        vel_w: Some(Vec3::new(0.0, 0.0, speed_m_s)),
+        yaw_rate_rad_s: Some(0.0),
+        ..FlatSetpoint::hold(below, sp.yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Mat3;
+
+    fn at(z: f64) -> VehicleState {
+        VehicleState {
+            t_s: 0.0,
+            pos_w: Vec3::new(0.0, 0.0, z),
+            vel_w: Vec3::zeros(),
+            r_wb: Mat3::identity(),
+            omega_b: Vec3::zeros(),
+        }
+    }
+
+    #[test]
+    fn setpoints_ask_descent_or_climb_by_position_velocity_or_acceleration() {
+        let x = at(-0.1);
+        let ground = FlatSetpoint::hold(Vec3::zeros(), 0.0);
+        assert!(asks_descent(&ground, &x) && !asks_climb(&ground, &x));
+        let up = FlatSetpoint::hold(Vec3::new(0.0, 0.0, -5.0), 0.0);
+        assert!(asks_climb(&up, &x) && !asks_descent(&up, &x));
+        let here = FlatSetpoint::hold(x.pos_w, 0.0);
+        assert!(!asks_climb(&here, &x) && !asks_descent(&here, &x));
+        let sink = FlatSetpoint {
+            vel_w: Some(Vec3::new(0.0, 0.0, 1.0)),
+            ..Default::default()
+        };
+        assert!(asks_descent(&sink, &x));
+        let push_up = FlatSetpoint {
+            acc_w: Some(Vec3::new(0.0, 0.0, -2.0)),
+            ..Default::default()
+        };
+        assert!(asks_climb(&push_up, &x));
+    }
+
+    fn ticks(c: &mut Commander, x: &VehicleState, thrust: f64, from_s: f64, seconds: f64) -> Vec<Event> {
+        let mut events = Vec::new();
+        for k in 0..(seconds * 1000.0) as usize {
+            events.extend(c.update(x, thrust, from_s + k as f64 * 1e-3).events);
+        }
+        events
+    }
+
+    #[test]
+    fn idle_on_the_ground_disarms_after_com_disarm_prflt() {
+        let mut c = Commander::new(super::super::CommanderParams::default());
+        let ground = at(-0.1);
+        assert_eq!(
+            c.request(super::super::Request::Arm { force: false }, &ground, 0.0),
+            super::super::Outcome::Accepted
+        );
+        assert_eq!(c.update(&ground, 0.0, 0.0).setpoint, None);
+        let events = ticks(&mut c, &ground, 0.0, 0.001, 10.5);
+        assert_eq!(events, vec![Event::Disarmed("no takeoff")]);
+    }
+
+    #[test]
+    fn a_gust_that_lifts_an_idle_vehicle_makes_it_hold_and_it_never_disarms_in_the_air() {
+        use super::super::{FlightMode, LandedState, Request};
+        let mut c = Commander::new(super::super::CommanderParams::default());
+        let ground = at(-0.1);
+        c.request(Request::Arm { force: false }, &ground, 0.0);
+        ticks(&mut c, &ground, 0.0, 0.0, 5.0);
+        assert_eq!(c.landed_state(), LandedState::OnGround);
+        let lifted = at(-1.0);
+        let tick = c.update(&lifted, 0.0, 5.0);
+        assert_eq!(tick.events, vec![Event::Airborne]);
+        assert_eq!(tick.setpoint.and_then(|sp| sp.pos_w), Some(lifted.pos_w));
+        assert_eq!(c.landed_state(), LandedState::InAir);
+        // Hovering there long past COM_DISARM_PRFLT in every hold mode: still armed, in the air.
+        for (k, mode) in [FlightMode::Position, FlightMode::Loiter, FlightMode::Ready]
+            .into_iter()
+            .enumerate()
+        {
+            c.request(Request::SetMode(mode), &lifted, 5.0 + k as f64 * 10.0);
+            let events = ticks(&mut c, &lifted, 1.0, 5.001 + k as f64 * 10.0, 10.0);
+            assert!(events.is_empty(), "{mode:?}: {events:?}");
+            assert!(c.armed() && c.landed_state() == LandedState::InAir, "{mode:?}");
+        }
+        // A disarm request in the air is refused; AUTO.LAND reports landing.
+        assert!(matches!(
+            c.request(Request::Disarm { force: false }, &lifted, 40.0),
+            super::super::Outcome::TemporarilyRejected(_)
+        ));
+        c.request(Request::Land, &lifted, 40.0);
+        assert_eq!(c.landed_state(), LandedState::Landing);
+    }
+
+    #[test]
+    fn touch_down_reference_is_below_and_descending() {
+        let x = at(-0.1);
+        let sp = touch_down(&x, &FlatSetpoint::hold(Vec3::new(3.0, 0.0, 0.0), 1.0), 0.7);
+        assert_eq!(sp.pos_w, Some(Vec3::new(0.0, 0.0, 0.4)));
+        assert_eq!(sp.yaw_rad, Some(1.0));
+        assert!(asks_descent(&sp, &x));
+    }
+}

@@ -1,0 +1,248 @@
+//! Offboard setpoints made flyable: a reference point that follows the raw setpoint within the
+//! [`MotionLimits`], so a 50 m position step, a velocity step or a half-turn of heading arrive
+//! at limited speed, acceleration and heading rate, and the controllers track a feasible motion.
+//!
+//! Each tick, with reference position p, velocity v and heading ψ:
+//! ```text
+//! position set:   v_d = v_stop(p_sp − p) + (v_ff − ê (ê · v_ff))   (feed-forward across only)
+//!                 v_stop(e) = ê · (K_p |e| near p_sp, else √(2 a_max (|e| − a_max/2K_p²)))
+//! velocity only:  v_d = v_sp
+//! v_d clamped to MPC_XY_VEL_MAX, MPC_Z_VEL_MAX_UP / _DN;  v ← v + clamp(v_d − v, a_max dt)
+//! p ← p + dt (v_old + v)/2;   acceleration feed-forward (v − v_old)/dt
+//! heading set:    ψ ← ψ + clamp(wrap(ψ_sp − ψ), MPC_YAWRAUTO_MAX dt)   (the short way)
+//! rate only:      ψ ← wrap(ψ + clamp(ψ̇_sp, MC_YAWRATE_MAX) dt)
+//! ```
+//! An acceleration-only setpoint passes unchanged (the controllers' tilt limit bounds it).
+//! Along the line to a commanded position the speed is the one from which the reference can
+//! still stop there, so a velocity feed-forward cannot carry the vehicle past the point (PX4
+//! adds it and settles |v_ff|/K_p beyond; this emulator stops on the point).
+
+use crate::control::{FlatSetpoint, VehicleState};
+use crate::math::{euler_zyx, wrap_pi, Vec3};
+
+use super::MotionLimits;
+
+/// Gain from position error to the velocity demand [1/s] (PX4 `MPC_XY_P` 0.95, `MPC_Z_P` 1).
+const POSITION_GAIN_PER_S: f64 = 1.0;
+
+/// The reference an offboard setpoint stream is flown through.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SetpointLimiter {
+    pos_w: Vec3,
+    vel_w: Vec3,
+    yaw_rad: f64,
+}
+
+impl SetpointLimiter {
+    /// A reference at the vehicle's position, velocity and heading.
+    pub fn at(x: &VehicleState) -> Self {
+        Self {
+            pos_w: x.pos_w,
+            vel_w: x.vel_w,
+            yaw_rad: euler_zyx(&x.r_wb).z,
+        }
+    }
+
+    /// The setpoint to fly this tick for the raw (world-frame) setpoint `raw`, stepping the
+    /// reference by `dt_s` [s] within `lim`.
+    pub fn step(&mut self, raw: &FlatSetpoint, x: &VehicleState, lim: &MotionLimits, dt_s: f64) -> FlatSetpoint {
+        let (yaw_rad, yaw_rate) = self.step_heading(raw, lim, dt_s);
+        let demand = match (raw.pos_w, raw.vel_w) {
+            (Some(p), ff) => Some(toward(p - self.pos_w, ff.unwrap_or_default(), lim)),
+            (None, Some(v)) => Some(v),
+            (None, None) => None,
+        };
+        let heading = FlatSetpoint {
+            yaw_rad: Some(yaw_rad),
+            yaw_rate_rad_s: Some(yaw_rate),
+            yaw_acc_rad_s2: None,
+            ..FlatSetpoint::default()
+        };
+        let Some(demand) = demand else {
+            // Acceleration only: follow the vehicle so a later position starts where it is.
+            self.pos_w = x.pos_w;
+            self.vel_w = x.vel_w;
+            return FlatSetpoint {
+                acc_w: raw.acc_w,
+                ..heading
+            };
+        };
+        let dv = limit_change(lim.clamp_velocity(demand) - self.vel_w, lim, dt_s);
+        let old = self.vel_w;
+        self.vel_w += dv;
+        let acc = dv / dt_s + raw.acc_w.unwrap_or_default();
+        if raw.pos_w.is_some() {
+            self.pos_w += 0.5 * dt_s * (old + self.vel_w);
+        } else {
+            self.pos_w = x.pos_w;
+        }
+        FlatSetpoint {
+            pos_w: raw.pos_w.map(|_| self.pos_w),
+            vel_w: Some(self.vel_w),
+            acc_w: Some(acc),
+            ..heading
+        }
+    }
+
+    /// Heading and heading rate of this tick.
+    fn step_heading(&mut self, raw: &FlatSetpoint, lim: &MotionLimits, dt_s: f64) -> (f64, f64) {
+        let rate = match (raw.yaw_rad, raw.yaw_rate_rad_s) {
+            (Some(target), _) => {
+                let max = lim.yaw_rate_auto_rad_s * dt_s;
+                wrap_pi(target - self.yaw_rad).clamp(-max, max) / dt_s
+            }
+            (None, Some(r)) => r.clamp(-lim.yaw_rate_max_rad_s, lim.yaw_rate_max_rad_s),
+            (None, None) => 0.0,
+        };
+        self.yaw_rad = wrap_pi(self.yaw_rad + rate * dt_s);
+        (self.yaw_rad, rate)
+    }
+}
+
+/// Velocity demand towards a point `e_w` [m] away with feed-forward `ff_w` [m/s]: along the
+/// line to the point the stopping profile alone (so the feed-forward cannot carry the reference
+/// past it), across the line the feed-forward.
+fn toward(e_w: Vec3, ff_w: Vec3, lim: &MotionLimits) -> Vec3 {
+    let e_xy = e_w.xy();
+    let d_xy = e_xy.norm();
+    let v_xy = if d_xy > 1e-9 {
+        let dir = e_xy / d_xy;
+        let ff = ff_w.xy();
+        dir * stopping_speed(d_xy, lim.acc_horizontal_m_s2) + (ff - dir * ff.dot(&dir))
+    } else {
+        nalgebra::Vector2::zeros()
+    };
+    // Climbing towards a point above stops with the downward acceleration, and back.
+    let v_z = if e_w.z < 0.0 {
+        -stopping_speed(-e_w.z, lim.acc_down_m_s2)
+    } else {
+        stopping_speed(e_w.z, lim.acc_up_m_s2)
+    };
+    Vec3::new(v_xy.x, v_xy.y, v_z)
+}
+
+/// Speed [m/s] from which deceleration `a` [m/s²] stops on a point `e` [m] ahead, and that
+/// decays as K_p e close to it (the square-root controller: linear below e₀ = a/K_p², where both
+/// branches meet at a/K_p with the same slope, so the deceleration asked never exceeds `a`).
+fn stopping_speed(e: f64, a: f64) -> f64 {
+    let k = POSITION_GAIN_PER_S;
+    let e0 = a / (k * k);
+    if e <= e0 {
+        k * e
+    } else {
+        (2.0 * a * (e - 0.5 * e0)).sqrt()
+    }
+}
+
+/// A velocity change `dv` [m/s] limited to one tick of the acceleration limits.
+fn limit_change(dv: Vec3, lim: &MotionLimits, dt_s: f64) -> Vec3 {
+    let max_xy = lim.acc_horizontal_m_s2 * dt_s;
+    let xy = dv.xy().norm();
+    let s = if xy > max_xy { max_xy / xy } else { 1.0 };
+    let z = dv.z.clamp(-lim.acc_up_m_s2 * dt_s, lim.acc_down_m_s2 * dt_s);
+    Vec3::new(dv.x * s, dv.y * s, z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Mat3;
+
+    const DT: f64 = 0.001;
+
+    fn still(p: Vec3) -> VehicleState {
+        VehicleState {
+            t_s: 0.0,
+            pos_w: p,
+            vel_w: Vec3::zeros(),
+            r_wb: Mat3::identity(),
+            omega_b: Vec3::zeros(),
+        }
+    }
+
+    /// Runs the reference alone (a vehicle that tracks it perfectly) for `seconds`; the
+    /// reference setpoints.
+    fn fly(l: &mut SetpointLimiter, raw: FlatSetpoint, seconds: f64) -> Vec<FlatSetpoint> {
+        let lim = MotionLimits::default();
+        (0..(seconds / DT) as usize)
+            .map(|_| {
+                let x = still(l.pos_w);
+                l.step(&raw, &x, &lim, DT)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_fifty_metre_step_keeps_speed_and_acceleration_and_does_not_overshoot() {
+        let mut l = SetpointLimiter::at(&still(Vec3::new(0.0, 0.0, -10.0)));
+        let raw = FlatSetpoint {
+            pos_w: Some(Vec3::new(50.0, 0.0, -10.0)),
+            vel_w: Some(Vec3::new(1.0, 0.0, 0.0)),
+            yaw_rad: Some(0.0),
+            ..Default::default()
+        };
+        let sps = fly(&mut l, raw, 40.0);
+        let lim = MotionLimits::default();
+        let peak_v = sps.iter().map(|s| s.vel_w.unwrap().norm()).fold(0.0, f64::max);
+        let peak_a = sps.iter().map(|s| s.acc_w.unwrap().norm()).fold(0.0, f64::max);
+        let max_x = sps.iter().map(|s| s.pos_w.unwrap().x).fold(f64::MIN, f64::max);
+        assert!(peak_v <= lim.horizontal_m_s + 1e-9 && peak_v > 5.0, "{peak_v}");
+        assert!(peak_a <= lim.acc_horizontal_m_s2 + 1e-6, "{peak_a}");
+        assert!(max_x <= 50.0 + 1e-6, "overshoot to {max_x}");
+        let end = sps.last().unwrap();
+        assert!((end.pos_w.unwrap().x - 50.0).abs() < 0.01 && end.vel_w.unwrap().norm() < 0.01);
+    }
+
+    #[test]
+    fn a_climb_keeps_the_climb_speed_and_a_descent_its_own() {
+        let mut l = SetpointLimiter::at(&still(Vec3::new(0.0, 0.0, -0.1)));
+        let up = FlatSetpoint {
+            pos_w: Some(Vec3::new(0.0, 0.0, -30.0)),
+            ..Default::default()
+        };
+        let peak_up = fly(&mut l, up, 20.0)
+            .iter()
+            .map(|s| -s.vel_w.unwrap().z)
+            .fold(0.0, f64::max);
+        assert!((peak_up - 3.0).abs() < 1e-9, "{peak_up}");
+        let down = FlatSetpoint {
+            vel_w: Some(Vec3::new(0.0, 0.0, 9.0)),
+            ..Default::default()
+        };
+        let sps = fly(&mut l, down, 5.0);
+        assert_eq!(sps.last().unwrap().vel_w, Some(Vec3::new(0.0, 0.0, 1.5)));
+        assert_eq!(sps.last().unwrap().pos_w, None);
+    }
+
+    #[test]
+    fn heading_turns_the_short_way_at_the_auto_rate() {
+        let mut x = still(Vec3::zeros());
+        x.r_wb = crate::math::UnitQuat::from_euler_angles(0.0, 0.0, 170f64.to_radians())
+            .to_rotation_matrix()
+            .into_inner();
+        let mut l = SetpointLimiter::at(&x);
+        // To −170°: 20° through ±180°, not 340° back.
+        let raw = FlatSetpoint {
+            vel_w: Some(Vec3::new(0.0, 0.0, 0.0)),
+            yaw_rad: Some(-170f64.to_radians()),
+            ..Default::default()
+        };
+        let sps = fly(&mut l, raw, 1.0);
+        let rates: Vec<f64> = sps.iter().map(|s| s.yaw_rate_rad_s.unwrap()).collect();
+        assert!(rates.iter().all(|r| *r >= 0.0 && *r <= 45f64.to_radians() + 1e-9));
+        assert!((sps.last().unwrap().yaw_rad.unwrap() + 170f64.to_radians()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_yaw_rate_alone_turns_the_heading() {
+        let mut l = SetpointLimiter::at(&still(Vec3::zeros()));
+        let raw = FlatSetpoint {
+            vel_w: Some(Vec3::zeros()),
+            yaw_rate_rad_s: Some(60f64.to_radians()),
+            ..Default::default()
+        };
+        let sps = fly(&mut l, raw, 1.0);
+        assert!((sps.last().unwrap().yaw_rad.unwrap() - 60f64.to_radians()).abs() < 1e-3);
+        assert!(sps.iter().all(|s| s.yaw_rate_rad_s == Some(60f64.to_radians())));
+    }
+}
