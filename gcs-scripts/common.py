@@ -3,7 +3,8 @@
 Every wait has a timeout and raises `LinkTimeout` when it expires; every command is followed by a
 check of its COMMAND_ACK (`CommandError` names the command and the MAV_RESULT); parameters are
 set byte-wise (INT32 bits in the float field) and the echoed PARAM_VALUE is checked (`ParamError`
-when the autopilot kept another value, with its STATUSTEXT reason). Every message goes through
+when the autopilot kept another value, with its STATUSTEXT reason). Every request that waits for
+an answer is sent again every `RESEND_S` until it comes or the timeout expires. Every message goes through
 `recv()`, which also sends the GCS heartbeat once a second, streams the offboard setpoint when one
 is set (`set_setpoint`) and prints each STATUSTEXT as ``autopilot: TEXT`` so refusals explain
 themselves. `script_main()` turns these errors into ``error: ...`` on stderr and exit status 1
@@ -48,6 +49,10 @@ ON_GROUND, IN_AIR, TAKEOFF, LANDING = 1, 2, 3, 4
 POSITION_MASK = 2552
 SETPOINT_RATE_HZ = 20.0
 HEARTBEAT_PERIOD_S = 1.0
+# A request whose answer has not come within this long is sent again (same content): UDP loses
+# datagrams, and every request here is safe to repeat (PARAM_SET is idempotent, a repeated
+# command is answered from the autopilot's cache, a repeated information request again).
+RESEND_S = 1.0
 
 
 class GcsError(Exception):
@@ -358,13 +363,22 @@ def wait_landed_state(conn, state, timeout=None):
 
 
 def request_message(conn, msg_id, kind, timeout=None):
-    """REQUEST_MESSAGE for `msg_id`; returns the `kind` message that answers it."""
-    start = time.monotonic()
-    command(conn, mavlink.MAV_CMD_REQUEST_MESSAGE, msg_id, timeout=timeout)
-    got = _state(conn).latest.get(kind)
-    if got is not None and got[0] >= start:
-        return got[1]
-    return wait(conn, kind, timeout=timeout)
+    """REQUEST_MESSAGE for `msg_id`; returns the `kind` message that answers it. Asks again every
+    `RESEND_S` while the ACK came but the message did not (it was lost)."""
+    timeout = _state(conn).timeout if timeout is None else timeout
+    deadline = time.monotonic() + timeout
+    while True:
+        start = time.monotonic()
+        command(conn, mavlink.MAV_CMD_REQUEST_MESSAGE, msg_id, timeout=max(deadline - start, 0.0))
+        got = _state(conn).latest.get(kind)
+        if got is not None and got[0] >= start:
+            return got[1]
+        remaining = deadline - time.monotonic()
+        try:
+            return wait(conn, kind, timeout=min(max(remaining, 0.0), RESEND_S))
+        except LinkTimeout:
+            if time.monotonic() >= deadline:
+                raise LinkTimeout(f"timed out after {timeout:g} s waiting for {kind}") from None
 
 
 def home_position(conn, timeout=None):
@@ -409,11 +423,16 @@ def _decode_param(m):
     return float_bits_to_int(m.param_value)
 
 
-def _param_reply(conn, name, start, timeout):
-    """The PARAM_VALUE for `name`; a STATUSTEXT naming it without one means it is unknown."""
+def _param_reply(conn, name, start, timeout, send):
+    """Calls `send()` (again every `RESEND_S` until answered) and returns the PARAM_VALUE for
+    `name`; a STATUSTEXT naming it without one means it is unknown."""
     deadline = time.monotonic() + timeout
+    resend = time.monotonic()
     while (remaining := deadline - time.monotonic()) > 0:
-        m = recv(conn, min(remaining, 1.0))
+        if time.monotonic() >= resend:
+            send()
+            resend = time.monotonic() + RESEND_S
+        m = recv(conn, max(0.0, min(remaining, resend - time.monotonic())))
         if m is None:
             continue
         if m.get_type() == "PARAM_VALUE" and m.param_id == name:
@@ -432,8 +451,11 @@ def param_get(conn, name, timeout=None):
     """The value of parameter `name` (int for integer types)."""
     timeout = _state(conn).timeout if timeout is None else timeout
     start = time.monotonic()
-    conn.mav.param_request_read_send(conn.target_system, conn.target_component, name.encode(), -1)
-    return _decode_param(_param_reply(conn, name, start, timeout))
+
+    def send():
+        conn.mav.param_request_read_send(conn.target_system, conn.target_component, name.encode(), -1)
+
+    return _decode_param(_param_reply(conn, name, start, timeout, send))
 
 
 def param_set(conn, name, value, int32=False, timeout=None):
@@ -448,8 +470,11 @@ def param_set(conn, name, value, int32=False, timeout=None):
         wanted = raw = as_float32(float(value))
         ptype = mavlink.MAV_PARAM_TYPE_REAL32
     start = time.monotonic()
-    conn.mav.param_set_send(conn.target_system, conn.target_component, name.encode(), raw, ptype)
-    echo = _param_reply(conn, name, start, timeout)
+
+    def send():
+        conn.mav.param_set_send(conn.target_system, conn.target_component, name.encode(), raw, ptype)
+
+    echo = _param_reply(conn, name, start, timeout, send)
     got = _decode_param(echo)
     if got != wanted:
         reason = recent_text(conn, start, name)

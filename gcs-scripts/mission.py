@@ -21,6 +21,7 @@ script switches to AUTO.MISSION, arms, prints each MISSION_ITEM_REACHED and wait
 has landed and disarmed (or the mission is COMPLETE), then prints the final position. A bad plan
 exits with status 2 naming the file and field; refusals and timeouts exit with 1.
 """
+import functools
 import json
 import math
 import pathlib
@@ -121,12 +122,36 @@ def mission_items(plan, home_lat, home_lon):
 
 
 def upload(conn, items, timeout):
-    """MISSION_COUNT, then one MISSION_ITEM_INT per request; MissionError unless ACCEPTED."""
-    conn.mav.mission_count_send(conn.target_system, conn.target_component, len(items), 0)
+    """MISSION_COUNT, then one MISSION_ITEM_INT per request; MissionError unless ACCEPTED. While
+    the autopilot is silent, the last message sent (the count, then the last item) goes again
+    every `common.RESEND_S`: the autopilot re-requests a lost item itself, but not a lost count
+    or a lost last item."""
+    def send_count():
+        conn.mav.mission_count_send(conn.target_system, conn.target_component, len(items), 0)
+
+    def send_item(seq):
+        command, x, y, z, p1, p2, p3, _ = items[seq]
+        conn.mav.mission_item_int_send(conn.target_system, conn.target_component, seq,
+                                       mavlink.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, command, 0, 1,
+                                       p1, p2, p3, common.NAN, x, y, z, 0)
+
+    last_sent = send_count
+    send_count()
     start = time.monotonic()
+    wanted = ["MISSION_REQUEST_INT", "MISSION_REQUEST", "MISSION_ACK"]
     while True:
-        m = common.wait(conn, ["MISSION_REQUEST_INT", "MISSION_REQUEST", "MISSION_ACK"], timeout=timeout,
-                        what="MISSION_REQUEST_INT or MISSION_ACK")
+        deadline = time.monotonic() + timeout
+        while True:
+            remaining = deadline - time.monotonic()
+            try:
+                m = common.wait(conn, wanted, timeout=min(max(remaining, 0.0), common.RESEND_S),
+                                what="MISSION_REQUEST_INT or MISSION_ACK")
+                break
+            except common.LinkTimeout:
+                if time.monotonic() >= deadline:
+                    raise common.LinkTimeout(f"timed out after {timeout:g} s waiting for MISSION_REQUEST_INT "
+                                             "or MISSION_ACK") from None
+                last_sent()
         if m.get_type() == "MISSION_ACK":
             if m.type != mavlink.MAV_MISSION_ACCEPTED:
                 reason = common.recent_text(conn, start)
@@ -135,10 +160,8 @@ def upload(conn, items, timeout):
             return
         if m.seq >= len(items):
             raise common.MissionError(f"the autopilot asked for item {m.seq} of {len(items)}")
-        command, x, y, z, p1, p2, p3, _ = items[m.seq]
-        conn.mav.mission_item_int_send(conn.target_system, conn.target_component, m.seq,
-                                       mavlink.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, command, 0, 1,
-                                       p1, p2, p3, common.NAN, x, y, z, 0)
+        last_sent = functools.partial(send_item, m.seq)
+        last_sent()
 
 
 def fly(conn, items, home, timeout, stall_s=60.0):

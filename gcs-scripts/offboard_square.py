@@ -20,6 +20,9 @@ import time
 import common
 from common import mavlink
 
+# REQUEST_MESSAGE sends at a corner, each answered within 0.3 s or sent again.
+CORNER_REQUESTS = 3
+
 
 def main(argv=None):
     p = common.parser(__doc__.split("\n\n")[0])
@@ -53,10 +56,13 @@ def main(argv=None):
         common.set_setpoint(conn, x, y, z0, yaw)
         common.sleep(conn, args.leg_time - 0.3)
         sent = time.monotonic()
-        conn.mav.command_long_send(conn.target_system, conn.target_component, mavlink.MAV_CMD_REQUEST_MESSAGE, 0,
-                                   mavlink.MAVLINK_MSG_ID_LOCAL_POSITION_NED, *([common.NAN] * 6))
         fresh = []
-        common.sleep(conn, 0.3, lambda m: fresh.append(m) if m.get_type() == "LOCAL_POSITION_NED" else None)
+        for _ in range(CORNER_REQUESTS):  # the same request again if the answer was lost
+            conn.mav.command_long_send(conn.target_system, conn.target_component, mavlink.MAV_CMD_REQUEST_MESSAGE,
+                                       0, mavlink.MAVLINK_MSG_ID_LOCAL_POSITION_NED, *([common.NAN] * 6))
+            common.sleep(conn, 0.3, lambda m: fresh.append(m) if m.get_type() == "LOCAL_POSITION_NED" else None)
+            if fresh:
+                break
         if not fresh:
             latest = common._state(conn).latest.get("LOCAL_POSITION_NED")
             if latest is None or latest[0] < sent - 1.5:

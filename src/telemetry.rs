@@ -96,4 +96,7 @@ pub struct Snapshot {
     pub rotor_max_rad_s: f64,
     /// Battery.
     pub battery: BatterySnapshot,
+    /// Outside the geofence (`GF_MAX_HOR_DIST` / `GF_MAX_VER_DIST`) as the geofence failsafe
+    /// judged at the last check.
+    pub geofence_breached: bool,
 }

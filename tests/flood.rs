@@ -78,16 +78,11 @@ impl Autopilot {
 
     /// [`Self::command`] and how many sends it took.
     fn command_tries(&mut self, command: MavCmd, p1: f32, p2: f32) -> (Option<MavResult>, usize) {
-        for tries in 1..=SENDS {
-            let params = [p1, p2, f32::NAN, f32::NAN, f32::NAN, f32::NAN, f32::NAN];
-            let ack = self
-                .gcs
-                .command(self.link, 1, command, params, Duration::from_millis(500));
-            if let Some((result, _)) = ack {
-                return (Some(result), tries);
-            }
-        }
-        (None, SENDS)
+        let params = [p1, p2, f32::NAN, f32::NAN, f32::NAN, f32::NAN, f32::NAN];
+        let (ack, tries) =
+            self.gcs
+                .command_tries(self.link, (1, 1), command, params, Duration::from_millis(500), SENDS);
+        (ack.map(|(result, _)| result), tries)
     }
 
     /// Resident memory of the process [KiB].

@@ -350,7 +350,7 @@ fn param_file_seeds() -> Vec<(&'static str, Vec<u8>)> {
                1\t1\tRP_EST_ORDER\t3\t6\n\
                1\t1\tRP_EST_WP\t1.500000000000000000\t9\n";
     let plain =
-        "# plain NAME VALUE lines\nRP_COMP 1   # compensate\nRP_GEO_KP_X 6.5\nCOM_OF_LOSS_T 0.5\nRP_TILT_MAX 35\n";
+        "# plain NAME VALUE lines\nRP_COMP 1   # compensate\nRP_GEO_KP_X 6.5\nCOM_OF_LOSS_T 0.5\nMPC_TILTMAX_AIR 35\n";
     vec![("qgc", qgc.into()), ("plain", plain.into())]
 }
 

@@ -262,8 +262,10 @@ impl Link {
                     MissionStep::Count(m) => self.transfer.on_count(peer, ids, &m, now_s),
                     MissionStep::Item(m) => self.transfer.on_item(peer, &m, now_s),
                     MissionStep::Clear => self.transfer.on_clear(peer, ids),
-                    MissionStep::RequestList => (vec![(peer, download_count(ids, &self.store))], None),
-                    MissionStep::RequestItem(seq) => (vec![(peer, download_item(ids, seq, &self.store))], None),
+                    MissionStep::RequestList(t) => (vec![(peer, download_count(ids, t, &self.store))], None),
+                    MissionStep::RequestItem { seq, mission_type } => {
+                        (vec![(peer, download_item(ids, mission_type, seq, &self.store))], None)
+                    }
                 };
                 for (_, msg) in out {
                     self.send(&msg);
@@ -331,7 +333,8 @@ impl Link {
     fn step(&mut self, dt_s: f64) {
         self.t_s += dt_s;
         self.x.t_s = self.t_s;
-        let tick = self.commander.update(&self.x, self.t_s);
+        let thrust_over_weight = if self.commander.armed() { 1.0 } else { 0.0 };
+        let tick = self.commander.update(&self.x, thrust_over_weight, self.t_s);
         assert!(self.commander.home_w().iter().all(|v| v.is_finite()), "home not finite");
         if let Some(att) = &tick.attitude {
             assert!(att.is_finite(), "attitude target not finite: {att:?}");
@@ -377,6 +380,7 @@ impl Link {
             rotor_count: 4,
             rotor_max_rad_s: 1100.0,
             battery: rotorpilot::telemetry::BatterySnapshot::full(3),
+            geofence_breached: false,
         }
     }
 }

@@ -1,5 +1,10 @@
 //! A minimal MAVLink ground station for the benchmarks: one UDP socket that sends commands with
 //! the crate's codec and drains telemetry on a thread of its own (runtime layer).
+//!
+//! Commands are retransmitted as MAVSDK does ([`COMMAND_ATTEMPTS`] sends, each waited for in
+//! turn), because an ACK can be lost: with a hundred vehicles streaming telemetry to this one
+//! socket the kernel drops datagrams once its receive buffer is full. The socket asks for a
+//! large buffer, and waiting decodes and throws away unrelated telemetry as fast as it comes.
 
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -10,6 +15,13 @@ use std::time::{Duration, Instant};
 use crate::mav::codec::{decode_datagram, encode_v2, Inbound};
 use crate::mav::{MavCmd, MavHeader, MavMessage, MavResult, COMMAND_LONG_DATA, HEARTBEAT_DATA};
 
+/// Sends of one command before [`BenchClient::command`] gives up: the first and two
+/// retransmissions, with the same content (MAVSDK's default).
+pub const COMMAND_ATTEMPTS: usize = 3;
+
+/// Receive buffer asked for [bytes]; the kernel caps it at `net.core.rmem_max`.
+const RECV_BUFFER_BYTES: usize = 4 << 20;
+
 /// A GCS socket on an ephemeral loopback port.
 pub struct BenchClient {
     socket: UdpSocket,
@@ -17,9 +29,14 @@ pub struct BenchClient {
 }
 
 impl BenchClient {
-    /// Binds 127.0.0.1:0.
+    /// Binds 127.0.0.1:0 with a large receive buffer (best effort).
     pub fn bind() -> std::io::Result<Self> {
-        let socket = UdpSocket::bind("127.0.0.1:0")?;
+        let addr = SocketAddr::from(([127, 0, 0, 1], 0));
+        let socket = socket2::Socket::new(socket2::Domain::IPV4, socket2::Type::DGRAM, None)?;
+        // Best effort: the kernel caps it at net.core.rmem_max.
+        let _ = socket.set_recv_buffer_size(RECV_BUFFER_BYTES);
+        socket.bind(&addr.into())?;
+        let socket: UdpSocket = socket.into();
         socket.set_read_timeout(Some(Duration::from_millis(50)))?;
         Ok(Self { socket, sequence: 0 })
     }
@@ -80,8 +97,9 @@ impl BenchClient {
         self.send(&MavMessage::HEARTBEAT(HEARTBEAT_DATA::default()), to);
     }
 
-    /// COMMAND_LONG `command` with `params` to system `sysid` at `to`; the ACK's result and the
-    /// round-trip time, or `None` after `timeout`.
+    /// COMMAND_LONG `command` with `params` to system `sysid` (component 1) at `to`, sent up to
+    /// [`COMMAND_ATTEMPTS`] times, each send waited for `timeout`; the ACK's result and the time
+    /// from the first send, or `None` when no send was answered.
     pub fn command(
         &mut self,
         to: SocketAddr,
@@ -90,30 +108,55 @@ impl BenchClient {
         params: [f32; 7],
         timeout: Duration,
     ) -> Option<(MavResult, Duration)> {
+        self.command_tries(to, (sysid, 1), command, params, timeout, COMMAND_ATTEMPTS)
+            .0
+    }
+
+    /// COMMAND_LONG `command` with `params` to `target` (system, component) at `to`, sent up to
+    /// `attempts` times with the same content until an ACK for it arrives, each send waited for
+    /// `timeout`. Returns the ACK's result and the time from the first send (or `None`), and how
+    /// many sends it took. An ACK counts when it names `command` and comes from the target system
+    /// (any system for a broadcast, target system 0).
+    pub fn command_tries(
+        &mut self,
+        to: SocketAddr,
+        target: (u8, u8),
+        command: MavCmd,
+        params: [f32; 7],
+        timeout: Duration,
+        attempts: usize,
+    ) -> (Option<(MavResult, Duration)>, usize) {
         let [param1, param2, param3, param4, param5, param6, param7] = params;
-        let sent = Instant::now();
-        self.send(
-            &MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-                param1,
-                param2,
-                param3,
-                param4,
-                param5,
-                param6,
-                param7,
-                command,
-                target_system: sysid,
-                target_component: 1,
-                confirmation: 0,
-            }),
-            to,
-        );
-        self.wait(timeout, |header, message| match message {
-            MavMessage::COMMAND_ACK(ack) if ack.command == command && header.system_id == u32::from(sysid) => {
-                Some((ack.result, sent.elapsed()))
+        let message = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            param1,
+            param2,
+            param3,
+            param4,
+            param5,
+            param6,
+            param7,
+            command,
+            target_system: target.0,
+            target_component: target.1,
+            confirmation: 0,
+        });
+        let first = Instant::now();
+        let attempts = attempts.max(1);
+        for sends in 1..=attempts {
+            self.send(&message, to);
+            let ack = self.wait(timeout, |header, message| match message {
+                MavMessage::COMMAND_ACK(ack)
+                    if ack.command == command && (target.0 == 0 || header.system_id == u32::from(target.0)) =>
+                {
+                    Some((ack.result, first.elapsed()))
+                }
+                _ => None,
+            });
+            if ack.is_some() {
+                return (ack, sends);
             }
-            _ => None,
-        })
+        }
+        (None, attempts)
     }
 
     /// Waits for the first HEARTBEAT from an autopilot; when it arrived.

@@ -12,8 +12,9 @@ use crate::control::ControllerKind;
 use crate::mav::{MavCmd, MavResult};
 use crate::runtime::{self, Pace, Ready, RunConfig, RunReport, RuntimeError};
 
-/// How long a command may take before the benchmark gives up on it.
-const COMMAND_TIMEOUT: Duration = Duration::from_secs(2);
+/// How long each send of a command is waited for; the client sends it up to
+/// `client::COMMAND_ATTEMPTS` times before the benchmark gives up on it.
+const COMMAND_TIMEOUT: Duration = Duration::from_secs(1);
 const NAN: f32 = f32::NAN;
 
 /// `rotorpilot run` on a thread of this process, all sockets on ephemeral loopback ports.

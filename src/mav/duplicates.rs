@@ -1,18 +1,46 @@
-//! Idempotent command retransmissions (mavlink.md §3.1): a COMMAND_LONG/INT repeated within
-//! [`DUPLICATE_WINDOW_S`] (same sender, command and seven parameters bit for bit) gets the
-//! cached result and is not executed again; a repeat arriving while the first is still being
-//! executed is dropped. Only ACCEPTED results are remembered: a refusal changed nothing, so a
-//! repeat is simply judged again, and one sent after the state changed (OFFBOARD once setpoints
-//! stream, failure injection once `SYS_FAILURE_EN` is set) gets the current answer.
-//! Pure: the caller passes the time.
+//! Idempotent command retransmissions (mavlink.md §3.1): a COMMAND_LONG/INT that changes state,
+//! repeated within [`DUPLICATE_WINDOW_S`] (same sender, command and seven parameters bit for
+//! bit), gets the cached result and is not executed again; a repeat arriving while the first is
+//! still being executed is dropped. Only ACCEPTED results are remembered: a refusal changed
+//! nothing, so a repeat is simply judged again, and one sent after the state changed (OFFBOARD
+//! once setpoints stream, failure injection once `SYS_FAILURE_EN` is set) gets the current answer.
+//!
+//! Commands that only ask for information ([`is_information_request`]: REQUEST_MESSAGE,
+//! GET_HOME_POSITION, …) bypass the cache: answering one again costs nothing and changes
+//! nothing, and a client asking twice (MAVSDK asks for AUTOPILOT_VERSION twice, 0.5 s apart)
+//! wants the message each time, not a bare ACK. Pure: the caller passes the time.
 
 use std::collections::HashMap;
 
-use mavlink::dialects::common::{MavResult, COMMAND_LONG_DATA};
+use mavlink::dialects::common::{MavCmd, MavResult, COMMAND_LONG_DATA};
 use mavlink::MavHeader;
 
 /// How long a result is remembered [s].
 pub const DUPLICATE_WINDOW_S: f64 = 3.0;
+
+/// True for commands that only ask for information and have no side effect: each
+/// transmission is answered in full (the ACK and the requested message), never from the cache.
+/// Every other command may change state, so its retransmissions are answered from the cache.
+// Most of the dedicated REQUEST_* commands are deprecated for REQUEST_MESSAGE; clients still send them.
+#[allow(deprecated)]
+pub fn is_information_request(command: MavCmd) -> bool {
+    matches!(
+        command,
+        MavCmd::MAV_CMD_REQUEST_MESSAGE
+            | MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES
+            | MavCmd::MAV_CMD_REQUEST_PROTOCOL_VERSION
+            | MavCmd::MAV_CMD_GET_HOME_POSITION
+            | MavCmd::MAV_CMD_GET_MESSAGE_INTERVAL
+            | MavCmd::MAV_CMD_REQUEST_CAMERA_INFORMATION
+            | MavCmd::MAV_CMD_REQUEST_CAMERA_SETTINGS
+            | MavCmd::MAV_CMD_REQUEST_STORAGE_INFORMATION
+            | MavCmd::MAV_CMD_REQUEST_CAMERA_CAPTURE_STATUS
+            | MavCmd::MAV_CMD_REQUEST_CAMERA_IMAGE_CAPTURE
+            | MavCmd::MAV_CMD_REQUEST_FLIGHT_INFORMATION
+            | MavCmd::MAV_CMD_REQUEST_VIDEO_STREAM_INFORMATION
+            | MavCmd::MAV_CMD_REQUEST_VIDEO_STREAM_STATUS
+    )
+}
 
 /// Identity of one command transmission.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -20,6 +48,8 @@ pub struct CommandKey {
     sender: (u32, u8),
     command: u32,
     params: [u32; 7],
+    /// An information request ([`is_information_request`]): never cached.
+    information: bool,
 }
 
 impl CommandKey {
@@ -32,6 +62,7 @@ impl CommandKey {
             sender: (sender.system_id, sender.component_id),
             command: cmd.command as u32,
             params: p.map(f32::to_bits),
+            information: is_information_request(cmd.command),
         }
     }
 }
@@ -54,9 +85,13 @@ pub struct DuplicateCache {
 }
 
 impl DuplicateCache {
-    /// Looks `key` up at time `now_s` [s]; a new key is recorded as in progress.
+    /// Looks `key` up at time `now_s` [s]; a new key is recorded as in progress. An
+    /// information request is always [`Seen::New`] and never recorded.
     pub fn check(&mut self, key: CommandKey, now_s: f64) -> Seen {
         self.entries.retain(|_, (t, _)| now_s - *t < DUPLICATE_WINDOW_S);
+        if key.information {
+            return Seen::New;
+        }
         match self.entries.get(&key) {
             Some((_, Some(result))) => Seen::Answered(*result),
             Some((_, None)) => Seen::InProgress,
@@ -67,9 +102,10 @@ impl DuplicateCache {
         }
     }
 
-    /// Records the result of `key`: kept when ACCEPTED, forgotten for a refusal.
+    /// Records the result of `key`: kept when ACCEPTED, forgotten for a refusal (and for an
+    /// information request, which is answered afresh every time).
     pub fn answered(&mut self, key: CommandKey, result: MavResult, now_s: f64) {
-        if result == MavResult::MAV_RESULT_ACCEPTED {
+        if result == MavResult::MAV_RESULT_ACCEPTED && !key.information {
             self.entries.insert(key, (now_s, Some(result)));
         } else {
             self.entries.remove(&key);
@@ -108,5 +144,58 @@ mod tests {
         assert_eq!(cache.check(key, 3.5), Seen::New, "a temporary refusal may be retried");
         cache.answered(key, MavResult::MAV_RESULT_DENIED, 3.6);
         assert_eq!(cache.check(key, 3.7), Seen::New, "so may a denial, judged again");
+    }
+
+    #[test]
+    #[allow(deprecated)]
+    fn information_requests_are_answered_every_time() {
+        let sender = MavHeader {
+            system_id: 245,
+            component_id: 190,
+            sequence: 0,
+        };
+        let version = COMMAND_LONG_DATA {
+            command: MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            param1: 148.0,
+            ..Default::default()
+        };
+        let mut cache = DuplicateCache::default();
+        let key = CommandKey::new(&sender, &version);
+        assert_eq!(cache.check(key, 0.0), Seen::New);
+        assert_eq!(cache.check(key, 0.1), Seen::New, "a repeat in progress is answered too");
+        cache.answered(key, MavResult::MAV_RESULT_ACCEPTED, 0.2);
+        assert_eq!(cache.check(key, 0.7), Seen::New, "MAVSDK's second ask, 0.5 s later");
+        for command in [
+            MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES,
+            MavCmd::MAV_CMD_GET_HOME_POSITION,
+            MavCmd::MAV_CMD_GET_MESSAGE_INTERVAL,
+        ] {
+            assert!(is_information_request(command), "{command:?}");
+            let key = CommandKey::new(&sender, &COMMAND_LONG_DATA { command, ..version });
+            cache.answered(key, MavResult::MAV_RESULT_ACCEPTED, 1.0);
+            assert_eq!(cache.check(key, 1.1), Seen::New, "{command:?}");
+        }
+        for command in [
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            MavCmd::MAV_CMD_NAV_TAKEOFF,
+            MavCmd::MAV_CMD_DO_SET_MODE,
+        ] {
+            assert!(!is_information_request(command), "{command:?} changes state");
+        }
+        let interval = CommandKey::new(
+            &sender,
+            &COMMAND_LONG_DATA {
+                command: MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                ..version
+            },
+        );
+        assert_eq!(cache.check(interval, 2.0), Seen::New);
+        cache.answered(interval, MavResult::MAV_RESULT_ACCEPTED, 2.0);
+        assert_eq!(
+            cache.check(interval, 2.5),
+            Seen::Answered(MavResult::MAV_RESULT_ACCEPTED),
+            "a command that changes state is still answered from the cache"
+        );
     }
 }

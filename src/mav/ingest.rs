@@ -87,7 +87,7 @@ pub enum Action {
 }
 
 /// A mission-protocol message addressed to us (mavlink.md §7), mission type already checked
-/// where the protocol step needs it.
+/// where the protocol step needs it; the replies carry the request's mission type.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MissionStep {
     /// MISSION_COUNT: start (or, with 0, clear) an upload.
@@ -96,10 +96,15 @@ pub enum MissionStep {
     Item(Box<mavlink::dialects::common::MISSION_ITEM_INT_DATA>),
     /// MISSION_CLEAR_ALL of the mission.
     Clear,
-    /// MISSION_REQUEST_LIST: start a download.
-    RequestList,
-    /// MISSION_REQUEST_INT / MISSION_REQUEST: one stored item of a download.
-    RequestItem(u16),
+    /// MISSION_REQUEST_LIST: start a download of the mission, fence or rally plan.
+    RequestList(MavMissionType),
+    /// MISSION_REQUEST_INT / MISSION_REQUEST: one item of a download.
+    RequestItem {
+        /// Item index.
+        seq: u16,
+        /// The plan asked for.
+        mission_type: MavMissionType,
+    },
 }
 
 /// What the link does with `message` from `sender`; `origin` is the vehicle's home (global
@@ -129,7 +134,8 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
     let ids = (sender.system_id as u8, sender.component_id);
     let mission = |step: MissionStep| Action::Mission { ids, step };
     let mission_only = |t: MavMissionType| t == MavMissionType::MAV_MISSION_TYPE_MISSION;
-    let unsupported_type = || Action::Reply(Box::new(mission_ack(ids, MavMissionResult::MAV_MISSION_UNSUPPORTED)));
+    let unsupported_type =
+        |t: MavMissionType| Action::Reply(Box::new(mission_ack(ids, t, MavMissionResult::MAV_MISSION_UNSUPPORTED)));
     let offboard = |decoded: Result<super::offboard::OffboardTarget, String>| match decoded {
         Ok(target) => Action::Request(Request::OffboardSetpoint {
             setpoint: target.setpoint,
@@ -148,21 +154,26 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
             if mission_only(m.mission_type) {
                 mission(MissionStep::Clear)
             } else {
-                unsupported_type()
+                unsupported_type(m.mission_type)
             }
         }
-        MavMessage::MISSION_REQUEST_LIST(m) if ours(m.target_system, m.target_component) => {
-            if mission_only(m.mission_type) {
-                mission(MissionStep::RequestList)
-            } else {
-                unsupported_type()
-            }
-        }
+        MavMessage::MISSION_REQUEST_LIST(m) if ours(m.target_system, m.target_component) => match m.mission_type {
+            MavMissionType::MAV_MISSION_TYPE_MISSION
+            | MavMissionType::MAV_MISSION_TYPE_FENCE
+            | MavMissionType::MAV_MISSION_TYPE_RALLY => mission(MissionStep::RequestList(m.mission_type)),
+            other => unsupported_type(other),
+        },
         MavMessage::MISSION_REQUEST_INT(m) if ours(m.target_system, m.target_component) => {
-            mission(MissionStep::RequestItem(m.seq))
+            mission(MissionStep::RequestItem {
+                seq: m.seq,
+                mission_type: m.mission_type,
+            })
         }
         MavMessage::MISSION_REQUEST(m) if ours(m.target_system, m.target_component) => {
-            mission(MissionStep::RequestItem(m.seq))
+            mission(MissionStep::RequestItem {
+                seq: m.seq,
+                mission_type: m.mission_type,
+            })
         }
         MavMessage::HEARTBEAT(hb) if hb.mavtype == MavType::MAV_TYPE_GCS => Action::GcsHeartbeat,
         MavMessage::COMMAND_LONG(cmd) => Action::Command {
@@ -351,8 +362,21 @@ mod tests {
             run(MavMessage::MISSION_CLEAR_ALL(fence)),
             Action::Reply(Box::new(mission_ack(
                 (255, 190),
+                MavMissionType::MAV_MISSION_TYPE_FENCE,
                 MavMissionResult::MAV_MISSION_UNSUPPORTED
             )))
+        );
+        let rally_list = MISSION_REQUEST_LIST_DATA {
+            target_system: 1,
+            target_component: 1,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_RALLY,
+        };
+        assert_eq!(
+            run(MavMessage::MISSION_REQUEST_LIST(rally_list)),
+            Action::Mission {
+                ids: (255, 190),
+                step: MissionStep::RequestList(MavMissionType::MAV_MISSION_TYPE_RALLY)
+            }
         );
         let setup = |target_system, target_component| {
             run(MavMessage::SETUP_SIGNING(

@@ -6,6 +6,10 @@
 //! missing item is re-requested every [`RETRY_S`], at most [`MAX_RETRIES`] times, then the
 //! upload is cancelled with OPERATION_CANCELLED. A second peer is DENIED while one uploads.
 //! Downloads are stateless: the client asks, the machine answers from the stored items.
+//!
+//! Every reply carries the `mission_type` of the request it answers. Only the mission (type 0)
+//! is stored: a fence (1) or rally (2) upload is refused with UNSUPPORTED, and a fence or rally
+//! download is an empty plan (MISSION_COUNT 0, as PX4 answers when it holds none).
 //! Pure; `P` identifies a peer (an address in the runtime).
 
 use mavlink::dialects::common::{
@@ -59,13 +63,16 @@ impl<P> Default for MissionTransfer<P> {
     }
 }
 
-/// MISSION_ACK to `ids`.
-pub fn mission_ack(ids: Ids, result: MavMissionResult) -> MavMessage {
+/// The plan type uploads fill.
+const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
+
+/// MISSION_ACK to `ids` answering a request about plan `mission_type`.
+pub fn mission_ack(ids: Ids, mission_type: MavMissionType, result: MavMissionResult) -> MavMessage {
     MavMessage::MISSION_ACK(MISSION_ACK_DATA {
         target_system: ids.0,
         target_component: ids.1,
         mavtype: result,
-        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+        mission_type,
         opaque_id: 0,
     })
 }
@@ -75,7 +82,7 @@ fn request(ids: Ids, seq: u16) -> MavMessage {
         seq,
         target_system: ids.0,
         target_component: ids.1,
-        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+        mission_type: MISSION,
     })
 }
 
@@ -88,16 +95,19 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         m: &MISSION_COUNT_DATA,
         now_s: f64,
     ) -> (Vec<(P, MavMessage)>, Option<Completed>) {
-        if m.mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
+        if m.mission_type != MISSION {
             return (
-                vec![(peer, mission_ack(ids, MavMissionResult::MAV_MISSION_UNSUPPORTED))],
+                vec![(
+                    peer,
+                    mission_ack(ids, m.mission_type, MavMissionResult::MAV_MISSION_UNSUPPORTED),
+                )],
                 None,
             );
         }
         match self.state {
             State::Receiving { peer: busy, .. } | State::Validating { peer: busy, .. } if busy != peer => {
                 return (
-                    vec![(peer, mission_ack(ids, MavMissionResult::MAV_MISSION_DENIED))],
+                    vec![(peer, mission_ack(ids, MISSION, MavMissionResult::MAV_MISSION_DENIED))],
                     None,
                 );
             }
@@ -106,7 +116,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         if m.count == 0 {
             self.state = State::Idle;
             return (
-                vec![(peer, mission_ack(ids, MavMissionResult::MAV_MISSION_ACCEPTED))],
+                vec![(peer, mission_ack(ids, MISSION, MavMissionResult::MAV_MISSION_ACCEPTED))],
                 Some(Completed::Cleared),
             );
         }
@@ -139,7 +149,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         else {
             return (Vec::new(), None);
         };
-        if *from != peer || m.mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
+        if *from != peer || m.mission_type != MISSION {
             return (Vec::new(), None);
         }
         let next = items.len() as u16;
@@ -161,7 +171,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
     /// Answers the validated upload with `result` (the caller stores the mission when ACCEPTED).
     pub fn finish(&mut self, result: MavMissionResult) -> Vec<(P, MavMessage)> {
         match std::mem::replace(&mut self.state, State::Idle) {
-            State::Validating { peer, ids } => vec![(peer, mission_ack(ids, result))],
+            State::Validating { peer, ids } => vec![(peer, mission_ack(ids, MISSION, result))],
             other => {
                 self.state = other;
                 Vec::new()
@@ -169,11 +179,11 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         }
     }
 
-    /// MISSION_CLEAR_ALL from `peer`.
+    /// MISSION_CLEAR_ALL of the mission from `peer`.
     pub fn on_clear(&mut self, peer: P, ids: Ids) -> (Vec<(P, MavMessage)>, Option<Completed>) {
         self.state = State::Idle;
         (
-            vec![(peer, mission_ack(ids, MavMissionResult::MAV_MISSION_ACCEPTED))],
+            vec![(peer, mission_ack(ids, MISSION, MavMissionResult::MAV_MISSION_ACCEPTED))],
             Some(Completed::Cleared),
         )
     }
@@ -197,7 +207,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         if *retries >= MAX_RETRIES {
             let out = vec![(
                 *peer,
-                mission_ack(*ids, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED),
+                mission_ack(*ids, MISSION, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED),
             )];
             self.state = State::Idle;
             return out;
@@ -213,26 +223,38 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
     }
 }
 
-/// MISSION_COUNT of the stored mission, for a download.
-pub fn download_count(ids: Ids, stored: &[MISSION_ITEM_INT_DATA]) -> MavMessage {
+/// The items of plan `mission_type`: the stored mission for the mission, none for the others
+/// (fence and rally plans are always empty here).
+fn plan(mission_type: MavMissionType, stored: &[MISSION_ITEM_INT_DATA]) -> &[MISSION_ITEM_INT_DATA] {
+    if mission_type == MISSION {
+        stored
+    } else {
+        &[]
+    }
+}
+
+/// MISSION_COUNT of plan `mission_type` for a download (`stored`: the stored mission).
+pub fn download_count(ids: Ids, mission_type: MavMissionType, stored: &[MISSION_ITEM_INT_DATA]) -> MavMessage {
     MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
-        count: stored.len() as u16,
+        count: plan(mission_type, stored).len() as u16,
         target_system: ids.0,
         target_component: ids.1,
-        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+        mission_type,
         opaque_id: 0,
     })
 }
 
-/// Stored item `seq` addressed to `ids`, or a MISSION_ACK(INVALID_SEQUENCE).
-pub fn download_item(ids: Ids, seq: u16, stored: &[MISSION_ITEM_INT_DATA]) -> MavMessage {
-    match stored.get(usize::from(seq)) {
+/// Item `seq` of plan `mission_type` addressed to `ids` (`stored`: the stored mission), or a
+/// MISSION_ACK(INVALID_SEQUENCE) of that type.
+pub fn download_item(ids: Ids, mission_type: MavMissionType, seq: u16, stored: &[MISSION_ITEM_INT_DATA]) -> MavMessage {
+    match plan(mission_type, stored).get(usize::from(seq)) {
         Some(item) => MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
             target_system: ids.0,
             target_component: ids.1,
+            mission_type,
             ..item.clone()
         }),
-        None => mission_ack(ids, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE),
+        None => mission_ack(ids, mission_type, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE),
     }
 }
 
@@ -313,10 +335,84 @@ mod tests {
         let (_, done) = x.on_count(7, GCS, &count(0), 0.0);
         assert_eq!(done, Some(Completed::Cleared));
         let stored = [item(0), item(1)];
-        assert!(matches!(download_count(GCS, &stored), MavMessage::MISSION_COUNT(ref c) if c.count == 2));
+        assert!(matches!(download_count(GCS, MISSION, &stored), MavMessage::MISSION_COUNT(ref c) if c.count == 2));
         assert!(
-            matches!(download_item(GCS, 1, &stored), MavMessage::MISSION_ITEM_INT(ref i) if i.seq == 1 && i.target_system == 255)
+            matches!(download_item(GCS, MISSION, 1, &stored), MavMessage::MISSION_ITEM_INT(ref i) if i.seq == 1 && i.target_system == 255)
         );
-        assert!(matches!(download_item(GCS, 5, &stored), MavMessage::MISSION_ACK(_)));
+        assert!(matches!(
+            download_item(GCS, MISSION, 5, &stored),
+            MavMessage::MISSION_ACK(_)
+        ));
+    }
+
+    /// The mission_type of a mission-protocol reply and its result, count or seq.
+    fn typed(msg: &MavMessage) -> Option<(MavMissionType, u32)> {
+        match msg {
+            MavMessage::MISSION_ACK(a) => Some((a.mission_type, a.mavtype as u32)),
+            MavMessage::MISSION_COUNT(c) => Some((c.mission_type, u32::from(c.count))),
+            MavMessage::MISSION_REQUEST_INT(r) => Some((r.mission_type, u32::from(r.seq))),
+            MavMessage::MISSION_ITEM_INT(i) => Some((i.mission_type, u32::from(i.seq))),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn replies_carry_the_mission_type_of_the_request() {
+        let fence = MavMissionType::MAV_MISSION_TYPE_FENCE;
+        let rally = MavMissionType::MAV_MISSION_TYPE_RALLY;
+        let unsupported = MavMissionResult::MAV_MISSION_UNSUPPORTED as u32;
+        let mut x = MissionTransfer::<u8>::default();
+        let (out, done) = x.on_count(
+            7,
+            GCS,
+            &MISSION_COUNT_DATA {
+                mission_type: fence,
+                ..count(2)
+            },
+            0.0,
+        );
+        assert_eq!(
+            typed(&out[0].1),
+            Some((fence, unsupported)),
+            "fence upload refused as fence"
+        );
+        assert_eq!(done, None);
+        assert!(!x.busy());
+        let (out, _) = x.on_count(
+            7,
+            GCS,
+            &MISSION_COUNT_DATA {
+                mission_type: rally,
+                ..count(0)
+            },
+            0.0,
+        );
+        assert_eq!(
+            typed(&out[0].1),
+            Some((rally, unsupported)),
+            "clearing rally by count 0 too"
+        );
+        // Downloads of fence and rally: an empty plan of that type.
+        let stored = [item(0), item(1)];
+        assert_eq!(typed(&download_count(GCS, fence, &stored)), Some((fence, 0)));
+        assert_eq!(typed(&download_count(GCS, rally, &stored)), Some((rally, 0)));
+        let invalid = MavMissionResult::MAV_MISSION_INVALID_SEQUENCE as u32;
+        assert_eq!(typed(&download_item(GCS, rally, 0, &stored)), Some((rally, invalid)));
+        // The mission's own replies say mission.
+        assert_eq!(typed(&download_count(GCS, MISSION, &stored)), Some((MISSION, 2)));
+        let stray = MISSION_ITEM_INT_DATA {
+            mission_type: fence,
+            ..item(1)
+        };
+        assert_eq!(
+            typed(&download_item(GCS, MISSION, 1, &[item(0), stray])),
+            Some((MISSION, 1))
+        );
+        let (out, _) = x.on_count(7, GCS, &count(1), 0.0);
+        assert_eq!(
+            typed(&out[0].1),
+            Some((MISSION, 0)),
+            "MISSION_REQUEST_INT 0 of the mission"
+        );
     }
 }

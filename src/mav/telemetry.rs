@@ -310,7 +310,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
             value: s.estimate?.mass_kg as f32,
             name: "EXT_MASS".into(),
         }),
-        Stream::SysStatus => sys_status(&s.battery),
+        Stream::SysStatus => sys_status(s),
         Stream::ExtendedSysState => MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
             vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
             landed_state: match s.landed {
@@ -393,18 +393,27 @@ pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
 }
 
 /// SYS_STATUS with the sensors MAVSDK's `health_all_ok()` checks present, enabled and healthy,
-/// and the pre-arm check healthy (the emulator is armable at once, §4).
-fn sys_status(b: &BatterySnapshot) -> MavMessage {
+/// the pre-arm check healthy (the emulator is armable at once, §4), and the geofence present,
+/// enabled and healthy unless the vehicle is outside it. A clear geofence health bit reads as a
+/// breach (MAVProxy says "fence breach" when it sees one), so the bit is cleared on a real
+/// breach only.
+fn sys_status(s: &Snapshot) -> MavMessage {
+    let b = &s.battery;
     let sensors = MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO
         | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_ACCEL
         | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_MAG
         | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE
         | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_GPS
-        | MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK;
+        | MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK
+        | MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE;
+    let mut health = sensors;
+    if s.geofence_breached {
+        health.remove(MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE);
+    }
     MavMessage::SYS_STATUS(SYS_STATUS_DATA {
         onboard_control_sensors_present: sensors,
         onboard_control_sensors_enabled: sensors,
-        onboard_control_sensors_health: sensors,
+        onboard_control_sensors_health: health,
         voltage_battery: millivolts(b),
         current_battery: (b.current_a * 100.0).round().clamp(0.0, f64::from(i16::MAX)) as i16,
         battery_remaining: percent(b),
@@ -462,6 +471,7 @@ mod tests {
             rotor_count: 4,
             rotor_max_rad_s: 1100.0,
             battery: crate::telemetry::BatterySnapshot::full(3),
+            geofence_breached: false,
         }
     }
 
@@ -495,6 +505,31 @@ mod tests {
             panic!("wrong message");
         };
         assert_eq!((r.servo1_raw, r.servo4_raw, r.servo5_raw), (1500, 2000, 0));
+    }
+
+    #[test]
+    fn geofence_is_healthy_until_breached() {
+        let fence = MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE;
+        let status = |s: &Snapshot| match message(Stream::SysStatus, s) {
+            Some(MavMessage::SYS_STATUS(m)) => m,
+            other => panic!("wrong message {other:?}"),
+        };
+        let inside = status(&snapshot());
+        assert!(inside.onboard_control_sensors_present.contains(fence));
+        assert!(inside.onboard_control_sensors_enabled.contains(fence));
+        assert!(inside.onboard_control_sensors_health.contains(fence), "no false breach");
+        let outside = status(&Snapshot {
+            geofence_breached: true,
+            ..snapshot()
+        });
+        assert!(outside.onboard_control_sensors_present.contains(fence));
+        assert!(outside.onboard_control_sensors_enabled.contains(fence));
+        assert!(!outside.onboard_control_sensors_health.contains(fence), "a breach");
+        assert_eq!(
+            outside.onboard_control_sensors_health | fence,
+            inside.onboard_control_sensors_health,
+            "only the geofence bit changes"
+        );
     }
 
     #[test]

@@ -388,8 +388,10 @@ fn handle_mission(
         MissionStep::Count(m) => transfer.on_count(from, ids, &m, now),
         MissionStep::Item(m) => transfer.on_item(from, &m, now),
         MissionStep::Clear => transfer.on_clear(from, ids),
-        MissionStep::RequestList => (vec![(from, download_count(ids, &stored()))], None),
-        MissionStep::RequestItem(seq) => (vec![(from, download_item(ids, seq, &stored()))], None),
+        MissionStep::RequestList(t) => (vec![(from, download_count(ids, t, &stored()))], None),
+        MissionStep::RequestItem { seq, mission_type } => {
+            (vec![(from, download_item(ids, mission_type, seq, &stored()))], None)
+        }
     };
     send(out);
     match completed {
@@ -541,7 +543,9 @@ async fn check_link_loss(
     }
 }
 
-/// One COMMAND_LONG (or COMMAND_INT as one): duplicate check, decision, exactly one ACK.
+/// One COMMAND_LONG (or COMMAND_INT as one): duplicate check (information requests bypass the
+/// cache and are answered every time: `duplicates::is_information_request`), decision, exactly
+/// one ACK.
 fn handle_command(
     header: &MavHeader,
     cmd: &COMMAND_LONG_DATA,

@@ -543,5 +543,6 @@ fn initial_snapshot(home: Home) -> Snapshot {
         rotor_count: 0,
         rotor_max_rad_s: 1.0,
         battery: crate::telemetry::BatterySnapshot::full(3),
+        geofence_breached: false,
     }
 }

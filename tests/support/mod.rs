@@ -6,12 +6,10 @@ use std::net::SocketAddr;
 use std::sync::mpsc;
 use std::time::Duration;
 
-use mavlink::dialects::common::{
-    MavCmd, MavFrame, MavMessage, MavMissionType, MavResult, COMMAND_LONG_DATA, MISSION_ITEM_INT_DATA,
-};
+use mavlink::dialects::common::{MavCmd, MavFrame, MavMessage, MavMissionType, MavResult, MISSION_ITEM_INT_DATA};
 use mavlink::MavHeader;
 use rotorpilot::airframe::AirframeSource;
-use rotorpilot::bench::client::BenchClient;
+use rotorpilot::bench::client::{BenchClient, COMMAND_ATTEMPTS};
 use rotorpilot::control::ControllerKind;
 use rotorpilot::runtime::{run, RunConfig};
 
@@ -75,33 +73,27 @@ impl Vehicle {
         );
     }
 
-    /// COMMAND_LONG with `p1` (others NaN) to `target`; the ACK's result within 0.5 s.
+    /// COMMAND_LONG with `p1` (others NaN) to `target`; the ACK's result (see [`Self::command_with`]).
     pub fn command(&mut self, command: MavCmd, p1: f32, target: (u8, u8)) -> Option<MavResult> {
         let mut params = [f32::NAN; 7];
         params[0] = p1;
         self.command_with(command, params, target)
     }
 
-    /// COMMAND_LONG with all seven `params` to `target`; the ACK's result within 0.5 s.
+    /// COMMAND_LONG with all seven `params` to `target`; the ACK's result. Sent up to
+    /// `COMMAND_ATTEMPTS` (3) times with the same content, each send waited for 0.5 s, as MAVSDK
+    /// does: a lost datagram is retransmitted, and a repeat of a command that was executed gets
+    /// the cached ACK.
     pub fn command_with(&mut self, command: MavCmd, params: [f32; 7], target: (u8, u8)) -> Option<MavResult> {
-        let [param1, param2, param3, param4, param5, param6, param7] = params;
-        self.send(&MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        let (ack, _) = self.gcs.command_tries(
+            self.autopilot,
+            target,
             command,
-            param1,
-            param2,
-            param3,
-            param4,
-            param5,
-            param6,
-            param7,
-            target_system: target.0,
-            target_component: target.1,
-            confirmation: 0,
-        }));
-        self.wait(Duration::from_millis(500), |_, m| match m {
-            MavMessage::COMMAND_ACK(a) if a.command == command => Some(a.result),
-            _ => None,
-        })
+            params,
+            Duration::from_millis(500),
+            COMMAND_ATTEMPTS,
+        );
+        ack.map(|(result, _)| result)
     }
 }
 
