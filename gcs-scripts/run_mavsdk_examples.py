@@ -4,7 +4,7 @@
 Each example runs in its own network namespace (`unshare -n`, so the examples' fixed ports,
 14540 for MAVLink and 50051 for mavsdk_server's gRPC, never clash), against a fresh
 `rotorpilot run --airframe quad_x` that sends its API link to 127.0.0.1:14540 as PX4 SITL does.
-The examples are MAVSDK-Python's (BSD-3-Clause, tests/mavsdk_examples/LICENSE.txt) as published,
+The examples are MAVSDK-Python's (BSD-3-Clause, tests/third_party/mavsdk_examples/LICENSE.txt) as published,
 with mavsdk 3.17.4 and its bundled mavsdk_server (gcs-scripts/requirements.txt).
 
 The flight log (`--log`) is then read back: the example must exit 0, the vehicle must never be
@@ -12,7 +12,7 @@ disarmed more than 0.5 m above the ground, and must end on the ground when the e
 (and disarmed, for an example that waits COM_DISARM_LAND after touch-down). One JSON line per example on stdout; exit 1 when any example fails.
 
 usage: run_mavsdk_examples.py [EXAMPLE ...] [--speedup X] [--timeout S] [--keep DIR]
-       (no EXAMPLE: every example in tests/mavsdk_examples/; needs root for unshare -n)
+       (no EXAMPLE: every example in tests/third_party/mavsdk_examples/; needs root for unshare -n)
 """
 import argparse
 import json
@@ -24,7 +24,7 @@ import sys
 import tempfile
 
 HERE = pathlib.Path(__file__).resolve().parent
-EXAMPLES = HERE / "tests" / "mavsdk_examples"
+EXAMPLES = HERE / "tests" / "third_party" / "mavsdk_examples"
 ROOT = HERE.parent
 # Examples that end once the vehicle is on the ground (they stop watching at touch-down).
 LANDING = {"mission", "offboard_position_ned", "telemetry_takeoff_and_land"}
