@@ -148,6 +148,8 @@ def scripted_mission(binary, speedup, log_dir):
         assert command(conn, 400, 1) == ACCEPTED
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
+            # A ground station keeps sending its heartbeat; a silent peer expires after 10 s.
+            conn.mav.heartbeat_send(6, 8, 0, 0, 0)
             hb = conn.recv_match(type="HEARTBEAT", blocking=True, timeout=0.5)
             if hb is not None and hb.get_srcComponent() == 1 and not hb.base_mode & 128:
                 break
