@@ -174,7 +174,7 @@ fn a_fifty_metre_offboard_step_keeps_the_limits_and_does_not_overshoot() {
         });
         let name = kind.name();
         // The reference keeps MPC_XY_VEL_MAX exactly; the vehicle tracks it within 7 % (the
-        // stiff geometric law catches up its drag lag at 12.7 m/s, the RPY laws at 12.2 m/s).
+        // stiff geometric law catches up its drag lag at 12.5 m/s, the RPY laws at 12.3 m/s).
         assert!(peak_speed <= 12.0 * 1.07, "{name}: MPC_XY_VEL_MAX: {peak_speed} m/s");
         assert!(peak_tilt <= 45.0, "{name}: MPC_TILTMAX_AIR: {peak_tilt}°");
         assert!(max_north < 50.5, "{name}: overshoot to {max_north} m");
