@@ -4,6 +4,7 @@
 //!
 //! # Layout
 //! - `mod.rs`: requests, modes and their guidance, the tick.
+//! - `messages.rs`: requests, outcomes, events, landed state; `params.rs`: the settings.
 //! - [`land_detector`]: on the ground or in the air, from what the vehicle does.
 //! - `landing.rs`: what the verdict changes: touch-down thrust cut, idle on the ground,
 //!   hold after a lift-off, auto-disarm (only ever on the ground).
@@ -19,237 +20,34 @@ mod battery;
 mod failsafe;
 pub mod land_detector;
 mod landing;
+mod messages;
 mod mission_run;
 mod mode;
 mod offboard;
+mod params;
 mod reactions;
 
 pub use battery::{BatteryGauge, BatteryParams};
 pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
 pub use land_detector::{LandDetectorParams, LandStage};
+pub use messages::{CommanderTick, Event, LandedState, Outcome, Request};
 pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
+pub use params::CommanderParams;
 
 use land_detector::LandDetector;
 use landing::Command;
 use mission_run::MissionRun;
 use offboard::{Offboard, OffboardTarget};
 
-use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
+use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Guidance, Mission, MotionLimits};
+use crate::navigation::{Guidance, MotionLimits};
 
 /// Tick length assumed before the second tick [s].
 const DEFAULT_DT_S: f64 = 0.001;
 /// Take-off is complete within this distance of the target [m].
 const TAKEOFF_ACCEPT_M: f64 = 0.2;
-
-/// Commander settings (PX4 parameter names in brackets).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CommanderParams {
-    /// Take-off height above home [m] (`MIS_TAKEOFF_ALT`, 2.5).
-    pub takeoff_alt_m: f64,
-    /// Landing descent speed [m/s] (`MPC_LAND_SPEED`, 0.7).
-    pub land_speed_m_s: f64,
-    /// Horizontal cruise speed of the AUTO modes [m/s] (`MPC_XY_CRUISE`, 5.0).
-    pub cruise_speed_m_s: f64,
-    /// Return altitude above home [m] (`RTL_RETURN_ALT`, 60).
-    pub rtl_return_alt_m: f64,
-    /// Disarm this long after landing [s] (`COM_DISARM_LAND`, 2.0; ≤ 0 never).
-    pub disarm_land_s: f64,
-    /// Disarm this long after arming without taking off [s] (`COM_DISARM_PRFLT`, 10; ≤ 0 never).
-    pub disarm_preflight_s: f64,
-    /// Offboard setpoints older than this are lost [s] (`COM_OF_LOSS_T`, 1.0).
-    pub offboard_loss_s: f64,
-    /// GCS link-loss action (`NAV_DLL_ACT`: 0 off, 1 hold, 2 return, 3 land, 5 terminate, 6 disarm).
-    pub link_loss_action: i32,
-    /// GCS silence that counts as link loss [s] (`COM_DL_LOSS_T`, 10).
-    pub link_loss_s: f64,
-    /// Geofence and battery failsafes.
-    pub failsafe: FailsafeParams,
-    /// The battery pack.
-    pub battery: BatteryParams,
-    /// Failure injection allowed (`SYS_FAILURE_EN`, 0).
-    pub failure_injection: bool,
-    /// Offboard-loss action (`COM_OBL_RC_ACT`: 0–2 hold position (no RC), 3 return, 4 land,
-    /// 5 hold (AUTO.LOITER), 6 terminate, 7 disarm; default 0).
-    pub offboard_loss_action: i32,
-    /// Limits of every AUTO path and every offboard setpoint (`MPC_XY_VEL_MAX` caps cruise,
-    /// DO_CHANGE_SPEED and DO_REPOSITION speeds; the final landing descends at `land_speed_m_s`).
-    pub motion: MotionLimits,
-    /// Land detector.
-    pub land_detector: LandDetectorParams,
-}
-
-impl Default for CommanderParams {
-    fn default() -> Self {
-        Self {
-            takeoff_alt_m: 2.5,
-            land_speed_m_s: 0.7,
-            cruise_speed_m_s: 5.0,
-            rtl_return_alt_m: 60.0,
-            disarm_land_s: 2.0,
-            disarm_preflight_s: 10.0,
-            offboard_loss_s: 1.0,
-            link_loss_action: 0,
-            link_loss_s: 10.0,
-            motion: MotionLimits::default(),
-            land_detector: LandDetectorParams::default(),
-            failsafe: FailsafeParams::default(),
-            battery: BatteryParams::default(),
-            failure_injection: false,
-            offboard_loss_action: 0,
-        }
-    }
-}
-
-/// MAVLink landed state (EXTENDED_SYS_STATE).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LandedState {
-    /// On the ground.
-    OnGround,
-    /// Flying.
-    InAir,
-    /// Climbing out after take-off.
-    Takeoff,
-    /// Descending to land.
-    Landing,
-}
-
-/// A request from a ground station.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Request {
-    /// Arm; `force` skips the pre-arm checks.
-    Arm {
-        /// Force (21196 / 2989).
-        force: bool,
-    },
-    /// Disarm; `force` also in the air.
-    Disarm {
-        /// Force (21196 / 2989).
-        force: bool,
-    },
-    /// Switch mode.
-    SetMode(FlightMode),
-    /// NAV_TAKEOFF to `height_m` above home [m] (`None`: `MIS_TAKEOFF_ALT`).
-    Takeoff {
-        /// Target height above home [m].
-        height_m: Option<f64>,
-    },
-    /// NAV_LAND here.
-    Land,
-    /// NAV_RETURN_TO_LAUNCH.
-    ReturnToLaunch,
-    /// An offboard setpoint (SET_POSITION_TARGET_*), kept as the latest; with `body_frame` its
-    /// velocity and acceleration are in the heading frame (MAV_FRAME_BODY_NED).
-    OffboardSetpoint {
-        /// The setpoint.
-        setpoint: FlatSetpoint,
-        /// Velocity/acceleration in the heading frame.
-        body_frame: bool,
-    },
-    /// An offboard attitude / rate target (SET_ATTITUDE_TARGET), kept as the latest.
-    OffboardAttitude(AttitudeTarget),
-    /// Replace the stored mission (a mission replaced during AUTO.MISSION switches to AUTO.LOITER).
-    SetMission(Mission),
-    /// MISSION_START: fly the stored mission from `first` (item index).
-    StartMission {
-        /// First item.
-        first: usize,
-    },
-    /// DO_REPOSITION: go to `pos_w` and hold there in AUTO.LOITER; unset coordinates keep the
-    /// current ones, `yaw_rad` `None` keeps the heading, `speed_m_s` `None` the cruise speed.
-    Reposition {
-        /// Target north [m], `None` = current.
-        north_m: Option<f64>,
-        /// Target east [m], `None` = current.
-        east_m: Option<f64>,
-        /// Target down [m], `None` = current.
-        down_m: Option<f64>,
-        /// Heading [rad].
-        yaw_rad: Option<f64>,
-        /// Ground speed [m/s].
-        speed_m_s: Option<f64>,
-    },
-    /// MAV_CMD_INJECT_FAILURE for motors (`SYS_FAILURE_EN` = 1): rotor `rotor` (1-based; 0 =
-    /// every rotor) stops (`failed`) or works again. The vehicle applies it to the plant; the
-    /// commander hears of it through [`Commander::rotor_failed`].
-    InjectRotorFailure {
-        /// Rotor, 1-based; 0 = all.
-        rotor: usize,
-        /// Stop (true) or restore (false).
-        failed: bool,
-    },
-    /// DO_CHANGE_SPEED: horizontal speed of the AUTO modes [m/s] until changed again.
-    ChangeSpeed(f64),
-    /// DO_SET_HOME: the local NED point RTL returns to [m]; `None`: the current position.
-    SetHome(Option<Vec3>),
-    /// No GCS heartbeat for `COM_DL_LOSS_T`: run `NAV_DLL_ACT` if flying.
-    GcsLinkLost,
-}
-
-/// The result of a request (MAV_RESULT), with the reason of a refusal for STATUSTEXT.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Outcome {
-    /// Valid and started.
-    Accepted,
-    /// Not now; fixable by waiting.
-    TemporarilyRejected(String),
-    /// Invalid.
-    Denied(String),
-    /// A coordinate frame the command cannot use (MAV_RESULT_UNSUPPORTED_MAV_FRAME).
-    Unsupported(String),
-    /// Understood but not possible on this vehicle (MAV_RESULT_FAILED).
-    Failed(String),
-}
-
-/// Something the commander did on its own, to announce.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Event {
-    /// Auto-disarm, with the reason.
-    Disarmed(&'static str),
-    /// The mode changed without a request (take-off done → loiter, landed → ...).
-    ModeChanged(FlightMode),
-    /// Touch-down detected.
-    Landed,
-    /// Lift-off detected.
-    Airborne,
-    /// Offboard setpoints stopped for `COM_OF_LOSS_T`; the vehicle holds position.
-    OffboardLost,
-    /// A geofence or battery failsafe triggered (the announcement).
-    Failsafe(String),
-    /// Mission item `seq` reached (MISSION_ITEM_REACHED).
-    MissionItemReached(u16),
-    /// The current mission item changed (MISSION_CURRENT at once).
-    MissionCurrent(u16),
-}
-
-impl Event {
-    /// The STATUSTEXT announcing it.
-    pub fn describe(&self) -> String {
-        match self {
-            Self::Disarmed(why) => format!("Disarmed: {why}"),
-            Self::ModeChanged(mode) => format!("Mode {}", mode.name()),
-            Self::Landed => "Landing detected".to_string(),
-            Self::Airborne => "Takeoff detected".to_string(),
-            Self::OffboardLost => "Offboard lost".to_string(),
-            Self::Failsafe(text) => text.clone(),
-            Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
-            Self::MissionCurrent(seq) => format!("Mission item {seq}"),
-        }
-    }
-}
-
-/// One tick's output.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CommanderTick {
-    /// Setpoint to fly; `None`: motors off (or `attitude` flies).
-    pub setpoint: Option<FlatSetpoint>,
-    /// Offboard attitude / rate target to fly instead of `setpoint`.
-    pub attitude: Option<AttitudeTarget>,
-    /// What happened on its own this tick.
-    pub events: Vec<Event>,
-}
 
 /// Armed state, mode and guidance of one vehicle.
 #[derive(Debug, Clone, PartialEq)]
@@ -671,17 +469,6 @@ impl Commander {
                 self.guidance = self.descend(x, yaw, t_s);
             }
             RtlPhase::Descend => {}
-        }
-    }
-}
-
-impl CommanderTick {
-    /// Motors off (disarmed, or idle on the ground).
-    fn idle(events: Vec<Event>) -> Self {
-        Self {
-            setpoint: None,
-            attitude: None,
-            events,
         }
     }
 }

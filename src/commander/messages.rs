@@ -1,0 +1,167 @@
+//! What goes in and out of the commander: ground-station requests, their outcomes, the events
+//! it announces on its own, the landed state it reports and one tick's output.
+
+use crate::control::{AttitudeTarget, FlatSetpoint};
+use crate::math::Vec3;
+use crate::navigation::Mission;
+
+use super::FlightMode;
+
+/// MAVLink landed state (EXTENDED_SYS_STATE).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LandedState {
+    /// On the ground.
+    OnGround,
+    /// Flying.
+    InAir,
+    /// Climbing out after take-off.
+    Takeoff,
+    /// Descending to land.
+    Landing,
+}
+
+/// A request from a ground station.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Request {
+    /// Arm; `force` skips the pre-arm checks.
+    Arm {
+        /// Force (21196 / 2989).
+        force: bool,
+    },
+    /// Disarm; `force` also in the air.
+    Disarm {
+        /// Force (21196 / 2989).
+        force: bool,
+    },
+    /// Switch mode.
+    SetMode(FlightMode),
+    /// NAV_TAKEOFF to `height_m` above home [m] (`None`: `MIS_TAKEOFF_ALT`).
+    Takeoff {
+        /// Target height above home [m].
+        height_m: Option<f64>,
+    },
+    /// NAV_LAND here.
+    Land,
+    /// NAV_RETURN_TO_LAUNCH.
+    ReturnToLaunch,
+    /// An offboard setpoint (SET_POSITION_TARGET_*), kept as the latest; with `body_frame` its
+    /// velocity and acceleration are in the heading frame (MAV_FRAME_BODY_NED).
+    OffboardSetpoint {
+        /// The setpoint.
+        setpoint: FlatSetpoint,
+        /// Velocity/acceleration in the heading frame.
+        body_frame: bool,
+    },
+    /// An offboard attitude / rate target (SET_ATTITUDE_TARGET), kept as the latest.
+    OffboardAttitude(AttitudeTarget),
+    /// Replace the stored mission (a mission replaced during AUTO.MISSION switches to AUTO.LOITER).
+    SetMission(Mission),
+    /// MISSION_START: fly the stored mission from `first` (item index).
+    StartMission {
+        /// First item.
+        first: usize,
+    },
+    /// DO_REPOSITION: go to `pos_w` and hold there in AUTO.LOITER; unset coordinates keep the
+    /// current ones, `yaw_rad` `None` keeps the heading, `speed_m_s` `None` the cruise speed.
+    Reposition {
+        /// Target north [m], `None` = current.
+        north_m: Option<f64>,
+        /// Target east [m], `None` = current.
+        east_m: Option<f64>,
+        /// Target down [m], `None` = current.
+        down_m: Option<f64>,
+        /// Heading [rad].
+        yaw_rad: Option<f64>,
+        /// Ground speed [m/s].
+        speed_m_s: Option<f64>,
+    },
+    /// MAV_CMD_INJECT_FAILURE for motors (`SYS_FAILURE_EN` = 1): rotor `rotor` (1-based; 0 =
+    /// every rotor) stops (`failed`) or works again. The vehicle applies it to the plant; the
+    /// commander hears of it through [`Commander::rotor_failed`].
+    InjectRotorFailure {
+        /// Rotor, 1-based; 0 = all.
+        rotor: usize,
+        /// Stop (true) or restore (false).
+        failed: bool,
+    },
+    /// DO_CHANGE_SPEED: horizontal speed of the AUTO modes [m/s] until changed again.
+    ChangeSpeed(f64),
+    /// DO_SET_HOME: the local NED point RTL returns to [m]; `None`: the current position.
+    SetHome(Option<Vec3>),
+    /// No GCS heartbeat for `COM_DL_LOSS_T`: run `NAV_DLL_ACT` if flying.
+    GcsLinkLost,
+}
+
+/// The result of a request (MAV_RESULT), with the reason of a refusal for STATUSTEXT.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Outcome {
+    /// Valid and started.
+    Accepted,
+    /// Not now; fixable by waiting.
+    TemporarilyRejected(String),
+    /// Invalid.
+    Denied(String),
+    /// A coordinate frame the command cannot use (MAV_RESULT_UNSUPPORTED_MAV_FRAME).
+    Unsupported(String),
+    /// Understood but not possible on this vehicle (MAV_RESULT_FAILED).
+    Failed(String),
+}
+
+/// Something the commander did on its own, to announce.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Event {
+    /// Auto-disarm, with the reason.
+    Disarmed(&'static str),
+    /// The mode changed without a request (take-off done → loiter, landed → ...).
+    ModeChanged(FlightMode),
+    /// Touch-down detected.
+    Landed,
+    /// Lift-off detected.
+    Airborne,
+    /// Offboard setpoints stopped for `COM_OF_LOSS_T`; the vehicle holds position.
+    OffboardLost,
+    /// A geofence or battery failsafe triggered (the announcement).
+    Failsafe(String),
+    /// Mission item `seq` reached (MISSION_ITEM_REACHED).
+    MissionItemReached(u16),
+    /// The current mission item changed (MISSION_CURRENT at once).
+    MissionCurrent(u16),
+}
+
+impl Event {
+    /// The STATUSTEXT announcing it.
+    pub fn describe(&self) -> String {
+        match self {
+            Self::Disarmed(why) => format!("Disarmed: {why}"),
+            Self::ModeChanged(mode) => format!("Mode {}", mode.name()),
+            Self::Landed => "Landing detected".to_string(),
+            Self::Airborne => "Takeoff detected".to_string(),
+            Self::OffboardLost => "Offboard lost".to_string(),
+            Self::Failsafe(text) => text.clone(),
+            Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
+            Self::MissionCurrent(seq) => format!("Mission item {seq}"),
+        }
+    }
+}
+
+/// One tick's output.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CommanderTick {
+    /// Setpoint to fly; `None`: motors off (or `attitude` flies).
+    pub setpoint: Option<FlatSetpoint>,
+    /// Offboard attitude / rate target to fly instead of `setpoint`.
+    pub attitude: Option<AttitudeTarget>,
+    /// What happened on its own this tick.
+    pub events: Vec<Event>,
+}
+
+impl CommanderTick {
+    /// Motors off (disarmed, or idle on the ground).
+    pub(super) fn idle(events: Vec<Event>) -> Self {
+        Self {
+            setpoint: None,
+            attitude: None,
+            events,
+        }
+    }
+}

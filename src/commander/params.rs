@@ -1,0 +1,64 @@
+//! The commander's settings, with PX4's parameter names and defaults.
+
+use crate::navigation::MotionLimits;
+
+use super::{BatteryParams, FailsafeParams, LandDetectorParams};
+
+/// Commander settings (PX4 parameter names in brackets).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CommanderParams {
+    /// Take-off height above home [m] (`MIS_TAKEOFF_ALT`, 2.5).
+    pub takeoff_alt_m: f64,
+    /// Landing descent speed [m/s] (`MPC_LAND_SPEED`, 0.7).
+    pub land_speed_m_s: f64,
+    /// Horizontal cruise speed of the AUTO modes [m/s] (`MPC_XY_CRUISE`, 5.0).
+    pub cruise_speed_m_s: f64,
+    /// Return altitude above home [m] (`RTL_RETURN_ALT`, 60).
+    pub rtl_return_alt_m: f64,
+    /// Disarm this long after landing [s] (`COM_DISARM_LAND`, 2.0; ≤ 0 never).
+    pub disarm_land_s: f64,
+    /// Disarm this long after arming without taking off [s] (`COM_DISARM_PRFLT`, 10; ≤ 0 never).
+    pub disarm_preflight_s: f64,
+    /// Offboard setpoints older than this are lost [s] (`COM_OF_LOSS_T`, 1.0).
+    pub offboard_loss_s: f64,
+    /// GCS link-loss action (`NAV_DLL_ACT`: 0 off, 1 hold, 2 return, 3 land, 5 terminate, 6 disarm).
+    pub link_loss_action: i32,
+    /// GCS silence that counts as link loss [s] (`COM_DL_LOSS_T`, 10).
+    pub link_loss_s: f64,
+    /// Geofence and battery failsafes.
+    pub failsafe: FailsafeParams,
+    /// The battery pack.
+    pub battery: BatteryParams,
+    /// Failure injection allowed (`SYS_FAILURE_EN`, 0).
+    pub failure_injection: bool,
+    /// Offboard-loss action (`COM_OBL_RC_ACT`: 0–2 hold position (no RC), 3 return, 4 land,
+    /// 5 hold (AUTO.LOITER), 6 terminate, 7 disarm; default 0).
+    pub offboard_loss_action: i32,
+    /// Limits of every AUTO path and every offboard setpoint (`MPC_XY_VEL_MAX` caps cruise,
+    /// DO_CHANGE_SPEED and DO_REPOSITION speeds; the final landing descends at `land_speed_m_s`).
+    pub motion: MotionLimits,
+    /// Land detector.
+    pub land_detector: LandDetectorParams,
+}
+
+impl Default for CommanderParams {
+    fn default() -> Self {
+        Self {
+            takeoff_alt_m: 2.5,
+            land_speed_m_s: 0.7,
+            cruise_speed_m_s: 5.0,
+            rtl_return_alt_m: 60.0,
+            disarm_land_s: 2.0,
+            disarm_preflight_s: 10.0,
+            offboard_loss_s: 1.0,
+            link_loss_action: 0,
+            link_loss_s: 10.0,
+            motion: MotionLimits::default(),
+            land_detector: LandDetectorParams::default(),
+            failsafe: FailsafeParams::default(),
+            battery: BatteryParams::default(),
+            failure_injection: false,
+            offboard_loss_action: 0,
+        }
+    }
+}
