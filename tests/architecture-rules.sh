@@ -18,7 +18,7 @@ hits=$(code 'firmware_sim' src | grep -v '^src/sitl.rs:' || true)
 hits=$(code '\bmavlink::' src | grep -v '^src/mav/' || true)
 [ -z "$hits" ] || complain "only src/mav/ may name the mavlink crate" "$hits"
 
-pure="src/math.rs src/rpy.rs src/core.rs src/commander src/mav/codec.rs src/mav/translate.rs src/mav/telemetry.rs src/mav/services.rs src/mav/duplicates.rs src/mav/streams.rs src/mav/params.rs src/mav/offboard.rs src/mav/mission_items.rs src/mav/mission_xfer.rs src/params src/telemetry.rs src/scenario src/airframe src/allocation src/control src/estimation src/navigation src/report src/montecarlo/envelope.rs src/montecarlo/authority.rs src/montecarlo/trial.rs src/montecarlo/stats.rs src/montecarlo/report.rs firmware-sim/src"
+pure="src/math.rs src/rpy.rs src/core.rs src/commander src/mav/codec.rs src/mav/translate.rs src/mav/identity.rs src/mav/telemetry.rs src/mav/status.rs src/mav/services.rs src/mav/duplicates.rs src/mav/streams.rs src/mav/params.rs src/mav/offboard.rs src/mav/mission_items.rs src/mav/mission_xfer.rs src/params src/telemetry.rs src/scenario src/airframe src/allocation src/control src/estimation src/navigation src/report src/montecarlo/envelope.rs src/montecarlo/authority.rs src/montecarlo/trial.rs src/montecarlo/judging.rs src/montecarlo/stats.rs src/montecarlo/report.rs firmware-sim/src"
 for path in $pure; do
     [ -e "$path" ] || complain "pure-module list names a missing path" "$path"
 done

@@ -3,6 +3,7 @@
 
 pub mod codec;
 pub mod duplicates;
+pub mod identity;
 pub mod ingest;
 pub mod mission_items;
 pub mod mission_xfer;
@@ -10,6 +11,7 @@ pub mod offboard;
 pub mod params;
 pub mod services;
 pub mod signing;
+mod status;
 pub mod streams;
 pub mod telemetry;
 pub mod translate;

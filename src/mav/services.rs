@@ -1,5 +1,5 @@
-//! Small request/reply services (mavlink.md §4, §9): AUTOPILOT_VERSION, PING, TIMESYNC and the
-//! MAVLink-FTP NAK that makes MAVProxy fall back to the parameter protocol at once. Pure.
+//! Small request/reply services (mavlink.md §4, §9): the messages REQUEST_MESSAGE can ask for,
+//! AUTOPILOT_VERSION, PING, TIMESYNC and the MAVLink-FTP NAK that makes MAVProxy fall back to the parameter protocol at once. Pure.
 //!
 //! PING is deprecated in the spec, but MAVSDK sends one every 5 s to PX4 and expects the reply.
 #![allow(deprecated)]
@@ -9,7 +9,31 @@ use mavlink::dialects::common::{
 };
 use mavlink::MavHeader;
 
+use super::telemetry::Stream;
 use super::translate::Identity;
+
+/// A message sent on request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OneShot {
+    /// AUTOPILOT_VERSION (148).
+    AutopilotVersion,
+    /// One message of a telemetry stream.
+    Stream(Stream),
+}
+
+/// The message REQUEST_MESSAGE(`id`) asks for, when we can produce it.
+pub(super) fn one_shot(id: f32) -> Option<OneShot> {
+    Some(match id as u32 {
+        148 => OneShot::AutopilotVersion,
+        1 => OneShot::Stream(Stream::SysStatus),
+        30 => OneShot::Stream(Stream::Attitude),
+        32 => OneShot::Stream(Stream::LocalPosition),
+        33 => OneShot::Stream(Stream::GlobalPosition),
+        242 => OneShot::Stream(Stream::HomePosition),
+        245 => OneShot::Stream(Stream::ExtendedSysState),
+        _ => return None,
+    })
+}
 
 /// FTP opcodes (mavlink.md §9).
 const FTP_ACK: u8 = 128;

@@ -1,17 +1,20 @@
-//! Telemetry messages from a [`Snapshot`] (mavlink.md §4–§5). Pure.
+//! Telemetry messages from a [`Snapshot`] (mavlink.md §4–§5): the periodic streams. The status
+//! messages (battery, SYS_STATUS, MISSION_CURRENT, STATUSTEXT) are in `status.rs`. Pure.
 
 use mavlink::dialects::common::{
-    GpsFixType, HighresImuUpdatedFlags, MavFrame, MavLandedState, MavMessage, MavSeverity, MavSysStatusSensor,
-    MavVtolState, PositionTargetTypemask, ACTUATOR_OUTPUT_STATUS_DATA, ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA,
-    ATTITUDE_TARGET_DATA, BATTERY_STATUS_DATA, DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA,
-    GPS_RAW_INT_DATA, HIGHRES_IMU_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, MISSION_CURRENT_DATA,
-    NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA,
+    GpsFixType, HighresImuUpdatedFlags, MavFrame, MavLandedState, MavMessage, MavVtolState, PositionTargetTypemask,
+    ACTUATOR_OUTPUT_STATUS_DATA, ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA, DEBUG_VECT_DATA,
+    EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, HIGHRES_IMU_DATA, HOME_POSITION_DATA,
+    LOCAL_POSITION_NED_DATA, NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA,
     VFR_HUD_DATA,
 };
 
-use crate::commander::{FlightMode, LandedState, MissionState};
+use crate::commander::LandedState;
 use crate::math::{UnitQuat, Vec3};
-use crate::telemetry::{BatterySnapshot, Snapshot};
+use crate::telemetry::Snapshot;
+
+use super::status::{battery_status, sys_status};
+pub use super::status::{mission_current, status_text};
 
 /// A periodic telemetry message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -120,35 +123,6 @@ fn course_cdeg(s: &Snapshot) -> u16 {
 
 fn time_boot_ms(s: &Snapshot) -> u32 {
     (s.t_s * 1000.0) as u32
-}
-
-/// Pack voltage [mV].
-fn millivolts(b: &BatterySnapshot) -> u16 {
-    (b.cell_v * f64::from(b.cells) * 1000.0).round().clamp(0.0, 65_534.0) as u16
-}
-
-/// Remaining charge [%].
-fn percent(b: &BatterySnapshot) -> i8 {
-    (b.fraction * 100.0).round().clamp(0.0, 100.0) as i8
-}
-
-/// BATTERY_STATUS: cell voltages (up to ten cells, UINT16_MAX for the rest), current [cA],
-/// charge drawn [mAh], energy drawn [hJ], remaining [%].
-fn battery_status(b: &BatterySnapshot) -> MavMessage {
-    let mut voltages = [u16::MAX; 10];
-    let cell_mv = (b.cell_v * 1000.0).round().clamp(0.0, 65_534.0) as u16;
-    for v in voltages.iter_mut().take(b.cells.min(10) as usize) {
-        *v = cell_mv;
-    }
-    MavMessage::BATTERY_STATUS(BATTERY_STATUS_DATA {
-        voltages,
-        current_battery: (b.current_a * 100.0).round().clamp(0.0, f64::from(i16::MAX)) as i16,
-        current_consumed: b.consumed_mah.round().clamp(0.0, f64::from(i32::MAX)) as i32,
-        energy_consumed: (b.energy_j / 100.0).round().clamp(0.0, f64::from(i32::MAX)) as i32,
-        temperature: i16::MAX,
-        battery_remaining: percent(b),
-        ..Default::default()
-    })
 }
 
 /// The message of `stream` for snapshot `s`; `None` when there is nothing to report (no estimate).
@@ -370,82 +344,13 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
     })
 }
 
-/// MISSION_CURRENT for item `seq` (mavlink.md §7 "Progress"): total UINT16_MAX without a mission,
-/// mission_mode 1 in AUTO.MISSION.
-pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
-    MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
-        seq,
-        total: if s.mission_total == 0 {
-            u16::MAX
-        } else {
-            s.mission_total
-        },
-        mission_state: match s.mission_state {
-            MissionState::NoMission => mavlink::dialects::common::MissionState::MISSION_STATE_NO_MISSION,
-            MissionState::NotStarted => mavlink::dialects::common::MissionState::MISSION_STATE_NOT_STARTED,
-            MissionState::Active => mavlink::dialects::common::MissionState::MISSION_STATE_ACTIVE,
-            MissionState::Paused => mavlink::dialects::common::MissionState::MISSION_STATE_PAUSED,
-            MissionState::Complete => mavlink::dialects::common::MissionState::MISSION_STATE_COMPLETE,
-        },
-        mission_mode: u8::from(s.mode == FlightMode::Mission),
-        ..Default::default()
-    })
-}
-
-/// SYS_STATUS with the sensors MAVSDK's `health_all_ok()` checks present, enabled and healthy,
-/// the pre-arm check healthy (the emulator is armable at once, §4), and the geofence present,
-/// enabled and healthy unless the vehicle is outside it. A clear geofence health bit reads as a
-/// breach (MAVProxy says "fence breach" when it sees one), so the bit is cleared on a real
-/// breach only.
-fn sys_status(s: &Snapshot) -> MavMessage {
-    let b = &s.battery;
-    let sensors = MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO
-        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_ACCEL
-        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_MAG
-        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE
-        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_GPS
-        | MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK
-        | MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE;
-    let mut health = sensors;
-    if s.geofence_breached {
-        health.remove(MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE);
-    }
-    MavMessage::SYS_STATUS(SYS_STATUS_DATA {
-        onboard_control_sensors_present: sensors,
-        onboard_control_sensors_enabled: sensors,
-        onboard_control_sensors_health: health,
-        voltage_battery: millivolts(b),
-        current_battery: (b.current_a * 100.0).round().clamp(0.0, f64::from(i16::MAX)) as i16,
-        battery_remaining: percent(b),
-        ..Default::default()
-    })
-}
-
-/// STATUSTEXT with `text` cut to the 50 characters the message holds.
-pub fn status_text(severity: MavSeverity, text: &str) -> MavMessage {
-    let mut bytes = [0u8; 50];
-    let mut n = 0;
-    for c in text.chars() {
-        let mut buf = [0u8; 4];
-        let enc = c.encode_utf8(&mut buf).as_bytes();
-        if n + enc.len() > bytes.len() {
-            break;
-        }
-        bytes[n..n + enc.len()].copy_from_slice(enc);
-        n += enc.len();
-    }
-    MavMessage::STATUSTEXT(STATUSTEXT_DATA {
-        severity,
-        text: bytes.into(),
-        ..Default::default()
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::commander::{FlightMode, MissionState};
     use crate::math::Vec3;
     use crate::navigation::Home;
+    use mavlink::dialects::common::{MavSeverity, MavSysStatusSensor};
 
     fn snapshot() -> Snapshot {
         Snapshot {

@@ -4,57 +4,19 @@
 //! `target_component ∈ {1, 0}` and it does not come from our own ids. NaN parameters mean
 //! "not set". Results map to MAV_RESULT with the refusal reason kept for STATUSTEXT.
 
-use mavlink::dialects::common::{
-    MavAutopilot, MavCmd, MavFrame, MavMessage, MavModeFlag, MavResult, MavState, MavType, COMMAND_ACK_DATA,
-    COMMAND_INT_DATA, COMMAND_LONG_DATA, HEARTBEAT_DATA,
-};
+use mavlink::dialects::common::{MavCmd, MavFrame, MavMessage, COMMAND_INT_DATA, COMMAND_LONG_DATA};
 use mavlink::MavHeader;
 
 use crate::commander::{FlightMode, ModeRefusal, Outcome, Request};
 use crate::navigation::Home;
 
+pub use super::identity::{command_ack, heartbeat, result_of, Identity};
+use super::services::one_shot;
+pub use super::services::OneShot;
 use super::telemetry::Stream;
 
 /// Force-arm magic numbers in ARM_DISARM param2: the spec's and MAVProxy's.
 const FORCE_MAGIC: [f32; 2] = [21196.0, 2989.0];
-
-/// Who we are on the link.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Identity {
-    /// System id, 1–255.
-    pub system_id: u8,
-    /// Component id (1, autopilot).
-    pub component_id: u8,
-    /// Vehicle type from the rotor count.
-    pub mav_type: MavType,
-}
-
-impl Identity {
-    /// Autopilot `system_id`/1 with the vehicle type of `rotors` rotors (§1).
-    pub fn autopilot(system_id: u8, rotors: usize) -> Self {
-        let mav_type = match rotors {
-            4 => MavType::MAV_TYPE_QUADROTOR,
-            6 => MavType::MAV_TYPE_HEXAROTOR,
-            8 => MavType::MAV_TYPE_OCTOROTOR,
-            10 => MavType::MAV_TYPE_DECAROTOR,
-            12 => MavType::MAV_TYPE_DODECAROTOR,
-            _ => MavType::MAV_TYPE_GENERIC_MULTIROTOR,
-        };
-        Self {
-            system_id,
-            component_id: 1,
-            mav_type,
-        }
-    }
-
-    /// True when a message addressed to `target_system`/`target_component` from `sender` is ours.
-    pub fn accepts(&self, sender: &MavHeader, target_system: u8, target_component: u8) -> bool {
-        let from_self = sender.system_id == u32::from(self.system_id) && sender.component_id == self.component_id;
-        !from_self
-            && (target_system == self.system_id || target_system == 0)
-            && (target_component == self.component_id || target_component == 0)
-    }
-}
 
 /// What to do with a COMMAND_LONG.
 #[derive(Debug, Clone, PartialEq)]
@@ -81,29 +43,6 @@ pub enum CommandDecision {
         /// Message id.
         message_id: u32,
     },
-}
-
-/// A message sent on request.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum OneShot {
-    /// AUTOPILOT_VERSION (148).
-    AutopilotVersion,
-    /// One message of a telemetry stream.
-    Stream(Stream),
-}
-
-/// The message REQUEST_MESSAGE(`id`) asks for, when we can produce it.
-fn one_shot(id: f32) -> Option<OneShot> {
-    Some(match id as u32 {
-        148 => OneShot::AutopilotVersion,
-        1 => OneShot::Stream(Stream::SysStatus),
-        30 => OneShot::Stream(Stream::Attitude),
-        32 => OneShot::Stream(Stream::LocalPosition),
-        33 => OneShot::Stream(Stream::GlobalPosition),
-        242 => OneShot::Stream(Stream::HomePosition),
-        245 => OneShot::Stream(Stream::ExtendedSysState),
-        _ => return None,
-    })
 }
 
 /// COMMAND_INT as the equivalent COMMAND_LONG: x/y (INT32_MAX = unset) become param5/param6.
@@ -347,54 +286,6 @@ fn on_earth(lat_deg: f64, lon_deg: f64, alt_m: f64) -> bool {
     lat_deg.abs() <= 90.0 && lon_deg.abs() <= 180.0 && (-1_000.0..=100_000.0).contains(&alt_m)
 }
 
-/// MAV_RESULT of an outcome.
-pub fn result_of(outcome: &Outcome) -> MavResult {
-    match outcome {
-        Outcome::Accepted => MavResult::MAV_RESULT_ACCEPTED,
-        Outcome::TemporarilyRejected(_) => MavResult::MAV_RESULT_TEMPORARILY_REJECTED,
-        Outcome::Denied(_) => MavResult::MAV_RESULT_DENIED,
-        Outcome::Unsupported(_) => MavResult::MAV_RESULT_COMMAND_UNSUPPORTED_MAV_FRAME,
-        Outcome::Failed(_) => MavResult::MAV_RESULT_FAILED,
-    }
-}
-
-/// COMMAND_ACK for `command` addressed back to `sender` (MAVSDK matches on the target ids).
-pub fn command_ack(sender: &MavHeader, command: MavCmd, result: MavResult) -> MavMessage {
-    MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
-        command,
-        result,
-        target_system: sender.system_id as u8,
-        target_component: sender.component_id,
-        ..Default::default()
-    })
-}
-
-/// HEARTBEAT for the commander's state (§1): PX4 autopilot, custom mode, armed bit, and the
-/// base-mode flags pymavlink's PX4 table sends (POSCTL: manual | stabilize; AUTO and OFFBOARD:
-/// auto | guided | stabilize).
-pub fn heartbeat(id: &Identity, armed: bool, mode: FlightMode) -> MavMessage {
-    let mut base = MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | MavModeFlag::MAV_MODE_FLAG_STABILIZE_ENABLED;
-    base |= match mode {
-        FlightMode::Position => MavModeFlag::MAV_MODE_FLAG_MANUAL_INPUT_ENABLED,
-        _ => MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED | MavModeFlag::MAV_MODE_FLAG_GUIDED_ENABLED,
-    };
-    if armed {
-        base |= MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED;
-    }
-    MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-        custom_mode: mode.custom_mode(),
-        mavtype: id.mav_type,
-        autopilot: MavAutopilot::MAV_AUTOPILOT_PX4,
-        base_mode: base,
-        system_status: if armed {
-            MavState::MAV_STATE_ACTIVE
-        } else {
-            MavState::MAV_STATE_STANDBY
-        },
-        mavlink_version: 3,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -591,30 +482,5 @@ mod tests {
             decode_command_int(&id, &gcs(), &local, &home),
             CommandDecision::Refuse(Outcome::Unsupported(_))
         ));
-    }
-
-    #[test]
-    fn heartbeat_and_ack_carry_what_clients_read() {
-        let id = Identity::autopilot(3, 8);
-        let MavMessage::HEARTBEAT(hb) = heartbeat(&id, true, FlightMode::Takeoff) else {
-            panic!("not a heartbeat");
-        };
-        assert_eq!(hb.mavtype, MavType::MAV_TYPE_OCTOROTOR);
-        assert_eq!(hb.custom_mode, 33_816_576);
-        assert_eq!(hb.base_mode.bits(), 128 | 29);
-        let MavMessage::HEARTBEAT(hb) = heartbeat(&id, false, FlightMode::Position) else {
-            panic!("not a heartbeat");
-        };
-        assert_eq!(hb.base_mode.bits(), 81);
-        let MavMessage::COMMAND_ACK(ack) = command_ack(
-            &gcs(),
-            MavCmd::MAV_CMD_NAV_LAND,
-            result_of(&Outcome::Denied("x".into())),
-        ) else {
-            panic!("not an ack");
-        };
-        assert_eq!((ack.target_system, ack.target_component), (255, 190));
-        assert_eq!(ack.result, MavResult::MAV_RESULT_DENIED);
-        assert_eq!(Identity::autopilot(1, 5).mav_type, MavType::MAV_TYPE_GENERIC_MULTIROTOR);
     }
 }

@@ -8,6 +8,7 @@
 
 pub mod authority;
 pub mod envelope;
+pub mod judging;
 pub mod report;
 pub mod runner;
 pub mod stats;

@@ -1,0 +1,110 @@
+//! Status messages from a [`Snapshot`]: BATTERY_STATUS, SYS_STATUS (sensor, pre-arm and
+//! geofence health), MISSION_CURRENT and STATUSTEXT. Pure.
+
+use mavlink::dialects::common::{
+    MavMessage, MavSeverity, MavSysStatusSensor, BATTERY_STATUS_DATA, MISSION_CURRENT_DATA, STATUSTEXT_DATA,
+    SYS_STATUS_DATA,
+};
+
+use crate::commander::{FlightMode, MissionState};
+use crate::telemetry::{BatterySnapshot, Snapshot};
+
+/// Pack voltage [mV].
+fn millivolts(b: &BatterySnapshot) -> u16 {
+    (b.cell_v * f64::from(b.cells) * 1000.0).round().clamp(0.0, 65_534.0) as u16
+}
+
+/// Remaining charge [%].
+fn percent(b: &BatterySnapshot) -> i8 {
+    (b.fraction * 100.0).round().clamp(0.0, 100.0) as i8
+}
+
+/// BATTERY_STATUS: cell voltages (up to ten cells, UINT16_MAX for the rest), current [cA],
+/// charge drawn [mAh], energy drawn [hJ], remaining [%].
+pub(super) fn battery_status(b: &BatterySnapshot) -> MavMessage {
+    let mut voltages = [u16::MAX; 10];
+    let cell_mv = (b.cell_v * 1000.0).round().clamp(0.0, 65_534.0) as u16;
+    for v in voltages.iter_mut().take(b.cells.min(10) as usize) {
+        *v = cell_mv;
+    }
+    MavMessage::BATTERY_STATUS(BATTERY_STATUS_DATA {
+        voltages,
+        current_battery: (b.current_a * 100.0).round().clamp(0.0, f64::from(i16::MAX)) as i16,
+        current_consumed: b.consumed_mah.round().clamp(0.0, f64::from(i32::MAX)) as i32,
+        energy_consumed: (b.energy_j / 100.0).round().clamp(0.0, f64::from(i32::MAX)) as i32,
+        temperature: i16::MAX,
+        battery_remaining: percent(b),
+        ..Default::default()
+    })
+}
+
+/// MISSION_CURRENT for item `seq` (mavlink.md §7 "Progress"): total UINT16_MAX without a mission,
+/// mission_mode 1 in AUTO.MISSION.
+pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
+    MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
+        seq,
+        total: if s.mission_total == 0 {
+            u16::MAX
+        } else {
+            s.mission_total
+        },
+        mission_state: match s.mission_state {
+            MissionState::NoMission => mavlink::dialects::common::MissionState::MISSION_STATE_NO_MISSION,
+            MissionState::NotStarted => mavlink::dialects::common::MissionState::MISSION_STATE_NOT_STARTED,
+            MissionState::Active => mavlink::dialects::common::MissionState::MISSION_STATE_ACTIVE,
+            MissionState::Paused => mavlink::dialects::common::MissionState::MISSION_STATE_PAUSED,
+            MissionState::Complete => mavlink::dialects::common::MissionState::MISSION_STATE_COMPLETE,
+        },
+        mission_mode: u8::from(s.mode == FlightMode::Mission),
+        ..Default::default()
+    })
+}
+
+/// SYS_STATUS with the sensors MAVSDK's `health_all_ok()` checks present, enabled and healthy,
+/// the pre-arm check healthy (the emulator is armable at once, §4), and the geofence present,
+/// enabled and healthy unless the vehicle is outside it. A clear geofence health bit reads as a
+/// breach (MAVProxy says "fence breach" when it sees one), so the bit is cleared on a real
+/// breach only.
+pub(super) fn sys_status(s: &Snapshot) -> MavMessage {
+    let b = &s.battery;
+    let sensors = MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO
+        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_ACCEL
+        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_MAG
+        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE
+        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_GPS
+        | MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK
+        | MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE;
+    let mut health = sensors;
+    if s.geofence_breached {
+        health.remove(MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE);
+    }
+    MavMessage::SYS_STATUS(SYS_STATUS_DATA {
+        onboard_control_sensors_present: sensors,
+        onboard_control_sensors_enabled: sensors,
+        onboard_control_sensors_health: health,
+        voltage_battery: millivolts(b),
+        current_battery: (b.current_a * 100.0).round().clamp(0.0, f64::from(i16::MAX)) as i16,
+        battery_remaining: percent(b),
+        ..Default::default()
+    })
+}
+
+/// STATUSTEXT with `text` cut to the 50 characters the message holds.
+pub fn status_text(severity: MavSeverity, text: &str) -> MavMessage {
+    let mut bytes = [0u8; 50];
+    let mut n = 0;
+    for c in text.chars() {
+        let mut buf = [0u8; 4];
+        let enc = c.encode_utf8(&mut buf).as_bytes();
+        if n + enc.len() > bytes.len() {
+            break;
+        }
+        bytes[n..n + enc.len()].copy_from_slice(enc);
+        n += enc.len();
+    }
+    MavMessage::STATUSTEXT(STATUSTEXT_DATA {
+        severity,
+        text: bytes.into(),
+        ..Default::default()
+    })
+}
