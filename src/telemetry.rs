@@ -100,3 +100,34 @@ pub struct Snapshot {
     /// judged at the last check.
     pub geofence_breached: bool,
 }
+
+impl Snapshot {
+    /// The state before the first tick: disarmed on the ground at home in AUTO.LOITER.
+    pub fn initial(home: Home) -> Self {
+        Self {
+            t_s: 0.0,
+            pos_w: Vec3::zeros(),
+            vel_w: Vec3::zeros(),
+            eta: Vec3::zeros(),
+            omega_b: Vec3::zeros(),
+            accel_b: Vec3::zeros(),
+            armed: false,
+            mode: FlightMode::Loiter,
+            landed: LandedState::OnGround,
+            home,
+            home_w: Vec3::zeros(),
+            mission_seq: 0,
+            mission_total: 0,
+            mission_state: MissionState::NoMission,
+            estimate: None,
+            setpoint: None,
+            eta_desired: None,
+            thrust_fraction: 0.0,
+            rotor_speeds: [0.0; MAX_ROTORS],
+            rotor_count: 0,
+            rotor_max_rad_s: 1.0,
+            battery: BatterySnapshot::full(3),
+            geofence_breached: false,
+        }
+    }
+}

@@ -361,26 +361,19 @@ impl Link {
             t_s: self.t_s,
             pos_w: self.x.pos_w,
             vel_w: self.x.vel_w,
-            eta: Vec3::zeros(),
             omega_b: self.x.omega_b,
             accel_b: Vec3::new(0.0, 0.0, -9.81),
             armed: self.commander.armed(),
             mode: self.commander.mode(),
             landed: self.commander.landed_state(),
-            home: self.home,
             home_w: self.commander.home_w(),
             mission_seq: seq as u16,
             mission_total: total as u16,
             mission_state: state,
-            estimate: None,
-            setpoint: None,
-            eta_desired: None,
-            thrust_fraction: 0.0,
-            rotor_speeds: [0.0; rotorpilot::airframe::MAX_ROTORS],
             rotor_count: 4,
             rotor_max_rad_s: 1100.0,
-            battery: rotorpilot::telemetry::BatterySnapshot::full(3),
-            geofence_breached: false,
+            geofence_breached: self.commander.geofence_breached(),
+            ..Snapshot::initial(self.home)
         }
     }
 }

@@ -6,6 +6,7 @@ pub mod flight_log;
 pub mod link;
 pub mod rotor_failures;
 pub mod scheduler;
+mod signing_keeper;
 pub mod signing_store;
 pub mod vehicle;
 
@@ -21,10 +22,9 @@ use tokio::net::UdpSocket;
 use tokio::sync::{broadcast, mpsc, watch};
 
 use crate::airframe::AirframeSource;
-use crate::commander::{FlightMode, LandedState, MissionState};
 use crate::control::ControllerKind;
 use crate::math::Vec3;
-use crate::mav::signing::{Signing, SigningKey};
+use crate::mav::signing::Signing;
 use crate::mav::streams::LinkKind;
 use crate::mav::translate::Identity;
 use crate::navigation::Home;
@@ -36,7 +36,8 @@ use link::{run_link, LinkContext};
 use rotor_failures::ScheduledFailure;
 pub use scheduler::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
-use signing_store::{signing_now, SharedSigning, SigningFileError, SigningStore};
+use signing_keeper::{signing_keeper, SigningSetup};
+use signing_store::SigningFileError;
 use vehicle::{Vehicle, VehicleError};
 
 /// Bound of the request queue into the tick thread: commands are never dropped silently; when
@@ -295,7 +296,7 @@ fn setup_vehicle(
         api: api.to_string(),
     };
     let (inbox_tx, inbox_rx) = mpsc::channel(INBOX_CAPACITY);
-    let (snapshot_tx, snapshot_rx) = watch::channel(initial_snapshot(home));
+    let (snapshot_tx, snapshot_rx) = watch::channel(Snapshot::initial(home));
     let (params_tx, params_rx) = watch::channel(Arc::new(vehicle.params().clone()));
     let (event_tx, event_rx) = mpsc::channel(EVENT_CAPACITY);
     let (announce_tx, _) = broadcast::channel(EVENT_CAPACITY);
@@ -439,72 +440,6 @@ pub fn run(
     Ok(report)
 }
 
-/// The signing key and timestamp every vehicle starts from, and where they are kept.
-struct SigningSetup {
-    key: Option<SigningKey>,
-    /// Start timestamp: the persisted one or the wall clock, whichever is later [10 µs].
-    timestamp: u64,
-    store: Option<Arc<SigningStore>>,
-}
-
-impl SigningSetup {
-    fn load(key_path: Option<std::path::PathBuf>) -> Result<Self, SigningFileError> {
-        let Some(path) = key_path else {
-            return Ok(Self {
-                key: None,
-                timestamp: signing_now(),
-                store: None,
-            });
-        };
-        let store = SigningStore::new(path);
-        let (key, stored) = store.load()?;
-        Ok(Self {
-            key,
-            timestamp: stored.max(signing_now()),
-            store: Some(Arc::new(store)),
-        })
-    }
-}
-
-/// How often the signing timestamp is persisted and dropped frames are reported.
-const SIGNING_KEEP_PERIOD: Duration = Duration::from_secs(10);
-
-/// Persists the latest signing timestamp of all vehicles every [`SIGNING_KEEP_PERIOD`] and at
-/// shutdown (mavlink.md §10: at least once a minute), and logs how many frames signing dropped.
-async fn signing_keeper(
-    vehicles: Vec<SharedSigning>,
-    store: Option<Arc<SigningStore>>,
-    mut shutdown: watch::Receiver<bool>,
-) {
-    let mut reported = 0;
-    let mut period = tokio::time::interval(SIGNING_KEEP_PERIOD);
-    loop {
-        let stopping = tokio::select! {
-            _ = shutdown.changed() => true,
-            _ = period.tick() => false,
-        };
-        let (mut timestamp, mut dropped) = (0, 0);
-        for signing in &vehicles {
-            if let Ok(s) = signing.lock() {
-                timestamp = timestamp.max(s.timestamp());
-                dropped += s.dropped().total();
-            }
-        }
-        if dropped > reported {
-            tracing::warn!("signing: {dropped} frames dropped (unsigned, wrongly signed or replayed)");
-            reported = dropped;
-        }
-        if let Some(store) = &store {
-            if let Err(e) = store.save_timestamp(timestamp) {
-                tracing::warn!("signing timestamp file: {e}");
-            }
-        }
-        if stopping {
-            break;
-        }
-    }
-}
-
 /// Kernel receive buffer of each link socket [bytes]: large enough that a burst of garbage
 /// datagrams does not make the kernel drop the legitimate command behind it.
 const RECV_BUFFER_BYTES: usize = 4 << 20;
@@ -517,32 +452,4 @@ fn bind_udp(addr: SocketAddr) -> std::io::Result<UdpSocket> {
     socket.set_nonblocking(true)?;
     socket.bind(&addr.into())?;
     UdpSocket::from_std(socket.into())
-}
-
-fn initial_snapshot(home: Home) -> Snapshot {
-    Snapshot {
-        t_s: 0.0,
-        pos_w: Vec3::zeros(),
-        vel_w: Vec3::zeros(),
-        eta: Vec3::zeros(),
-        omega_b: Vec3::zeros(),
-        accel_b: Vec3::zeros(),
-        armed: false,
-        mode: FlightMode::Loiter,
-        landed: LandedState::OnGround,
-        home,
-        home_w: Vec3::zeros(),
-        mission_seq: 0,
-        mission_total: 0,
-        mission_state: MissionState::NoMission,
-        estimate: None,
-        setpoint: None,
-        eta_desired: None,
-        thrust_fraction: 0.0,
-        rotor_speeds: [0.0; crate::airframe::MAX_ROTORS],
-        rotor_count: 0,
-        rotor_max_rad_s: 1.0,
-        battery: crate::telemetry::BatterySnapshot::full(3),
-        geofence_breached: false,
-    }
 }
