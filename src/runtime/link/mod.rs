@@ -1,6 +1,11 @@
 //! One MAVLink UDP link (GCS or API): its own socket, the peers learned from valid frames, the
 //! periodic telemetry, and the command path (decode → vehicle → COMMAND_ACK to the sender).
 //! Runtime layer: wall-clock pacing of streams, sockets; the message maths is in `mav`.
+//!
+//! # Layout
+//! - `mod.rs`: the socket loop, peers, heartbeat, link loss, signing, message dispatch.
+//! - `commands.rs`: COMMAND_LONG/INT to the vehicle and their ACKs, PARAM_SET.
+//! - `mission.rs`: the mission protocol against the vehicle's stored mission.
 
 use std::collections::HashMap;
 use std::net::SocketAddr;
@@ -34,6 +39,12 @@ use crate::telemetry::Snapshot;
 use super::flight_log::LogSender;
 use super::scheduler::VehicleCommand;
 use super::signing_store::{signing_now, SharedSigning, SigningStore};
+
+mod commands;
+mod mission;
+
+use commands::{handle_command, set_param};
+use mission::handle_mission;
 
 /// Learned peers are forgotten after this much silence (mavlink.md §11.1).
 const PEER_TIMEOUT: Duration = Duration::from_secs(10);
@@ -364,75 +375,6 @@ fn setup_signing(key: SigningKey, initial_timestamp: u64, ctx: &LinkContext) -> 
     }
 }
 
-/// The mission protocol (mavlink.md §7): uploads through `transfer`, downloads from the store;
-/// an accepted upload replaces the vehicle's mission and the store.
-fn handle_mission(
-    ids: Ids,
-    step: MissionStep,
-    from: SocketAddr,
-    sender: &Arc<Sender>,
-    ctx: &LinkContext,
-    transfer: &mut MissionTransfer<SocketAddr>,
-) {
-    let send = |out: Vec<(SocketAddr, MavMessage)>| {
-        let s = sender.clone();
-        tokio::spawn(async move {
-            for (to, msg) in out {
-                s.send(&msg, to).await;
-            }
-        });
-    };
-    let stored = || ctx.mission_store.lock().map(|s| s.clone()).unwrap_or_default();
-    let now = sender.wall_s();
-    let (out, completed) = match step {
-        MissionStep::Count(m) => transfer.on_count(from, ids, &m, now),
-        MissionStep::Item(m) => transfer.on_item(from, &m, now),
-        MissionStep::Clear => transfer.on_clear(from, ids),
-        MissionStep::RequestList(t) => (vec![(from, download_count(ids, t, &stored()))], None),
-        MissionStep::RequestItem { seq, mission_type } => {
-            (vec![(from, download_item(ids, mission_type, seq, &stored()))], None)
-        }
-    };
-    send(out);
-    match completed {
-        Some(Completed::Items(items)) => {
-            let home = ctx.snapshot.borrow().home;
-            let result = match parse_mission(&items, &home) {
-                Ok(mission) => {
-                    let queued = ctx.inbox.try_send(VehicleCommand::Request {
-                        request: Request::SetMission(mission),
-                        reply: None,
-                    });
-                    if queued.is_ok() {
-                        if let Ok(mut store) = ctx.mission_store.lock() {
-                            *store = items;
-                        }
-                        MavMissionResult::MAV_MISSION_ACCEPTED
-                    } else {
-                        MavMissionResult::MAV_MISSION_ERROR
-                    }
-                }
-                Err(e) => {
-                    let why = format!("Mission item {} refused: {:?}", e.seq, e.result);
-                    send(vec![(from, status_text(MavSeverity::MAV_SEVERITY_WARNING, &why))]);
-                    e.result
-                }
-            };
-            send(transfer.finish(result));
-        }
-        Some(Completed::Cleared) => {
-            let _ = ctx.inbox.try_send(VehicleCommand::Request {
-                request: Request::SetMission(Mission::default()),
-                reply: None,
-            });
-            if let Ok(mut store) = ctx.mission_store.lock() {
-                store.clear();
-            }
-        }
-        None => {}
-    }
-}
-
 /// Performs what [`ingest`] decided for one message from `from`.
 fn handle_action(
     header: &MavHeader,
@@ -540,215 +482,5 @@ async fn check_link_loss(
                 sender.send(&msg, to).await;
             }
         }
-    }
-}
-
-/// One COMMAND_LONG (or COMMAND_INT as one): duplicate check (information requests bypass the
-/// cache and are answered every time: `duplicates::is_information_request`), decision, exactly
-/// one ACK.
-fn handle_command(
-    header: &MavHeader,
-    cmd: &COMMAND_LONG_DATA,
-    decision: CommandDecision,
-    from: SocketAddr,
-    sender: &Arc<Sender>,
-    ctx: &LinkContext,
-) {
-    if decision == CommandDecision::NotForUs {
-        return;
-    }
-    let key = CommandKey::new(header, cmd);
-    let seen = sender
-        .duplicates
-        .lock()
-        .map(|mut c| c.check(key, sender.wall_s()))
-        .unwrap_or(Seen::New);
-    let (header, command, s) = (*header, cmd.command, sender.clone());
-    match seen {
-        Seen::InProgress => {}
-        Seen::Answered(result) => {
-            tokio::spawn(async move { s.send(&command_ack(&header, command, result), from).await });
-        }
-        Seen::New => match decision {
-            CommandDecision::NotForUs => {}
-            CommandDecision::Unsupported => {
-                tokio::spawn(async move {
-                    answer(
-                        &s,
-                        key,
-                        &header,
-                        command,
-                        AckOf::Result(MavResult::MAV_RESULT_UNSUPPORTED),
-                        from,
-                    )
-                    .await
-                });
-            }
-            CommandDecision::Refuse(outcome) => {
-                tokio::spawn(async move { answer(&s, key, &header, command, AckOf::Outcome(&outcome), from).await });
-            }
-            CommandDecision::Reply(one_shot) => {
-                let msg = match one_shot {
-                    OneShot::AutopilotVersion => Some(autopilot_version(&ctx.identity)),
-                    OneShot::Stream(stream) => message(stream, &ctx.snapshot.borrow()),
-                };
-                tokio::spawn(async move {
-                    answer(
-                        &s,
-                        key,
-                        &header,
-                        command,
-                        AckOf::Result(MavResult::MAV_RESULT_ACCEPTED),
-                        from,
-                    )
-                    .await;
-                    if let Some(msg) = msg {
-                        s.send(&msg, from).await;
-                    }
-                });
-            }
-            CommandDecision::SetMessageInterval {
-                message_id,
-                interval_us,
-            } => {
-                let result = match sender
-                    .streams
-                    .lock()
-                    .map(|mut t| t.set_interval(message_id, interval_us))
-                {
-                    Ok(Ok(())) => MavResult::MAV_RESULT_ACCEPTED,
-                    _ => MavResult::MAV_RESULT_DENIED,
-                };
-                tokio::spawn(async move { answer(&s, key, &header, command, AckOf::Result(result), from).await });
-            }
-            CommandDecision::GetMessageInterval { message_id } => {
-                let interval = sender.streams.lock().ok().and_then(|t| t.interval_us(message_id));
-                tokio::spawn(async move {
-                    match interval {
-                        Some(interval_us) => {
-                            answer(
-                                &s,
-                                key,
-                                &header,
-                                command,
-                                AckOf::Result(MavResult::MAV_RESULT_ACCEPTED),
-                                from,
-                            )
-                            .await;
-                            let msg = MavMessage::MESSAGE_INTERVAL(MESSAGE_INTERVAL_DATA {
-                                interval_us,
-                                message_id: message_id as u16,
-                            });
-                            s.send(&msg, from).await;
-                        }
-                        None => {
-                            answer(
-                                &s,
-                                key,
-                                &header,
-                                command,
-                                AckOf::Result(MavResult::MAV_RESULT_DENIED),
-                                from,
-                            )
-                            .await
-                        }
-                    }
-                });
-            }
-            CommandDecision::Execute(request) => {
-                let (tx, rx) = oneshot::channel();
-                let queued = ctx.inbox.try_send(VehicleCommand::Request {
-                    request,
-                    reply: Some(tx),
-                });
-                tokio::spawn(async move {
-                    let outcome = match queued {
-                        Ok(()) => rx
-                            .await
-                            .unwrap_or(Outcome::TemporarilyRejected("Vehicle stopped".into())),
-                        Err(_) => Outcome::TemporarilyRejected("Vehicle busy".into()),
-                    };
-                    answer(&s, key, &header, command, AckOf::Outcome(&outcome), from).await;
-                });
-            }
-        },
-    }
-}
-
-/// PARAM_SET: the vehicle applies it at the next tick; every peer of this link gets the
-/// resulting PARAM_VALUE (the unchanged value when refused, with a STATUSTEXT saying why); an
-/// unknown name gets PARAM_ERROR.
-fn set_param(name: String, value: f64, header: MavHeader, from: SocketAddr, sender: &Arc<Sender>, ctx: &LinkContext) {
-    let (tx, rx) = oneshot::channel();
-    let queued = ctx.inbox.try_send(VehicleCommand::SetParam {
-        name: name.clone(),
-        value,
-        reply: tx,
-    });
-    let s = sender.clone();
-    let mut params = ctx.params.clone();
-    tokio::spawn(async move {
-        let result = match queued {
-            Ok(()) => rx.await.ok(),
-            Err(_) => None,
-        };
-        let table = params.borrow_and_update().clone();
-        let targets = s.targets.lock().map(|p| p.clone()).unwrap_or_default();
-        match result {
-            Some(Ok(index)) => {
-                if let Some(msg) = param_value(&table, index) {
-                    let mut to_all = targets;
-                    if !to_all.contains(&from) {
-                        to_all.push(from);
-                    }
-                    for to in to_all {
-                        s.send(&msg, to).await;
-                    }
-                }
-            }
-            Some(Err(ParamError::Unknown(_))) => {
-                s.send(&param_error_unknown(&header, &name), from).await;
-                let text = format!("Unknown parameter {name}");
-                s.send(&status_text(MavSeverity::MAV_SEVERITY_WARNING, &text), from)
-                    .await;
-            }
-            refused => {
-                if let Some(msg) = table.index_of(&name).and_then(|i| param_value(&table, i)) {
-                    s.send(&msg, from).await;
-                }
-                let why = match refused {
-                    Some(Err(e)) => e.to_string(),
-                    _ => "Vehicle busy".to_string(),
-                };
-                s.send(&status_text(MavSeverity::MAV_SEVERITY_WARNING, &why), from)
-                    .await;
-            }
-        }
-    });
-}
-
-/// What an ACK reports.
-enum AckOf<'a> {
-    Result(MavResult),
-    Outcome(&'a Outcome),
-}
-
-/// COMMAND_ACK to the sender (remembered for duplicates), and a STATUSTEXT with the reason of a refusal.
-async fn answer(sender: &Sender, key: CommandKey, header: &MavHeader, command: MavCmd, ack: AckOf<'_>, to: SocketAddr) {
-    let result = match &ack {
-        AckOf::Result(r) => *r,
-        AckOf::Outcome(o) => result_of(o),
-    };
-    if let Ok(mut cache) = sender.duplicates.lock() {
-        cache.answered(key, result, sender.wall_s());
-    }
-    sender.send(&command_ack(header, command, result), to).await;
-    if let AckOf::Outcome(
-        Outcome::TemporarilyRejected(why) | Outcome::Denied(why) | Outcome::Unsupported(why) | Outcome::Failed(why),
-    ) = ack
-    {
-        sender
-            .send(&status_text(MavSeverity::MAV_SEVERITY_WARNING, why), to)
-            .await;
     }
 }
