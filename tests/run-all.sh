@@ -27,6 +27,7 @@ if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
 fi
 "$venv/bin/pip" install --quiet --disable-pip-version-check -r gcs-scripts/requirements.txt
+"$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps -r gcs-scripts/requirements-nodeps.txt
 export ROTORPILOT_BIN="$PWD/target/release/rotorpilot"
 status=0
 "$venv/bin/python" -m pytest -q gcs-scripts/tests || status=$?
