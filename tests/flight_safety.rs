@@ -270,3 +270,33 @@ fn a_half_turn_of_heading_keeps_the_velocity_and_turns_the_short_way() {
         assert!(worst_north < 2.1, "{name}: {worst_north}");
     }
 }
+
+#[test]
+fn a_landing_from_high_up_descends_fast_and_touches_down_slowly() {
+    // PX4's landing: MPC_Z_VEL_MAX_DN above MPC_LAND_ALT1 (10 m), MPC_LAND_SPEED below
+    // MPC_LAND_ALT2 (5 m).
+    let mut v = vehicle(ControllerKind::Geometric);
+    assert_eq!(v.apply(Request::Takeoff { height_m: Some(20.0) }), Outcome::Accepted);
+    assert_eq!(v.apply(Request::Arm { force: false }), Outcome::Accepted);
+    fly(&mut v, 15.0, |_| {});
+    assert_eq!(v.apply(Request::Land), Outcome::Accepted);
+    let (mut fast, mut touch_down, mut landed_after) = (0.0_f64, 0.0_f64, None);
+    let t0 = v.time_s();
+    fly(&mut v, 30.0, |o| {
+        let (height, down) = (-o.snapshot.pos_w.z - 0.1, o.snapshot.vel_w.z);
+        if height > 10.5 {
+            fast = fast.max(down);
+        }
+        if height < 0.3 && landed_after.is_none() {
+            touch_down = touch_down.max(down);
+        }
+        if o.snapshot.landed == LandedState::OnGround && landed_after.is_none() {
+            landed_after = Some(o.snapshot.t_s - t0);
+        }
+    });
+    assert!((fast - 1.5).abs() < 0.1, "high up: {fast} m/s");
+    assert!(touch_down < 0.8, "touch-down at {touch_down} m/s");
+    // 10 m at 1.5 m/s, the 5 m band, 5 m at 0.7 m/s, touch-down detection: ≈ 19 s (29 s at 0.7).
+    let landed_after = landed_after.expect("landed");
+    assert!(landed_after < 21.0, "landed after {landed_after} s");
+}

@@ -42,7 +42,7 @@ use offboard::{Offboard, OffboardTarget};
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Guidance, MotionLimits};
+use crate::navigation::{DescentProfile, Guidance, MotionLimits};
 
 /// Tick length assumed before the second tick [s].
 const DEFAULT_DT_S: f64 = 0.001;
@@ -386,7 +386,13 @@ impl Commander {
             yaw_rad: yaw,
             z_start_m: x.pos_w.z,
             start_s: t_s,
-            speed_m_s: self.params.land_speed_m_s,
+            profile: DescentProfile {
+                fast_m_s: self.params.motion.down_m_s,
+                land_m_s: self.params.land_speed_m_s,
+                slow_from_m: self.params.land_alt1_m,
+                land_from_m: self.params.land_alt2_m,
+                acc_m_s2: self.params.motion.acc_down_m_s2,
+            },
         }
     }
 

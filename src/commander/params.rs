@@ -11,6 +11,11 @@ pub struct CommanderParams {
     pub takeoff_alt_m: f64,
     /// Landing descent speed [m/s] (`MPC_LAND_SPEED`, 0.7).
     pub land_speed_m_s: f64,
+    /// A landing descends at `MPC_Z_VEL_MAX_DN` above this height, slowing below [m]
+    /// (`MPC_LAND_ALT1`, 10).
+    pub land_alt1_m: f64,
+    /// ... and at `MPC_LAND_SPEED` below this one [m] (`MPC_LAND_ALT2`, 5).
+    pub land_alt2_m: f64,
     /// Horizontal cruise speed of the AUTO modes [m/s] (`MPC_XY_CRUISE`, 5.0).
     pub cruise_speed_m_s: f64,
     /// Return altitude above home [m] (`RTL_RETURN_ALT`, 60).
@@ -46,6 +51,8 @@ impl Default for CommanderParams {
         Self {
             takeoff_alt_m: 2.5,
             land_speed_m_s: 0.7,
+            land_alt1_m: 10.0,
+            land_alt2_m: 5.0,
             cruise_speed_m_s: 5.0,
             rtl_return_alt_m: 60.0,
             disarm_land_s: 2.0,

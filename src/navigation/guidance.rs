@@ -1,12 +1,12 @@
 //! What to fly right now, as the commander's modes need it (PX4 AUTO modes; mavlink.md §2.1):
-//! hold a point, follow a rest-to-rest path (take-off climb, return leg), or descend at a
-//! constant speed until the ground stops the vehicle (landing).
+//! hold a point, follow a rest-to-rest path (take-off climb, return leg), or descend (fast high
+//! up, at the landing speed near the ground) until the ground stops the vehicle (landing).
 
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::Vec3;
 
 use super::trajectory::Quintic;
-use super::MotionLimits;
+use super::{DescentProfile, MotionLimits};
 
 /// How far the landing reference may run ahead of the vehicle below it [m]; keeps the position
 /// error (and so the thrust reduction) bounded once the ground stops the descent.
@@ -31,7 +31,8 @@ pub enum Guidance {
         /// Simulated time the path started [s].
         start_s: f64,
     },
-    /// Descend at `speed_m_s` [m/s] over `xy_w`, starting from `z_start_m` at `start_s`.
+    /// Descend over `xy_w` at the speeds of `profile` (fast high up, the landing speed near the
+    /// ground), starting from `z_start_m` at `start_s`; heights are −z (home is on the ground).
     Descend {
         /// Horizontal position held, world NED [m] (z ignored).
         xy_w: Vec3,
@@ -41,8 +42,8 @@ pub enum Guidance {
         z_start_m: f64,
         /// Simulated time the descent began [s].
         start_s: f64,
-        /// Descent speed [m/s].
-        speed_m_s: f64,
+        /// Descent speed by height.
+        profile: DescentProfile,
     },
 }
 
@@ -83,11 +84,13 @@ impl Guidance {
                 yaw_rad,
                 z_start_m,
                 start_s,
-                speed_m_s,
+                profile,
             } => {
-                let z = (z_start_m + speed_m_s * (t_s - start_s)).min(x.pos_w.z + LAND_LEAD_MAX_M);
+                let (height_m, speed_m_s, acc_m_s2) = profile.sample(-z_start_m, t_s - start_s);
+                let z = (-height_m).min(x.pos_w.z + LAND_LEAD_MAX_M);
                 Some(FlatSetpoint {
                     vel_w: Some(Vec3::new(0.0, 0.0, speed_m_s)),
+                    acc_w: Some(Vec3::new(0.0, 0.0, acc_m_s2)),
                     ..FlatSetpoint::hold(Vec3::new(xy_w.x, xy_w.y, z), yaw_rad)
                 })
             }
@@ -171,7 +174,7 @@ mod tests {
             yaw_rad: 0.0,
             z_start_m: -3.0,
             start_s: 0.0,
-            speed_m_s: 0.7,
+            profile: DescentProfile::default(),
         };
         assert!((g.setpoint(1.0, &at(-3.0)).unwrap().pos_w.unwrap().z + 2.5).abs() < 1e-12);
         // The ground stopped the vehicle at z = −0.1: the reference stays 0.5 m below it.

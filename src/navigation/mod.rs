@@ -2,6 +2,7 @@
 //! commander's modes, the motion limits they keep and the limiter offboard setpoints go through.
 
 mod climb;
+mod descent;
 pub mod geo;
 mod guidance;
 mod limits;
@@ -10,6 +11,7 @@ mod setpoint_limiter;
 pub mod trajectory;
 
 pub use climb::ClimbProfile;
+pub use descent::DescentProfile;
 pub use geo::Home;
 pub use guidance::Guidance;
 pub use limits::MotionLimits;

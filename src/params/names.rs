@@ -8,7 +8,7 @@ use crate::navigation::MotionLimits;
 use super::{vec3, ParamDef, ParamType, VehicleSettings};
 
 /// Every parameter name, in index order.
-pub const PARAM_NAMES: [&str; 80] = [
+pub const PARAM_NAMES: [&str; 82] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -89,6 +89,8 @@ pub const PARAM_NAMES: [&str; 80] = [
     "LNDMC_XY_VEL_MAX",
     "LNDMC_ROT_MAX",
     "LNDMC_TRIG_TIME",
+    "MPC_LAND_ALT1",
+    "MPC_LAND_ALT2",
 ];
 
 fn def(name: &'static str, kind: ParamType, min: f64, max: f64) -> ParamDef {
@@ -214,6 +216,8 @@ pub(super) fn encode(s: &VehicleSettings) -> Vec<(ParamDef, f64)> {
         l.rot_max_rad_s.to_degrees(),
     ));
     out.push((def(PARAM_NAMES[k + 28], Real32, 0.1, 10.0), l.trigger_time_s));
+    out.push((def(PARAM_NAMES[k + 29], Real32, 0.0, 122.0), c.land_alt1_m));
+    out.push((def(PARAM_NAMES[k + 30], Real32, 0.0, 122.0), c.land_alt2_m));
     out
 }
 
@@ -250,6 +254,8 @@ pub(super) fn decode(v: &[f64]) -> VehicleSettings {
         commander: CommanderParams {
             takeoff_alt_m: v[0],
             land_speed_m_s: v[2],
+            land_alt1_m: v[80],
+            land_alt2_m: v[81],
             cruise_speed_m_s: v[3],
             rtl_return_alt_m: v[4],
             disarm_land_s: v[5],
