@@ -347,7 +347,6 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::commander::{FlightMode, MissionState};
     use crate::math::Vec3;
     use crate::navigation::Home;
     use mavlink::dialects::common::{MavSeverity, MavSysStatusSensor};
@@ -361,22 +360,11 @@ mod tests {
             omega_b: Vec3::new(0.01, 0.02, 0.03),
             accel_b: Vec3::new(0.0, 0.0, -9.81),
             armed: true,
-            mode: FlightMode::Loiter,
             landed: LandedState::InAir,
-            home: Home::default(),
-            home_w: Vec3::zeros(),
-            mission_seq: 0,
-            mission_total: 0,
-            mission_state: MissionState::NoMission,
-            estimate: None,
-            setpoint: None,
-            eta_desired: None,
             thrust_fraction: 0.5,
-            rotor_speeds: [0.0; crate::airframe::MAX_ROTORS],
             rotor_count: 4,
             rotor_max_rad_s: 1100.0,
-            battery: crate::telemetry::BatterySnapshot::full(3),
-            geofence_breached: false,
+            ..Snapshot::initial(Home::default())
         }
     }
 
