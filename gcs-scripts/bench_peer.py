@@ -326,6 +326,12 @@ def compare(rotorpy, rotorpilot, rotorpilot_csv):
     }
 
 
+def fixed(value, significant):
+    """value in fixed point with at least `significant` significant digits (222.37, 1044763)."""
+    digits = int(math.floor(math.log10(abs(value)))) + 1 if value else 1
+    return f"{value:.{max(0, significant - digits)}f}"
+
+
 def format_text(report):
     """The report as a table and the ratio lines."""
     task, mach = report["task"], report["machine"]
@@ -340,7 +346,7 @@ def format_text(report):
     ]
     for row in report["simulators"]:
         lines.append(f"{row['simulator']:<22}{row['step_s'] * 1e3:>8.3g}{row['steps']:>9d}{row['wall_s']:>11.4g}"
-                     f"{row['steps_per_wall_s']:>12.0f}{row['sim_s_per_wall_s']:>14.4g}"
+                     f"{fixed(row['steps_per_wall_s'], 5):>12}{fixed(row['sim_s_per_wall_s'], 5):>14}"
                      f"{row['final_error_m']:>13.3g}{row['rms_error_m']:>11.3g}")
     cmp_ = report["comparison"]
     verdict = "met" if cmp_["target_met"] else "NOT met"
