@@ -5,6 +5,7 @@ pub mod codec;
 pub mod duplicates;
 pub mod identity;
 pub mod ingest;
+pub mod link;
 pub mod mission_items;
 pub mod mission_xfer;
 pub mod offboard;

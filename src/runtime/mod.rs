@@ -19,25 +19,25 @@ use std::time::Duration;
 use serde::Serialize;
 use thiserror::Error;
 use tokio::net::UdpSocket;
-use tokio::sync::{broadcast, mpsc, watch};
+use tokio::sync::{mpsc, watch};
 
 use crate::airframe::AirframeSource;
 use crate::control::ControllerKind;
 use crate::math::Vec3;
+use crate::mav::link::{LinkConfig, LinkMachine};
 use crate::mav::signing::Signing;
 use crate::mav::streams::LinkKind;
 use crate::mav::translate::Identity;
 use crate::navigation::Home;
 use crate::telemetry::Snapshot;
 
-use crate::commander::Event;
 use flight_log::LogSender;
-use link::{run_link, LinkContext};
+use link::{LinkIo, SigningStatus};
 use rotor_failures::ScheduledFailure;
 pub use scheduler::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
 use signing_keeper::{signing_keeper, SigningSetup};
-use signing_store::SigningFileError;
+use signing_store::{signing_now, SigningFileError};
 use vehicle::{Vehicle, VehicleError};
 
 /// Bound of the request queue into the tick thread: commands are never dropped silently; when
@@ -200,14 +200,12 @@ pub struct RunReport {
     pub wall_s: f64,
 }
 
-/// One vehicle's share of the process: its sockets, channels and log.
+/// One vehicle's share of the process: its tick slot, its link machine and sockets, its log.
 struct VehicleSetup {
     slot: VehicleSlot,
     ready: VehicleReady,
-    links: [(UdpSocket, SocketAddr, LinkKind); 2],
-    context: LinkContext,
-    events: mpsc::Receiver<Event>,
-    announce: broadcast::Sender<Event>,
+    machine: LinkMachine<SocketAddr>,
+    io: LinkIo,
     log: Option<(LogSender, std::thread::JoinHandle<()>)>,
 }
 
@@ -297,41 +295,42 @@ fn setup_vehicle(
     };
     let (inbox_tx, inbox_rx) = mpsc::channel(INBOX_CAPACITY);
     let (snapshot_tx, snapshot_rx) = watch::channel(Snapshot::initial(home));
-    let (params_tx, params_rx) = watch::channel(Arc::new(vehicle.params().clone()));
     let (event_tx, event_rx) = mpsc::channel(EVENT_CAPACITY);
-    let (announce_tx, _) = broadcast::channel(EVENT_CAPACITY);
-    let context = LinkContext {
+    let (replies_to, replies) = mpsc::unbounded_channel();
+    let start = std::time::Instant::now();
+    let machine = LinkMachine::new(LinkConfig {
         identity: Identity::autopilot(sysid, vehicle.rotor_count()),
-        inbox: inbox_tx,
+        links: vec![(LinkKind::Gcs, config.gcs), (LinkKind::Api, api)],
+        params: vehicle.params().clone(),
+        snapshot: Snapshot::initial(home),
+        signing: Signing::new(signing.key.clone(), signing.timestamp),
+        signing_epoch: signing_now(),
+        key_store: signing.store.is_some(),
+        record_received: log.is_some(),
+    });
+    let io = LinkIo {
+        sockets: [(LinkKind::Gcs, gcs_socket), (LinkKind::Api, api_socket)],
+        start,
+        vehicle: inbox_tx,
+        replies_to,
+        replies,
         snapshot: snapshot_rx,
-        params: params_rx,
-        announcements: announce_tx.subscribe(),
+        events: event_rx,
         shutdown: shutdown.clone(),
-        mission_store: Arc::new(std::sync::Mutex::new(Vec::new())),
         log: log.as_ref().map(|(s, _)| s.clone()),
-        kind: LinkKind::Gcs,
-        signing: Arc::new(std::sync::Mutex::new(Signing::new(
-            signing.key.clone(),
-            signing.timestamp,
-        ))),
-        signing_store: signing.store.clone(),
+        store: signing.store.clone(),
+        signing: Arc::new(SigningStatus::default()),
     };
-    let io = VehicleIo {
+    let vehicle_io = VehicleIo {
         inbox: inbox_rx,
         snapshot: snapshot_tx,
-        params: params_tx,
         events: event_tx,
     };
     Ok(VehicleSetup {
-        slot: VehicleSlot::new(vehicle, io),
+        slot: VehicleSlot::new(vehicle, vehicle_io),
         ready,
-        links: [
-            (gcs_socket, config.gcs, LinkKind::Gcs),
-            (api_socket, api, LinkKind::Api),
-        ],
-        context,
-        events: event_rx,
-        announce: announce_tx,
+        machine,
+        io,
         log,
     })
 }
@@ -361,7 +360,7 @@ pub fn run(
         setups.push(setup_vehicle(&config, i, &rt, &shutdown_rx, &signing)?);
     }
     let keeper = rt.spawn(signing_keeper(
-        setups.iter().map(|s| s.context.signing.clone()).collect(),
+        setups.iter().map(|s| s.io.signing.clone()).collect(),
         signing.store.clone(),
         shutdown_rx.clone(),
     ));
@@ -376,15 +375,7 @@ pub fn run(
     for (i, setup) in setups.into_iter().enumerate() {
         groups[i % threads].push(setup.slot);
         vehicles.push(setup.ready);
-        for (socket, remote, kind) in setup.links {
-            tasks.push(rt.spawn(run_link(socket, remote, setup.context.with_kind(kind))));
-        }
-        let (mut events, announce) = (setup.events, setup.announce);
-        rt.spawn(async move {
-            while let Some(e) = events.recv().await {
-                let _ = announce.send(e);
-            }
-        });
+        tasks.push(rt.spawn(link::serve(setup.machine, setup.io)));
         logs.extend(setup.log);
     }
     let started = std::time::Instant::now();

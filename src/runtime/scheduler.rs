@@ -8,13 +8,12 @@
 //! drops when full.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use tokio::sync::{mpsc, oneshot, watch};
+use tokio::sync::{mpsc, watch};
 
-use crate::commander::{Event, Outcome, Request};
-use crate::params::{ParamError, ParamTable};
+use crate::commander::{Event, Request};
+use crate::mav::link::{Token, VehicleReply, VehicleRequest};
 use crate::telemetry::Snapshot;
 
 use super::vehicle::Vehicle;
@@ -62,25 +61,22 @@ impl std::str::FromStr for Pace {
     }
 }
 
-/// Something for the vehicle to do at the next tick boundary, with where to send the result.
+/// Something for the vehicle to do at the next tick boundary, with where to send the answer.
 #[derive(Debug)]
-pub enum VehicleCommand {
-    /// A commander request.
-    Request {
-        /// The request.
-        request: Request,
-        /// Outcome channel (the link answers the sender with it).
-        reply: Option<oneshot::Sender<Outcome>>,
-    },
-    /// A parameter set.
-    SetParam {
-        /// Parameter name.
-        name: String,
-        /// New value.
-        value: f64,
-        /// Index of the parameter, or why it was refused.
-        reply: oneshot::Sender<Result<usize, ParamError>>,
-    },
+pub struct VehicleCommand {
+    /// What to do.
+    pub request: VehicleRequest,
+    /// Where the answer goes, when the link waits for one.
+    pub reply: Option<ReplyTo>,
+}
+
+/// Where the answer to one [`VehicleCommand`] goes.
+#[derive(Debug)]
+pub struct ReplyTo {
+    /// The link machine's name for the request.
+    pub token: Token,
+    /// The link task's answer queue.
+    pub to: mpsc::UnboundedSender<(Token, VehicleReply)>,
 }
 
 /// Counters of the scheduler threads (shared by all groups).
@@ -98,8 +94,6 @@ pub struct VehicleIo {
     pub inbox: mpsc::Receiver<VehicleCommand>,
     /// Latest state.
     pub snapshot: watch::Sender<Snapshot>,
-    /// Current parameter table (republished after every accepted set).
-    pub params: watch::Sender<Arc<ParamTable>>,
     /// Commander events.
     pub events: mpsc::Sender<Event>,
 }
@@ -125,23 +119,21 @@ impl VehicleSlot {
     /// Applies the queued commands, then runs one tick.
     fn tick(&mut self, now: Instant) {
         while let Ok(cmd) = self.io.inbox.try_recv() {
-            match cmd {
-                VehicleCommand::Request { request, reply } => {
+            let answer = match cmd.request {
+                VehicleRequest::Commander(request) => {
                     if matches!(request, Request::OffboardSetpoint { .. } | Request::OffboardAttitude(_)) {
                         self.offboard_seen = Some(now);
                     }
-                    let outcome = self.vehicle.apply(request);
-                    if let Some(reply) = reply {
-                        let _ = reply.send(outcome);
-                    }
+                    VehicleReply::Outcome(self.vehicle.apply(request))
                 }
-                VehicleCommand::SetParam { name, value, reply } => {
-                    let result = self.vehicle.set_param(&name, value);
-                    if result.is_ok() {
-                        self.io.params.send_replace(Arc::new(self.vehicle.params().clone()));
-                    }
-                    let _ = reply.send(result);
-                }
+                VehicleRequest::SetParam { name, value } => VehicleReply::Param {
+                    result: self.vehicle.set_param(&name, value),
+                    table: Box::new(self.vehicle.params().clone()),
+                },
+            };
+            if let Some(reply) = cmd.reply {
+                // The link task may have stopped at shutdown; nothing waits then.
+                let _ = reply.to.send((reply.token, answer));
             }
         }
         let loss = Duration::from_secs_f64(self.vehicle.offboard_loss_s().max(0.0));

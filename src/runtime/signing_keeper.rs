@@ -2,6 +2,7 @@
 //! `--signing-key FILE`) and the task that keeps it ([`signing_keeper`]: persists the newest
 //! timestamp, reports dropped frames). Runtime layer.
 
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -9,7 +10,8 @@ use tokio::sync::watch;
 
 use crate::mav::signing::SigningKey;
 
-use super::signing_store::{signing_now, SharedSigning, SigningFileError, SigningStore};
+use super::link::SigningStatus;
+use super::signing_store::{signing_now, SigningFileError, SigningStore};
 
 /// The signing key and timestamp every vehicle starts from, and where they are kept.
 pub(super) struct SigningSetup {
@@ -44,7 +46,7 @@ const SIGNING_KEEP_PERIOD: Duration = Duration::from_secs(10);
 /// Persists the latest signing timestamp of all vehicles every [`SIGNING_KEEP_PERIOD`] and at
 /// shutdown (mavlink.md §10: at least once a minute), and logs how many frames signing dropped.
 pub(super) async fn signing_keeper(
-    vehicles: Vec<SharedSigning>,
+    vehicles: Vec<Arc<SigningStatus>>,
     store: Option<Arc<SigningStore>>,
     mut shutdown: watch::Receiver<bool>,
 ) {
@@ -56,11 +58,9 @@ pub(super) async fn signing_keeper(
             _ = period.tick() => false,
         };
         let (mut timestamp, mut dropped) = (0, 0);
-        for signing in &vehicles {
-            if let Ok(s) = signing.lock() {
-                timestamp = timestamp.max(s.timestamp());
-                dropped += s.dropped().total();
-            }
+        for status in &vehicles {
+            timestamp = timestamp.max(status.timestamp.load(Ordering::Relaxed));
+            dropped += status.dropped.load(Ordering::Relaxed);
         }
         if dropped > reported {
             tracing::warn!("signing: {dropped} frames dropped (unsigned, wrongly signed or replayed)");

@@ -4,14 +4,10 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
 
 use thiserror::Error;
 
-use crate::mav::signing::{timestamp_from_unix_us, KeyError, Signing, SigningKey};
-
-/// The signing state of one vehicle, shared by its two links.
-pub type SharedSigning = Arc<Mutex<Signing>>;
+use crate::mav::signing::{timestamp_from_unix_us, KeyError, SigningKey};
 
 /// Why the key or timestamp file could not be read.
 #[derive(Debug, Error)]

@@ -1,0 +1,111 @@
+//! What time brings, every [`DUTY_PERIOD_S`] of wall time: expired peers forgotten, mission
+//! items re-requested, GCS link loss, heartbeats and telemetry streams; parameter lists at
+//! their own pace. Commander events become announcements here too.
+
+use std::hash::Hash;
+
+use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
+
+use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest, CRITICAL, INFO};
+use crate::commander::{Event, Outcome, Request};
+use crate::mav::identity::heartbeat;
+use crate::mav::telemetry::{message, mission_current, status_text};
+use crate::telemetry::Snapshot;
+
+/// How often the link looks at what is due (wall time) [s].
+pub const DUTY_PERIOD_S: f64 = 0.005;
+/// Heartbeat period, in wall time and in simulated time [s].
+pub const HEARTBEAT_PERIOD_S: f64 = 1.0;
+
+/// The message announcing `event`.
+pub(super) fn announcement(snapshot: &Snapshot, event: &Event) -> MavMessage {
+    match event {
+        Event::MissionItemReached(seq) => MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: *seq }),
+        Event::MissionCurrent(seq) => mission_current(snapshot, *seq),
+        Event::Failsafe(text) => status_text(CRITICAL, text),
+        other => status_text(INFO, &other.describe()),
+    }
+}
+
+impl<A: Copy + Eq + Hash> LinkMachine<A> {
+    /// Everything due by `now`.
+    pub fn handle_timeout(&mut self, now: Now) {
+        self.stream_param_lists(now);
+        if now.wall_s < self.next_duty_s {
+            return;
+        }
+        self.next_duty_s = now.wall_s + DUTY_PERIOD_S;
+        for k in 0..self.ports.len() {
+            let link = self.ports[k].kind;
+            let targets = self.ports[k].targets(now.wall_s);
+            let retries = self.ports[k].transfer.tick(now.wall_s);
+            self.send_all(now, link, retries);
+            if link == LinkKind::Gcs {
+                self.check_link_loss(now, k);
+            }
+            self.heartbeat(now, k, &targets);
+            // Rates count simulated time; each stream goes out at most once per duty pass,
+            // which caps it at 200 Hz of wall time when simulated time runs fast.
+            for stream in self.ports[k].streams.due(now.sim_s) {
+                if let Some(msg) = message(stream, &self.snapshot) {
+                    for to in &targets {
+                        self.send(now, link, *to, &msg);
+                    }
+                }
+            }
+        }
+    }
+
+    /// At least 1 Hz in wall time (MAVSDK drops a silent link after 3 s) and 1 Hz in simulated
+    /// time (scripts pacing themselves in simulated time see the same rate at any speed-up),
+    /// plus one right after arm, disarm or a mode change.
+    fn heartbeat(&mut self, now: Now, k: usize, targets: &[A]) {
+        let port = &mut self.ports[k];
+        let state = (self.snapshot.armed, self.snapshot.mode);
+        let (wall_due, sim_due) = port.next_heartbeat;
+        let changed = port.last_state.is_some_and(|s| s != state);
+        if now.wall_s < wall_due && now.sim_s < sim_due && !changed {
+            return;
+        }
+        port.next_heartbeat = (now.wall_s + HEARTBEAT_PERIOD_S, now.sim_s + HEARTBEAT_PERIOD_S);
+        port.last_state = Some(state);
+        let link = port.kind;
+        let hb = heartbeat(&self.identity, state.0, state.1);
+        for to in targets {
+            self.send(now, link, *to, &hb);
+        }
+    }
+
+    /// GCS link loss: after a ground station's HEARTBEAT was heard, `COM_DL_LOSS_T` of silence
+    /// in simulated time *and* in wall time runs `NAV_DLL_ACT` once per loss. A ground station
+    /// pacing itself in simulated time sees the same failsafe at any speed-up; one sending in
+    /// wall time does not trip it just because simulated time runs faster.
+    fn check_link_loss(&mut self, now: Now, k: usize) {
+        let (loss_s, action) = (self.settings.commander.link_loss_s, self.settings.commander.link_loss_action);
+        let port = &mut self.ports[k];
+        let Some((heard_wall_s, heard_sim_s)) = port.gcs_heard else {
+            return;
+        };
+        if now.wall_s - heard_wall_s < loss_s || now.sim_s - heard_sim_s < loss_s {
+            port.link_lost = false;
+            return;
+        }
+        if port.link_lost || action == 0 {
+            return;
+        }
+        port.link_lost = true;
+        let link = port.kind;
+        let token = self.expect(Pending::LinkLoss { link });
+        self.to_vehicle.push_back(ToVehicle {
+            token: Some(token),
+            request: VehicleRequest::Commander(Request::GcsLinkLost),
+        });
+    }
+
+    /// The vehicle's answer to a link loss: a refused reaction is announced on the link.
+    pub(super) fn link_loss_announced(&mut self, now: Now, link: LinkKind, reply: VehicleReply) {
+        if let VehicleReply::Outcome(Outcome::TemporarilyRejected(what)) = reply {
+            self.to_link_targets(now, link, &status_text(CRITICAL, &what));
+        }
+    }
+}

@@ -1,0 +1,140 @@
+//! The parameter protocol of the link: PARAM_REQUEST_LIST streamed at one PARAM_VALUE per
+//! millisecond of wall time at most, PARAM_REQUEST_READ by index or name, and PARAM_SET: the
+//! vehicle applies it at its next tick, then every peer of the link gets the resulting
+//! PARAM_VALUE (the unchanged value when refused, with a STATUSTEXT saying why) and an
+//! unknown name gets PARAM_ERROR.
+
+use std::hash::Hash;
+
+use mavlink::MavHeader;
+
+use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest, WARNING};
+use crate::mav::params::{param_error_unknown, param_value};
+use crate::mav::telemetry::status_text;
+use crate::params::ParamError;
+
+/// Wall time between two PARAM_VALUEs of a list [s].
+pub const PARAM_LIST_PERIOD_S: f64 = 1e-3;
+
+/// A PARAM_REQUEST_LIST being answered.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct ParamList<A> {
+    pub link: LinkKind,
+    pub to: A,
+    /// Index of the next parameter.
+    next: usize,
+    /// Wall time the next one is due [s].
+    pub next_s: f64,
+}
+
+impl<A> ParamList<A> {
+    /// A list for `to` on `link`, its first value due at `now_s`.
+    pub fn new(link: LinkKind, to: A, now_s: f64) -> Self {
+        Self {
+            link,
+            to,
+            next: 0,
+            next_s: now_s,
+        }
+    }
+}
+
+impl<A: Copy + Eq + Hash> LinkMachine<A> {
+    /// The PARAM_VALUEs of every list that are due by `now`.
+    pub(super) fn stream_param_lists(&mut self, now: Now) {
+        let mut lists = std::mem::take(&mut self.param_lists);
+        for list in &mut lists {
+            while list.next_s <= now.wall_s {
+                let Some(msg) = param_value(&self.params, list.next) else {
+                    break;
+                };
+                self.send(now, list.link, list.to, &msg);
+                list.next += 1;
+                list.next_s += PARAM_LIST_PERIOD_S;
+            }
+        }
+        lists.retain(|l| l.next < self.params.len());
+        self.param_lists = lists;
+    }
+
+    /// PARAM_REQUEST_READ: by `index`, or by `name` without one.
+    pub(super) fn param_read(
+        &mut self,
+        now: Now,
+        link: LinkKind,
+        to: A,
+        header: &MavHeader,
+        name: &str,
+        index: Option<usize>,
+    ) {
+        let found = index
+            .or_else(|| self.params.index_of(name))
+            .and_then(|i| param_value(&self.params, i));
+        match found {
+            Some(msg) => self.send(now, link, to, &msg),
+            None => self.send(now, link, to, &param_error_unknown(header, name)),
+        }
+    }
+
+    /// PARAM_SET: asks the vehicle, which answers at its next tick.
+    pub(super) fn param_set(&mut self, link: LinkKind, to: A, header: &MavHeader, name: String, value: f64) {
+        let token = self.expect(Pending::Param {
+            link,
+            to,
+            header: *header,
+            name: name.clone(),
+        });
+        self.to_vehicle.push_back(ToVehicle {
+            token: Some(token),
+            request: VehicleRequest::SetParam { name, value },
+        });
+    }
+
+    /// The vehicle's answer to a PARAM_SET from `to`.
+    pub(super) fn param_set_done(
+        &mut self,
+        now: Now,
+        link: LinkKind,
+        to: A,
+        header: &MavHeader,
+        name: &str,
+        reply: VehicleReply,
+    ) {
+        let result = match reply {
+            VehicleReply::Param { result, table } => {
+                self.settings = table.settings();
+                self.params = *table;
+                Some(result)
+            }
+            _ => None,
+        };
+        match result {
+            Some(Ok(index)) => {
+                if let Some(msg) = param_value(&self.params, index) {
+                    let mut targets = self.port(link).map(|p| p.targets(now.wall_s)).unwrap_or_default();
+                    if !targets.contains(&to) {
+                        targets.push(to);
+                    }
+                    for target in targets {
+                        self.send(now, link, target, &msg);
+                    }
+                }
+            }
+            Some(Err(ParamError::Unknown(_))) => {
+                self.send(now, link, to, &param_error_unknown(header, name));
+                let text = format!("Unknown parameter {name}");
+                self.send(now, link, to, &status_text(WARNING, &text));
+            }
+            refused => {
+                if let Some(msg) = self.params.index_of(name).and_then(|i| param_value(&self.params, i)) {
+                    self.send(now, link, to, &msg);
+                }
+                let why = match refused {
+                    Some(Err(e)) => e.to_string(),
+                    _ => "Vehicle busy".to_string(),
+                };
+                self.send(now, link, to, &status_text(WARNING, &why));
+            }
+        }
+    }
+}

@@ -1,0 +1,185 @@
+//! The sockets of one vehicle's MAVLink links (GCS and API). This task only reads, feeds,
+//! drains and sleeps: datagrams, the vehicle's answers and events go into the vehicle's
+//! [`LinkMachine`] with the time; what the machine decided leaves in the order it was decided
+//! (datagrams, requests to the tick thread, keys to the key file, tlog records). Every protocol
+//! decision is the machine's. Runtime layer: clocks, sockets, channels.
+
+use std::net::SocketAddr;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use tokio::net::UdpSocket;
+use tokio::sync::{mpsc, watch};
+
+use crate::commander::Event;
+use crate::mav::link::{LinkMachine, Now, Token, VehicleReply};
+use crate::mav::streams::LinkKind;
+use crate::telemetry::Snapshot;
+
+use super::flight_log::LogSender;
+use super::scheduler::{ReplyTo, VehicleCommand};
+use super::signing_store::SigningStore;
+
+/// The largest datagram read whole [bytes]: 29 MAVLink 2 frames of the largest size (280 bytes,
+/// signed). The kernel cuts longer datagrams to this (PX4 reads 1,600 bytes), so a flood of
+/// 64 KiB garbage costs no more to skip than a flood of small ones.
+const MAX_DATAGRAM_BYTES: usize = 8_192;
+/// Datagrams read in a row once one has arrived, before the task looks at its other inputs.
+const RECV_BATCH: usize = 256;
+
+/// What the signing keeper reads of one vehicle: its signing timestamp and dropped frames.
+#[derive(Debug, Default)]
+pub struct SigningStatus {
+    /// Latest signing timestamp [10 µs since 2015].
+    pub timestamp: AtomicU64,
+    /// Frames dropped by signing so far.
+    pub dropped: AtomicU64,
+}
+
+/// Everything the link task of one vehicle talks to.
+pub struct LinkIo {
+    /// The GCS and API sockets.
+    pub sockets: [(LinkKind, UdpSocket); 2],
+    /// Wall time zero of the machine's clock.
+    pub start: Instant,
+    /// Requests to the tick thread.
+    pub vehicle: mpsc::Sender<VehicleCommand>,
+    /// Where the tick thread answers (kept to hand out with each request).
+    pub replies_to: mpsc::UnboundedSender<(Token, VehicleReply)>,
+    /// The tick thread's answers.
+    pub replies: mpsc::UnboundedReceiver<(Token, VehicleReply)>,
+    /// Latest vehicle state.
+    pub snapshot: watch::Receiver<Snapshot>,
+    /// Commander events.
+    pub events: mpsc::Receiver<Event>,
+    /// Becomes true at shutdown.
+    pub shutdown: watch::Receiver<bool>,
+    /// The tlog of `--log DIR`, when logging.
+    pub log: Option<LogSender>,
+    /// The `--signing-key` file, when there is one.
+    pub store: Option<Arc<SigningStore>>,
+    /// Published for the signing keeper.
+    pub signing: Arc<SigningStatus>,
+}
+
+impl LinkIo {
+    /// The machine's clocks now: wall time since `start`, simulated time of the latest state.
+    fn now(&self) -> Now {
+        Now {
+            wall_s: self.start.elapsed().as_secs_f64(),
+            sim_s: self.snapshot.borrow().t_s,
+        }
+    }
+
+    fn socket(&self, link: LinkKind) -> &UdpSocket {
+        let [(_, gcs), (kind, api)] = &self.sockets;
+        if *kind == link {
+            api
+        } else {
+            gcs
+        }
+    }
+}
+
+/// Serves the links of one vehicle until shutdown.
+pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
+    let (mut gcs_buf, mut api_buf) = (vec![0u8; MAX_DATAGRAM_BYTES], vec![0u8; MAX_DATAGRAM_BYTES]);
+    loop {
+        let deadline = io.start + Duration::from_secs_f64(machine.poll_timeout().max(0.0));
+        let [(gcs_kind, gcs), (api_kind, api)] = &io.sockets;
+        tokio::select! {
+            _ = io.shutdown.changed() => break,
+            Ok((n, from)) = gcs.recv_from(&mut gcs_buf) => {
+                machine.handle_state(*io.snapshot.borrow());
+                read_burst(&mut machine, &io, *gcs_kind, gcs, &mut gcs_buf, (n, from));
+            }
+            Ok((n, from)) = api.recv_from(&mut api_buf) => {
+                machine.handle_state(*io.snapshot.borrow());
+                read_burst(&mut machine, &io, *api_kind, api, &mut api_buf, (n, from));
+            }
+            Some((token, reply)) = io.replies.recv() => machine.handle_reply(io.now(), token, reply),
+            Some(event) = io.events.recv() => {
+                machine.handle_state(*io.snapshot.borrow());
+                machine.handle_event(io.now(), event);
+            }
+            _ = tokio::time::sleep_until(deadline.into()) => {
+                machine.handle_state(*io.snapshot.borrow());
+                machine.handle_timeout(io.now());
+                io.signing.timestamp.store(machine.signing_timestamp(), Ordering::Relaxed);
+                io.signing.dropped.store(machine.signing_dropped(), Ordering::Relaxed);
+            }
+        }
+        drain(&mut machine, &io).await;
+    }
+}
+
+/// Feeds the datagram that woke the task and, under a burst, what is already queued on the
+/// same socket (bounded, so that telemetry stays on time); a flood then costs the decoding only.
+fn read_burst(
+    machine: &mut LinkMachine<SocketAddr>,
+    io: &LinkIo,
+    link: LinkKind,
+    socket: &UdpSocket,
+    buf: &mut [u8],
+    first: (usize, SocketAddr),
+) {
+    let (n, from) = first;
+    machine.handle_datagram(io.now(), link, from, &buf[..n]);
+    for _ in 0..RECV_BATCH {
+        let Ok((n, from)) = socket.try_recv_from(buf) else { break };
+        machine.handle_datagram(io.now(), link, from, &buf[..n]);
+    }
+}
+
+/// Carries out everything the machine decided, in order, until it has nothing more.
+async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo) {
+    loop {
+        while let Some(frame) = machine.poll_received() {
+            if let Some(log) = &io.log {
+                log.frame(&frame);
+            }
+        }
+        while let Some(t) = machine.poll_transmit() {
+            if let Some(log) = &io.log {
+                log.frame(&t.bytes);
+            }
+            if let Err(e) = io.socket(t.link).send_to(&t.bytes, t.to).await {
+                tracing::debug!("send to {}: {e}", t.to);
+            }
+        }
+        let mut more = false;
+        while let Some(ask) = machine.poll_vehicle() {
+            let token = ask.token;
+            let reply = token.map(|token| ReplyTo {
+                token,
+                to: io.replies_to.clone(),
+            });
+            if io.vehicle.try_send(VehicleCommand { request: ask.request, reply }).is_err() {
+                // A full inbox: a command is answered TEMPORARILY_REJECTED at once; a setpoint
+                // is dropped, the next one replaces it.
+                if let Some(token) = token {
+                    machine.handle_reply(io.now(), token, VehicleReply::Busy);
+                    more = true;
+                }
+            }
+        }
+        while let Some(key) = machine.poll_store() {
+            let result = match &io.store {
+                Some(store) => store
+                    .save_key(key.key.as_ref())
+                    .and_then(|()| store.save_timestamp(key.timestamp))
+                    .map_err(|e| {
+                        tracing::warn!("signing key file: {e}");
+                        e.to_string()
+                    }),
+                None => Err("no key file".into()),
+            };
+            machine.handle_stored(io.now(), result);
+            more = true;
+        }
+        if !more {
+            break;
+        }
+    }
+}
