@@ -2,9 +2,9 @@
 //! data in SI units (NED world, FRD body), independent of MAVLink.
 
 use crate::airframe::MAX_ROTORS;
-use crate::commander::{FlightMode, LandedState, MissionState};
-use crate::control::FlatSetpoint;
-use crate::math::Vec3;
+use crate::commander::{Commander, FlightMode, LandedState, MissionState};
+use crate::control::{FlatSetpoint, VehicleState};
+use crate::math::{euler_zyx, Vec3};
 use crate::navigation::Home;
 
 /// The wrench estimator's latest output.
@@ -128,6 +128,35 @@ impl Snapshot {
             rotor_max_rad_s: 1.0,
             battery: BatterySnapshot::full(3),
             geofence_breached: false,
+        }
+    }
+
+    /// This snapshot with the state's time, position, velocity, attitude and body rates.
+    pub fn with_state(self, x: &VehicleState) -> Self {
+        Self {
+            t_s: x.t_s,
+            pos_w: x.pos_w,
+            vel_w: x.vel_w,
+            eta: euler_zyx(&x.r_wb),
+            omega_b: x.omega_b,
+            ..self
+        }
+    }
+
+    /// This snapshot with the commander's part (armed state, mode, landed state, home, mission
+    /// progress, geofence) taken from `commander`.
+    pub fn with_commander(self, commander: &Commander) -> Self {
+        let (seq, total, state) = commander.mission_progress();
+        Self {
+            armed: commander.armed(),
+            mode: commander.mode(),
+            landed: commander.landed_state(),
+            home_w: commander.home_w(),
+            geofence_breached: commander.geofence_breached(),
+            mission_seq: seq as u16,
+            mission_total: total as u16,
+            mission_state: state,
+            ..self
         }
     }
 }

@@ -92,6 +92,37 @@ pub enum Request {
     GcsLinkLost,
 }
 
+impl Request {
+    /// True when every number the request carries is finite (a request with a non-finite
+    /// number is never accepted).
+    pub fn is_finite(&self) -> bool {
+        let opt = |v: &Option<f64>| v.is_none_or(f64::is_finite);
+        match self {
+            Self::Arm { .. }
+            | Self::Disarm { .. }
+            | Self::SetMode(_)
+            | Self::Land
+            | Self::ReturnToLaunch
+            | Self::StartMission { .. }
+            | Self::GcsLinkLost
+            | Self::InjectRotorFailure { .. } => true,
+            Self::Takeoff { height_m } => opt(height_m),
+            Self::OffboardSetpoint { setpoint, .. } => setpoint.is_finite(),
+            Self::OffboardAttitude(t) => t.is_finite(),
+            Self::SetMission(m) => m.is_finite(),
+            Self::Reposition {
+                north_m,
+                east_m,
+                down_m,
+                yaw_rad,
+                speed_m_s,
+            } => [north_m, east_m, down_m, yaw_rad, speed_m_s].iter().all(|v| opt(v)),
+            Self::ChangeSpeed(v) => v.is_finite(),
+            Self::SetHome(p) => p.as_ref().is_none_or(|p| p.iter().all(|c| c.is_finite())),
+        }
+    }
+}
+
 /// The result of a request (MAV_RESULT), with the reason of a refusal for STATUSTEXT.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Outcome {
@@ -163,5 +194,30 @@ impl CommanderTick {
             attitude: None,
             events,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn requests_with_a_non_finite_number_are_not_finite() {
+        assert!(Request::Takeoff { height_m: None }.is_finite());
+        assert!(!Request::Takeoff {
+            height_m: Some(f64::NAN)
+        }
+        .is_finite());
+        assert!(!Request::ChangeSpeed(f64::INFINITY).is_finite());
+        let reposition = |east_m| Request::Reposition {
+            north_m: Some(1.0),
+            east_m,
+            down_m: None,
+            yaw_rad: None,
+            speed_m_s: None,
+        };
+        assert!(reposition(None).is_finite());
+        assert!(!reposition(Some(f64::NEG_INFINITY)).is_finite());
+        assert!(!Request::SetHome(Some(Vec3::new(0.0, f64::NAN, 0.0))).is_finite());
     }
 }

@@ -18,6 +18,17 @@ pub struct VehicleState {
 }
 
 impl VehicleState {
+    /// At rest, level and heading north, at `pos_w` (world NED [m]) at time `t_s` [s].
+    pub fn at_rest(t_s: f64, pos_w: Vec3) -> Self {
+        Self {
+            t_s,
+            pos_w,
+            vel_w: Vec3::zeros(),
+            r_wb: Mat3::identity(),
+            omega_b: Vec3::zeros(),
+        }
+    }
+
     /// Tilt of the body z axis from the vertical [rad].
     pub fn tilt_rad(&self) -> f64 {
         self.r_wb[(2, 2)].clamp(-1.0, 1.0).acos()

@@ -50,6 +50,27 @@ pub enum MissionItem {
     },
 }
 
+impl MissionItem {
+    /// True when every number of the item is finite.
+    pub fn is_finite(&self) -> bool {
+        let v = |p: &Vec3| p.iter().all(|c| c.is_finite());
+        match self {
+            Self::Takeoff { height_m } => height_m.is_finite(),
+            Self::Waypoint {
+                pos_w,
+                hold_s,
+                accept_m,
+                yaw_rad,
+            } => v(pos_w) && hold_s.is_finite() && accept_m.is_finite() && yaw_rad.is_none_or(f64::is_finite),
+            Self::LoiterTime { pos_w, seconds } => v(pos_w) && seconds.is_finite(),
+            Self::Land { pos_w } => pos_w.as_ref().is_none_or(v),
+            Self::ReturnToLaunch => true,
+            Self::ChangeSpeed { speed_m_s } => speed_m_s.is_finite(),
+            Self::Delay { seconds } => seconds.is_finite(),
+        }
+    }
+}
+
 /// A validated mission: items in order, item 0 first (PX4 numbering).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Mission {
@@ -66,5 +87,32 @@ impl Mission {
     /// True without items.
     pub fn is_empty(&self) -> bool {
         self.items.is_empty()
+    }
+
+    /// True when every number of every item is finite.
+    pub fn is_finite(&self) -> bool {
+        self.items.iter().all(MissionItem::is_finite)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_single_non_finite_number_makes_a_mission_non_finite() {
+        let wp = |x: f64| MissionItem::Waypoint {
+            pos_w: Vec3::new(x, 0.0, -2.0),
+            hold_s: 0.0,
+            accept_m: 0.5,
+            yaw_rad: None,
+        };
+        let mut m = Mission {
+            items: vec![MissionItem::Takeoff { height_m: 2.0 }, wp(1.0), MissionItem::Land { pos_w: None }],
+        };
+        assert!(m.is_finite());
+        m.items.push(wp(f64::NAN));
+        assert!(!m.is_finite());
+        assert!(!MissionItem::Delay { seconds: f64::INFINITY }.is_finite());
     }
 }

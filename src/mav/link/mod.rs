@@ -58,6 +58,13 @@ pub struct Now {
     pub sim_s: f64,
 }
 
+impl Now {
+    /// Wall time `wall_s` and simulated time `sim_s` [s].
+    pub fn new(wall_s: f64, sim_s: f64) -> Self {
+        Self { wall_s, sim_s }
+    }
+}
+
 /// One datagram to send.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Transmit<A> {
@@ -143,6 +150,23 @@ pub struct LinkConfig<A> {
     pub key_store: bool,
     /// Received frames are handed out for the tlog ([`LinkMachine::poll_received`]).
     pub record_received: bool,
+}
+
+impl<A> LinkConfig<A> {
+    /// A vehicle with `identity` on `links`, `params` and `snapshot` at start; no signing key,
+    /// no key file, received frames not recorded.
+    pub fn new(identity: Identity, links: Vec<(LinkKind, A)>, params: ParamTable, snapshot: Snapshot) -> Self {
+        Self {
+            identity,
+            links,
+            params,
+            snapshot,
+            signing: Signing::new(None, 0),
+            signing_epoch: 0,
+            key_store: false,
+            record_received: false,
+        }
+    }
 }
 
 /// What the machine waits for from the vehicle or the key file.
