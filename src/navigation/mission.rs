@@ -108,7 +108,11 @@ mod tests {
             yaw_rad: None,
         };
         let mut m = Mission {
-            items: vec![MissionItem::Takeoff { height_m: 2.0 }, wp(1.0), MissionItem::Land { pos_w: None }],
+            items: vec![
+                MissionItem::Takeoff { height_m: 2.0 },
+                wp(1.0),
+                MissionItem::Land { pos_w: None },
+            ],
         };
         assert!(m.is_finite());
         m.items.push(wp(f64::NAN));

@@ -37,10 +37,33 @@ pub struct SigningStatus {
     pub dropped: AtomicU64,
 }
 
+/// The GCS and API sockets of one vehicle.
+pub struct LinkSockets([(LinkKind, UdpSocket); 2]);
+
+impl LinkSockets {
+    /// The GCS socket bound at `gcs` and the API socket at `api`, registered with `rt`; or the
+    /// address that could not be bound, and why.
+    pub fn bind(
+        rt: &tokio::runtime::Runtime,
+        gcs: SocketAddr,
+        api: SocketAddr,
+    ) -> Result<Self, (SocketAddr, std::io::Error)> {
+        let _guard = rt.enter();
+        let bind = |addr| bind_udp(addr).map_err(|e| (addr, e));
+        Ok(Self([(LinkKind::Gcs, bind(gcs)?), (LinkKind::Api, bind(api)?)]))
+    }
+
+    /// The bound GCS and API addresses.
+    pub fn local_addrs(&self) -> (String, String) {
+        let local = |s: &UdpSocket| s.local_addr().map(|a| a.to_string()).unwrap_or_default();
+        (local(&self.0[0].1), local(&self.0[1].1))
+    }
+}
+
 /// Everything the link task of one vehicle talks to.
 pub struct LinkIo {
     /// The GCS and API sockets.
-    pub sockets: [(LinkKind, UdpSocket); 2],
+    pub sockets: LinkSockets,
     /// Wall time zero of the machine's clock.
     pub start: Instant,
     /// Requests to the tick thread.
@@ -73,7 +96,7 @@ impl LinkIo {
     }
 
     fn socket(&self, link: LinkKind) -> &UdpSocket {
-        let [(_, gcs), (kind, api)] = &self.sockets;
+        let [(_, gcs), (kind, api)] = &self.sockets.0;
         if *kind == link {
             api
         } else {
@@ -87,7 +110,7 @@ pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
     let (mut gcs_buf, mut api_buf) = (vec![0u8; MAX_DATAGRAM_BYTES], vec![0u8; MAX_DATAGRAM_BYTES]);
     loop {
         let deadline = io.start + Duration::from_secs_f64(machine.poll_timeout().max(0.0));
-        let [(gcs_kind, gcs), (api_kind, api)] = &io.sockets;
+        let [(gcs_kind, gcs), (api_kind, api)] = &io.sockets.0;
         tokio::select! {
             _ = io.shutdown.changed() => break,
             Ok((n, from)) = gcs.recv_from(&mut gcs_buf) => {
@@ -127,7 +150,9 @@ fn read_burst(
     let (n, from) = first;
     machine.handle_datagram(io.now(), link, from, &buf[..n]);
     for _ in 0..RECV_BATCH {
-        let Ok((n, from)) = socket.try_recv_from(buf) else { break };
+        let Ok((n, from)) = socket.try_recv_from(buf) else {
+            break;
+        };
         machine.handle_datagram(io.now(), link, from, &buf[..n]);
     }
 }
@@ -155,7 +180,14 @@ async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo) {
                 token,
                 to: io.replies_to.clone(),
             });
-            if io.vehicle.try_send(VehicleCommand { request: ask.request, reply }).is_err() {
+            if io
+                .vehicle
+                .try_send(VehicleCommand {
+                    request: ask.request,
+                    reply,
+                })
+                .is_err()
+            {
                 // A full inbox: a command is answered TEMPORARILY_REJECTED at once; a setpoint
                 // is dropped, the next one replaces it.
                 if let Some(token) = token {
@@ -182,4 +214,18 @@ async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo) {
             break;
         }
     }
+}
+
+/// Kernel receive buffer of each link socket [bytes]: large enough that a burst of garbage
+/// datagrams does not make the kernel drop the legitimate command behind it.
+const RECV_BUFFER_BYTES: usize = 4 << 20;
+
+/// A non-blocking UDP socket bound to `addr` with a large receive buffer, for tokio.
+fn bind_udp(addr: SocketAddr) -> std::io::Result<UdpSocket> {
+    let socket = socket2::Socket::new(socket2::Domain::for_address(addr), socket2::Type::DGRAM, None)?;
+    // Best effort: the kernel caps it at net.core.rmem_max.
+    let _ = socket.set_recv_buffer_size(RECV_BUFFER_BYTES);
+    socket.set_nonblocking(true)?;
+    socket.bind(&addr.into())?;
+    UdpSocket::from_std(socket.into())
 }

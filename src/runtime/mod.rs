@@ -2,6 +2,7 @@
 //! two MAVLink UDP links (GCS and API, PX4 SITL ports) served by tokio. Runtime layer: clocks,
 //! sockets, threads; every decision is made by the pure modules it calls.
 
+mod config;
 pub mod flight_log;
 pub mod link;
 pub mod rotor_failures;
@@ -16,13 +17,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use serde::Serialize;
-use thiserror::Error;
-use tokio::net::UdpSocket;
 use tokio::sync::{mpsc, watch};
 
-use crate::airframe::AirframeSource;
-use crate::control::ControllerKind;
 use crate::math::Vec3;
 use crate::mav::link::{LinkConfig, LinkMachine};
 use crate::mav::signing::Signing;
@@ -31,174 +27,20 @@ use crate::mav::translate::Identity;
 use crate::navigation::Home;
 use crate::telemetry::Snapshot;
 
+pub use config::{Ready, RunConfig, RunReport, RuntimeError, VehicleReady, DEFAULT_SPACING_M};
 use flight_log::LogSender;
-use link::{LinkIo, SigningStatus};
-use rotor_failures::ScheduledFailure;
+use link::{LinkIo, LinkSockets, SigningStatus};
 pub use scheduler::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
 use signing_keeper::{signing_keeper, SigningSetup};
-use signing_store::{signing_now, SigningFileError};
-use vehicle::{Vehicle, VehicleError};
+use signing_store::signing_now;
+use vehicle::Vehicle;
 
 /// Bound of the request queue into the tick thread: commands are never dropped silently; when
 /// it is full the link answers TEMPORARILY_REJECTED at once.
 const INBOX_CAPACITY: usize = 256;
 /// Bound of the event queue out of the tick thread (announcements only; dropped when full).
 const EVENT_CAPACITY: usize = 64;
-
-/// Everything `rotorpilot run` needs.
-#[derive(Debug, Clone)]
-pub struct RunConfig {
-    /// Airframe text.
-    pub airframe: AirframeSource,
-    /// Control law.
-    pub controller: ControllerKind,
-    /// System id of the first vehicle (1–255); vehicle i gets `system_id + i`.
-    pub system_id: u8,
-    /// GCS link bind address of the first vehicle; vehicle i binds port + i (port 0: any).
-    pub bind_gcs: SocketAddr,
-    /// Remote GCS address, shared by every vehicle (the GCS tells them apart by sysid).
-    pub gcs: SocketAddr,
-    /// API link bind address of the first vehicle; vehicle i binds port + i (port 0: any).
-    pub bind_api: SocketAddr,
-    /// Remote API address of the first vehicle; vehicle i sends to port + i.
-    pub api: SocketAddr,
-    /// Geodetic home of the first vehicle; the others stand on a grid north and east of it.
-    pub home: Home,
-    /// Sensor-noise seed of the first vehicle; vehicle i uses `seed + i`.
-    pub seed: u64,
-    /// Tick [s].
-    pub dt_s: f64,
-    /// `--log DIR`: tlog and 1 kHz CSV (per vehicle in `DIR/vehicle-SYSID` when there are several).
-    pub log_dir: Option<std::path::PathBuf>,
-    /// Parameter values applied before start (`--params FILE`): (where, name, value).
-    pub params: Vec<(String, String, f64)>,
-    /// Number of vehicles (1 or more).
-    pub count: usize,
-    /// Distance between neighbouring vehicles on the start grid [m].
-    pub spacing_m: f64,
-    /// Simulated against wall time.
-    pub pace: Pace,
-    /// Rotors that stop at a simulated time, on every vehicle (`--fail-rotor`).
-    pub rotor_failures: Vec<ScheduledFailure>,
-    /// `--signing-key FILE`: the MAVLink 2 signing key of every vehicle (the file may not exist
-    /// yet; SETUP_SIGNING then creates it), its timestamp kept in `FILE.timestamp`.
-    pub signing_key: Option<std::path::PathBuf>,
-}
-
-impl RunConfig {
-    /// One vehicle at `system_id` with PX4 SITL's defaults for everything else: real time, the
-    /// given addresses, home at PX4's default, seed 0, 1 kHz.
-    pub fn single(airframe: AirframeSource, controller: ControllerKind, system_id: u8) -> Self {
-        Self {
-            airframe,
-            controller,
-            system_id,
-            bind_gcs: SocketAddr::from(([127, 0, 0, 1], 18570)),
-            gcs: SocketAddr::from(([127, 0, 0, 1], 14550)),
-            bind_api: SocketAddr::from(([127, 0, 0, 1], 14580)),
-            api: SocketAddr::from(([127, 0, 0, 1], 14540)),
-            home: Home::default(),
-            seed: 0,
-            dt_s: 1e-3,
-            log_dir: None,
-            params: Vec::new(),
-            count: 1,
-            spacing_m: DEFAULT_SPACING_M,
-            pace: Pace::Speedup(1.0),
-            rotor_failures: Vec::new(),
-            signing_key: None,
-        }
-    }
-}
-
-/// Default distance between neighbouring vehicles on the start grid [m].
-pub const DEFAULT_SPACING_M: f64 = 3.0;
-
-/// Why the process could not run.
-#[derive(Debug, Error)]
-pub enum RuntimeError {
-    /// The vehicle could not be built.
-    #[error(transparent)]
-    Vehicle(#[from] VehicleError),
-    /// A socket could not be bound.
-    #[error("cannot bind {addr}: {source}")]
-    Bind {
-        /// Address.
-        addr: SocketAddr,
-        /// Cause.
-        source: std::io::Error,
-    },
-    /// A `--params` value was refused.
-    #[error("--params {0}")]
-    Params(String),
-    /// A `--fail-rotor` schedule does not fit the airframe.
-    #[error("--fail-rotor {0}")]
-    RotorFailure(String),
-    /// The log directory could not be written.
-    #[error("--log {dir}: {source}")]
-    Log {
-        /// Directory.
-        dir: String,
-        /// Cause.
-        source: std::io::Error,
-    },
-    /// The vehicle count does not fit the system ids or ports.
-    #[error("--count {count} from sysid {first}: {why}")]
-    Count {
-        /// Vehicles asked for.
-        count: usize,
-        /// First system id.
-        first: u8,
-        /// What does not fit.
-        why: &'static str,
-    },
-    /// The signing key or timestamp file could not be read.
-    #[error(transparent)]
-    Signing(#[from] SigningFileError),
-    /// The tokio runtime or a thread could not start.
-    #[error("runtime: {0}")]
-    Runtime(std::io::Error),
-}
-
-/// The addresses of one vehicle, as the ready line reports them.
-#[derive(Debug, Clone, Serialize)]
-pub struct VehicleReady {
-    /// System id.
-    pub sysid: u8,
-    /// Bound GCS address.
-    pub gcs_bind: String,
-    /// Bound API address.
-    pub api_bind: String,
-    /// Remote GCS address.
-    pub gcs: String,
-    /// Remote API address.
-    pub api: String,
-}
-
-/// The machine-readable start-up line (printed as JSON on stdout): the first vehicle's
-/// addresses at the top level, every vehicle's in `vehicles`.
-#[derive(Debug, Clone, Serialize)]
-pub struct Ready {
-    /// Always "ready".
-    pub event: &'static str,
-    /// The first vehicle.
-    #[serde(flatten)]
-    pub first: VehicleReady,
-    /// Every vehicle, in sysid order.
-    pub vehicles: Vec<VehicleReady>,
-}
-
-/// What the process did, returned when it stops.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RunReport {
-    /// Vehicle ticks run (all vehicles together).
-    pub vehicle_ticks: u64,
-    /// Schedule rebases after a backlog.
-    pub overruns: u64,
-    /// Wall time between start and stop [s].
-    pub wall_s: f64,
-}
 
 /// One vehicle's share of the process: its tick slot, its link machine and sockets, its log.
 struct VehicleSetup {
@@ -279,17 +121,13 @@ fn setup_vehicle(
     };
     let port = |addr| nth_port(addr, i).ok_or_else(|| too_many("ports end at 65535"));
     let (bind_gcs, bind_api, api) = (port(config.bind_gcs)?, port(config.bind_api)?, port(config.api)?);
-    let bind = |addr: SocketAddr| {
-        let _guard = rt.enter();
-        bind_udp(addr).map_err(|source| RuntimeError::Bind { addr, source })
-    };
-    let gcs_socket = bind(bind_gcs)?;
-    let api_socket = bind(bind_api)?;
-    let local = |s: &UdpSocket| s.local_addr().map(|a| a.to_string()).unwrap_or_default();
+    let sockets =
+        LinkSockets::bind(rt, bind_gcs, bind_api).map_err(|(addr, source)| RuntimeError::Bind { addr, source })?;
+    let (gcs_bind, api_bind) = sockets.local_addrs();
     let ready = VehicleReady {
         sysid,
-        gcs_bind: local(&gcs_socket),
-        api_bind: local(&api_socket),
+        gcs_bind,
+        api_bind,
         gcs: config.gcs.to_string(),
         api: api.to_string(),
     };
@@ -309,7 +147,7 @@ fn setup_vehicle(
         record_received: log.is_some(),
     });
     let io = LinkIo {
-        sockets: [(LinkKind::Gcs, gcs_socket), (LinkKind::Api, api_socket)],
+        sockets,
         start,
         vehicle: inbox_tx,
         replies_to,
@@ -429,18 +267,4 @@ pub fn run(
         report.overruns
     );
     Ok(report)
-}
-
-/// Kernel receive buffer of each link socket [bytes]: large enough that a burst of garbage
-/// datagrams does not make the kernel drop the legitimate command behind it.
-const RECV_BUFFER_BYTES: usize = 4 << 20;
-
-/// A non-blocking UDP socket bound to `addr` with a large receive buffer, for tokio.
-fn bind_udp(addr: SocketAddr) -> std::io::Result<UdpSocket> {
-    let socket = socket2::Socket::new(socket2::Domain::for_address(addr), socket2::Type::DGRAM, None)?;
-    // Best effort: the kernel caps it at net.core.rmem_max.
-    let _ = socket.set_recv_buffer_size(RECV_BUFFER_BYTES);
-    socket.set_nonblocking(true)?;
-    socket.bind(&addr.into())?;
-    UdpSocket::from_std(socket.into())
 }

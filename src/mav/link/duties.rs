@@ -81,7 +81,10 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// pacing itself in simulated time sees the same failsafe at any speed-up; one sending in
     /// wall time does not trip it just because simulated time runs faster.
     fn check_link_loss(&mut self, now: Now, k: usize) {
-        let (loss_s, action) = (self.settings.commander.link_loss_s, self.settings.commander.link_loss_action);
+        let (loss_s, action) = (
+            self.settings.commander.link_loss_s,
+            self.settings.commander.link_loss_action,
+        );
         let port = &mut self.ports[k];
         let Some((heard_wall_s, heard_sim_s)) = port.gcs_heard else {
             return;
@@ -105,7 +108,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// The vehicle's answer to a link loss: a refused reaction is announced on the link.
     pub(super) fn link_loss_announced(&mut self, now: Now, link: LinkKind, reply: VehicleReply) {
         if let VehicleReply::Outcome(Outcome::TemporarilyRejected(what)) = reply {
-            self.to_link_targets(now, link, &status_text(CRITICAL, &what));
+            self.broadcast_on(now, link, &status_text(CRITICAL, &what));
         }
     }
 }

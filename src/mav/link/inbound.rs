@@ -133,7 +133,12 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// no key set, or signed with the current key.
     fn setup_signing(&mut self, now: Now, link: LinkKind, from: A, key: SigningKey, initial_timestamp: u64) {
         if self.snapshot.armed {
-            self.send(now, link, from, &status_text(WARNING, "SETUP_SIGNING refused: disarm first"));
+            self.send(
+                now,
+                link,
+                from,
+                &status_text(WARNING, "SETUP_SIGNING refused: disarm first"),
+            );
             return;
         }
         self.signing.set_key(key.clone(), initial_timestamp);

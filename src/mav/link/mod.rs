@@ -256,7 +256,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// A commander event, announced to every target of every link.
     pub fn handle_event(&mut self, now: Now, event: Event) {
         let msg = duties::announcement(&self.snapshot, &event);
-        self.to_all_targets(now, &msg);
+        self.broadcast(now, &msg);
     }
 
     /// The vehicle's answer to the request `token` named.
@@ -374,7 +374,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     }
 
     /// `msg` to every target of every link.
-    fn to_all_targets(&mut self, now: Now, msg: &MavMessage) {
+    fn broadcast(&mut self, now: Now, msg: &MavMessage) {
         for k in 0..self.ports.len() {
             let link = self.ports[k].kind;
             for to in self.ports[k].targets(now.wall_s) {
@@ -384,7 +384,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     }
 
     /// `msg` to every target of `link`.
-    fn to_link_targets(&mut self, now: Now, link: LinkKind, msg: &MavMessage) {
+    fn broadcast_on(&mut self, now: Now, link: LinkKind, msg: &MavMessage) {
         let targets = self.port(link).map(|p| p.targets(now.wall_s)).unwrap_or_default();
         for to in targets {
             self.send(now, link, to, msg);
