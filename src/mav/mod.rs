@@ -1,5 +1,18 @@
-//! MAVLink: the only module that names the `mavlink` crate (architecture.md §3): the codec
-//! (bytes ↔ frames) and the translation between messages and the commander.
+//! MAVLink: the only module that names the `mavlink` crate. Pure: no clock, socket, thread or
+//! lock; the runtime passes the time in.
+//!
+//! # Layout
+//! - [`link`]: the vehicle's MAVLink endpoint as a state machine (datagrams and the vehicle's
+//!   answers in, datagrams and requests out); everything below is what it uses.
+//! - [`codec`]: bytes ↔ frames; [`signing`]: MAVLink 2 signatures and their checks.
+//! - [`ingest`]: one inbound message → what the link does with it.
+//! - [`translate`], [`identity`]: commands → commander requests, ACKs, HEARTBEAT.
+//! - [`offboard`]: SET_POSITION_TARGET_* and SET_ATTITUDE_TARGET → setpoints.
+//! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
+//! - [`telemetry`] (with `status`): the streamed messages built from a snapshot.
+//! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC, FTP's NAK.
+//! - [`params`]: PARAM_VALUE / PARAM_SET encoding.
+//! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation.
 
 pub mod codec;
 pub mod duplicates;

@@ -1,6 +1,15 @@
-//! The autopilot process (`rotorpilot run`): one vehicle ticking at 1 kHz on its own thread and
-//! two MAVLink UDP links (GCS and API, PX4 SITL ports) served by tokio. Runtime layer: clocks,
-//! sockets, threads; every decision is made by the pure modules it calls.
+//! The autopilot process (`rotorpilot run`): vehicles ticking at 1 kHz on dedicated threads and,
+//! per vehicle, one tokio task serving its two MAVLink UDP links (GCS and API, PX4 SITL ports).
+//! Runtime layer: clocks, sockets, threads, files; every decision is made by the pure modules
+//! it calls (`mav::link` for the protocol, the vehicle's flight software for the rest).
+//!
+//! # Layout
+//! - `mod.rs`: setting up the vehicles, their channels and sockets; running until shutdown.
+//! - `config.rs`: what `run` is given, prints when ready, reports at the end, its errors.
+//! - [`scheduler`]: the tick threads and their pace; [`vehicle`]: one vehicle's tick.
+//! - [`link`]: the link task: sockets ↔ `mav::link::LinkMachine` ↔ the tick thread.
+//! - [`signing_store`], `signing_keeper.rs`: the `--signing-key` file and its timestamp.
+//! - [`flight_log`]: the tlog and run.csv of `--log`; [`rotor_failures`]: `--fail-rotor`.
 
 mod config;
 pub mod flight_log;
