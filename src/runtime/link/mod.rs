@@ -466,7 +466,7 @@ async fn check_link_loss(
         *lost = false;
         return;
     }
-    if *lost || settings.link_loss_action == 0 {
+    if *lost || settings.link_loss_action == crate::commander::LinkLossAction::Disabled {
         return;
     }
     *lost = true;
