@@ -25,4 +25,8 @@ done
 hits=$(code 'std::(net|thread)|std::time::(Instant|SystemTime)|\bInstant::now|std::sync::(Mutex|RwLock)|\btokio\b' $pure)
 [ -z "$hits" ] || complain "pure modules must not use clocks, sockets, threads or locks" "$hits"
 
+# Parameters are declared once, as rows (src/params/rows/): nothing names them by position.
+hits=$(code 'PARAM_NAMES' --include='*.rs' src tests benches fuzz/fuzz_targets; code '\b(v|values)\[[0-9]+' src/params src/mav/params.rs)
+[ -z "$hits" ] || complain "parameters are read and written through their rows, never by index" "$hits"
+
 exit "$fail"
