@@ -4,7 +4,7 @@
 use crate::control::ControllerKind;
 use crate::params::{ParamDef, VehicleSettings};
 
-/// `RP_CTRL`'s code of `kind`: its place in [`ControllerKind::ALL`].
+/// `RP_CTRL`'s code of the law in `s`: its place in [`ControllerKind::ALL`].
 fn law_code(s: &VehicleSettings) -> f64 {
     ControllerKind::ALL
         .iter()
