@@ -39,4 +39,8 @@ hits=$(too_long 150 fuzz/fuzz_targets/mavlink_ingest.rs)
 hits=$(grep -L 'LinkMachine' fuzz/fuzz_targets/mavlink_ingest.rs || true)
 [ -z "$hits" ] || complain "the MAVLink fuzz target must drive the shipped LinkMachine" "$hits"
 
+# Parameters are declared once, as rows (src/params/rows/): nothing names them by position.
+hits=$(code 'PARAM_NAMES' --include='*.rs' src tests benches fuzz/fuzz_targets; code '\b(v|values)\[[0-9]+' src/params src/mav/params.rs)
+[ -z "$hits" ] || complain "parameters are read and written through their rows, never by index" "$hits"
+
 exit "$fail"

@@ -4,7 +4,8 @@
 
 use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::commander::{
-    BatteryParams, Commander, CommanderParams, Event, FailsafeParams, FlightMode, LandedState, Outcome, Request,
+    BatteryParams, Commander, CommanderParams, Event, FailsafeParams, FlightMode, GeofenceAction, LandedState,
+    LinkLossAction, LowBatteryAction, OffboardLossAction, Outcome, Request,
 };
 use rotorpilot::control::{ControllerKind, VehicleState};
 use rotorpilot::core::FlightCore;
@@ -303,7 +304,7 @@ fn failsafe_texts(events: &[Event]) -> Vec<String> {
 fn geofence_breach_returns_and_lands_at_home() {
     let params = CommanderParams {
         failsafe: FailsafeParams {
-            geofence_action: 3,
+            geofence_action: GeofenceAction::Return,
             geofence_max_hor_m: 5.0,
             ..Default::default()
         },
@@ -344,7 +345,7 @@ fn geofence_breach_returns_and_lands_at_home() {
 fn battery_failsafes_warn_return_then_land() {
     let params = CommanderParams {
         failsafe: FailsafeParams {
-            low_battery_action: 3,
+            low_battery_action: LowBatteryAction::Return,
             ..Default::default()
         },
         // About 12 s of hover for quad_x (≈ 1 kW electrical).
@@ -394,11 +395,11 @@ fn hovering_at_2_m(params: CommanderParams) -> Sim {
 fn offboard_loss_runs_com_obl_rc_act() {
     use rotorpilot::control::FlatSetpoint;
     for (action, expect) in [
-        (0, Some(FlightMode::Position)),
-        (3, Some(FlightMode::ReturnToLaunch)),
-        (4, Some(FlightMode::Land)),
-        (5, Some(FlightMode::Loiter)),
-        (7, None),
+        (OffboardLossAction::Position, Some(FlightMode::Position)),
+        (OffboardLossAction::Return, Some(FlightMode::ReturnToLaunch)),
+        (OffboardLossAction::Land, Some(FlightMode::Land)),
+        (OffboardLossAction::Hold, Some(FlightMode::Loiter)),
+        (OffboardLossAction::Disarm, None),
     ] {
         let mut sim = hovering_at_2_m(CommanderParams {
             offboard_loss_action: action,
@@ -415,10 +416,10 @@ fn offboard_loss_runs_com_obl_rc_act() {
         assert_eq!(sim.request(setpoint), Outcome::Accepted);
         assert_eq!(sim.request(Request::SetMode(FlightMode::Offboard)), Outcome::Accepted);
         sim.run(1.5);
-        assert!(sim.events.contains(&Event::OffboardLost), "COM_OBL_RC_ACT {action}");
+        assert!(sim.events.contains(&Event::OffboardLost), "COM_OBL_RC_ACT {action:?}");
         match expect {
-            Some(mode) => assert_eq!(sim.commander.mode(), mode, "COM_OBL_RC_ACT {action}"),
-            None => assert!(!sim.commander.armed(), "COM_OBL_RC_ACT {action} disarms"),
+            Some(mode) => assert_eq!(sim.commander.mode(), mode, "COM_OBL_RC_ACT {action:?}"),
+            None => assert!(!sim.commander.armed(), "COM_OBL_RC_ACT {action:?} disarms"),
         }
     }
 }
@@ -426,11 +427,11 @@ fn offboard_loss_runs_com_obl_rc_act() {
 #[test]
 fn gcs_link_loss_runs_nav_dll_act_in_flight_only() {
     for (action, expect) in [
-        (0, Some(FlightMode::Position)),
-        (1, Some(FlightMode::Loiter)),
-        (2, Some(FlightMode::ReturnToLaunch)),
-        (3, Some(FlightMode::Land)),
-        (6, None),
+        (LinkLossAction::Disabled, Some(FlightMode::Position)),
+        (LinkLossAction::Hold, Some(FlightMode::Loiter)),
+        (LinkLossAction::Return, Some(FlightMode::ReturnToLaunch)),
+        (LinkLossAction::Land, Some(FlightMode::Land)),
+        (LinkLossAction::Disarm, None),
     ] {
         let params = CommanderParams {
             link_loss_action: action,
@@ -448,10 +449,10 @@ fn gcs_link_loss_runs_nav_dll_act_in_flight_only() {
         assert_eq!(sim.request(Request::SetMode(FlightMode::Position)), Outcome::Accepted);
         let outcome = sim.request(Request::GcsLinkLost);
         match expect {
-            Some(mode) => assert_eq!(sim.commander.mode(), mode, "NAV_DLL_ACT {action}"),
-            None => assert!(!sim.commander.armed(), "NAV_DLL_ACT {action} disarms"),
+            Some(mode) => assert_eq!(sim.commander.mode(), mode, "NAV_DLL_ACT {action:?}"),
+            None => assert!(!sim.commander.armed(), "NAV_DLL_ACT {action:?} disarms"),
         }
-        if action == 0 {
+        if action == LinkLossAction::Disabled {
             assert_eq!(outcome, Outcome::Accepted);
         } else {
             assert!(
@@ -459,7 +460,7 @@ fn gcs_link_loss_runs_nav_dll_act_in_flight_only() {
                 "{outcome:?}"
             );
         }
-        if action == 2 {
+        if action == LinkLossAction::Return {
             // Up to RTL_RETURN_ALT (60 m), back over home, down at MPC_LAND_SPEED, auto-disarm.
             sim.run(200.0);
             assert!(!sim.commander.armed(), "returned, landed and disarmed");

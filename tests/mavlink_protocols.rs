@@ -109,7 +109,7 @@ fn parameter_protocol_reads_sets_and_refuses() {
     }));
     let (value, kind, count, index) = param_reply(&v, "MIS_TAKEOFF_ALT").expect("read by name");
     assert_eq!((value, kind, index), (2.5, MavParamType::MAV_PARAM_TYPE_REAL32, 0));
-    assert_eq!(usize::from(count), rotorpilot::params::PARAM_NAMES.len());
+    assert_eq!(usize::from(count), rotorpilot::params::rows().count());
     v.send(&MavMessage::PARAM_REQUEST_READ(PARAM_REQUEST_READ_DATA {
         param_index: 7,
         target_system: 1,

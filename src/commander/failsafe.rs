@@ -2,19 +2,21 @@
 //! commander feeds the position relative to home and the battery's remaining fraction each tick
 //! and gets back the failsafes that have just triggered, each with the action to take.
 
+use super::{GeofenceAction, LowBatteryAction};
+
 /// Failsafe settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FailsafeParams {
     /// Geofence breach action (`GF_ACTION`: 0 none, 1 warning, 2 hold, 3 return, 4 terminate,
     /// 5 land; default 2).
-    pub geofence_action: i32,
+    pub geofence_action: GeofenceAction,
     /// Largest horizontal distance from home [m] (`GF_MAX_HOR_DIST`; 0 = no limit).
     pub geofence_max_hor_m: f64,
     /// Largest height above home [m] (`GF_MAX_VER_DIST`; 0 = no limit).
     pub geofence_max_ver_m: f64,
     /// Action at the critical battery level (`COM_LOW_BAT_ACT`: 0 warning, 2 land, 3 return
     /// then land at the emergency level; default 0).
-    pub low_battery_action: i32,
+    pub low_battery_action: LowBatteryAction,
     /// Low battery level, fraction remaining (`BAT_LOW_THR`, 0.15): a warning.
     pub battery_low: f64,
     /// Critical battery level (`BAT_CRIT_THR`, 0.07): `COM_LOW_BAT_ACT`.
@@ -26,10 +28,10 @@ pub struct FailsafeParams {
 impl Default for FailsafeParams {
     fn default() -> Self {
         Self {
-            geofence_action: 2,
+            geofence_action: GeofenceAction::Hold,
             geofence_max_hor_m: 0.0,
             geofence_max_ver_m: 0.0,
-            low_battery_action: 0,
+            low_battery_action: LowBatteryAction::Warn,
             battery_low: 0.15,
             battery_critical: 0.07,
             battery_emergency: 0.05,
@@ -116,15 +118,10 @@ impl FailsafeMonitor {
         let height = -rel_home_w[2];
         let outside = (p.geofence_max_hor_m > 0.0 && horizontal > p.geofence_max_hor_m)
             || (p.geofence_max_ver_m > 0.0 && height > p.geofence_max_ver_m);
-        if outside && !self.fence_breached && in_air && p.geofence_action != 0 {
+        let action = fence_failsafe(p.geofence_action).filter(|_| outside && !self.fence_breached && in_air);
+        if let Some(action) = action {
             out.push(Failsafe {
-                action: match p.geofence_action {
-                    2 => FailsafeAction::Hold,
-                    3 => FailsafeAction::Return,
-                    4 => FailsafeAction::Terminate,
-                    5 => FailsafeAction::Land,
-                    _ => FailsafeAction::Warn,
-                },
+                action,
                 text: format!(
                     "Geofence breached ({horizontal:.1} m from home, {height:.1} m up; limits {} m / {} m)",
                     p.geofence_max_hor_m, p.geofence_max_ver_m
@@ -133,6 +130,18 @@ impl FailsafeMonitor {
         }
         self.fence_breached = outside;
         out
+    }
+}
+
+/// What a breach does under `GF_ACTION` (`None`: nothing, not even an announcement).
+fn fence_failsafe(action: GeofenceAction) -> Option<FailsafeAction> {
+    match action {
+        GeofenceAction::Disabled => None,
+        GeofenceAction::Warn => Some(FailsafeAction::Warn),
+        GeofenceAction::Hold => Some(FailsafeAction::Hold),
+        GeofenceAction::Return => Some(FailsafeAction::Return),
+        GeofenceAction::Terminate => Some(FailsafeAction::Terminate),
+        GeofenceAction::Land => Some(FailsafeAction::Land),
     }
 }
 
@@ -155,25 +164,25 @@ fn battery_failsafe(p: &FailsafeParams, level: BatteryLevel, fraction: f64) -> O
         BatteryLevel::Ok => return None,
         BatteryLevel::Low => (FailsafeAction::Warn, format!("Low battery: {percent:.0}% remaining")),
         BatteryLevel::Critical => match p.low_battery_action {
-            2 => (
+            LowBatteryAction::Land => (
                 FailsafeAction::Land,
                 format!("Critical battery ({percent:.0}%): landing"),
             ),
-            3 => (
+            LowBatteryAction::Return => (
                 FailsafeAction::Return,
                 format!("Critical battery ({percent:.0}%): returning"),
             ),
-            _ => (
+            LowBatteryAction::Warn => (
                 FailsafeAction::Warn,
                 format!("Critical battery: {percent:.0}% remaining"),
             ),
         },
         BatteryLevel::Emergency => match p.low_battery_action {
-            0 => (
+            LowBatteryAction::Warn => (
                 FailsafeAction::Warn,
                 format!("Emergency battery: {percent:.0}% remaining"),
             ),
-            _ => (
+            LowBatteryAction::Land | LowBatteryAction::Return => (
                 FailsafeAction::Land,
                 format!("Emergency battery ({percent:.0}%): landing"),
             ),
@@ -186,7 +195,7 @@ fn battery_failsafe(p: &FailsafeParams, level: BatteryLevel, fraction: f64) -> O
 mod tests {
     use super::*;
 
-    fn fence(action: i32) -> FailsafeParams {
+    fn fence(action: GeofenceAction) -> FailsafeParams {
         FailsafeParams {
             geofence_action: action,
             geofence_max_hor_m: 10.0,
@@ -197,7 +206,7 @@ mod tests {
 
     #[test]
     fn fence_fires_once_per_breach_and_only_in_the_air() {
-        let p = fence(3);
+        let p = fence(GeofenceAction::Return);
         let mut m = FailsafeMonitor::default();
         assert!(m.check(&p, [9.0, 0.0, -4.0], 1.0, true).is_empty());
         let fired = m.check(&p, [8.0, 8.0, -4.0], 1.0, true);
@@ -218,11 +227,11 @@ mod tests {
     #[test]
     fn fence_actions_follow_gf_action_and_zero_limits_are_off() {
         let at = |action| FailsafeMonitor::default().check(&fence(action), [11.0, 0.0, 0.0], 1.0, true);
-        assert_eq!(at(1)[0].action, FailsafeAction::Warn);
-        assert_eq!(at(2)[0].action, FailsafeAction::Hold);
-        assert_eq!(at(4)[0].action, FailsafeAction::Terminate);
-        assert_eq!(at(5)[0].action, FailsafeAction::Land);
-        assert!(at(0).is_empty());
+        assert_eq!(at(GeofenceAction::Warn)[0].action, FailsafeAction::Warn);
+        assert_eq!(at(GeofenceAction::Hold)[0].action, FailsafeAction::Hold);
+        assert_eq!(at(GeofenceAction::Terminate)[0].action, FailsafeAction::Terminate);
+        assert_eq!(at(GeofenceAction::Land)[0].action, FailsafeAction::Land);
+        assert!(at(GeofenceAction::Disabled).is_empty());
         let off = FailsafeParams::default();
         assert!(FailsafeMonitor::default()
             .check(&off, [1e4, 0.0, -1e3], 1.0, true)
@@ -232,7 +241,7 @@ mod tests {
     #[test]
     fn battery_levels_fire_in_order_with_com_low_bat_act() {
         let p = FailsafeParams {
-            low_battery_action: 3,
+            low_battery_action: LowBatteryAction::Return,
             ..Default::default()
         };
         let mut m = FailsafeMonitor::default();

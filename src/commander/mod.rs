@@ -12,10 +12,13 @@
 //! - `mission_run.rs`: AUTO.MISSION, item by item.
 //! - `reactions.rs`: failsafes, rotor failures and GCS link loss.
 //! - `failsafe.rs`, `battery.rs`, `mode.rs`: geofence/battery monitor, energy gauge, PX4 modes.
+//! - `actions.rs`: the failsafe parameters' actions (`NAV_DLL_ACT`, `COM_OBL_RC_ACT`,
+//!   `GF_ACTION`, `COM_LOW_BAT_ACT`) as enums with PX4's codes.
 //!
 //! Home is the local NED origin. Wrong-state results follow PX4 (TEMPORARILY_REJECTED when
 //! waiting can fix it, DENIED for bad values).
 
+mod actions;
 mod battery;
 mod failsafe;
 pub mod land_detector;
@@ -27,6 +30,7 @@ mod offboard;
 mod params;
 mod reactions;
 
+pub use actions::{GeofenceAction, LinkLossAction, LowBatteryAction, OffboardLossAction, UnknownAction};
 pub use battery::{BatteryGauge, BatteryParams};
 pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
 pub use land_detector::{LandDetectorParams, LandStage};

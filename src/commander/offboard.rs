@@ -7,7 +7,7 @@ use crate::math::Vec3;
 use crate::navigation::SetpointLimiter;
 
 use super::landing::{asks_climb, Command};
-use super::{Commander, Event, FlightMode};
+use super::{Commander, Event, FlightMode, OffboardLossAction};
 
 /// The latest offboard target.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -80,11 +80,13 @@ impl Commander {
     fn offboard_lost(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
         events.push(Event::OffboardLost);
         let mode = match self.params.offboard_loss_action {
-            3 => Some(FlightMode::ReturnToLaunch),
-            4 => Some(FlightMode::Land),
-            5 => Some(FlightMode::Loiter),
-            6 | 7 => None,
-            _ => Some(FlightMode::Position),
+            OffboardLossAction::Position | OffboardLossAction::Altitude | OffboardLossAction::Manual => {
+                Some(FlightMode::Position)
+            }
+            OffboardLossAction::Return => Some(FlightMode::ReturnToLaunch),
+            OffboardLossAction::Land => Some(FlightMode::Land),
+            OffboardLossAction::Hold => Some(FlightMode::Loiter),
+            OffboardLossAction::Terminate | OffboardLossAction::Disarm => None,
         };
         match mode {
             Some(mode) => {

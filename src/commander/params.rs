@@ -2,7 +2,7 @@
 
 use crate::navigation::MotionLimits;
 
-use super::{BatteryParams, FailsafeParams, LandDetectorParams};
+use super::{BatteryParams, FailsafeParams, LandDetectorParams, LinkLossAction, OffboardLossAction};
 
 /// Commander settings (PX4 parameter names in brackets).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,8 +26,9 @@ pub struct CommanderParams {
     pub disarm_preflight_s: f64,
     /// Offboard setpoints older than this are lost [s] (`COM_OF_LOSS_T`, 1.0).
     pub offboard_loss_s: f64,
-    /// GCS link-loss action (`NAV_DLL_ACT`: 0 off, 1 hold, 2 return, 3 land, 5 terminate, 6 disarm).
-    pub link_loss_action: i32,
+    /// GCS link-loss action (`NAV_DLL_ACT`: 0 off, 1 hold, 2 return, 3 land, 5 terminate,
+    /// 6 disarm; default 0).
+    pub link_loss_action: LinkLossAction,
     /// GCS silence that counts as link loss [s] (`COM_DL_LOSS_T`, 10).
     pub link_loss_s: f64,
     /// Geofence and battery failsafes.
@@ -38,7 +39,7 @@ pub struct CommanderParams {
     pub failure_injection: bool,
     /// Offboard-loss action (`COM_OBL_RC_ACT`: 0–2 hold position (no RC), 3 return, 4 land,
     /// 5 hold (AUTO.LOITER), 6 terminate, 7 disarm; default 0).
-    pub offboard_loss_action: i32,
+    pub offboard_loss_action: OffboardLossAction,
     /// Limits of every AUTO path and every offboard setpoint (`MPC_XY_VEL_MAX` caps cruise,
     /// DO_CHANGE_SPEED and DO_REPOSITION speeds; the final landing descends at `land_speed_m_s`).
     pub motion: MotionLimits,
@@ -58,14 +59,14 @@ impl Default for CommanderParams {
             disarm_land_s: 2.0,
             disarm_preflight_s: 10.0,
             offboard_loss_s: 1.0,
-            link_loss_action: 0,
+            link_loss_action: LinkLossAction::Disabled,
             link_loss_s: 10.0,
             motion: MotionLimits::default(),
             land_detector: LandDetectorParams::default(),
             failsafe: FailsafeParams::default(),
             battery: BatteryParams::default(),
             failure_injection: false,
-            offboard_loss_action: 0,
+            offboard_loss_action: OffboardLossAction::Position,
         }
     }
 }

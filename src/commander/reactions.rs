@@ -5,17 +5,17 @@
 use crate::allocation::FailedRotors;
 use crate::control::VehicleState;
 
-use super::{Commander, Event, FailsafeAction, FlightMode, Outcome};
+use super::{Commander, Event, FailsafeAction, FlightMode, LinkLossAction, Outcome};
 
 /// What NAV_DLL_ACT did, for the announcement.
-fn link_loss_text(action: i32) -> &'static str {
+fn link_loss_text(action: LinkLossAction) -> &'static str {
     match action {
-        1 => "GCS link lost: holding",
-        2 => "GCS link lost: returning",
-        3 => "GCS link lost: landing",
-        5 => "GCS link lost: terminating",
-        6 => "GCS link lost: disarming",
-        _ => "GCS link lost",
+        LinkLossAction::Hold => "GCS link lost: holding",
+        LinkLossAction::Return => "GCS link lost: returning",
+        LinkLossAction::Land => "GCS link lost: landing",
+        LinkLossAction::Terminate => "GCS link lost: terminating",
+        LinkLossAction::Disarm => "GCS link lost: disarming",
+        LinkLossAction::Disabled => "GCS link lost",
     }
 }
 
@@ -92,15 +92,15 @@ impl Commander {
     /// land, or 5/6 motors off); the result carries the announcement.
     pub(super) fn gcs_link_lost(&mut self, x: &VehicleState, t_s: f64) -> Outcome {
         let action = self.params.link_loss_action;
-        if action == 0 || !self.armed || !self.in_air() {
+        if action == LinkLossAction::Disabled || !self.armed || !self.in_air() {
             return Outcome::Accepted;
         }
         match action {
-            1 => self.enter(FlightMode::Loiter, x, t_s),
-            2 => self.enter(FlightMode::ReturnToLaunch, x, t_s),
-            3 => self.enter(FlightMode::Land, x, t_s),
-            5 | 6 => self.disarm(),
-            _ => {}
+            LinkLossAction::Hold => self.enter(FlightMode::Loiter, x, t_s),
+            LinkLossAction::Return => self.enter(FlightMode::ReturnToLaunch, x, t_s),
+            LinkLossAction::Land => self.enter(FlightMode::Land, x, t_s),
+            LinkLossAction::Terminate | LinkLossAction::Disarm => self.disarm(),
+            LinkLossAction::Disabled => {}
         }
         Outcome::TemporarilyRejected(link_loss_text(action).to_string())
     }

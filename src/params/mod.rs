@@ -1,29 +1,30 @@
 //! The parameter table (mavlink.md §8): PX4 names where they exist, `RP_` names for the
-//! emulator's own settings (controller, every gain, estimator, compensation). A fixed list,
-//! built once per vehicle with the airframe's default gains; values are validated as a whole
-//! before they change, so a refused set leaves everything as it was. Pure.
+//! emulator's own settings (controller, every gain, estimator, compensation). Each parameter is
+//! declared once, as a row of [`rows`]: name, type, range, unit, meaning, and how it reads and
+//! writes [`VehicleSettings`]. The table is built once per vehicle from its settings (the
+//! airframe's default gains); values are validated as a whole before they change, so a refused
+//! set leaves everything as it was. Pure.
+//!
+//! # Layout
+//! - `def.rs`: [`ParamDef`] (one row), [`ParamType`], [`Scope`].
+//! - `settings.rs`: [`VehicleSettings`] and the checks across parameters.
+//! - `rows/`: every row, grouped by what it acts on, in wire order.
+//! - `markdown.rs`: the README's parameter table, generated from the rows.
+//! - `file.rs`: `--params FILE` parsing.
 
+mod def;
 mod file;
-mod names;
+mod markdown;
+mod rows;
+mod settings;
 
 use thiserror::Error;
 
-use crate::commander::CommanderParams;
-use crate::control::{ControllerGains, ControllerKind};
-use crate::estimation::ChebyshevDesign;
-use crate::math::Vec3;
-
+pub use def::{Codes, ParamDef, ParamType, Scope};
 pub use file::{parse_param_file, ParamFileError};
-pub use names::PARAM_NAMES;
-
-/// How a parameter travels (MAV_PARAM_TYPE).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ParamType {
-    /// 32-bit signed integer (byte-wise in the float field).
-    Int32,
-    /// 32-bit float.
-    Real32,
-}
+pub use markdown::markdown_table;
+pub use rows::rows;
+pub use settings::VehicleSettings;
 
 /// A refused parameter set.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -41,68 +42,27 @@ pub enum ParamError {
     },
 }
 
-/// One parameter's definition.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ParamDef {
-    /// Name (≤ 16 characters).
-    pub name: &'static str,
-    /// Wire type.
-    pub kind: ParamType,
-    /// Smallest value.
-    pub min: f64,
-    /// Largest value.
-    pub max: f64,
-}
-
-/// Every parameter's value.
+/// Every parameter's value, with the settings they describe.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamTable {
-    defs: Vec<ParamDef>,
+    defs: Vec<&'static ParamDef>,
     values: Vec<f64>,
-}
-
-/// The settings the table describes, as the flight software uses them.
-#[derive(Debug, Clone, PartialEq)]
-pub struct VehicleSettings {
-    /// Commander settings.
-    pub commander: CommanderParams,
-    /// Control law.
-    pub controller: ControllerKind,
-    /// Compensation of the estimated wrench.
-    pub compensation: bool,
-    /// Controller gains.
-    pub gains: ControllerGains,
-    /// Estimator design; `None` when off (order 0).
-    pub estimator: Option<ChebyshevDesign>,
-    /// The plant's ground effect (as its airframe file configures it) switched on.
-    pub ground_effect: bool,
-    /// The plant's ceiling effect switched on.
-    pub ceiling_effect: bool,
-}
-
-impl VehicleSettings {
-    /// `controller` with `gains` and the wrench `estimator`; everything else at its default
-    /// (PX4's commander defaults, no compensation, ground and ceiling effect on).
-    pub fn new(controller: ControllerKind, gains: ControllerGains, estimator: Option<ChebyshevDesign>) -> Self {
-        Self {
-            commander: CommanderParams::default(),
-            controller,
-            compensation: false,
-            gains,
-            estimator,
-            ground_effect: true,
-            ceiling_effect: true,
-        }
-    }
+    /// What decoding starts from: the settings the table was built with.
+    base: VehicleSettings,
+    /// The settings the values describe.
+    settings: VehicleSettings,
 }
 
 impl ParamTable {
-    /// The table with `settings` as the values.
+    /// The table with `settings` as the values (every row's getter).
     pub fn new(settings: &VehicleSettings) -> Self {
-        let pairs = names::encode(settings);
+        let defs: Vec<&'static ParamDef> = rows().collect();
+        let values = defs.iter().map(|d| (d.get)(settings)).collect();
         Self {
-            defs: pairs.iter().map(|(d, _)| d.clone()).collect(),
-            values: pairs.iter().map(|(_, v)| *v).collect(),
+            defs,
+            values,
+            base: settings.clone(),
+            settings: settings.clone(),
         }
     }
 
@@ -118,7 +78,7 @@ impl ParamTable {
 
     /// Definition and value at `index`.
     pub fn get(&self, index: usize) -> Option<(&ParamDef, f64)> {
-        Some((self.defs.get(index)?, *self.values.get(index)?))
+        Some((*self.defs.get(index)?, *self.values.get(index)?))
     }
 
     /// Index of `name`.
@@ -128,57 +88,50 @@ impl ParamTable {
 
     /// The settings the current values describe.
     pub fn settings(&self) -> VehicleSettings {
-        names::decode(&self.values)
+        self.settings.clone()
     }
 
-    /// Sets `name` to `value`; refused (nothing changed) when out of range, not an integer for an
-    /// INT32 parameter, or when the resulting settings are invalid (a gain ≤ 0, an unstable
-    /// estimator design at `ts_s`). Returns the parameter's index.
+    /// Sets `name` to `value`; refused (nothing changed) when not a finite number, not an
+    /// integer for an INT32 parameter, out of range, a code its choice lacks, or when the
+    /// resulting settings are invalid ([`VehicleSettings::validate`] at step `ts_s` [s]: a gain
+    /// ≤ 0, battery thresholds not falling, an unstable estimator design). Returns the index.
     pub fn set(&mut self, name: &str, value: f64, ts_s: f64) -> Result<usize, ParamError> {
         let index = self
             .index_of(name)
             .ok_or_else(|| ParamError::Unknown(name.to_string()))?;
-        let def = &self.defs[index];
         let invalid = |reason: String| ParamError::Invalid {
             name: name.to_string(),
             reason,
         };
-        if !value.is_finite() {
-            return Err(invalid(format!("{value} is not a number")));
-        }
-        if def.kind == ParamType::Int32 && value.fract() != 0.0 {
-            return Err(invalid(format!("{value} is not an integer")));
-        }
-        if value < def.min || value > def.max {
-            return Err(invalid(format!("{value} outside [{}, {}]", def.min, def.max)));
-        }
+        self.defs[index].check(value).map_err(invalid)?;
         let mut values = self.values.clone();
         values[index] = value;
-        let s = names::decode(&values);
-        s.gains.validate().map_err(invalid)?;
-        let f = &s.commander.failsafe;
-        if !(f.battery_emergency < f.battery_critical && f.battery_critical < f.battery_low) {
-            return Err(invalid(format!(
-                "battery thresholds must fall: BAT_LOW_THR {} > BAT_CRIT_THR {} > BAT_EMERGEN_THR {}",
-                f.battery_low, f.battery_critical, f.battery_emergency
-            )));
-        }
-        if let Some(design) = s.estimator {
-            design.gains(ts_s).map_err(|e| invalid(e.to_string()))?;
-        }
+        let settings = self.decode(&values)?;
+        settings.validate(ts_s).map_err(invalid)?;
         self.values = values;
+        self.settings = settings;
         Ok(index)
     }
-}
 
-/// A 3-vector from three consecutive values.
-fn vec3(v: &[f64]) -> Vec3 {
-    Vec3::new(v[0], v[1], v[2])
+    /// The settings `values` describe: every row's setter applied in wire order to the settings
+    /// the table was built with; the first refusal names its parameter.
+    fn decode(&self, values: &[f64]) -> Result<VehicleSettings, ParamError> {
+        let mut s = self.base.clone();
+        for (def, v) in self.defs.iter().zip(values) {
+            (def.set)(&mut s, *v).map_err(|reason| ParamError::Invalid {
+                name: def.name.to_string(),
+                reason,
+            })?;
+        }
+        Ok(s)
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::control::{ControllerGains, ControllerKind};
+    use crate::estimation::ChebyshevDesign;
 
     fn settings() -> VehicleSettings {
         VehicleSettings::new(ControllerKind::Geometric, ControllerGains::default(), None)
@@ -198,9 +151,15 @@ mod tests {
         s.commander.takeoff_alt_m = 4.0;
         let t = ParamTable::new(&s);
         assert_eq!(t.settings(), s);
-        assert_eq!(t.len(), PARAM_NAMES.len());
+        assert_eq!(t.decode(&t.values), Ok(s.clone()));
+        assert_eq!(
+            ParamTable::new(&settings()).decode(&t.values),
+            Ok(s),
+            "decoding from other settings"
+        );
+        assert_eq!(t.len(), rows().count());
         assert!(
-            PARAM_NAMES.iter().all(|n| n.len() <= 16),
+            rows().all(|r| r.name.len() <= 16),
             "MAVLink param_id holds 16 characters"
         );
     }
@@ -220,6 +179,7 @@ mod tests {
             t.set("RP_GEO_KP_X", -1.0, 1e-3),
             Err(ParamError::Invalid { .. })
         ));
+        assert_eq!(t, before, "refused sets change nothing");
         t.set("RP_EST_ORDER", 13.0, 1e-3).unwrap();
         let e = t.set("RP_EST_WP", 20.0, 1e-3).unwrap_err().to_string();
         assert!(e.contains("largest stable passband edge"), "{e}");
@@ -232,5 +192,43 @@ mod tests {
         t.set("BAT_CRIT_THR", 0.1, 1e-3).unwrap();
         assert_eq!(t.settings().commander.failsafe.battery_critical, 0.1);
         assert_eq!(before.settings().controller, ControllerKind::Hierarchical);
+    }
+
+    #[test]
+    fn the_estimator_keeps_its_design_while_off() {
+        let mut t = ParamTable::new(&settings());
+        t.set("RP_EST_RIPPLE", 1.0, 1e-3).unwrap();
+        t.set("RP_EST_WP", 4.0, 1e-3).unwrap();
+        assert_eq!(t.settings().estimator, None);
+        t.set("RP_EST_ORDER", 2.0, 1e-3).unwrap();
+        let design = ChebyshevDesign {
+            order: 2,
+            ripple_db: 1.0,
+            passband_rad_s: 4.0,
+        };
+        assert_eq!(t.settings().estimator, Some(design));
+    }
+
+    #[test]
+    fn failsafe_codes_without_an_action_are_refused() {
+        use crate::commander::{LinkLossAction, LowBatteryAction};
+        let mut t = ParamTable::new(&settings());
+        let before = t.clone();
+        let e = t.set("NAV_DLL_ACT", 4.0, 1e-3).unwrap_err().to_string();
+        assert!(
+            e.starts_with("NAV_DLL_ACT: 4 is not a NAV_DLL_ACT action (choose 0 disabled"),
+            "{e}"
+        );
+        let e = t.set("COM_LOW_BAT_ACT", 1.0, 1e-3).unwrap_err().to_string();
+        assert!(
+            e.starts_with("COM_LOW_BAT_ACT: 1 is not a COM_LOW_BAT_ACT action"),
+            "{e}"
+        );
+        assert_eq!(t, before);
+        t.set("NAV_DLL_ACT", 5.0, 1e-3).unwrap();
+        t.set("COM_LOW_BAT_ACT", 2.0, 1e-3).unwrap();
+        let c = t.settings().commander;
+        assert_eq!(c.link_loss_action, LinkLossAction::Terminate);
+        assert_eq!(c.failsafe.low_battery_action, LowBatteryAction::Land);
     }
 }

@@ -7,7 +7,7 @@ use std::hash::Hash;
 use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
 
 use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest, CRITICAL, INFO};
-use crate::commander::{Event, Outcome, Request};
+use crate::commander::{Event, LinkLossAction, Outcome, Request};
 use crate::mav::identity::heartbeat;
 use crate::mav::telemetry::{message, mission_current, status_text};
 use crate::telemetry::Snapshot;
@@ -93,7 +93,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             port.link_lost = false;
             return;
         }
-        if port.link_lost || action == 0 {
+        if port.link_lost || action == LinkLossAction::Disabled {
             return;
         }
         port.link_lost = true;

@@ -1,0 +1,196 @@
+//! How the vehicle flies its paths (PX4's `MIS_`, `MPC_`, `MC_`, `RTL_` parameters), when it
+//! disarms by itself (`COM_DISARM_*`) and how it decides it has landed (`LNDMC_*`).
+
+use crate::params::ParamDef;
+
+/// Take-off, return and auto-disarm (indices 0–6).
+pub(super) static TAKEOFF_AND_RETURN: &[ParamDef] = &[
+    row!(
+        "MIS_TAKEOFF_ALT",
+        Real32,
+        [0.5, 1000.0],
+        "m",
+        Commander,
+        "Height above home a take-off climbs to when the command names none",
+        value commander.takeoff_alt_m
+    ),
+    row!(
+        "MPC_Z_VEL_MAX_UP",
+        Real32,
+        [0.5, 20.0],
+        "m/s",
+        Navigation,
+        "Fastest climb of every AUTO path and offboard setpoint",
+        value commander.motion.up_m_s
+    ),
+    row!(
+        "MPC_LAND_SPEED",
+        Real32,
+        [0.1, 5.0],
+        "m/s",
+        Navigation,
+        "Final descent speed of every landing, below MPC_LAND_ALT2 down to touch-down",
+        value commander.land_speed_m_s
+    ),
+    row!(
+        "MPC_XY_CRUISE",
+        Real32,
+        [0.5, 30.0],
+        "m/s",
+        Navigation,
+        "Horizontal speed of the AUTO modes (never above MPC_XY_VEL_MAX)",
+        value commander.cruise_speed_m_s
+    ),
+    row!(
+        "RTL_RETURN_ALT",
+        Real32,
+        [1.0, 500.0],
+        "m",
+        Navigation,
+        "Height above home a return climbs to, when lower, before it flies home",
+        value commander.rtl_return_alt_m
+    ),
+    row!(
+        "COM_DISARM_LAND",
+        Real32,
+        [-1.0, 20.0],
+        "s",
+        Commander,
+        "Disarm this long after a touch-down is detected (≤ 0: never)",
+        value commander.disarm_land_s
+    ),
+    row!(
+        "COM_DISARM_PRFLT",
+        Real32,
+        [-1.0, 60.0],
+        "s",
+        Commander,
+        "Disarm this long after arming when the vehicle has not taken off (≤ 0: never)",
+        value commander.disarm_preflight_s
+    ),
+];
+
+/// Speed caps of every path (indices 58–59).
+pub(super) static SPEED_CAPS: &[ParamDef] = &[
+    row!(
+        "MPC_XY_VEL_MAX",
+        Real32,
+        [0.5, 50.0],
+        "m/s",
+        Navigation,
+        "Horizontal speed cap of every AUTO path and offboard setpoint; also caps MPC_XY_CRUISE, DO_CHANGE_SPEED and DO_REPOSITION",
+        value commander.motion.horizontal_m_s
+    ),
+    row!(
+        "MPC_Z_VEL_MAX_DN",
+        Real32,
+        [0.1, 10.0],
+        "m/s",
+        Navigation,
+        "Descent speed cap of every AUTO path and offboard setpoint; landings descend at it above MPC_LAND_ALT1",
+        value commander.motion.down_m_s
+    ),
+];
+
+/// Accelerations, heading rates, land detector and landing profile (indices 71–81).
+pub(super) static MOTION: &[ParamDef] = &[
+    row!(
+        "MPC_ACC_HOR",
+        Real32,
+        [0.5, 15.0],
+        "m/s²",
+        Navigation,
+        "Horizontal acceleration limit of every AUTO path and offboard setpoint",
+        value commander.motion.acc_horizontal_m_s2
+    ),
+    row!(
+        "MPC_ACC_UP_MAX",
+        Real32,
+        [1.0, 15.0],
+        "m/s²",
+        Navigation,
+        "Upward acceleration limit of every AUTO path and offboard setpoint",
+        value commander.motion.acc_up_m_s2
+    ),
+    row!(
+        "MPC_ACC_DOWN_MAX",
+        Real32,
+        [1.0, 15.0],
+        "m/s²",
+        Navigation,
+        "Downward acceleration limit of every AUTO path and offboard setpoint; a landing starts from rest at it",
+        value commander.motion.acc_down_m_s2
+    ),
+    row!(
+        "MPC_YAWRAUTO_MAX",
+        Real32,
+        [5.0, 360.0],
+        "deg/s",
+        Navigation,
+        "Heading rate towards a commanded heading (AUTO paths, offboard yaw)",
+        degrees commander.motion.yaw_rate_auto_rad_s
+    ),
+    row!(
+        "MC_YAWRATE_MAX",
+        Real32,
+        [5.0, 1800.0],
+        "deg/s",
+        Navigation,
+        "Largest commanded yaw rate (offboard yaw rate)",
+        degrees commander.motion.yaw_rate_max_rad_s
+    ),
+    row!(
+        "LNDMC_Z_VEL_MAX",
+        Real32,
+        [0.05, 1.0],
+        "m/s",
+        LandDetector,
+        "Ground contact needs a slower vertical speed; an armed vehicle climbing faster has lifted off",
+        value commander.land_detector.z_vel_max_m_s
+    ),
+    row!(
+        "LNDMC_XY_VEL_MAX",
+        Real32,
+        [0.1, 5.0],
+        "m/s",
+        LandDetector,
+        "Ground contact needs a slower horizontal speed",
+        value commander.land_detector.xy_vel_max_m_s
+    ),
+    row!(
+        "LNDMC_ROT_MAX",
+        Real32,
+        [5.0, 360.0],
+        "deg/s",
+        LandDetector,
+        "Maybe landed needs every body rate below this",
+        degrees commander.land_detector.rot_max_rad_s
+    ),
+    row!(
+        "LNDMC_TRIG_TIME",
+        Real32,
+        [0.1, 10.0],
+        "s",
+        LandDetector,
+        "Time spent through the detector's stages before the vehicle counts as landed",
+        value commander.land_detector.trigger_time_s
+    ),
+    row!(
+        "MPC_LAND_ALT1",
+        Real32,
+        [0.0, 122.0],
+        "m",
+        Navigation,
+        "Landings descend at MPC_Z_VEL_MAX_DN above this height and slow down linearly below it",
+        value commander.land_alt1_m
+    ),
+    row!(
+        "MPC_LAND_ALT2",
+        Real32,
+        [0.0, 122.0],
+        "m",
+        Navigation,
+        "Landings reach MPC_LAND_SPEED at this height and keep it to touch-down",
+        value commander.land_alt2_m
+    ),
+];

@@ -1,0 +1,111 @@
+//! Every parameter, declared once: one [`ParamDef`] row each, grouped by what it acts on, and
+//! [`rows`], which puts the groups in wire order (index `i` of PARAM_VALUE is the `i`-th row;
+//! the order is fixed so clients that cache indices keep working). Pure.
+//!
+//! # Layout
+//! - `flight.rs`: take-off, landing, speeds, accelerations, headings, auto-disarm, land detector.
+//! - `control.rs`: control law, compensation, tilt limit, guards.
+//! - `estimator.rs`: the wrench estimator's design.
+//! - `gains.rs`: every gain of the three laws, per axis.
+//! - `failsafe.rs`: link and offboard loss, geofence, battery, failure injection.
+//! - `plant.rs`: the plant's ground and ceiling effect.
+
+/// Declares one [`ParamDef`](super::ParamDef): name, wire type, `[min, max]`, unit, scope
+/// ([`Scope`](super::Scope) variant), description, then how it reads and writes the settings:
+/// - `value PATH`: the setting at `settings.PATH`, as it is;
+/// - `degrees PATH`: a setting in radians, shown in degrees;
+/// - `flag PATH`: a `bool`, 0 or 1;
+/// - `action TYPE PATH`: an action enum with `TryFrom<i32>` (codes it lacks are refused);
+/// - `GET, SET`: explicit functions.
+macro_rules! row {
+    ($name:expr, $kind:ident, [$min:expr, $max:expr], $unit:literal, $scope:ident, $desc:expr,
+     value $($path:ident).+) => {
+        row!($name, $kind, [$min, $max], $unit, $scope, $desc,
+            |s| s.$($path).+,
+            |s, v| {
+                s.$($path).+ = v;
+                Ok(())
+            })
+    };
+    ($name:expr, $kind:ident, [$min:expr, $max:expr], $unit:literal, $scope:ident, $desc:expr,
+     degrees $($path:ident).+) => {
+        row!($name, $kind, [$min, $max], $unit, $scope, $desc,
+            |s| s.$($path).+.to_degrees(),
+            |s, v| {
+                s.$($path).+ = v.to_radians();
+                Ok(())
+            })
+    };
+    ($name:expr, $kind:ident, [$min:expr, $max:expr], $unit:literal, $scope:ident, $desc:expr,
+     flag $($path:ident).+) => {
+        row!($name, $kind, [$min, $max], $unit, $scope, $desc,
+            |s| f64::from(u8::from(s.$($path).+)),
+            |s, v| {
+                s.$($path).+ = v != 0.0;
+                Ok(())
+            })
+    };
+    ($name:expr, $kind:ident, [$min:expr, $max:expr], $unit:literal, $scope:ident, $desc:expr,
+     action $action:ident $($path:ident).+) => {
+        $crate::params::ParamDef {
+            choices: Some($action::codes),
+            ..row!($name, $kind, [$min, $max], $unit, $scope, $desc,
+                |s| f64::from(s.$($path).+),
+                |s, v| {
+                    s.$($path).+ = $action::try_from(v as i32).map_err(|e| e.to_string())?;
+                    Ok(())
+                })
+        }
+    };
+    ($name:expr, $kind:ident, [$min:expr, $max:expr], $unit:literal, $scope:ident, $desc:expr,
+     $get:expr, $set:expr) => {
+        $crate::params::ParamDef {
+            name: $name,
+            kind: $crate::params::ParamType::$kind,
+            min: $min,
+            max: $max,
+            unit: $unit,
+            scope: $crate::params::Scope::$scope,
+            description: $desc,
+            choices: None,
+            get: $get,
+            set: $set,
+        }
+    };
+}
+
+mod control;
+mod estimator;
+mod failsafe;
+mod flight;
+mod gains;
+mod plant;
+
+use super::ParamDef;
+
+/// The groups in wire order.
+static GROUPS: [&[ParamDef]; 14] = [
+    flight::TAKEOFF_AND_RETURN,
+    control::LAW,
+    estimator::DESIGN,
+    control::LIMITS,
+    gains::GEOMETRIC,
+    gains::HIERARCHICAL,
+    gains::PASSIVITY_SIGMA,
+    gains::PASSIVITY,
+    control::GUARDS,
+    failsafe::LINK_LOSS,
+    plant::EFFECTS,
+    flight::SPEED_CAPS,
+    failsafe::FAILSAFES,
+    flight::MOTION,
+];
+
+/// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely
+/// on an earlier one (`RP_EST_ORDER` switches the estimator on before its ripple and edge).
+pub fn rows() -> impl Iterator<Item = &'static ParamDef> + Clone {
+    GROUPS.iter().flat_map(|group| group.iter())
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,59 @@
+//! The settings the parameter table describes, as the flight software uses them, and the checks
+//! that only make sense on all of them together. Pure.
+
+use crate::commander::CommanderParams;
+use crate::control::{ControllerGains, ControllerKind};
+use crate::estimation::ChebyshevDesign;
+
+/// The settings the table describes, as the flight software uses them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VehicleSettings {
+    /// Commander settings.
+    pub commander: CommanderParams,
+    /// Control law.
+    pub controller: ControllerKind,
+    /// Compensation of the estimated wrench.
+    pub compensation: bool,
+    /// Controller gains.
+    pub gains: ControllerGains,
+    /// Estimator design; `None` when off (order 0).
+    pub estimator: Option<ChebyshevDesign>,
+    /// The plant's ground effect (as its airframe file configures it) switched on.
+    pub ground_effect: bool,
+    /// The plant's ceiling effect switched on.
+    pub ceiling_effect: bool,
+}
+
+impl VehicleSettings {
+    /// `controller` with `gains` and the wrench `estimator`; everything else at its default
+    /// (PX4's commander defaults, no compensation, ground and ceiling effect on).
+    pub fn new(controller: ControllerKind, gains: ControllerGains, estimator: Option<ChebyshevDesign>) -> Self {
+        Self {
+            commander: CommanderParams::default(),
+            controller,
+            compensation: false,
+            gains,
+            estimator,
+            ground_effect: true,
+            ceiling_effect: true,
+        }
+    }
+
+    /// The checks across parameters: every gain positive ([`ControllerGains::validate`]),
+    /// battery thresholds falling (`BAT_LOW_THR` > `BAT_CRIT_THR` > `BAT_EMERGEN_THR`), and the
+    /// estimator design realisable and stable at step `ts_s` [s]. The reason names what is wrong.
+    pub fn validate(&self, ts_s: f64) -> Result<(), String> {
+        self.gains.validate()?;
+        let f = &self.commander.failsafe;
+        if !(f.battery_emergency < f.battery_critical && f.battery_critical < f.battery_low) {
+            return Err(format!(
+                "battery thresholds must fall: BAT_LOW_THR {} > BAT_CRIT_THR {} > BAT_EMERGEN_THR {}",
+                f.battery_low, f.battery_critical, f.battery_emergency
+            ));
+        }
+        if let Some(design) = self.estimator {
+            design.gains(ts_s).map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+}
