@@ -13,9 +13,9 @@ use std::sync::Arc;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use crate::control::VehicleState;
-use crate::core::CoreStep;
+use crate::flight::CoreStep;
 use crate::math::Vec3;
-use crate::simulate::run_csv::{RunCsv, RunRow};
+use crate::sim::run_csv::{RunCsv, RunRow};
 
 /// Longest time a record waits in a buffer before it reaches the file.
 pub const FLUSH_PERIOD: Duration = Duration::from_millis(100);

@@ -4,7 +4,7 @@
 
 pub mod flight_log;
 pub mod link;
-pub mod rotor_failures;
+pub mod pacer;
 pub mod scheduler;
 mod signing_keeper;
 pub mod signing_store;
@@ -31,10 +31,10 @@ use crate::navigation::Home;
 use crate::telemetry::Snapshot;
 
 use crate::commander::Event;
+use crate::lockstep::ScheduledFailure;
 use flight_log::LogSender;
 use link::{run_link, LinkContext};
-use rotor_failures::ScheduledFailure;
-pub use scheduler::Pace;
+pub use pacer::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
 use signing_keeper::{signing_keeper, SigningSetup};
 use signing_store::SigningFileError;

@@ -12,7 +12,7 @@ use std::io::Write;
 use std::path::Path;
 
 use crate::control::VehicleState;
-use crate::core::CoreStep;
+use crate::flight::CoreStep;
 use crate::math::{euler_zyx, Vec3};
 
 /// Header of `run.csv` for `rotors` rotors.
