@@ -6,13 +6,13 @@ use crate::airframe::{Airframe, AirframeSource};
 use crate::commander::{Event, Outcome, Request};
 use crate::control::ControllerKind;
 use crate::flight::{CoreError, FlightController};
-use crate::lockstep::{Lockstep, ScheduledFailure};
+use crate::lockstep::{Lockstep, Observer, ScheduledFailure};
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable};
 use crate::sitl::{SimPlant, SitlError};
 use crate::telemetry::Snapshot;
 
-use super::flight_log::{LogSender, TickLog};
+use super::flight_log::LogSender;
 
 /// A vehicle that cannot be built.
 #[derive(Debug, thiserror::Error)]
@@ -114,20 +114,7 @@ impl Vehicle {
     /// One tick ([`Lockstep::step`]), logged when a log is set.
     pub fn step(&mut self) -> TickOutput {
         let tick = self.lockstep.step();
-        if let Some(log) = &self.log {
-            let plant = self.lockstep.plant();
-            let truth = plant.truth();
-            let state = tick.sensors.state;
-            log.tick(TickLog {
-                t_s: tick.t_s,
-                state,
-                ref_w: tick.reference_w(),
-                step: tick.control.step,
-                motor_speeds: plant.motor_speeds().to_vec(),
-                true_force_w: truth.external_force_w,
-                true_torque_b: truth.external_torque_b,
-            });
-        }
+        self.log.observe(&tick, self.lockstep.plant());
         TickOutput {
             snapshot: tick.report,
             events: tick.control.events,

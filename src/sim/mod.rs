@@ -241,17 +241,7 @@ impl CsvObserver {
 
 impl<R> Observer<R> for CsvObserver {
     fn observe(&mut self, tick: &Tick<R>, plant: &SimPlant) -> Option<Exit> {
-        let truth = plant.truth();
-        let row = RunRow {
-            t_s: tick.t_s,
-            state: &tick.sensors.state,
-            ref_w: tick.reference_w(),
-            step: tick.control.step.as_ref(),
-            motor_speeds: plant.motor_speeds(),
-            true_force_w: truth.external_force_w,
-            true_torque_b: truth.external_torque_b,
-        };
-        let e = self.csv.row(&row).err()?;
+        let e = self.csv.row(&RunRow::of(tick, plant)).err()?;
         self.error = Some(e);
         Some(Exit::Stopped)
     }
