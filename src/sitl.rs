@@ -121,9 +121,11 @@ impl SimPlant {
         let state = self.sense();
         let power_w = self.electrical_power_w();
         let reported = self.plant.failed_rotors();
-        let rotors = reported.len().min(MAX_ROTORS);
         let mut failed = [false; MAX_ROTORS];
-        failed[..rotors].copy_from_slice(&reported[..rotors]);
+        for (slot, f) in failed.iter_mut().zip(reported) {
+            *slot = *f;
+        }
+        let rotors = reported.len().min(MAX_ROTORS);
         Sensors {
             state,
             accel_b: self.accel_b,

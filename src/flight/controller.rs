@@ -13,7 +13,6 @@
 //! ```
 
 use crate::airframe::Airframe;
-use crate::allocation::RotorSpeeds;
 use crate::commander::{Commander, CommanderParams, Outcome, Request};
 use crate::control::{ControllerKind, VehicleState};
 use crate::estimation::{ChebyshevDesign, WrenchObserver};
@@ -236,10 +235,7 @@ impl Pilot for FlightController {
             s.allocation.applied.thrust_n / (self.believed_mass_kg * GRAVITY_M_S2)
         });
         Control {
-            rotor_speeds: step.map_or_else(
-                || RotorSpeeds::idle(self.rotors.rotor_count()),
-                |s| s.allocation.omega(),
-            ),
+            rotors: self.rotors.rotor_count(),
             step,
             setpoint: tick.setpoint,
             events: tick.events,

@@ -57,12 +57,11 @@ impl<S: SetpointSource> Pilot for SetpointFollower<S> {
 
     /// `FlightCore::step` on the sensed state and the source's setpoint.
     fn control(&mut self, t_s: f64, sensors: &Sensors) -> Control {
-        let sp = self.source.setpoint(t_s);
-        let step = self.core.step(&sensors.state, &sp);
+        let setpoint = self.source.setpoint(t_s);
         Control {
-            rotor_speeds: step.allocation.omega(),
-            step: Some(step),
-            setpoint: Some(sp),
+            rotors: self.core.allocator().rotor_count(),
+            step: Some(self.core.step(&sensors.state, &setpoint)),
+            setpoint: Some(setpoint),
             events: Vec::new(),
         }
     }

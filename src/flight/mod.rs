@@ -34,14 +34,25 @@ pub use follower::{SetpointFollower, SetpointSource};
 /// What one control tick commands.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Control {
-    /// Rotor speeds for the plant over the next step [rad/s] (zero while the motors are off).
-    pub rotor_speeds: RotorSpeeds,
+    /// Rotor count.
+    pub rotors: usize,
     /// The flight core's step; `None` while the motors are off.
     pub step: Option<CoreStep>,
     /// Setpoint flown, when one is.
     pub setpoint: Option<FlatSetpoint>,
     /// What the commander did on its own this tick (always empty for a bare flight core).
     pub events: Vec<Event>,
+}
+
+impl Control {
+    /// Rotor speeds for the plant over the next step [rad/s]: the allocation's, or every rotor
+    /// stopped while the motors are off.
+    pub fn rotor_speeds(&self) -> RotorSpeeds {
+        match &self.step {
+            Some(step) => step.allocation.omega(),
+            None => RotorSpeeds::idle(self.rotors),
+        }
+    }
 }
 
 /// What flies the plant in a [`Lockstep`](crate::lockstep::Lockstep).

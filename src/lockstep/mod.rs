@@ -9,7 +9,7 @@
 //! scheduled rotor failures due at t_k → plant        (FailureSchedule, `--fail-rotor`)
 //! sensors_k  = plant.read_sensors()                  sense → electrical power → ESC report
 //! control_k  = pilot.control(t_k, sensors_k)         rotor speeds, controller step, events
-//! status_k   = plant.step(control_k.rotor_speeds, dt)
+//! status_k   = plant.step(control_k.rotor_speeds(), dt)
 //! report_k   = pilot.report(t_k, sensors_k, control_k, true motor speeds)
 //! ```
 //!
@@ -141,7 +141,7 @@ impl<P: Pilot> Lockstep<P> {
         }
         let sensors = self.plant.read_sensors();
         let control = self.pilot.control(t_s, &sensors);
-        let status = self.plant.step(control.rotor_speeds.as_slice(), self.dt_s);
+        let status = self.plant.step(control.rotor_speeds().as_slice(), self.dt_s);
         let report = self.pilot.report(t_s, &sensors, &control, self.plant.motor_speeds());
         self.tick += 1;
         Tick {

@@ -214,7 +214,7 @@ impl<R> Observer<R> for Judge {
             .is_none_or(|e| e.force_w.iter().chain(e.torque_b.iter()).all(|x| x.is_finite()) && e.mass_kg.is_finite());
         self.non_finite |= !(state.is_finite()
             && step.is_none_or(|s| s.control.is_finite())
-            && tick.control.rotor_speeds.as_slice().iter().all(|w| w.is_finite())
+            && tick.control.rotor_speeds().as_slice().iter().all(|w| w.is_finite())
             && estimate_finite
             && truth.pos_w.iter().chain(truth.vel_w.iter()).all(|x| x.is_finite())
             && truth.omega_b.iter().all(|x| x.is_finite())

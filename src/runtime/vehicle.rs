@@ -14,6 +14,9 @@ use crate::telemetry::Snapshot;
 
 use super::flight_log::LogSender;
 
+/// The autopilot's start-up estimator and tilt limit, where the fuzz targets name them.
+pub use crate::flight::{AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
+
 /// A vehicle that cannot be built.
 #[derive(Debug, thiserror::Error)]
 pub enum VehicleError {
