@@ -247,3 +247,68 @@ impl Pilot for FlightController {
         self.snapshot(t_s, sensors, control, motor_speeds)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::airframe::AirframeSource;
+
+    fn controller() -> FlightController {
+        let af = Airframe::from_source(&AirframeSource::resolve("quad_x").unwrap()).unwrap();
+        FlightController::new(&af, ControllerKind::Geometric, Home::default(), 1e-3).unwrap()
+    }
+
+    fn never_sensed() -> VehicleState {
+        panic!("failure injection must not sense the state")
+    }
+
+    #[test]
+    fn replies_say_what_the_plant_must_change() {
+        let mut fc = controller();
+        let inject = |rotor| Request::InjectRotorFailure { rotor, failed: true };
+        let denied = fc.request(inject(2), 0.0, never_sensed);
+        assert!(matches!(&denied.answer, Outcome::Denied(why) if why.contains("SYS_FAILURE_EN")));
+        assert_eq!(denied.plant, None);
+        let set = fc.set_param("SYS_FAILURE_EN", 1.0);
+        assert!(set.answer.is_ok());
+        assert_eq!(
+            set.plant,
+            Some(PlantChange::ProximityEffects {
+                ground: true,
+                ceiling: true
+            })
+        );
+        let refused = fc.set_param("NO_SUCH_PARAM", 1.0);
+        assert!(refused.answer.is_err() && refused.plant.is_none());
+        let accepted = fc.request(inject(2), 0.0, never_sensed);
+        assert_eq!(accepted.answer, Outcome::Accepted);
+        assert_eq!(
+            accepted.plant,
+            Some(PlantChange::Rotors {
+                rotors: 1..2,
+                failed: true
+            })
+        );
+        let none = fc.request(inject(5), 0.0, never_sensed);
+        assert!(matches!(&none.answer, Outcome::Denied(why) if why == "Failure injection: no motor 5 (1 to 4)"));
+    }
+
+    #[test]
+    fn commander_requests_see_the_sensed_state() {
+        let mut fc = controller();
+        let mut sensed = false;
+        let reply = fc.request(Request::Arm { force: false }, 0.0, || {
+            sensed = true;
+            VehicleState {
+                t_s: 0.0,
+                pos_w: Vec3::zeros(),
+                vel_w: Vec3::zeros(),
+                r_wb: crate::math::Mat3::identity(),
+                omega_b: Vec3::zeros(),
+            }
+        });
+        assert!(sensed);
+        assert_eq!(reply, Reply::only(Outcome::Accepted));
+        assert!(fc.commander().armed());
+    }
+}

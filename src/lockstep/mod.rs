@@ -196,3 +196,110 @@ impl Lockstep<FlightController> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::airframe::{Airframe, AirframeSource};
+    use crate::commander::Event;
+    use crate::control::{ControllerKind, FlatSetpoint};
+    use crate::flight::{FlightCore, SetpointFollower};
+    use crate::navigation::Home;
+
+    fn hover(preset: &str) -> Lockstep<SetpointFollower<FlatSetpoint>> {
+        let src = AirframeSource::resolve(preset).unwrap();
+        let af = Airframe::from_source(&src).unwrap();
+        let core = FlightCore::for_airframe(&af, ControllerKind::Geometric, 1e-3).unwrap();
+        let plant = SimPlant::from_source(&src, 0).unwrap();
+        Lockstep::new(
+            SetpointFollower::new(core, FlatSetpoint::hold(Vec3::zeros(), 0.0)),
+            plant,
+            1e-3,
+        )
+    }
+
+    fn autopilot(preset: &str) -> Lockstep<FlightController> {
+        let src = AirframeSource::resolve(preset).unwrap();
+        let af = Airframe::from_source(&src).unwrap();
+        let fc = FlightController::new(&af, ControllerKind::Geometric, Home::default(), 1e-3).unwrap();
+        Lockstep::new(fc, SimPlant::from_source(&src, 0).unwrap(), 1e-3)
+    }
+
+    /// Stops after `n` ticks.
+    struct StopAfter(u64);
+
+    impl<R> Observer<R> for StopAfter {
+        fn observe(&mut self, _tick: &Tick<R>, _plant: &SimPlant) -> Option<Exit> {
+            self.0 -= 1;
+            (self.0 == 0).then_some(Exit::Stopped)
+        }
+    }
+
+    #[test]
+    fn runs_count_ticks_in_simulated_time_and_end_where_an_observer_says() {
+        let mut l = hover("quad_x");
+        assert_eq!(l.run(3, &mut ()), Exit::Complete);
+        assert_eq!((l.ticks(), l.time_s()), (3, 3.0 * 1e-3));
+        let tick = l.step();
+        assert_eq!(tick.t_s, 3.0 * 1e-3);
+        assert_eq!(tick.control.rotor_speeds().as_slice().len(), 4);
+        assert_eq!(l.run(100, &mut (StopAfter(5), ())), Exit::Stopped);
+        assert_eq!(l.ticks(), 9);
+        // A sphere the vehicle is already outside of ends the run after one tick.
+        assert_eq!(l.run(100, &mut Guard { fly_away_m: -1.0 }), Exit::FlyAway);
+        assert_eq!(l.ticks(), 10);
+    }
+
+    #[test]
+    fn a_scheduled_rotor_failure_reaches_the_esc_report_at_its_time() {
+        let mut l = autopilot("hexa_x");
+        let bad = ScheduledFailure { rotor: 7, at_s: 0.0 };
+        assert_eq!(
+            l.schedule_rotor_failure(bad),
+            Err("rotor 7: this vehicle has rotors 1 to 6".to_string())
+        );
+        l.schedule_rotor_failure(ScheduledFailure { rotor: 2, at_s: 0.0025 })
+            .unwrap();
+        for k in 0..5 {
+            let tick = l.step();
+            let failed = tick.sensors.failed_rotors()[1];
+            assert_eq!(failed, k >= 3, "tick {k} at {} s", tick.t_s);
+            let announced = tick
+                .control
+                .events
+                .iter()
+                .any(|e| matches!(e, Event::Failsafe(t) if t.starts_with("Motor 2 failed")));
+            assert_eq!(announced, k == 3, "tick {k}: {:?}", tick.control.events);
+        }
+    }
+
+    #[test]
+    fn failure_injection_is_gated_by_the_flight_controller_and_carried_out_on_the_plant() {
+        let mut l = autopilot("hexa_x");
+        let inject = Request::InjectRotorFailure { rotor: 1, failed: true };
+        assert!(matches!(l.request(inject.clone()), Outcome::Denied(_)));
+        assert!(!l.plant().failed_rotors()[0]);
+        l.set_param("SYS_FAILURE_EN", 1.0).unwrap();
+        assert_eq!(l.request(inject), Outcome::Accepted);
+        assert!(l.plant().failed_rotors()[0], "failed at once, before the next tick");
+        let restore = Request::InjectRotorFailure {
+            rotor: 0,
+            failed: false,
+        };
+        assert_eq!(l.request(restore), Outcome::Accepted);
+        assert!(l.plant().failed_rotors().iter().all(|f| !f));
+    }
+
+    #[test]
+    fn the_flight_controller_idles_the_rotors_and_reports_a_snapshot_while_disarmed() {
+        let mut l = autopilot("quad_x");
+        let tick = l.step();
+        assert!(tick.control.step.is_none() && tick.control.setpoint.is_none());
+        assert_eq!(tick.control.rotor_speeds().as_slice(), &[0.0; 4]);
+        let s = tick.report;
+        assert!(!s.armed);
+        assert_eq!((s.t_s, s.rotor_count), (0.0, 4));
+        assert_eq!(s.pos_w, tick.sensors.state.pos_w);
+        assert_eq!(&s.rotor_speeds[..4], l.plant().motor_speeds());
+    }
+}
