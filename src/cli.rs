@@ -59,7 +59,7 @@ pub(crate) enum Command {
         /// Stop rotor ROTOR (1-based) at SECONDS of simulated time, on every vehicle
         /// (repeatable), e.g. `--fail-rotor 2@20`.
         #[arg(long = "fail-rotor", value_name = "ROTOR@SECONDS")]
-        fail_rotor: Vec<runtime::rotor_failures::ScheduledFailure>,
+        fail_rotor: Vec<rotorpilot::lockstep::ScheduledFailure>,
         /// MAVLink 2 signing key: a file of exactly 32 key bytes, or a passphrase (hashed with
         /// SHA-256 as MAVProxy does). With a key, only signed frames are obeyed and every frame
         /// sent is signed; a missing file means no key until SETUP_SIGNING stores one there.

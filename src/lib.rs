@@ -15,7 +15,11 @@
 //!   and auto-disarm on simulated time.
 //! - [`control`]: vehicle state, setpoints and the geometric, hierarchical and passivity-based
 //!   controllers behind one interface (control.md §4–§6).
-//! - [`core`]: one flight-controller tick: estimator → controller → allocation → estimator.
+//! - [`flight`]: what flies the plant: the flight controller (commander, flight core, parameters,
+//!   rotor-failure monitor, home; telemetry snapshot) or a bare flight core following setpoints;
+//!   its `flight_core` is one control tick: estimator → controller → allocation → estimator.
+//! - [`lockstep`]: a pilot and the plant stepped together at a fixed step; the only place the
+//!   plant is stepped; observers and exit status of runs; scheduled rotor failures.
 //! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
 //! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
 //! - [`montecarlo`]: `rotorpilot montecarlo`: random initial states and wrenches in an envelope,
@@ -28,11 +32,12 @@
 //! - [`report`]: what the `alloc` and `gains` commands print.
 //! - [`scenario`]: scenario files (airframe, mismatch, disturbances, controller, estimator,
 //!   trajectory) validated into a run description; run statistics.
-//! - [`simulate`]: headless scenario runs writing run.csv and summary.json (runtime layer).
+//! - [`sim`]: `rotorpilot sim`: scenario runs writing run.csv and summary.json (runtime layer).
 //! - [`telemetry`]: the per-tick snapshot the links stream.
-//! - [`runtime`]: the autopilot process: 1 kHz tick thread and MAVLink UDP links (runtime layer).
+//! - [`runtime`]: the autopilot process: paced tick thread and MAVLink UDP links (runtime layer).
 //! - [`sitl`]: the only seam between the flight controller and the plant.
-//! - [`headless`]: a headless flight in lockstep with the plant (runtime layer: wall clock, files).
+//! - [`fly`]: `rotorpilot fly`: a take-off and hover at full speed (runtime layer: wall clock,
+//!   files).
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
 
@@ -41,9 +46,10 @@ pub mod allocation;
 pub mod bench;
 pub mod commander;
 pub mod control;
-pub mod core;
 pub mod estimation;
-pub mod headless;
+pub mod flight;
+pub mod fly;
+pub mod lockstep;
 pub mod math;
 pub mod mav;
 pub mod montecarlo;
@@ -53,6 +59,6 @@ pub mod report;
 pub mod rpy;
 pub mod runtime;
 pub mod scenario;
-pub mod simulate;
+pub mod sim;
 pub mod sitl;
 pub mod telemetry;

@@ -9,14 +9,14 @@ use rotorpilot::allocation::Allocator;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::estimation::log_replay::{parse_log, replay};
 use rotorpilot::estimation::{ChebyshevDesign, WrenchObserver};
-use rotorpilot::headless::{fly, HeadlessOptions};
+use rotorpilot::fly::{fly, FlyOptions};
 use rotorpilot::math::Vec3;
 use rotorpilot::navigation::Home;
 use rotorpilot::params::parse_param_file;
 use rotorpilot::report::{estimate_csv, AllocReport, EstimateReport, GainsReport};
 use rotorpilot::runtime::{self, RunConfig};
 use rotorpilot::scenario::Scenario;
-use rotorpilot::simulate::simulate_paced;
+use rotorpilot::sim::simulate_paced;
 
 mod cli;
 
@@ -183,7 +183,7 @@ fn execute(command: Command) -> Result<String, String> {
             out,
         } => {
             let src = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
-            let opts = HeadlessOptions {
+            let opts = FlyOptions {
                 duration_s: duration,
                 altitude_m: altitude,
                 seed,

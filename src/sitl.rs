@@ -1,13 +1,14 @@
 //! The only seam between the flight controller and the simulated vehicle (`firmware_sim`).
 //!
 //! The plant parses the same airframe text with its own types; this module turns its sensor
-//! samples into [`VehicleState`] and passes rotor commands back. Nothing else in the flight
-//! controller names `firmware_sim`.
+//! samples into [`VehicleState`] (and the rest of the flight controller's inputs, [`Sensors`]) and
+//! passes rotor commands and [`PlantChange`]s back. Nothing else in the flight controller names
+//! `firmware_sim`. The plant is stepped in one place only: [`crate::lockstep::Lockstep::step`].
 
 use firmware_sim::{rand_chacha_seed, ChaCha8Rng, ParamsError, Plant, PlantParams, RigidBodyState, StepStatus};
 use thiserror::Error;
 
-use crate::airframe::AirframeSource;
+use crate::airframe::{AirframeSource, MAX_ROTORS};
 use crate::control::VehicleState;
 use crate::math::{UnitQuat, Vec3};
 
@@ -18,6 +19,45 @@ pub struct SitlError(#[from] pub ParamsError);
 
 /// Plant step flags as the flight controller sees them.
 pub type PlantStatus = StepStatus;
+
+/// What the plant's sensors report at one tick: everything the flight controller reads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sensors {
+    /// Sensed state (position, velocity, attitude, body rates).
+    pub state: VehicleState,
+    /// Specific force (accelerometer), body FRD [m/s²].
+    pub accel_b: Vec3,
+    /// Electrical power the rotors draw [W] (the battery's current sensor).
+    pub power_w: f64,
+    failed: [bool; MAX_ROTORS],
+    rotors: usize,
+}
+
+impl Sensors {
+    /// Which rotors have failed, as the ESCs report it (one entry per rotor).
+    pub fn failed_rotors(&self) -> &[bool] {
+        &self.failed[..self.rotors]
+    }
+}
+
+/// What a flight-controller decision changes in the simulated hardware.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlantChange {
+    /// Stop (`failed`) or restore the rotors `rotors` (0-based indices).
+    Rotors {
+        /// Rotor indices, 0-based.
+        rotors: std::ops::Range<usize>,
+        /// Stop (`true`) or restore.
+        failed: bool,
+    },
+    /// Switch the plant's ground and ceiling effects (contact stays).
+    ProximityEffects {
+        /// Ground effect on.
+        ground: bool,
+        /// Ceiling effect on.
+        ceiling: bool,
+    },
+}
 
 /// The simulated vehicle with its own seeded RNG.
 #[derive(Debug, Clone)]
@@ -75,14 +115,36 @@ impl SimPlant {
         }
     }
 
-    /// Specific force of the last sample, body FRD [m/s²] (accelerometer).
-    pub fn accel_b(&self) -> Vec3 {
-        self.accel_b
+    /// One sensor reading for the flight controller: [`Self::sense`], then the electrical power
+    /// and the ESC report of failed rotors.
+    pub fn read_sensors(&mut self) -> Sensors {
+        let state = self.sense();
+        let power_w = self.electrical_power_w();
+        let reported = self.plant.failed_rotors();
+        let mut failed = [false; MAX_ROTORS];
+        for (slot, f) in failed.iter_mut().zip(reported) {
+            *slot = *f;
+        }
+        let rotors = reported.len().min(MAX_ROTORS);
+        Sensors {
+            state,
+            accel_b: self.accel_b,
+            power_w,
+            failed,
+            rotors,
+        }
     }
 
-    /// Fails (`true`) or repairs rotor `index` (0-based); false when there is no such rotor.
-    pub fn set_rotor_failed(&mut self, index: usize, failed: bool) -> bool {
-        self.plant.set_rotor_failed(index, failed)
+    /// Carries out `change`.
+    pub fn apply(&mut self, change: &PlantChange) {
+        match change {
+            PlantChange::Rotors { rotors, failed } => {
+                for i in rotors.clone() {
+                    self.plant.set_rotor_failed(i, *failed);
+                }
+            }
+            PlantChange::ProximityEffects { ground, ceiling } => self.plant.set_proximity_effects(*ground, *ceiling),
+        }
     }
 
     /// Which rotors have failed, as the ESCs report it.
@@ -92,7 +154,7 @@ impl SimPlant {
 
     /// Electrical power the rotors draw [W]: shaft power Σ c_q·|ω_i|³ of the actual motor speeds
     /// over a motor-and-ESC efficiency of 0.7 (the battery's current sensor).
-    pub fn electrical_power_w(&self) -> f64 {
+    fn electrical_power_w(&self) -> f64 {
         const EFFICIENCY: f64 = 0.7;
         let c_q = self.plant.params().rotor.c_q;
         self.plant
@@ -125,11 +187,6 @@ impl SimPlant {
             external_force_w: t.external_force_w,
             external_torque_b: t.external_torque_b,
         }
-    }
-
-    /// Turns the plant's ground and ceiling effects on or off (contact stays).
-    pub fn set_proximity_effects(&mut self, ground: bool, ceiling: bool) {
-        self.plant.set_proximity_effects(ground, ceiling);
     }
 
     /// True mass of the simulated vehicle [kg] (for reports, never for the controller).

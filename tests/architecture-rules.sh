@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Enforces the dependency rules of architecture.md §1 with grep: the plant never names the flight
 # controller, tokio or mavlink; only src/sitl.rs names firmware_sim; only src/mav/ names mavlink;
-# pure modules never name clocks, sockets, threads or locks.
+# the plant is stepped in one place (src/lockstep/mod.rs); pure modules never name clocks,
+# sockets, threads or locks.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fail=0
@@ -18,7 +19,14 @@ hits=$(code 'firmware_sim' src | grep -v '^src/sitl.rs:' || true)
 hits=$(code '\bmavlink::' src | grep -v '^src/mav/' || true)
 [ -z "$hits" ] || complain "only src/mav/ may name the mavlink crate" "$hits"
 
-pure="src/math.rs src/rpy.rs src/core.rs src/commander src/mav src/params src/telemetry.rs src/scenario src/airframe src/allocation src/control src/estimation src/navigation src/report src/montecarlo/envelope.rs src/montecarlo/authority.rs src/montecarlo/trial.rs src/montecarlo/judging.rs src/montecarlo/stats.rs src/montecarlo/report.rs firmware-sim/src"
+# `plant.step(` / `SimPlant::step`: the plant is stepped by the lockstep only (and wrapped by sitl.rs).
+step='\bplant\s*\.\s*step\s*\(|SimPlant\s*::\s*step\b'
+hits=$(code "$step" --include='*.rs' src tests benches | grep -vE '^src/(sitl|lockstep/mod)\.rs:' || true)
+[ -z "$hits" ] || complain "only src/lockstep/mod.rs may step the plant (Lockstep::step)" "$hits"
+n=$(code "$step" src | grep -c '^src/lockstep/mod\.rs:' || true)
+[ "$n" -eq 1 ] || complain "src/lockstep/mod.rs must step the plant exactly once (Lockstep::step), found $n" ""
+
+pure="src/math.rs src/rpy.rs src/flight src/lockstep src/sitl.rs src/commander src/mav src/params src/telemetry.rs src/scenario src/airframe src/allocation src/control src/estimation src/navigation src/report src/montecarlo/envelope.rs src/montecarlo/authority.rs src/montecarlo/trial.rs src/montecarlo/judging.rs src/montecarlo/stats.rs src/montecarlo/report.rs firmware-sim/src"
 for path in $pure; do
     [ -e "$path" ] || complain "pure-module list names a missing path" "$path"
 done

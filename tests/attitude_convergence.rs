@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use rotorpilot::scenario::Scenario;
-use rotorpilot::simulate::{simulate, SimSummary};
+use rotorpilot::sim::{simulate, SimSummary};
 
 fn recover(airframe: &str, initial: &str) -> SimSummary {
     let text = format!(

@@ -13,7 +13,7 @@ use mavlink::dialects::common::{
     COMMAND_INT_DATA, PARAM_SET_DATA, SET_ATTITUDE_TARGET_DATA, SET_POSITION_TARGET_GLOBAL_INT_DATA,
     SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
-use support::Vehicle;
+use support::Autopilot;
 
 const NAN: f32 = f32::NAN;
 const INF: f32 = f32::INFINITY;
@@ -36,7 +36,7 @@ fn local_target(mask: u16, p: [f32; 3], v: [f32; 3]) -> MavMessage {
 }
 
 /// The next STATUSTEXT within 1 s.
-fn status_text(v: &Vehicle) -> Option<String> {
+fn status_text(v: &Autopilot) -> Option<String> {
     v.wait(Duration::from_secs(1), |_, m| match m {
         MavMessage::STATUSTEXT(t) => t.text.to_str().ok().map(str::to_owned),
         _ => None,
@@ -44,7 +44,7 @@ fn status_text(v: &Vehicle) -> Option<String> {
 }
 
 /// Latest LOCAL_POSITION_NED (x, y, z) and heartbeat custom mode.
-fn where_and_mode(v: &Vehicle) -> ([f32; 3], u32) {
+fn where_and_mode(v: &Autopilot) -> ([f32; 3], u32) {
     let pos = v
         .wait(Duration::from_secs(3), |_, m| match m {
             MavMessage::LOCAL_POSITION_NED(p) => Some([p.x, p.y, p.z]),
@@ -62,7 +62,7 @@ fn where_and_mode(v: &Vehicle) -> ([f32; 3], u32) {
 
 #[test]
 fn a_hovering_vehicle_refuses_every_bad_value_and_stays_put() {
-    let mut v = Vehicle::start(1, "quad_x");
+    let mut v = Autopilot::start(1, "quad_x");
     assert!(v
         .wait(Duration::from_secs(3), |_, m| matches!(m, MavMessage::HEARTBEAT(_))
             .then_some(()))

@@ -7,66 +7,53 @@ use rotorpilot::commander::{
     BatteryParams, Commander, CommanderParams, Event, FailsafeParams, FlightMode, GeofenceAction, LandedState,
     LinkLossAction, LowBatteryAction, OffboardLossAction, Outcome, Request,
 };
-use rotorpilot::control::{ControllerKind, VehicleState};
-use rotorpilot::core::FlightCore;
+use rotorpilot::control::ControllerKind;
+use rotorpilot::flight::FlightController;
+use rotorpilot::lockstep::Lockstep;
+use rotorpilot::math::Vec3;
+use rotorpilot::navigation::Home;
 use rotorpilot::sitl::SimPlant;
 
+/// The autopilot's flight controller and the plant in lockstep at 1 kHz, with the events of
+/// every tick kept.
 struct Sim {
-    core: FlightCore,
-    plant: SimPlant,
-    commander: Commander,
-    tick: u64,
+    lockstep: Lockstep<FlightController>,
     events: Vec<Event>,
-    /// Last tick's collective thrust over the believed weight.
-    thrust_over_weight: f64,
-    weight_n: f64,
 }
 
 impl Sim {
     fn new(airframe: &str, params: CommanderParams) -> Self {
         let src = AirframeSource::resolve(airframe).unwrap();
         let af = Airframe::from_source(&src).unwrap();
+        let fc =
+            FlightController::with_commander(&af, ControllerKind::Geometric, Home::default(), 1e-3, params).unwrap();
         Self {
-            core: FlightCore::for_airframe(&af, ControllerKind::Geometric, 1e-3).unwrap(),
-            plant: SimPlant::from_source(&src, 0).unwrap(),
-            commander: Commander::new(params),
-            tick: 0,
+            lockstep: Lockstep::new(fc, SimPlant::from_source(&src, 0).unwrap(), 1e-3),
             events: Vec::new(),
-            thrust_over_weight: 0.0,
-            weight_n: af.mass_kg * 9.81,
         }
     }
 
-    fn t(&self) -> f64 {
-        self.tick as f64 * 1e-3
+    fn commander(&self) -> &Commander {
+        self.lockstep.pilot().commander()
     }
 
-    fn state(&mut self) -> VehicleState {
-        self.plant.sense()
+    /// True position, world NED [m].
+    fn position(&self) -> Vec3 {
+        self.lockstep.plant().truth().pos_w
+    }
+
+    fn on_ground(&self) -> bool {
+        self.lockstep.plant().truth().on_ground
     }
 
     fn request(&mut self, r: Request) -> Outcome {
-        let x = self.state();
-        let t = self.t();
-        self.commander.request(r, &x, t)
+        self.lockstep.request(r)
     }
 
     fn run(&mut self, seconds: f64) {
         for _ in 0..(seconds * 1000.0).round() as u64 {
-            let x = self.plant.sense();
-            let power_w = self.plant.electrical_power_w();
-            let failsafes = self.commander.check_failsafes(&x, power_w, 1e-3, self.t());
-            self.events.extend(failsafes);
-            let tick = self.commander.update(&x, self.thrust_over_weight, self.t());
-            self.events.extend(tick.events);
-            let step = tick.setpoint.map(|sp| self.core.step(&x, &sp));
-            self.thrust_over_weight = step.map_or(0.0, |s| s.allocation.applied.thrust_n / self.weight_n);
-            let speeds = match step {
-                Some(s) => s.allocation.omega().as_slice().to_vec(),
-                None => vec![0.0; self.core.allocator().rotor_count()],
-            };
-            self.plant.step(&speeds, 1e-3);
-            self.tick += 1;
+            let tick = self.lockstep.step();
+            self.events.extend(tick.control.events);
         }
     }
 }
@@ -75,14 +62,14 @@ impl Sim {
 fn takeoff_hold_land_and_auto_disarm() {
     let mut sim = Sim::new("quad_x", CommanderParams::default());
     assert_eq!(sim.request(Request::Takeoff { height_m: None }), Outcome::Accepted);
-    assert_eq!(sim.commander.mode(), FlightMode::Takeoff);
-    assert!(!sim.commander.armed());
+    assert_eq!(sim.commander().mode(), FlightMode::Takeoff);
+    assert!(!sim.commander().armed());
     assert_eq!(sim.request(Request::Arm { force: false }), Outcome::Accepted);
     sim.run(6.0);
-    assert_eq!(sim.commander.mode(), FlightMode::Loiter, "take-off complete → hold");
-    assert_eq!(sim.commander.landed_state(), LandedState::InAir);
+    assert_eq!(sim.commander().mode(), FlightMode::Loiter, "take-off complete → hold");
+    assert_eq!(sim.commander().landed_state(), LandedState::InAir);
     assert!(sim.events.contains(&Event::ModeChanged(FlightMode::Loiter)));
-    let z = sim.plant.truth().pos_w.z;
+    let z = sim.position().z;
     assert!((z + 2.5).abs() < 0.05, "MIS_TAKEOFF_ALT above home: {z}");
     // In the air: plain disarm and a second take-off are refused.
     assert!(matches!(
@@ -94,12 +81,12 @@ fn takeoff_hold_land_and_auto_disarm() {
         Outcome::TemporarilyRejected(_)
     ));
     assert_eq!(sim.request(Request::Land), Outcome::Accepted);
-    assert_eq!(sim.commander.landed_state(), LandedState::Landing);
+    assert_eq!(sim.commander().landed_state(), LandedState::Landing);
     sim.run(8.0);
     assert!(sim.events.contains(&Event::Landed));
     assert!(sim.events.contains(&Event::Disarmed("landed")), "{:?}", sim.events);
-    assert!(!sim.commander.armed());
-    assert!(sim.plant.truth().on_ground);
+    assert!(!sim.commander().armed());
+    assert!(sim.on_ground());
 }
 
 #[test]
@@ -116,11 +103,11 @@ fn return_to_launch_climbs_returns_and_lands() {
     let mut top: f64 = 0.0;
     for _ in 0..200 {
         sim.run(0.1);
-        top = top.min(sim.plant.truth().pos_w.z);
+        top = top.min(sim.position().z);
     }
     assert!((top + 6.0).abs() < 0.1, "climbed to RTL_RETURN_ALT: {top}");
-    assert!(!sim.commander.armed(), "landed and disarmed: {:?}", sim.events);
-    let p = sim.plant.truth().pos_w;
+    assert!(!sim.commander().armed(), "landed and disarmed: {:?}", sim.events);
+    let p = sim.position();
     assert!(p.x.abs() < 0.05 && p.y.abs() < 0.05);
 }
 
@@ -153,13 +140,12 @@ fn wrong_state_requests_are_refused_and_idle_arming_times_out() {
     );
     sim.run(10.5);
     assert!(sim.events.contains(&Event::Disarmed("no takeoff")));
-    assert!(sim.plant.truth().on_ground);
+    assert!(sim.on_ground());
 }
 
 #[test]
 fn mission_takeoff_waypoints_and_land() {
     use rotorpilot::commander::MissionState;
-    use rotorpilot::math::Vec3;
     use rotorpilot::navigation::{Mission, MissionItem};
 
     let mut sim = Sim::new("quad_x", CommanderParams::default());
@@ -183,14 +169,14 @@ fn mission_takeoff_waypoints_and_land() {
         ],
     };
     assert_eq!(sim.request(Request::SetMission(mission)), Outcome::Accepted);
-    assert_eq!(sim.commander.mission_progress(), (0, 5, MissionState::NotStarted));
+    assert_eq!(sim.commander().mission_progress(), (0, 5, MissionState::NotStarted));
     assert_eq!(sim.request(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
     assert_eq!(sim.request(Request::Arm { force: false }), Outcome::Accepted);
     let mut top: f64 = 0.0;
     for _ in 0..400 {
         sim.run(0.1);
-        top = top.min(sim.plant.truth().pos_w.z);
-        if !sim.commander.armed() {
+        top = top.min(sim.position().z);
+        if !sim.commander().armed() {
             break;
         }
     }
@@ -203,16 +189,15 @@ fn mission_takeoff_waypoints_and_land() {
         })
         .collect();
     assert_eq!(reached, vec![0, 1, 2, 3, 4], "{:?}", sim.events);
-    assert_eq!(sim.commander.mission_progress().2, MissionState::Complete);
-    assert!(!sim.commander.armed(), "landed and disarmed");
-    let p = sim.plant.truth().pos_w;
+    assert_eq!(sim.commander().mission_progress().2, MissionState::Complete);
+    assert!(!sim.commander().armed(), "landed and disarmed");
+    let p = sim.position();
     assert!((p.x - 5.0).abs() < 0.1 && (p.y - 5.0).abs() < 0.1, "{p}");
     assert!((top + 4.0).abs() < 0.1, "{top}");
 }
 
 #[test]
 fn mission_ending_in_return_to_launch() {
-    use rotorpilot::math::Vec3;
     use rotorpilot::navigation::{Mission, MissionItem};
     let params = CommanderParams {
         rtl_return_alt_m: 5.0,
@@ -236,7 +221,7 @@ fn mission_ending_in_return_to_launch() {
     sim.request(Request::Arm { force: false });
     for _ in 0..600 {
         sim.run(0.1);
-        if !sim.commander.armed() {
+        if !sim.commander().armed() {
             break;
         }
     }
@@ -245,8 +230,8 @@ fn mission_ending_in_return_to_launch() {
         "{:?}",
         &sim.events[..sim.events.len().min(12)]
     );
-    assert!(!sim.commander.armed());
-    let p = sim.plant.truth().pos_w;
+    assert!(!sim.commander().armed());
+    let p = sim.position();
     assert!(p.x.abs() < 0.1 && p.y.abs() < 0.1, "{p}");
 }
 
@@ -273,7 +258,7 @@ fn auto_paths_keep_mpc_xy_vel_max_and_mpc_z_vel_max_dn() {
         let (mut horizontal, mut down): (f64, f64) = (0.0, 0.0);
         for _ in 0..150 {
             sim.run(0.1);
-            let v = sim.state().vel_w;
+            let v = sim.lockstep.plant().truth().vel_w;
             horizontal = horizontal.max(v.xy().norm());
             down = down.max(v.z);
         }
@@ -286,7 +271,7 @@ fn auto_paths_keep_mpc_xy_vel_max_and_mpc_z_vel_max_dn() {
             }
         }
     }
-    let p = sim.plant.truth().pos_w;
+    let p = sim.position();
     assert!((p.x - 12.0).abs() < 0.05 && (p.z + 2.0).abs() < 0.05, "{p:?}");
 }
 
@@ -326,7 +311,7 @@ fn geofence_breach_returns_and_lands_at_home() {
     let mut farthest: f64 = 0.0;
     for _ in 0..300 {
         sim.run(0.1);
-        farthest = farthest.max(sim.plant.truth().pos_w.x);
+        farthest = farthest.max(sim.position().x);
     }
     let texts = failsafe_texts(&sim.events);
     assert_eq!(texts.len(), 1, "{texts:?}");
@@ -337,8 +322,8 @@ fn geofence_breach_returns_and_lands_at_home() {
     );
     assert!(sim.events.contains(&Event::ModeChanged(FlightMode::ReturnToLaunch)));
     assert!(farthest < 6.5, "turned back soon after the fence: {farthest}");
-    let p = sim.plant.truth().pos_w;
-    assert!(p.x.abs() < 0.1 && p.y.abs() < 0.1 && !sim.commander.armed(), "{p:?}");
+    let p = sim.position();
+    assert!(p.x.abs() < 0.1 && p.y.abs() < 0.1 && !sim.commander().armed(), "{p:?}");
 }
 
 #[test]
@@ -376,8 +361,8 @@ fn battery_failsafes_warn_return_then_land() {
         modes.ends_with(&[FlightMode::ReturnToLaunch, FlightMode::Land]),
         "{modes:?}"
     );
-    assert!(!sim.commander.armed() && sim.plant.truth().on_ground);
-    let (gauge, pack) = sim.commander.battery();
+    assert!(!sim.commander().armed() && sim.on_ground());
+    let (gauge, pack) = sim.commander().battery();
     assert!(gauge.fraction(&pack) < 0.05);
 }
 
@@ -387,7 +372,7 @@ fn hovering_at_2_m(params: CommanderParams) -> Sim {
     sim.request(Request::Takeoff { height_m: Some(2.0) });
     sim.request(Request::Arm { force: false });
     sim.run(5.0);
-    assert_eq!(sim.commander.mode(), FlightMode::Loiter);
+    assert_eq!(sim.commander().mode(), FlightMode::Loiter);
     sim
 }
 
@@ -406,7 +391,7 @@ fn offboard_loss_runs_com_obl_rc_act() {
             ..Default::default()
         });
         let hold = FlatSetpoint {
-            pos_w: Some(sim.plant.truth().pos_w),
+            pos_w: Some(sim.position()),
             ..Default::default()
         };
         let setpoint = Request::OffboardSetpoint {
@@ -418,8 +403,8 @@ fn offboard_loss_runs_com_obl_rc_act() {
         sim.run(1.5);
         assert!(sim.events.contains(&Event::OffboardLost), "COM_OBL_RC_ACT {action:?}");
         match expect {
-            Some(mode) => assert_eq!(sim.commander.mode(), mode, "COM_OBL_RC_ACT {action:?}"),
-            None => assert!(!sim.commander.armed(), "COM_OBL_RC_ACT {action:?} disarms"),
+            Some(mode) => assert_eq!(sim.commander().mode(), mode, "COM_OBL_RC_ACT {action:?}"),
+            None => assert!(!sim.commander().armed(), "COM_OBL_RC_ACT {action:?} disarms"),
         }
     }
 }
@@ -449,8 +434,8 @@ fn gcs_link_loss_runs_nav_dll_act_in_flight_only() {
         assert_eq!(sim.request(Request::SetMode(FlightMode::Position)), Outcome::Accepted);
         let outcome = sim.request(Request::GcsLinkLost);
         match expect {
-            Some(mode) => assert_eq!(sim.commander.mode(), mode, "NAV_DLL_ACT {action:?}"),
-            None => assert!(!sim.commander.armed(), "NAV_DLL_ACT {action:?} disarms"),
+            Some(mode) => assert_eq!(sim.commander().mode(), mode, "NAV_DLL_ACT {action:?}"),
+            None => assert!(!sim.commander().armed(), "NAV_DLL_ACT {action:?} disarms"),
         }
         if action == LinkLossAction::Disabled {
             assert_eq!(outcome, Outcome::Accepted);
@@ -463,7 +448,7 @@ fn gcs_link_loss_runs_nav_dll_act_in_flight_only() {
         if action == LinkLossAction::Return {
             // Up to RTL_RETURN_ALT (60 m), back over home, down at MPC_LAND_SPEED, auto-disarm.
             sim.run(200.0);
-            assert!(!sim.commander.armed(), "returned, landed and disarmed");
+            assert!(!sim.commander().armed(), "returned, landed and disarmed");
         }
     }
 }

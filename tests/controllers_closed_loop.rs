@@ -7,7 +7,7 @@ use std::path::Path;
 use rotorpilot::airframe::PRESETS;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::scenario::Scenario;
-use rotorpilot::simulate::{simulate, SimSummary};
+use rotorpilot::sim::{simulate, SimSummary};
 
 fn fly(airframe: &str, kind: ControllerKind, trajectory: &str, duration_s: f64) -> SimSummary {
     let text = format!(

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use rotorpilot::runtime::Pace;
 use rotorpilot::scenario::Scenario;
-use rotorpilot::simulate::simulate_paced;
+use rotorpilot::sim::simulate_paced;
 
 fn run(seed: u64, pace: Pace, dir: &str) -> (Vec<u8>, PathBuf) {
     let text = format!(

@@ -3,10 +3,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a failed set-up step should panic in a test
 
 use rotorpilot::airframe::{AirframeSource, PRESETS};
-use rotorpilot::headless::{fly, HeadlessOptions};
+use rotorpilot::fly::{fly, FlyOptions};
 
-fn opts(duration_s: f64, seed: u64) -> HeadlessOptions {
-    HeadlessOptions {
+fn opts(duration_s: f64, seed: u64) -> FlyOptions {
+    FlyOptions {
         duration_s,
         seed,
         ..Default::default()

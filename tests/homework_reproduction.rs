@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use rotorpilot::scenario::Scenario;
-use rotorpilot::simulate::{simulate, SimSummary};
+use rotorpilot::sim::{simulate, SimSummary};
 
 fn run(file: &str) -> SimSummary {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(file);

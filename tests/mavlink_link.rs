@@ -9,11 +9,11 @@ use std::time::Duration;
 use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavType, HEARTBEAT_DATA};
 use mavlink::MavHeader;
 use rotorpilot::mav::codec::encode_v2;
-use support::Vehicle;
+use support::Autopilot;
 
 #[test]
 fn heartbeat_commands_and_garbage() {
-    let mut v = Vehicle::start(1, "quad_x");
+    let mut v = Autopilot::start(1, "quad_x");
     let hb = v.wait(Duration::from_secs(3), |h, m| match m {
         MavMessage::HEARTBEAT(hb) if h.component_id == 1 => Some((h.system_id, hb.mavtype)),
         _ => None,
@@ -84,9 +84,9 @@ fn heartbeat_commands_and_garbage() {
 
 #[test]
 fn two_vehicles_in_one_process_are_separate_systems() {
-    let mut a = Vehicle::start(1, "quad_x");
-    let mut b = Vehicle::start(2, "hexa_x");
-    let sysid = |v: &Vehicle| {
+    let mut a = Autopilot::start(1, "quad_x");
+    let mut b = Autopilot::start(2, "hexa_x");
+    let sysid = |v: &Autopilot| {
         v.wait(Duration::from_secs(3), |h, m| match m {
             MavMessage::HEARTBEAT(hb) => Some((h.system_id, hb.mavtype)),
             _ => None,

@@ -14,7 +14,7 @@ use mavlink::dialects::common::{
     PositionTargetTypemask, MISSION_COUNT_DATA, MISSION_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA,
     SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
-use support::{mission_item, Vehicle};
+use support::{mission_item, Autopilot};
 
 const POSCTL: u32 = 3 << 16;
 const AUTO_LOITER: u32 = (4 << 16) | (3 << 24);
@@ -22,14 +22,14 @@ const OFFBOARD: u32 = 6 << 16;
 const NAN: f32 = f32::NAN;
 
 /// The custom_mode of the next autopilot heartbeat satisfying `pick` within `timeout`.
-fn heartbeat_mode(v: &Vehicle, timeout: Duration, pick: impl Fn(u32) -> bool) -> Option<u32> {
+fn heartbeat_mode(v: &Autopilot, timeout: Duration, pick: impl Fn(u32) -> bool) -> Option<u32> {
     v.wait(timeout, |h, m| match m {
         MavMessage::HEARTBEAT(hb) if h.component_id == 1 && pick(hb.custom_mode) => Some(hb.custom_mode),
         _ => None,
     })
 }
 
-fn set_mode(v: &mut Vehicle, main: f32, sub: f32) -> Option<MavResult> {
+fn set_mode(v: &mut Autopilot, main: f32, sub: f32) -> Option<MavResult> {
     v.command_with(
         MavCmd::MAV_CMD_DO_SET_MODE,
         [1.0, main, sub, NAN, NAN, NAN, NAN],
@@ -38,7 +38,7 @@ fn set_mode(v: &mut Vehicle, main: f32, sub: f32) -> Option<MavResult> {
 }
 
 /// PARAM_VALUE for `name` after `send`: (value, type, count, index).
-fn param_reply(v: &Vehicle, name: &str) -> Option<(f32, MavParamType, u16, u16)> {
+fn param_reply(v: &Autopilot, name: &str) -> Option<(f32, MavParamType, u16, u16)> {
     v.wait(Duration::from_secs(1), |_, m| match m {
         MavMessage::PARAM_VALUE(p) if p.param_id.to_str().ok() == Some(name) => {
             Some((p.param_value, p.param_type, p.param_count, p.param_index))
@@ -47,7 +47,7 @@ fn param_reply(v: &Vehicle, name: &str) -> Option<(f32, MavParamType, u16, u16)>
     })
 }
 
-fn param_set(v: &mut Vehicle, name: &str, value: f32, param_type: MavParamType) {
+fn param_set(v: &mut Autopilot, name: &str, value: f32, param_type: MavParamType) {
     v.send(&MavMessage::PARAM_SET(PARAM_SET_DATA {
         param_value: value,
         target_system: 1,
@@ -59,7 +59,7 @@ fn param_set(v: &mut Vehicle, name: &str, value: f32, param_type: MavParamType) 
 
 #[test]
 fn mode_machine_through_both_set_mode_encodings() {
-    let mut v = Vehicle::start(1, "quad_x");
+    let mut v = Autopilot::start(1, "quad_x");
     assert!(heartbeat_mode(&v, Duration::from_secs(3), |_| true).is_some());
     assert_eq!(set_mode(&mut v, 3.0, 0.0), Some(MavResult::MAV_RESULT_ACCEPTED));
     assert_eq!(
@@ -99,7 +99,7 @@ fn mode_machine_through_both_set_mode_encodings() {
 
 #[test]
 fn parameter_protocol_reads_sets_and_refuses() {
-    let mut v = Vehicle::start(1, "quad_x");
+    let mut v = Autopilot::start(1, "quad_x");
     assert!(heartbeat_mode(&v, Duration::from_secs(3), |_| true).is_some());
     v.send(&MavMessage::PARAM_REQUEST_READ(PARAM_REQUEST_READ_DATA {
         param_index: -1,
@@ -136,7 +136,7 @@ fn parameter_protocol_reads_sets_and_refuses() {
 }
 
 /// Uploads `items` answering each MISSION_REQUEST_INT; the MISSION_ACK result.
-fn upload(v: &mut Vehicle, items: &[MavMessage]) -> Option<MavMissionResult> {
+fn upload(v: &mut Autopilot, items: &[MavMessage]) -> Option<MavMissionResult> {
     v.send(&MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
         count: items.len() as u16,
         target_system: 1,
@@ -163,7 +163,7 @@ fn upload(v: &mut Vehicle, items: &[MavMessage]) -> Option<MavMissionResult> {
     None
 }
 
-fn stored_count(v: &mut Vehicle) -> Option<u16> {
+fn stored_count(v: &mut Autopilot) -> Option<u16> {
     v.send(&MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
         target_system: 1,
         target_component: 1,
@@ -177,7 +177,7 @@ fn stored_count(v: &mut Vehicle) -> Option<u16> {
 
 #[test]
 fn mission_protocol_uploads_atomically() {
-    let mut v = Vehicle::start(1, "quad_x");
+    let mut v = Autopilot::start(1, "quad_x");
     assert!(heartbeat_mode(&v, Duration::from_secs(3), |_| true).is_some());
     let good = [
         mission_item(0, MavCmd::MAV_CMD_NAV_TAKEOFF, 0, 3.0),
@@ -198,7 +198,7 @@ fn mission_protocol_uploads_atomically() {
     );
 }
 
-fn position_setpoint(v: &mut Vehicle, z: f32) {
+fn position_setpoint(v: &mut Autopilot, z: f32) {
     v.send(&MavMessage::SET_POSITION_TARGET_LOCAL_NED(
         SET_POSITION_TARGET_LOCAL_NED_DATA {
             z,
@@ -213,7 +213,7 @@ fn position_setpoint(v: &mut Vehicle, z: f32) {
 
 #[test]
 fn offboard_needs_a_stream_and_its_loss_holds_position() {
-    let mut v = Vehicle::start(1, "quad_x");
+    let mut v = Autopilot::start(1, "quad_x");
     assert!(heartbeat_mode(&v, Duration::from_secs(3), |_| true).is_some());
     v.take_off();
     assert_eq!(

@@ -11,10 +11,10 @@ use mavlink::dialects::common::{
     MavCmd, MavMessage, MavMissionResult, MavMissionType, MavResult, COMMAND_LONG_DATA, MISSION_CLEAR_ALL_DATA,
     MISSION_COUNT_DATA, MISSION_REQUEST_LIST_DATA,
 };
-use support::Vehicle;
+use support::Autopilot;
 
 /// The first autopilot HEARTBEAT within 3 s (the link is up).
-fn connected(v: &Vehicle) -> bool {
+fn connected(v: &Autopilot) -> bool {
     v.wait(Duration::from_secs(3), |h, m| {
         (h.component_id == 1 && matches!(m, MavMessage::HEARTBEAT(_))).then_some(())
     })
@@ -39,7 +39,7 @@ enum Answer {
 
 /// (COMMAND_ACKs ACCEPTED for `command`, AUTOPILOT_VERSIONs) received within `timeout`, stopping
 /// early once `wanted` of each arrived.
-fn count_answers(v: &Vehicle, command: MavCmd, wanted: usize, timeout: Duration) -> (usize, usize) {
+fn count_answers(v: &Autopilot, command: MavCmd, wanted: usize, timeout: Duration) -> (usize, usize) {
     let (mut acks, mut versions) = (0, 0);
     let end = Instant::now() + timeout;
     while acks < wanted || versions < wanted {
@@ -60,7 +60,7 @@ fn count_answers(v: &Vehicle, command: MavCmd, wanted: usize, timeout: Duration)
 
 #[test]
 fn a_repeated_request_message_is_answered_every_time() {
-    let mut v = Vehicle::start(1, "quad_x");
+    let mut v = Autopilot::start(1, "quad_x");
     assert!(connected(&v));
     // MAVSDK asks for AUTOPILOT_VERSION twice, 0.5 s apart, with the same parameters: within the
     // 3 s duplicate window, but each ask gets the ACK and the message.
@@ -82,7 +82,7 @@ fn a_repeated_request_message_is_answered_every_time() {
 
 /// (mission_type, result) of the next MISSION_ACK, or (mission_type, count) of a MISSION_COUNT
 /// when `count` is set, within 1 s.
-fn mission_reply(v: &Vehicle, count: bool) -> Option<(MavMissionType, u32)> {
+fn mission_reply(v: &Autopilot, count: bool) -> Option<(MavMissionType, u32)> {
     v.wait(Duration::from_secs(1), |_, m| match m {
         MavMessage::MISSION_ACK(a) if !count => Some((a.mission_type, a.mavtype as u32)),
         MavMessage::MISSION_COUNT(c) if count => Some((c.mission_type, u32::from(c.count))),
@@ -92,7 +92,7 @@ fn mission_reply(v: &Vehicle, count: bool) -> Option<(MavMissionType, u32)> {
 
 #[test]
 fn mission_replies_carry_the_mission_type_of_the_request() {
-    let mut v = Vehicle::start(1, "quad_x");
+    let mut v = Autopilot::start(1, "quad_x");
     assert!(connected(&v));
     let fence = MavMissionType::MAV_MISSION_TYPE_FENCE;
     let rally = MavMissionType::MAV_MISSION_TYPE_RALLY;

@@ -9,7 +9,7 @@ use rotorpilot::control::ControllerKind;
 use rotorpilot::montecarlo::trial::fly;
 use rotorpilot::montecarlo::{self, draws, Campaign, Criterion, Heading, TrialSetup};
 use rotorpilot::scenario::Scenario;
-use rotorpilot::simulate::simulate;
+use rotorpilot::sim::simulate;
 
 fn quad_x() -> AirframeSource {
     AirframeSource::resolve("quad_x").unwrap()

@@ -6,8 +6,8 @@
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
 use rotorpilot::control::ControllerKind;
+use rotorpilot::lockstep::ScheduledFailure;
 use rotorpilot::navigation::Home;
-use rotorpilot::runtime::rotor_failures::ScheduledFailure;
 use rotorpilot::runtime::vehicle::Vehicle;
 
 struct Flight {

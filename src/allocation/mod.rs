@@ -81,6 +81,14 @@ pub struct RotorSpeeds {
 }
 
 impl RotorSpeeds {
+    /// `n` rotors stopped (motors off); at most [`MAX_ROTORS`].
+    pub fn idle(n: usize) -> Self {
+        Self {
+            n: n.min(MAX_ROTORS),
+            speeds: [0.0; MAX_ROTORS],
+        }
+    }
+
     /// Speeds [rad/s].
     pub fn as_slice(&self) -> &[f64] {
         &self.speeds[..self.n]

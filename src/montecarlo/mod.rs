@@ -24,7 +24,7 @@ use crate::estimation::ChebyshevDesign;
 pub use envelope::{draws, Draw, Envelope, EnvelopeError};
 pub use report::Report;
 pub use stats::{ControllerSummary, RunResult};
-pub use trial::{Criterion, Heading, Outcome, TrialError, TrialSetup};
+pub use trial::{Criterion, Heading, TrialError, TrialOutcome, TrialSetup};
 
 /// A campaign that cannot run.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -130,7 +130,7 @@ impl Campaign {
     pub fn resolved_envelope(&self) -> Result<Envelope, MonteCarloError> {
         let af = Airframe::from_source(&self.airframe).map_err(TrialError::from)?;
         let allocator = Allocator::new(&af).map_err(|source| {
-            TrialError::Core(crate::core::CoreError::Allocation {
+            TrialError::Core(crate::flight::CoreError::Allocation {
                 origin: af.name.clone(),
                 source,
             })

@@ -8,7 +8,7 @@ use crate::control::ControllerKind;
 
 use super::envelope::Draw;
 use super::stats::RunResult;
-use super::trial::{fly, Outcome, TrialError, TrialSetup};
+use super::trial::{fly, TrialError, TrialOutcome, TrialSetup};
 
 /// The text of a panic payload.
 fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
@@ -22,7 +22,7 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 /// One guarded run.
 fn guarded<F>(run: &F, draw: &Draw) -> Result<RunResult, TrialError>
 where
-    F: Fn(&Draw) -> Result<Outcome, TrialError>,
+    F: Fn(&Draw) -> Result<TrialOutcome, TrialError>,
 {
     match catch_unwind(AssertUnwindSafe(|| run(draw))) {
         Ok(Ok(outcome)) => Ok(RunResult::Flew(outcome)),
@@ -46,7 +46,7 @@ pub fn fly_all(
 /// shared out. The first setup error ends the campaign.
 pub fn run_guarded<F>(draws: &[Draw], threads: usize, run: F) -> Result<Vec<RunResult>, TrialError>
 where
-    F: Fn(&Draw) -> Result<Outcome, TrialError> + Sync,
+    F: Fn(&Draw) -> Result<TrialOutcome, TrialError> + Sync,
 {
     let threads = threads.clamp(1, draws.len().max(1));
     let run = &run;
@@ -88,12 +88,12 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lockstep::Exit;
     use crate::montecarlo::envelope::{draws, Envelope};
-    use crate::montecarlo::trial::RunEnd;
 
-    fn outcome(ticks: u64) -> Outcome {
-        Outcome {
-            end: RunEnd::Complete,
+    fn outcome(ticks: u64) -> TrialOutcome {
+        TrialOutcome {
+            end: Exit::Complete,
             converged: true,
             convergence_time_s: Some(0.0),
             final_position_error_m: 0.0,

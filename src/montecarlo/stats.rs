@@ -6,13 +6,14 @@
 use serde::Serialize;
 
 use super::envelope::{Draw, Envelope};
-use super::trial::{Heading, Outcome, RunEnd};
+use super::trial::{Heading, TrialOutcome};
+use crate::lockstep::Exit;
 
 /// What one run produced.
 #[derive(Debug, Clone, PartialEq)]
 pub enum RunResult {
     /// The run finished (converged or not).
-    Flew(Outcome),
+    Flew(TrialOutcome),
     /// The run panicked; the panic message.
     Panicked(String),
 }
@@ -171,12 +172,12 @@ pub fn bands(pairs: &[(f64, bool)], max: f64, count: usize) -> Vec<Band> {
     out
 }
 
-fn reason(o: &Outcome) -> &'static str {
+fn reason(o: &TrialOutcome) -> &'static str {
     if o.non_finite {
         "non_finite"
-    } else if o.end == RunEnd::PlantFault {
+    } else if o.end == Exit::PlantFault {
         "plant_fault"
-    } else if o.end == RunEnd::FlyAway {
+    } else if o.end == Exit::FlyAway {
         "fly_away"
     } else if o.fault_ticks > 0 {
         "controller_fault"
@@ -193,7 +194,7 @@ pub fn summarize(
     draws: &[Draw],
     results: &[RunResult],
 ) -> ControllerSummary {
-    let flew: Vec<&Outcome> = results
+    let flew: Vec<&TrialOutcome> = results
         .iter()
         .filter_map(|r| match r {
             RunResult::Flew(o) => Some(o),
@@ -201,8 +202,8 @@ pub fn summarize(
         })
         .collect();
     let converged = |r: &RunResult| matches!(r, RunResult::Flew(o) if o.converged);
-    let count = |f: &dyn Fn(&Outcome) -> bool| flew.iter().filter(|o| f(o)).count();
-    let worst = |f: &dyn Fn(&Outcome) -> f64| {
+    let count = |f: &dyn Fn(&TrialOutcome) -> bool| flew.iter().filter(|o| f(o)).count();
+    let worst = |f: &dyn Fn(&TrialOutcome) -> f64| {
         flew.iter()
             .map(|o| f(o))
             .filter(|x| x.is_finite())
@@ -270,8 +271,8 @@ pub fn summarize(
         },
         non_finite_runs: count(&|o| o.non_finite),
         fault_runs: count(&|o| o.fault_ticks > 0),
-        plant_fault_runs: count(&|o| o.end == RunEnd::PlantFault),
-        fly_away_runs: count(&|o| o.end == RunEnd::FlyAway),
+        plant_fault_runs: count(&|o| o.end == Exit::PlantFault),
+        fly_away_runs: count(&|o| o.end == Exit::FlyAway),
         panics: results.len() - flew.len(),
         worst_final_position_error_m: worst(&|o| o.final_position_error_m),
         worst_final_attitude_error_deg: worst(&|o| o.final_attitude_error_rad.to_degrees()),
@@ -297,9 +298,9 @@ mod tests {
     use super::*;
     use crate::math::{UnitQuat, Vec3};
 
-    fn outcome(converged: bool, t: f64, e_p: f64) -> Outcome {
-        Outcome {
-            end: RunEnd::Complete,
+    fn outcome(converged: bool, t: f64, e_p: f64) -> TrialOutcome {
+        TrialOutcome {
+            end: Exit::Complete,
             converged,
             convergence_time_s: converged.then_some(t),
             final_position_error_m: e_p,

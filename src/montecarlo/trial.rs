@@ -3,32 +3,23 @@
 //! controller-independent criterion on the true state. The setpoint heading ψ_sp is 0 (the
 //! vehicle must also turn to north) or the initial heading ([`Heading`]).
 //!
-//! Each tick k (architecture.md §4): sense → [`FlightCore::step`] → plant step. The criterion
-//! compares the true state with the equilibrium of the true vehicle under the drawn force f_e:
-//!
-//! ```text
-//! e_p  = ‖p − 0‖                                    position error [m]
-//! b3*  = (m g e3 + f_e) / ‖m g e3 + f_e‖            thrust axis that balances weight and f_e
-//! b2*  = b3* × b1d / ‖·‖,  b1* = b2* × b3*          b1d = (cos ψ_sp, sin ψ_sp, 0) (Lee et al.)
-//! e_R  = arccos((tr(R*ᵀ R) − 1) / 2)                 geodesic attitude error [rad]
-//! ```
-//!
-//! A run *converges* when it completes, no value was ever non-finite, the controller never set
-//! a fault flag ([`ControlFlags::is_fault`](crate::control::ControlFlags::is_fault)), and
-//! `e_p < position_m` and `e_R < attitude_rad` at every tick of the last `window_s`. Its
-//! convergence time is the start of the final stretch inside the tolerances.
+//! The flight core follows the hover setpoint ([`SetpointFollower`]) in [`Lockstep`] with the
+//! plant; a [`Judge`] watches every tick (criterion and convergence in [`super::judging`]) and a
+//! [`Guard`] ends runs that fault or leave the 1 km sphere.
 
 use thiserror::Error;
 
 use crate::airframe::{Airframe, AirframeSource};
 use crate::control::{ControllerKind, FlatSetpoint};
-use crate::core::{CoreError, FlightCore};
 use crate::estimation::{ChebyshevDesign, DesignError, ObserverError, WrenchObserver};
-use crate::math::{e3, Mat3, Vec3, GRAVITY_M_S2};
+use crate::flight::{CoreError, FlightCore, SetpointFollower};
+use crate::lockstep::{Guard, Lockstep};
+use crate::math::Vec3;
 use crate::sitl::{SimPlant, SitlError};
 
 use super::envelope::Draw;
-pub use super::judging::{Criterion, Heading};
+use super::judging::Judge;
+pub use super::judging::{equilibrium_attitude, rotation_angle, Criterion, Heading, TrialOutcome};
 
 /// Beyond this distance from the setpoint a run is stopped as a fly-away [m].
 const FLY_AWAY_M: f64 = 1e3;
@@ -86,43 +77,6 @@ pub struct TrialSetup {
     pub criterion: Criterion,
     /// Heading of the setpoint.
     pub heading: Heading,
-}
-
-/// How a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RunEnd {
-    /// Flew the full duration.
-    Complete,
-    /// The plant reported a non-finite state or refused the step.
-    PlantFault,
-    /// Left the 1 km sphere around the setpoint.
-    FlyAway,
-}
-
-/// The result of one run that did not panic.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Outcome {
-    /// How it ended.
-    pub end: RunEnd,
-    /// Met the criterion (module docs).
-    pub converged: bool,
-    /// Start of the final stretch inside the tolerances, when converged [s].
-    pub convergence_time_s: Option<f64>,
-    /// Position error at the end [m].
-    pub final_position_error_m: f64,
-    /// Geodesic attitude error from the equilibrium at the end [rad].
-    pub final_attitude_error_rad: f64,
-    /// Largest tilt of body z from the vertical [rad].
-    pub max_tilt_rad: f64,
-    /// Some state, controller output, rotor command or estimate was not finite.
-    pub non_finite: bool,
-    /// Ticks on which the controller set a fault flag.
-    pub fault_ticks: u64,
-    /// Ticks on which the allocation saturated.
-    pub saturated_ticks: u64,
-    /// Ticks flown.
-    pub ticks: u64,
 }
 
 impl TrialSetup {
@@ -262,117 +216,28 @@ impl TrialSetup {
     }
 }
 
-/// The equilibrium attitude R* of a vehicle of mass `mass_kg` [kg] under force `force_w`
-/// [N, world NED] at heading `yaw_rad` [rad] (module docs). Falls back to level when
-/// m g e3 + f_e vanishes.
-pub fn equilibrium_attitude(mass_kg: f64, force_w: &Vec3, yaw_rad: f64) -> Mat3 {
-    let b3 = (mass_kg * GRAVITY_M_S2 * e3() + force_w)
-        .try_normalize(1e-9)
-        .unwrap_or_else(e3);
-    let b1d = Vec3::new(yaw_rad.cos(), yaw_rad.sin(), 0.0);
-    let b2 = b3
-        .cross(&b1d)
-        .try_normalize(1e-9)
-        .unwrap_or_else(|| Vec3::new(-yaw_rad.sin(), yaw_rad.cos(), 0.0));
-    let b1 = b2.cross(&b3);
-    Mat3::from_columns(&[b1, b2, b3])
-}
-
-/// Geodesic angle between two rotations, `arccos((tr(Aᵀ B) − 1)/2)` [rad].
-pub fn rotation_angle(a: &Mat3, b: &Mat3) -> f64 {
-    (((a.transpose() * b).trace() - 1.0) / 2.0).clamp(-1.0, 1.0).acos()
-}
-
 /// Flies one run of `kind` from `draw` (module docs). Never panics by design; the runner still
 /// guards it.
-pub fn fly(setup: &TrialSetup, kind: ControllerKind, draw: &Draw) -> Result<Outcome, TrialError> {
-    let mut core = setup.core(kind)?;
+pub fn fly(setup: &TrialSetup, kind: ControllerKind, draw: &Draw) -> Result<TrialOutcome, TrialError> {
+    let core = setup.core(kind)?;
     let mut plant = setup.plant(&draw.force_w, &draw.torque_b, draw.noise_seed)?;
     plant.set_initial_state(Some(draw.pos_w), draw.vel_w, draw.q_wb, draw.omega_b, true);
     let yaw_sp = setup.heading.setpoint_yaw_rad(draw);
     let r_eq = equilibrium_attitude(plant.true_mass_kg(), &draw.force_w, yaw_sp);
+    let judge = Judge::new(setup.criterion, r_eq, &plant.truth());
     let setpoint = FlatSetpoint::hold(Vec3::zeros(), yaw_sp);
-    let crit = setup.criterion;
-    let ticks = setup.ticks();
-    let window_ticks = (crit.window_s / setup.dt_s).round() as u64;
-
-    // Samples are numbered by the tick they follow: sample 0 is the initial state, sample k+1
-    // the state after tick k. `settled_from` is the first sample of the current in-tolerance
-    // stretch.
-    let errors = |truth: &crate::sitl::PlantTruth| {
-        let r = truth.q_wb.to_rotation_matrix().into_inner();
-        (
-            truth.pos_w.norm(),
-            rotation_angle(&r_eq, &r),
-            r[(2, 2)].clamp(-1.0, 1.0).acos(),
-        )
-    };
-    let inside = |(e_p, e_r): (f64, f64)| e_p < crit.position_m && e_r < crit.attitude_rad;
-    let (e_p, e_r, tilt) = errors(&plant.truth());
-    let mut settled_from = if inside((e_p, e_r)) { Some(0) } else { None };
-    let (mut final_p, mut final_r, mut max_tilt) = (e_p, e_r, tilt);
-    let mut non_finite = false;
-    let (mut fault_ticks, mut saturated_ticks, mut flown) = (0, 0, 0);
-    let mut end = RunEnd::Complete;
-    for _ in 0..ticks {
-        let state = plant.sense();
-        let step = core.step(&state, &setpoint);
-        let omega = step.allocation.omega();
-        let status = plant.step(omega.as_slice(), setup.dt_s);
-        flown += 1;
-        let truth = plant.truth();
-        let estimate_finite = step
-            .estimate
-            .is_none_or(|e| e.force_w.iter().chain(e.torque_b.iter()).all(|x| x.is_finite()) && e.mass_kg.is_finite());
-        non_finite |= !(state.is_finite()
-            && step.control.is_finite()
-            && omega.as_slice().iter().all(|w| w.is_finite())
-            && estimate_finite
-            && truth.pos_w.iter().chain(truth.vel_w.iter()).all(|x| x.is_finite())
-            && truth.omega_b.iter().all(|x| x.is_finite())
-            && truth.q_wb.coords.iter().all(|x| x.is_finite()));
-        fault_ticks += u64::from(step.control.flags.is_fault());
-        saturated_ticks += u64::from(step.allocation.saturation.is_saturated());
-        let (e_p, e_r, tilt) = errors(&truth);
-        (final_p, final_r) = (e_p, e_r);
-        max_tilt = max_tilt.max(tilt);
-        settled_from = match (inside((e_p, e_r)), settled_from) {
-            (true, Some(k)) => Some(k),
-            (true, None) => Some(flown),
-            (false, _) => None,
-        };
-        if status.state_non_finite || status.dt_rejected {
-            end = RunEnd::PlantFault;
-            break;
-        }
-        let distance_m = truth.pos_w.norm();
-        if distance_m.is_nan() || distance_m > FLY_AWAY_M {
-            end = RunEnd::FlyAway;
-            break;
-        }
-    }
-    let converged = end == RunEnd::Complete
-        && !non_finite
-        && fault_ticks == 0
-        && settled_from.is_some_and(|k| flown - k >= window_ticks);
-    Ok(Outcome {
-        end,
-        converged,
-        convergence_time_s: settled_from.filter(|_| converged).map(|k| k as f64 * setup.dt_s),
-        final_position_error_m: final_p,
-        final_attitude_error_rad: final_r,
-        max_tilt_rad: max_tilt,
-        non_finite,
-        fault_ticks,
-        saturated_ticks,
-        ticks: flown,
-    })
+    let mut lockstep = Lockstep::new(SetpointFollower::new(core, setpoint), plant, setup.dt_s);
+    let mut observer = (judge, Guard { fly_away_m: FLY_AWAY_M });
+    let end = lockstep.run(setup.ticks(), &mut observer);
+    let window_ticks = (setup.criterion.window_s / setup.dt_s).round() as u64;
+    Ok(observer.0.outcome(end, window_ticks, setup.dt_s))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::UnitQuat;
+    use crate::lockstep::Exit;
+    use crate::math::{e3, Mat3, UnitQuat, GRAVITY_M_S2};
 
     fn setup(duration_s: f64) -> TrialSetup {
         setup_with(duration_s, Criterion::default())
@@ -476,7 +341,7 @@ mod tests {
         let o = fly(&s, ControllerKind::Geometric, &draw).unwrap();
         assert!(!o.converged && o.convergence_time_s.is_none(), "{o:?}");
         assert!(o.final_position_error_m > 0.1);
-        assert_eq!(o.end, RunEnd::Complete);
+        assert_eq!(o.end, Exit::Complete);
     }
 
     #[test]

@@ -10,8 +10,8 @@ use crate::airframe::AirframeSource;
 use crate::control::ControllerKind;
 use crate::navigation::Home;
 
-use super::rotor_failures::ScheduledFailure;
-use super::scheduler::Pace;
+use super::pacer::Pace;
+use crate::lockstep::ScheduledFailure;
 use super::signing_store::SigningFileError;
 use super::vehicle::VehicleError;
 

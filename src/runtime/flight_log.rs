@@ -13,9 +13,11 @@ use std::sync::Arc;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use crate::control::VehicleState;
-use crate::core::CoreStep;
+use crate::flight::CoreStep;
+use crate::lockstep::{Exit, Observer, Tick};
 use crate::math::Vec3;
-use crate::simulate::run_csv::{RunCsv, RunRow};
+use crate::sim::run_csv::{RunCsv, RunRow};
+use crate::sitl::SimPlant;
 
 /// Longest time a record waits in a buffer before it reaches the file.
 pub const FLUSH_PERIOD: Duration = Duration::from_millis(100);
@@ -39,6 +41,34 @@ pub struct TickLog {
     pub true_force_w: Vec3,
     /// True scripted external torque, body FRD [N·m].
     pub true_torque_b: Vec3,
+}
+
+impl TickLog {
+    /// The owned copy of `row`, for the writer thread.
+    pub fn of(row: &RunRow) -> Self {
+        Self {
+            t_s: row.t_s,
+            state: *row.state,
+            ref_w: row.ref_w,
+            step: row.step.copied(),
+            motor_speeds: row.motor_speeds.to_vec(),
+            true_force_w: row.true_force_w,
+            true_torque_b: row.true_torque_b,
+        }
+    }
+
+    /// The row it writes.
+    fn row(&self) -> RunRow<'_> {
+        RunRow {
+            t_s: self.t_s,
+            state: &self.state,
+            ref_w: self.ref_w,
+            step: self.step.as_ref(),
+            motor_speeds: &self.motor_speeds,
+            true_force_w: self.true_force_w,
+            true_torque_b: self.true_torque_b,
+        }
+    }
 }
 
 enum Record {
@@ -84,6 +114,14 @@ impl LogSender {
     }
 }
 
+/// Queues every lockstep tick as a `run.csv` row; never stops the run.
+impl<R> Observer<R> for LogSender {
+    fn observe(&mut self, tick: &Tick<R>, plant: &SimPlant) -> Option<Exit> {
+        self.tick(TickLog::of(&RunRow::of(tick, plant)));
+        None
+    }
+}
+
 /// Creates `dir`, opens the files and starts the writer thread; the thread ends (after a final
 /// flush) when every [`LogSender`] is dropped.
 pub fn start(dir: &Path, rotors: usize) -> std::io::Result<(LogSender, std::thread::JoinHandle<()>)> {
@@ -110,15 +148,7 @@ fn write_loop(rx: Receiver<Record>, mut csv: RunCsv, mut tlog: std::io::BufWrite
     loop {
         let record = rx.recv_timeout(FLUSH_PERIOD / 2);
         let result = match &record {
-            Ok(Record::Tick(t)) => csv.row(&RunRow {
-                t_s: t.t_s,
-                state: &t.state,
-                ref_w: t.ref_w,
-                step: t.step.as_ref(),
-                motor_speeds: &t.motor_speeds,
-                true_force_w: t.true_force_w,
-                true_torque_b: t.true_torque_b,
-            }),
+            Ok(Record::Tick(t)) => csv.row(&t.row()),
             Ok(Record::Frame(t_us, bytes)) => tlog.write_all(&t_us.to_be_bytes()).and_then(|()| tlog.write_all(bytes)),
             Err(RecvTimeoutError::Timeout) => Ok(()),
             Err(RecvTimeoutError::Disconnected) => break,

@@ -6,15 +6,15 @@
 //! # Layout
 //! - `mod.rs`: setting up the vehicles, their channels and sockets; running until shutdown.
 //! - `config.rs`: what `run` is given, prints when ready, reports at the end, its errors.
-//! - [`scheduler`]: the tick threads and their pace; [`vehicle`]: one vehicle's tick.
+//! - [`scheduler`]: the tick threads; [`pacer`]: their pace; [`vehicle`]: one vehicle's lockstep.
 //! - [`link`]: the link task: sockets ↔ `mav::link::LinkMachine` ↔ the tick thread.
 //! - [`signing_store`], `signing_keeper.rs`: the `--signing-key` file and its timestamp.
-//! - [`flight_log`]: the tlog and run.csv of `--log`; [`rotor_failures`]: `--fail-rotor`.
+//! - [`flight_log`]: the tlog and run.csv of `--log`.
 
 mod config;
 pub mod flight_log;
 pub mod link;
-pub mod rotor_failures;
+pub mod pacer;
 pub mod scheduler;
 mod signing_keeper;
 pub mod signing_store;
@@ -39,7 +39,7 @@ use crate::telemetry::Snapshot;
 pub use config::{Ready, RunConfig, RunReport, RuntimeError, VehicleReady, DEFAULT_SPACING_M};
 use flight_log::LogSender;
 use link::{LinkIo, LinkSockets, SigningStatus};
-pub use scheduler::Pace;
+pub use pacer::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
 use signing_keeper::{signing_keeper, SigningSetup};
 use signing_store::signing_now;

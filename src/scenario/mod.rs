@@ -32,8 +32,8 @@ use thiserror::Error;
 
 use crate::airframe::{Airframe, AirframeSource};
 use crate::control::{ControllerGains, ControllerKind, DesiredRateMode};
-use crate::core::{vehicle_model, CoreError, FlightCore};
 use crate::estimation::{ChebyshevDesign, WrenchObserver};
+use crate::flight::{vehicle_model, CoreError, FlightCore};
 use crate::math::{UnitQuat, Vec3};
 use crate::navigation::trajectory::Trajectory;
 

@@ -13,8 +13,8 @@ use rotorpilot::bench::client::{BenchClient, COMMAND_ATTEMPTS};
 use rotorpilot::control::ControllerKind;
 use rotorpilot::runtime::{run, RunConfig};
 
-/// A running vehicle and the GCS socket its telemetry goes to.
-pub struct Vehicle {
+/// A running autopilot (one vehicle of `rotorpilot run`) and the GCS socket its telemetry goes to.
+pub struct Autopilot {
     /// The GCS socket.
     pub gcs: BenchClient,
     /// The vehicle's GCS-link address.
@@ -23,7 +23,7 @@ pub struct Vehicle {
     thread: Option<std::thread::JoinHandle<()>>,
 }
 
-impl Vehicle {
+impl Autopilot {
     pub fn start(sysid: u8, airframe: &str) -> Self {
         let gcs = BenchClient::bind().unwrap();
         let config = RunConfig {
@@ -97,7 +97,7 @@ impl Vehicle {
     }
 }
 
-impl Drop for Vehicle {
+impl Drop for Autopilot {
     fn drop(&mut self) {
         if let Some(stop) = self.stop.take() {
             let _ = stop.send(());

@@ -1,8 +1,7 @@
-//! Headless scenario runs (`rotorpilot sim SCENARIO.toml --out DIR`): the flight core and the
-//! plant in lockstep at a fixed step, as fast as the CPU allows. Runtime layer: it reads the wall
-//! clock (for the real-time factor) and writes `DIR/run.csv` and `DIR/summary.json`; the maths it
-//! calls is pure. Each tick k: sense → [`FlightCore::step`](crate::core::FlightCore::step) →
-//! plant step (zero-order hold for one tick).
+//! Scenario runs (`rotorpilot sim SCENARIO.toml --out DIR`): the scenario's flight core following
+//! its trajectory ([`SetpointFollower`]) in [`Lockstep`] with the plant, as fast as the CPU allows
+//! or paced by the runtime's [`Pacer`] (`--speedup`). Runtime layer: it reads the wall clock and
+//! writes `DIR/run.csv` and `DIR/summary.json`; the maths it calls is pure.
 
 pub mod run_csv;
 
@@ -12,9 +11,10 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 use thiserror::Error;
 
-use crate::core::CoreError;
+use crate::flight::{CoreError, SetpointFollower};
+use crate::lockstep::{Exit, Guard, Lockstep, Observer, Tick};
 use crate::math::GRAVITY_M_S2;
-use crate::runtime::Pace;
+use crate::runtime::pacer::{Pace, Pacer, Wait};
 use crate::scenario::summary::{RunStats, TickRecord, TrackingSummary};
 use crate::scenario::Scenario;
 use crate::sitl::{SimPlant, SitlError};
@@ -105,7 +105,7 @@ pub fn simulate(scn: &Scenario, out_dir: Option<&Path>) -> Result<SimSummary, Si
 /// [`simulate`] with simulated time paced against the wall clock (`--speedup`): the same ticks in
 /// the same order whatever the pace, so `run.csv` is bit-identical at any speed-up.
 pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Result<SimSummary, SimError> {
-    let mut core = scn.flight_core()?;
+    let core = scn.flight_core()?;
     let mut plant = SimPlant::from_source(&scn.airframe_source, scn.seed)?;
     for w in plant.warnings() {
         tracing::warn!("{w}");
@@ -119,81 +119,47 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
         let path = path.display().to_string();
         move |source| SimError::Io { path, source }
     };
-    let mut csv = match out_dir {
+    let csv = match out_dir {
         Some(dir) => {
             std::fs::create_dir_all(dir).map_err(io(dir))?;
             let path = dir.join("run.csv");
-            Some((RunCsv::create(&path, rotors).map_err(io(&path))?, path))
+            Some(CsvObserver {
+                csv: RunCsv::create(&path, rotors).map_err(io(&path))?,
+                path: path.display().to_string(),
+                error: None,
+            })
         }
         None => None,
     };
+    let mut lockstep = Lockstep::new(SetpointFollower::new(core, scn.trajectory.clone()), plant, scn.dt_s);
+    let mut observer = (RunStats::default(), csv, Guard { fly_away_m: FLY_AWAY_M });
 
     let ticks = (scn.duration_s / scn.dt_s).round() as u64;
-    let mut stats = RunStats::default();
-    let mut exit = "complete";
-    let mut truth = plant.truth();
     let wall = Instant::now();
-    let mut ticks_run = 0;
+    let mut pacer = Pacer::new(pace, Duration::from_secs_f64(scn.dt_s), wall);
+    let mut exit = Exit::Complete;
     let mut last_estimate = None;
-    let tick_wall = match pace {
-        Pace::Speedup(x) => Some(Duration::from_secs_f64(scn.dt_s / x)),
-        Pace::Max => None,
-    };
-    for tick in 0..ticks {
-        if let Some(period) = tick_wall {
-            let deadline = wall + period.mul_f64(tick as f64);
-            let now = Instant::now();
-            if deadline > now {
-                std::thread::sleep(deadline - now);
+    for _ in 0..ticks {
+        if pacer.is_paced() {
+            if let Wait::Sleep(d) = pacer.next_tick(Instant::now()) {
+                std::thread::sleep(d);
             }
         }
-        let t_s = tick as f64 * scn.dt_s;
-        let state = plant.sense();
-        let sample = scn.trajectory.sample(t_s);
-        let sp = sample.setpoint();
-        let step = core.step(&state, &sp);
-        let status = plant.step(step.allocation.omega().as_slice(), scn.dt_s);
-        ticks_run += 1;
-        truth = plant.truth();
-        last_estimate = step.estimate;
-        stats.add(&TickRecord {
-            t_s,
-            pos_w: state.pos_w,
-            ref_w: sample.pos_w,
-            vel_error_w: step.control.errors.vel_w,
-            att_error: step.control.errors.attitude,
-            tilt_rad: state.tilt_rad(),
-            thrust_n: step.allocation.applied.thrust_n,
-            torque_b: step.allocation.applied.torque_b,
-            saturated: step.allocation.saturation.is_saturated(),
-            controller_fault: step.control.flags.is_fault(),
-        });
-        if let Some((csv, path)) = csv.as_mut() {
-            csv.row(&RunRow {
-                t_s,
-                state: &state,
-                ref_w: sample.pos_w,
-                step: Some(&step),
-                motor_speeds: plant.motor_speeds(),
-                true_force_w: truth.external_force_w,
-                true_torque_b: truth.external_torque_b,
-            })
-            .map_err(io(path))?;
-        }
-        if status.state_non_finite || status.dt_rejected {
-            exit = "plant_fault";
-            break;
-        }
-        if truth.pos_w.norm() > FLY_AWAY_M {
-            exit = "fly_away";
+        let tick = lockstep.step();
+        last_estimate = tick.control.step.and_then(|s| s.estimate);
+        if let Some(stop) = observer.observe(&tick, lockstep.plant()) {
+            exit = stop;
             break;
         }
     }
     let wall_time_s = wall.elapsed().as_secs_f64();
-    if let Some((csv, path)) = csv {
-        csv.finish().map_err(io(&path))?;
+    let (stats, csv, _) = observer;
+    if let Some(csv) = csv {
+        csv.finish()?;
     }
-    let sim_time_s = ticks_run as f64 * scn.dt_s;
+    let sim_time_s = lockstep.ticks() as f64 * scn.dt_s;
+    let plant = lockstep.plant();
+    let truth = plant.truth();
     let true_mass_kg = plant.true_mass_kg();
     let summary = SimSummary {
         scenario: scn.name.clone(),
@@ -201,7 +167,7 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
         controller: scn.controller.name(),
         compensation: scn.compensation,
         rotors,
-        exit,
+        exit: exit.name(),
         sim_time_s,
         dt_s: scn.dt_s,
         tracking: stats.summary(scn.dt_s),
@@ -232,4 +198,51 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
         std::fs::write(&path, text + "\n").map_err(io(&path))?;
     }
     Ok(summary)
+}
+
+/// The tracking statistics of every tick the flight core flew.
+impl<R> Observer<R> for RunStats {
+    fn observe(&mut self, tick: &Tick<R>, _plant: &SimPlant) -> Option<Exit> {
+        let step = tick.control.step.as_ref()?;
+        let state = &tick.sensors.state;
+        self.add(&TickRecord {
+            t_s: tick.t_s,
+            pos_w: state.pos_w,
+            ref_w: tick.reference_w(),
+            vel_error_w: step.control.errors.vel_w,
+            att_error: step.control.errors.attitude,
+            tilt_rad: state.tilt_rad(),
+            thrust_n: step.allocation.applied.thrust_n,
+            torque_b: step.allocation.applied.torque_b,
+            saturated: step.allocation.saturation.is_saturated(),
+            controller_fault: step.control.flags.is_fault(),
+        });
+        None
+    }
+}
+
+/// `run.csv` written tick by tick; the first write error stops the run and is returned by
+/// [`CsvObserver::finish`].
+struct CsvObserver {
+    csv: RunCsv,
+    path: String,
+    error: Option<std::io::Error>,
+}
+
+impl CsvObserver {
+    fn finish(self) -> Result<(), SimError> {
+        let path = self.path;
+        match self.error {
+            Some(source) => Err(SimError::Io { path, source }),
+            None => self.csv.finish().map_err(|source| SimError::Io { path, source }),
+        }
+    }
+}
+
+impl<R> Observer<R> for CsvObserver {
+    fn observe(&mut self, tick: &Tick<R>, plant: &SimPlant) -> Option<Exit> {
+        let e = self.csv.row(&RunRow::of(tick, plant)).err()?;
+        self.error = Some(e);
+        Some(Exit::Stopped)
+    }
 }

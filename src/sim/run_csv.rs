@@ -12,8 +12,10 @@ use std::io::Write;
 use std::path::Path;
 
 use crate::control::VehicleState;
-use crate::core::CoreStep;
+use crate::flight::CoreStep;
+use crate::lockstep::Tick;
 use crate::math::{euler_zyx, Vec3};
+use crate::sitl::SimPlant;
 
 /// Header of `run.csv` for `rotors` rotors.
 pub fn header(rotors: usize) -> String {
@@ -52,6 +54,22 @@ pub struct RunRow<'a> {
     pub true_force_w: Vec3,
     /// True scripted external torque, body FRD [N·m].
     pub true_torque_b: Vec3,
+}
+
+impl<'a> RunRow<'a> {
+    /// The row of lockstep tick `tick`, with the plant `plant` after its step.
+    pub fn of<R>(tick: &'a Tick<R>, plant: &'a SimPlant) -> Self {
+        let truth = plant.truth();
+        Self {
+            t_s: tick.t_s,
+            state: &tick.sensors.state,
+            ref_w: tick.reference_w(),
+            step: tick.control.step.as_ref(),
+            motor_speeds: plant.motor_speeds(),
+            true_force_w: truth.external_force_w,
+            true_torque_b: truth.external_torque_b,
+        }
+    }
 }
 
 impl RunCsv {

@@ -1,8 +1,7 @@
-//! Headless flight: the flight controller and the plant in lockstep at a fixed step, as fast as
-//! the CPU allows. Runtime layer: it reads the wall clock (for the real-time factor) and writes
-//! the CSV log; the maths it calls is pure.
-//!
-//! Each tick k: sense → controller → allocation → plant step (zero-order hold for one tick).
+//! `rotorpilot fly`: a take-off climb and hover flown by a bare flight core following a
+//! [`ClimbProfile`], in [`Lockstep`] with the plant, as fast as the CPU allows. Runtime layer: it
+//! reads the wall clock (for the real-time factor) and writes the CSV log; the maths it calls is
+//! pure.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -13,14 +12,15 @@ use thiserror::Error;
 
 use crate::airframe::{Airframe, AirframeError, AirframeSource};
 use crate::control::ControllerKind;
-use crate::core::{CoreError, FlightCore};
+use crate::flight::{CoreError, FlightCore, SetpointFollower};
+use crate::lockstep::{Exit, Lockstep, Observer, Tick};
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::ClimbProfile;
 use crate::sitl::{SimPlant, SitlError};
 
 /// What to fly.
 #[derive(Debug, Clone, PartialEq)]
-pub struct HeadlessOptions {
+pub struct FlyOptions {
     /// Simulated duration [s].
     pub duration_s: f64,
     /// Hover altitude above the start point [m].
@@ -37,7 +37,7 @@ pub struct HeadlessOptions {
     pub csv: Option<PathBuf>,
 }
 
-impl Default for HeadlessOptions {
+impl Default for FlyOptions {
     fn default() -> Self {
         Self {
             duration_s: 10.0,
@@ -51,9 +51,9 @@ impl Default for HeadlessOptions {
     }
 }
 
-/// Why a headless flight could not run.
+/// Why a flight could not run.
 #[derive(Debug, Error)]
-pub enum HeadlessError {
+pub enum FlyError {
     /// The FC refused the airframe.
     #[error(transparent)]
     Airframe(#[from] AirframeError),
@@ -81,7 +81,7 @@ pub enum HeadlessError {
     },
 }
 
-/// Result of a headless flight, printed as JSON.
+/// Result of a flight, printed as JSON.
 #[derive(Debug, Clone, Serialize)]
 pub struct FlightSummary {
     /// Airframe name.
@@ -115,10 +115,10 @@ pub struct FlightSummary {
 }
 
 /// Flies a take-off to `altitude_m` and a hover with the chosen controller.
-pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary, HeadlessError> {
+pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, FlyError> {
     check_options(opts)?;
     let airframe = Airframe::from_source(src)?;
-    let mut core = FlightCore::for_airframe(&airframe, opts.controller, opts.dt_s)?;
+    let core = FlightCore::for_airframe(&airframe, opts.controller, opts.dt_s)?;
     let rotors = core.allocator().rotor_count();
     let mut plant = SimPlant::from_source(src, opts.seed)?;
     for w in plant.warnings() {
@@ -132,33 +132,22 @@ pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary
         duration_s: opts.climb_s,
         yaw_rad: yaw,
     };
-    let mut log = match &opts.csv {
+    let log = match &opts.csv {
         Some(path) => Some(CsvLog::create(path, rotors)?),
         None => None,
     };
+    let mut lockstep = Lockstep::new(SetpointFollower::new(core, climb), plant, opts.dt_s);
+    let mut observer = (FlyStats::default(), log);
 
     let ticks = (opts.duration_s / opts.dt_s).round() as u64;
-    let (mut max_tilt, mut saturated_ticks) = (0.0f64, 0u64);
-    let mut last_error = Vec3::zeros();
     let wall = Instant::now();
-    for tick in 0..ticks {
-        let t = tick as f64 * opts.dt_s;
-        let state = plant.sense();
-        let sp = climb.setpoint(t);
-        let alloc = core.step(&state, &sp).allocation;
-        plant.step(alloc.omega().as_slice(), opts.dt_s);
-        max_tilt = max_tilt.max(state.tilt_rad());
-        saturated_ticks += u64::from(alloc.saturation.is_saturated());
-        let reference = sp.pos_w.unwrap_or(state.pos_w);
-        last_error = state.pos_w - reference;
-        if let Some(log) = log.as_mut() {
-            log.row(t, &state, &reference, &alloc.applied, plant.motor_speeds())?;
-        }
-    }
+    lockstep.run(ticks, &mut observer);
     let wall_time_s = wall.elapsed().as_secs_f64();
+    let (stats, log) = observer;
     if let Some(log) = log {
         log.finish()?;
     }
+    let plant = lockstep.plant();
     let truth = plant.truth();
     let speeds = plant.motor_speeds();
     let sim_time_s = ticks as f64 * opts.dt_s;
@@ -169,9 +158,9 @@ pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary
         sim_time_s,
         ticks,
         final_position_m: truth.pos_w.into(),
-        final_error_m: last_error.into(),
-        max_tilt_deg: max_tilt.to_degrees(),
-        saturated_time_s: saturated_ticks as f64 * opts.dt_s,
+        final_error_m: stats.last_error.into(),
+        max_tilt_deg: stats.max_tilt.to_degrees(),
+        saturated_time_s: stats.saturated_ticks as f64 * opts.dt_s,
         final_rotor_speed_rad_s: speeds.iter().sum::<f64>() / speeds.len() as f64,
         hover_speed_rad_s: airframe.hover_speed_rad_s(),
         on_ground: truth.on_ground,
@@ -184,9 +173,31 @@ pub fn fly(src: &AirframeSource, opts: &HeadlessOptions) -> Result<FlightSummary
     })
 }
 
-fn check_options(o: &HeadlessOptions) -> Result<(), HeadlessError> {
+/// Largest tilt [rad], saturated ticks and the last position error [m] of a flight.
+#[derive(Debug, Default)]
+struct FlyStats {
+    max_tilt: f64,
+    saturated_ticks: u64,
+    last_error: Vec3,
+}
+
+impl Observer<()> for FlyStats {
+    fn observe(&mut self, tick: &Tick<()>, _plant: &SimPlant) -> Option<Exit> {
+        let state = &tick.sensors.state;
+        self.max_tilt = self.max_tilt.max(state.tilt_rad());
+        let saturated = tick
+            .control
+            .step
+            .is_some_and(|s| s.allocation.saturation.is_saturated());
+        self.saturated_ticks += u64::from(saturated);
+        self.last_error = state.pos_w - tick.reference_w();
+        None
+    }
+}
+
+fn check_options(o: &FlyOptions) -> Result<(), FlyError> {
     let bad = |option, reason: &str| {
-        Err(HeadlessError::Option {
+        Err(FlyError::Option {
             option,
             reason: reason.to_string(),
         })
@@ -206,16 +217,40 @@ fn check_options(o: &HeadlessOptions) -> Result<(), HeadlessError> {
     Ok(())
 }
 
-/// CSV log of a headless flight.
+/// CSV log of a flight; the first write error stops the flight and is reported by
+/// [`CsvLog::finish`].
 struct CsvLog {
     path: String,
     out: std::io::BufWriter<std::fs::File>,
+    error: Option<FlyError>,
+}
+
+impl Observer<()> for CsvLog {
+    fn observe(&mut self, tick: &Tick<()>, plant: &SimPlant) -> Option<Exit> {
+        let Some(step) = &tick.control.step else {
+            return None;
+        };
+        let written = self.row(
+            tick.t_s,
+            &tick.sensors.state,
+            &tick.reference_w(),
+            &step.allocation.applied,
+            plant.motor_speeds(),
+        );
+        match written {
+            Ok(()) => None,
+            Err(e) => {
+                self.error = Some(e);
+                Some(Exit::Stopped)
+            }
+        }
+    }
 }
 
 impl CsvLog {
-    fn create(path: &std::path::Path, rotors: usize) -> Result<Self, HeadlessError> {
+    fn create(path: &std::path::Path, rotors: usize) -> Result<Self, FlyError> {
         let name = path.display().to_string();
-        let io = |source| HeadlessError::Io {
+        let io = |source| FlyError::Io {
             path: name.clone(),
             source,
         };
@@ -226,7 +261,11 @@ impl CsvLog {
             header.push_str(&format!(",omega_{i}"));
         }
         writeln!(out, "{header}").map_err(io)?;
-        Ok(Self { path: name, out })
+        Ok(Self {
+            path: name,
+            out,
+            error: None,
+        })
     }
 
     fn row(
@@ -236,7 +275,7 @@ impl CsvLog {
         reference: &Vec3,
         applied: &crate::allocation::Wrench,
         speeds: &[f64],
-    ) -> Result<(), HeadlessError> {
+    ) -> Result<(), FlyError> {
         let e = euler_zyx(&s.r_wb);
         let mut line = format!(
             "{t:.3},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
@@ -260,14 +299,17 @@ impl CsvLog {
         for w in speeds {
             line.push_str(&format!(",{w}"));
         }
-        writeln!(self.out, "{line}").map_err(|source| HeadlessError::Io {
+        writeln!(self.out, "{line}").map_err(|source| FlyError::Io {
             path: self.path.clone(),
             source,
         })
     }
 
-    fn finish(mut self) -> Result<(), HeadlessError> {
-        self.out.flush().map_err(|source| HeadlessError::Io {
+    fn finish(mut self) -> Result<(), FlyError> {
+        if let Some(e) = self.error.take() {
+            return Err(e);
+        }
+        self.out.flush().map_err(|source| FlyError::Io {
             path: self.path.clone(),
             source,
         })

@@ -1,0 +1,314 @@
+//! The flight controller of one vehicle: commander (modes, failsafes, battery, land detector),
+//! flight core, parameter table, rotor-failure monitor and home. Pure: requests and parameter
+//! sets between ticks, and one [`Pilot::control`] per tick from the sensed values; what the
+//! simulated hardware must change comes back as a [`PlantChange`].
+//!
+//! One tick (the order every determinism test depends on):
+//!
+//! ```text
+//! ESC report changed → re-allocate, commander reacts      (RotorMonitor::check)
+//! battery and failsafes from x_k and the electrical power  (Commander::check_failsafes)
+//! commander.update(x_k, T_{k−1} / (m g), t_k)              setpoint, attitude target or idle
+//! flight core: setpoint, else attitude target, else idle  (FlightCore::step / step_attitude)
+//! ```
+
+use crate::airframe::Airframe;
+use crate::commander::{Commander, CommanderParams, Outcome, Request};
+use crate::control::{ControllerKind, VehicleState};
+use crate::estimation::{ChebyshevDesign, WrenchObserver};
+use crate::math::{Vec3, GRAVITY_M_S2};
+use crate::navigation::Home;
+use crate::params::{ParamError, ParamTable, VehicleSettings};
+use crate::sitl::{PlantChange, Sensors};
+use crate::telemetry::Snapshot;
+
+use super::rotor_monitor::RotorMonitor;
+use super::{Control, CoreError, FlightCore, Pilot};
+
+/// The estimator the autopilot starts with: the homework's first-order design (Chebyshev
+/// 3 dB ripple, passband edge 2 rad/s), observing only (RP_COMP = 0) so it changes nothing in
+/// flight but streams the wrench and mass estimate.
+pub const DEFAULT_ESTIMATOR: ChebyshevDesign = ChebyshevDesign {
+    order: 1,
+    ripple_db: 3.0,
+    passband_rad_s: 2.0,
+};
+
+/// The autopilot's tilt limit [deg] (PX4's `MPC_TILTMAX_AIR` default; the homework
+/// scenarios keep the controllers' own 40°).
+pub const AUTOPILOT_TILT_MAX_DEG: f64 = 45.0;
+
+/// The answer to a request, and what the simulated hardware must change because of it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reply<T> {
+    /// The answer for the sender.
+    pub answer: T,
+    /// The plant change to carry out now, if any.
+    pub plant: Option<PlantChange>,
+}
+
+impl<T> Reply<T> {
+    fn only(answer: T) -> Self {
+        Self { answer, plant: None }
+    }
+}
+
+/// Commander, flight core, parameters, rotor monitor and home of one vehicle.
+#[derive(Debug)]
+pub struct FlightController {
+    core: FlightCore,
+    commander: Commander,
+    params: ParamTable,
+    rotors: RotorMonitor,
+    home: Home,
+    dt_s: f64,
+    believed_mass_kg: f64,
+    believed_inertia_kg_m2: Vec3,
+    rotor_max_rad_s: f64,
+    /// Collective thrust of the last tick over the believed weight [-] (land detector input).
+    thrust_over_weight: f64,
+}
+
+impl FlightController {
+    /// The autopilot's flight controller for `airframe` flown by `kind`, home `home`, step
+    /// `dt_s` [s]: PX4's commander defaults, tilt limit [`AUTOPILOT_TILT_MAX_DEG`], the
+    /// [`DEFAULT_ESTIMATOR`] observing.
+    pub fn new(airframe: &Airframe, kind: ControllerKind, home: Home, dt_s: f64) -> Result<Self, CoreError> {
+        Self::with_commander(airframe, kind, home, dt_s, CommanderParams::default())
+    }
+
+    /// [`Self::new`] with the commander settings `commander`.
+    pub fn with_commander(
+        airframe: &Airframe,
+        kind: ControllerKind,
+        home: Home,
+        dt_s: f64,
+        commander: CommanderParams,
+    ) -> Result<Self, CoreError> {
+        let mut core = FlightCore::for_airframe(airframe, kind, dt_s)?;
+        let mut gains = *core.controller.gains();
+        gains.limits.tilt_max_rad = AUTOPILOT_TILT_MAX_DEG.to_radians();
+        core.controller.set_gains(gains).map_err(CoreError::from)?;
+        let rotors = RotorMonitor::new(core.allocator().rotor_count());
+        let settings = VehicleSettings {
+            commander,
+            ..VehicleSettings::new(kind, gains, Some(DEFAULT_ESTIMATOR))
+        };
+        let mut fc = Self {
+            core,
+            commander: Commander::new(commander),
+            params: ParamTable::new(&settings),
+            rotors,
+            home,
+            dt_s,
+            believed_mass_kg: airframe.mass_kg,
+            believed_inertia_kg_m2: airframe.inertia_kg_m2,
+            rotor_max_rad_s: airframe.omega_max_rad_s,
+            thrust_over_weight: 0.0,
+        };
+        fc.install_observer(Some(DEFAULT_ESTIMATOR));
+        Ok(fc)
+    }
+
+    /// Replaces the wrench observer by one of `design` (none when `None` or not realisable).
+    fn install_observer(&mut self, design: Option<ChebyshevDesign>) {
+        let observer = design.and_then(|d| {
+            let gains = d.gains(self.dt_s).ok()?;
+            WrenchObserver::new(self.believed_mass_kg, self.believed_inertia_kg_m2, gains, self.dt_s).ok()
+        });
+        self.core.set_observer(observer);
+    }
+
+    /// The parameter table.
+    pub fn params(&self) -> &ParamTable {
+        &self.params
+    }
+
+    /// The commander (mode, arming, landed state, mission progress, battery).
+    pub fn commander(&self) -> &Commander {
+        &self.commander
+    }
+
+    /// The flight core.
+    pub fn core(&self) -> &FlightCore {
+        &self.core
+    }
+
+    /// Geodetic position of the local NED origin.
+    pub fn home(&self) -> Home {
+        self.home
+    }
+
+    /// Rotor count.
+    pub fn rotor_count(&self) -> usize {
+        self.rotors.rotor_count()
+    }
+
+    /// Highest rotor speed [rad/s].
+    pub fn rotor_max_rad_s(&self) -> f64 {
+        self.rotor_max_rad_s
+    }
+
+    /// Sets parameter `name` to `value` and applies the new settings at this tick boundary:
+    /// commander limits, control law (its filters restart from the next sample), compensation,
+    /// gains, the estimator (a new design restarts it from ŵ = 0), and the plant's ground and
+    /// ceiling effects (the reply's plant change). Refused sets change nothing.
+    pub fn set_param(&mut self, name: &str, value: f64) -> Reply<Result<usize, ParamError>> {
+        let before = self.params.settings();
+        let index = match self.params.set(name, value, self.dt_s) {
+            Ok(index) => index,
+            Err(e) => return Reply::only(Err(e)),
+        };
+        let s = self.params.settings();
+        self.commander.params = s.commander;
+        self.core.controller.set_kind(s.controller);
+        self.core.controller.set_compensation(s.compensation);
+        if let Err(e) = self.core.controller.set_gains(s.gains) {
+            tracing::warn!("{e}");
+        }
+        if s.estimator != before.estimator {
+            self.install_observer(s.estimator);
+        }
+        Reply {
+            answer: Ok(index),
+            plant: Some(PlantChange::ProximityEffects {
+                ground: s.ground_effect,
+                ceiling: s.ceiling_effect,
+            }),
+        }
+    }
+
+    /// Handles a ground-station request at simulated time `t_s` [s]: failure injection (when
+    /// `SYS_FAILURE_EN` allows it) answers with the rotors the plant must stop or restore;
+    /// everything else goes to the commander with the state `sense` reads.
+    pub fn request(&mut self, request: Request, t_s: f64, sense: impl FnOnce() -> VehicleState) -> Reply<Outcome> {
+        if let Request::InjectRotorFailure { rotor, failed } = request {
+            if !self.commander.params.failure_injection {
+                return Reply::only(Outcome::Denied(
+                    "Failure injection disabled (SYS_FAILURE_EN = 0)".into(),
+                ));
+            }
+            return match self.rotors.injection(rotor, failed) {
+                Ok(change) => Reply {
+                    answer: Outcome::Accepted,
+                    plant: Some(change),
+                },
+                Err(why) => Reply::only(Outcome::Denied(why)),
+            };
+        }
+        let x = sense();
+        Reply::only(self.commander.request(request, &x, t_s))
+    }
+
+    /// Keeps the offboard setpoint fresh at simulated time `t_s` [s] (the stream is alive in
+    /// wall time).
+    pub fn refresh_offboard(&mut self, t_s: f64) {
+        self.commander.refresh_offboard(t_s);
+    }
+
+    /// `COM_OF_LOSS_T` [s], which the runtime's own timer reads.
+    pub fn offboard_loss_s(&self) -> f64 {
+        self.commander.params.offboard_loss_s
+    }
+}
+
+impl Pilot for FlightController {
+    type Report = Snapshot;
+
+    /// One tick (module docs).
+    fn control(&mut self, t_s: f64, sensors: &Sensors) -> Control {
+        let x = sensors.state;
+        let mut failsafe_events =
+            self.rotors
+                .check(sensors.failed_rotors(), t_s, &x, &mut self.core, &mut self.commander);
+        failsafe_events.extend(self.commander.check_failsafes(&x, sensors.power_w, self.dt_s, t_s));
+        let mut tick = self.commander.update(&x, self.thrust_over_weight, t_s);
+        if !failsafe_events.is_empty() {
+            tick.events.splice(0..0, failsafe_events);
+        }
+        let step = match (tick.setpoint, tick.attitude) {
+            (Some(sp), _) => Some(self.core.step(&x, &sp)),
+            (None, Some(target)) => Some(self.core.step_attitude(&x, &target)),
+            (None, None) => None,
+        };
+        self.thrust_over_weight = step.map_or(0.0, |s| {
+            s.allocation.applied.thrust_n / (self.believed_mass_kg * GRAVITY_M_S2)
+        });
+        Control {
+            rotors: self.rotors.rotor_count(),
+            step,
+            setpoint: tick.setpoint,
+            events: tick.events,
+        }
+    }
+
+    /// The telemetry snapshot of the tick.
+    fn report(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Snapshot {
+        self.snapshot(t_s, sensors, control, motor_speeds)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::airframe::AirframeSource;
+
+    fn controller() -> FlightController {
+        let af = Airframe::from_source(&AirframeSource::resolve("quad_x").unwrap()).unwrap();
+        FlightController::new(&af, ControllerKind::Geometric, Home::default(), 1e-3).unwrap()
+    }
+
+    fn never_sensed() -> VehicleState {
+        panic!("failure injection must not sense the state")
+    }
+
+    #[test]
+    fn replies_say_what_the_plant_must_change() {
+        let mut fc = controller();
+        let inject = |rotor| Request::InjectRotorFailure { rotor, failed: true };
+        let denied = fc.request(inject(2), 0.0, never_sensed);
+        assert!(matches!(&denied.answer, Outcome::Denied(why) if why.contains("SYS_FAILURE_EN")));
+        assert_eq!(denied.plant, None);
+        let set = fc.set_param("SYS_FAILURE_EN", 1.0);
+        assert!(set.answer.is_ok());
+        assert_eq!(
+            set.plant,
+            Some(PlantChange::ProximityEffects {
+                ground: true,
+                ceiling: true
+            })
+        );
+        let refused = fc.set_param("NO_SUCH_PARAM", 1.0);
+        assert!(refused.answer.is_err() && refused.plant.is_none());
+        let accepted = fc.request(inject(2), 0.0, never_sensed);
+        assert_eq!(accepted.answer, Outcome::Accepted);
+        assert_eq!(
+            accepted.plant,
+            Some(PlantChange::Rotors {
+                rotors: 1..2,
+                failed: true
+            })
+        );
+        let none = fc.request(inject(5), 0.0, never_sensed);
+        assert!(matches!(&none.answer, Outcome::Denied(why) if why == "Failure injection: no motor 5 (1 to 4)"));
+    }
+
+    #[test]
+    fn commander_requests_see_the_sensed_state() {
+        let mut fc = controller();
+        let mut sensed = false;
+        let reply = fc.request(Request::Arm { force: false }, 0.0, || {
+            sensed = true;
+            VehicleState {
+                t_s: 0.0,
+                pos_w: Vec3::zeros(),
+                vel_w: Vec3::zeros(),
+                r_wb: crate::math::Mat3::identity(),
+                omega_b: Vec3::zeros(),
+            }
+        });
+        assert!(sensed);
+        assert_eq!(reply, Reply::only(Outcome::Accepted));
+        assert!(fc.commander().armed());
+    }
+}

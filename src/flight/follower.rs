@@ -1,0 +1,70 @@
+//! A bare flight core following a setpoint source, without commander, failsafes or battery: how
+//! `rotorpilot fly` (a take-off climb), `rotorpilot sim` (a scenario's trajectory) and Monte
+//! Carlo runs (a fixed hover) fly. Pure.
+
+use crate::control::FlatSetpoint;
+use crate::navigation::trajectory::Trajectory;
+use crate::navigation::ClimbProfile;
+use crate::sitl::Sensors;
+
+use super::{Control, FlightCore, Pilot};
+
+/// Where the setpoint of every tick comes from.
+pub trait SetpointSource {
+    /// The setpoint at simulated time `t_s` [s].
+    fn setpoint(&self, t_s: f64) -> FlatSetpoint;
+}
+
+/// A fixed setpoint (hold).
+impl SetpointSource for FlatSetpoint {
+    fn setpoint(&self, _t_s: f64) -> FlatSetpoint {
+        *self
+    }
+}
+
+/// The take-off climb and the hover at its end.
+impl SetpointSource for ClimbProfile {
+    fn setpoint(&self, t_s: f64) -> FlatSetpoint {
+        ClimbProfile::setpoint(self, t_s)
+    }
+}
+
+/// A scenario trajectory, sampled with its derivatives.
+impl SetpointSource for Trajectory {
+    fn setpoint(&self, t_s: f64) -> FlatSetpoint {
+        self.sample(t_s).setpoint()
+    }
+}
+
+/// A flight core flying the setpoints of `S`.
+#[derive(Debug, Clone)]
+pub struct SetpointFollower<S> {
+    /// The control law, allocation and estimator.
+    pub core: FlightCore,
+    /// Where the setpoints come from.
+    pub source: S,
+}
+
+impl<S: SetpointSource> SetpointFollower<S> {
+    /// `core` following `source`.
+    pub fn new(core: FlightCore, source: S) -> Self {
+        Self { core, source }
+    }
+}
+
+impl<S: SetpointSource> Pilot for SetpointFollower<S> {
+    type Report = ();
+
+    /// `FlightCore::step` on the sensed state and the source's setpoint.
+    fn control(&mut self, t_s: f64, sensors: &Sensors) -> Control {
+        let setpoint = self.source.setpoint(t_s);
+        Control {
+            rotors: self.core.allocator().rotor_count(),
+            step: Some(self.core.step(&sensors.state, &setpoint)),
+            setpoint: Some(setpoint),
+            events: Vec::new(),
+        }
+    }
+
+    fn report(&self, _t_s: f64, _sensors: &Sensors, _control: &Control, _motor_speeds: &[f64]) {}
+}

@@ -1,0 +1,70 @@
+//! What flies the plant, behind one interface ([`Pilot`]) the lockstep calls every tick:
+//!
+//! - [`FlightController`]: the autopilot's flight software: commander (modes, failsafes,
+//!   battery, land detector), flight core, parameter table, rotor-failure monitor and home;
+//! - [`SetpointFollower`]: a bare flight core following a setpoint source (a trajectory, a
+//!   take-off climb, a fixed hover), as scenario and Monte Carlo runs fly.
+//!
+//! Pure: values in (the sensed state and time), values out (rotor speeds, the controller step,
+//! events, the telemetry snapshot).
+//!
+//! # Layout
+//!
+//! - [`flight_core`]: one control tick: estimator → controller → allocation → estimator.
+//! - [`controller`]: the flight controller.
+//! - [`follower`]: the bare flight core and its setpoint sources.
+//! - [`rotor_monitor`]: what the flight controller knows of failed rotors, and failure injection.
+//! - [`snapshot`]: the telemetry snapshot of a tick (the one place it is built).
+
+pub mod controller;
+pub mod flight_core;
+pub mod follower;
+pub mod rotor_monitor;
+pub mod snapshot;
+
+use crate::allocation::RotorSpeeds;
+use crate::commander::Event;
+use crate::control::FlatSetpoint;
+use crate::sitl::Sensors;
+
+pub use controller::{FlightController, Reply, AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
+pub use flight_core::{vehicle_model, CoreError, CoreStep, FlightCore};
+pub use follower::{SetpointFollower, SetpointSource};
+
+/// What one control tick commands.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Control {
+    /// Rotor count.
+    pub rotors: usize,
+    /// The flight core's step; `None` while the motors are off.
+    pub step: Option<CoreStep>,
+    /// Setpoint flown, when one is.
+    pub setpoint: Option<FlatSetpoint>,
+    /// What the commander did on its own this tick (always empty for a bare flight core).
+    pub events: Vec<Event>,
+}
+
+impl Control {
+    /// Rotor speeds for the plant over the next step [rad/s]: the allocation's, or every rotor
+    /// stopped while the motors are off.
+    pub fn rotor_speeds(&self) -> RotorSpeeds {
+        match &self.step {
+            Some(step) => step.allocation.omega(),
+            None => RotorSpeeds::idle(self.rotors),
+        }
+    }
+}
+
+/// What flies the plant in a [`Lockstep`](crate::lockstep::Lockstep).
+pub trait Pilot {
+    /// What a tick publishes once the plant has stepped: the telemetry snapshot for the flight
+    /// controller, nothing for a bare flight core.
+    type Report;
+
+    /// One control tick at simulated time `t_s` [s] from what the plant sensed.
+    fn control(&mut self, t_s: f64, sensors: &Sensors) -> Control;
+
+    /// The tick's report once the plant has stepped with `control`, its rotors now turning at
+    /// `motor_speeds` [rad/s].
+    fn report(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Self::Report;
+}

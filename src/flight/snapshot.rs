@@ -1,0 +1,64 @@
+//! The telemetry [`Snapshot`] of one tick: the one place it is built from the flight
+//! controller's state (before the first tick, [`Snapshot::initial`] stands in). Pure.
+
+use crate::airframe::MAX_ROTORS;
+use crate::math::euler_zyx;
+use crate::sitl::Sensors;
+use crate::telemetry::{BatterySnapshot, EstimateSnapshot, Snapshot};
+
+use super::{Control, FlightController};
+
+impl FlightController {
+    /// What the links publish after a tick at simulated time `t_s` [s]: the sensed state,
+    /// commander state, the controller step of `control`, and the true rotor speeds
+    /// `motor_speeds` [rad/s] after the plant step.
+    pub fn snapshot(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Snapshot {
+        let x = &sensors.state;
+        let commander = self.commander();
+        let step = control.step.as_ref();
+        let progress = commander.mission_progress();
+        let mut rotor_speeds = [0.0; MAX_ROTORS];
+        for (slot, w) in rotor_speeds.iter_mut().zip(motor_speeds) {
+            *slot = *w;
+        }
+        let (gauge, pack) = commander.battery();
+        Snapshot {
+            t_s,
+            pos_w: x.pos_w,
+            vel_w: x.vel_w,
+            eta: euler_zyx(&x.r_wb),
+            omega_b: x.omega_b,
+            accel_b: sensors.accel_b,
+            armed: commander.armed(),
+            mode: commander.mode(),
+            landed: commander.landed_state(),
+            home: self.home(),
+            home_w: commander.home_w(),
+            geofence_breached: commander.geofence_breached(),
+            mission_seq: progress.0 as u16,
+            mission_total: progress.1 as u16,
+            mission_state: progress.2,
+            estimate: step.and_then(|s| s.estimate).map(|e| EstimateSnapshot {
+                force_w: e.force_w,
+                torque_b: e.torque_b,
+                mass_kg: e.mass_kg,
+            }),
+            setpoint: control.setpoint,
+            eta_desired: step.map(|s| s.control.eta_desired),
+            thrust_fraction: step.map_or(0.0, |s| {
+                s.allocation.applied.thrust_n / self.core().allocator().thrust_max_n()
+            }),
+            rotor_speeds,
+            rotor_count: self.rotor_count(),
+            rotor_max_rad_s: self.rotor_max_rad_s(),
+            battery: BatterySnapshot {
+                fraction: gauge.fraction(&pack),
+                cell_v: gauge.cell_voltage_v(&pack),
+                cells: pack.cells,
+                current_a: gauge.current_a(&pack),
+                consumed_mah: gauge.consumed_mah(&pack),
+                energy_j: gauge.used_j(),
+            },
+        }
+    }
+}
