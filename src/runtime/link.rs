@@ -126,12 +126,16 @@ pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
                 machine.handle_state(*io.snapshot.borrow());
                 machine.handle_event(io.now(), event);
             }
-            _ = tokio::time::sleep_until(deadline.into()) => {
-                machine.handle_state(*io.snapshot.borrow());
-                machine.handle_timeout(io.now());
-                io.signing.timestamp.store(machine.signing_timestamp(), Ordering::Relaxed);
-                io.signing.dropped.store(machine.signing_dropped(), Ordering::Relaxed);
-            }
+            _ = tokio::time::sleep_until(deadline.into()) => {}
+        }
+        // Duties are checked against the wall clock after every input, not only when the
+        // timer fires: under a flood the task never parks, and tokio's timer then advances late.
+        let now = io.now();
+        if now.wall_s >= machine.poll_timeout() {
+            machine.handle_state(*io.snapshot.borrow());
+            machine.handle_timeout(now);
+            io.signing.timestamp.store(machine.signing_timestamp(), Ordering::Relaxed);
+            io.signing.dropped.store(machine.signing_dropped(), Ordering::Relaxed);
         }
         drain(&mut machine, &io).await;
     }
