@@ -89,7 +89,8 @@ impl Commander {
     }
 
     /// No GCS heartbeat for `COM_DL_LOSS_T`: runs `NAV_DLL_ACT` once if flying (hold, return,
-    /// land, or 5/6 motors off); the result carries the announcement.
+    /// land, or 5/6 motors off). Always accepted; a reaction is announced as an
+    /// [`Event::Failsafe`] of the next tick.
     pub(super) fn gcs_link_lost(&mut self, x: &VehicleState, t_s: f64) -> Outcome {
         let action = self.params.link_loss_action;
         if action == LinkLossAction::Disabled || !self.armed || !self.in_air() {
@@ -102,6 +103,7 @@ impl Commander {
             LinkLossAction::Terminate | LinkLossAction::Disarm => self.disarm(),
             LinkLossAction::Disabled => {}
         }
-        Outcome::TemporarilyRejected(link_loss_text(action).to_string())
+        self.pending.push(Event::Failsafe(link_loss_text(action).to_string()));
+        Outcome::Accepted
     }
 }
