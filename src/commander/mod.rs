@@ -220,3 +220,60 @@ impl Commander {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::script::{Script, GROUND_Z_M};
+    use super::*;
+
+    #[test]
+    fn a_new_commander_is_disarmed_on_the_ground_in_auto_loiter_and_idles() {
+        let mut s = Script::new(CommanderParams::default());
+        assert!(!s.c.armed() && !s.c.in_air());
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+        assert_eq!(s.c.landed_state(), LandedState::OnGround);
+        assert_eq!(s.c.land_stage(), LandStage::Landed);
+        assert_eq!(s.c.home_w(), Vec3::zeros());
+        assert_eq!(s.c.mission_progress(), (0, 0, MissionState::NoMission));
+        assert!(s.fly(1.0).is_empty());
+        assert_eq!(s.last.as_ref().map(|t| (t.setpoint, t.attitude)), Some((None, None)));
+        assert_eq!(s.x.pos_w.z, GROUND_Z_M);
+    }
+
+    #[test]
+    fn the_landed_state_follows_a_flight_and_the_battery_drains_while_armed() {
+        let mut s = Script::new(CommanderParams::default());
+        s.power_w = 300.0;
+        s.fly(1.0);
+        assert_eq!(s.c.battery().0.used_j(), 0.0, "nothing drawn disarmed");
+        assert_eq!(s.request(Request::Takeoff { height_m: Some(4.0) }), Outcome::Accepted);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        let mut seen = vec![s.c.landed_state()];
+        let mut record = |s: &Script| {
+            if seen.last() != Some(&s.c.landed_state()) {
+                seen.push(s.c.landed_state());
+            }
+        };
+        assert!(s.fly_until(60.0, |s| {
+            record(s);
+            s.c.mode() == FlightMode::Loiter
+        }));
+        assert_eq!(s.request(Request::Land), Outcome::Accepted);
+        assert!(s.fly_until(60.0, |s| {
+            record(s);
+            !s.c.armed()
+        }));
+        use LandedState::*;
+        assert_eq!(seen, vec![OnGround, Takeoff, InAir, Landing, OnGround]);
+        let (gauge, pack) = s.c.battery();
+        assert!(gauge.used_j() > 0.0 && gauge.fraction(&pack) < 1.0);
+    }
+
+    #[test]
+    fn events_of_a_request_come_first_in_the_next_tick_even_disarmed() {
+        let mut s = Script::new(CommanderParams::default());
+        s.c.pending.push(Event::Failsafe("queued".into()));
+        assert_eq!(s.step(), vec![Event::Failsafe("queued".into())]);
+        assert!(s.step().is_empty(), "announced once");
+    }
+}

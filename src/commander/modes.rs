@@ -142,3 +142,89 @@ impl Commander {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::{Script, GROUND_Z_M};
+    use super::super::{CommanderParams, Event, FlightMode, LandedState, Outcome, Request};
+    use crate::math::Vec3;
+
+    #[test]
+    fn takeoff_climbs_to_its_height_then_holds_there_in_auto_loiter() {
+        let mut s = Script::new(CommanderParams::default());
+        assert_eq!(s.request(Request::Takeoff { height_m: Some(5.0) }), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Takeoff);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        assert!(s.fly_until(10.0, |s| s.c.landed_state() == LandedState::Takeoff));
+        assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
+        assert!((s.x.pos_w - Vec3::new(0.0, 0.0, -5.0)).norm() < 0.2, "{:?}", s.x.pos_w);
+        assert_eq!(s.c.landed_state(), LandedState::InAir);
+        let airborne = s.events.iter().position(|e| *e == Event::Airborne);
+        let loiter = s
+            .events
+            .iter()
+            .position(|e| *e == Event::ModeChanged(FlightMode::Loiter));
+        assert!(airborne.is_some() && airborne < loiter, "{:?}", s.events);
+        // Then it holds the take-off point.
+        assert!(s.fly(5.0).is_empty());
+        assert!((s.x.pos_w - Vec3::new(0.0, 0.0, -5.0)).norm() < 1e-9);
+    }
+
+    #[test]
+    fn land_descends_lands_and_disarms_after_com_disarm_land() {
+        let mut s = Script::new(CommanderParams::default());
+        s.airborne(8.0);
+        assert_eq!(
+            s.request(Request::Reposition {
+                north_m: Some(3.0),
+                east_m: Some(-2.0),
+                down_m: None,
+                yaw_rad: None,
+                speed_m_s: None,
+            }),
+            Outcome::Accepted
+        );
+        s.fly(10.0);
+        assert_eq!(s.request(Request::Land), Outcome::Accepted);
+        assert_eq!(s.c.landed_state(), LandedState::Landing);
+        assert!(s.fly_until(60.0, |s| s.c.landed_state() == LandedState::OnGround));
+        let landed_s = s.t();
+        assert!(s.c.armed() && s.events.contains(&Event::Landed));
+        assert!(
+            (s.x.pos_w - Vec3::new(3.0, -2.0, GROUND_Z_M)).norm() < 1e-6,
+            "lands where it was"
+        );
+        assert!(s.until_disarmed(5.0));
+        let after_s = s.t() - landed_s;
+        assert!(
+            (after_s - 2.0).abs() < 0.05,
+            "COM_DISARM_LAND 2 s, disarmed after {after_s} s"
+        );
+        assert_eq!(s.events.last(), Some(&Event::Disarmed("landed")));
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+    }
+
+    #[test]
+    fn mission_and_offboard_need_something_to_fly() {
+        let mut s = Script::new(CommanderParams::default());
+        let refused = |text: &str| Outcome::TemporarilyRejected(text.into());
+        assert_eq!(
+            s.request(Request::SetMode(FlightMode::Mission)),
+            refused("Mode AUTO.MISSION: no mission")
+        );
+        assert_eq!(
+            s.request(Request::SetMode(FlightMode::Offboard)),
+            refused("Mode OFFBOARD: no setpoint stream")
+        );
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+    }
+
+    #[test]
+    fn auto_takeoff_selected_in_the_air_goes_to_mis_takeoff_alt() {
+        let mut s = Script::new(CommanderParams::default());
+        s.airborne(6.0);
+        assert_eq!(s.request(Request::SetMode(FlightMode::Takeoff)), Outcome::Accepted);
+        assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
+        assert!((s.x.pos_w.z + 2.5).abs() < 0.2, "MIS_TAKEOFF_ALT: {:?}", s.x.pos_w);
+    }
+}

@@ -125,3 +125,128 @@ impl Commander {
         Outcome::Accepted
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::Script;
+    use super::super::{CommanderParams, FlightMode, MissionState, Outcome, Request};
+    use crate::math::{euler_zyx, Vec3};
+    use crate::navigation::{Mission, MissionItem};
+
+    fn to(north_m: f64, east_m: f64, down_m: Option<f64>, yaw_rad: Option<f64>) -> Request {
+        Request::Reposition {
+            north_m: Some(north_m),
+            east_m: Some(east_m),
+            down_m,
+            yaw_rad,
+            speed_m_s: None,
+        }
+    }
+
+    #[test]
+    fn reposition_is_refused_on_the_ground_and_flies_to_the_point_in_the_air() {
+        let mut s = Script::new(CommanderParams::default());
+        assert_eq!(
+            s.request(to(5.0, 0.0, None, None)),
+            Outcome::TemporarilyRejected("Reposition refused: not flying".into())
+        );
+        s.airborne(3.0);
+        assert_eq!(s.request(to(10.0, -5.0, Some(-6.0), Some(1.0))), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+        s.fly(20.0);
+        assert!(
+            (s.x.pos_w - Vec3::new(10.0, -5.0, -6.0)).norm() < 1e-6,
+            "{:?}",
+            s.x.pos_w
+        );
+        assert!((euler_zyx(&s.x.r_wb).z - 1.0).abs() < 1e-6);
+        // Unset coordinates keep the current ones.
+        let north_only = Request::Reposition {
+            north_m: Some(0.0),
+            east_m: None,
+            down_m: None,
+            yaw_rad: None,
+            speed_m_s: None,
+        };
+        assert_eq!(s.request(north_only), Outcome::Accepted);
+        s.fly(20.0);
+        assert!(
+            (s.x.pos_w - Vec3::new(0.0, -5.0, -6.0)).norm() < 1e-6,
+            "{:?}",
+            s.x.pos_w
+        );
+    }
+
+    #[test]
+    fn change_speed_refuses_bad_speeds_and_sets_the_cruise_speed() {
+        let mut s = Script::new(CommanderParams::default());
+        for v in [0.0, -1.0, f64::NAN, f64::INFINITY, 31.0] {
+            assert!(matches!(s.request(Request::ChangeSpeed(v)), Outcome::Denied(_)), "{v}");
+        }
+        assert_eq!(s.request(Request::ChangeSpeed(2.0)), Outcome::Accepted);
+        s.airborne(3.0);
+        assert_eq!(s.request(to(30.0, 0.0, None, None)), Outcome::Accepted);
+        let mut fastest: f64 = 0.0;
+        assert!(s.fly_until(60.0, |s| {
+            fastest = fastest.max(s.x.vel_w.xy().norm());
+            (s.x.pos_w.x - 30.0).abs() < 1e-6
+        }));
+        assert!(
+            fastest <= 2.0 + 1e-9 && fastest > 1.9,
+            "DO_CHANGE_SPEED 2 m/s: {fastest} m/s"
+        );
+    }
+
+    #[test]
+    fn takeoff_set_home_and_failure_injection_check_their_values() {
+        let mut s = Script::new(CommanderParams::default());
+        for h in [0.0, -2.0, 1001.0] {
+            let takeoff = Request::Takeoff { height_m: Some(h) };
+            assert!(matches!(s.request(takeoff), Outcome::Denied(_)), "{h}");
+        }
+        let bad_home = Request::SetHome(Some(Vec3::new(f64::NAN, 0.0, 0.0)));
+        assert!(matches!(s.request(bad_home), Outcome::Denied(_)));
+        assert_eq!(s.c.home_w(), Vec3::zeros());
+        let inject = Request::InjectRotorFailure { rotor: 1, failed: true };
+        assert!(matches!(s.request(inject), Outcome::Denied(_)));
+        s.airborne(3.0);
+        assert_eq!(
+            s.request(Request::Takeoff { height_m: None }),
+            Outcome::TemporarilyRejected("Takeoff refused: already flying".into())
+        );
+        assert_eq!(s.request(Request::SetHome(None)), Outcome::Accepted);
+        assert_eq!(s.c.home_w(), s.x.pos_w, "home here");
+    }
+
+    #[test]
+    fn a_mission_is_stored_started_from_an_item_and_replacing_it_leaves_auto_mission() {
+        let mut s = Script::new(CommanderParams::default());
+        assert!(matches!(
+            s.request(Request::StartMission { first: 0 }),
+            Outcome::Denied(_)
+        ));
+        let wp = |north_m| MissionItem::Waypoint {
+            pos_w: Vec3::new(north_m, 0.0, -4.0),
+            hold_s: 0.0,
+            accept_m: 0.5,
+            yaw_rad: None,
+        };
+        let mission = Mission {
+            items: vec![wp(5.0), wp(10.0)],
+        };
+        assert_eq!(s.request(Request::SetMission(mission)), Outcome::Accepted);
+        assert_eq!(s.c.mission_progress(), (0, 2, MissionState::NotStarted));
+        assert!(matches!(
+            s.request(Request::StartMission { first: 2 }),
+            Outcome::Denied(_)
+        ));
+        assert_eq!(s.request(Request::StartMission { first: 1 }), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Mission);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        s.fly(3.0);
+        assert_eq!(s.c.mission_progress(), (1, 2, MissionState::Active));
+        assert_eq!(s.request(Request::SetMission(Mission::default())), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+        assert_eq!(s.c.mission_progress(), (0, 0, MissionState::NoMission));
+    }
+}

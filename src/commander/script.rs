@@ -58,11 +58,6 @@ impl Script {
         self.x.t_s
     }
 
-    /// Height above the ground [m].
-    pub fn height(&self) -> f64 {
-        GROUND_Z_M - self.x.pos_w.z
-    }
-
     /// Sends `request` now.
     pub fn request(&mut self, request: Request) -> Outcome {
         self.c.request(request, &self.x, self.x.t_s)
