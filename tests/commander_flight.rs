@@ -437,14 +437,15 @@ fn gcs_link_loss_runs_nav_dll_act_in_flight_only() {
             Some(mode) => assert_eq!(sim.commander().mode(), mode, "NAV_DLL_ACT {action:?}"),
             None => assert!(!sim.commander().armed(), "NAV_DLL_ACT {action:?} disarms"),
         }
-        if action == LinkLossAction::Disabled {
-            assert_eq!(outcome, Outcome::Accepted);
-        } else {
-            assert!(
-                matches!(&outcome, Outcome::TemporarilyRejected(t) if t.starts_with("GCS link lost")),
-                "{outcome:?}"
-            );
-        }
+        assert_eq!(outcome, Outcome::Accepted);
+        // The reaction is announced as an event of the next tick.
+        sim.events.clear();
+        sim.run(0.001);
+        let announced = sim
+            .events
+            .iter()
+            .any(|e| matches!(e, Event::Failsafe(t) if t.starts_with("GCS link lost")));
+        assert_eq!(announced, action != LinkLossAction::Disabled, "NAV_DLL_ACT {action:?}");
         if action == LinkLossAction::Return {
             // Up to RTL_RETURN_ALT (60 m), back over home, down at MPC_LAND_SPEED, auto-disarm.
             sim.run(200.0);

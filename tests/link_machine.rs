@@ -5,7 +5,7 @@
 
 use mavlink::dialects::common::*;
 use mavlink::{MavHeader, Message};
-use rotorpilot::commander::{FlightMode, Outcome, Request};
+use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
 use rotorpilot::control::{ControllerGains, ControllerKind};
 use rotorpilot::mav::codec::{decode_datagram, encode_v2, frame_message, Inbound};
 use rotorpilot::mav::link::{LinkConfig, LinkMachine, Now, ToVehicle, VehicleReply, VehicleRequest};
@@ -357,14 +357,21 @@ fn link_loss_needs_silence_in_wall_and_simulated_time_and_fires_once() {
     let asks = b.asks();
     assert_eq!(asks.len(), 1);
     assert_eq!(asks[0].request, VehicleRequest::Commander(Request::GcsLinkLost));
+    assert_eq!(asks[0].token, None, "no answer is awaited");
     b.at(13.0, 11.0);
     assert!(b.asks().is_empty(), "once per loss");
-    b.m.handle_reply(
-        b.now,
-        asks[0].token.unwrap(),
-        VehicleReply::Outcome(Outcome::TemporarilyRejected("Link lost: returning".into())),
+    // The reaction comes back as a commander event, announced on every link like every event.
+    b.m.handle_event(b.now, Event::Failsafe("GCS link lost: returning".into()));
+    let out = b.out();
+    let texts = named(&out, "STATUSTEXT");
+    let said = |m: &MavMessage| {
+        matches!(m, MavMessage::STATUSTEXT(t) if t.severity == MavSeverity::MAV_SEVERITY_CRITICAL
+            && t.text.to_str().unwrap() == "GCS link lost: returning")
+    };
+    assert!(
+        texts.iter().any(|(link, to, m)| (*link, *to) == (Gcs, QGC) && said(m)),
+        "{texts:?}"
     );
-    assert_eq!(named(&b.out(), "STATUSTEXT").len(), 1);
     // A heartbeat ends the loss; the next silence fires again.
     b.send(Gcs, QGC, gcs_heartbeat());
     b.at(13.1, 11.1);

@@ -221,3 +221,115 @@ impl Commander {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::{Script, GROUND_Z_M};
+    use super::super::{CommanderParams, Event, Outcome, Request};
+    use super::*;
+
+    fn flown(items: Vec<MissionItem>) -> Script {
+        let mut s = Script::new(CommanderParams::default());
+        assert_eq!(s.request(Request::SetMission(Mission { items })), Outcome::Accepted);
+        assert_eq!(s.request(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        s
+    }
+
+    /// The mission events, in order.
+    fn mission_events(s: &Script) -> Vec<Event> {
+        s.events
+            .iter()
+            .filter(|e| matches!(e, Event::MissionItemReached(_) | Event::MissionCurrent(_)))
+            .cloned()
+            .collect()
+    }
+
+    #[test]
+    fn a_mission_takes_off_flies_its_items_in_order_and_lands_on_the_last() {
+        let mut s = flown(vec![
+            MissionItem::Takeoff { height_m: 5.0 },
+            MissionItem::Waypoint {
+                pos_w: Vec3::new(10.0, 0.0, -5.0),
+                hold_s: 1.0,
+                accept_m: 0.5,
+                yaw_rad: Some(0.5),
+            },
+            MissionItem::LoiterTime {
+                pos_w: Vec3::new(10.0, 10.0, -5.0),
+                seconds: 2.0,
+            },
+            MissionItem::Land {
+                pos_w: Some(Vec3::new(0.0, 10.0, 0.0)),
+            },
+        ]);
+        assert!(s.until_disarmed(120.0), "{:?}", s.events);
+        use Event::{MissionCurrent as Current, MissionItemReached as Reached};
+        assert_eq!(
+            mission_events(&s),
+            vec![
+                Reached(0),
+                Current(1),
+                Reached(1),
+                Current(2),
+                Reached(2),
+                Current(3),
+                Reached(3)
+            ]
+        );
+        assert_eq!(s.c.mission_progress(), (3, 4, MissionState::Complete));
+        assert!(
+            (s.x.pos_w - Vec3::new(0.0, 10.0, GROUND_Z_M)).norm() < 1e-6,
+            "{:?}",
+            s.x.pos_w
+        );
+        assert_eq!(s.events.last(), Some(&Event::Disarmed("landed")));
+    }
+
+    #[test]
+    fn a_mission_started_on_the_ground_climbs_first_and_loiters_after_the_last_item() {
+        let mut s = flown(vec![MissionItem::Waypoint {
+            pos_w: Vec3::new(8.0, 0.0, -4.0),
+            hold_s: 0.0,
+            accept_m: 0.5,
+            yaw_rad: None,
+        }]);
+        let mut straight_up = true;
+        assert!(s.fly_until(20.0, |s| {
+            straight_up &= s.x.pos_w.x.abs() < 1e-9;
+            s.x.pos_w.z < -4.0 + 1e-6
+        }));
+        assert!(straight_up, "climbs to the item's height before it travels");
+        assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
+        assert_eq!(
+            mission_events(&s),
+            vec![Event::MissionItemReached(0)],
+            "no MISSION_CURRENT past the last item"
+        );
+        assert!(s.events.contains(&Event::ModeChanged(FlightMode::Loiter)));
+        assert!((s.x.pos_w - Vec3::new(8.0, 0.0, -4.0)).norm() < 1e-6);
+        assert_eq!(s.c.mission_progress(), (0, 1, MissionState::Complete));
+    }
+
+    #[test]
+    fn a_return_item_ends_the_mission_in_auto_rtl_and_another_mode_pauses_it() {
+        let mut s = flown(vec![
+            MissionItem::Takeoff { height_m: 3.0 },
+            MissionItem::ChangeSpeed { speed_m_s: 2.0 },
+            MissionItem::Delay { seconds: 1.0 },
+            MissionItem::ReturnToLaunch,
+        ]);
+        assert!(s.fly_until(30.0, |s| s.c.mode() == FlightMode::ReturnToLaunch));
+        assert_eq!(s.c.mission_progress(), (3, 4, MissionState::Complete));
+        assert!(s.events.contains(&Event::ModeChanged(FlightMode::ReturnToLaunch)));
+        let mut s = flown(vec![MissionItem::Waypoint {
+            pos_w: Vec3::new(30.0, 0.0, -4.0),
+            hold_s: 0.0,
+            accept_m: 0.5,
+            yaw_rad: None,
+        }]);
+        s.fly(8.0);
+        assert_eq!(s.request(Request::SetMode(FlightMode::Loiter)), Outcome::Accepted);
+        assert_eq!(s.c.mission_progress().2, MissionState::Paused);
+    }
+}

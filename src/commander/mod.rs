@@ -1,9 +1,14 @@
 //! The commander (PX4 semantics): armed state, flight mode, landed state, take-off / hold /
 //! land / return / mission / offboard, all on simulated time. Pure: requests and the vehicle
-//! state in, a result and a setpoint out.
+//! state in, an outcome, a setpoint and events out.
 //!
 //! # Layout
-//! - `mod.rs`: requests, modes and their guidance, the tick.
+//! - `mod.rs`: the [`Commander`] struct, its accessors and the tick ([`Commander::update`]).
+//! - `requests.rs`: [`Commander::request`] and the small requests (take-off, reposition, change
+//!   speed, set home, set / start mission, the offboard setpoint store).
+//! - `arming.rs`: arm and disarm, and their refusals.
+//! - `modes.rs`: mode switches, each mode's guidance, paths and descents, take-off completion.
+//! - `rtl.rs`: AUTO.RTL's phases (climb, return, descend).
 //! - `messages.rs`: requests, outcomes, events, landed state; `params.rs`: the settings.
 //! - [`land_detector`]: on the ground or in the air, from what the vehicle does.
 //! - `landing.rs`: what the verdict changes: touch-down thrust cut, idle on the ground,
@@ -14,11 +19,14 @@
 //! - `failsafe.rs`, `battery.rs`, `mode.rs`: geofence/battery monitor, energy gauge, PX4 modes.
 //! - `actions.rs`: the failsafe parameters' actions (`NAV_DLL_ACT`, `COM_OBL_RC_ACT`,
 //!   `GF_ACTION`, `COM_LOW_BAT_ACT`) as enums with PX4's codes.
+//! - `script.rs` (tests only): a commander flying a vehicle that tracks its setpoints exactly.
 //!
 //! Home is the local NED origin. Wrong-state results follow PX4 (TEMPORARILY_REJECTED when
-//! waiting can fix it, DENIED for bad values).
+//! waiting can fix it, DENIED for bad values). What the commander does on its own (also in
+//! answer to a request, as a link-loss reaction) is an [`Event`] of the next tick.
 
 mod actions;
+mod arming;
 mod battery;
 mod failsafe;
 pub mod land_detector;
@@ -26,9 +34,14 @@ mod landing;
 mod messages;
 mod mission_run;
 mod mode;
+mod modes;
 mod offboard;
 mod params;
 mod reactions;
+mod requests;
+mod rtl;
+#[cfg(test)]
+mod script;
 
 pub use actions::{GeofenceAction, LinkLossAction, LowBatteryAction, OffboardLossAction, UnknownAction};
 pub use battery::{BatteryGauge, BatteryParams};
@@ -42,16 +55,15 @@ pub use params::CommanderParams;
 use land_detector::LandDetector;
 use landing::Command;
 use mission_run::MissionRun;
-use offboard::{Offboard, OffboardTarget};
+use offboard::Offboard;
+use rtl::RtlPhase;
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{DescentProfile, Guidance, MotionLimits};
+use crate::navigation::Guidance;
 
 /// Tick length assumed before the second tick [s].
 const DEFAULT_DT_S: f64 = 0.001;
-/// Take-off is complete within this distance of the target [m].
-const TAKEOFF_ACCEPT_M: f64 = 0.2;
 
 /// Armed state, mode and guidance of one vehicle.
 #[derive(Debug, Clone, PartialEq)]
@@ -76,14 +88,8 @@ pub struct Commander {
     failsafes: FailsafeMonitor,
     battery: BatteryGauge,
     last_update_s: Option<f64>,
-}
-
-/// RTL phases.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum RtlPhase {
-    Climb,
-    Return,
-    Descend,
+    /// Events of a request's reaction, announced at the start of the next tick.
+    pending: Vec<Event>,
 }
 
 impl Commander {
@@ -107,28 +113,8 @@ impl Commander {
             failsafes: FailsafeMonitor::default(),
             battery: BatteryGauge::default(),
             last_update_s: None,
+            pending: Vec::new(),
         }
-    }
-
-    /// Horizontal speed of the AUTO modes [m/s]: DO_CHANGE_SPEED's, else `MPC_XY_CRUISE`.
-    fn cruise_speed(&self) -> f64 {
-        self.speed_override.unwrap_or(self.params.cruise_speed_m_s)
-    }
-
-    /// Path limits for a horizontal speed of `horizontal_m_s` [m/s], capped at
-    /// `MPC_XY_VEL_MAX`; every other limit as set.
-    fn limits(&self, horizontal_m_s: f64) -> MotionLimits {
-        MotionLimits {
-            horizontal_m_s: horizontal_m_s.min(self.params.motion.horizontal_m_s),
-            ..self.params.motion
-        }
-    }
-
-    /// A path at the cruise speed from where the vehicle is to `to_w` [m], ending at heading
-    /// `to_yaw_rad` [rad] (turned the short way within `MPC_YAWRAUTO_MAX`).
-    fn path_to(&self, x: &VehicleState, to_w: Vec3, to_yaw_rad: f64, speed_m_s: f64, t_s: f64) -> Guidance {
-        let yaw = euler_zyx(&x.r_wb).z;
-        Guidance::path(x.pos_w, to_w, yaw, to_yaw_rad, &self.limits(speed_m_s), t_s)
     }
 
     /// The local NED point RTL returns to [m].
@@ -180,235 +166,16 @@ impl Commander {
         }
     }
 
-    /// Handles `request` at simulated time `t_s` [s] with the vehicle in state `x`.
-    pub fn request(&mut self, request: Request, x: &VehicleState, t_s: f64) -> Outcome {
-        match request {
-            Request::Arm { force } => self.arm(force, x, t_s),
-            Request::Disarm { force } => {
-                if self.in_air() && !force {
-                    return Outcome::TemporarilyRejected("Disarm refused: vehicle in the air".into());
-                }
-                self.disarm();
-                Outcome::Accepted
-            }
-            Request::SetMode(mode) => self.set_mode(mode, x, t_s),
-            Request::Takeoff { height_m } => {
-                if self.in_air() {
-                    return Outcome::TemporarilyRejected("Takeoff refused: already flying".into());
-                }
-                let h = height_m.unwrap_or(self.params.takeoff_alt_m);
-                if !(h.is_finite() && h > 0.0 && h <= 1000.0) {
-                    return Outcome::Denied(format!("Takeoff refused: height {h} m"));
-                }
-                self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
-                self.enter(FlightMode::Takeoff, x, t_s);
-                Outcome::Accepted
-            }
-            Request::Land => self.set_mode(FlightMode::Land, x, t_s),
-            Request::ReturnToLaunch => self.set_mode(FlightMode::ReturnToLaunch, x, t_s),
-            Request::OffboardSetpoint { setpoint, body_frame } => {
-                self.offboard.latest = Some((OffboardTarget::Flat(setpoint, body_frame), t_s));
-                Outcome::Accepted
-            }
-            Request::OffboardAttitude(target) => {
-                self.offboard.latest = Some((OffboardTarget::Attitude(target), t_s));
-                Outcome::Accepted
-            }
-            Request::SetMission(mission) => {
-                self.mission.replace(mission);
-                if self.mode == FlightMode::Mission {
-                    self.enter(FlightMode::Loiter, x, t_s);
-                }
-                Outcome::Accepted
-            }
-            Request::Reposition {
-                north_m,
-                east_m,
-                down_m,
-                yaw_rad,
-                speed_m_s,
-            } => {
-                if !self.in_air() {
-                    return Outcome::TemporarilyRejected("Reposition refused: not flying".into());
-                }
-                let target = Vec3::new(
-                    north_m.unwrap_or(x.pos_w.x),
-                    east_m.unwrap_or(x.pos_w.y),
-                    down_m.unwrap_or(x.pos_w.z),
-                );
-                if !target.iter().all(|v| v.is_finite()) {
-                    return Outcome::Denied("Reposition refused: bad target".into());
-                }
-                self.enter(FlightMode::Loiter, x, t_s);
-                let yaw = yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z);
-                let speed = speed_m_s.filter(|v| *v > 0.0).unwrap_or(self.cruise_speed());
-                self.guidance = self.path_to(x, target, yaw, speed, t_s);
-                Outcome::Accepted
-            }
-            Request::ChangeSpeed(v) => {
-                if !(v.is_finite() && v > 0.0 && v <= 30.0) {
-                    return Outcome::Denied(format!("Change speed refused: {v} m/s"));
-                }
-                self.speed_override = Some(v);
-                Outcome::Accepted
-            }
-            Request::SetHome(p) => {
-                let p = p.unwrap_or(x.pos_w);
-                if !p.iter().all(|v| v.is_finite()) {
-                    return Outcome::Denied("Set home refused: bad position".into());
-                }
-                self.home_w = p;
-                Outcome::Accepted
-            }
-            Request::GcsLinkLost => self.gcs_link_lost(x, t_s),
-            Request::InjectRotorFailure { .. } => {
-                Outcome::Denied("Failure injection is applied by the vehicle, not the commander".into())
-            }
-            Request::StartMission { first } => {
-                if first >= self.mission.mission.len() {
-                    return Outcome::Denied(format!("Mission start: no item {first}"));
-                }
-                self.mission.seq = first;
-                if self.mission.state == MissionState::Complete {
-                    self.mission.state = MissionState::NotStarted;
-                }
-                self.set_mode(FlightMode::Mission, x, t_s)
-            }
-        }
-    }
-
-    fn arm(&mut self, force: bool, x: &VehicleState, t_s: f64) -> Outcome {
-        if self.armed {
-            return Outcome::Accepted;
-        }
-        if !force {
-            match self.mode {
-                FlightMode::Mission if self.mission.mission.is_empty() => {
-                    return Outcome::TemporarilyRejected("Arming denied: no mission".into())
-                }
-                FlightMode::Offboard if !self.offboard_alive(t_s) => {
-                    return Outcome::TemporarilyRejected("Arming denied: no offboard setpoints".into())
-                }
-                FlightMode::Land | FlightMode::ReturnToLaunch => {
-                    return Outcome::TemporarilyRejected(format!("Arming denied: not in {}", self.mode.name()))
-                }
-                _ => {}
-            }
-        }
-        self.armed = true;
-        self.armed_at_s = t_s;
-        self.took_off = !self.detector.landed();
-        self.enter(self.mode, x, t_s);
-        Outcome::Accepted
-    }
-
-    /// Motors off (explicit disarm, auto-disarm on the ground, or a termination).
-    fn disarm(&mut self) {
-        self.armed = false;
-        self.guidance = Guidance::Idle;
-        self.climbing_out = false;
-        if matches!(
-            self.mode,
-            FlightMode::Takeoff | FlightMode::Land | FlightMode::ReturnToLaunch
-        ) {
-            self.mode = FlightMode::Loiter;
-        }
-    }
-
-    fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
-        match mode {
-            FlightMode::Mission if self.mission.mission.is_empty() => {
-                Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into())
-            }
-            FlightMode::Offboard if !self.offboard_alive(t_s) => {
-                Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into())
-            }
-            FlightMode::Takeoff if self.takeoff_target_w.is_none() || self.in_air() => {
-                let h = self.params.takeoff_alt_m;
-                self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
-                self.enter(mode, x, t_s);
-                Outcome::Accepted
-            }
-            _ => {
-                self.enter(mode, x, t_s);
-                Outcome::Accepted
-            }
-        }
-    }
-
-    /// Switches to `mode` and sets its guidance from the current state.
-    fn enter(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) {
-        if self.mode == FlightMode::Mission && mode != FlightMode::Mission && self.mission.state == MissionState::Active
-        {
-            self.mission.state = MissionState::Paused;
-        }
-        self.mode = mode;
-        self.climbing_out = false;
-        self.offboard.limiter = None;
-        let yaw = euler_zyx(&x.r_wb).z;
-        let on_ground = !self.in_air();
-        let hold = Guidance::Hold {
-            pos_w: x.pos_w,
-            yaw_rad: yaw,
-        };
-        self.guidance = if !self.armed {
-            Guidance::Idle
-        } else {
-            match mode {
-                FlightMode::Takeoff => {
-                    let target = self
-                        .takeoff_target_w
-                        .unwrap_or(x.pos_w - Vec3::new(0.0, 0.0, self.params.takeoff_alt_m));
-                    self.climbing_out = true;
-                    self.path_to(x, target, yaw, self.cruise_speed(), t_s)
-                }
-                FlightMode::Land => self.descend(x, yaw, t_s),
-                FlightMode::ReturnToLaunch => {
-                    self.rtl_phase = RtlPhase::Climb;
-                    let z = x.pos_w.z.min(self.home_w.z - self.params.rtl_return_alt_m);
-                    self.path_to(x, Vec3::new(x.pos_w.x, x.pos_w.y, z), yaw, self.cruise_speed(), t_s)
-                }
-                FlightMode::Mission => {
-                    // The mission's first tick sets the item's guidance.
-                    self.mission.start();
-                    if on_ground {
-                        Guidance::Idle
-                    } else {
-                        hold
-                    }
-                }
-                // Armed on the ground in a hold mode: motors idle until a take-off.
-                _ if on_ground => Guidance::Idle,
-                _ => hold,
-            }
-        };
-    }
-
-    fn descend(&self, x: &VehicleState, yaw: f64, t_s: f64) -> Guidance {
-        Guidance::Descend {
-            xy_w: x.pos_w,
-            yaw_rad: yaw,
-            z_start_m: x.pos_w.z,
-            start_s: t_s,
-            profile: DescentProfile {
-                fast_m_s: self.params.motion.down_m_s,
-                land_m_s: self.params.land_speed_m_s,
-                slow_from_m: self.params.land_alt1_m,
-                land_from_m: self.params.land_alt2_m,
-                acc_m_s2: self.params.motion.acc_down_m_s2,
-            },
-        }
-    }
-
     /// One tick at simulated time `t_s` [s] with the vehicle in state `x` and the last tick's
-    /// collective thrust over the believed weight `thrust_over_weight` [-]: mode progress, then
-    /// land detection, touch-down and auto-disarm (see [`land_detector`]), then what to fly.
+    /// collective thrust over the believed weight `thrust_over_weight` [-]: the events pending
+    /// from requests first, then mode progress, then land detection, touch-down and auto-disarm
+    /// (see [`land_detector`]), then what to fly.
     pub fn update(&mut self, x: &VehicleState, thrust_over_weight: f64, t_s: f64) -> CommanderTick {
         let dt_s = self
             .last_update_s
             .map_or(DEFAULT_DT_S, |last| (t_s - last).clamp(1e-6, 0.1));
         self.last_update_s = Some(t_s);
-        let mut events = Vec::new();
+        let mut events = std::mem::take(&mut self.pending);
         if !self.armed {
             self.detect_landing(x, Command::Idle, thrust_over_weight, t_s, &mut events);
             return CommanderTick::idle(events);
@@ -416,18 +183,7 @@ impl Commander {
         let yaw = euler_zyx(&x.r_wb).z;
         let command = match self.mode {
             FlightMode::Takeoff => {
-                let near = self
-                    .takeoff_target_w
-                    .is_none_or(|p| (x.pos_w - p).norm() < TAKEOFF_ACCEPT_M);
-                if self.guidance.finished(t_s) && near {
-                    self.mode = FlightMode::Loiter;
-                    self.climbing_out = false;
-                    self.guidance = Guidance::Hold {
-                        pos_w: self.takeoff_target_w.unwrap_or(x.pos_w),
-                        yaw_rad: yaw,
-                    };
-                    events.push(Event::ModeChanged(FlightMode::Loiter));
-                }
+                self.complete_takeoff(x, yaw, t_s, &mut events);
                 None
             }
             FlightMode::ReturnToLaunch => {
@@ -463,22 +219,61 @@ impl Commander {
             Command::Idle => CommanderTick::idle(events),
         }
     }
+}
 
-    fn advance_rtl(&mut self, x: &VehicleState, yaw: f64, t_s: f64) {
-        if !self.guidance.finished(t_s) {
-            return;
-        }
-        match self.rtl_phase {
-            RtlPhase::Climb => {
-                self.rtl_phase = RtlPhase::Return;
-                let home_at_alt = Vec3::new(self.home_w.x, self.home_w.y, x.pos_w.z);
-                self.guidance = self.path_to(x, home_at_alt, yaw, self.cruise_speed(), t_s);
+#[cfg(test)]
+mod tests {
+    use super::script::{Script, GROUND_Z_M};
+    use super::*;
+
+    #[test]
+    fn a_new_commander_is_disarmed_on_the_ground_in_auto_loiter_and_idles() {
+        let mut s = Script::new(CommanderParams::default());
+        assert!(!s.c.armed() && !s.c.in_air());
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+        assert_eq!(s.c.landed_state(), LandedState::OnGround);
+        assert_eq!(s.c.land_stage(), LandStage::Landed);
+        assert_eq!(s.c.home_w(), Vec3::zeros());
+        assert_eq!(s.c.mission_progress(), (0, 0, MissionState::NoMission));
+        assert!(s.fly(1.0).is_empty());
+        assert_eq!(s.last.as_ref().map(|t| (t.setpoint, t.attitude)), Some((None, None)));
+        assert_eq!(s.x.pos_w.z, GROUND_Z_M);
+    }
+
+    #[test]
+    fn the_landed_state_follows_a_flight_and_the_battery_drains_while_armed() {
+        let mut s = Script::new(CommanderParams::default());
+        s.power_w = 300.0;
+        s.fly(1.0);
+        assert_eq!(s.c.battery().0.used_j(), 0.0, "nothing drawn disarmed");
+        assert_eq!(s.request(Request::Takeoff { height_m: Some(4.0) }), Outcome::Accepted);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        let mut seen = vec![s.c.landed_state()];
+        let mut record = |s: &Script| {
+            if seen.last() != Some(&s.c.landed_state()) {
+                seen.push(s.c.landed_state());
             }
-            RtlPhase::Return => {
-                self.rtl_phase = RtlPhase::Descend;
-                self.guidance = self.descend(x, yaw, t_s);
-            }
-            RtlPhase::Descend => {}
-        }
+        };
+        assert!(s.fly_until(60.0, |s| {
+            record(s);
+            s.c.mode() == FlightMode::Loiter
+        }));
+        assert_eq!(s.request(Request::Land), Outcome::Accepted);
+        assert!(s.fly_until(60.0, |s| {
+            record(s);
+            !s.c.armed()
+        }));
+        use LandedState::*;
+        assert_eq!(seen, vec![OnGround, Takeoff, InAir, Landing, OnGround]);
+        let (gauge, pack) = s.c.battery();
+        assert!(gauge.used_j() > 0.0 && gauge.fraction(&pack) < 1.0);
+    }
+
+    #[test]
+    fn events_of_a_request_come_first_in_the_next_tick_even_disarmed() {
+        let mut s = Script::new(CommanderParams::default());
+        s.c.pending.push(Event::Failsafe("queued".into()));
+        assert_eq!(s.step(), vec![Event::Failsafe("queued".into())]);
+        assert!(s.step().is_empty(), "announced once");
     }
 }

@@ -111,3 +111,81 @@ fn heading_to_world(sp: FlatSetpoint, yaw: f64) -> FlatSetpoint {
         ..sp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::Script;
+    use super::super::{CommanderParams, Outcome, Request};
+    use super::*;
+
+    fn stream(s: &mut Script, setpoint: FlatSetpoint, seconds: f64) {
+        let request = Request::OffboardSetpoint {
+            setpoint,
+            body_frame: false,
+        };
+        for _ in 0..(seconds / super::super::script::DT_S).round() as usize {
+            assert_eq!(s.request(request.clone()), Outcome::Accepted);
+            s.step();
+        }
+    }
+
+    #[test]
+    fn offboard_flies_the_stream_from_the_ground_and_its_loss_runs_com_obl_rc_act() {
+        for (action, expect) in [
+            (OffboardLossAction::Position, Some(FlightMode::Position)),
+            (OffboardLossAction::Return, Some(FlightMode::ReturnToLaunch)),
+            (OffboardLossAction::Land, Some(FlightMode::Land)),
+            (OffboardLossAction::Hold, Some(FlightMode::Loiter)),
+            (OffboardLossAction::Disarm, None),
+        ] {
+            let mut s = Script::new(CommanderParams {
+                offboard_loss_action: action,
+                ..Default::default()
+            });
+            let target = FlatSetpoint::hold(Vec3::new(2.0, 1.0, -3.0), 0.0);
+            stream(&mut s, target, 0.1);
+            assert_eq!(s.request(Request::SetMode(FlightMode::Offboard)), Outcome::Accepted);
+            assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+            stream(&mut s, target, 10.0);
+            assert!(s.c.in_air(), "{action:?}");
+            assert!((s.x.pos_w - Vec3::new(2.0, 1.0, -3.0)).norm() < 0.01, "{:?}", s.x.pos_w);
+            s.events.clear();
+            s.fly(0.9);
+            assert_eq!(s.c.mode(), FlightMode::Offboard, "within COM_OF_LOSS_T");
+            s.fly(0.2);
+            assert_eq!(s.events.first(), Some(&Event::OffboardLost), "{action:?}");
+            match expect {
+                Some(mode) => {
+                    assert_eq!(s.c.mode(), mode, "{action:?}");
+                    assert_eq!(s.events[1], Event::ModeChanged(mode));
+                }
+                None => {
+                    assert!(!s.c.armed());
+                    assert_eq!(s.events[1], Event::Disarmed("offboard lost (COM_OBL_RC_ACT)"));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_refreshed_stream_stays_alive_and_heading_frame_vectors_turn_with_the_heading() {
+        let mut s = Script::new(CommanderParams::default());
+        s.airborne(3.0);
+        let here = FlatSetpoint::hold(s.x.pos_w, 0.0);
+        stream(&mut s, here, 0.1);
+        assert_eq!(s.request(Request::SetMode(FlightMode::Offboard)), Outcome::Accepted);
+        for _ in 0..300 {
+            s.c.refresh_offboard(s.t());
+            s.step();
+        }
+        assert_eq!(s.c.mode(), FlightMode::Offboard, "refreshed in wall time");
+        let sp = FlatSetpoint {
+            vel_w: Some(Vec3::new(1.0, 0.0, 0.5)),
+            acc_w: Some(Vec3::new(0.0, 2.0, 0.0)),
+            ..Default::default()
+        };
+        let w = heading_to_world(sp, std::f64::consts::FRAC_PI_2);
+        assert!((w.vel_w.unwrap_or_default() - Vec3::new(0.0, 1.0, 0.5)).norm() < 1e-12);
+        assert!((w.acc_w.unwrap_or_default() - Vec3::new(-2.0, 0.0, 0.0)).norm() < 1e-12);
+    }
+}

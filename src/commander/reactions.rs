@@ -89,7 +89,8 @@ impl Commander {
     }
 
     /// No GCS heartbeat for `COM_DL_LOSS_T`: runs `NAV_DLL_ACT` once if flying (hold, return,
-    /// land, or 5/6 motors off); the result carries the announcement.
+    /// land, or 5/6 motors off). Always accepted; a reaction is announced as an
+    /// [`Event::Failsafe`] of the next tick.
     pub(super) fn gcs_link_lost(&mut self, x: &VehicleState, t_s: f64) -> Outcome {
         let action = self.params.link_loss_action;
         if action == LinkLossAction::Disabled || !self.armed || !self.in_air() {
@@ -102,6 +103,141 @@ impl Commander {
             LinkLossAction::Terminate | LinkLossAction::Disarm => self.disarm(),
             LinkLossAction::Disabled => {}
         }
-        Outcome::TemporarilyRejected(link_loss_text(action).to_string())
+        self.pending.push(Event::Failsafe(link_loss_text(action).to_string()));
+        Outcome::Accepted
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::Script;
+    use super::super::{BatteryParams, CommanderParams, FailsafeParams, GeofenceAction, LowBatteryAction, Request};
+    use super::*;
+    use crate::math::Vec3;
+    use crate::navigation::{Mission, MissionItem};
+
+    fn failsafe_starting(s: &Script, prefix: &str) -> bool {
+        s.events
+            .iter()
+            .any(|e| matches!(e, Event::Failsafe(t) if t.starts_with(prefix)))
+    }
+
+    #[test]
+    fn a_geofence_breach_holds_where_it_happened() {
+        let mut s = Script::new(CommanderParams {
+            failsafe: FailsafeParams {
+                geofence_action: GeofenceAction::Hold,
+                geofence_max_hor_m: 10.0,
+                ..Default::default()
+            },
+            ..Default::default()
+        });
+        // A mission leg out through the fence (a DO_REPOSITION in AUTO.LOITER is not stopped:
+        // the hold action does not restart the mode already running).
+        let leg = MissionItem::Waypoint {
+            pos_w: Vec3::new(30.0, 0.0, -3.0),
+            hold_s: 0.0,
+            accept_m: 0.5,
+            yaw_rad: None,
+        };
+        let mission = Mission { items: vec![leg] };
+        assert_eq!(s.request(Request::SetMission(mission)), Outcome::Accepted);
+        assert_eq!(s.request(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        s.events.clear();
+        assert!(s.fly_until(20.0, |s| s.c.geofence_breached()));
+        let breached_at = s.x.pos_w;
+        assert!(failsafe_starting(&s, "Geofence breached"), "{:?}", s.events);
+        assert_eq!(s.events.last(), Some(&Event::ModeChanged(FlightMode::Loiter)));
+        s.fly(10.0);
+        assert!((s.x.pos_w - breached_at).norm() < 1e-9, "holds: {:?}", s.x.pos_w);
+        assert!(s.x.pos_w.x < 10.1);
+    }
+
+    #[test]
+    fn a_critical_battery_lands_with_com_low_bat_act_land() {
+        let mut s = Script::new(CommanderParams {
+            failsafe: FailsafeParams {
+                low_battery_action: LowBatteryAction::Land,
+                ..Default::default()
+            },
+            battery: BatteryParams {
+                capacity_mah: 100.0,
+                cells: 3,
+            },
+            ..Default::default()
+        });
+        // 3996 J at 200 W: low after 17 s, critical after 18.6 s.
+        s.power_w = 200.0;
+        s.airborne(3.0);
+        assert!(s.fly_until(30.0, |s| s.c.mode() == FlightMode::Land), "{:?}", s.events);
+        assert!(failsafe_starting(&s, "Low battery"));
+        assert!(failsafe_starting(&s, "Critical battery"));
+        assert_eq!(s.events.last(), Some(&Event::ModeChanged(FlightMode::Land)));
+        assert!(s.until_disarmed(30.0), "landed and disarmed");
+    }
+
+    #[test]
+    fn a_rotor_failure_lands_in_the_air_and_is_only_announced_on_the_ground() {
+        let mut s = Script::new(CommanderParams::default());
+        let on_ground = s.c.rotor_failed(3, None, &s.x, 0.0);
+        assert_eq!(
+            on_ground,
+            vec![Event::Failsafe("Motor 3 failed, no allocation left".into())]
+        );
+        s.airborne(4.0);
+        let t = s.t();
+        let events = s.c.rotor_failed(2, Some(FailedRotors::YawUncontrolled), &s.x, t);
+        assert_eq!(
+            events,
+            vec![
+                Event::Failsafe("Motor 2 failed, yaw lost: landing".into()),
+                Event::ModeChanged(FlightMode::Land)
+            ]
+        );
+        let again = s.c.rotor_failed(4, Some(FailedRotors::FullControl), &s.x, t);
+        assert_eq!(
+            again,
+            vec![Event::Failsafe("Motor 4 failed: landing".into())],
+            "already landing"
+        );
+        assert!(s.until_disarmed(30.0));
+        assert!(
+            (s.x.pos_w.xy() - Vec3::zeros().xy()).norm() < 1e-9,
+            "landed where it was"
+        );
+    }
+
+    #[test]
+    fn gcs_link_loss_runs_nav_dll_act_in_flight_and_announces_it_on_the_next_tick() {
+        for (action, expect) in [
+            (LinkLossAction::Disabled, Some(FlightMode::Position)),
+            (LinkLossAction::Hold, Some(FlightMode::Loiter)),
+            (LinkLossAction::Return, Some(FlightMode::ReturnToLaunch)),
+            (LinkLossAction::Land, Some(FlightMode::Land)),
+            (LinkLossAction::Terminate, None),
+            (LinkLossAction::Disarm, None),
+        ] {
+            let mut s = Script::new(CommanderParams {
+                link_loss_action: action,
+                ..Default::default()
+            });
+            assert_eq!(s.request(Request::GcsLinkLost), Outcome::Accepted);
+            assert!(s.step().is_empty(), "on the ground: nothing ({action:?})");
+            s.airborne(3.0);
+            assert_eq!(s.request(Request::SetMode(FlightMode::Position)), Outcome::Accepted);
+            assert_eq!(s.request(Request::GcsLinkLost), Outcome::Accepted, "{action:?}");
+            match expect {
+                Some(mode) => assert_eq!(s.c.mode(), mode, "{action:?}"),
+                None => assert!(!s.c.armed(), "{action:?}"),
+            }
+            let announced = s.step();
+            if action == LinkLossAction::Disabled {
+                assert!(announced.is_empty());
+            } else {
+                assert_eq!(announced.first(), Some(&Event::Failsafe(link_loss_text(action).into())));
+            }
+            assert!(s.step().iter().all(|e| !matches!(e, Event::Failsafe(_))), "once");
+        }
     }
 }

@@ -6,8 +6,8 @@ use std::hash::Hash;
 
 use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
 
-use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest, CRITICAL, INFO};
-use crate::commander::{Event, LinkLossAction, Outcome, Request};
+use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO};
+use crate::commander::{Event, LinkLossAction, Request};
 use crate::mav::identity::heartbeat;
 use crate::mav::telemetry::{message, mission_current, status_text};
 use crate::telemetry::Snapshot;
@@ -77,7 +77,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     }
 
     /// GCS link loss: after a ground station's HEARTBEAT was heard, `COM_DL_LOSS_T` of silence
-    /// in simulated time *and* in wall time runs `NAV_DLL_ACT` once per loss. A ground station
+    /// in simulated time *and* in wall time runs `NAV_DLL_ACT` once per loss (the commander's
+    /// reaction comes back as an [`Event::Failsafe`] through [`LinkMachine::handle_event`]). A ground station
     /// pacing itself in simulated time sees the same failsafe at any speed-up; one sending in
     /// wall time does not trip it just because simulated time runs faster.
     fn check_link_loss(&mut self, now: Now, k: usize) {
@@ -97,18 +98,10 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             return;
         }
         port.link_lost = true;
-        let link = port.kind;
-        let token = self.expect(Pending::LinkLoss { link });
+        // No answer is awaited: the commander announces its reaction as an event.
         self.to_vehicle.push_back(ToVehicle {
-            token: Some(token),
+            token: None,
             request: VehicleRequest::Commander(Request::GcsLinkLost),
         });
-    }
-
-    /// The vehicle's answer to a link loss: a refused reaction is announced on the link.
-    pub(super) fn link_loss_announced(&mut self, now: Now, link: LinkKind, reply: VehicleReply) {
-        if let VehicleReply::Outcome(Outcome::TemporarilyRejected(what)) = reply {
-            self.broadcast_on(now, link, &status_text(CRITICAL, &what));
-        }
     }
 }

@@ -186,8 +186,6 @@ enum Pending<A> {
         link: LinkKind,
         items: Vec<MISSION_ITEM_INT_DATA>,
     },
-    /// The link-loss failsafe's announcement.
-    LinkLoss { link: LinkKind },
 }
 
 /// The MAVLink endpoint of one vehicle over one or more links; `A` is a peer address.
@@ -273,7 +271,6 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 self.param_set_done(now, link, to, &header, &name, reply);
             }
             Some(Pending::Mission { link, items }) => self.mission_taken(now, link, items, reply),
-            Some(Pending::LinkLoss { link }) => self.link_loss_announced(now, link, reply),
             None => {}
         }
     }
@@ -380,14 +377,6 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             for to in self.ports[k].targets(now.wall_s) {
                 self.send(now, link, to, msg);
             }
-        }
-    }
-
-    /// `msg` to every target of `link`.
-    fn broadcast_on(&mut self, now: Now, link: LinkKind, msg: &MavMessage) {
-        let targets = self.port(link).map(|p| p.targets(now.wall_s)).unwrap_or_default();
-        for to in targets {
-            self.send(now, link, to, msg);
         }
     }
 }

@@ -1,0 +1,230 @@
+//! Mode switches and each mode's guidance: AUTO.TAKEOFF climbs to its target and hands over to
+//! AUTO.LOITER, AUTO.LAND descends (`MPC_LAND_ALT1` / `MPC_LAND_ALT2` profile), AUTO.RTL starts
+//! its climb, AUTO.MISSION starts its run, the hold modes hold (idle on the ground). Paths fly at
+//! the cruise speed (`MPC_XY_CRUISE` or DO_CHANGE_SPEED's), capped at `MPC_XY_VEL_MAX`.
+
+use crate::control::VehicleState;
+use crate::math::{euler_zyx, Vec3};
+use crate::navigation::{DescentProfile, Guidance, MotionLimits};
+
+use super::mission_run::MissionState;
+use super::rtl::RtlPhase;
+use super::{Commander, Event, FlightMode, Outcome};
+
+/// Take-off is complete within this distance of the target [m].
+const TAKEOFF_ACCEPT_M: f64 = 0.2;
+
+impl Commander {
+    /// Horizontal speed of the AUTO modes [m/s]: DO_CHANGE_SPEED's, else `MPC_XY_CRUISE`.
+    pub(super) fn cruise_speed(&self) -> f64 {
+        self.speed_override.unwrap_or(self.params.cruise_speed_m_s)
+    }
+
+    /// Path limits for a horizontal speed of `horizontal_m_s` [m/s], capped at
+    /// `MPC_XY_VEL_MAX`; every other limit as set.
+    fn limits(&self, horizontal_m_s: f64) -> MotionLimits {
+        MotionLimits {
+            horizontal_m_s: horizontal_m_s.min(self.params.motion.horizontal_m_s),
+            ..self.params.motion
+        }
+    }
+
+    /// A path at `speed_m_s` [m/s] from where the vehicle is to `to_w` [m], ending at heading
+    /// `to_yaw_rad` [rad] (turned the short way within `MPC_YAWRAUTO_MAX`).
+    pub(super) fn path_to(&self, x: &VehicleState, to_w: Vec3, to_yaw_rad: f64, speed_m_s: f64, t_s: f64) -> Guidance {
+        let yaw = euler_zyx(&x.r_wb).z;
+        Guidance::path(x.pos_w, to_w, yaw, to_yaw_rad, &self.limits(speed_m_s), t_s)
+    }
+
+    /// A landing descent from where the vehicle is, at heading `yaw` [rad]: `MPC_Z_VEL_MAX_DN`
+    /// above `MPC_LAND_ALT1`, slowing to `MPC_LAND_SPEED` below `MPC_LAND_ALT2`.
+    pub(super) fn descend(&self, x: &VehicleState, yaw: f64, t_s: f64) -> Guidance {
+        Guidance::Descend {
+            xy_w: x.pos_w,
+            yaw_rad: yaw,
+            z_start_m: x.pos_w.z,
+            start_s: t_s,
+            profile: DescentProfile {
+                fast_m_s: self.params.motion.down_m_s,
+                land_m_s: self.params.land_speed_m_s,
+                slow_from_m: self.params.land_alt1_m,
+                land_from_m: self.params.land_alt2_m,
+                acc_m_s2: self.params.motion.acc_down_m_s2,
+            },
+        }
+    }
+
+    /// A requested mode switch: AUTO.MISSION needs a mission, OFFBOARD a live setpoint stream;
+    /// AUTO.TAKEOFF without a target (or in the air) climbs to `MIS_TAKEOFF_ALT` from here.
+    pub(super) fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
+        match mode {
+            FlightMode::Mission if self.mission.mission.is_empty() => {
+                Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into())
+            }
+            FlightMode::Offboard if !self.offboard_alive(t_s) => {
+                Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into())
+            }
+            FlightMode::Takeoff if self.takeoff_target_w.is_none() || self.in_air() => {
+                let h = self.params.takeoff_alt_m;
+                self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
+                self.enter(mode, x, t_s);
+                Outcome::Accepted
+            }
+            _ => {
+                self.enter(mode, x, t_s);
+                Outcome::Accepted
+            }
+        }
+    }
+
+    /// Switches to `mode` and sets its guidance from the current state.
+    pub(super) fn enter(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) {
+        if self.mode == FlightMode::Mission && mode != FlightMode::Mission && self.mission.state == MissionState::Active
+        {
+            self.mission.state = MissionState::Paused;
+        }
+        self.mode = mode;
+        self.climbing_out = false;
+        self.offboard.limiter = None;
+        let yaw = euler_zyx(&x.r_wb).z;
+        let on_ground = !self.in_air();
+        let hold = Guidance::Hold {
+            pos_w: x.pos_w,
+            yaw_rad: yaw,
+        };
+        self.guidance = if !self.armed {
+            Guidance::Idle
+        } else {
+            match mode {
+                FlightMode::Takeoff => {
+                    let target = self
+                        .takeoff_target_w
+                        .unwrap_or(x.pos_w - Vec3::new(0.0, 0.0, self.params.takeoff_alt_m));
+                    self.climbing_out = true;
+                    self.path_to(x, target, yaw, self.cruise_speed(), t_s)
+                }
+                FlightMode::Land => self.descend(x, yaw, t_s),
+                FlightMode::ReturnToLaunch => {
+                    self.rtl_phase = RtlPhase::Climb;
+                    let z = x.pos_w.z.min(self.home_w.z - self.params.rtl_return_alt_m);
+                    self.path_to(x, Vec3::new(x.pos_w.x, x.pos_w.y, z), yaw, self.cruise_speed(), t_s)
+                }
+                FlightMode::Mission => {
+                    // The mission's first tick sets the item's guidance.
+                    self.mission.start();
+                    if on_ground {
+                        Guidance::Idle
+                    } else {
+                        hold
+                    }
+                }
+                // Armed on the ground in a hold mode: motors idle until a take-off.
+                _ if on_ground => Guidance::Idle,
+                _ => hold,
+            }
+        };
+    }
+
+    /// One AUTO.TAKEOFF tick: once the climb is over within [`TAKEOFF_ACCEPT_M`] of the target,
+    /// hold there in AUTO.LOITER.
+    pub(super) fn complete_takeoff(&mut self, x: &VehicleState, yaw: f64, t_s: f64, events: &mut Vec<Event>) {
+        let near = self
+            .takeoff_target_w
+            .is_none_or(|p| (x.pos_w - p).norm() < TAKEOFF_ACCEPT_M);
+        if self.guidance.finished(t_s) && near {
+            self.mode = FlightMode::Loiter;
+            self.climbing_out = false;
+            self.guidance = Guidance::Hold {
+                pos_w: self.takeoff_target_w.unwrap_or(x.pos_w),
+                yaw_rad: yaw,
+            };
+            events.push(Event::ModeChanged(FlightMode::Loiter));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::{Script, GROUND_Z_M};
+    use super::super::{CommanderParams, Event, FlightMode, LandedState, Outcome, Request};
+    use crate::math::Vec3;
+
+    #[test]
+    fn takeoff_climbs_to_its_height_then_holds_there_in_auto_loiter() {
+        let mut s = Script::new(CommanderParams::default());
+        assert_eq!(s.request(Request::Takeoff { height_m: Some(5.0) }), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Takeoff);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        assert!(s.fly_until(10.0, |s| s.c.landed_state() == LandedState::Takeoff));
+        assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
+        assert!((s.x.pos_w - Vec3::new(0.0, 0.0, -5.0)).norm() < 0.2, "{:?}", s.x.pos_w);
+        assert_eq!(s.c.landed_state(), LandedState::InAir);
+        let airborne = s.events.iter().position(|e| *e == Event::Airborne);
+        let loiter = s
+            .events
+            .iter()
+            .position(|e| *e == Event::ModeChanged(FlightMode::Loiter));
+        assert!(airborne.is_some() && airborne < loiter, "{:?}", s.events);
+        // Then it holds the take-off point.
+        assert!(s.fly(5.0).is_empty());
+        assert!((s.x.pos_w - Vec3::new(0.0, 0.0, -5.0)).norm() < 1e-9);
+    }
+
+    #[test]
+    fn land_descends_lands_and_disarms_after_com_disarm_land() {
+        let mut s = Script::new(CommanderParams::default());
+        s.airborne(8.0);
+        assert_eq!(
+            s.request(Request::Reposition {
+                north_m: Some(3.0),
+                east_m: Some(-2.0),
+                down_m: None,
+                yaw_rad: None,
+                speed_m_s: None,
+            }),
+            Outcome::Accepted
+        );
+        s.fly(10.0);
+        assert_eq!(s.request(Request::Land), Outcome::Accepted);
+        assert_eq!(s.c.landed_state(), LandedState::Landing);
+        assert!(s.fly_until(60.0, |s| s.c.landed_state() == LandedState::OnGround));
+        let landed_s = s.t();
+        assert!(s.c.armed() && s.events.contains(&Event::Landed));
+        assert!(
+            (s.x.pos_w - Vec3::new(3.0, -2.0, GROUND_Z_M)).norm() < 1e-6,
+            "lands where it was"
+        );
+        assert!(s.until_disarmed(5.0));
+        let after_s = s.t() - landed_s;
+        assert!(
+            (after_s - 2.0).abs() < 0.05,
+            "COM_DISARM_LAND 2 s, disarmed after {after_s} s"
+        );
+        assert_eq!(s.events.last(), Some(&Event::Disarmed("landed")));
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+    }
+
+    #[test]
+    fn mission_and_offboard_need_something_to_fly() {
+        let mut s = Script::new(CommanderParams::default());
+        let refused = |text: &str| Outcome::TemporarilyRejected(text.into());
+        assert_eq!(
+            s.request(Request::SetMode(FlightMode::Mission)),
+            refused("Mode AUTO.MISSION: no mission")
+        );
+        assert_eq!(
+            s.request(Request::SetMode(FlightMode::Offboard)),
+            refused("Mode OFFBOARD: no setpoint stream")
+        );
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+    }
+
+    #[test]
+    fn auto_takeoff_selected_in_the_air_goes_to_mis_takeoff_alt() {
+        let mut s = Script::new(CommanderParams::default());
+        s.airborne(6.0);
+        assert_eq!(s.request(Request::SetMode(FlightMode::Takeoff)), Outcome::Accepted);
+        assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
+        assert!((s.x.pos_w.z + 2.5).abs() < 0.2, "MIS_TAKEOFF_ALT: {:?}", s.x.pos_w);
+    }
+}

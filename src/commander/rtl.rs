@@ -1,0 +1,125 @@
+//! AUTO.RTL's phases: climb to `RTL_RETURN_ALT` above home (or stay higher), fly over home at
+//! that height, then descend and land there.
+
+use crate::control::VehicleState;
+use crate::math::Vec3;
+
+use super::Commander;
+
+/// Where a return is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum RtlPhase {
+    /// Climbing to the return altitude.
+    Climb,
+    /// Flying over home.
+    Return,
+    /// Descending to land at home.
+    Descend,
+}
+
+impl Commander {
+    /// One AUTO.RTL tick: when a phase's path is flown, the next phase starts from here.
+    pub(super) fn advance_rtl(&mut self, x: &VehicleState, yaw: f64, t_s: f64) {
+        if !self.guidance.finished(t_s) {
+            return;
+        }
+        match self.rtl_phase {
+            RtlPhase::Climb => {
+                self.rtl_phase = RtlPhase::Return;
+                let home_at_alt = Vec3::new(self.home_w.x, self.home_w.y, x.pos_w.z);
+                self.guidance = self.path_to(x, home_at_alt, yaw, self.cruise_speed(), t_s);
+            }
+            RtlPhase::Return => {
+                self.rtl_phase = RtlPhase::Descend;
+                self.guidance = self.descend(x, yaw, t_s);
+            }
+            RtlPhase::Descend => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::{Script, GROUND_Z_M};
+    use super::super::{CommanderParams, Event, FlightMode, Outcome, Request};
+    use crate::math::Vec3;
+
+    fn params() -> CommanderParams {
+        CommanderParams {
+            rtl_return_alt_m: 15.0,
+            ..Default::default()
+        }
+    }
+
+    fn reposition(s: &mut Script, north_m: Option<f64>, east_m: Option<f64>, down_m: Option<f64>) {
+        let to = Request::Reposition {
+            north_m,
+            east_m,
+            down_m,
+            yaw_rad: None,
+            speed_m_s: None,
+        };
+        assert_eq!(s.request(to), Outcome::Accepted);
+        s.fly(20.0);
+    }
+
+    #[test]
+    fn rtl_climbs_to_rtl_return_alt_returns_home_and_lands() {
+        let mut s = Script::new(params());
+        s.airborne(3.0);
+        reposition(&mut s, Some(20.0), Some(10.0), None);
+        s.events.clear();
+        assert_eq!(s.request(Request::ReturnToLaunch), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::ReturnToLaunch);
+        // Straight up first, to the return altitude above home.
+        let start_xy = Vec3::new(20.0, 10.0, 0.0).xy();
+        let mut climbed_in_place = true;
+        assert!(s.fly_until(30.0, |s| {
+            climbed_in_place &= (s.x.pos_w.xy() - start_xy).norm() < 1e-9;
+            s.x.pos_w.z < -15.0 + 1e-6
+        }));
+        assert!(climbed_in_place, "climbs before it turns home");
+        let mut highest: f64 = 0.0;
+        let landed = s.fly_until(200.0, |s| {
+            highest = highest.max(-s.x.pos_w.z);
+            !s.c.armed()
+        });
+        assert!(landed, "returned, landed and disarmed: {:?}", s.events);
+        assert!((highest - 15.0).abs() < 1e-6, "returned at RTL_RETURN_ALT: {highest} m");
+        assert!(
+            (s.x.pos_w - Vec3::new(0.0, 0.0, GROUND_Z_M)).norm() < 1e-6,
+            "{:?}",
+            s.x.pos_w
+        );
+        assert_eq!(s.events, vec![Event::Landed, Event::Disarmed("landed")]);
+    }
+
+    #[test]
+    fn rtl_above_the_return_altitude_keeps_its_height_and_lands_at_a_moved_home() {
+        let mut s = Script::new(params());
+        s.airborne(3.0);
+        reposition(&mut s, Some(5.0), Some(5.0), Some(-20.0));
+        assert_eq!(
+            s.request(Request::SetHome(Some(Vec3::new(-4.0, 2.0, 0.0)))),
+            Outcome::Accepted
+        );
+        assert_eq!(s.request(Request::ReturnToLaunch), Outcome::Accepted);
+        let home_xy = Vec3::new(-4.0, 2.0, 0.0).xy();
+        let mut heights = (f64::MAX, 0.0_f64);
+        let over_home = s.fly_until(60.0, |s| {
+            heights = (heights.0.min(-s.x.pos_w.z), heights.1.max(-s.x.pos_w.z));
+            (s.x.pos_w.xy() - home_xy).norm() < 1e-6
+        });
+        assert!(over_home);
+        assert!(
+            (heights.0 - 20.0).abs() < 1e-6 && (heights.1 - 20.0).abs() < 1e-6,
+            "{heights:?}"
+        );
+        assert!(s.until_disarmed(120.0));
+        assert!(
+            (s.x.pos_w - Vec3::new(-4.0, 2.0, GROUND_Z_M)).norm() < 1e-6,
+            "{:?}",
+            s.x.pos_w
+        );
+    }
+}
