@@ -52,11 +52,16 @@ impl Commander {
                     None
                 }
             };
-            // Never step back from landing to a return, nor restart a mode already running.
-            let landing = self.mode == FlightMode::Land;
-            if let Some(mode) = mode.filter(|m| *m != self.mode && !landing) {
-                self.enter(mode, x, t_s);
-                events.push(Event::ModeChanged(mode));
+            // Never step back from landing to a return, nor restart a return or landing already
+            // running; a hold while in the hold mode stops what it was flying (a DO_REPOSITION).
+            match mode {
+                _ if self.mode == FlightMode::Land => {}
+                Some(mode) if mode != self.mode => {
+                    self.enter(mode, x, t_s);
+                    events.push(Event::ModeChanged(mode));
+                }
+                Some(FlightMode::Loiter) => self.enter(FlightMode::Loiter, x, t_s),
+                _ => {}
             }
         }
         events
@@ -132,8 +137,7 @@ mod tests {
             },
             ..Default::default()
         });
-        // A mission leg out through the fence (a DO_REPOSITION in AUTO.LOITER is not stopped:
-        // the hold action does not restart the mode already running).
+        // A mission leg out through the fence.
         let leg = MissionItem::Waypoint {
             pos_w: Vec3::new(30.0, 0.0, -3.0),
             hold_s: 0.0,
@@ -149,6 +153,33 @@ mod tests {
         let breached_at = s.x.pos_w;
         assert!(failsafe_starting(&s, "Geofence breached"), "{:?}", s.events);
         assert_eq!(s.events.last(), Some(&Event::ModeChanged(FlightMode::Loiter)));
+        s.fly(10.0);
+        assert!((s.x.pos_w - breached_at).norm() < 1e-9, "holds: {:?}", s.x.pos_w);
+        assert!(s.x.pos_w.x < 10.1);
+    }
+
+    #[test]
+    fn a_geofence_hold_stops_a_reposition_already_holding_mode() {
+        let mut s = Script::new(CommanderParams {
+            failsafe: FailsafeParams {
+                geofence_action: GeofenceAction::Hold,
+                geofence_max_hor_m: 10.0,
+                ..Default::default()
+            },
+            ..Default::default()
+        });
+        s.airborne(3.0);
+        let out = Request::Reposition {
+            north_m: Some(30.0),
+            east_m: None,
+            down_m: None,
+            yaw_rad: None,
+            speed_m_s: None,
+        };
+        assert_eq!(s.request(out), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+        assert!(s.fly_until(20.0, |s| s.c.geofence_breached()));
+        let breached_at = s.x.pos_w;
         s.fly(10.0);
         assert!((s.x.pos_w - breached_at).norm() < 1e-9, "holds: {:?}", s.x.pos_w);
         assert!(s.x.pos_w.x < 10.1);

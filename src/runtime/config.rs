@@ -11,9 +11,9 @@ use crate::control::ControllerKind;
 use crate::navigation::Home;
 
 use super::pacer::Pace;
-use crate::lockstep::ScheduledFailure;
 use super::signing_store::SigningFileError;
 use super::vehicle::VehicleError;
+use crate::lockstep::ScheduledFailure;
 
 /// Everything `rotorpilot run` needs.
 #[derive(Debug, Clone)]
