@@ -107,6 +107,11 @@ impl LinkIo {
 
 /// Serves the links of one vehicle until shutdown.
 pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
+    // Nothing is said before the vehicle's first tick: its state is what telemetry reports.
+    tokio::select! {
+        _ = io.shutdown.changed() => return,
+        _ = io.snapshot.changed() => {}
+    }
     let (mut gcs_buf, mut api_buf) = (vec![0u8; MAX_DATAGRAM_BYTES], vec![0u8; MAX_DATAGRAM_BYTES]);
     loop {
         let deadline = io.start + Duration::from_secs_f64(machine.poll_timeout().max(0.0));
