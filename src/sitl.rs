@@ -1,14 +1,15 @@
 //! The only seam between the flight controller and the simulated vehicle (`firmware_sim`).
 //!
 //! The plant parses the same airframe text with its own types; this module turns its sensor
-//! samples into [`VehicleState`] (and the rest of the flight controller's inputs, [`Sensors`]) and
+//! samples into [`VehicleState`] (and the rest of the flight controller's inputs, [`Sensors`] and
+//! [`EscReport`]) and
 //! passes rotor commands and [`PlantChange`]s back. Nothing else in the flight controller names
 //! `firmware_sim`. The plant is stepped in one place only: [`crate::lockstep::Lockstep::step`].
 
 use firmware_sim::{rand_chacha_seed, ChaCha8Rng, ParamsError, Plant, PlantParams, RigidBodyState, StepStatus};
 use thiserror::Error;
 
-use crate::airframe::{AirframeSource, MAX_ROTORS};
+use crate::airframe::AirframeSource;
 use crate::control::VehicleState;
 use crate::math::{UnitQuat, Vec3};
 
@@ -20,23 +21,32 @@ pub struct SitlError(#[from] pub ParamsError);
 /// Plant step flags as the flight controller sees them.
 pub type PlantStatus = StepStatus;
 
-/// What the plant's sensors report at one tick: everything the flight controller reads.
+/// What the plant's sensors report at one tick: the sensed state and the accelerometer.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sensors {
     /// Sensed state (position, velocity, attitude, body rates).
     pub state: VehicleState,
     /// Specific force (accelerometer), body FRD [m/s²].
     pub accel_b: Vec3,
-    /// Electrical power the rotors draw [W] (the battery's current sensor).
-    pub power_w: f64,
-    failed: [bool; MAX_ROTORS],
-    rotors: usize,
 }
 
-impl Sensors {
-    /// Which rotors have failed, as the ESCs report it (one entry per rotor).
+/// What the ESCs and the battery's current sensor report, read from the plant on demand (only
+/// the flight controller reads them).
+#[derive(Debug, Clone, Copy)]
+pub struct EscReport<'a> {
+    plant: &'a SimPlant,
+}
+
+impl EscReport<'_> {
+    /// Which rotors have failed (one entry per rotor).
     pub fn failed_rotors(&self) -> &[bool] {
-        &self.failed[..self.rotors]
+        self.plant.failed_rotors()
+    }
+
+    /// Electrical power the rotors draw [W]: shaft power Σ c_q·|ω_i|³ of the actual motor
+    /// speeds over a motor-and-ESC efficiency of 0.7.
+    pub fn power_w(&self) -> f64 {
+        self.plant.electrical_power_w()
     }
 }
 
@@ -115,24 +125,18 @@ impl SimPlant {
         }
     }
 
-    /// One sensor reading for the flight controller: [`Self::sense`], then the electrical power
-    /// and the ESC report of failed rotors.
+    /// One sensor reading for the flight controller ([`Self::sense`] and the accelerometer).
     pub fn read_sensors(&mut self) -> Sensors {
         let state = self.sense();
-        let power_w = self.electrical_power_w();
-        let reported = self.plant.failed_rotors();
-        let mut failed = [false; MAX_ROTORS];
-        for (slot, f) in failed.iter_mut().zip(reported) {
-            *slot = *f;
-        }
-        let rotors = reported.len().min(MAX_ROTORS);
         Sensors {
             state,
             accel_b: self.accel_b,
-            power_w,
-            failed,
-            rotors,
         }
+    }
+
+    /// The ESC report and the battery's current sensor.
+    pub fn esc(&self) -> EscReport<'_> {
+        EscReport { plant: self }
     }
 
     /// Carries out `change`.
@@ -152,8 +156,7 @@ impl SimPlant {
         self.plant.failed_rotors()
     }
 
-    /// Electrical power the rotors draw [W]: shaft power Σ c_q·|ω_i|³ of the actual motor speeds
-    /// over a motor-and-ESC efficiency of 0.7 (the battery's current sensor).
+    /// [`EscReport::power_w`].
     fn electrical_power_w(&self) -> f64 {
         const EFFICIENCY: f64 = 0.7;
         let c_q = self.plant.params().rotor.c_q;

@@ -19,7 +19,7 @@ use crate::estimation::{ChebyshevDesign, WrenchObserver};
 use crate::math::{Vec3, GRAVITY_M_S2};
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable, VehicleSettings};
-use crate::sitl::{PlantChange, Sensors};
+use crate::sitl::{EscReport, PlantChange, Sensors};
 use crate::telemetry::Snapshot;
 
 use super::rotor_monitor::RotorMonitor;
@@ -216,12 +216,12 @@ impl Pilot for FlightController {
     type Report = Snapshot;
 
     /// One tick (module docs).
-    fn control(&mut self, t_s: f64, sensors: &Sensors) -> Control {
+    fn control(&mut self, t_s: f64, sensors: &Sensors, esc: &EscReport<'_>) -> Control {
         let x = sensors.state;
-        let mut failsafe_events =
-            self.rotors
-                .check(sensors.failed_rotors(), t_s, &x, &mut self.core, &mut self.commander);
-        failsafe_events.extend(self.commander.check_failsafes(&x, sensors.power_w, self.dt_s, t_s));
+        let mut failsafe_events = self
+            .rotors
+            .check(esc.failed_rotors(), t_s, &x, &mut self.core, &mut self.commander);
+        failsafe_events.extend(self.commander.check_failsafes(&x, esc.power_w(), self.dt_s, t_s));
         let mut tick = self.commander.update(&x, self.thrust_over_weight, t_s);
         if !failsafe_events.is_empty() {
             tick.events.splice(0..0, failsafe_events);

@@ -5,7 +5,7 @@
 use crate::control::FlatSetpoint;
 use crate::navigation::trajectory::Trajectory;
 use crate::navigation::ClimbProfile;
-use crate::sitl::Sensors;
+use crate::sitl::{EscReport, Sensors};
 
 use super::{Control, FlightCore, Pilot};
 
@@ -56,7 +56,7 @@ impl<S: SetpointSource> Pilot for SetpointFollower<S> {
     type Report = ();
 
     /// `FlightCore::step` on the sensed state and the source's setpoint.
-    fn control(&mut self, t_s: f64, sensors: &Sensors) -> Control {
+    fn control(&mut self, t_s: f64, sensors: &Sensors, _esc: &EscReport<'_>) -> Control {
         let setpoint = self.source.setpoint(t_s);
         Control {
             rotors: self.core.allocator().rotor_count(),

@@ -25,7 +25,7 @@ pub mod snapshot;
 use crate::allocation::RotorSpeeds;
 use crate::commander::Event;
 use crate::control::FlatSetpoint;
-use crate::sitl::Sensors;
+use crate::sitl::{EscReport, Sensors};
 
 pub use controller::{FlightController, Reply, AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
 pub use flight_core::{vehicle_model, CoreError, CoreStep, FlightCore};
@@ -61,8 +61,9 @@ pub trait Pilot {
     /// controller, nothing for a bare flight core.
     type Report;
 
-    /// One control tick at simulated time `t_s` [s] from what the plant sensed.
-    fn control(&mut self, t_s: f64, sensors: &Sensors) -> Control;
+    /// One control tick at simulated time `t_s` [s] from what the plant sensed, its ESCs and its
+    /// battery current sensor report.
+    fn control(&mut self, t_s: f64, sensors: &Sensors, esc: &EscReport<'_>) -> Control;
 
     /// The tick's report once the plant has stepped with `control`, its rotors now turning at
     /// `motor_speeds` [rad/s].

@@ -7,8 +7,9 @@
 //!
 //! ```text
 //! scheduled rotor failures due at t_k → plant        (FailureSchedule, `--fail-rotor`)
-//! sensors_k  = plant.read_sensors()                  sense → electrical power → ESC report
-//! control_k  = pilot.control(t_k, sensors_k)         rotor speeds, controller step, events
+//! sensors_k  = plant.read_sensors()                  sensed state, accelerometer
+//! control_k  = pilot.control(t_k, sensors_k, esc)    rotor speeds, controller step, events
+//!                                                    (esc: failed rotors, electrical power)
 //! status_k   = plant.step(control_k.rotor_speeds(), dt)
 //! report_k   = pilot.report(t_k, sensors_k, control_k, true motor speeds)
 //! ```
@@ -140,7 +141,7 @@ impl<P: Pilot> Lockstep<P> {
             self.failures.take_due(t_s, |change| plant.apply(&change));
         }
         let sensors = self.plant.read_sensors();
-        let control = self.pilot.control(t_s, &sensors);
+        let control = self.pilot.control(t_s, &sensors, &self.plant.esc());
         let status = self.plant.step(control.rotor_speeds().as_slice(), self.dt_s);
         let report = self.pilot.report(t_s, &sensors, &control, self.plant.motor_speeds());
         self.tick += 1;
@@ -262,7 +263,7 @@ mod tests {
             .unwrap();
         for k in 0..5 {
             let tick = l.step();
-            let failed = tick.sensors.failed_rotors()[1];
+            let failed = l.plant().failed_rotors()[1];
             assert_eq!(failed, k >= 3, "tick {k} at {} s", tick.t_s);
             let announced = tick
                 .control
