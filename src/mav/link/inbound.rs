@@ -9,7 +9,7 @@ use mavlink::dialects::common::MavMessage;
 use mavlink::MavHeader;
 
 use super::params::ParamList;
-use super::{KeyToStore, LinkKind, LinkMachine, Now, ToVehicle, Transmit, VehicleRequest, INFO, WARNING};
+use super::{KeyToStore, LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, INFO, WARNING};
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::ingest::{ingest, Action};
 use crate::mav::signing::{SigningKey, Verdict};
@@ -59,24 +59,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// COMMAND_ACK UNSUPPORTED for a command id the dialect does not know (built from the raw id).
     fn unsupported(&mut self, now: Now, link: LinkKind, to: A, sender: &MavHeader, command: u16) {
-        let Some(port) = self.ports.iter_mut().find(|p| p.kind == link) else {
-            return;
-        };
-        let header = MavHeader {
-            system_id: u32::from(self.identity.system_id),
-            component_id: self.identity.component_id,
-            sequence: port.next_sequence(),
-        };
-        let link_id = port.link_id;
-        let mut frame = unsupported_command_ack(header, command, sender.system_id as u8, sender.component_id);
-        if self.signing.enabled() {
-            let stamp = self.signing_now(now);
-            self.signing.seal(&mut frame, link_id, stamp);
-        }
-        self.transmits.push_back(Transmit {
-            link,
-            to,
-            bytes: frame.raw_bytes().to_vec(),
+        let (system, component) = (sender.system_id as u8, sender.component_id);
+        self.send_frame(now, link, to, |ours| {
+            unsupported_command_ack(ours, command, system, component)
         });
     }
 

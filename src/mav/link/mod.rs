@@ -32,7 +32,7 @@ use std::collections::{HashMap, VecDeque};
 use std::hash::Hash;
 
 use mavlink::dialects::common::{MavMessage, MavSeverity, MISSION_ITEM_INT_DATA};
-use mavlink::MavHeader;
+use mavlink::{MAVLinkV2MessageRaw, MavHeader};
 
 use crate::commander::{Event, Outcome, Request};
 use crate::params::{ParamError, ParamTable, VehicleSettings};
@@ -347,8 +347,14 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.signing_epoch + (now.wall_s.max(0.0) * 1e5) as u64
     }
 
-    /// Queues `msg` to `to` on `link`: the link's next sequence number, sealed when signing.
+    /// Queues `msg` to `to` on `link`.
     fn send(&mut self, now: Now, link: LinkKind, to: A, msg: &MavMessage) {
+        self.send_frame(now, link, to, |header| frame_message(header, msg));
+    }
+
+    /// Queues the frame `build` makes from our header to `to` on `link`: the link's next
+    /// sequence number, sealed when signing.
+    fn send_frame(&mut self, now: Now, link: LinkKind, to: A, build: impl FnOnce(MavHeader) -> MAVLinkV2MessageRaw) {
         let Some(port) = self.ports.iter_mut().find(|p| p.kind == link) else {
             return;
         };
@@ -358,7 +364,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             sequence: port.next_sequence(),
         };
         let link_id = port.link_id;
-        let mut frame = frame_message(header, msg);
+        let mut frame = build(header);
         if self.signing.enabled() {
             let stamp = self.signing_now(now);
             self.signing.seal(&mut frame, link_id, stamp);
