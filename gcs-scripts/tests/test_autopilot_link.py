@@ -613,13 +613,19 @@ def test_offboard_attitude_and_global_targets(autopilot):
     att = stream_attitude(1.0, [1, 0, 0, 0], mask=128, rates=(0, 0, 0.5))
     assert abs(att.yawspeed - 0.5) < 0.05, att
     # SET_POSITION_TARGET_GLOBAL_INT: 3 m north of home, 3 m above it.
+    # The attitude phase left the vehicle drifting; it arrives through the offboard limits
+    # (MPC_ACC_HOR 3 m/s²) within seconds, however loaded the machine is.
     lat = HOME_LAT + round(3 * METRE_LAT)
-    end = time.monotonic() + 5
-    while time.monotonic() < end:
+    end = time.monotonic() + 15
+
+    def arrived(p):
+        return abs(p.x - 3) < 0.1 and abs(p.y) < 0.1 and abs(p.z + 3) < 0.1
+
+    pos = None
+    while time.monotonic() < end and not (pos is not None and arrived(pos)):
         autopilot.gcs.mav.set_position_target_global_int_send(0, 1, 1, 6, 2552, lat, HOME_LON, 3.0, 0, 0, 0, 0, 0, 0, 0, 0)
-        autopilot.gcs.recv_match(type="LOCAL_POSITION_NED", blocking=True, timeout=0.05)
-    pos = autopilot.gcs.messages["LOCAL_POSITION_NED"]
-    assert abs(pos.x - 3) < 0.1 and abs(pos.z + 3) < 0.1, pos
+        pos = autopilot.gcs.recv_match(type="LOCAL_POSITION_NED", blocking=True, timeout=0.05) or pos
+    assert pos is not None and arrived(pos), pos
 
 
 def test_highres_imu_and_ground_effect_switch(autopilot):

@@ -126,7 +126,10 @@ pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
                 machine.handle_state(*io.snapshot.borrow());
                 read_burst(&mut machine, &io, *api_kind, api, &mut api_buf, (n, from));
             }
-            Some((token, reply)) = io.replies.recv() => machine.handle_reply(io.now(), token, reply),
+            Some((token, reply)) = io.replies.recv() => {
+                machine.handle_state(*io.snapshot.borrow());
+                machine.handle_reply(io.now(), token, reply);
+            }
             Some(event) = io.events.recv() => {
                 machine.handle_state(*io.snapshot.borrow());
                 machine.handle_event(io.now(), event);

@@ -76,8 +76,10 @@ impl VehicleSlot {
         }
     }
 
-    /// Applies the queued commands, then runs one tick.
+    /// Applies the queued commands, runs one tick, publishes its state, then answers: an ACK
+    /// never reaches a ground station before the state it changed is published.
     fn tick(&mut self, now: Instant) {
+        let mut answers = Vec::new();
         while let Ok(cmd) = self.io.inbox.try_recv() {
             let answer = match cmd.request {
                 VehicleRequest::Commander(request) => {
@@ -91,10 +93,7 @@ impl VehicleSlot {
                     table: Box::new(self.vehicle.params().clone()),
                 },
             };
-            if let Some(reply) = cmd.reply {
-                // The link task may have stopped at shutdown; nothing waits then.
-                let _ = reply.to.send((reply.token, answer));
-            }
+            answers.extend(cmd.reply.map(|reply| (reply, answer)));
         }
         let loss = Duration::from_secs_f64(self.vehicle.offboard_loss_s().max(0.0));
         if self.offboard_seen.is_some_and(|seen| now.duration_since(seen) < loss) {
@@ -105,6 +104,10 @@ impl VehicleSlot {
         for e in out.events {
             // Events are announcements; a full queue drops them rather than stall the tick.
             let _ = self.io.events.try_send(e);
+        }
+        for (reply, answer) in answers {
+            // The link task may have stopped at shutdown; nothing waits then.
+            let _ = reply.to.send((reply.token, answer));
         }
     }
 }
