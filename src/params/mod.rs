@@ -91,6 +91,11 @@ impl ParamTable {
         self.settings.clone()
     }
 
+    /// The settings the current values describe, borrowed.
+    pub fn current(&self) -> &VehicleSettings {
+        &self.settings
+    }
+
     /// Sets `name` to `value`; refused (nothing changed) when not a finite number, not an
     /// integer for an INT32 parameter, out of range, a code its choice lacks, or when the
     /// resulting settings are invalid ([`VehicleSettings::validate`] at step `ts_s` [s]: a gain

@@ -82,10 +82,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// pacing itself in simulated time sees the same failsafe at any speed-up; one sending in
     /// wall time does not trip it just because simulated time runs faster.
     fn check_link_loss(&mut self, now: Now, k: usize) {
-        let (loss_s, action) = (
-            self.settings.commander.link_loss_s,
-            self.settings.commander.link_loss_action,
-        );
+        let commander = &self.params.current().commander;
+        let (loss_s, action) = (commander.link_loss_s, commander.link_loss_action);
         let port = &mut self.ports[k];
         let Some((heard_wall_s, heard_sim_s)) = port.gcs_heard else {
             return;

@@ -35,7 +35,7 @@ use mavlink::dialects::common::{MavMessage, MavSeverity, MISSION_ITEM_INT_DATA};
 use mavlink::{MAVLinkV2MessageRaw, MavHeader};
 
 use crate::commander::{Event, Outcome, Request};
-use crate::params::{ParamError, ParamTable, VehicleSettings};
+use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::codec::frame_message;
@@ -198,7 +198,6 @@ pub struct LinkMachine<A> {
     key_store: bool,
     record_received: bool,
     params: ParamTable,
-    settings: VehicleSettings,
     snapshot: Snapshot,
     /// The mission as uploaded, for downloads; replaced only when the vehicle took an upload.
     mission_store: Vec<MISSION_ITEM_INT_DATA>,
@@ -230,7 +229,6 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             signing_epoch: config.signing_epoch,
             key_store: config.key_store,
             record_received: config.record_received,
-            settings: config.params.settings(),
             params: config.params,
             snapshot: config.snapshot,
             mission_store: Vec::new(),

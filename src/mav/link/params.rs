@@ -102,7 +102,6 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     ) {
         let result = match reply {
             VehicleReply::Param { result, table } => {
-                self.settings = table.settings();
                 self.params = *table;
                 Some(result)
             }
