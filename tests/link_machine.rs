@@ -498,3 +498,42 @@ fn stream_rates_count_simulated_time() {
     }
     assert!((7..=9).contains(&count), "{count} ATTITUDE in 0.5 simulated seconds");
 }
+
+#[test]
+fn the_offboard_stream_is_alive_for_the_commander_until_com_of_loss_t_of_wall_time_silence() {
+    let mut b = Bench::new();
+    let setpoint = || {
+        MavMessage::SET_POSITION_TARGET_LOCAL_NED(SET_POSITION_TARGET_LOCAL_NED_DATA {
+            target_system: 1,
+            target_component: 1,
+            coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
+            type_mask: PositionTargetTypemask::from_bits_truncate(2552),
+            z: -3.0,
+            ..Default::default()
+        })
+    };
+    let wall = |alive| VehicleRequest::Commander(Request::OffboardStreamInWallTime { alive });
+    b.send(Api, SDK, setpoint());
+    let asks: Vec<_> = b.asks().into_iter().map(|a| a.request).collect();
+    assert!(matches!(
+        asks[0],
+        VehicleRequest::Commander(Request::OffboardSetpoint { .. })
+    ));
+    assert_eq!(asks[1], wall(true), "the stream started");
+    // Simulated time racing ahead does not matter; wall time does.
+    b.at(0.9, 40.0);
+    b.send(Api, SDK, setpoint());
+    assert_eq!(b.asks().len(), 1, "only the setpoint: the stream is still alive");
+    b.at(1.85, 80.0);
+    assert!(
+        b.asks().is_empty(),
+        "0.95 s of wall-time silence is within COM_OF_LOSS_T"
+    );
+    b.at(1.95, 80.0);
+    assert_eq!(
+        b.asks().into_iter().map(|a| a.request).collect::<Vec<_>>(),
+        vec![wall(false)]
+    );
+    b.at(5.0, 90.0);
+    assert!(b.asks().is_empty(), "said once");
+}

@@ -90,6 +90,14 @@ pub enum Request {
     SetHome(Option<Vec3>),
     /// No GCS heartbeat for `COM_DL_LOSS_T`: run `NAV_DLL_ACT` if flying.
     GcsLinkLost,
+    /// The link's word on the offboard stream in wall time: `true` from its first setpoint,
+    /// `false` once it was silent for `COM_OF_LOSS_T` of wall time. While it is alive the
+    /// commander does not declare offboard lost, however fast simulated time runs; the
+    /// commander itself judges silence in simulated time only.
+    OffboardStreamInWallTime {
+        /// The stream is alive in wall time.
+        alive: bool,
+    },
 }
 
 impl Request {
@@ -105,6 +113,7 @@ impl Request {
             | Self::ReturnToLaunch
             | Self::StartMission { .. }
             | Self::GcsLinkLost
+            | Self::OffboardStreamInWallTime { .. }
             | Self::InjectRotorFailure { .. } => true,
             Self::Takeoff { height_m } => opt(height_m),
             Self::OffboardSetpoint { setpoint, .. } => setpoint.is_finite(),

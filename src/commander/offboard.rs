@@ -18,30 +18,25 @@ pub(super) enum OffboardTarget {
     Attitude(AttitudeTarget),
 }
 
-/// The offboard stream: its latest target with the time it arrived, and the limiter the
-/// position / velocity targets are flown through (`None` until the first tick in OFFBOARD).
+/// The offboard stream: its latest target with the simulated time it arrived, the link's word
+/// on its liveness in wall time, and the limiter the position / velocity targets are flown
+/// through (`None` until the first tick in OFFBOARD).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct Offboard {
     pub latest: Option<(OffboardTarget, f64)>,
+    pub alive_in_wall_time: bool,
     pub limiter: Option<SetpointLimiter>,
 }
 
 impl Commander {
-    /// Restamps the latest offboard setpoint at `t_s` [s]: the runtime calls this while the
-    /// setpoint stream is alive in wall time, so a ground station streaming in wall time does not
-    /// lose offboard just because simulated time runs faster. A stream that stops is lost once
-    /// it is silent for `COM_OF_LOSS_T` in both clocks.
-    pub fn refresh_offboard(&mut self, t_s: f64) {
-        if let Some((_, t)) = &mut self.offboard.latest {
-            *t = t.max(t_s);
-        }
-    }
-
-    /// True when an offboard setpoint arrived within `COM_OF_LOSS_T` of `t_s`.
+    /// True when an offboard setpoint arrived within `COM_OF_LOSS_T` of `t_s` [s], or the link
+    /// says the stream is alive in wall time ([`Request::OffboardStreamInWallTime`]): a ground
+    /// station streaming in wall time does not lose offboard just because simulated time runs
+    /// faster, and a stream that stops is lost once it is silent in both clocks.
     pub(super) fn offboard_alive(&self, t_s: f64) -> bool {
         self.offboard
             .latest
-            .is_some_and(|(_, t)| t_s - t < self.params.offboard_loss_s)
+            .is_some_and(|(_, t)| self.offboard.alive_in_wall_time || t_s - t < self.params.offboard_loss_s)
     }
 
     /// One OFFBOARD tick at heading `yaw` [rad], `dt_s` [s] after the last: what to fly, or
@@ -168,17 +163,25 @@ mod tests {
     }
 
     #[test]
-    fn a_refreshed_stream_stays_alive_and_heading_frame_vectors_turn_with_the_heading() {
+    fn a_stream_alive_in_wall_time_is_lost_only_once_silent_in_simulated_time_too() {
         let mut s = Script::new(CommanderParams::default());
         s.airborne(3.0);
         let here = FlatSetpoint::hold(s.x.pos_w, 0.0);
         stream(&mut s, here, 0.1);
+        let wall = |alive| Request::OffboardStreamInWallTime { alive };
+        assert_eq!(s.request(wall(true)), Outcome::Accepted);
         assert_eq!(s.request(Request::SetMode(FlightMode::Offboard)), Outcome::Accepted);
-        for _ in 0..300 {
-            s.c.refresh_offboard(s.t());
-            s.step();
-        }
-        assert_eq!(s.c.mode(), FlightMode::Offboard, "refreshed in wall time");
+        s.fly(3.0);
+        assert_eq!(s.c.mode(), FlightMode::Offboard, "alive in wall time");
+        s.events.clear();
+        assert_eq!(s.request(wall(false)), Outcome::Accepted);
+        s.step();
+        assert_eq!(s.events.first(), Some(&Event::OffboardLost), "silent in both clocks");
+        assert_eq!(s.c.mode(), FlightMode::Position);
+    }
+
+    #[test]
+    fn heading_frame_vectors_turn_with_the_heading() {
         let sp = FlatSetpoint {
             vel_w: Some(Vec3::new(1.0, 0.0, 0.5)),
             acc_w: Some(Vec3::new(0.0, 2.0, 0.0)),

@@ -33,6 +33,10 @@ impl Commander {
                 self.offboard.latest = Some((OffboardTarget::Attitude(target), t_s));
                 Outcome::Accepted
             }
+            Request::OffboardStreamInWallTime { alive } => {
+                self.offboard.alive_in_wall_time = alive;
+                Outcome::Accepted
+            }
             Request::SetMission(mission) => {
                 self.mission.replace(mission);
                 if self.mode == FlightMode::Mission {

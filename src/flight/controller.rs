@@ -199,17 +199,6 @@ impl FlightController {
         let x = sense();
         Reply::only(self.commander.request(request, &x, t_s))
     }
-
-    /// Keeps the offboard setpoint fresh at simulated time `t_s` [s] (the stream is alive in
-    /// wall time).
-    pub fn refresh_offboard(&mut self, t_s: f64) {
-        self.commander.refresh_offboard(t_s);
-    }
-
-    /// `COM_OF_LOSS_T` [s], which the runtime's own timer reads.
-    pub fn offboard_loss_s(&self) -> f64 {
-        self.commander.params.offboard_loss_s
-    }
 }
 
 impl Pilot for FlightController {

@@ -185,12 +185,6 @@ impl Lockstep<FlightController> {
         reply.answer
     }
 
-    /// Keeps the offboard setpoint fresh at the current tick (the stream is alive in wall time).
-    pub fn refresh_offboard(&mut self) {
-        let t_s = self.time_s();
-        self.pilot.refresh_offboard(t_s);
-    }
-
     fn carry_out(&mut self, change: Option<PlantChange>) {
         if let Some(change) = change {
             self.plant.apply(&change);

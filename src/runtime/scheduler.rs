@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use tokio::sync::{mpsc, watch};
 
-use crate::commander::{Event, Request};
+use crate::commander::Event;
 use crate::mav::link::{Token, VehicleReply, VehicleRequest};
 use crate::telemetry::Snapshot;
 
@@ -62,42 +62,27 @@ pub struct VehicleIo {
 pub struct VehicleSlot {
     vehicle: Vehicle,
     io: VehicleIo,
-    /// Wall time of the latest offboard setpoint.
-    offboard_seen: Option<Instant>,
 }
 
 impl VehicleSlot {
     /// `vehicle` talking through `io`.
     pub fn new(vehicle: Vehicle, io: VehicleIo) -> Self {
-        Self {
-            vehicle,
-            io,
-            offboard_seen: None,
-        }
+        Self { vehicle, io }
     }
 
     /// Applies the queued commands, runs one tick, publishes its state, then answers: an ACK
     /// never reaches a ground station before the state it changed is published.
-    fn tick(&mut self, now: Instant) {
+    fn tick(&mut self) {
         let mut answers = Vec::new();
         while let Ok(cmd) = self.io.inbox.try_recv() {
             let answer = match cmd.request {
-                VehicleRequest::Commander(request) => {
-                    if matches!(request, Request::OffboardSetpoint { .. } | Request::OffboardAttitude(_)) {
-                        self.offboard_seen = Some(now);
-                    }
-                    VehicleReply::Outcome(self.vehicle.apply(request))
-                }
+                VehicleRequest::Commander(request) => VehicleReply::Outcome(self.vehicle.apply(request)),
                 VehicleRequest::SetParam { name, value } => VehicleReply::Param {
                     result: self.vehicle.set_param(&name, value),
                     table: Box::new(self.vehicle.params().clone()),
                 },
             };
             answers.extend(cmd.reply.map(|reply| (reply, answer)));
-        }
-        let loss = Duration::from_secs_f64(self.vehicle.offboard_loss_s().max(0.0));
-        if self.offboard_seen.is_some_and(|seen| now.duration_since(seen) < loss) {
-            self.vehicle.refresh_offboard();
         }
         let out = self.vehicle.step();
         self.io.snapshot.send_replace(out.snapshot);
@@ -129,7 +114,7 @@ pub fn run_group(mut group: Vec<VehicleSlot>, dt: Duration, pace: Pace, stop: &A
             Wait::Now => {}
         }
         for slot in &mut group {
-            slot.tick(now);
+            slot.tick();
         }
         stats.ticks.fetch_add(group.len() as u64, Ordering::Relaxed);
         report.1 += 1;

@@ -104,16 +104,6 @@ impl Vehicle {
         self.lockstep.schedule_rotor_failure(failure)
     }
 
-    /// Keeps the offboard setpoint fresh at this tick (the stream is alive in wall time).
-    pub fn refresh_offboard(&mut self) {
-        self.lockstep.refresh_offboard();
-    }
-
-    /// `COM_OF_LOSS_T` [s], which the runtime's own timer reads.
-    pub fn offboard_loss_s(&self) -> f64 {
-        self.lockstep.pilot().offboard_loss_s()
-    }
-
     /// One tick ([`Lockstep::step`]), logged when a log is set.
     pub fn step(&mut self) -> TickOutput {
         let tick = self.lockstep.step();

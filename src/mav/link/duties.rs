@@ -1,6 +1,6 @@
 //! What time brings, every [`DUTY_PERIOD_S`] of wall time: expired peers forgotten, mission
-//! items re-requested, GCS link loss, heartbeats and telemetry streams; parameter lists at
-//! their own pace. Commander events become announcements here too.
+//! items re-requested, GCS link loss, the offboard stream's liveness in wall time, heartbeats
+//! and telemetry streams; parameter lists at their own pace. Commander events become announcements here too.
 
 use std::hash::Hash;
 
@@ -35,6 +35,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             return;
         }
         self.next_duty_s = now.wall_s + DUTY_PERIOD_S;
+        self.check_offboard_stream(now);
         for k in 0..self.ports.len() {
             let link = self.ports[k].kind;
             let targets = self.ports[k].targets(now.wall_s);
@@ -100,6 +101,35 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.to_vehicle.push_back(ToVehicle {
             token: None,
             request: VehicleRequest::Commander(Request::GcsLinkLost),
+        });
+    }
+
+    /// An offboard setpoint arrived: the stream is alive in wall time; the commander hears of it
+    /// when it starts ([`Request::OffboardStreamInWallTime`]).
+    pub(super) fn heard_offboard(&mut self, now: Now) {
+        if self.offboard_heard_wall_s.replace(now.wall_s).is_none() {
+            self.tell_offboard_stream(true);
+        }
+    }
+
+    /// Offboard loss in wall time: `COM_OF_LOSS_T` of wall-time silence ends the stream's
+    /// liveness for the commander, which then judges it in simulated time alone (so a stream is
+    /// lost once it is silent in both clocks).
+    fn check_offboard_stream(&mut self, now: Now) {
+        let loss_s = self.params.current().commander.offboard_loss_s;
+        if self
+            .offboard_heard_wall_s
+            .is_some_and(|heard| now.wall_s - heard >= loss_s)
+        {
+            self.offboard_heard_wall_s = None;
+            self.tell_offboard_stream(false);
+        }
+    }
+
+    fn tell_offboard_stream(&mut self, alive: bool) {
+        self.to_vehicle.push_back(ToVehicle {
+            token: None,
+            request: VehicleRequest::Commander(Request::OffboardStreamInWallTime { alive }),
         });
     }
 }

@@ -10,6 +10,7 @@ use mavlink::MavHeader;
 
 use super::params::ParamList;
 use super::{KeyToStore, LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, INFO, WARNING};
+use crate::commander::Request;
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::ingest::{ingest, Action};
 use crate::mav::signing::{SigningKey, Verdict};
@@ -85,10 +86,16 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             }
             Action::Command { command, decision } => self.command(now, link, from, header, &command, decision),
             // Setpoints and SET_MODE get no answer: the next heartbeat shows the result.
-            Action::Request(request) => self.to_vehicle.push_back(ToVehicle {
-                token: None,
-                request: VehicleRequest::Commander(request),
-            }),
+            Action::Request(request) => {
+                let setpoint = matches!(request, Request::OffboardSetpoint { .. } | Request::OffboardAttitude(_));
+                self.to_vehicle.push_back(ToVehicle {
+                    token: None,
+                    request: VehicleRequest::Commander(request),
+                });
+                if setpoint {
+                    self.heard_offboard(now);
+                }
+            }
             Action::Refuse(why) => self.send(now, link, from, &status_text(WARNING, &why)),
             Action::Reply(msg) => self.send(now, link, from, &msg),
             Action::DataStream {

@@ -206,6 +206,8 @@ pub struct LinkMachine<A> {
     param_lists: Vec<ParamList<A>>,
     /// Where to announce each stored key's result, oldest first.
     keys_in_store: VecDeque<(LinkKind, A, bool)>,
+    /// Wall time of the latest offboard setpoint while the stream is alive in wall time [s].
+    offboard_heard_wall_s: Option<f64>,
     next_duty_s: f64,
     transmits: VecDeque<Transmit<A>>,
     to_vehicle: VecDeque<ToVehicle>,
@@ -236,6 +238,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             next_token: 0,
             param_lists: Vec::new(),
             keys_in_store: VecDeque::new(),
+            offboard_heard_wall_s: None,
             next_duty_s: 0.0,
             transmits: VecDeque::new(),
             to_vehicle: VecDeque::new(),
