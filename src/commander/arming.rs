@@ -77,11 +77,7 @@ mod tests {
         assert!(!s.c.armed());
         // OFFBOARD with a stream that stopped longer than COM_OF_LOSS_T ago.
         let sp = FlatSetpoint::hold(Vec3::new(0.0, 0.0, -2.0), 0.0);
-        let setpoint = Request::OffboardSetpoint {
-            setpoint: sp,
-            body_frame: false,
-        };
-        assert_eq!(s.request(setpoint), Outcome::Accepted);
+        assert_eq!(s.request(Request::offboard(sp)), Outcome::Accepted);
         assert_eq!(s.request(Request::SetMode(FlightMode::Offboard)), Outcome::Accepted);
         s.fly(1.5);
         temporarily_rejected(

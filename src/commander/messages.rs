@@ -101,6 +101,14 @@ pub enum Request {
 }
 
 impl Request {
+    /// An offboard setpoint in the world frame (SET_POSITION_TARGET_LOCAL_NED in MAV_FRAME_LOCAL_NED).
+    pub fn offboard(setpoint: FlatSetpoint) -> Self {
+        Self::OffboardSetpoint {
+            setpoint,
+            body_frame: false,
+        }
+    }
+
     /// True when every number the request carries is finite (a request with a non-finite
     /// number is never accepted).
     pub fn is_finite(&self) -> bool {

@@ -114,10 +114,7 @@ mod tests {
     use super::*;
 
     fn stream(s: &mut Script, setpoint: FlatSetpoint, seconds: f64) {
-        let request = Request::OffboardSetpoint {
-            setpoint,
-            body_frame: false,
-        };
+        let request = Request::offboard(setpoint);
         for _ in 0..(seconds / super::super::script::DT_S).round() as usize {
             assert_eq!(s.request(request.clone()), Outcome::Accepted);
             s.step();
@@ -126,12 +123,13 @@ mod tests {
 
     #[test]
     fn offboard_flies_the_stream_from_the_ground_and_its_loss_runs_com_obl_rc_act() {
+        use OffboardLossAction::*;
         for (action, expect) in [
-            (OffboardLossAction::Position, Some(FlightMode::Position)),
-            (OffboardLossAction::Return, Some(FlightMode::ReturnToLaunch)),
-            (OffboardLossAction::Land, Some(FlightMode::Land)),
-            (OffboardLossAction::Hold, Some(FlightMode::Loiter)),
-            (OffboardLossAction::Disarm, None),
+            (Position, Some(FlightMode::Position)),
+            (Return, Some(FlightMode::ReturnToLaunch)),
+            (Land, Some(FlightMode::Land)),
+            (Hold, Some(FlightMode::Loiter)),
+            (Disarm, None),
         ] {
             let mut s = Script::new(CommanderParams {
                 offboard_loss_action: action,
