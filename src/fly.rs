@@ -10,13 +10,13 @@ use std::time::Instant;
 use serde::Serialize;
 use thiserror::Error;
 
-use crate::airframe::{Airframe, AirframeError, AirframeSource};
+use crate::airframe::{Airframe, AirframeSource};
 use crate::control::ControllerKind;
-use crate::flight::{CoreError, FlightCore, SetpointFollower};
-use crate::lockstep::{Exit, Lockstep, Observer, Tick};
+use crate::flight::{FlightCore, SetpointFollower};
+use crate::lockstep::{Exit, Lockstep, Observer, SetupError, Tick};
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::ClimbProfile;
-use crate::sitl::{SimPlant, SitlError};
+use crate::sitl::SimPlant;
 
 /// What to fly.
 #[derive(Debug, Clone, PartialEq)]
@@ -54,15 +54,9 @@ impl Default for FlyOptions {
 /// Why a flight could not run.
 #[derive(Debug, Error)]
 pub enum FlyError {
-    /// The FC refused the airframe.
+    /// The airframe, flight core or plant was refused.
     #[error(transparent)]
-    Airframe(#[from] AirframeError),
-    /// The flight core cannot be built for the airframe.
-    #[error(transparent)]
-    Core(#[from] CoreError),
-    /// The plant refused the airframe.
-    #[error(transparent)]
-    Plant(#[from] SitlError),
+    Setup(#[from] SetupError),
     /// An option is out of range.
     #[error("--{option}: {reason}")]
     Option {
@@ -117,10 +111,8 @@ pub struct FlightSummary {
 /// Flies a take-off to `altitude_m` and a hover with the chosen controller.
 pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, FlyError> {
     check_options(opts)?;
-    let airframe = Airframe::from_source(src)?;
-    let core = FlightCore::for_airframe(&airframe, opts.controller, opts.dt_s)?;
+    let (airframe, core, mut plant) = build(src, opts)?;
     let rotors = core.allocator().rotor_count();
-    let mut plant = SimPlant::from_source(src, opts.seed)?;
     for w in plant.warnings() {
         tracing::warn!("{w}");
     }
@@ -193,6 +185,13 @@ impl Observer<()> for FlyStats {
         self.last_error = state.pos_w - tick.reference_w();
         None
     }
+}
+
+/// The FC's airframe, the flight core and the plant of a flight.
+fn build(src: &AirframeSource, opts: &FlyOptions) -> Result<(Airframe, FlightCore, SimPlant), SetupError> {
+    let airframe = Airframe::from_source(src)?;
+    let core = FlightCore::for_airframe(&airframe, opts.controller, opts.dt_s)?;
+    Ok((airframe, core, SimPlant::from_source(src, opts.seed)?))
 }
 
 fn check_options(o: &FlyOptions) -> Result<(), FlyError> {

@@ -136,18 +136,25 @@ mod tests {
         }
     }
 
-    #[test]
-    fn free_fall_is_exact() {
+    /// A body of 1 kg and diagonal inertia `inertia` [kg·m²] at the origin, at rest in
+    /// translation, with attitude `q_wb` and body rates `omega_b` [rad/s].
+    fn body(inertia: [f64; 3], q_wb: UnitQuaternion<f64>, omega_b: Vector3<f64>) -> (MassProperties, RigidBodyState) {
         let mp = MassProperties {
             mass_kg: 1.0,
-            inertia_kg_m2: Vector3::new(1.0, 1.0, 1.0),
+            inertia_kg_m2: Vector3::from(inertia),
         };
-        let mut s = RigidBodyState {
+        let s = RigidBodyState {
             pos_w: Vector3::zeros(),
             vel_w: Vector3::zeros(),
-            q_wb: UnitQuaternion::identity(),
-            omega_b: Vector3::zeros(),
+            q_wb,
+            omega_b,
         };
+        (mp, s)
+    }
+
+    #[test]
+    fn free_fall_is_exact() {
+        let (mp, mut s) = body([1.0; 3], UnitQuaternion::identity(), Vector3::zeros());
         for _ in 0..1000 {
             s = mp.rk4_step(&s, 1e-3, free);
         }
@@ -157,16 +164,8 @@ mod tests {
 
     #[test]
     fn torque_free_rotation_keeps_angular_momentum_and_energy() {
-        let mp = MassProperties {
-            mass_kg: 1.0,
-            inertia_kg_m2: Vector3::new(0.03, 0.04, 0.06),
-        };
-        let mut s = RigidBodyState {
-            pos_w: Vector3::zeros(),
-            vel_w: Vector3::zeros(),
-            q_wb: UnitQuaternion::from_euler_angles(0.3, -0.2, 1.0),
-            omega_b: Vector3::new(2.0, 0.1, 1.5),
-        };
+        let q_wb = UnitQuaternion::from_euler_angles(0.3, -0.2, 1.0);
+        let (mp, mut s) = body([0.03, 0.04, 0.06], q_wb, Vector3::new(2.0, 0.1, 1.5));
         let momentum_w = |s: &RigidBodyState| s.q_wb * mp.inertia_kg_m2.component_mul(&s.omega_b);
         let energy = |s: &RigidBodyState| 0.5 * s.omega_b.dot(&mp.inertia_kg_m2.component_mul(&s.omega_b));
         let (h0, e0) = (momentum_w(&s), energy(&s));

@@ -16,11 +16,12 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
-use crate::airframe::{AirframeError, AirframeSource};
+use crate::airframe::AirframeSource;
 use crate::commander::Request;
 use crate::control::ControllerKind;
+use crate::lockstep::SetupError;
 use crate::navigation::Home;
-use crate::runtime::vehicle::{Vehicle, VehicleError};
+use crate::runtime::vehicle::Vehicle;
 use crate::runtime::RuntimeError;
 
 /// The real-time factor a vehicle count must hold to count as real time.
@@ -76,15 +77,9 @@ impl BenchOptions {
 /// Why a benchmark could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {
-    /// The airframe is unusable.
+    /// The airframe, flight core or plant was refused.
     #[error(transparent)]
-    Airframe(#[from] AirframeError),
-    /// The vehicle could not be built.
-    #[error(transparent)]
-    Vehicle(#[from] VehicleError),
-    /// The autopilot process failed.
-    #[error(transparent)]
-    Runtime(#[from] RuntimeError),
+    Setup(#[from] SetupError),
     /// A socket, thread or child process failed.
     #[error("{what}: {source}")]
     Io {
@@ -93,6 +88,9 @@ pub enum BenchError {
         /// Cause.
         source: std::io::Error,
     },
+    /// The autopilot process failed.
+    #[error(transparent)]
+    Runtime(#[from] RuntimeError),
     /// The autopilot did not answer.
     #[error("no answer: {0}")]
     Silent(&'static str),

@@ -22,15 +22,32 @@ pub mod observer;
 pub mod rotor_schedule;
 
 use serde::Serialize;
+use thiserror::Error;
 
+use crate::airframe::AirframeError;
 use crate::commander::{Outcome, Request};
-use crate::flight::{Control, FlightController, Pilot};
+use crate::flight::{Control, CoreError, FlightController, Pilot};
 use crate::math::Vec3;
 use crate::params::ParamError;
-use crate::sitl::{PlantChange, PlantStatus, Sensors, SimPlant};
+use crate::sitl::{PlantChange, PlantStatus, Sensors, SimPlant, SitlError};
 
 pub use observer::{Guard, Observer};
 pub use rotor_schedule::{FailureSchedule, ScheduledFailure};
+
+/// Why a flight cannot be set up: the flight controller's view of the airframe, its flight core
+/// or the plant was refused. Every runner (`fly`, `sim`, Monte Carlo, the autopilot) reports it.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SetupError {
+    /// The FC refused the airframe.
+    #[error(transparent)]
+    Airframe(#[from] AirframeError),
+    /// The flight core cannot be built for the airframe.
+    #[error(transparent)]
+    Core(#[from] CoreError),
+    /// The plant refused the airframe.
+    #[error(transparent)]
+    Plant(#[from] SitlError),
+}
 
 /// How a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -51,6 +51,17 @@ pub struct Envelope {
 }
 
 impl Envelope {
+    /// The envelope of the hover state alone: every draw starts at rest on the setpoint, without
+    /// disturbance, at a random heading.
+    pub const HOVER: Self = Self {
+        max_tilt_rad: 0.0,
+        max_rate_rad_s: 0.0,
+        max_speed_m_s: 0.0,
+        max_offset_m: 0.0,
+        max_force_n: 0.0,
+        max_torque_n_m: [0.0; 3],
+    };
+
     /// Checks every bound: finite, ≥ 0, and a tilt below π (a tilt of π has no unique axis).
     pub fn validate(&self) -> Result<(), EnvelopeError> {
         let bad = |field: &'static str, v: f64| EnvelopeError {
@@ -231,15 +242,7 @@ mod tests {
 
     #[test]
     fn a_zero_envelope_draws_the_hover_state_at_any_heading() {
-        let e = Envelope {
-            max_tilt_rad: 0.0,
-            max_rate_rad_s: 0.0,
-            max_speed_m_s: 0.0,
-            max_offset_m: 0.0,
-            max_force_n: 0.0,
-            max_torque_n_m: [0.0; 3],
-        };
-        for d in draws(&e, 3, 20) {
+        for d in draws(&Envelope::HOVER, 3, 20) {
             assert_eq!(d.tilt_rad(), 0.0);
             assert_eq!(d.pos_w + d.vel_w + d.omega_b + d.force_w + d.torque_b, Vec3::zeros());
         }

@@ -20,6 +20,8 @@ use crate::airframe::{Airframe, AirframeSource};
 use crate::allocation::Allocator;
 use crate::control::ControllerKind;
 use crate::estimation::ChebyshevDesign;
+use crate::flight::CoreError;
+use crate::lockstep::SetupError;
 
 pub use envelope::{draws, Draw, Envelope, EnvelopeError};
 pub use report::Report;
@@ -32,12 +34,12 @@ pub enum MonteCarloError {
     /// The envelope is not usable.
     #[error(transparent)]
     Envelope(#[from] EnvelopeError),
-    /// The airframe, estimator or timing is not usable.
-    #[error(transparent)]
-    Setup(#[from] TrialError),
     /// No runs or no control law asked for.
     #[error("{0}")]
     Empty(String),
+    /// The airframe, estimator or timing is not usable.
+    #[error(transparent)]
+    Setup(#[from] TrialError),
 }
 
 /// Bounds given on the command line; `None` keeps the airframe's default
@@ -128,12 +130,11 @@ impl Campaign {
 
     /// The envelope after the overrides.
     pub fn resolved_envelope(&self) -> Result<Envelope, MonteCarloError> {
-        let af = Airframe::from_source(&self.airframe).map_err(TrialError::from)?;
+        let refused = |e: SetupError| MonteCarloError::Setup(e.into());
+        let af = Airframe::from_source(&self.airframe).map_err(|e| refused(e.into()))?;
         let allocator = Allocator::new(&af).map_err(|source| {
-            TrialError::Core(crate::flight::CoreError::Allocation {
-                origin: af.name.clone(),
-                source,
-            })
+            let origin = af.name.clone();
+            refused(CoreError::Allocation { origin, source }.into())
         })?;
         let env = self.envelope.apply(authority::default_envelope(&af, &allocator));
         env.validate()?;

@@ -136,18 +136,7 @@ mod tests {
 
     #[test]
     fn a_setup_error_ends_the_campaign() {
-        let ds = draws(
-            &Envelope {
-                max_tilt_rad: 0.0,
-                max_rate_rad_s: 0.0,
-                max_speed_m_s: 0.0,
-                max_offset_m: 0.0,
-                max_force_n: 0.0,
-                max_torque_n_m: [0.0; 3],
-            },
-            0,
-            3,
-        );
+        let ds = draws(&Envelope::HOVER, 0, 3);
         let err = run_guarded(&ds, 2, |_| Err(TrialError::Timing("bad".into()))).unwrap_err();
         assert_eq!(err, TrialError::Timing("bad".into()));
     }

@@ -12,10 +12,10 @@ use thiserror::Error;
 use crate::airframe::{Airframe, AirframeSource};
 use crate::control::{ControllerKind, FlatSetpoint};
 use crate::estimation::{ChebyshevDesign, DesignError, ObserverError, WrenchObserver};
-use crate::flight::{CoreError, FlightCore, SetpointFollower};
-use crate::lockstep::{Guard, Lockstep};
+use crate::flight::{FlightCore, SetpointFollower};
+use crate::lockstep::{Guard, Lockstep, SetupError};
 use crate::math::Vec3;
-use crate::sitl::{SimPlant, SitlError};
+use crate::sitl::SimPlant;
 
 use super::envelope::Draw;
 use super::judging::Judge;
@@ -30,15 +30,9 @@ const GROUND_BELOW_M: f64 = 1e4;
 /// A campaign that cannot be set up (the same for every draw).
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum TrialError {
-    /// The FC's view of the airframe was refused.
+    /// The airframe, flight core or plant was refused.
     #[error(transparent)]
-    Airframe(#[from] crate::airframe::AirframeError),
-    /// The flight core cannot be built.
-    #[error(transparent)]
-    Core(#[from] CoreError),
-    /// The plant refused the airframe.
-    #[error(transparent)]
-    Plant(#[from] SitlError),
+    Setup(#[from] SetupError),
     /// The estimator design is not usable.
     #[error("estimator design: {0}")]
     Design(#[from] DesignError),
@@ -109,7 +103,7 @@ impl TrialSetup {
             origin: src.origin.clone(),
             reason,
         };
-        let airframe = Airframe::from_source(src)?;
+        let airframe = Airframe::from_source(src).map_err(SetupError::from)?;
         let mut plant_table: toml::Table = toml::from_str(&src.text).map_err(|e| text_err(e.to_string()))?;
         let plant = plant_table
             .entry("plant")
@@ -175,7 +169,7 @@ impl TrialSetup {
 
     /// The flight core of one run: default gains, compensation as set, a fresh estimator.
     fn core(&self, kind: ControllerKind) -> Result<FlightCore, TrialError> {
-        let mut core = FlightCore::for_airframe(&self.airframe, kind, self.dt_s)?;
+        let mut core = FlightCore::for_airframe(&self.airframe, kind, self.dt_s).map_err(SetupError::from)?;
         core.controller.set_compensation(self.compensation);
         if self.estimator.is_some() {
             let observer = WrenchObserver::new(
@@ -212,7 +206,7 @@ impl TrialSetup {
             origin: format!("{} (monte carlo run)", self.origin),
             text,
         };
-        Ok(SimPlant::from_source(&src, seed)?)
+        Ok(SimPlant::from_source(&src, seed).map_err(SetupError::from)?)
     }
 }
 

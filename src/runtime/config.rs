@@ -12,8 +12,8 @@ use crate::navigation::Home;
 
 use super::pacer::Pace;
 use super::signing_store::SigningFileError;
-use super::vehicle::VehicleError;
 use crate::lockstep::ScheduledFailure;
+use crate::lockstep::SetupError;
 
 /// Everything `rotorpilot run` needs.
 #[derive(Debug, Clone)]
@@ -89,7 +89,7 @@ pub const DEFAULT_SPACING_M: f64 = 3.0;
 pub enum RuntimeError {
     /// The vehicle could not be built.
     #[error(transparent)]
-    Vehicle(#[from] VehicleError),
+    Vehicle(#[from] SetupError),
     /// A socket could not be bound.
     #[error("cannot bind {addr}: {source}")]
     Bind {

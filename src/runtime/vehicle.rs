@@ -5,31 +5,17 @@
 use crate::airframe::{Airframe, AirframeSource};
 use crate::commander::{Event, Outcome, Request};
 use crate::control::ControllerKind;
-use crate::flight::{CoreError, FlightController};
-use crate::lockstep::{Lockstep, Observer, ScheduledFailure};
+use crate::flight::FlightController;
+use crate::lockstep::{Lockstep, Observer, ScheduledFailure, SetupError};
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable};
-use crate::sitl::{SimPlant, SitlError};
+use crate::sitl::SimPlant;
 use crate::telemetry::Snapshot;
 
 use super::flight_log::LogSender;
 
 /// The autopilot's start-up estimator and tilt limit, where the fuzz targets name them.
 pub use crate::flight::{AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
-
-/// A vehicle that cannot be built.
-#[derive(Debug, thiserror::Error)]
-pub enum VehicleError {
-    /// The FC refused the airframe.
-    #[error(transparent)]
-    Airframe(#[from] crate::airframe::AirframeError),
-    /// The flight core cannot be built.
-    #[error(transparent)]
-    Core(#[from] CoreError),
-    /// The plant refused the airframe.
-    #[error(transparent)]
-    Plant(#[from] SitlError),
-}
 
 /// The flight controller and plant of one vehicle, and where its ticks are logged.
 #[derive(Debug)]
@@ -55,7 +41,7 @@ impl Vehicle {
         home: Home,
         seed: u64,
         dt_s: f64,
-    ) -> Result<Self, VehicleError> {
+    ) -> Result<Self, SetupError> {
         let airframe = Airframe::from_source(src)?;
         let controller = FlightController::new(&airframe, kind, home, dt_s)?;
         let plant = SimPlant::from_source(src, seed)?;

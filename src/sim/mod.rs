@@ -11,13 +11,13 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 use thiserror::Error;
 
-use crate::flight::{CoreError, SetpointFollower};
-use crate::lockstep::{Exit, Guard, Lockstep, Observer, Tick};
+use crate::flight::SetpointFollower;
+use crate::lockstep::{Exit, Guard, Lockstep, Observer, SetupError, Tick};
 use crate::math::GRAVITY_M_S2;
 use crate::runtime::pacer::{Pace, Pacer, Wait};
 use crate::scenario::summary::{RunStats, TickRecord, TrackingSummary};
 use crate::scenario::Scenario;
-use crate::sitl::{SimPlant, SitlError};
+use crate::sitl::SimPlant;
 
 use run_csv::{RunCsv, RunRow};
 
@@ -27,12 +27,9 @@ const FLY_AWAY_M: f64 = 1e4;
 /// Why a scenario could not run.
 #[derive(Debug, Error)]
 pub enum SimError {
-    /// The flight core cannot be built.
+    /// The flight core or plant was refused.
     #[error(transparent)]
-    Core(#[from] CoreError),
-    /// The plant refused the airframe.
-    #[error(transparent)]
-    Plant(#[from] SitlError),
+    Setup(#[from] SetupError),
     /// An output file could not be written.
     #[error("cannot write {path}: {source}")]
     Io {
@@ -105,8 +102,8 @@ pub fn simulate(scn: &Scenario, out_dir: Option<&Path>) -> Result<SimSummary, Si
 /// [`simulate`] with simulated time paced against the wall clock (`--speedup`): the same ticks in
 /// the same order whatever the pace, so `run.csv` is bit-identical at any speed-up.
 pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Result<SimSummary, SimError> {
-    let core = scn.flight_core()?;
-    let mut plant = SimPlant::from_source(&scn.airframe_source, scn.seed)?;
+    let core = scn.flight_core().map_err(SetupError::from)?;
+    let mut plant = SimPlant::from_source(&scn.airframe_source, scn.seed).map_err(SetupError::from)?;
     for w in plant.warnings() {
         tracing::warn!("{w}");
     }
