@@ -22,13 +22,17 @@ mod cli;
 
 use cli::{Cli, Command, DesignArgs, MonteCarloArgs};
 
-/// `LAT,LON,ALT` [deg, deg, m AMSL].
-fn parse_home(text: &str) -> Result<Home, String> {
-    let v: Vec<f64> = text
-        .split(',')
+/// The comma-separated numbers `text` of `option`; an error names the option and `expected`.
+fn parse_numbers(option: &str, text: &str, expected: &str) -> Result<Vec<f64>, String> {
+    text.split(',')
         .map(|s| s.trim().parse::<f64>())
         .collect::<Result<_, _>>()
-        .map_err(|e| format!("--home {text:?}: {e}; expected LAT,LON,ALT"))?;
+        .map_err(|e| format!("{option} {text:?}: {e}; expected {expected}"))
+}
+
+/// `LAT,LON,ALT` [deg, deg, m AMSL].
+fn parse_home(text: &str) -> Result<Home, String> {
+    let v = parse_numbers("--home", text, "LAT,LON,ALT")?;
     match v[..] {
         [lat, lon, alt] if lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite() => Ok(Home {
             lat_deg: lat,
@@ -274,11 +278,7 @@ fn estimate(
     out: Option<&std::path::Path>,
 ) -> Result<String, String> {
     let ts = args.ts;
-    let inertia: Vec<f64> = inertia
-        .split(',')
-        .map(|s| s.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("--inertia {inertia:?}: {e}; expected Ixx,Iyy,Izz in kg·m²"))?;
+    let inertia = parse_numbers("--inertia", inertia, "Ixx,Iyy,Izz in kg·m²")?;
     let [ixx, iyy, izz] = inertia[..] else {
         return Err(format!(
             "--inertia: expected 3 numbers Ixx,Iyy,Izz, got {}",
@@ -311,18 +311,11 @@ fn montecarlo(a: &MonteCarloArgs) -> Result<String, String> {
     };
     let max_torque = match &a.max_torque {
         None => None,
-        Some(text) => {
-            let v: Vec<f64> = text
-                .split(',')
-                .map(|s| s.trim().parse::<f64>())
-                .collect::<Result<_, _>>()
-                .map_err(|e| format!("--max-torque {text:?}: {e}; expected T or TX,TY,TZ in N·m"))?;
-            match v[..] {
-                [t] => Some([t; 3]),
-                [x, y, z] => Some([x, y, z]),
-                _ => return Err(format!("--max-torque {text:?}: expected T or TX,TY,TZ in N·m")),
-            }
-        }
+        Some(text) => match parse_numbers("--max-torque", text, "T or TX,TY,TZ in N·m")?[..] {
+            [t] => Some([t; 3]),
+            [x, y, z] => Some([x, y, z]),
+            _ => return Err(format!("--max-torque {text:?}: expected T or TX,TY,TZ in N·m")),
+        },
     };
     for (name, v) in [("--pos-tol", a.pos_tol), ("--att-tol", a.att_tol)] {
         if !(v.is_finite() && v > 0.0) {

@@ -180,14 +180,10 @@ fn mission_takeoff_waypoints_and_land() {
             break;
         }
     }
-    let reached: Vec<u16> = sim
-        .events
-        .iter()
-        .filter_map(|e| match e {
-            Event::MissionItemReached(s) => Some(*s),
-            _ => None,
-        })
-        .collect();
+    let reached = picked(&sim.events, |e| match e {
+        Event::MissionItemReached(s) => Some(*s),
+        _ => None,
+    });
     assert_eq!(reached, vec![0, 1, 2, 3, 4], "{:?}", sim.events);
     assert_eq!(sim.commander().mission_progress().2, MissionState::Complete);
     assert!(!sim.commander().armed(), "landed and disarmed");
@@ -275,14 +271,16 @@ fn auto_paths_keep_mpc_xy_vel_max_and_mpc_z_vel_max_dn() {
     assert!((p.x - 12.0).abs() < 0.05 && (p.z + 2.0).abs() < 0.05, "{p:?}");
 }
 
+/// What `pick` takes from each event that it takes anything from, in order.
+fn picked<T>(events: &[Event], pick: impl Fn(&Event) -> Option<T>) -> Vec<T> {
+    events.iter().filter_map(pick).collect()
+}
+
 fn failsafe_texts(events: &[Event]) -> Vec<String> {
-    events
-        .iter()
-        .filter_map(|e| match e {
-            Event::Failsafe(text) => Some(text.clone()),
-            _ => None,
-        })
-        .collect()
+    picked(events, |e| match e {
+        Event::Failsafe(text) => Some(text.clone()),
+        _ => None,
+    })
 }
 
 #[test]
@@ -344,14 +342,10 @@ fn battery_failsafes_warn_return_then_land() {
     assert!(texts[0].starts_with("Low battery: 15%"), "{texts:?}");
     assert!(texts[1].starts_with("Critical battery (7%): returning"), "{texts:?}");
     assert!(texts[2].starts_with("Emergency battery (5%): landing"), "{texts:?}");
-    let modes: Vec<_> = sim
-        .events
-        .iter()
-        .filter_map(|e| match e {
-            Event::ModeChanged(m) => Some(*m),
-            _ => None,
-        })
-        .collect();
+    let modes = picked(&sim.events, |e| match e {
+        Event::ModeChanged(m) => Some(*m),
+        _ => None,
+    });
     assert!(
         modes.ends_with(&[FlightMode::ReturnToLaunch, FlightMode::Land]),
         "{modes:?}"
