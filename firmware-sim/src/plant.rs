@@ -8,7 +8,7 @@ use crate::disturbance::{external_wrench, linear_drag_w};
 use crate::params::PlantParams;
 use crate::rigid_body::{MassProperties, RigidBodyState, StageLoads};
 use crate::rotor::{rotor_wrench_b, MotorBank};
-use crate::sensors::{SensorSample, SensorTruth};
+use crate::sensors::SensorSample;
 
 /// Longest step the plant accepts [s]; longer ones are refused rather than integrated badly.
 pub const MAX_DT_S: f64 = 0.1;
@@ -172,15 +172,7 @@ impl Plant {
 
     /// A sensor sample of the current state with the configured noise drawn from `rng`.
     pub fn sense(&self, rng: &mut ChaCha8Rng) -> SensorSample {
-        let truth = SensorTruth {
-            t_s: self.time_s(),
-            pos_w: self.body.pos_w,
-            vel_w: self.body.vel_w,
-            q_wb: self.body.q_wb,
-            omega_b: self.body.omega_b,
-            accel_w: self.accel_w,
-        };
-        self.params.noise.sample(&truth, rng)
+        self.params.noise.sample(self.time_s(), &self.body, self.accel_w, rng)
     }
 
     /// Advances by `dt_s` [s] with commanded rotor speeds `omega_cmd_rad_s` [rad/s] held for the

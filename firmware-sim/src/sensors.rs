@@ -8,6 +8,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::rigid_body::RigidBodyState;
 use crate::GRAVITY_M_S2;
 
 /// Standard deviations of additive white noise.
@@ -42,29 +43,25 @@ pub struct SensorSample {
     pub accel_b: Vector3<f64>,
 }
 
-/// Exact values the noisy sample is built from.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct SensorTruth {
-    pub t_s: f64,
-    pub pos_w: Vector3<f64>,
-    pub vel_w: Vector3<f64>,
-    pub q_wb: UnitQuaternion<f64>,
-    pub omega_b: Vector3<f64>,
-    pub accel_w: Vector3<f64>,
-}
-
 impl NoiseParams {
-    /// A sample of `truth` with this noise added.
-    pub(crate) fn sample(&self, truth: &SensorTruth, rng: &mut ChaCha8Rng) -> SensorSample {
-        let specific_w = truth.accel_w - Vector3::new(0.0, 0.0, GRAVITY_M_S2);
-        let accel_b = truth.q_wb.inverse_transform_vector(&specific_w);
+    /// A sample at time `t_s` [s] of the true `body` accelerating at `accel_w` (world NED
+    /// [m/s²]) with this noise added; the accelerometer reads the specific force
+    /// R_wbᵀ (a_w − g e_3) in body FRD.
+    pub(crate) fn sample(
+        &self,
+        t_s: f64,
+        body: &RigidBodyState,
+        accel_w: Vector3<f64>,
+        rng: &mut ChaCha8Rng,
+    ) -> SensorSample {
+        let specific_w = accel_w - Vector3::new(0.0, 0.0, GRAVITY_M_S2);
         let mut s = SensorSample {
-            t_s: truth.t_s,
-            pos_w: truth.pos_w,
-            vel_w: truth.vel_w,
-            q_wb: truth.q_wb,
-            omega_b: truth.omega_b,
-            accel_b,
+            t_s,
+            pos_w: body.pos_w,
+            vel_w: body.vel_w,
+            q_wb: body.q_wb,
+            omega_b: body.omega_b,
+            accel_b: body.q_wb.inverse_transform_vector(&specific_w),
         };
         if *self == Self::default() {
             return s;
@@ -115,16 +112,14 @@ mod tests {
     #[test]
     fn zero_noise_is_exact_and_accel_reads_minus_g_at_rest() {
         let mut rng = ChaCha8Rng::seed_from_u64(1);
-        let truth = SensorTruth {
-            t_s: 0.5,
+        let body = RigidBodyState {
             pos_w: Vector3::new(1.0, 2.0, -3.0),
             vel_w: Vector3::zeros(),
             q_wb: UnitQuaternion::identity(),
             omega_b: Vector3::zeros(),
-            accel_w: Vector3::zeros(),
         };
-        let s = NoiseParams::default().sample(&truth, &mut rng);
-        assert_eq!(s.pos_w, truth.pos_w);
+        let s = NoiseParams::default().sample(0.5, &body, Vector3::zeros(), &mut rng);
+        assert_eq!(s.pos_w, body.pos_w);
         assert_eq!(s.accel_b, Vector3::new(0.0, 0.0, -GRAVITY_M_S2));
     }
 }
