@@ -16,6 +16,7 @@ use crate::flight::{FlightCore, SetpointFollower};
 use crate::lockstep::{Exit, Lockstep, Observer, SetupError, Tick};
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::ClimbProfile;
+use crate::scenario::summary::RunStats;
 use crate::sitl::SimPlant;
 
 /// What to fly.
@@ -129,13 +130,14 @@ pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, Fly
         None => None,
     };
     let mut lockstep = Lockstep::new(SetpointFollower::new(core, climb), plant, opts.dt_s);
-    let mut observer = (FlyStats::default(), log);
+    let mut observer = (RunStats::default(), log);
 
     let ticks = (opts.duration_s / opts.dt_s).round() as u64;
     let wall = Instant::now();
     lockstep.run(ticks, &mut observer);
     let wall_time_s = wall.elapsed().as_secs_f64();
     let (stats, log) = observer;
+    let stats = stats.summary(opts.dt_s);
     if let Some(log) = log {
         log.finish()?;
     }
@@ -150,9 +152,9 @@ pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, Fly
         sim_time_s,
         ticks,
         final_position_m: truth.pos_w.into(),
-        final_error_m: stats.last_error.into(),
-        max_tilt_deg: stats.max_tilt.to_degrees(),
-        saturated_time_s: stats.saturated_ticks as f64 * opts.dt_s,
+        final_error_m: stats.final_position_error_m,
+        max_tilt_deg: stats.max_tilt_deg,
+        saturated_time_s: stats.saturated_time_s,
         final_rotor_speed_rad_s: speeds.iter().sum::<f64>() / speeds.len() as f64,
         hover_speed_rad_s: airframe.hover_speed_rad_s(),
         on_ground: truth.on_ground,
@@ -163,28 +165,6 @@ pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, Fly
             f64::INFINITY
         },
     })
-}
-
-/// Largest tilt [rad], saturated ticks and the last position error [m] of a flight.
-#[derive(Debug, Default)]
-struct FlyStats {
-    max_tilt: f64,
-    saturated_ticks: u64,
-    last_error: Vec3,
-}
-
-impl Observer<()> for FlyStats {
-    fn observe(&mut self, tick: &Tick<()>, _plant: &SimPlant) -> Option<Exit> {
-        let state = &tick.sensors.state;
-        self.max_tilt = self.max_tilt.max(state.tilt_rad());
-        let saturated = tick
-            .control
-            .step
-            .is_some_and(|s| s.allocation.saturation.is_saturated());
-        self.saturated_ticks += u64::from(saturated);
-        self.last_error = state.pos_w - tick.reference_w();
-        None
-    }
 }
 
 /// The FC's airframe, the flight core and the plant of a flight.
