@@ -33,8 +33,8 @@ pub mod streams;
 pub mod telemetry;
 pub mod translate;
 
-/// The raw MAVLink types of the bench client's API ([`crate::bench::client`]) and the fuzz
-/// target: they are MAVLink clients and send and match arbitrary messages. The runtime never
-/// names them; it deals in [`link`]'s types.
+/// The raw MAVLink types of the bench client's API ([`crate::bench::client`]): it is a ground
+/// station, and the tests send and match arbitrary messages through it. The runtime never names
+/// them; it deals in [`link`]'s types.
 pub use mavlink::dialects::common::{MavCmd, MavMessage, MavResult};
 pub use mavlink::MavHeader;
