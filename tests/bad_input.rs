@@ -9,11 +9,10 @@ mod support;
 use std::time::Duration;
 
 use mavlink::dialects::common::{
-    AttitudeTargetTypemask, MavCmd, MavFrame, MavMessage, MavParamType, MavResult, PositionTargetTypemask,
-    COMMAND_INT_DATA, PARAM_SET_DATA, SET_ATTITUDE_TARGET_DATA, SET_POSITION_TARGET_GLOBAL_INT_DATA,
-    SET_POSITION_TARGET_LOCAL_NED_DATA,
+    MavCmd, MavFrame, MavMessage, MavParamType, MavResult, PositionTargetTypemask, COMMAND_INT_DATA, PARAM_SET_DATA,
+    SET_POSITION_TARGET_GLOBAL_INT_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
-use support::Autopilot;
+use support::{attitude_target, Autopilot};
 
 const NAN: f32 = f32::NAN;
 const INF: f32 = f32::INFINITY;
@@ -144,22 +143,8 @@ fn a_hovering_vehicle_refuses_every_bad_value_and_stays_put() {
             coordinate_frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
             ..Default::default()
         }),
-        MavMessage::SET_ATTITUDE_TARGET(SET_ATTITUDE_TARGET_DATA {
-            q: [NAN, 0.0, 0.0, 0.0],
-            thrust: 0.5,
-            type_mask: AttitudeTargetTypemask::from_bits_truncate(7),
-            target_system: 1,
-            target_component: 1,
-            ..Default::default()
-        }),
-        MavMessage::SET_ATTITUDE_TARGET(SET_ATTITUDE_TARGET_DATA {
-            q: [1.0, 0.0, 0.0, 0.0],
-            thrust: 3.0,
-            type_mask: AttitudeTargetTypemask::from_bits_truncate(7),
-            target_system: 1,
-            target_component: 1,
-            ..Default::default()
-        }),
+        attitude_target([NAN, 0.0, 0.0, 0.0], 0.5),
+        attitude_target([1.0, 0.0, 0.0, 0.0], 3.0),
     ];
     for target in &bad_targets {
         v.send(target);

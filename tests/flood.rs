@@ -7,6 +7,7 @@
 
 use std::io::{BufRead, BufReader, Read};
 use std::net::{SocketAddr, UdpSocket};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
@@ -14,11 +15,12 @@ use std::time::{Duration, Instant};
 
 use mavlink::dialects::common::{
     MavCmd, MavFrame, MavMessage, MavMissionType, MavModeFlag, MavParamType, MavResult, PositionTargetTypemask,
-    COMMAND_LONG_DATA, MISSION_COUNT_DATA, PARAM_SET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
+    MISSION_COUNT_DATA, PARAM_SET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
-use mavlink::MavHeader;
+use rotorpilot::bench::autopilot::loopback_run;
 use rotorpilot::bench::client::BenchClient;
 use rotorpilot::mav::codec::{encode_v2, frame_v2};
+use rotorpilot::mav::gcs::gcs_header;
 
 /// Sends of one command before the client gives up.
 const SENDS: usize = 12;
@@ -37,17 +39,8 @@ struct Autopilot {
 impl Autopilot {
     fn start() -> Self {
         let gcs = BenchClient::bind().unwrap();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_rotorpilot"))
-            .args([
-                "run",
-                "--bind-gcs",
-                "127.0.0.1:0",
-                "--bind-api",
-                "127.0.0.1:0",
-                "--api",
-                "127.0.0.1:9",
-            ])
-            .args(["--duration", "120", "--gcs", &gcs.local_addr().unwrap().to_string()])
+        let exe = Path::new(env!("CARGO_BIN_EXE_rotorpilot"));
+        let mut child = loopback_run(exe, gcs.local_addr().unwrap(), 120)
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -115,28 +108,9 @@ impl Drop for Autopilot {
     }
 }
 
-fn gcs_header(sequence: u8) -> MavHeader {
-    MavHeader {
-        system_id: 255,
-        component_id: 190,
-        sequence,
-    }
-}
-
 fn command_long(command: MavCmd, p1: f32, p2: f32, target_system: u8) -> MavMessage {
-    MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-        param1: p1,
-        param2: p2,
-        param3: f32::NAN,
-        param4: f32::NAN,
-        param5: f32::NAN,
-        param6: f32::NAN,
-        param7: f32::NAN,
-        command,
-        target_system,
-        target_component: 1,
-        confirmation: 0,
-    })
+    let params = [p1, p2, f32::NAN, f32::NAN, f32::NAN, f32::NAN, f32::NAN];
+    MavMessage::COMMAND_LONG(rotorpilot::mav::gcs::command_long((target_system, 1), command, params))
 }
 
 /// A small deterministic generator (xorshift64*).

@@ -10,58 +10,31 @@ use std::path::{Path, PathBuf};
 
 use mavlink::dialects::common::{
     AttitudeTargetTypemask, MavCmd, MavDataStream, MavFrame, MavMessage, MavMissionType, MavModeFlag, MavParamType,
-    MavType, PositionTargetTypemask, COMMAND_INT_DATA, COMMAND_LONG_DATA, FILE_TRANSFER_PROTOCOL_DATA, HEARTBEAT_DATA,
-    MISSION_ACK_DATA, MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA, MISSION_REQUEST_INT_DATA, MISSION_REQUEST_LIST_DATA,
+    MavType, PositionTargetTypemask, COMMAND_INT_DATA, FILE_TRANSFER_PROTOCOL_DATA, HEARTBEAT_DATA, MISSION_ACK_DATA,
+    MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA, MISSION_REQUEST_INT_DATA, MISSION_REQUEST_LIST_DATA,
     PARAM_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA, PING_DATA, REQUEST_DATA_STREAM_DATA,
     SET_ATTITUDE_TARGET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_GLOBAL_INT_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
     TIMESYNC_DATA,
 };
-use mavlink::MavHeader;
 use rotorpilot::mav::codec::{decode_datagram, encode_v2, Inbound};
+use rotorpilot::mav::gcs::{command_long, gcs_header};
 
 mod support;
-use support::mission_item;
+use support::{attitude_target, mission_item};
 
 const NAN: f32 = f32::NAN;
-
-fn gcs() -> MavHeader {
-    MavHeader {
-        system_id: 255,
-        component_id: 190,
-        sequence: 0,
-    }
-}
 
 /// One datagram of MAVLink 2 frames from the ground station, sequence numbers counting up.
 fn datagram(messages: &[MavMessage]) -> Vec<u8> {
     let mut buf = Vec::new();
     for (i, m) in messages.iter().enumerate() {
-        encode_v2(
-            MavHeader {
-                sequence: i as u8,
-                ..gcs()
-            },
-            m,
-            &mut buf,
-        );
+        encode_v2(gcs_header(i as u8), m, &mut buf);
     }
     buf
 }
 
 fn command(command: MavCmd, p: [f32; 7]) -> MavMessage {
-    MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-        param1: p[0],
-        param2: p[1],
-        param3: p[2],
-        param4: p[3],
-        param5: p[4],
-        param6: p[5],
-        param7: p[6],
-        command,
-        target_system: 1,
-        target_component: 1,
-        confirmation: 0,
-    })
+    MavMessage::COMMAND_LONG(command_long((1, 1), command, p))
 }
 
 fn gcs_heartbeat() -> MavMessage {
@@ -109,8 +82,8 @@ fn local_target(mask: u16, frame: MavFrame) -> MavMessage {
 fn mavlink_seeds() -> Vec<(&'static str, Vec<u8>)> {
     let set_mode = |main: f32, sub: f32| command(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, main, sub, NAN, NAN, NAN, NAN]);
     let mut v1 = Vec::new();
-    mavlink::write_v1_msg(&mut v1, gcs(), &command(MavCmd::MAV_CMD_NAV_LAND, [NAN; 7])).unwrap();
-    mavlink::write_v1_msg(&mut v1, gcs(), &gcs_heartbeat()).unwrap();
+    mavlink::write_v1_msg(&mut v1, gcs_header(0), &command(MavCmd::MAV_CMD_NAV_LAND, [NAN; 7])).unwrap();
+    mavlink::write_v1_msg(&mut v1, gcs_header(0), &gcs_heartbeat()).unwrap();
     vec![
         ("heartbeat", datagram(&[gcs_heartbeat()])),
         (
@@ -171,14 +144,7 @@ fn mavlink_seeds() -> Vec<(&'static str, Vec<u8>)> {
                 }),
                 set_mode(6.0, 0.0),
                 arm(),
-                MavMessage::SET_ATTITUDE_TARGET(SET_ATTITUDE_TARGET_DATA {
-                    q: [1.0, 0.0, 0.0, 0.0],
-                    thrust: 0.6,
-                    type_mask: AttitudeTargetTypemask::from_bits_truncate(7),
-                    target_system: 1,
-                    target_component: 1,
-                    ..Default::default()
-                }),
+                attitude_target([1.0, 0.0, 0.0, 0.0], 0.6),
                 MavMessage::SET_ATTITUDE_TARGET(SET_ATTITUDE_TARGET_DATA {
                     body_yaw_rate: 0.5,
                     thrust: 0.5,

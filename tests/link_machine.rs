@@ -4,10 +4,11 @@
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
 use mavlink::dialects::common::*;
-use mavlink::{MavHeader, Message};
+use mavlink::Message;
 use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
 use rotorpilot::control::{ControllerGains, ControllerKind};
 use rotorpilot::mav::codec::{decode_datagram, encode_v2, frame_message, Inbound};
+use rotorpilot::mav::gcs::{command_long, gcs_header};
 use rotorpilot::mav::link::{LinkConfig, LinkMachine, Now, ToVehicle, VehicleReply, VehicleRequest};
 use rotorpilot::mav::signing::{Signing, SigningKey};
 use rotorpilot::mav::streams::LinkKind;
@@ -22,11 +23,6 @@ use LinkKind::{Api, Gcs};
 const QGC: u16 = 14550;
 const SDK: u16 = 14540;
 const OTHER: u16 = 40000;
-const GCS_IDS: MavHeader = MavHeader {
-    system_id: 255,
-    component_id: 190,
-    sequence: 0,
-};
 
 fn table() -> ParamTable {
     ParamTable::new(&VehicleSettings::new(
@@ -78,7 +74,7 @@ impl Bench {
     /// `msg` from the ground station at `from` on `link`.
     fn send(&mut self, link: LinkKind, from: u16, msg: MavMessage) {
         let mut bytes = Vec::new();
-        encode_v2(GCS_IDS, &msg, &mut bytes);
+        encode_v2(gcs_header(0), &msg, &mut bytes);
         self.m.handle_datagram(self.now, link, from, &bytes);
     }
 
@@ -96,6 +92,16 @@ impl Bench {
         out
     }
 
+    /// Where the HEARTBEATs on `link` went since the last call.
+    fn heartbeats_to(&mut self, link: LinkKind) -> Vec<u16> {
+        let out = self.out();
+        named(&out, "HEARTBEAT")
+            .iter()
+            .filter(|(l, ..)| *l == link)
+            .map(|t| t.1)
+            .collect()
+    }
+
     /// Every request for the vehicle since the last call.
     fn asks(&mut self) -> Vec<ToVehicle> {
         std::iter::from_fn(|| self.m.poll_vehicle()).collect()
@@ -103,13 +109,8 @@ impl Bench {
 }
 
 fn command(command: MavCmd, param1: f32) -> MavMessage {
-    MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-        command,
-        param1,
-        target_system: 1,
-        target_component: 1,
-        ..Default::default()
-    })
+    let params = [param1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    MavMessage::COMMAND_LONG(command_long((1, 1), command, params))
 }
 
 fn gcs_heartbeat() -> MavMessage {
@@ -183,19 +184,11 @@ fn a_peer_gets_telemetry_until_ten_seconds_of_silence() {
     let mut b = Bench::new();
     b.send(Gcs, OTHER, gcs_heartbeat());
     b.at(1.0, 1.0);
-    let to: Vec<u16> = named(&b.out(), "HEARTBEAT")
-        .iter()
-        .filter(|(l, ..)| *l == Gcs)
-        .map(|t| t.1)
-        .collect();
+    let to = b.heartbeats_to(Gcs);
     assert_eq!(to.len(), 2);
     assert!(to.contains(&QGC) && to.contains(&OTHER));
     b.at(10.5, 10.5);
-    let to: Vec<u16> = named(&b.out(), "HEARTBEAT")
-        .iter()
-        .filter(|(l, ..)| *l == Gcs)
-        .map(|t| t.1)
-        .collect();
+    let to = b.heartbeats_to(Gcs);
     assert_eq!(
         to,
         vec![QGC],
@@ -449,7 +442,7 @@ fn with_a_key_only_signed_frames_pass_and_every_frame_out_is_signed() {
     assert_eq!(b.m.signing_dropped(), 1);
     // Signed with the key at the link's clock, it passes.
     let mut gcs = Signing::new(Some(key), epoch);
-    let mut frame = frame_message(GCS_IDS, &command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0));
+    let mut frame = frame_message(gcs_header(0), &command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0));
     gcs.seal(&mut frame, 0, epoch + 10);
     b.m.handle_datagram(b.now, Gcs, QGC, frame.raw_bytes());
     assert_eq!(b.asks().len(), 1);

@@ -7,8 +7,8 @@ mod support;
 use std::time::Duration;
 
 use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavType, HEARTBEAT_DATA};
-use mavlink::MavHeader;
 use rotorpilot::mav::codec::encode_v2;
+use rotorpilot::mav::gcs::gcs_header;
 use support::Autopilot;
 
 #[test]
@@ -45,11 +45,7 @@ fn heartbeat_commands_and_garbage() {
     // Garbage: random bytes, a truncated frame, a frame with a broken CRC, an oversized datagram.
     let mut good = Vec::new();
     encode_v2(
-        MavHeader {
-            system_id: 255,
-            component_id: 190,
-            sequence: 0,
-        },
+        gcs_header(0),
         &MavMessage::HEARTBEAT(HEARTBEAT_DATA::default()),
         &mut good,
     );

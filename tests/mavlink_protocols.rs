@@ -66,26 +66,15 @@ fn mode_machine_through_both_set_mode_encodings() {
         heartbeat_mode(&v, Duration::from_secs(2), |m| m == POSCTL),
         Some(POSCTL)
     );
-    assert_eq!(
-        set_mode(&mut v, 1.0, 0.0),
-        Some(MavResult::MAV_RESULT_TEMPORARILY_REJECTED),
-        "MANUAL"
-    );
-    assert_eq!(
-        set_mode(&mut v, 4.0, 4.0),
-        Some(MavResult::MAV_RESULT_TEMPORARILY_REJECTED),
-        "no mission"
-    );
-    assert_eq!(
-        set_mode(&mut v, 6.0, 0.0),
-        Some(MavResult::MAV_RESULT_TEMPORARILY_REJECTED),
-        "no setpoints"
-    );
-    assert_eq!(
-        set_mode(&mut v, 9.0, 0.0),
-        Some(MavResult::MAV_RESULT_DENIED),
-        "unknown"
-    );
+    let refused = [
+        (1.0, 0.0, MavResult::MAV_RESULT_TEMPORARILY_REJECTED, "MANUAL"),
+        (4.0, 4.0, MavResult::MAV_RESULT_TEMPORARILY_REJECTED, "no mission"),
+        (6.0, 0.0, MavResult::MAV_RESULT_TEMPORARILY_REJECTED, "no setpoints"),
+        (9.0, 0.0, MavResult::MAV_RESULT_DENIED, "unknown"),
+    ];
+    for (main, sub, result, why) in refused {
+        assert_eq!(set_mode(&mut v, main, sub), Some(result), "{why}");
+    }
     v.send(&MavMessage::SET_MODE(SET_MODE_DATA {
         custom_mode: AUTO_LOITER,
         target_system: 1,

@@ -8,8 +8,8 @@ mod support;
 use std::time::{Duration, Instant};
 
 use mavlink::dialects::common::{
-    MavCmd, MavMessage, MavMissionResult, MavMissionType, MavResult, COMMAND_LONG_DATA, MISSION_CLEAR_ALL_DATA,
-    MISSION_COUNT_DATA, MISSION_REQUEST_LIST_DATA,
+    MavCmd, MavMessage, MavMissionResult, MavMissionType, MavResult, MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA,
+    MISSION_REQUEST_LIST_DATA,
 };
 use support::Autopilot;
 
@@ -22,13 +22,8 @@ fn connected(v: &Autopilot) -> bool {
 }
 
 fn command_long(command: MavCmd, param1: f32) -> MavMessage {
-    MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-        command,
-        param1,
-        target_system: 1,
-        target_component: 1,
-        ..Default::default()
-    })
+    let params = [param1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    MavMessage::COMMAND_LONG(rotorpilot::mav::gcs::command_long((1, 1), command, params))
 }
 
 /// What [`count_answers`] counts.

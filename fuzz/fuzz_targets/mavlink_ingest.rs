@@ -12,11 +12,11 @@ use rotorpilot::commander::{Commander, Outcome};
 use rotorpilot::control::{ControllerGains, ControllerKind, VehicleState};
 use rotorpilot::math::{UnitQuat, Vec3};
 use rotorpilot::mav::codec::{decode_datagram, frame_v2};
+use rotorpilot::mav::gcs::gcs_header;
 use rotorpilot::mav::link::{LinkConfig, LinkMachine, Now, ToVehicle, VehicleReply, VehicleRequest};
 use rotorpilot::mav::signing::{Signing, SigningKey};
 use rotorpilot::mav::streams::LinkKind;
 use rotorpilot::mav::translate::Identity;
-use rotorpilot::mav::MavHeader;
 use rotorpilot::navigation::Home;
 use rotorpilot::params::{ParamTable, VehicleSettings};
 use rotorpilot::runtime::vehicle::DEFAULT_ESTIMATOR;
@@ -43,11 +43,7 @@ fn framed(mut chunks: &[u8]) -> Vec<u8> {
     let (mut out, mut sequence) = (Vec::new(), 0u8);
     while let [lo, hi, len, rest @ ..] = chunks {
         let n = usize::from(*len).min(rest.len());
-        let header = MavHeader {
-            system_id: 255,
-            component_id: 190,
-            sequence,
-        };
+        let header = gcs_header(sequence);
         frame_v2(header, u32::from(u16::from_le_bytes([*lo, *hi])), &rest[..n], &mut out);
         sequence = sequence.wrapping_add(1);
         chunks = &rest[n..];

@@ -5,6 +5,10 @@
 //! turn), because an ACK can be lost: with a hundred vehicles streaming telemetry to this one
 //! socket the kernel drops datagrams once its receive buffer is full. The socket asks for a
 //! large buffer, and waiting decodes and throws away unrelated telemetry as fast as it comes.
+//!
+//! The client speaks raw MAVLink ([`MavMessage`], [`MavCmd`], [`MavResult`]): it is a ground
+//! station, and the tests send and match arbitrary messages through it. What a ground station
+//! sends and how an ACK is matched are [`crate::mav::gcs`]'s; this file only moves datagrams.
 
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -13,7 +17,8 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::mav::codec::{decode_datagram, encode_v2, Inbound};
-use crate::mav::{MavCmd, MavHeader, MavMessage, MavResult, COMMAND_LONG_DATA, HEARTBEAT_DATA};
+use crate::mav::gcs::{ack_result, command_long, gcs_header, is_autopilot_heartbeat};
+use crate::mav::{MavCmd, MavHeader, MavMessage, MavResult};
 
 /// Sends of one command before [`BenchClient::command`] gives up: the first and two
 /// retransmissions, with the same content (MAVSDK's default).
@@ -50,12 +55,7 @@ impl BenchClient {
     pub fn send(&mut self, message: &MavMessage, to: SocketAddr) {
         let mut buf = Vec::with_capacity(64);
         self.sequence = self.sequence.wrapping_add(1);
-        let header = MavHeader {
-            system_id: 255,
-            component_id: 190,
-            sequence: self.sequence,
-        };
-        encode_v2(header, message, &mut buf);
+        encode_v2(gcs_header(self.sequence), message, &mut buf);
         self.send_bytes(&buf, to);
     }
 
@@ -94,7 +94,7 @@ impl BenchClient {
 
     /// A GCS heartbeat to `to` (registers this socket as a peer).
     pub fn heartbeat(&mut self, to: SocketAddr) {
-        self.send(&MavMessage::HEARTBEAT(HEARTBEAT_DATA::default()), to);
+        self.send(&MavMessage::HEARTBEAT(Default::default()), to);
     }
 
     /// COMMAND_LONG `command` with `params` to system `sysid` (component 1) at `to`, sent up to
@@ -126,31 +126,13 @@ impl BenchClient {
         timeout: Duration,
         attempts: usize,
     ) -> (Option<(MavResult, Duration)>, usize) {
-        let [param1, param2, param3, param4, param5, param6, param7] = params;
-        let message = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-            param1,
-            param2,
-            param3,
-            param4,
-            param5,
-            param6,
-            param7,
-            command,
-            target_system: target.0,
-            target_component: target.1,
-            confirmation: 0,
-        });
+        let message = MavMessage::COMMAND_LONG(command_long(target, command, params));
         let first = Instant::now();
         let attempts = attempts.max(1);
         for sends in 1..=attempts {
             self.send(&message, to);
-            let ack = self.wait(timeout, |header, message| match message {
-                MavMessage::COMMAND_ACK(ack)
-                    if ack.command == command && (target.0 == 0 || header.system_id == u32::from(target.0)) =>
-                {
-                    Some((ack.result, first.elapsed()))
-                }
-                _ => None,
+            let ack = self.wait(timeout, |header, message| {
+                ack_result(header, message, command, target.0).map(|result| (result, first.elapsed()))
             });
             if ack.is_some() {
                 return (ack, sends);
@@ -162,7 +144,7 @@ impl BenchClient {
     /// Waits for the first HEARTBEAT from an autopilot; when it arrived.
     pub fn first_heartbeat(&self, timeout: Duration) -> Option<Instant> {
         self.wait(timeout, |header, message| {
-            (header.component_id == 1 && matches!(message, MavMessage::HEARTBEAT(_))).then(Instant::now)
+            is_autopilot_heartbeat(header, message).then(Instant::now)
         })
     }
 

@@ -8,6 +8,7 @@
 //! - the time from spawning `rotorpilot run` to its first HEARTBEAT;
 //! - the COMMAND_ACK round trip over loopback (p50/p99) of commands that pass the tick thread.
 
+pub mod autopilot;
 pub mod client;
 mod runs;
 

@@ -2,100 +2,32 @@
 //! or as a child process (start-up).
 
 use std::net::SocketAddr;
-use std::sync::mpsc;
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use super::autopilot::{loopback_run, InProcess};
 use super::client::BenchClient;
 use super::{ms, percentile, resident_kib, BenchError, BenchOptions, Latency, Trial, REALTIME_FACTOR};
 use crate::control::ControllerKind;
 use crate::mav::{MavCmd, MavResult};
-use crate::runtime::{self, Pace, Ready, RunConfig, RunReport, RuntimeError};
+use crate::runtime::{Pace, RunConfig};
 
 /// How long each send of a command is waited for; the client sends it up to
 /// `client::COMMAND_ATTEMPTS` times before the benchmark gives up on it.
 const COMMAND_TIMEOUT: Duration = Duration::from_secs(1);
 const NAN: f32 = f32::NAN;
 
-/// `rotorpilot run` on a thread of this process, all sockets on ephemeral loopback ports.
-struct InProcess {
-    ready: Ready,
-    stop: Option<tokio::sync::oneshot::Sender<()>>,
-    thread: Option<JoinHandle<Result<RunReport, RuntimeError>>>,
-}
-
-impl InProcess {
-    /// `count` vehicles at `pace` sending all telemetry to `gcs`.
-    fn start(options: &BenchOptions, count: usize, pace: Pace, gcs: SocketAddr) -> Result<Self, BenchError> {
-        let any = SocketAddr::from(([127, 0, 0, 1], 0));
-        let config = RunConfig {
-            bind_gcs: any,
-            bind_api: any,
-            gcs,
-            api: gcs,
-            count,
-            pace,
-            ..RunConfig::single(options.airframe.clone(), ControllerKind::Geometric, 1)
-        };
-        let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
-        let (ready_tx, ready_rx) = mpsc::channel();
-        let thread = std::thread::Builder::new()
-            .name("bench-autopilot".into())
-            .spawn(move || {
-                runtime::run(config, async move { drop(stop_rx.await) }, |ready| {
-                    let _ = ready_tx.send(ready.clone());
-                })
-            })
-            .map_err(|source| BenchError::Io {
-                what: "autopilot thread",
-                source,
-            })?;
-        let ready = match ready_rx.recv_timeout(Duration::from_secs(60)) {
-            Ok(ready) => ready,
-            Err(_) => {
-                return match thread.join() {
-                    Ok(Err(e)) => Err(e.into()),
-                    _ => Err(BenchError::Silent("the autopilot did not start")),
-                }
-            }
-        };
-        Ok(Self {
-            ready,
-            stop: Some(stop_tx),
-            thread: Some(thread),
-        })
-    }
-
-    /// Every vehicle's GCS-link address and system id.
-    fn vehicles(&self) -> Vec<(SocketAddr, u8)> {
-        self.ready
-            .vehicles
-            .iter()
-            .filter_map(|v| Some((v.gcs_bind.parse().ok()?, v.sysid)))
-            .collect()
-    }
-
-    /// Stops the process and returns what it did.
-    fn finish(mut self) -> Result<RunReport, BenchError> {
-        if let Some(stop) = self.stop.take() {
-            let _ = stop.send(());
-        }
-        match self.thread.take().map(JoinHandle::join) {
-            Some(Ok(report)) => Ok(report?),
-            _ => Err(BenchError::Silent("the autopilot thread panicked")),
-        }
-    }
-}
-
-impl Drop for InProcess {
-    fn drop(&mut self) {
-        if let Some(stop) = self.stop.take() {
-            let _ = stop.send(());
-        }
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
+/// `count` vehicles at `pace` in this process, sending all telemetry to `gcs`.
+fn start(options: &BenchOptions, count: usize, pace: Pace, gcs: SocketAddr) -> Result<InProcess, BenchError> {
+    let any = SocketAddr::from(([127, 0, 0, 1], 0));
+    InProcess::start(RunConfig {
+        bind_gcs: any,
+        bind_api: any,
+        gcs,
+        api: gcs,
+        count,
+        pace,
+        ..RunConfig::single(options.airframe.clone(), ControllerKind::Geometric, 1)
+    })
 }
 
 fn bind_client() -> Result<(BenchClient, SocketAddr), BenchError> {
@@ -127,7 +59,7 @@ fn take_off_all(client: &mut BenchClient, vehicles: &[(SocketAddr, u8)]) -> Resu
 /// Simulated seconds per wall second of one flying vehicle at `--speedup max`.
 pub(super) fn speedup_max_factor(options: &BenchOptions) -> Result<f64, BenchError> {
     let (mut client, addr) = bind_client()?;
-    let autopilot = InProcess::start(options, 1, Pace::Max, addr)?;
+    let autopilot = start(options, 1, Pace::Max, addr)?;
     take_off_all(&mut client, &autopilot.vehicles())?;
     let drain = client.drain().map_err(|source| BenchError::Io {
         what: "bench ground station",
@@ -143,7 +75,7 @@ pub(super) fn speedup_max_factor(options: &BenchOptions) -> Result<f64, BenchErr
 fn realtime_trial(options: &BenchOptions, count: usize) -> Result<Trial, BenchError> {
     let before_kib = resident_kib();
     let (mut client, addr) = bind_client()?;
-    let autopilot = InProcess::start(options, count, Pace::Speedup(1.0), addr)?;
+    let autopilot = start(options, count, Pace::Speedup(1.0), addr)?;
     take_off_all(&mut client, &autopilot.vehicles())?;
     let drain = client.drain().map_err(|source| BenchError::Io {
         what: "bench ground station",
@@ -223,17 +155,7 @@ pub(super) fn first_heartbeat_ms(options: &BenchOptions) -> Result<f64, BenchErr
     for _ in 0..options.startups.max(1) {
         let (client, addr) = bind_client()?;
         let spawned = Instant::now();
-        let mut child = std::process::Command::new(&exe)
-            .args([
-                "run",
-                "--bind-gcs",
-                "127.0.0.1:0",
-                "--bind-api",
-                "127.0.0.1:0",
-                "--api",
-                "127.0.0.1:9",
-            ])
-            .args(["--gcs", &addr.to_string(), "--duration", "5"])
+        let mut child = loopback_run(&exe, addr, 5)
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::null())
             .spawn()
@@ -256,7 +178,7 @@ pub(super) fn first_heartbeat_ms(options: &BenchOptions) -> Result<f64, BenchErr
 /// answered from the duplicate cache.
 pub(super) fn command_ack_latency(options: &BenchOptions) -> Result<Latency, BenchError> {
     let (mut client, addr) = bind_client()?;
-    let autopilot = InProcess::start(options, 1, Pace::Speedup(1.0), addr)?;
+    let autopilot = start(options, 1, Pace::Speedup(1.0), addr)?;
     let (vehicle, sysid) = autopilot
         .vehicles()
         .first()

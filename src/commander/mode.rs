@@ -31,27 +31,40 @@ pub enum ModeRefusal {
     Unknown,
 }
 
-const MAIN_MANUAL: u8 = 1;
-const MAIN_ALTCTL: u8 = 2;
 const MAIN_POSCTL: u8 = 3;
 const MAIN_AUTO: u8 = 4;
-const MAIN_ACRO: u8 = 5;
 const MAIN_OFFBOARD: u8 = 6;
-const MAIN_STABILIZED: u8 = 7;
+/// MANUAL (1), ALTCTL (2), ACRO (5) and STABILIZED (7): modes that need a manual-control source.
+const MAIN_MANUAL_CONTROL: [u8; 4] = [1, 2, 5, 7];
+
+/// (mode, PX4 main mode, PX4 sub mode, MAV_STANDARD_MODE, PX4 display name).
+type ModeRow = (FlightMode, u8, u8, Option<u8>, &'static str);
+
+/// Each mode in declaration order (indexed by `mode as usize`): PX4 main and sub mode
+/// (px4_custom_mode.h; POSCTL and OFFBOARD take any sub mode), the MAV_STANDARD_MODE it answers
+/// to (mavlink.md §2.2: position hold 1, safe recovery 5, mission 6, land 7, take-off 8), and
+/// PX4's display name. The one table behind every mapping below.
+const MODES: [ModeRow; 8] = [
+    (FlightMode::Position, MAIN_POSCTL, 0, Some(1), "POSCTL"),
+    (FlightMode::Ready, MAIN_AUTO, 1, None, "AUTO.READY"),
+    (FlightMode::Takeoff, MAIN_AUTO, 2, Some(8), "AUTO.TAKEOFF"),
+    (FlightMode::Loiter, MAIN_AUTO, 3, None, "AUTO.LOITER"),
+    (FlightMode::Mission, MAIN_AUTO, 4, Some(6), "AUTO.MISSION"),
+    (FlightMode::ReturnToLaunch, MAIN_AUTO, 5, Some(5), "AUTO.RTL"),
+    (FlightMode::Land, MAIN_AUTO, 6, Some(7), "AUTO.LAND"),
+    (FlightMode::Offboard, MAIN_OFFBOARD, 0, None, "OFFBOARD"),
+];
 
 impl FlightMode {
+    /// The mode's row of [`MODES`].
+    fn row(self) -> &'static ModeRow {
+        &MODES[self as usize]
+    }
+
     /// PX4 (main, sub) mode numbers.
     pub fn px4(self) -> (u8, u8) {
-        match self {
-            Self::Position => (MAIN_POSCTL, 0),
-            Self::Ready => (MAIN_AUTO, 1),
-            Self::Takeoff => (MAIN_AUTO, 2),
-            Self::Loiter => (MAIN_AUTO, 3),
-            Self::Mission => (MAIN_AUTO, 4),
-            Self::ReturnToLaunch => (MAIN_AUTO, 5),
-            Self::Land => (MAIN_AUTO, 6),
-            Self::Offboard => (MAIN_OFFBOARD, 0),
-        }
+        let (_, main, sub, _, _) = *self.row();
+        (main, sub)
     }
 
     /// HEARTBEAT `custom_mode`.
@@ -62,17 +75,13 @@ impl FlightMode {
 
     /// The mode for PX4 numbers (DO_SET_MODE p2/p3).
     pub fn from_px4(main: u8, sub: u8) -> Result<Self, ModeRefusal> {
-        match (main, sub) {
-            (MAIN_POSCTL, _) => Ok(Self::Position),
-            (MAIN_AUTO, 1) => Ok(Self::Ready),
-            (MAIN_AUTO, 2) => Ok(Self::Takeoff),
-            (MAIN_AUTO, 3) => Ok(Self::Loiter),
-            (MAIN_AUTO, 4) => Ok(Self::Mission),
-            (MAIN_AUTO, 5) => Ok(Self::ReturnToLaunch),
-            (MAIN_AUTO, 6) => Ok(Self::Land),
-            (MAIN_OFFBOARD, _) => Ok(Self::Offboard),
-            (MAIN_MANUAL | MAIN_ALTCTL | MAIN_ACRO | MAIN_STABILIZED, _) => Err(ModeRefusal::NeedsManualControl),
-            _ => Err(ModeRefusal::Unknown),
+        let flown = MODES
+            .iter()
+            .find(|(_, m, s, _, _)| *m == main && (main != MAIN_AUTO || *s == sub));
+        match flown {
+            Some((mode, ..)) => Ok(*mode),
+            None if MAIN_MANUAL_CONTROL.contains(&main) => Err(ModeRefusal::NeedsManualControl),
+            None => Err(ModeRefusal::Unknown),
         }
     }
 
@@ -84,28 +93,15 @@ impl FlightMode {
     /// The mode for a MAV_STANDARD_MODE (DO_SET_STANDARD_MODE p1, mavlink.md §2.2): position hold
     /// (1), safe recovery (5, return), mission (6), land (7), take-off (8); `None` for the others.
     pub fn from_standard_mode(standard_mode: u8) -> Option<Self> {
-        match standard_mode {
-            1 => Some(Self::Position),
-            5 => Some(Self::ReturnToLaunch),
-            6 => Some(Self::Mission),
-            7 => Some(Self::Land),
-            8 => Some(Self::Takeoff),
-            _ => None,
-        }
+        MODES
+            .iter()
+            .find(|(.., standard, _)| *standard == Some(standard_mode))
+            .map(|(mode, ..)| *mode)
     }
 
     /// PX4's display name.
     pub fn name(self) -> &'static str {
-        match self {
-            Self::Position => "POSCTL",
-            Self::Ready => "AUTO.READY",
-            Self::Takeoff => "AUTO.TAKEOFF",
-            Self::Loiter => "AUTO.LOITER",
-            Self::Mission => "AUTO.MISSION",
-            Self::ReturnToLaunch => "AUTO.RTL",
-            Self::Land => "AUTO.LAND",
-            Self::Offboard => "OFFBOARD",
-        }
+        self.row().4
     }
 }
 
@@ -132,5 +128,19 @@ mod tests {
         assert_eq!(FlightMode::from_px4(1, 0), Err(ModeRefusal::NeedsManualControl));
         assert_eq!(FlightMode::from_px4(4, 9), Err(ModeRefusal::Unknown));
         assert_eq!(FlightMode::from_px4(9, 0), Err(ModeRefusal::Unknown));
+        assert_eq!(FlightMode::from_px4(4, 0), Err(ModeRefusal::Unknown));
+        let standard = [1, 5, 6, 7, 8, 2].map(FlightMode::from_standard_mode);
+        let expected = [
+            Some(FlightMode::Position),
+            Some(FlightMode::ReturnToLaunch),
+            Some(FlightMode::Mission),
+            Some(FlightMode::Land),
+            Some(FlightMode::Takeoff),
+            None,
+        ];
+        assert_eq!(standard, expected);
+        for (k, (mode, ..)) in MODES.iter().enumerate() {
+            assert_eq!(*mode as usize, k, "{} is in its row", mode.name());
+        }
     }
 }

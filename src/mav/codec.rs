@@ -164,7 +164,8 @@ pub fn recompute_crc(raw: &mut MAVLinkV2MessageRaw) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::common::{COMMAND_LONG_DATA, HEARTBEAT_DATA};
+    use crate::mav::gcs::command_long;
+    use mavlink::dialects::common::HEARTBEAT_DATA;
 
     fn header(system_id: u32) -> MavHeader {
         MavHeader {
@@ -188,13 +189,8 @@ mod tests {
     #[test]
     fn v1_and_v2_frames_round_trip_and_garbage_is_skipped() {
         let hb = MavMessage::HEARTBEAT(HEARTBEAT_DATA::default());
-        let cmd = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-            command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-            param1: 1.0,
-            target_system: 1,
-            target_component: 1,
-            ..Default::default()
-        });
+        let arm = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let cmd = MavMessage::COMMAND_LONG(command_long((1, 1), MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, arm));
         let mut buf = vec![0x00, 0x13, 0x37];
         encode_v2(header(255), &hb, &mut buf);
         buf.extend_from_slice(&[0xFD, 0x01]); // a truncated frame start
@@ -217,12 +213,7 @@ mod tests {
     #[test]
     fn truncated_v2_payload_parses() {
         // MAVLink 2 cuts trailing zeros: a COMMAND_LONG with confirmation 0 is 32 bytes long.
-        let cmd = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-            command: MavCmd::MAV_CMD_NAV_TAKEOFF,
-            target_system: 1,
-            target_component: 1,
-            ..Default::default()
-        });
+        let cmd = MavMessage::COMMAND_LONG(command_long((1, 1), MavCmd::MAV_CMD_NAV_TAKEOFF, [0.0; 7]));
         let mut buf = Vec::new();
         encode_v2(header(255), &cmd, &mut buf);
         assert_eq!(buf[1], 32);
@@ -231,12 +222,7 @@ mod tests {
 
     #[test]
     fn unknown_command_id_is_recovered_and_answered() {
-        let cmd = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-            command: MavCmd::MAV_CMD_DO_SET_MODE,
-            target_system: 1,
-            target_component: 0,
-            ..Default::default()
-        });
+        let cmd = MavMessage::COMMAND_LONG(command_long((1, 0), MavCmd::MAV_CMD_DO_SET_MODE, [0.0; 7]));
         let mut buf = Vec::new();
         encode_v2(header(255), &cmd, &mut buf);
         // Patch the command id to 31999 (not in MavCmd) and fix the CRC.

@@ -118,13 +118,17 @@ mod tests {
     use super::*;
     use mavlink::dialects::common::MavCmd;
 
+    /// A second ground station (MAVSDK's system id).
+    fn sender() -> MavHeader {
+        MavHeader {
+            system_id: 245,
+            ..crate::mav::gcs::gcs_header(0)
+        }
+    }
+
     #[test]
     fn repeats_get_the_cached_result_until_the_window_ends() {
-        let sender = MavHeader {
-            system_id: 245,
-            component_id: 190,
-            sequence: 0,
-        };
+        let sender = sender();
         let cmd = COMMAND_LONG_DATA {
             command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
             param1: 1.0,
@@ -149,11 +153,7 @@ mod tests {
     #[test]
     #[allow(deprecated)]
     fn information_requests_are_answered_every_time() {
-        let sender = MavHeader {
-            system_id: 245,
-            component_id: 190,
-            sequence: 0,
-        };
+        let sender = sender();
         let version = COMMAND_LONG_DATA {
             command: MavCmd::MAV_CMD_REQUEST_MESSAGE,
             param1: 148.0,
@@ -165,23 +165,23 @@ mod tests {
         assert_eq!(cache.check(key, 0.1), Seen::New, "a repeat in progress is answered too");
         cache.answered(key, MavResult::MAV_RESULT_ACCEPTED, 0.2);
         assert_eq!(cache.check(key, 0.7), Seen::New, "MAVSDK's second ask, 0.5 s later");
-        for command in [
-            MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES,
-            MavCmd::MAV_CMD_GET_HOME_POSITION,
-            MavCmd::MAV_CMD_GET_MESSAGE_INTERVAL,
-        ] {
-            assert!(is_information_request(command), "{command:?}");
-            let key = CommandKey::new(&sender, &COMMAND_LONG_DATA { command, ..version });
-            cache.answered(key, MavResult::MAV_RESULT_ACCEPTED, 1.0);
-            assert_eq!(cache.check(key, 1.1), Seen::New, "{command:?}");
-        }
-        for command in [
-            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-            MavCmd::MAV_CMD_NAV_TAKEOFF,
-            MavCmd::MAV_CMD_DO_SET_MODE,
-        ] {
-            assert!(!is_information_request(command), "{command:?} changes state");
+        // (command, only asks for information)
+        let commands = [
+            (MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, true),
+            (MavCmd::MAV_CMD_GET_HOME_POSITION, true),
+            (MavCmd::MAV_CMD_GET_MESSAGE_INTERVAL, true),
+            (MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, false),
+            (MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, false),
+            (MavCmd::MAV_CMD_NAV_TAKEOFF, false),
+            (MavCmd::MAV_CMD_DO_SET_MODE, false),
+        ];
+        for (command, information) in commands {
+            assert_eq!(is_information_request(command), information, "{command:?}");
+            if information {
+                let key = CommandKey::new(&sender, &COMMAND_LONG_DATA { command, ..version });
+                cache.answered(key, MavResult::MAV_RESULT_ACCEPTED, 1.0);
+                assert_eq!(cache.check(key, 1.1), Seen::New, "{command:?}");
+            }
         }
         let interval = CommandKey::new(
             &sender,

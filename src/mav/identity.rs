@@ -97,14 +97,7 @@ pub fn heartbeat(id: &Identity, armed: bool, mode: FlightMode) -> MavMessage {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn gcs() -> MavHeader {
-        MavHeader {
-            system_id: 255,
-            component_id: 190,
-            sequence: 0,
-        }
-    }
+    use crate::mav::gcs::gcs_header;
 
     #[test]
     fn heartbeat_and_ack_carry_what_clients_read() {
@@ -120,7 +113,7 @@ mod tests {
         };
         assert_eq!(hb.base_mode.bits(), 81);
         let MavMessage::COMMAND_ACK(ack) = command_ack(
-            &gcs(),
+            &gcs_header(0),
             MavCmd::MAV_CMD_NAV_LAND,
             result_of(&Outcome::Denied("x".into())),
         ) else {

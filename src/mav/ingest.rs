@@ -114,16 +114,11 @@ pub enum MissionStep {
 /// use rotorpilot::commander::Request;
 /// use rotorpilot::mav::ingest::{ingest, Action};
 /// use rotorpilot::mav::translate::{CommandDecision, Identity};
-/// use rotorpilot::mav::{MavCmd, MavHeader, MavMessage, COMMAND_LONG_DATA};
-/// let arm = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-///     command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-///     param1: 1.0,
-///     target_system: 1,
-///     target_component: 1,
-///     ..Default::default()
-/// });
-/// let gcs = MavHeader { system_id: 255, component_id: 190, sequence: 0 };
-/// let action = ingest(&Identity::autopilot(1, 4), &gcs, &arm, &Default::default(), 0);
+/// use rotorpilot::mav::gcs::{command_long, gcs_header};
+/// use rotorpilot::mav::{MavCmd, MavMessage};
+/// let arm = command_long((1, 1), MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+/// let message = MavMessage::COMMAND_LONG(arm);
+/// let action = ingest(&Identity::autopilot(1, 4), &gcs_header(0), &message, &Default::default(), 0);
 /// assert!(matches!(action, Action::Command {
 ///     decision: CommandDecision::Execute(Request::Arm { force: false }), ..
 /// }));
@@ -235,33 +230,26 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
 mod tests {
     use super::*;
     use crate::commander::FlightMode;
+    use crate::mav::gcs::{command_long, gcs_header};
     use mavlink::dialects::common::{
         MavCmd, MavFrame, PositionTargetTypemask, HEARTBEAT_DATA, MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA,
         MISSION_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA, SET_MODE_DATA,
         SET_POSITION_TARGET_LOCAL_NED_DATA,
     };
 
-    fn gcs() -> MavHeader {
-        MavHeader {
-            system_id: 255,
-            component_id: 190,
-            sequence: 0,
-        }
-    }
-
     fn run(message: MavMessage) -> Action {
-        ingest(&Identity::autopilot(1, 4), &gcs(), &message, &Home::default(), 0)
+        ingest(
+            &Identity::autopilot(1, 4),
+            &gcs_header(0),
+            &message,
+            &Home::default(),
+            0,
+        )
     }
 
     #[test]
     fn commands_heartbeats_and_set_mode_route_to_their_decoders() {
-        let takeoff = COMMAND_LONG_DATA {
-            command: MavCmd::MAV_CMD_NAV_TAKEOFF,
-            param7: 3.0,
-            target_system: 1,
-            target_component: 1,
-            ..Default::default()
-        };
+        let takeoff = command_long((1, 1), MavCmd::MAV_CMD_NAV_TAKEOFF, [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 3.0]);
         assert_eq!(
             run(MavMessage::COMMAND_LONG(takeoff.clone())),
             Action::Command {
@@ -353,30 +341,29 @@ mod tests {
                 step: MissionStep::Count(count)
             }
         );
-        let fence = MISSION_CLEAR_ALL_DATA {
+        let (fence, rally) = (
+            MavMissionType::MAV_MISSION_TYPE_FENCE,
+            MavMissionType::MAV_MISSION_TYPE_RALLY,
+        );
+        let clear = MISSION_CLEAR_ALL_DATA {
             target_system: 1,
             target_component: 1,
-            mission_type: MavMissionType::MAV_MISSION_TYPE_FENCE,
+            mission_type: fence,
         };
+        let refused = mission_ack((255, 190), fence, MavMissionResult::MAV_MISSION_UNSUPPORTED);
         assert_eq!(
-            run(MavMessage::MISSION_CLEAR_ALL(fence)),
-            Action::Reply(Box::new(mission_ack(
-                (255, 190),
-                MavMissionType::MAV_MISSION_TYPE_FENCE,
-                MavMissionResult::MAV_MISSION_UNSUPPORTED
-            )))
+            run(MavMessage::MISSION_CLEAR_ALL(clear)),
+            Action::Reply(Box::new(refused))
         );
         let rally_list = MISSION_REQUEST_LIST_DATA {
             target_system: 1,
             target_component: 1,
-            mission_type: MavMissionType::MAV_MISSION_TYPE_RALLY,
+            mission_type: rally,
         };
+        let step = MissionStep::RequestList(rally);
         assert_eq!(
             run(MavMessage::MISSION_REQUEST_LIST(rally_list)),
-            Action::Mission {
-                ids: (255, 190),
-                step: MissionStep::RequestList(MavMissionType::MAV_MISSION_TYPE_RALLY)
-            }
+            Action::Mission { ids: (255, 190), step }
         );
         let setup = |target_system, target_component| {
             run(MavMessage::SETUP_SIGNING(

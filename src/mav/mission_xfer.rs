@@ -362,36 +362,21 @@ mod tests {
         let rally = MavMissionType::MAV_MISSION_TYPE_RALLY;
         let unsupported = MavMissionResult::MAV_MISSION_UNSUPPORTED as u32;
         let mut x = MissionTransfer::<u8>::default();
-        let (out, done) = x.on_count(
-            7,
-            GCS,
-            &MISSION_COUNT_DATA {
-                mission_type: fence,
-                ..count(2)
-            },
-            0.0,
-        );
-        assert_eq!(
-            typed(&out[0].1),
-            Some((fence, unsupported)),
-            "fence upload refused as fence"
-        );
-        assert_eq!(done, None);
-        assert!(!x.busy());
-        let (out, _) = x.on_count(
-            7,
-            GCS,
-            &MISSION_COUNT_DATA {
-                mission_type: rally,
-                ..count(0)
-            },
-            0.0,
-        );
-        assert_eq!(
-            typed(&out[0].1),
-            Some((rally, unsupported)),
-            "clearing rally by count 0 too"
-        );
+        // Uploads of another plan are refused as that plan: a fence, and clearing rally by count 0.
+        for (mission_type, n) in [(fence, 2), (rally, 0)] {
+            let (out, done) = x.on_count(
+                7,
+                GCS,
+                &MISSION_COUNT_DATA {
+                    mission_type,
+                    ..count(n)
+                },
+                0.0,
+            );
+            assert_eq!(typed(&out[0].1), Some((mission_type, unsupported)), "{mission_type:?}");
+            assert_eq!(done, None);
+            assert!(!x.busy());
+        }
         // Downloads of fence and rally: an empty plan of that type.
         let stored = [item(0), item(1)];
         assert_eq!(typed(&download_count(GCS, fence, &stored)), Some((fence, 0)));

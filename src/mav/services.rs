@@ -122,12 +122,12 @@ pub fn ftp_reply(sender: &MavHeader, ftp: &FILE_TRANSFER_PROTOCOL_DATA) -> MavMe
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mav::gcs::gcs_header;
 
     fn gcs() -> MavHeader {
         MavHeader {
-            system_id: 255,
             component_id: 230,
-            sequence: 0,
+            ..gcs_header(0)
         }
     }
 

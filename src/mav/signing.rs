@@ -256,7 +256,7 @@ impl Signing {
 mod tests {
     use super::*;
     use mavlink::dialects::common::{MavCmd, MavMessage, COMMAND_LONG_DATA, HEARTBEAT_DATA};
-    use mavlink::{MavHeader, Message};
+    use mavlink::Message;
 
     const NOW: u64 = 40_000_000_000;
 
@@ -277,12 +277,7 @@ mod tests {
     /// `msg` from the ground station (255, 190), signed by `signer` on link 3 at `now`.
     fn frame(msg: &MavMessage, signer: &mut Signing, now: u64) -> MAVLinkV2MessageRaw {
         let mut raw = MAVLinkV2MessageRaw::new();
-        let header = MavHeader {
-            system_id: 255,
-            component_id: 190,
-            sequence: 0,
-        };
-        raw.serialize_message(header, msg);
+        raw.serialize_message(crate::mav::gcs::gcs_header(0), msg);
         signer.seal(&mut raw, 3, now);
         raw
     }

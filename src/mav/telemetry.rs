@@ -125,6 +125,21 @@ fn time_boot_ms(s: &Snapshot) -> u32 {
     (s.t_s * 1000.0) as u32
 }
 
+/// The components of `v` as MAVLink floats.
+fn f32x3(v: Vec3) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+/// The place `pos_w` as MAVLink integers: latitude and longitude [1e-7 deg], altitude AMSL [mm].
+fn global_int(s: &Snapshot, pos_w: &Vec3) -> [i32; 3] {
+    let (lat, lon, alt) = s.home.to_global(pos_w);
+    [
+        (lat * 1e7).round() as i32,
+        (lon * 1e7).round() as i32,
+        (alt * 1000.0).round() as i32,
+    ]
+}
+
 /// The message of `stream` for snapshot `s`; `None` when there is nothing to report (no estimate).
 pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
     let time_usec = (s.t_s * 1e6) as u64;
@@ -153,12 +168,12 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
             })
         }
         Stream::GpsRawInt => {
-            let (lat, lon, alt) = s.home.to_global(&s.pos_w);
+            let [lat, lon, alt] = global_int(s, &s.pos_w);
             MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
                 time_usec,
-                lat: (lat * 1e7).round() as i32,
-                lon: (lon * 1e7).round() as i32,
-                alt: (alt * 1000.0).round() as i32,
+                lat,
+                lon,
+                alt,
                 eph: 80,
                 epv: 120,
                 vel: (s.vel_w.xy().norm() * 100.0).round() as u16,
@@ -189,8 +204,9 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         }
         Stream::PositionTarget => {
             let sp = s.setpoint?;
-            let nan3 = |v: Option<Vec3>| v.map_or([f32::NAN; 3], |v| [v.x as f32, v.y as f32, v.z as f32]);
-            let (p, v, a) = (nan3(sp.pos_w), nan3(sp.vel_w), nan3(sp.acc_w));
+            let nan3 = |v: Option<Vec3>| v.map_or([f32::NAN; 3], f32x3);
+            let ([x, y, z], [vx, vy, vz]) = (nan3(sp.pos_w), nan3(sp.vel_w));
+            let [afx, afy, afz] = nan3(sp.acc_w);
             let mut mask = 0u16;
             mask |= if sp.pos_w.is_none() { 0b111 } else { 0 };
             mask |= if sp.vel_w.is_none() { 0b111 << 3 } else { 0 };
@@ -199,15 +215,15 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
             mask |= if sp.yaw_rate_rad_s.is_none() { 1 << 11 } else { 0 };
             MavMessage::POSITION_TARGET_LOCAL_NED(POSITION_TARGET_LOCAL_NED_DATA {
                 time_boot_ms: time_boot_ms(s),
-                x: p[0],
-                y: p[1],
-                z: p[2],
-                vx: v[0],
-                vy: v[1],
-                vz: v[2],
-                afx: a[0],
-                afy: a[1],
-                afz: a[2],
+                x,
+                y,
+                z,
+                vx,
+                vy,
+                vz,
+                afx,
+                afy,
+                afz,
                 yaw: sp.yaw_rad.map_or(f32::NAN, |y| y as f32),
                 yaw_rate: sp.yaw_rate_rad_s.map_or(f32::NAN, |y| y as f32),
                 type_mask: PositionTargetTypemask::from_bits_truncate(mask),
@@ -294,32 +310,38 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 LandedState::Landing => MavLandedState::MAV_LANDED_STATE_LANDING,
             },
         }),
-        Stream::Attitude => MavMessage::ATTITUDE(ATTITUDE_DATA {
-            time_boot_ms: time_boot_ms(s),
-            roll: s.eta.x as f32,
-            pitch: s.eta.y as f32,
-            yaw: s.eta.z as f32,
-            rollspeed: s.omega_b.x as f32,
-            pitchspeed: s.omega_b.y as f32,
-            yawspeed: s.omega_b.z as f32,
-        }),
-        Stream::LocalPosition => MavMessage::LOCAL_POSITION_NED(LOCAL_POSITION_NED_DATA {
-            time_boot_ms: time_boot_ms(s),
-            x: s.pos_w.x as f32,
-            y: s.pos_w.y as f32,
-            z: s.pos_w.z as f32,
-            vx: s.vel_w.x as f32,
-            vy: s.vel_w.y as f32,
-            vz: s.vel_w.z as f32,
-        }),
+        Stream::Attitude => {
+            let ([roll, pitch, yaw], [rollspeed, pitchspeed, yawspeed]) = (f32x3(s.eta), f32x3(s.omega_b));
+            MavMessage::ATTITUDE(ATTITUDE_DATA {
+                time_boot_ms: time_boot_ms(s),
+                roll,
+                pitch,
+                yaw,
+                rollspeed,
+                pitchspeed,
+                yawspeed,
+            })
+        }
+        Stream::LocalPosition => {
+            let ([x, y, z], [vx, vy, vz]) = (f32x3(s.pos_w), f32x3(s.vel_w));
+            MavMessage::LOCAL_POSITION_NED(LOCAL_POSITION_NED_DATA {
+                time_boot_ms: time_boot_ms(s),
+                x,
+                y,
+                z,
+                vx,
+                vy,
+                vz,
+            })
+        }
         Stream::GlobalPosition => {
-            let (lat, lon, alt) = s.home.to_global(&s.pos_w);
+            let [lat, lon, alt] = global_int(s, &s.pos_w);
             let heading_cdeg = heading_cdeg(s);
             MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
                 time_boot_ms: time_boot_ms(s),
-                lat: (lat * 1e7).round() as i32,
-                lon: (lon * 1e7).round() as i32,
-                alt: (alt * 1000.0).round() as i32,
+                lat,
+                lon,
+                alt,
                 relative_alt: (-s.pos_w.z * 1000.0).round() as i32,
                 vx: (s.vel_w.x * 100.0).round() as i16,
                 vy: (s.vel_w.y * 100.0).round() as i16,
@@ -329,14 +351,15 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         }
         Stream::MissionCurrent => mission_current(s, s.mission_seq),
         Stream::HomePosition => {
-            let (lat, lon, alt) = s.home.to_global(&s.home_w);
+            let [latitude, longitude, altitude] = global_int(s, &s.home_w);
+            let [x, y, z] = f32x3(s.home_w);
             MavMessage::HOME_POSITION(HOME_POSITION_DATA {
-                latitude: (lat * 1e7).round() as i32,
-                longitude: (lon * 1e7).round() as i32,
-                altitude: (alt * 1000.0).round() as i32,
-                x: s.home_w.x as f32,
-                y: s.home_w.y as f32,
-                z: s.home_w.z as f32,
+                latitude,
+                longitude,
+                altitude,
+                x,
+                y,
+                z,
                 q: [1.0, 0.0, 0.0, 0.0],
                 ..Default::default()
             })

@@ -289,30 +289,7 @@ fn on_earth(lat_deg: f64, lon_deg: f64, alt_m: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn gcs() -> MavHeader {
-        MavHeader {
-            system_id: 255,
-            component_id: 190,
-            sequence: 0,
-        }
-    }
-
-    fn cmd(command: MavCmd, params: [f32; 7], target: (u8, u8)) -> COMMAND_LONG_DATA {
-        COMMAND_LONG_DATA {
-            command,
-            param1: params[0],
-            param2: params[1],
-            param3: params[2],
-            param4: params[3],
-            param5: params[4],
-            param6: params[5],
-            param7: params[6],
-            target_system: target.0,
-            target_component: target.1,
-            confirmation: 0,
-        }
-    }
+    use crate::mav::gcs::{command_long, gcs_header};
 
     const NAN: f32 = f32::NAN;
 
@@ -322,11 +299,11 @@ mod tests {
         let arm = |t| {
             decode_command(
                 &id,
-                &gcs(),
-                &cmd(
+                &gcs_header(0),
+                &command_long(
+                    t,
                     MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
                     [1.0, 0.0, NAN, NAN, NAN, NAN, NAN],
-                    t,
                 ),
                 &Home::default(),
             )
@@ -347,7 +324,7 @@ mod tests {
     #[allow(deprecated)]
     fn arm_force_takeoff_altitude_and_modes_decode() {
         let id = Identity::autopilot(1, 6);
-        let d = |c, p| decode_command(&id, &gcs(), &cmd(c, p, (1, 1)), &Home::default());
+        let d = |c, p| decode_command(&id, &gcs_header(0), &command_long((1, 1), c, p), &Home::default());
         for magic in FORCE_MAGIC {
             assert_eq!(
                 d(
@@ -437,7 +414,7 @@ mod tests {
         let long = command_int_as_long(&int);
         assert!(long.param5.is_nan());
         assert_eq!(
-            decode_command(&id, &gcs(), &long, &Home::default()),
+            decode_command(&id, &gcs_header(0), &long, &Home::default()),
             CommandDecision::Execute(Request::Takeoff { height_m: Some(5.0) })
         );
     }
@@ -467,7 +444,7 @@ mod tests {
             down_m,
             yaw_rad,
             speed_m_s,
-        }) = decode_command_int(&id, &gcs(), &cmd, &home)
+        }) = decode_command_int(&id, &gcs_header(0), &cmd, &home)
         else {
             panic!("not a reposition");
         };
@@ -479,7 +456,7 @@ mod tests {
             ..cmd
         };
         assert!(matches!(
-            decode_command_int(&id, &gcs(), &local, &home),
+            decode_command_int(&id, &gcs_header(0), &local, &home),
             CommandDecision::Refuse(Outcome::Unsupported(_))
         ));
     }

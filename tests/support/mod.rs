@@ -3,24 +3,27 @@
 #![allow(dead_code, deprecated, clippy::unwrap_used, clippy::expect_used)]
 
 use std::net::SocketAddr;
-use std::sync::mpsc;
 use std::time::Duration;
 
-use mavlink::dialects::common::{MavCmd, MavFrame, MavMessage, MavMissionType, MavResult, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::common::{
+    AttitudeTargetTypemask, MavCmd, MavFrame, MavMessage, MavMissionType, MavResult, MISSION_ITEM_INT_DATA,
+    SET_ATTITUDE_TARGET_DATA,
+};
 use mavlink::MavHeader;
 use rotorpilot::airframe::AirframeSource;
+use rotorpilot::bench::autopilot::InProcess;
 use rotorpilot::bench::client::{BenchClient, COMMAND_ATTEMPTS};
 use rotorpilot::control::ControllerKind;
-use rotorpilot::runtime::{run, RunConfig};
+use rotorpilot::runtime::RunConfig;
 
 /// A running autopilot (one vehicle of `rotorpilot run`) and the GCS socket its telemetry goes to.
 pub struct Autopilot {
+    /// The vehicle; declared first so that it stops (when dropped) before the GCS socket closes.
+    _vehicle: InProcess,
     /// The GCS socket.
     pub gcs: BenchClient,
     /// The vehicle's GCS-link address.
     pub autopilot: SocketAddr,
-    stop: Option<tokio::sync::oneshot::Sender<()>>,
-    thread: Option<std::thread::JoinHandle<()>>,
 }
 
 impl Autopilot {
@@ -37,20 +40,12 @@ impl Autopilot {
                 sysid,
             )
         };
-        let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
-        let (ready_tx, ready_rx) = mpsc::channel();
-        let thread = std::thread::spawn(move || {
-            run(config, async move { drop(stop_rx.await) }, |ready| {
-                ready_tx.send(ready.first.gcs_bind.clone()).unwrap();
-            })
-            .unwrap();
-        });
-        let autopilot = ready_rx.recv_timeout(Duration::from_secs(10)).unwrap().parse().unwrap();
+        let vehicle = InProcess::start(config).unwrap();
+        let autopilot = vehicle.ready().first.gcs_bind.parse().unwrap();
         Self {
             gcs,
             autopilot,
-            stop: Some(stop_tx),
-            thread: Some(thread),
+            _vehicle: vehicle,
         }
     }
 
@@ -97,15 +92,17 @@ impl Autopilot {
     }
 }
 
-impl Drop for Autopilot {
-    fn drop(&mut self) {
-        if let Some(stop) = self.stop.take() {
-            let _ = stop.send(());
-        }
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
+/// SET_ATTITUDE_TARGET for 1/1: attitude `q` (w, x, y, z) and `thrust` [0, 1], body rates
+/// ignored (type mask 7).
+pub fn attitude_target(q: [f32; 4], thrust: f32) -> MavMessage {
+    MavMessage::SET_ATTITUDE_TARGET(SET_ATTITUDE_TARGET_DATA {
+        q,
+        thrust,
+        type_mask: AttitudeTargetTypemask::from_bits_truncate(7),
+        target_system: 1,
+        target_component: 1,
+        ..Default::default()
+    })
 }
 
 /// A MISSION_ITEM_INT for system 1 in GLOBAL_RELATIVE_ALT_INT, `north_e7` (1e-7 deg) north of

@@ -175,12 +175,7 @@ enum Pending<A> {
     /// A command's ACK.
     Command(commands::Asker<A>),
     /// A PARAM_SET's echo.
-    Param {
-        link: LinkKind,
-        to: A,
-        header: MavHeader,
-        name: String,
-    },
+    Param(params::ParamSet<A>),
     /// A validated mission upload's MISSION_ACK.
     Mission {
         link: LinkKind,
@@ -268,9 +263,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 };
                 self.answer(now, asker, commands::AckOf::Outcome(&outcome));
             }
-            Some(Pending::Param { link, to, header, name }) => {
-                self.param_set_done(now, link, to, &header, &name, reply);
-            }
+            Some(Pending::Param(set)) => self.param_set_done(now, set, reply),
             Some(Pending::Mission { link, items }) => self.mission_taken(now, link, items, reply),
             None => {}
         }

@@ -39,6 +39,15 @@ impl<A> ParamList<A> {
     }
 }
 
+/// A PARAM_SET waiting for the vehicle: who sent it, where the answer goes, and the name.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct ParamSet<A> {
+    link: LinkKind,
+    to: A,
+    header: MavHeader,
+    name: String,
+}
+
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// The PARAM_VALUEs of every list that are due by `now`.
     pub(super) fn stream_param_lists(&mut self, now: Now) {
@@ -78,28 +87,21 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// PARAM_SET: asks the vehicle, which answers at its next tick.
     pub(super) fn param_set(&mut self, link: LinkKind, to: A, header: &MavHeader, name: String, value: f64) {
-        let token = self.expect(Pending::Param {
+        let token = self.expect(Pending::Param(ParamSet {
             link,
             to,
             header: *header,
             name: name.clone(),
-        });
+        }));
         self.to_vehicle.push_back(ToVehicle {
             token: Some(token),
             request: VehicleRequest::SetParam { name, value },
         });
     }
 
-    /// The vehicle's answer to a PARAM_SET from `to`.
-    pub(super) fn param_set_done(
-        &mut self,
-        now: Now,
-        link: LinkKind,
-        to: A,
-        header: &MavHeader,
-        name: &str,
-        reply: VehicleReply,
-    ) {
+    /// The vehicle's answer to `set`.
+    pub(super) fn param_set_done(&mut self, now: Now, set: ParamSet<A>, reply: VehicleReply) {
+        let ParamSet { link, to, header, name } = set;
         let result = match reply {
             VehicleReply::Param { result, table } => {
                 self.params = *table;
@@ -120,12 +122,12 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 }
             }
             Some(Err(ParamError::Unknown(_))) => {
-                self.send(now, link, to, &param_error_unknown(header, name));
+                self.send(now, link, to, &param_error_unknown(&header, &name));
                 let text = format!("Unknown parameter {name}");
                 self.send(now, link, to, &status_text(WARNING, &text));
             }
             refused => {
-                if let Some(msg) = self.params.index_of(name).and_then(|i| param_value(&self.params, i)) {
+                if let Some(msg) = self.params.index_of(&name).and_then(|i| param_value(&self.params, i)) {
                     self.send(now, link, to, &msg);
                 }
                 let why = match refused {
