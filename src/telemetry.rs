@@ -4,19 +4,9 @@
 use crate::airframe::MAX_ROTORS;
 use crate::commander::{Commander, FlightMode, LandedState, MissionState};
 use crate::control::{FlatSetpoint, VehicleState};
+use crate::estimation::WrenchEstimate;
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::Home;
-
-/// The wrench estimator's latest output.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EstimateSnapshot {
-    /// f̂_e, world NED [N].
-    pub force_w: Vec3,
-    /// τ̂_e^b, body FRD [N·m].
-    pub torque_b: Vec3,
-    /// Mass estimate [kg].
-    pub mass_kg: f64,
-}
 
 /// The battery as its gauge reads it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -81,7 +71,7 @@ pub struct Snapshot {
     /// Mission state.
     pub mission_state: MissionState,
     /// Wrench estimate, when the estimator runs and the vehicle flies.
-    pub estimate: Option<EstimateSnapshot>,
+    pub estimate: Option<WrenchEstimate>,
     /// Setpoint flown, when the motors run.
     pub setpoint: Option<FlatSetpoint>,
     /// Desired roll, pitch, yaw of the controller [rad], when the motors run.

@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, Vector3};
 use rand_chacha::rand_core::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rotorpilot::airframe::{Airframe, AirframeSource};
-use rotorpilot::allocation::{closed_form_ring_inverse, Allocator, Wrench};
+use rotorpilot::allocation::{closed_form_ring_inverse, Allocation, Allocator, Wrench};
 
 fn airframe(name: &str) -> Airframe {
     Airframe::from_source(&AirframeSource::resolve(name).unwrap()).unwrap()
@@ -118,20 +118,24 @@ fn feasible_wrenches_are_reproduced_exactly() {
     }
 }
 
-fn in_box(af: &Airframe, omega_sq: &[f64]) -> bool {
-    omega_sq.iter().all(|x| *x >= 0.0 && *x <= af.omega_max_rad_s.powi(2))
+/// Allocates the wrench of thrust `thrust_n(allocator)` [N] and body torque `torque_b` [N·m] on
+/// airframe `name`; the rotor commands must stay in `[0, ω_max²]`.
+fn allocate_in_box(name: &str, thrust_n: impl FnOnce(&Allocator) -> f64, torque_b: [f64; 3]) -> (Wrench, Allocation) {
+    let af = airframe(name);
+    let alloc = Allocator::new(&af).unwrap();
+    let w = Wrench {
+        thrust_n: thrust_n(&alloc),
+        torque_b: torque_b.into(),
+    };
+    let out = alloc.allocate(&w);
+    let max = af.omega_max_rad_s.powi(2);
+    assert!(out.omega_sq().iter().all(|x| *x >= 0.0 && *x <= max), "{name}: {out:?}");
+    (w, out)
 }
 
 #[test]
 fn too_much_yaw_gives_up_yaw_only() {
-    let af = airframe("quad_x");
-    let alloc = Allocator::new(&af).unwrap();
-    let w = Wrench {
-        thrust_n: 14.715,
-        torque_b: Vector3::new(0.3, -0.2, 2.0),
-    };
-    let out = alloc.allocate(&w);
-    assert!(in_box(&af, out.omega_sq()));
+    let (w, out) = allocate_in_box("quad_x", |_| 14.715, [0.3, -0.2, 2.0]);
     assert!(out.saturation.yaw_scale < 1.0 && out.saturation.yaw_scale > 0.0);
     assert_eq!(out.saturation.roll_pitch_scale, 1.0);
     assert_eq!(out.saturation.thrust_shift_n, 0.0);
@@ -143,14 +147,7 @@ fn too_much_yaw_gives_up_yaw_only() {
 
 #[test]
 fn roll_near_full_thrust_shifts_the_collective_and_keeps_roll() {
-    let af = airframe("quad_x");
-    let alloc = Allocator::new(&af).unwrap();
-    let w = Wrench {
-        thrust_n: alloc.thrust_max_n() * 0.98,
-        torque_b: Vector3::new(1.5, 0.0, 0.5),
-    };
-    let out = alloc.allocate(&w);
-    assert!(in_box(&af, out.omega_sq()));
+    let (_, out) = allocate_in_box("quad_x", |alloc| alloc.thrust_max_n() * 0.98, [1.5, 0.0, 0.5]);
     assert_eq!(out.saturation.roll_pitch_scale, 1.0);
     assert!(out.saturation.thrust_shift_n < 0.0);
     assert!(
@@ -163,14 +160,7 @@ fn roll_near_full_thrust_shifts_the_collective_and_keeps_roll() {
 
 #[test]
 fn impossible_roll_is_scaled_and_output_stays_in_the_box() {
-    let af = airframe("octo");
-    let alloc = Allocator::new(&af).unwrap();
-    let w = Wrench {
-        thrust_n: 30.0,
-        torque_b: Vector3::new(50.0, 20.0, 3.0),
-    };
-    let out = alloc.allocate(&w);
-    assert!(in_box(&af, out.omega_sq()));
+    let (_, out) = allocate_in_box("octo", |_| 30.0, [50.0, 20.0, 3.0]);
     let s = out.saturation.roll_pitch_scale;
     assert!(s > 0.0 && s < 1.0, "scale {s}");
     // Direction of the roll/pitch torque is kept.

@@ -4,11 +4,11 @@
 //! `τ_b = −K_ω (ω_b − ω_{b,d}) + ω_b × I_b ω_b` when only rates are given. Thrust is commanded
 //! directly as a fraction of the rotors' maximum.
 
-use crate::allocation::Wrench;
-use crate::math::{euler_zyx, hat, vee, Mat3, UnitQuat, Vec3};
+use crate::math::{Mat3, UnitQuat, Vec3};
 
 use super::gains::{GeometricGains, VehicleModel};
-use super::{ControlFlags, ControlOutput, TrackingErrors, VehicleState};
+use super::geometric::{attitude_tracking, AttitudeTracking, DesiredAttitude};
+use super::{ControlFlags, ControlOutput, VehicleState};
 
 /// An attitude or rate target with collective thrust.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,7 +30,9 @@ impl AttitudeTarget {
     }
 }
 
-/// The wrench that tracks `target` from state `x` with the geometric attitude gains.
+/// The wrench that tracks `target` from state `x` with the geometric attitude gains: the
+/// geometric attitude law ([`attitude_tracking`], ω̇_{b,d} = 0, no compensation) for an attitude
+/// target, the body-rate loop `τ_b = −K_ω (ω_b − ω_{b,d}) + ω_b × I_b ω_b` for rates only.
 pub fn track_attitude(
     model: &VehicleModel,
     gains: &GeometricGains,
@@ -41,39 +43,30 @@ pub fn track_attitude(
     let raw = target.thrust_fraction * model.thrust_max_n;
     let thrust_n = raw.clamp(0.0, model.thrust_max_n);
     flags.thrust_clamped = thrust_n != raw;
-    let inertia = Mat3::from_diagonal(&model.inertia_kg_m2);
-    let w = &x.omega_b;
     let omega_d = target.omega_b.unwrap_or_default();
-    let (torque_b, r_d, e_r, e_omega) = match target.q_wb {
+    let tracking = match target.q_wb {
         Some(q) => {
-            let r_d = q.to_rotation_matrix().into_inner();
-            let r = &x.r_wb;
-            let rt_rd = r.transpose() * r_d;
-            let e_r = 0.5 * vee(&(r_d.transpose() * r - r.transpose() * r_d));
-            let e_omega = w - rt_rd * omega_d;
-            let torque = -gains.kr.component_mul(&e_r) - gains.komega.component_mul(&e_omega) + w.cross(&(inertia * w))
-                - inertia * (hat(w) * rt_rd * omega_d);
-            flags.large_attitude_error = 0.5 * (Mat3::identity() - r_d.transpose() * r).trace() >= 1.0;
-            (torque, r_d, e_r, e_omega)
+            let desired = DesiredAttitude {
+                r_d: q.to_rotation_matrix().into_inner(),
+                omega_d,
+                omega_d_dot: Vec3::zeros(),
+            };
+            attitude_tracking(gains, model, x, &desired, &Vec3::zeros())
         }
         None => {
+            let inertia = Mat3::from_diagonal(&model.inertia_kg_m2);
+            let w = &x.omega_b;
             let e_omega = w - omega_d;
-            let torque = -gains.komega.component_mul(&e_omega) + w.cross(&(inertia * w));
-            (torque, x.r_wb, Vec3::zeros(), e_omega)
+            AttitudeTracking {
+                r_d: x.r_wb,
+                e_r: Vec3::zeros(),
+                e_omega,
+                torque_b: -gains.komega.component_mul(&e_omega) + w.cross(&(inertia * w)),
+                large_error: false,
+            }
         }
     };
-    ControlOutput {
-        wrench: Wrench { thrust_n, torque_b },
-        r_wb_desired: r_d,
-        eta_desired: euler_zyx(&r_d),
-        errors: TrackingErrors {
-            pos_w: Vec3::zeros(),
-            vel_w: Vec3::zeros(),
-            attitude: e_r,
-            rate: e_omega,
-        },
-        flags,
-    }
+    tracking.output(thrust_n, Vec3::zeros(), Vec3::zeros(), flags)
 }
 
 #[cfg(test)]
@@ -90,13 +83,7 @@ mod tests {
     }
 
     fn level() -> VehicleState {
-        VehicleState {
-            t_s: 0.0,
-            pos_w: Vec3::zeros(),
-            vel_w: Vec3::zeros(),
-            r_wb: Mat3::identity(),
-            omega_b: Vec3::zeros(),
-        }
+        VehicleState::at_rest(0.0, Vec3::zeros())
     }
 
     #[test]

@@ -9,15 +9,15 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::allocation::Wrench;
+use crate::estimation::WrenchEstimate;
 use crate::math::{Mat3, Vec3};
 
 use super::attitude_target::AttitudeTarget;
 use super::gains::{ControllerGains, VehicleModel};
 use super::geometric::{DesiredRateMode, GeometricLaw};
-use super::hierarchical::HierarchicalLaw;
-use super::passivity::PassivityLaw;
-use super::reference::{translation, HeadingHold};
-use super::{ControlFlags, ControlOutput, ExternalWrench, FlatSetpoint, TrackingErrors, VehicleState};
+use super::reference::{HeadingHold, LawInput};
+use super::rpy_law::RpyLaw;
+use super::{ControlFlags, ControlOutput, FlatSetpoint, TrackingErrors, VehicleState};
 
 /// Which control law flies the vehicle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -78,7 +78,7 @@ pub struct ControlInput<'a> {
     /// Setpoint.
     pub setpoint: &'a FlatSetpoint,
     /// Estimated external wrench; subtracted only when compensation is on.
-    pub estimate: Option<ExternalWrench>,
+    pub estimate: Option<WrenchEstimate>,
 }
 
 /// Flight controller: the active law, its gains and the shared guards.
@@ -90,8 +90,8 @@ pub struct Controller {
     compensate: bool,
     heading: HeadingHold,
     geometric: GeometricLaw,
-    hierarchical: HierarchicalLaw,
-    passivity: PassivityLaw,
+    /// The hierarchical and the passivity-based law (only the active one runs).
+    rpy: RpyLaw,
     last_good: Option<ControlOutput>,
 }
 
@@ -132,8 +132,7 @@ impl Controller {
             compensate: false,
             heading: HeadingHold::default(),
             geometric: GeometricLaw::new(ts_s, tau, DesiredRateMode::Numerical),
-            hierarchical: HierarchicalLaw::new(ts_s, tau),
-            passivity: PassivityLaw::new(ts_s, tau),
+            rpy: RpyLaw::new(ts_s, tau),
             last_good: None,
         })
     }
@@ -149,8 +148,7 @@ impl Controller {
         if kind != self.kind {
             self.kind = kind;
             self.geometric.reset();
-            self.hierarchical.reset();
-            self.passivity.reset();
+            self.rpy.reset();
         }
     }
 
@@ -195,33 +193,20 @@ impl Controller {
                 ..Default::default()
             });
         }
-        let x = input.state;
-        let tr = translation(x, input.setpoint);
-        let heading = self.heading.resolve(x, input.setpoint);
-        let ext = ext.as_ref();
-        let mut flags = ControlFlags::default();
         let g = &self.gains;
+        let law = LawInput::resolve(
+            &self.model,
+            &g.limits,
+            input.state,
+            input.setpoint,
+            &mut self.heading,
+            ext.as_ref(),
+        );
+        let mut flags = ControlFlags::default();
         let out = match self.kind {
-            ControllerKind::Geometric => {
-                Some(
-                    self.geometric
-                        .update(&self.model, &g.geometric, &g.limits, x, &tr, &heading, ext),
-                )
-            }
-            ControllerKind::Hierarchical => self.hierarchical.update(
-                &self.model,
-                &g.hierarchical,
-                &g.limits,
-                x,
-                &tr,
-                &heading,
-                ext,
-                &mut flags,
-            ),
-            ControllerKind::Passivity => {
-                self.passivity
-                    .update(&self.model, &g.passivity, &g.limits, x, &tr, &heading, ext, &mut flags)
-            }
+            ControllerKind::Geometric => Some(self.geometric.update(&g.geometric, &law)),
+            ControllerKind::Hierarchical => self.rpy.update(&g.hierarchical, &law, &mut flags),
+            ControllerKind::Passivity => self.rpy.update(&g.passivity, &law, &mut flags),
         };
         match out {
             Some(out) if out.is_finite() => {
@@ -276,31 +261,17 @@ impl Controller {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::{UnitQuat, GRAVITY_M_S2};
-
-    fn model() -> VehicleModel {
-        VehicleModel {
-            mass_kg: 1.5,
-            inertia_kg_m2: Vec3::new(1.2416, 1.2416, 2.4832),
-            thrust_max_n: 28.0,
-        }
-    }
+    use crate::math::GRAVITY_M_S2;
 
     fn controller(kind: ControllerKind) -> Controller {
-        Controller::new(kind, model(), ControllerGains::default(), 1e-3).unwrap()
+        Controller::new(kind, VehicleModel::homework(28.0), ControllerGains::default(), 1e-3).unwrap()
     }
 
     fn at(pos_w: Vec3) -> VehicleState {
-        VehicleState {
-            t_s: 0.0,
-            pos_w,
-            vel_w: Vec3::zeros(),
-            r_wb: Mat3::identity(),
-            omega_b: Vec3::zeros(),
-        }
+        VehicleState::at_rest(0.0, pos_w)
     }
 
-    fn run(c: &mut Controller, x: &VehicleState, sp: &FlatSetpoint, est: Option<ExternalWrench>) -> ControlOutput {
+    fn run(c: &mut Controller, x: &VehicleState, sp: &FlatSetpoint, est: Option<WrenchEstimate>) -> ControlOutput {
         c.update(&ControlInput {
             state: x,
             setpoint: sp,
@@ -384,9 +355,10 @@ mod tests {
 
     #[test]
     fn compensation_subtracts_the_estimate_only_when_on() {
-        let est = ExternalWrench {
+        let est = WrenchEstimate {
             force_w: Vec3::new(0.0, 0.0, 2.0),
             torque_b: Vec3::new(0.0, 0.0, 0.2),
+            mass_kg: 1.5,
         };
         for kind in ControllerKind::ALL {
             let x = at(Vec3::zeros());
@@ -407,18 +379,13 @@ mod tests {
 
     #[test]
     fn rpy_laws_hold_at_the_singularity_and_geometric_does_not_need_to() {
-        let mut x = at(Vec3::zeros());
-        x.r_wb = UnitQuat::from_euler_angles(0.0, 1.56, 0.0)
-            .to_rotation_matrix()
-            .into_inner();
+        let x = VehicleState::at_rest_turned(0.0, 1.56, 0.0);
         for kind in [ControllerKind::Hierarchical, ControllerKind::Passivity] {
             let out = run(&mut controller(kind), &x, &FlatSetpoint::hold(Vec3::zeros(), 0.0), None);
             assert!(out.flags.rpy_singular && out.wrench.thrust_n == 0.0);
         }
         // Beyond 90° (Ψ ≥ 1): flagged, but the geometric law still steers back.
-        x.r_wb = UnitQuat::from_euler_angles(0.0, 1.6, 0.0)
-            .to_rotation_matrix()
-            .into_inner();
+        let x = VehicleState::at_rest_turned(0.0, 1.6, 0.0);
         let out = run(
             &mut controller(ControllerKind::Geometric),
             &x,

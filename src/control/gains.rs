@@ -27,6 +27,19 @@ pub struct VehicleModel {
     pub thrust_max_n: f64,
 }
 
+#[cfg(test)]
+impl VehicleModel {
+    /// The homework vehicle `fsr_quad` (reference mass and inertia) with full thrust
+    /// `thrust_max_n` [N].
+    pub(crate) fn homework(thrust_max_n: f64) -> Self {
+        Self {
+            mass_kg: REFERENCE_MASS_KG,
+            inertia_kg_m2: Vec3::from(REFERENCE_INERTIA_KG_M2),
+            thrust_max_n,
+        }
+    }
+}
+
 /// Geometric controller gains (control.md §5), force and torque units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -177,22 +190,22 @@ impl ControllerGains {
         let p = &self.passivity;
         let l = &self.limits;
         let vectors = [
-            ("geometric.kp", g.kp),
-            ("geometric.kv", g.kv),
-            ("geometric.kr", g.kr),
-            ("geometric.komega", g.komega),
-            ("hierarchical.kp", h.kp),
-            ("hierarchical.kd", h.kd),
-            ("hierarchical.k_eta", h.k_eta),
-            ("hierarchical.k_eta_dot", h.k_eta_dot),
-            ("passivity.d_a", p.d_a),
-            ("passivity.k_a", p.k_a),
-            ("passivity.d_o", p.d_o),
-            ("passivity.k_o", p.k_o),
+            ("geometric", ["kp", "kv", "kr", "komega"], [g.kp, g.kv, g.kr, g.komega]),
+            (
+                "hierarchical",
+                ["kp", "kd", "k_eta", "k_eta_dot"],
+                [h.kp, h.kd, h.k_eta, h.k_eta_dot],
+            ),
+            ("passivity", ["d_a", "k_a", "d_o", "k_o"], [p.d_a, p.k_a, p.d_o, p.k_o]),
         ];
-        for (name, v) in vectors {
-            if !v.iter().all(|x| x.is_finite() && *x > 0.0) {
-                return Err(format!("{name}: every component must be a positive number, got {v:?}"));
+        let positive = |x: &f64| x.is_finite() && *x > 0.0;
+        for (law, names, values) in vectors {
+            for (name, v) in names.into_iter().zip(values) {
+                if !v.iter().all(positive) {
+                    return Err(format!(
+                        "{law}.{name}: every component must be a positive number, got {v:?}"
+                    ));
+                }
             }
         }
         let scalars = [
@@ -202,10 +215,8 @@ impl ControllerGains {
             ("limits.cos_theta_min", l.cos_theta_min),
             ("limits.derivative_tau_s", l.derivative_tau_s),
         ];
-        for (name, x) in scalars {
-            if !(x.is_finite() && x > 0.0) {
-                return Err(format!("{name}: must be a positive number, got {x}"));
-            }
+        if let Some((name, x)) = scalars.into_iter().find(|(_, x)| !positive(x)) {
+            return Err(format!("{name}: must be a positive number, got {x}"));
         }
         if !(l.tilt_max_rad > 0.0 && l.tilt_max_rad < 80f64.to_radians()) {
             return Err(format!(
@@ -226,11 +237,7 @@ mod tests {
 
     #[test]
     fn homework_vehicle_gets_the_homework_gains_and_others_keep_frequencies() {
-        let fsr = VehicleModel {
-            mass_kg: 1.5,
-            inertia_kg_m2: Vec3::from(REFERENCE_INERTIA_KG_M2),
-            thrust_max_n: 28.0,
-        };
+        let fsr = VehicleModel::homework(28.0);
         assert_eq!(ControllerGains::for_vehicle(&fsr), ControllerGains::default());
         let iris = VehicleModel {
             mass_kg: 1.5,

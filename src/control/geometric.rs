@@ -18,9 +18,9 @@ use crate::allocation::Wrench;
 use crate::math::{e3, euler_zyx, hat, vee, Mat3, Vec3, GRAVITY_M_S2};
 
 use super::filters::DirtyDerivative;
-use super::gains::{ControlLimits, GeometricGains, VehicleModel};
-use super::reference::{HeadingReference, TranslationReference};
-use super::{ControlFlags, ControlOutput, ExternalWrench, TrackingErrors};
+use super::gains::{GeometricGains, VehicleModel};
+use super::reference::LawInput;
+use super::{ControlFlags, ControlOutput, TrackingErrors, VehicleState};
 
 /// Below this `‖z_{b,d} × x_c‖` the previous `y_{b,d}` is kept (heading undefined) [-].
 const CROSS_MIN: f64 = 1e-6;
@@ -69,23 +69,13 @@ impl GeometricLaw {
     }
 
     /// One tick of eqs. (7)–(14).
-    #[allow(clippy::too_many_arguments)]
-    pub fn update(
-        &mut self,
-        model: &VehicleModel,
-        gains: &GeometricGains,
-        limits: &ControlLimits,
-        x: &super::VehicleState,
-        tr: &TranslationReference,
-        heading: &HeadingReference,
-        ext: Option<&ExternalWrench>,
-    ) -> ControlOutput {
+    pub fn update(&mut self, gains: &GeometricGains, input: &LawInput) -> ControlOutput {
+        let (model, limits, tr, heading) = (input.model, input.limits, &input.translation, &input.heading);
         let m = model.mass_kg;
         let mut flags = ControlFlags::default();
-        let f_hat = ext.map_or(Vec3::zeros(), |w| w.force_w);
         let mut a = -gains.kp.component_mul(&tr.e_p) - gains.kv.component_mul(&tr.e_v) - m * GRAVITY_M_S2 * e3()
             + m * tr.acc_w
-            - f_hat;
+            - input.force_hat_w();
         // Guards: keep an upward thrust component and the tilt limit (control.md §5 "Guards").
         if a.z > -m * limits.eps_z_m_s2 {
             a.z = -m * limits.eps_z_m_s2;
@@ -99,8 +89,7 @@ impl GeometricLaw {
             a.y *= s;
             flags.tilt_limited = true;
         }
-        let r = &x.r_wb;
-        let raw_thrust = -a.dot(&(r * e3()));
+        let raw_thrust = -a.dot(&(input.state.r_wb * e3()));
         let thrust_n = raw_thrust.clamp(0.0, model.thrust_max_n);
         flags.thrust_clamped = thrust_n != raw_thrust;
 
@@ -133,69 +122,119 @@ impl GeometricLaw {
         };
         self.previous_r_d = Some(r_d);
 
-        let rt_rd = r.transpose() * r_d;
-        let e_r = 0.5 * vee(&(r_d.transpose() * r - r.transpose() * r_d));
-        let e_omega = x.omega_b - rt_rd * omega_d;
-        let inertia = Mat3::from_diagonal(&model.inertia_kg_m2);
-        let w = &x.omega_b;
-        let tau_hat = ext.map_or(Vec3::zeros(), |e| e.torque_b);
-        let torque_b = -gains.kr.component_mul(&e_r) - gains.komega.component_mul(&e_omega) + w.cross(&(inertia * w))
-            - inertia * (hat(w) * rt_rd * omega_d - rt_rd * omega_d_dot)
-            - tau_hat;
-        let psi = 0.5 * (Mat3::identity() - r_d.transpose() * r).trace();
-        flags.large_attitude_error = psi >= 1.0;
+        let desired = DesiredAttitude {
+            r_d,
+            omega_d,
+            omega_d_dot,
+        };
+        attitude_tracking(gains, model, input.state, &desired, &input.torque_hat_b())
+            .output(thrust_n, tr.e_p, tr.e_v, flags)
+    }
+}
+
+/// A desired attitude with its rates (control.md §5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DesiredAttitude {
+    /// `R_{b,d}`, body → world.
+    pub r_d: Mat3,
+    /// ω_{b,d}, desired body frame [rad/s].
+    pub omega_d: Vec3,
+    /// ω̇_{b,d}, desired body frame [rad/s²].
+    pub omega_d_dot: Vec3,
+}
+
+/// Attitude errors and torque of one tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AttitudeTracking {
+    /// Desired attitude `R_{b,d}`.
+    pub r_d: Mat3,
+    /// Attitude error [rad].
+    pub e_r: Vec3,
+    /// Rate error [rad/s].
+    pub e_omega: Vec3,
+    /// Body torque τ_b, FRD [N·m].
+    pub torque_b: Vec3,
+    /// `Ψ = ½ tr(I − R_dᵀ R) ≥ 1`.
+    pub large_error: bool,
+}
+
+impl AttitudeTracking {
+    /// The output with thrust `thrust_n` [N], translational errors `e_p` [m], `e_v` [m/s] and
+    /// `flags` (plus `large_attitude_error`); η_d are the ZYX angles of `R_{b,d}`.
+    pub fn output(&self, thrust_n: f64, e_p: Vec3, e_v: Vec3, flags: ControlFlags) -> ControlOutput {
         ControlOutput {
-            wrench: Wrench { thrust_n, torque_b },
-            r_wb_desired: r_d,
-            eta_desired: euler_zyx(&r_d),
-            errors: TrackingErrors {
-                pos_w: tr.e_p,
-                vel_w: tr.e_v,
-                attitude: e_r,
-                rate: e_omega,
+            wrench: Wrench {
+                thrust_n,
+                torque_b: self.torque_b,
             },
-            flags,
+            r_wb_desired: self.r_d,
+            eta_desired: euler_zyx(&self.r_d),
+            errors: TrackingErrors {
+                pos_w: e_p,
+                vel_w: e_v,
+                attitude: self.e_r,
+                rate: self.e_omega,
+            },
+            flags: ControlFlags {
+                large_attitude_error: self.large_error,
+                ..flags
+            },
         }
+    }
+}
+
+/// The attitude part of the geometric law, eqs. (9), (10), (14) of the module doc: e_R, e_ω
+/// and τ_b from state `x` towards `desired`, minus the estimated body torque `tau_hat_b` [N·m]
+/// (zero for no compensation); also serves offboard attitude targets.
+pub fn attitude_tracking(
+    gains: &GeometricGains,
+    model: &VehicleModel,
+    x: &VehicleState,
+    desired: &DesiredAttitude,
+    tau_hat_b: &Vec3,
+) -> AttitudeTracking {
+    let DesiredAttitude {
+        r_d,
+        omega_d,
+        omega_d_dot,
+    } = desired;
+    let r = &x.r_wb;
+    let rt_rd = r.transpose() * r_d;
+    let e_r = 0.5 * vee(&(r_d.transpose() * r - r.transpose() * r_d));
+    let e_omega = x.omega_b - rt_rd * omega_d;
+    let inertia = Mat3::from_diagonal(&model.inertia_kg_m2);
+    let w = &x.omega_b;
+    let torque_b = -gains.kr.component_mul(&e_r) - gains.komega.component_mul(&e_omega) + w.cross(&(inertia * w))
+        - inertia * (hat(w) * rt_rd * omega_d - rt_rd * omega_d_dot)
+        - tau_hat_b;
+    let psi = 0.5 * (Mat3::identity() - r_d.transpose() * r).trace();
+    AttitudeTracking {
+        r_d: *r_d,
+        e_r,
+        e_omega,
+        torque_b,
+        large_error: psi >= 1.0,
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::control::reference::{translation, HeadingHold};
-    use crate::control::{ControllerGains, FlatSetpoint, VehicleState};
+    use crate::control::reference::HeadingHold;
+    use crate::control::{ControlLimits, ControllerGains, FlatSetpoint};
     use crate::math::UnitQuat;
-
-    fn model() -> VehicleModel {
-        VehicleModel {
-            mass_kg: 1.5,
-            inertia_kg_m2: Vec3::new(1.2416, 1.2416, 2.4832),
-            thrust_max_n: 60.0,
-        }
-    }
 
     fn step(law: &mut GeometricLaw, x: &VehicleState, sp: &FlatSetpoint) -> ControlOutput {
         let g = ControllerGains::default();
-        let heading = HeadingHold::default().resolve(x, sp);
+        let model = VehicleModel::homework(60.0);
         law.update(
-            &model(),
             &g.geometric,
-            &g.limits,
-            x,
-            &translation(x, sp),
-            &heading,
-            None,
+            &LawInput::resolve(&model, &g.limits, x, sp, &mut HeadingHold::default(), None),
         )
     }
 
     fn level(pos_w: Vec3) -> VehicleState {
-        VehicleState {
-            t_s: 0.0,
-            pos_w,
-            vel_w: Vec3::zeros(),
-            r_wb: Mat3::identity(),
-            omega_b: Vec3::zeros(),
-        }
+        VehicleState::at_rest(0.0, pos_w)
     }
 
     #[test]
@@ -212,10 +251,7 @@ mod tests {
 
     #[test]
     fn attitude_error_and_torque_follow_eqs_9_and_14() {
-        let mut x = level(Vec3::zeros());
-        x.r_wb = UnitQuat::from_euler_angles(0.1, 0.0, 0.0)
-            .to_rotation_matrix()
-            .into_inner();
+        let x = VehicleState::at_rest_turned(0.1, 0.0, 0.0);
         let out = step(
             &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
             &x,

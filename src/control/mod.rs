@@ -5,10 +5,13 @@
 //! - [`geometric`]: Lee et al. on SE(3) (control.md §5).
 //! - [`hierarchical`]: RPY, feedback-linearised inner loop (control.md §4).
 //! - [`passivity`]: RPY, passivity-based, no feedback linearisation (control.md §6).
+//!
+//! The two RPY laws are their gains' outer and inner loops run by one shared skeleton
+//! (`rpy_law`: μ_d → η_d by `rpy_reference` → τ_b, estimate compensation); the attitude part
+//! of the geometric law also serves offboard attitude targets ([`attitude_target`]).
 
 pub mod attitude_target;
 mod controller;
-mod external;
 pub mod filters;
 mod gains;
 pub mod geometric;
@@ -17,13 +20,13 @@ mod output;
 pub mod passivity;
 pub mod reference;
 pub mod rpy_extraction;
+mod rpy_law;
 mod rpy_reference;
 mod setpoint;
 mod state;
 
 pub use attitude_target::AttitudeTarget;
 pub use controller::{ControlInput, Controller, ControllerError, ControllerKind};
-pub use external::ExternalWrench;
 pub use gains::{
     ControlLimits, ControllerGains, GeometricGains, HierarchicalGains, PassivityGains, VehicleModel,
     REFERENCE_INERTIA_KG_M2, REFERENCE_MASS_KG,

@@ -1,10 +1,61 @@
 //! Turns an optional-field [`FlatSetpoint`] into the concrete errors and feed-forwards every
 //! law uses (control.md §4.1, §5 eqs. (7)–(8)), following the semantics documented on
-//! [`FlatSetpoint`].
+//! [`FlatSetpoint`], and bundles them with the rest of what a law reads in one tick
+//! ([`LawInput`]).
 
+use crate::estimation::WrenchEstimate;
 use crate::math::{euler_zyx, Vec3};
 
+use super::gains::{ControlLimits, VehicleModel};
 use super::{FlatSetpoint, VehicleState};
+
+/// What every law reads in one tick (control.md §4–§6).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawInput<'a> {
+    /// Vehicle model.
+    pub model: &'a VehicleModel,
+    /// Guards.
+    pub limits: &'a ControlLimits,
+    /// Vehicle state.
+    pub state: &'a VehicleState,
+    /// Translational errors and feed-forward.
+    pub translation: TranslationReference,
+    /// Heading reference.
+    pub heading: HeadingReference,
+    /// Estimated external wrench to subtract; `None` when compensation is off.
+    pub estimate: Option<&'a WrenchEstimate>,
+}
+
+impl<'a> LawInput<'a> {
+    /// The input for state `x` and setpoint `sp`: errors by [`translation`], heading by `heading`.
+    pub fn resolve(
+        model: &'a VehicleModel,
+        limits: &'a ControlLimits,
+        x: &'a VehicleState,
+        sp: &FlatSetpoint,
+        heading: &mut HeadingHold,
+        estimate: Option<&'a WrenchEstimate>,
+    ) -> Self {
+        Self {
+            model,
+            limits,
+            state: x,
+            translation: translation(x, sp),
+            heading: heading.resolve(x, sp),
+            estimate,
+        }
+    }
+
+    /// f̂_e, world NED [N], the "[− f̂_e]" term of the outer loops; zero without compensation.
+    pub fn force_hat_w(&self) -> Vec3 {
+        self.estimate.map_or(Vec3::zeros(), |e| e.force_w)
+    }
+
+    /// τ̂_e^b, body FRD [N·m], the "[− τ̂_e^b]" term of the inner loops; zero without compensation.
+    pub fn torque_hat_b(&self) -> Vec3 {
+        self.estimate.map_or(Vec3::zeros(), |e| e.torque_b)
+    }
+}
 
 /// Translational errors and feed-forward of one tick.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,17 +127,13 @@ impl HeadingHold {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::{Mat3, UnitQuat};
+    use crate::math::Mat3;
 
     fn state() -> VehicleState {
         VehicleState {
-            t_s: 0.0,
             pos_w: Vec3::new(1.0, 2.0, -3.0),
             vel_w: Vec3::new(0.5, 0.0, 0.0),
-            r_wb: UnitQuat::from_euler_angles(0.0, 0.0, 0.7)
-                .to_rotation_matrix()
-                .into_inner(),
-            omega_b: Vec3::zeros(),
+            ..VehicleState::at_rest_turned(0.0, 0.0, 0.7)
         }
     }
 

@@ -29,6 +29,18 @@ impl VehicleState {
         }
     }
 
+    /// At rest at the origin at time 0 with attitude roll, pitch, yaw (ZYX) = `roll`, `pitch`,
+    /// `yaw` [rad].
+    #[cfg(test)]
+    pub(crate) fn at_rest_turned(roll: f64, pitch: f64, yaw: f64) -> Self {
+        Self {
+            r_wb: crate::math::UnitQuat::from_euler_angles(roll, pitch, yaw)
+                .to_rotation_matrix()
+                .into_inner(),
+            ..Self::at_rest(0.0, Vec3::zeros())
+        }
+    }
+
     /// Tilt of the body z axis from the vertical [rad].
     pub fn tilt_rad(&self) -> f64 {
         self.r_wb[(2, 2)].clamp(-1.0, 1.0).acos()

@@ -243,31 +243,22 @@ mod tests {
 
     #[test]
     fn stability_bound_table() {
-        let table_3db = [
-            (1, 1995.0),
-            (2, 910.0),
-            (3, 355.0),
-            (5, 117.0),
-            (7, 58.0),
-            (10, 28.0),
-            (13, 16.5),
+        // Largest stable passband edge [rad/s] per order r, for a ripple of 3 dB and of 1 dB.
+        let ripples_db = [3.0, 1.0];
+        let table = [
+            (1, [1995.0, 1017.0]),
+            (2, [910.0, 995.0]),
+            (3, [355.0, 497.0]),
+            (5, [117.0, 181.0]),
+            (7, [58.0, 92.0]),
+            (10, [28.0, 45.0]),
+            (13, [16.5, 26.5]),
         ];
-        for (r, wp) in table_3db {
-            let got = design(r, 3.0, 1.0).max_stable_passband_rad_s(1e-3).unwrap();
-            assert!((got - wp).abs() / wp < 0.01, "r {r}: {got} vs {wp}");
-        }
-        let table_1db = [
-            (1, 1017.0),
-            (2, 995.0),
-            (3, 497.0),
-            (5, 181.0),
-            (7, 92.0),
-            (10, 45.0),
-            (13, 26.5),
-        ];
-        for (r, wp) in table_1db {
-            let got = design(r, 1.0, 1.0).max_stable_passband_rad_s(1e-3).unwrap();
-            assert!((got - wp).abs() / wp < 0.01, "r {r}: {got} vs {wp}");
+        for (r, edges) in table {
+            for (ripple_db, wp) in ripples_db.into_iter().zip(edges) {
+                let got = design(r, ripple_db, 1.0).max_stable_passband_rad_s(1e-3).unwrap();
+                assert!((got - wp).abs() / wp < 0.01, "r {r}, {ripple_db} dB: {got} vs {wp}");
+            }
         }
     }
 

@@ -1,9 +1,12 @@
-//! Estimation: Chebyshev gain design, the momentum-based wrench estimator (control.md §7) and
-//! its offline run over a flight log.
+//! Estimation: Chebyshev gain design, the momentum-based wrench estimator (control.md §7), the
+//! [`WrenchEstimate`] it produces (the one external-wrench value every layer passes on) and its
+//! offline run over a flight log.
 
 mod chebyshev;
 pub mod log_replay;
+mod wrench_estimate;
 mod wrench_observer;
 
 pub use chebyshev::{estimator_gains, ChebyshevDesign, DesignError, Pole, MAX_ORDER};
-pub use wrench_observer::{ObserverError, ObserverInput, WrenchEstimate, WrenchObserver};
+pub use wrench_estimate::WrenchEstimate;
+pub use wrench_observer::{ObserverError, ObserverInput, WrenchObserver};

@@ -20,6 +20,8 @@ use thiserror::Error;
 use crate::math::{e3, Mat3, Vec3, GRAVITY_M_S2};
 use crate::rpy;
 
+use super::WrenchEstimate;
+
 /// |cos θ| below which the body torque falls back to the η-space torque (RPY singularity).
 const COS_THETA_MIN: f64 = 1e-3;
 
@@ -52,21 +54,6 @@ pub struct ObserverInput {
     pub torque_b: Vec3,
 }
 
-/// The estimate after a tick.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WrenchEstimate {
-    /// External force f̂_e, world NED [N].
-    pub force_w: Vec3,
-    /// External torque τ̂_e in η coordinates [N·m].
-    pub torque_eta: Vec3,
-    /// External torque τ̂_e^b = Q⁻ᵀ τ̂_e, body FRD [N·m].
-    pub torque_b: Vec3,
-    /// Mass estimate m_e + f̂_ez / g [kg].
-    pub mass_kg: f64,
-    /// True when this tick's input was not finite and the previous estimate was held.
-    pub held: bool,
-}
-
 /// Momentum-based wrench estimator of order r = number of gains.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WrenchObserver {
@@ -79,6 +66,7 @@ pub struct WrenchObserver {
     previous_beta: Option<Vector6<f64>>,
     pending: Option<(Vec3, Vec3)>,
     last: WrenchEstimate,
+    held: bool,
 }
 
 impl WrenchObserver {
@@ -104,13 +92,8 @@ impl WrenchObserver {
             previous_q: None,
             previous_beta: None,
             pending: None,
-            last: WrenchEstimate {
-                force_w: Vec3::zeros(),
-                torque_eta: Vec3::zeros(),
-                torque_b: Vec3::zeros(),
-                mass_kg,
-                held: false,
-            },
+            last: WrenchEstimate::zero(mass_kg),
+            held: false,
         })
     }
 
@@ -124,15 +107,19 @@ impl WrenchObserver {
         self.last
     }
 
+    /// True when the last observation's input was not finite and the previous estimate was held.
+    pub fn held(&self) -> bool {
+        self.held
+    }
+
     /// Forgets everything: the next update restarts from ŵ = 0 with a new q(0).
     pub fn reset(&mut self) {
         self.gamma.iter_mut().for_each(|g| *g = Vector6::zeros());
         self.previous_q = None;
         self.previous_beta = None;
         self.pending = None;
-        self.last = Self::new(self.mass_kg, self.inertia.diagonal(), self.gains.clone(), self.ts_s)
-            .map(|o| o.last)
-            .unwrap_or(self.last);
+        self.last = WrenchEstimate::zero(self.mass_kg);
+        self.held = false;
     }
 
     /// One tick of §7.5 with this tick's measurements and applied inputs: [`observe`](Self::observe)
@@ -140,9 +127,7 @@ impl WrenchObserver {
     /// its measurements (offline logs).
     pub fn update(&mut self, x: &ObserverInput) -> WrenchEstimate {
         let est = self.observe(&x.vel_w, &x.eta, &x.eta_dot);
-        if !est.held {
-            self.apply(x.thrust_n, &x.torque_b);
-        }
+        self.apply(x.thrust_n, &x.torque_b);
         est
     }
 
@@ -155,12 +140,10 @@ impl WrenchObserver {
             .chain(eta.iter())
             .chain(eta_dot.iter())
             .all(|v| v.is_finite());
+        self.held = !finite;
         if !finite {
             self.pending = None;
-            return WrenchEstimate {
-                held: true,
-                ..self.last
-            };
+            return self.last;
         }
         let q_k = stack(
             &(self.mass_kg * vel_w),
@@ -212,10 +195,8 @@ impl WrenchObserver {
         };
         self.last = WrenchEstimate {
             force_w,
-            torque_eta,
             torque_b,
             mass_kg: self.mass_kg + force_w.z / GRAVITY_M_S2,
-            held: false,
         };
         self.last
     }
@@ -276,15 +257,16 @@ mod tests {
             (est.force_w.z - mg_gap * (1.0 - (1.7 * GRAVITY_M_S2 - 1.5 * GRAVITY_M_S2) / (1.7 * GRAVITY_M_S2))).abs()
                 < 5e-3
         );
-        assert!((est.torque_eta.z - 0.2).abs() < 1e-6, "{:?}", est.torque_eta);
+        // Level (η = 0, Q = I): the body torque is the η-space torque.
+        assert!((est.torque_b.z - 0.2).abs() < 1e-6, "{:?}", est.torque_b);
     }
 
     #[test]
     fn high_order_forward_euler_is_stable() {
         // Order 13 at Wp = 10 (below the 16.5 rad/s bound): the in-sample update would diverge.
         let est = converge(13, 10.0, 40.0);
-        assert!(est.torque_eta.iter().all(|x| x.is_finite()));
-        assert!((est.torque_eta.z - 0.2).abs() < 2e-3, "{:?}", est.torque_eta);
+        assert!(est.torque_b.iter().all(|x| x.is_finite()));
+        assert!((est.torque_b.z - 0.2).abs() < 2e-3, "{:?}", est.torque_b);
     }
 
     #[test]
@@ -324,7 +306,8 @@ mod tests {
             thrust_n: 1.0,
             torque_b: Vec3::zeros(),
         };
-        assert!(obs.update(&bad).held);
+        obs.update(&bad);
+        assert!(obs.held());
         assert!(WrenchObserver::new(1.5, Vec3::new(1.0, 1.0, 2.0), vec![], 1e-3).is_err());
         assert!(WrenchObserver::new(1.5, Vec3::new(1.0, 1.0, 2.0), vec![-1.0], 1e-3).is_err());
         assert!(WrenchObserver::new(1.5, Vec3::new(1.0, 1.0, 2.0), vec![1.0], 0.0).is_err());

@@ -14,7 +14,7 @@ use crate::airframe::Airframe;
 use crate::allocation::{Allocation, AllocationError, Allocator, FailedRotors};
 use crate::control::{
     AttitudeTarget, ControlInput, ControlOutput, Controller, ControllerError, ControllerGains, ControllerKind,
-    ExternalWrench, FlatSetpoint, VehicleModel, VehicleState,
+    FlatSetpoint, VehicleModel, VehicleState,
 };
 use crate::estimation::{WrenchEstimate, WrenchObserver};
 use crate::math::{euler_zyx, Vec3};
@@ -122,10 +122,7 @@ impl FlightCore {
         let control = self.controller.update(&ControlInput {
             state: x,
             setpoint: sp,
-            estimate: estimate.map(|e| ExternalWrench {
-                force_w: e.force_w,
-                torque_b: e.torque_b,
-            }),
+            estimate,
         });
         self.allocate(control, estimate)
     }

@@ -4,7 +4,7 @@
 use crate::airframe::MAX_ROTORS;
 use crate::math::euler_zyx;
 use crate::sitl::Sensors;
-use crate::telemetry::{BatterySnapshot, EstimateSnapshot, Snapshot};
+use crate::telemetry::{BatterySnapshot, Snapshot};
 
 use super::{Control, FlightController};
 
@@ -38,11 +38,7 @@ impl FlightController {
             mission_seq: progress.0 as u16,
             mission_total: progress.1 as u16,
             mission_state: progress.2,
-            estimate: step.and_then(|s| s.estimate).map(|e| EstimateSnapshot {
-                force_w: e.force_w,
-                torque_b: e.torque_b,
-                mass_kg: e.mass_kg,
-            }),
+            estimate: step.and_then(|s| s.estimate),
             setpoint: control.setpoint,
             eta_desired: step.map(|s| s.control.eta_desired),
             thrust_fraction: step.map_or(0.0, |s| {

@@ -42,13 +42,7 @@ pub(super) static DESIGN: &[ParamDef] = &[
         "dB",
         Estimator,
         "Passband ripple of the estimator's Chebyshev filter",
-        |s| s.estimator.map_or(WHEN_OFF.ripple_db, |d| d.ripple_db),
-        |s, v| {
-            if let Some(d) = &mut s.estimator {
-                d.ripple_db = v;
-            }
-            Ok(())
-        }
+        field ripple_db of estimator or WHEN_OFF
     ),
     row!(
         "RP_EST_WP",
@@ -57,12 +51,6 @@ pub(super) static DESIGN: &[ParamDef] = &[
         "rad/s",
         Estimator,
         "Passband edge of the estimator's Chebyshev filter; a design unstable at the tick is refused, naming the largest stable edge",
-        |s| s.estimator.map_or(WHEN_OFF.passband_rad_s, |d| d.passband_rad_s),
-        |s, v| {
-            if let Some(d) = &mut s.estimator {
-                d.passband_rad_s = v;
-            }
-            Ok(())
-        }
+        field passband_rad_s of estimator or WHEN_OFF
     ),
 ];

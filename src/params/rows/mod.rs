@@ -16,6 +16,8 @@
 /// - `degrees PATH`: a setting in radians, shown in degrees;
 /// - `flag PATH`: a `bool`, 0 or 1;
 /// - `action TYPE PATH`: an action enum with `TryFrom<i32>` (codes it lacks are refused);
+/// - `field FIELD of PATH or DEFAULT`: field `FIELD` of the optional setting at `settings.PATH`,
+///   `DEFAULT.FIELD` while that is `None` (a write then changes nothing);
 /// - `GET, SET`: explicit functions.
 macro_rules! row {
     ($name:expr, $kind:ident, [$min:expr, $max:expr], $unit:literal, $scope:ident, $desc:expr,
@@ -56,6 +58,17 @@ macro_rules! row {
                     Ok(())
                 })
         }
+    };
+    ($name:expr, $kind:ident, [$min:expr, $max:expr], $unit:literal, $scope:ident, $desc:expr,
+     field $field:ident of $($path:ident).+ or $default:ident) => {
+        row!($name, $kind, [$min, $max], $unit, $scope, $desc,
+            |s| s.$($path).+.map_or($default.$field, |d| d.$field),
+            |s, v| {
+                if let Some(d) = &mut s.$($path).+ {
+                    d.$field = v;
+                }
+                Ok(())
+            })
     };
     ($name:expr, $kind:ident, [$min:expr, $max:expr], $unit:literal, $scope:ident, $desc:expr,
      $get:expr, $set:expr) => {
