@@ -3,152 +3,18 @@
 //! with no socket and no thread. Each test plays a ground station and the vehicle's tick thread.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
+mod link_bench;
+
+use link_bench::*;
 use mavlink::dialects::common::*;
 use mavlink::Message;
-use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
-use rotorpilot::control::{ControllerGains, ControllerKind};
-use rotorpilot::mav::codec::{decode_datagram, encode_v2, frame_message, Inbound};
-use rotorpilot::mav::gcs::{command_long, gcs_header};
-use rotorpilot::mav::link::{LinkConfig, LinkMachine, Now, ToVehicle, VehicleReply, VehicleRequest};
+use rotorpilot::commander::{FlightMode, Outcome, Request};
+use rotorpilot::mav::codec::frame_message;
+use rotorpilot::mav::gcs::gcs_header;
+use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
 use rotorpilot::mav::signing::{Signing, SigningKey};
 use rotorpilot::mav::streams::LinkKind;
-use rotorpilot::mav::translate::Identity;
 use rotorpilot::navigation::Home;
-use rotorpilot::params::{ParamTable, VehicleSettings};
-use rotorpilot::telemetry::Snapshot;
-
-use LinkKind::{Api, Gcs};
-
-/// The configured remote of the GCS link, of the API link, and a second ground station.
-const QGC: u16 = 14550;
-const SDK: u16 = 14540;
-const OTHER: u16 = 40000;
-
-fn table() -> ParamTable {
-    ParamTable::new(&VehicleSettings::new(
-        ControllerKind::Geometric,
-        ControllerGains::default(),
-        None,
-    ))
-}
-
-/// A vehicle's endpoint, the clocks, and what came out of it.
-struct Bench {
-    m: LinkMachine<u16>,
-    now: Now,
-    /// The snapshot the vehicle publishes.
-    state: Snapshot,
-}
-
-impl Bench {
-    fn new() -> Self {
-        Self::with(|_| {})
-    }
-
-    fn with(adjust: impl FnOnce(&mut LinkConfig<u16>)) -> Self {
-        let state = Snapshot::initial(Home::default());
-        let mut config = LinkConfig::new(Identity::autopilot(1, 4), vec![(Gcs, QGC), (Api, SDK)], table(), state);
-        adjust(&mut config);
-        let mut bench = Self {
-            m: LinkMachine::new(config),
-            now: Now::new(0.0, 0.0),
-            state,
-        };
-        bench.tick();
-        bench.out();
-        bench
-    }
-
-    /// Moves both clocks to (`wall_s`, `sim_s`) and runs the due duties.
-    fn at(&mut self, wall_s: f64, sim_s: f64) {
-        self.now = Now::new(wall_s, sim_s);
-        self.tick();
-    }
-
-    fn tick(&mut self) {
-        self.state.t_s = self.now.sim_s;
-        self.m.handle_state(self.state);
-        self.m.handle_timeout(self.now);
-    }
-
-    /// `msg` from the ground station at `from` on `link`.
-    fn send(&mut self, link: LinkKind, from: u16, msg: MavMessage) {
-        let mut bytes = Vec::new();
-        encode_v2(gcs_header(0), &msg, &mut bytes);
-        self.m.handle_datagram(self.now, link, from, &bytes);
-    }
-
-    /// Everything sent since the last call: (link, destination, message), in order.
-    fn out(&mut self) -> Vec<(LinkKind, u16, MavMessage)> {
-        let mut out = Vec::new();
-        while let Some(t) = self.m.poll_transmit() {
-            for frame in decode_datagram(&t.bytes) {
-                let Inbound::Message { message, .. } = frame else {
-                    panic!("not a message: {frame:?}");
-                };
-                out.push((t.link, t.to, *message));
-            }
-        }
-        out
-    }
-
-    /// Where the HEARTBEATs on `link` went since the last call.
-    fn heartbeats_to(&mut self, link: LinkKind) -> Vec<u16> {
-        let out = self.out();
-        named(&out, "HEARTBEAT")
-            .iter()
-            .filter(|(l, ..)| *l == link)
-            .map(|t| t.1)
-            .collect()
-    }
-
-    /// Every request for the vehicle since the last call.
-    fn asks(&mut self) -> Vec<ToVehicle> {
-        std::iter::from_fn(|| self.m.poll_vehicle()).collect()
-    }
-}
-
-fn command(command: MavCmd, param1: f32) -> MavMessage {
-    let params = [param1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-    MavMessage::COMMAND_LONG(command_long((1, 1), command, params))
-}
-
-fn gcs_heartbeat() -> MavMessage {
-    MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-        mavtype: MavType::MAV_TYPE_GCS,
-        autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
-        ..Default::default()
-    })
-}
-
-fn param_id(name: &str) -> mavlink::types::CharArray<16> {
-    let mut id = [0u8; 16];
-    id[..name.len()].copy_from_slice(name.as_bytes());
-    id.into()
-}
-
-fn param_set(name: &str, value: f32) -> MavMessage {
-    MavMessage::PARAM_SET(PARAM_SET_DATA {
-        param_value: value,
-        target_system: 1,
-        target_component: 1,
-        param_id: param_id(name),
-        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
-    })
-}
-
-fn named<'a>(out: &'a [(LinkKind, u16, MavMessage)], name: &str) -> Vec<&'a (LinkKind, u16, MavMessage)> {
-    out.iter().filter(|(_, _, m)| m.message_name() == name).collect()
-}
-
-fn acks(out: &[(LinkKind, u16, MavMessage)]) -> Vec<MavResult> {
-    out.iter()
-        .filter_map(|(_, _, m)| match m {
-            MavMessage::COMMAND_ACK(a) => Some(a.result),
-            _ => None,
-        })
-        .collect()
-}
 
 #[test]
 fn heartbeats_follow_wall_time_simulated_time_and_state_changes() {
@@ -326,52 +192,6 @@ fn a_parameter_set_waits_for_the_vehicle_and_is_echoed_to_every_peer() {
     assert!(matches!(&b.out()[0].2, MavMessage::PARAM_VALUE(p) if p.param_value == 5.0));
 }
 
-#[test]
-fn link_loss_needs_silence_in_wall_and_simulated_time_and_fires_once() {
-    let mut b = Bench::new();
-    let mut after = table();
-    after.set("NAV_DLL_ACT", 2.0, 1e-3).unwrap();
-    b.send(Gcs, QGC, param_set("NAV_DLL_ACT", 2.0));
-    let token = b.asks()[0].token.unwrap();
-    b.m.handle_reply(
-        b.now,
-        token,
-        VehicleReply::Param {
-            result: Ok(0),
-            table: Box::new(after),
-        },
-    );
-    b.send(Gcs, QGC, gcs_heartbeat());
-    b.at(9.9, 9.9);
-    assert!(b.asks().is_empty());
-    b.at(12.0, 5.0);
-    assert!(b.asks().is_empty(), "simulated time is still within COM_DL_LOSS_T");
-    b.at(12.1, 10.1);
-    let asks = b.asks();
-    assert_eq!(asks.len(), 1);
-    assert_eq!(asks[0].request, VehicleRequest::Commander(Request::GcsLinkLost));
-    assert_eq!(asks[0].token, None, "no answer is awaited");
-    b.at(13.0, 11.0);
-    assert!(b.asks().is_empty(), "once per loss");
-    // The reaction comes back as a commander event, announced on every link like every event.
-    b.m.handle_event(b.now, Event::Failsafe("GCS link lost: returning".into()));
-    let out = b.out();
-    let texts = named(&out, "STATUSTEXT");
-    let said = |m: &MavMessage| {
-        matches!(m, MavMessage::STATUSTEXT(t) if t.severity == MavSeverity::MAV_SEVERITY_CRITICAL
-            && t.text.to_str().unwrap() == "GCS link lost: returning")
-    };
-    assert!(
-        texts.iter().any(|(link, to, m)| (*link, *to) == (Gcs, QGC) && said(m)),
-        "{texts:?}"
-    );
-    // A heartbeat ends the loss; the next silence fires again.
-    b.send(Gcs, QGC, gcs_heartbeat());
-    b.at(13.1, 11.1);
-    b.at(23.2, 21.2);
-    assert_eq!(b.asks().len(), 1);
-}
-
 fn mission_item(seq: u16, x: i32) -> MavMessage {
     MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
         seq,
@@ -490,43 +310,4 @@ fn stream_rates_count_simulated_time() {
         count += named(&b.out(), "ATTITUDE").iter().filter(|(l, ..)| *l == Gcs).count();
     }
     assert!((7..=9).contains(&count), "{count} ATTITUDE in 0.5 simulated seconds");
-}
-
-#[test]
-fn the_offboard_stream_is_alive_for_the_commander_until_com_of_loss_t_of_wall_time_silence() {
-    let mut b = Bench::new();
-    let setpoint = || {
-        MavMessage::SET_POSITION_TARGET_LOCAL_NED(SET_POSITION_TARGET_LOCAL_NED_DATA {
-            target_system: 1,
-            target_component: 1,
-            coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
-            type_mask: PositionTargetTypemask::from_bits_truncate(2552),
-            z: -3.0,
-            ..Default::default()
-        })
-    };
-    let wall = |alive| VehicleRequest::Commander(Request::OffboardStreamInWallTime { alive });
-    b.send(Api, SDK, setpoint());
-    let asks: Vec<_> = b.asks().into_iter().map(|a| a.request).collect();
-    assert!(matches!(
-        asks[0],
-        VehicleRequest::Commander(Request::OffboardSetpoint { .. })
-    ));
-    assert_eq!(asks[1], wall(true), "the stream started");
-    // Simulated time racing ahead does not matter; wall time does.
-    b.at(0.9, 40.0);
-    b.send(Api, SDK, setpoint());
-    assert_eq!(b.asks().len(), 1, "only the setpoint: the stream is still alive");
-    b.at(1.85, 80.0);
-    assert!(
-        b.asks().is_empty(),
-        "0.95 s of wall-time silence is within COM_OF_LOSS_T"
-    );
-    b.at(1.95, 80.0);
-    assert_eq!(
-        b.asks().into_iter().map(|a| a.request).collect::<Vec<_>>(),
-        vec![wall(false)]
-    );
-    b.at(5.0, 90.0);
-    assert!(b.asks().is_empty(), "said once");
 }
