@@ -253,6 +253,9 @@ pub(crate) struct MonteCarloArgs {
     /// initial (the run's initial heading).
     #[arg(long, default_value = "zero")]
     pub(crate) heading: rotorpilot::montecarlo::Heading,
+    /// Stop rotor ROTOR (1-based) SECONDS into every run (repeatable), e.g. `--fail-rotor 2@1`.
+    #[arg(long = "fail-rotor", value_name = "ROTOR@SECONDS")]
+    pub(crate) fail_rotor: Vec<rotorpilot::lockstep::ScheduledFailure>,
     /// Worker threads [default: one per core].
     #[arg(long)]
     pub(crate) threads: Option<usize>,

@@ -350,6 +350,7 @@ fn montecarlo(a: &MonteCarloArgs) -> Result<String, String> {
     });
     campaign.compensation = !a.no_compensation;
     campaign.heading = a.heading;
+    campaign.rotor_failures = a.fail_rotor.clone();
     if let Some(n) = a.threads {
         campaign.threads = n;
     }

@@ -1,12 +1,14 @@
 //! A bare flight core following a setpoint source, without commander, failsafes or battery: how
 //! `rotorpilot fly` (a take-off climb), `rotorpilot sim` (a scenario's trajectory) and Monte
-//! Carlo runs (a fixed hover) fly. Pure.
+//! Carlo runs (a fixed hover) fly. Rotors that fail (a scenario's `[[rotor_failure]]`) are
+//! allocated around as the flight controller does. Pure.
 
 use crate::control::FlatSetpoint;
 use crate::navigation::trajectory::Trajectory;
 use crate::navigation::ClimbProfile;
 use crate::sitl::{EscReport, Sensors};
 
+use super::rotor_monitor::RotorMonitor;
 use super::{Control, FlightCore, Pilot};
 
 /// Where the setpoint of every tick comes from.
@@ -43,20 +45,24 @@ pub struct SetpointFollower<S> {
     pub core: FlightCore,
     /// Where the setpoints come from.
     pub source: S,
+    rotors: RotorMonitor,
 }
 
 impl<S: SetpointSource> SetpointFollower<S> {
     /// `core` following `source`.
     pub fn new(core: FlightCore, source: S) -> Self {
-        Self { core, source }
+        let rotors = RotorMonitor::new(core.allocator().rotor_count());
+        Self { core, source, rotors }
     }
 }
 
 impl<S: SetpointSource> Pilot for SetpointFollower<S> {
     type Report = ();
 
-    /// `FlightCore::step` on the sensed state and the source's setpoint.
-    fn control(&mut self, t_s: f64, sensors: &Sensors, _esc: &EscReport<'_>) -> Control {
+    /// `FlightCore::step` on the sensed state and the source's setpoint, allocated around the
+    /// rotors the ESCs report failed.
+    fn control(&mut self, t_s: f64, sensors: &Sensors, esc: &EscReport<'_>) -> Control {
+        self.rotors.reallocate(esc.failed_rotors(), &mut self.core);
         let setpoint = self.source.setpoint(t_s);
         Control {
             rotors: self.core.allocator().rotor_count(),

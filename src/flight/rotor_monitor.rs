@@ -1,9 +1,10 @@
-//! What the flight controller knows of its rotors (issue 6): it notices failed rotors in the ESC
-//! report, re-allocates around them and lets the commander react
-//! ([`Commander::rotor_failed`]); and it turns a failure-injection request
-//! (MAV_CMD_INJECT_FAILURE) into the [`PlantChange`] the simulated hardware must carry out.
-//! Pure.
+//! What a flight controller knows of its rotors: it notices failed rotors in the ESC report and
+//! re-allocates around them ([`RotorMonitor::reallocate`], also for a bare control law in `sim`
+//! and Monte Carlo runs), lets the commander react ([`Commander::rotor_failed`]), and turns a
+//! failure-injection request (MAV_CMD_INJECT_FAILURE) into the [`PlantChange`] the simulated
+//! hardware must carry out. Pure.
 
+use crate::allocation::FailedRotors;
 use crate::commander::{Commander, Event};
 use crate::control::VehicleState;
 use crate::sitl::PlantChange;
@@ -41,6 +42,24 @@ impl RotorMonitor {
         Ok(PlantChange::Rotors { rotors, failed })
     }
 
+    /// When the ESC report `reported` differs from the last one: re-allocates `core` around the
+    /// failed rotors and says what changed (`None`: nothing did).
+    pub fn reallocate(&mut self, reported: &[bool], core: &mut FlightCore) -> Option<RotorChange> {
+        // Nothing to allocate on the 1 kHz path unless the ESC report changed.
+        if reported == self.known.as_slice() {
+            return None;
+        }
+        let change = RotorChange {
+            control: core.set_failed_rotors(reported).ok(),
+            rotors: (reported.iter().zip(&self.known).enumerate())
+                .filter(|(_, (now, before))| now != before)
+                .map(|(i, (now, _))| (i + 1, *now))
+                .collect(),
+        };
+        self.known = reported.to_vec();
+        Some(change)
+    }
+
     /// At simulated time `t_s` [s], with the ESCs reporting `reported`: when the report changed,
     /// re-allocates and lets the commander react; returns the announcements.
     pub fn check(
@@ -51,22 +70,28 @@ impl RotorMonitor {
         core: &mut FlightCore,
         commander: &mut Commander,
     ) -> Vec<Event> {
-        // Nothing to allocate on the 1 kHz path unless the ESC report changed.
-        if reported == self.known.as_slice() {
+        let Some(change) = self.reallocate(reported, core) else {
             return Vec::new();
-        }
-        let control = core.set_failed_rotors(reported).ok();
+        };
         let mut events = Vec::new();
-        for (i, (now, before)) in reported.iter().zip(&self.known).enumerate() {
-            match (now, before) {
-                (true, false) => events.extend(commander.rotor_failed(i + 1, control, x, t_s)),
-                (false, true) => events.push(Event::Failsafe(format!("Motor {} working again", i + 1))),
-                _ => {}
+        for (rotor, failed) in change.rotors {
+            if failed {
+                events.extend(commander.rotor_failed(rotor, change.control, x, t_s));
+            } else {
+                events.push(Event::Failsafe(format!("Motor {rotor} working again")));
             }
         }
-        self.known = reported.to_vec();
         events
     }
+}
+
+/// What changed in the ESC report and what the new allocation can still control.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RotorChange {
+    /// What the allocation controls now; `None`: no allocation is left (the last one stays).
+    pub control: Option<FailedRotors>,
+    /// Each rotor that changed (1-based) and whether it is failed now.
+    pub rotors: Vec<(usize, bool)>,
 }
 
 #[cfg(test)]
@@ -94,5 +119,26 @@ mod tests {
             m.injection(5, true),
             Err("Failure injection: no motor 5 (1 to 4)".to_string())
         );
+    }
+
+    #[test]
+    fn a_changed_esc_report_re_allocates_once_and_names_the_rotors() {
+        use crate::airframe::{Airframe, AirframeSource};
+        use crate::control::ControllerKind;
+        let af = Airframe::from_source(&AirframeSource::resolve("hexa_x").unwrap()).unwrap();
+        let mut core = FlightCore::for_airframe(&af, ControllerKind::Geometric, 1e-3).unwrap();
+        let mut m = RotorMonitor::new(6);
+        let mut report = [false; 6];
+        assert_eq!(m.reallocate(&report, &mut core), None, "nothing changed");
+        report[1] = true;
+        let change = m.reallocate(&report, &mut core).unwrap();
+        assert_eq!(change.rotors, vec![(2, true)]);
+        assert!(change.control.is_some(), "a hexa keeps an allocation without rotor 2");
+        assert!(core.allocator().effectiveness().column(1).iter().all(|g| *g == 0.0));
+        assert_eq!(m.reallocate(&report, &mut core), None, "once per change");
+        report[1] = false;
+        let change = m.reallocate(&report, &mut core).unwrap();
+        assert_eq!(change.rotors, vec![(2, false)]);
+        assert_eq!(change.control, Some(FailedRotors::FullControl));
     }
 }

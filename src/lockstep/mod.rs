@@ -150,6 +150,12 @@ impl<P: Pilot> Lockstep<P> {
         self.failures.schedule(failure)
     }
 
+    /// Replaces the rotor failures to come with `schedule` (checked against the same airframe,
+    /// e.g. a scenario's `[[rotor_failure]]`).
+    pub fn set_rotor_failures(&mut self, schedule: FailureSchedule) {
+        self.failures = schedule;
+    }
+
     /// One tick (module docs).
     pub fn step(&mut self) -> Tick<P::Report> {
         let t_s = self.time_s();

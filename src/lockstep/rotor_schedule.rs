@@ -5,7 +5,7 @@
 use crate::sitl::PlantChange;
 
 /// A rotor that stops at a simulated time.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct ScheduledFailure {
     /// Rotor, 1-based.
     pub rotor: usize,

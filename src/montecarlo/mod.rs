@@ -21,7 +21,7 @@ use crate::allocation::Allocator;
 use crate::control::ControllerKind;
 use crate::estimation::ChebyshevDesign;
 use crate::flight::CoreError;
-use crate::lockstep::SetupError;
+use crate::lockstep::{ScheduledFailure, SetupError};
 
 pub use envelope::{draws, Draw, Envelope, EnvelopeError};
 pub use report::Report;
@@ -99,6 +99,8 @@ pub struct Campaign {
     pub compensation: bool,
     /// Heading of the hover setpoint.
     pub heading: Heading,
+    /// Rotors that stop in every run (`--fail-rotor`), the same for every draw.
+    pub rotor_failures: Vec<ScheduledFailure>,
     /// Worker threads.
     pub threads: usize,
 }
@@ -124,6 +126,7 @@ impl Campaign {
             }),
             compensation: true,
             heading: Heading::Zero,
+            rotor_failures: Vec::new(),
             threads: std::thread::available_parallelism().map_or(1, usize::from),
         }
     }
@@ -160,6 +163,9 @@ pub fn run(c: &Campaign) -> Result<Report, MonteCarloError> {
         c.criterion,
     )?;
     setup.heading = c.heading;
+    for failure in &c.rotor_failures {
+        setup.schedule_rotor_failure(*failure)?;
+    }
     let draws = draws(&env, c.seed, c.runs);
     let mut controllers = Vec::with_capacity(c.controllers.len());
     for &kind in &c.controllers {
@@ -177,6 +183,7 @@ pub fn run(c: &Campaign) -> Result<Report, MonteCarloError> {
         estimator: c.estimator.as_ref().map(Into::into),
         compensation: c.compensation,
         heading: c.heading,
+        rotor_failures: c.rotor_failures.clone(),
         controllers,
     })
 }

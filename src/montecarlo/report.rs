@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use crate::estimation::ChebyshevDesign;
+use crate::lockstep::ScheduledFailure;
 
 use super::envelope::Envelope;
 use super::stats::{Band, ControllerSummary};
@@ -112,6 +113,8 @@ pub struct Report {
     pub compensation: bool,
     /// Heading of the hover setpoint: `zero` or `initial`.
     pub heading: Heading,
+    /// Rotors that stop in every run (`--fail-rotor`).
+    pub rotor_failures: Vec<ScheduledFailure>,
     /// One summary per control law, in the order asked for.
     pub controllers: Vec<ControllerSummary>,
 }
@@ -175,6 +178,9 @@ impl Report {
                 Heading::Initial => "initial",
             }
         );
+        for f in &self.rotor_failures {
+            let _ = writeln!(s, "rotor {} stops at {} s in every run", f.rotor, f.at_s);
+        }
         let _ = writeln!(s);
         let _ = writeln!(
             s,

@@ -13,7 +13,7 @@ use crate::airframe::{Airframe, AirframeSource};
 use crate::control::{ControllerKind, FlatSetpoint};
 use crate::estimation::{ChebyshevDesign, DesignError, ObserverError, WrenchObserver};
 use crate::flight::{FlightCore, SetpointFollower};
-use crate::lockstep::{Guard, Lockstep, SetupError};
+use crate::lockstep::{FailureSchedule, Guard, Lockstep, ScheduledFailure, SetupError};
 use crate::math::Vec3;
 use crate::sitl::SimPlant;
 
@@ -50,6 +50,9 @@ pub enum TrialError {
     /// A step or duration that is not a positive number.
     #[error("{0}")]
     Timing(String),
+    /// A rotor failure names no rotor of the airframe or a negative time.
+    #[error("--fail-rotor: {0}")]
+    RotorFailure(String),
     /// A worker thread failed outside a guarded run.
     #[error("worker thread: {0}")]
     Worker(String),
@@ -71,6 +74,8 @@ pub struct TrialSetup {
     pub criterion: Criterion,
     /// Heading of the setpoint.
     pub heading: Heading,
+    /// Rotors that stop in every run.
+    rotor_failures: FailureSchedule,
 }
 
 impl TrialSetup {
@@ -125,6 +130,7 @@ impl TrialSetup {
             Some(d) => d.gains(dt_s)?,
             None => Vec::new(),
         };
+        let rotor_failures = FailureSchedule::new(airframe.rotors.len());
         let setup = Self {
             airframe,
             origin: src.origin.clone(),
@@ -136,10 +142,16 @@ impl TrialSetup {
             duration_s,
             criterion,
             heading: Heading::Zero,
+            rotor_failures,
         };
         setup.core(ControllerKind::Geometric)?;
         setup.plant(&Vec3::zeros(), &Vec3::zeros(), 0)?;
         Ok(setup)
+    }
+
+    /// Stops rotor `failure.rotor` at `failure.at_s` in every run; refused naming what is wrong.
+    pub fn schedule_rotor_failure(&mut self, failure: ScheduledFailure) -> Result<(), TrialError> {
+        self.rotor_failures.schedule(failure).map_err(TrialError::RotorFailure)
     }
 
     /// Estimator design (`None`: no estimator).
@@ -221,6 +233,7 @@ pub fn fly(setup: &TrialSetup, kind: ControllerKind, draw: &Draw) -> Result<Tria
     let judge = Judge::new(setup.criterion, r_eq, &plant.truth());
     let setpoint = FlatSetpoint::hold(Vec3::zeros(), yaw_sp);
     let mut lockstep = Lockstep::new(SetpointFollower::new(core, setpoint), plant, setup.dt_s);
+    lockstep.set_rotor_failures(setup.rotor_failures.clone());
     let mut observer = (judge, Guard { fly_away_m: FLY_AWAY_M });
     let end = lockstep.run(setup.ticks(), &mut observer);
     let window_ticks = (setup.criterion.window_s / setup.dt_s).round() as u64;

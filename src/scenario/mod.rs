@@ -1,6 +1,6 @@
 //! Scenario files for headless runs (`rotorpilot sim SCENARIO.toml --out DIR`): airframe with
-//! plant mismatch and disturbances, initial state, controller, estimator and trajectory,
-//! validated into a [`Scenario`]. Pure apart from reading the airframe file it names.
+//! plant mismatch and disturbances, initial state, controller, estimator, trajectory and rotor
+//! failures, validated into a [`Scenario`]. Pure apart from reading the airframe file it names.
 //!
 //! ```toml
 //! name = "hover"
@@ -20,6 +20,9 @@
 //! [trajectory]
 //! kind = "hover"
 //! position = [0.0, 0.0, -1.0]
+//! [[rotor_failure]]                   # optional, repeatable
+//! rotor = 2                           # 1-based
+//! at = 3.0                            # [s] simulated time
 //! ```
 
 mod merge;
@@ -34,6 +37,7 @@ use crate::airframe::{Airframe, AirframeSource};
 use crate::control::{ControllerGains, ControllerKind, DesiredRateMode};
 use crate::estimation::{ChebyshevDesign, WrenchObserver};
 use crate::flight::{vehicle_model, CoreError, FlightCore};
+use crate::lockstep::{FailureSchedule, ScheduledFailure};
 use crate::math::{UnitQuat, Vec3};
 use crate::navigation::trajectory::Trajectory;
 
@@ -106,6 +110,8 @@ pub struct Scenario {
     pub estimator: Option<EstimatorSettings>,
     /// Reference trajectory.
     pub trajectory: Trajectory,
+    /// Rotors that stop during the run (`[[rotor_failure]]`).
+    pub rotor_failures: FailureSchedule,
 }
 
 impl Scenario {
@@ -162,6 +168,16 @@ impl Scenario {
         let initial =
             initial(file.initial.as_ref().unwrap_or(&spec::InitialSpec::default())).map_err(|(f, r)| err(&f, r))?;
         let trajectory = file.trajectory.build().map_err(|e| err("trajectory", e.to_string()))?;
+        let mut rotor_failures = FailureSchedule::new(core.allocator().rotor_count());
+        for (k, f) in file.rotor_failure.iter().flatten().enumerate() {
+            let failure = ScheduledFailure {
+                rotor: f.rotor,
+                at_s: f.at,
+            };
+            rotor_failures
+                .schedule(failure)
+                .map_err(|r| err(&format!("rotor_failure[{k}]"), r))?;
+        }
         Ok(Self {
             name: file.name.unwrap_or_else(|| default_name.to_string()),
             description: file.description.unwrap_or_default(),
@@ -177,6 +193,7 @@ impl Scenario {
             gains,
             estimator,
             trajectory,
+            rotor_failures,
         })
     }
 

@@ -22,6 +22,18 @@ pub(crate) struct ScenarioFile {
     pub controller: ControllerSpec,
     pub estimator: Option<EstimatorSpec>,
     pub trajectory: TrajectorySpec,
+    /// `[[rotor_failure]]` entries.
+    pub rotor_failure: Option<Vec<RotorFailureSpec>>,
+}
+
+/// `[[rotor_failure]]`: a rotor of the simulated vehicle stops.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RotorFailureSpec {
+    /// 1-based rotor number.
+    pub rotor: usize,
+    /// [s] simulated time
+    pub at: f64,
 }
 
 /// `[airframe]`: a preset or a file, and tables merged over it.

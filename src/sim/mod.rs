@@ -129,6 +129,7 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
         None => None,
     };
     let mut lockstep = Lockstep::new(SetpointFollower::new(core, scn.trajectory.clone()), plant, scn.dt_s);
+    lockstep.set_rotor_failures(scn.rotor_failures.clone());
     let mut observer = (RunStats::default(), csv, Guard { fly_away_m: FLY_AWAY_M });
 
     let ticks = (scn.duration_s / scn.dt_s).round() as u64;
