@@ -89,6 +89,9 @@ fn a_campaign_flies_every_run_with_the_rotor_failure_and_reports_it() {
     assert_eq!(with.non_finite_runs + with.panics, 0);
     // An octocopter keeps full control without one rotor: most draws still converge, fewer
     // than with all eight (the same draws), and the failure is in the text report.
-    assert!(with.converged > 0 && with.converged <= without.converged, "{with:?} vs {without:?}");
+    assert!(
+        with.converged > 0 && with.converged <= without.converged,
+        "{with:?} vs {without:?}"
+    );
     assert!(failed.to_text().contains("rotor 2 stops at 0.5 s in every run"));
 }

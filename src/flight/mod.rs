@@ -3,7 +3,9 @@
 //! - [`FlightController`]: the autopilot's flight software: commander (modes, failsafes,
 //!   battery, land detector), flight core, parameter table, rotor-failure monitor and home;
 //! - [`SetpointFollower`]: a bare flight core following a setpoint source (a trajectory, a
-//!   take-off climb, a fixed hover), as scenario and Monte Carlo runs fly.
+//!   take-off climb, a fixed hover), as scenario and Monte Carlo runs fly;
+//! - [`OffboardPilot`]: the flight controller flown in OFFBOARD along a setpoint source, as
+//!   scenarios with an `[autopilot]` table fly (failsafes and battery included).
 //!
 //! Pure: values in (the sensed state and time), values out (rotor speeds, the controller step,
 //! events, the telemetry snapshot).
@@ -13,12 +15,14 @@
 //! - [`flight_core`]: one control tick: estimator → controller → allocation → estimator.
 //! - [`controller`]: the flight controller.
 //! - [`follower`]: the bare flight core and its setpoint sources.
+//! - [`offboard_pilot`]: the flight controller in OFFBOARD along a setpoint source.
 //! - [`rotor_monitor`]: what the flight controller knows of failed rotors, and failure injection.
 //! - [`snapshot`]: the telemetry snapshot of a tick (the one place it is built).
 
 pub mod controller;
 pub mod flight_core;
 pub mod follower;
+pub mod offboard_pilot;
 pub mod rotor_monitor;
 pub mod snapshot;
 
@@ -30,6 +34,7 @@ use crate::sitl::{EscReport, Sensors};
 pub use controller::{FlightController, Reply, AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
 pub use flight_core::{vehicle_model, CoreError, CoreStep, FlightCore};
 pub use follower::{SetpointFollower, SetpointSource};
+pub use offboard_pilot::OffboardPilot;
 
 /// What one control tick commands.
 #[derive(Debug, Clone, PartialEq)]

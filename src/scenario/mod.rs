@@ -24,6 +24,15 @@
 //! rotor = 2                           # 1-based
 //! at = 3.0                            # [s] simulated time
 //! ```
+//!
+//! With `[autopilot]` the flight controller flies the trajectory in OFFBOARD (battery, failsafes
+//! and rotor-failure reactions included); gains, compensation and estimator are then its `RP_*`
+//! parameters, so `[controller]` names the law only and `[estimator]` is refused:
+//!
+//! ```toml
+//! [autopilot]
+//! params = { BAT1_CAPACITY = 300, COM_LOW_BAT_ACT = 3 }   # set first (PX4 / RP_ names)
+//! ```
 
 mod merge;
 mod spec;
@@ -36,10 +45,11 @@ use thiserror::Error;
 use crate::airframe::{Airframe, AirframeSource};
 use crate::control::{ControllerGains, ControllerKind, DesiredRateMode};
 use crate::estimation::{ChebyshevDesign, WrenchObserver};
-use crate::flight::{vehicle_model, CoreError, FlightCore};
+use crate::flight::{vehicle_model, CoreError, FlightController, FlightCore};
 use crate::lockstep::{FailureSchedule, ScheduledFailure};
 use crate::math::{UnitQuat, Vec3};
 use crate::navigation::trajectory::Trajectory;
+use crate::navigation::Home;
 
 pub use merge::merge_tables;
 
@@ -112,6 +122,9 @@ pub struct Scenario {
     pub trajectory: Trajectory,
     /// Rotors that stop during the run (`[[rotor_failure]]`).
     pub rotor_failures: FailureSchedule,
+    /// `[autopilot]`: the flight controller flies the trajectory in OFFBOARD, with these
+    /// parameters set first (name, value); `None`: the bare control law follows it.
+    pub autopilot: Option<Vec<(String, f64)>>,
 }
 
 impl Scenario {
@@ -178,7 +191,11 @@ impl Scenario {
                 .schedule(failure)
                 .map_err(|r| err(&format!("rotor_failure[{k}]"), r))?;
         }
-        Ok(Self {
+        let autopilot = match &file.autopilot {
+            Some(a) => Some(autopilot_params(&file, a).map_err(|(f, r)| err(&f, r))?),
+            None => None,
+        };
+        let scenario = Self {
             name: file.name.unwrap_or_else(|| default_name.to_string()),
             description: file.description.unwrap_or_default(),
             duration_s: file.duration,
@@ -194,7 +211,26 @@ impl Scenario {
             estimator,
             trajectory,
             rotor_failures,
-        })
+            autopilot,
+        };
+        scenario.flight_controller().map_err(|(f, r)| err(&f, r))?;
+        Ok(scenario)
+    }
+
+    /// The flight controller of an `[autopilot]` scenario, its parameters set (`None` for a
+    /// bare control law); a refused parameter is named with its field.
+    pub fn flight_controller(&self) -> Result<Option<FlightController>, (String, String)> {
+        let Some(params) = &self.autopilot else {
+            return Ok(None);
+        };
+        let mut fc = FlightController::new(&self.airframe, self.controller, Home::default(), self.dt_s)
+            .map_err(|e| ("airframe".to_string(), e.to_string()))?;
+        for (name, value) in params {
+            fc.set_param(name, *value)
+                .answer
+                .map_err(|e| (format!("autopilot.params.{name}"), e.to_string()))?;
+        }
+        Ok(Some(fc))
     }
 
     /// The flight core this scenario flies.
@@ -215,6 +251,43 @@ impl Scenario {
         }
         Ok(core)
     }
+}
+
+/// The parameters of `[autopilot]`, by name; the law's gains, compensation and estimator are
+/// then parameters too (RP_*), so `[controller]` may only name the law and `[estimator]` is
+/// refused.
+fn autopilot_params(
+    file: &spec::ScenarioFile,
+    a: &spec::AutopilotSpec,
+) -> Result<Vec<(String, f64)>, (String, String)> {
+    let c = &file.controller;
+    let by_params = |field: &str| {
+        Err((
+            field.to_string(),
+            "with [autopilot] set it by its parameter (RP_*) in autopilot.params".to_string(),
+        ))
+    };
+    if c.gains.is_some() || c.compensation.is_some() || c.desired_rate.is_some() {
+        return by_params("controller");
+    }
+    if file.estimator.is_some() {
+        return by_params("estimator");
+    }
+    let mut params = Vec::new();
+    for (name, value) in a.params.iter().flatten() {
+        let v = match value {
+            toml::Value::Integer(i) => *i as f64,
+            toml::Value::Float(x) => *x,
+            other => {
+                return Err((
+                    format!("autopilot.params.{name}"),
+                    format!("must be a number, got {other}"),
+                ))
+            }
+        };
+        params.push((name.clone(), v));
+    }
+    Ok(params)
 }
 
 /// The airframe text with `[airframe.overrides]` merged in.

@@ -24,6 +24,16 @@ pub(crate) struct ScenarioFile {
     pub trajectory: TrajectorySpec,
     /// `[[rotor_failure]]` entries.
     pub rotor_failure: Option<Vec<RotorFailureSpec>>,
+    /// `[autopilot]`: fly with the flight controller in OFFBOARD.
+    pub autopilot: Option<AutopilotSpec>,
+}
+
+/// `[autopilot]`: the flight controller of `rotorpilot run` flies the trajectory in OFFBOARD.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct AutopilotSpec {
+    /// Parameters by PX4 / RP_ name, set before the first tick.
+    pub params: Option<toml::Table>,
 }
 
 /// `[[rotor_failure]]`: a rotor of the simulated vehicle stops.

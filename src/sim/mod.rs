@@ -1,5 +1,6 @@
 //! Scenario runs (`rotorpilot sim SCENARIO.toml --out DIR`): the scenario's flight core following
-//! its trajectory ([`SetpointFollower`]) in [`Lockstep`] with the plant, as fast as the CPU allows
+//! its trajectory ([`SetpointFollower`]), or with `[autopilot]` the flight controller flown along
+//! it in OFFBOARD ([`OffboardPilot`]), in [`Lockstep`] with the plant, as fast as the CPU allows
 //! or paced by the runtime's [`Pacer`] (`--speedup`). Runtime layer: it reads the wall clock and
 //! writes `DIR/run.csv` and `DIR/summary.json`; the maths it calls is pure.
 
@@ -11,7 +12,7 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 use thiserror::Error;
 
-use crate::flight::SetpointFollower;
+use crate::flight::{OffboardPilot, Pilot, SetpointFollower};
 use crate::lockstep::{Exit, Guard, Lockstep, Observer, SetupError, Tick};
 use crate::math::GRAVITY_M_S2;
 use crate::runtime::pacer::{Pace, Pacer, Wait};
@@ -30,6 +31,14 @@ pub enum SimError {
     /// The flight core or plant was refused.
     #[error(transparent)]
     Setup(#[from] SetupError),
+    /// The flight controller of an `[autopilot]` scenario refused a parameter or its start.
+    #[error("{field}: {reason}")]
+    Autopilot {
+        /// Scenario field.
+        field: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// An output file could not be written.
     #[error("cannot write {path}: {source}")]
     Io {
@@ -87,6 +96,9 @@ pub struct SimSummary {
     pub true_torque_n_m: [f64; 3],
     /// Final estimator output, when on.
     pub estimate: Option<EstimateSummary>,
+    /// What the commander did on its own (`[autopilot]` scenarios), with the simulated time.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub events: Vec<String>,
     /// Wall-clock time of the loop [s].
     pub wall_time_s: f64,
     /// Simulated over wall-clock time [-].
@@ -102,7 +114,6 @@ pub fn simulate(scn: &Scenario, out_dir: Option<&Path>) -> Result<SimSummary, Si
 /// [`simulate`] with simulated time paced against the wall clock (`--speedup`): the same ticks in
 /// the same order whatever the pace, so `run.csv` is bit-identical at any speed-up.
 pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Result<SimSummary, SimError> {
-    let core = scn.flight_core().map_err(SetupError::from)?;
     let mut plant = SimPlant::from_source(&scn.airframe_source, scn.seed).map_err(SetupError::from)?;
     for w in plant.warnings() {
         tracing::warn!("{w}");
@@ -111,7 +122,38 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
     if init.pos_w.is_some() {
         plant.set_initial_state(init.pos_w, init.vel_w, init.q_wb, init.omega_b, init.motors_at_hover);
     }
-    let rotors = core.allocator().rotor_count();
+    let autopilot = scn
+        .flight_controller()
+        .map_err(|(field, reason)| SimError::Autopilot { field, reason })?;
+    let trajectory = scn.trajectory.clone();
+    let Some(fc) = autopilot else {
+        let core = scn.flight_core().map_err(SetupError::from)?;
+        let mut lockstep = Lockstep::new(SetpointFollower::new(core, trajectory), plant, scn.dt_s);
+        let order = scn.estimator.as_ref().map_or(0, |s| s.gains.len());
+        return fly(&mut lockstep, scn, order, out_dir, pace);
+    };
+    let order = fc.params().settings().estimator.map_or(0, |d| d.order);
+    let mut lockstep = Lockstep::new(OffboardPilot::new(fc, trajectory), plant, scn.dt_s);
+    let summary = fly(&mut lockstep, scn, order, out_dir, pace)?;
+    match lockstep.pilot().start_refused() {
+        Some(why) => Err(SimError::Autopilot {
+            field: "autopilot".into(),
+            reason: format!("the flight controller refused to start: {why}"),
+        }),
+        None => Ok(summary),
+    }
+}
+
+/// Flies `lockstep` for the scenario's duration with its rotor failures, writing `run.csv` and
+/// `summary.json` into `out_dir` when given.
+fn fly<P: Pilot>(
+    lockstep: &mut Lockstep<P>,
+    scn: &Scenario,
+    estimator_order: usize,
+    out_dir: Option<&Path>,
+    pace: Pace,
+) -> Result<SimSummary, SimError> {
+    let rotors = lockstep.plant().failed_rotors().len();
     let io = |path: &Path| {
         let path = path.display().to_string();
         move |source| SimError::Io { path, source }
@@ -128,9 +170,9 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
         }
         None => None,
     };
-    let mut lockstep = Lockstep::new(SetpointFollower::new(core, scn.trajectory.clone()), plant, scn.dt_s);
     lockstep.set_rotor_failures(scn.rotor_failures.clone());
     let mut observer = (RunStats::default(), csv, Guard { fly_away_m: FLY_AWAY_M });
+    let mut events = Vec::new();
 
     let ticks = (scn.duration_s / scn.dt_s).round() as u64;
     let wall = Instant::now();
@@ -145,6 +187,13 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
         }
         let tick = lockstep.step();
         last_estimate = tick.control.step.and_then(|s| s.estimate);
+        let t_s = tick.t_s;
+        events.extend(
+            tick.control
+                .events
+                .iter()
+                .map(|e| format!("{t_s:.3} s: {}", e.describe())),
+        );
         if let Some(stop) = observer.observe(&tick, lockstep.plant()) {
             exit = stop;
             break;
@@ -175,11 +224,12 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
         true_force_n: truth.external_force_w.into(),
         true_torque_n_m: truth.external_torque_b.into(),
         estimate: last_estimate.map(|e| EstimateSummary {
-            order: scn.estimator.as_ref().map_or(0, |s| s.gains.len()),
+            order: estimator_order,
             force_n: e.force_w.into(),
             torque_n_m: e.torque_b.into(),
             mass_kg: e.mass_kg,
         }),
+        events,
         wall_time_s,
         real_time_factor: if wall_time_s > 0.0 {
             sim_time_s / wall_time_s
