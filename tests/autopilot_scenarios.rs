@@ -90,4 +90,8 @@ fn autopilot_settings_are_parameters_and_bad_ones_are_named() {
         bad("[estimator]\norder = 1\nwp = 2.0\n[autopilot]"),
         "ap.toml: estimator: with [autopilot] set it by its parameter (RP_*) in autopilot.params"
     );
+    assert_eq!(
+        bad("[initial]\nposition = [0.0, 0.0, -1.0]\n[autopilot]"),
+        "ap.toml: initial: with [autopilot] the vehicle starts resting on the ground, as a flight controller boots"
+    );
 }

@@ -1,7 +1,8 @@
 //! The flight controller flown in OFFBOARD by a setpoint source, as a companion computer flies
 //! PX4: how `rotorpilot sim` flies a scenario with an `[autopilot]` table. At its first tick it
-//! sends the first setpoint, switches to OFFBOARD and arms (forced: a scenario may start in the
-//! air); at every tick it sends the source's setpoint, so the stream is never lost. The
+//! sends the first setpoint, switches to OFFBOARD and arms (with the pre-arm checks; the vehicle
+//! boots resting on the ground); at every tick it sends the source's setpoint, so the stream is
+//! never lost. The
 //! commander's failsafes (battery, geofence, rotor failure) act as in `rotorpilot run`: once one
 //! of them leaves OFFBOARD, the setpoints are no longer flown. Pure.
 
@@ -52,7 +53,7 @@ impl<S: SetpointSource> Pilot for OffboardPilot<S> {
         let mut requests = vec![setpoint];
         if !self.started {
             self.started = true;
-            requests.extend([Request::SetMode(FlightMode::Offboard), Request::Arm { force: true }]);
+            requests.extend([Request::SetMode(FlightMode::Offboard), Request::Arm { force: false }]);
         }
         for request in requests {
             let what = format!("{request:?}");

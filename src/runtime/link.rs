@@ -142,12 +142,13 @@ pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
         if now.wall_s >= machine.poll_timeout() {
             machine.handle_state(*io.snapshot.borrow());
             machine.handle_timeout(now);
-            io.signing
-                .timestamp
-                .store(machine.signing_timestamp(), Ordering::Relaxed);
-            io.signing.dropped.store(machine.signing_dropped(), Ordering::Relaxed);
         }
         drain(&mut machine, &io).await;
+        // After every send, so the timestamp persisted at shutdown is never behind a frame sent.
+        io.signing
+            .timestamp
+            .store(machine.signing_timestamp(), Ordering::Relaxed);
+        io.signing.dropped.store(machine.signing_dropped(), Ordering::Relaxed);
     }
 }
 

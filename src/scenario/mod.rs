@@ -255,7 +255,7 @@ impl Scenario {
 
 /// The parameters of `[autopilot]`, by name; the law's gains, compensation and estimator are
 /// then parameters too (RP_*), so `[controller]` may only name the law and `[estimator]` is
-/// refused.
+/// refused; the vehicle boots resting on the ground, so `[initial]` is refused too.
 fn autopilot_params(
     file: &spec::ScenarioFile,
     a: &spec::AutopilotSpec,
@@ -272,6 +272,13 @@ fn autopilot_params(
     }
     if file.estimator.is_some() {
         return by_params("estimator");
+    }
+    if file.initial.is_some() {
+        // The land detector takes the ground to be where the vehicle rested at boot.
+        return Err((
+            "initial".into(),
+            "with [autopilot] the vehicle starts resting on the ground, as a flight controller boots".into(),
+        ));
     }
     let mut params = Vec::new();
     for (name, value) in a.params.iter().flatten() {
