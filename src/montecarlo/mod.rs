@@ -81,6 +81,8 @@ pub struct Campaign {
     pub airframe: AirframeSource,
     /// Laws to fly, in report order.
     pub controllers: Vec<ControllerKind>,
+    /// Rotors that stop in every run (`--fail-rotor`), the same for every draw.
+    pub rotor_failures: Vec<ScheduledFailure>,
     /// Runs per law.
     pub runs: usize,
     /// Seed of the draws.
@@ -99,8 +101,6 @@ pub struct Campaign {
     pub compensation: bool,
     /// Heading of the hover setpoint.
     pub heading: Heading,
-    /// Rotors that stop in every run (`--fail-rotor`), the same for every draw.
-    pub rotor_failures: Vec<ScheduledFailure>,
     /// Worker threads.
     pub threads: usize,
 }
