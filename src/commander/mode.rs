@@ -37,22 +37,90 @@ const MAIN_OFFBOARD: u8 = 6;
 /// MANUAL (1), ALTCTL (2), ACRO (5) and STABILIZED (7): modes that need a manual-control source.
 const MAIN_MANUAL_CONTROL: [u8; 4] = [1, 2, 5, 7];
 
-/// (mode, PX4 main mode, PX4 sub mode, MAV_STANDARD_MODE, PX4 display name).
-type ModeRow = (FlightMode, u8, u8, Option<u8>, &'static str);
+/// How PX4 names and numbers one mode.
+struct ModeRow {
+    mode: FlightMode,
+    /// PX4 main mode (px4_custom_mode.h).
+    main: u8,
+    /// PX4 sub mode (AUTO modes; POSCTL and OFFBOARD take any).
+    sub: u8,
+    /// The MAV_STANDARD_MODE it answers to, if any.
+    standard: Option<u8>,
+    /// PX4's display name in its shell and logs.
+    name: &'static str,
+    /// PX4's navigation state number (vehicle_status.nav_state); AUTO.READY has none.
+    nav_state: Option<u8>,
+    /// The name a ground station shows (PX4's mode UI name, sent in AVAILABLE_MODES).
+    ui_name: &'static str,
+}
 
-/// Each mode in declaration order (indexed by `mode as usize`): PX4 main and sub mode
-/// (px4_custom_mode.h; POSCTL and OFFBOARD take any sub mode), the MAV_STANDARD_MODE it answers
-/// to (mavlink.md §2.2: position hold 1, safe recovery 5, mission 6, land 7, take-off 8), and
-/// PX4's display name. The one table behind every mapping below.
+const fn row(
+    mode: FlightMode,
+    (main, sub): (u8, u8),
+    standard: Option<u8>,
+    name: &'static str,
+    nav_state: Option<u8>,
+    ui_name: &'static str,
+) -> ModeRow {
+    ModeRow {
+        mode,
+        main,
+        sub,
+        standard,
+        name,
+        nav_state,
+        ui_name,
+    }
+}
+
+/// Each mode in declaration order (indexed by `mode as usize`): PX4 main and sub mode, the
+/// MAV_STANDARD_MODE it answers to (position hold 1, safe recovery 5, mission 6, land 7,
+/// take-off 8; PX4 gives AUTO.LOITER and OFFBOARD none), PX4's display name, its navigation
+/// state and its UI name. The one table behind every mapping below.
 const MODES: [ModeRow; 8] = [
-    (FlightMode::Position, MAIN_POSCTL, 0, Some(1), "POSCTL"),
-    (FlightMode::Ready, MAIN_AUTO, 1, None, "AUTO.READY"),
-    (FlightMode::Takeoff, MAIN_AUTO, 2, Some(8), "AUTO.TAKEOFF"),
-    (FlightMode::Loiter, MAIN_AUTO, 3, None, "AUTO.LOITER"),
-    (FlightMode::Mission, MAIN_AUTO, 4, Some(6), "AUTO.MISSION"),
-    (FlightMode::ReturnToLaunch, MAIN_AUTO, 5, Some(5), "AUTO.RTL"),
-    (FlightMode::Land, MAIN_AUTO, 6, Some(7), "AUTO.LAND"),
-    (FlightMode::Offboard, MAIN_OFFBOARD, 0, None, "OFFBOARD"),
+    row(
+        FlightMode::Position,
+        (MAIN_POSCTL, 0),
+        Some(1),
+        "POSCTL",
+        Some(2),
+        "Position",
+    ),
+    row(FlightMode::Ready, (MAIN_AUTO, 1), None, "AUTO.READY", None, "Ready"),
+    row(
+        FlightMode::Takeoff,
+        (MAIN_AUTO, 2),
+        Some(8),
+        "AUTO.TAKEOFF",
+        Some(17),
+        "Takeoff",
+    ),
+    row(FlightMode::Loiter, (MAIN_AUTO, 3), None, "AUTO.LOITER", Some(4), "Hold"),
+    row(
+        FlightMode::Mission,
+        (MAIN_AUTO, 4),
+        Some(6),
+        "AUTO.MISSION",
+        Some(3),
+        "Mission",
+    ),
+    row(
+        FlightMode::ReturnToLaunch,
+        (MAIN_AUTO, 5),
+        Some(5),
+        "AUTO.RTL",
+        Some(5),
+        "Return",
+    ),
+    row(FlightMode::Land, (MAIN_AUTO, 6), Some(7), "AUTO.LAND", Some(18), "Land"),
+    row(
+        FlightMode::Offboard,
+        (MAIN_OFFBOARD, 0),
+        None,
+        "OFFBOARD",
+        Some(14),
+        "Offboard",
+    ),
 ];
 
 impl FlightMode {
@@ -63,8 +131,7 @@ impl FlightMode {
 
     /// PX4 (main, sub) mode numbers.
     pub fn px4(self) -> (u8, u8) {
-        let (_, main, sub, _, _) = *self.row();
-        (main, sub)
+        (self.row().main, self.row().sub)
     }
 
     /// HEARTBEAT `custom_mode`.
@@ -77,9 +144,9 @@ impl FlightMode {
     pub fn from_px4(main: u8, sub: u8) -> Result<Self, ModeRefusal> {
         let flown = MODES
             .iter()
-            .find(|(_, m, s, _, _)| *m == main && (main != MAIN_AUTO || *s == sub));
+            .find(|r| r.main == main && (main != MAIN_AUTO || r.sub == sub));
         match flown {
-            Some((mode, ..)) => Ok(*mode),
+            Some(r) => Ok(r.mode),
             None if MAIN_MANUAL_CONTROL.contains(&main) => Err(ModeRefusal::NeedsManualControl),
             None => Err(ModeRefusal::Unknown),
         }
@@ -90,18 +157,33 @@ impl FlightMode {
         Self::from_px4(((custom_mode >> 16) & 0xFF) as u8, ((custom_mode >> 24) & 0xFF) as u8)
     }
 
-    /// The mode for a MAV_STANDARD_MODE (DO_SET_STANDARD_MODE p1, mavlink.md §2.2): position hold
-    /// (1), safe recovery (5, return), mission (6), land (7), take-off (8); `None` for the others.
+    /// The mode for a MAV_STANDARD_MODE (DO_SET_STANDARD_MODE p1): position hold (1), safe
+    /// recovery (5, return), mission (6), land (7), take-off (8); `None` for the others.
     pub fn from_standard_mode(standard_mode: u8) -> Option<Self> {
-        MODES
-            .iter()
-            .find(|(.., standard, _)| *standard == Some(standard_mode))
-            .map(|(mode, ..)| *mode)
+        MODES.iter().find(|r| r.standard == Some(standard_mode)).map(|r| r.mode)
+    }
+
+    /// The MAV_STANDARD_MODE this mode answers to (`None`: non-standard).
+    pub fn standard_mode(self) -> Option<u8> {
+        self.row().standard
     }
 
     /// PX4's display name.
     pub fn name(self) -> &'static str {
-        self.row().4
+        self.row().name
+    }
+
+    /// The name a ground station shows (PX4's UI name: "Hold", "Offboard", ...).
+    pub fn ui_name(self) -> &'static str {
+        self.row().ui_name
+    }
+
+    /// The modes a ground station can select, in PX4's navigation-state order (the order of
+    /// AVAILABLE_MODES): position, mission, hold, return, offboard, take-off, land.
+    pub fn selectable() -> Vec<Self> {
+        let mut modes: Vec<(u8, Self)> = MODES.iter().filter_map(|r| Some((r.nav_state?, r.mode))).collect();
+        modes.sort_by_key(|(nav_state, _)| *nav_state);
+        modes.into_iter().map(|(_, mode)| mode).collect()
     }
 }
 
@@ -139,8 +221,14 @@ mod tests {
             None,
         ];
         assert_eq!(standard, expected);
-        for (k, (mode, ..)) in MODES.iter().enumerate() {
-            assert_eq!(*mode as usize, k, "{} is in its row", mode.name());
+        for (k, r) in MODES.iter().enumerate() {
+            assert_eq!(r.mode as usize, k, "{} is in its row", r.mode.name());
         }
+        use FlightMode::*;
+        assert_eq!(
+            FlightMode::selectable(),
+            [Position, Mission, Loiter, ReturnToLaunch, Offboard, Takeoff, Land]
+        );
+        assert_eq!((Loiter.ui_name(), Loiter.standard_mode()), ("Hold", None));
     }
 }

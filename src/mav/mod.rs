@@ -11,6 +11,7 @@
 //! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
 //! - [`telemetry`] (with `status`): the streamed messages built from a snapshot.
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC, FTP's NAK.
+//! - [`modes`]: PROTOCOL_VERSION and the standard modes protocol (AVAILABLE_MODES, CURRENT_MODE).
 //! - [`params`]: PARAM_VALUE / PARAM_SET encoding.
 //! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation.
 //! - [`gcs`]: the ground-station side (its header, COMMAND_LONG, which ACK answers a command)
@@ -24,6 +25,7 @@ pub mod ingest;
 pub mod link;
 pub mod mission_items;
 pub mod mission_xfer;
+pub mod modes;
 pub mod offboard;
 pub mod params;
 pub mod services;

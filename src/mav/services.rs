@@ -17,14 +17,24 @@ use super::translate::Identity;
 pub enum OneShot {
     /// AUTOPILOT_VERSION (148).
     AutopilotVersion,
+    /// PROTOCOL_VERSION (300).
+    ProtocolVersion,
+    /// AVAILABLE_MODES (435) of one mode (1-based) or of all (0).
+    AvailableModes(u8),
     /// One message of a telemetry stream.
     Stream(Stream),
 }
 
-/// The message REQUEST_MESSAGE(`id`) asks for, when we can produce it.
-pub(super) fn one_shot(id: f32) -> Option<OneShot> {
+/// The message REQUEST_MESSAGE(`id`, `param2`) asks for, when we can produce it.
+pub(super) fn one_shot(id: f32, param2: f32) -> Option<OneShot> {
     Some(match id as u32 {
         148 => OneShot::AutopilotVersion,
+        300 => OneShot::ProtocolVersion,
+        // PX4 rounds the index; NaN (unset) asks for all.
+        435 if param2.is_nan() || (0.0..=255.0).contains(&param2.round()) => {
+            OneShot::AvailableModes(if param2.is_nan() { 0 } else { param2.round() as u8 })
+        }
+        436 => OneShot::Stream(Stream::CurrentMode),
         1 => OneShot::Stream(Stream::SysStatus),
         30 => OneShot::Stream(Stream::Attitude),
         32 => OneShot::Stream(Stream::LocalPosition),

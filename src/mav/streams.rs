@@ -29,7 +29,7 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         PositionTarget => (1.5, 10.0),
         GpsRawInt => (1.0, 10.0),
         VfrHud => (4.0, 10.0),
-        HomePosition | BatteryStatus => (0.5, 0.5),
+        HomePosition | BatteryStatus | CurrentMode => (0.5, 0.5),
         MissionCurrent => (1.0, 1.0),
         ServoOutputRaw | ActuatorOutputStatus => (1.0, 10.0),
         HighresImu => (0.0, 50.0),

@@ -57,11 +57,13 @@ pub enum Stream {
     ExternalTorque,
     /// NAMED_VALUE_FLOAT "EXT_MASS": mass estimate [kg] (only while estimating).
     MassEstimate,
+    /// CURRENT_MODE (436): the mode flown, with its standard mode.
+    CurrentMode,
 }
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 19] = [
+    pub const ALL: [Stream; 20] = [
         Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
@@ -81,6 +83,7 @@ impl Stream {
         Stream::ExternalForce,
         Stream::ExternalTorque,
         Stream::MassEstimate,
+        Stream::CurrentMode,
     ];
 
     /// MAVLink message id.
@@ -104,6 +107,7 @@ impl Stream {
             Stream::ExtendedSysState => 245,
             Stream::ExternalForce | Stream::ExternalTorque => 250,
             Stream::MassEstimate => 251,
+            Stream::CurrentMode => 436,
         }
     }
 }
@@ -153,6 +157,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         })
     };
     Some(match stream {
+        Stream::CurrentMode => super::modes::current_mode(s.mode),
         Stream::AttitudeQuaternion => {
             let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);
             MavMessage::ATTITUDE_QUATERNION(ATTITUDE_QUATERNION_DATA {

@@ -186,7 +186,7 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             }
             CommandDecision::Execute(Request::StartMission { first: first as usize })
         }
-        MavCmd::MAV_CMD_REQUEST_MESSAGE => match one_shot(cmd.param1) {
+        MavCmd::MAV_CMD_REQUEST_MESSAGE => match one_shot(cmd.param1, cmd.param2) {
             Some(m) => CommandDecision::Reply(m),
             None => CommandDecision::Refuse(Outcome::Denied(format!("Message {} not available", cmd.param1))),
         },
@@ -202,6 +202,7 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             _ => CommandDecision::Refuse(Outcome::Denied("Get message interval: bad message id".into())),
         },
         MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => CommandDecision::Reply(OneShot::AutopilotVersion),
+        MavCmd::MAV_CMD_REQUEST_PROTOCOL_VERSION => CommandDecision::Reply(OneShot::ProtocolVersion),
         MavCmd::MAV_CMD_GET_HOME_POSITION => CommandDecision::Reply(OneShot::Stream(Stream::HomePosition)),
         _ => CommandDecision::Unsupported,
     }
@@ -399,10 +400,18 @@ mod tests {
             d(MavCmd::MAV_CMD_GET_HOME_POSITION, [NAN; 7]),
             CommandDecision::Reply(OneShot::Stream(Stream::HomePosition))
         );
+        assert_eq!(
+            d(MavCmd::MAV_CMD_REQUEST_MESSAGE, [435.0, 3.0, NAN, NAN, NAN, NAN, NAN]),
+            CommandDecision::Reply(OneShot::AvailableModes(3))
+        );
         assert!(matches!(
-            d(MavCmd::MAV_CMD_REQUEST_MESSAGE, [435.0, NAN, NAN, NAN, NAN, NAN, NAN]),
+            d(MavCmd::MAV_CMD_REQUEST_MESSAGE, [437.0, NAN, NAN, NAN, NAN, NAN, NAN]),
             CommandDecision::Refuse(Outcome::Denied(_))
         ));
+        assert_eq!(
+            d(MavCmd::MAV_CMD_REQUEST_PROTOCOL_VERSION, [NAN; 7]),
+            CommandDecision::Reply(OneShot::ProtocolVersion)
+        );
         let int = COMMAND_INT_DATA {
             command: MavCmd::MAV_CMD_NAV_TAKEOFF,
             x: i32::MAX,

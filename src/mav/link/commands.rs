@@ -10,6 +10,7 @@ use mavlink::MavHeader;
 use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleRequest, WARNING};
 use crate::commander::Outcome;
 use crate::mav::duplicates::{CommandKey, Seen};
+use crate::mav::modes::{available_modes, protocol_version};
 use crate::mav::services::autopilot_version;
 use crate::mav::telemetry::{message, status_text};
 use crate::mav::translate::{command_ack, result_of, CommandDecision, OneShot};
@@ -75,13 +76,22 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             }
             CommandDecision::Refuse(outcome) => self.answer(now, asker, AckOf::Outcome(&outcome)),
             CommandDecision::Reply(one_shot) => {
-                let msg = match one_shot {
-                    OneShot::AutopilotVersion => Some(autopilot_version(&self.identity)),
-                    OneShot::Stream(stream) => message(stream, &self.snapshot),
+                let msgs = match one_shot {
+                    OneShot::AutopilotVersion => Some(vec![autopilot_version(&self.identity)]),
+                    OneShot::ProtocolVersion => Some(vec![protocol_version()]),
+                    OneShot::AvailableModes(index) => available_modes(index),
+                    OneShot::Stream(stream) => message(stream, &self.snapshot).map(|m| vec![m]),
                 };
-                self.answer(now, asker, accepted);
-                if let Some(msg) = msg {
-                    self.send(now, link, from, &msg);
+                match msgs {
+                    Some(msgs) => {
+                        self.answer(now, asker, accepted);
+                        for msg in msgs {
+                            self.send(now, link, from, &msg);
+                        }
+                    }
+                    // PX4 denies a request it sent nothing for (a mode index beyond the last).
+                    None if matches!(one_shot, OneShot::AvailableModes(_)) => self.answer(now, asker, denied),
+                    None => self.answer(now, asker, accepted),
                 }
             }
             CommandDecision::SetMessageInterval {

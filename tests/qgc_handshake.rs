@@ -1,0 +1,111 @@
+//! What QGroundControl asks of a vehicle after AUTOPILOT_VERSION, answered by the vehicle's MAVLink
+//! endpoint with virtual clocks: PROTOCOL_VERSION, then the standard modes (AVAILABLE_MODES one
+//! index at a time as QGC's `StandardModes` asks, or all at once) and CURRENT_MODE.
+#![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
+
+mod link_bench;
+
+use link_bench::*;
+use mavlink::dialects::common::*;
+use rotorpilot::commander::FlightMode;
+
+/// REQUEST_MESSAGE for message `id` with `param2`.
+fn request(id: f32, param2: f32) -> MavMessage {
+    let params = [id, param2, 0.0, 0.0, 0.0, 0.0, 0.0];
+    MavMessage::COMMAND_LONG(rotorpilot::mav::gcs::command_long(
+        (1, 1),
+        MavCmd::MAV_CMD_REQUEST_MESSAGE,
+        params,
+    ))
+}
+
+#[test]
+fn protocol_version_says_mavlink_2_by_either_request() {
+    let mut b = Bench::new();
+    for ask in [
+        request(300.0, 0.0),
+        command(MavCmd::MAV_CMD_REQUEST_PROTOCOL_VERSION, 1.0),
+    ] {
+        b.send(Gcs, QGC, ask);
+        let out = b.out();
+        assert_eq!(acks(&out), vec![MavResult::MAV_RESULT_ACCEPTED]);
+        let [(_, to, MavMessage::PROTOCOL_VERSION(v))] = &named(&out, "PROTOCOL_VERSION")[..] else {
+            panic!("{out:?}")
+        };
+        assert_eq!((*to, v.version, v.min_version, v.max_version), (QGC, 200, 100, 200));
+    }
+}
+
+#[test]
+fn the_modes_come_one_index_at_a_time_as_qgc_asks_and_all_at_once() {
+    let mut b = Bench::new();
+    let mut modes = Vec::new();
+    let mut index = 1;
+    loop {
+        b.send(Gcs, QGC, request(435.0, index as f32));
+        let out = b.out();
+        assert_eq!(acks(&out), vec![MavResult::MAV_RESULT_ACCEPTED], "index {index}");
+        let [(_, _, MavMessage::AVAILABLE_MODES(m))] = &named(&out, "AVAILABLE_MODES")[..] else {
+            panic!("{out:?}")
+        };
+        assert_eq!(m.mode_index, index);
+        modes.push(m.clone());
+        if index == m.number_modes {
+            break;
+        }
+        index += 1;
+    }
+    let flown: Vec<FlightMode> = modes
+        .iter()
+        .map(|m| FlightMode::from_custom_mode(m.custom_mode).unwrap())
+        .collect();
+    assert_eq!(flown, FlightMode::selectable());
+    let hold = &modes[2];
+    assert_eq!(hold.mode_name.to_str().unwrap(), "Hold");
+    assert_eq!(hold.standard_mode, MavStandardMode::MAV_STANDARD_MODE_NON_STANDARD);
+    assert_eq!(modes[0].standard_mode, MavStandardMode::MAV_STANDARD_MODE_POSITION_HOLD);
+
+    // One past the last: denied, nothing sent (PX4's answer).
+    b.send(Gcs, QGC, request(435.0, modes.len() as f32 + 1.0));
+    let out = b.out();
+    assert_eq!(acks(&out), vec![MavResult::MAV_RESULT_DENIED]);
+    assert!(named(&out, "AVAILABLE_MODES").is_empty());
+
+    // All at once: the ACK, then every mode in order.
+    b.send(Gcs, QGC, request(435.0, 0.0));
+    let out = b.out();
+    assert!(matches!(out[0].2, MavMessage::COMMAND_ACK(_)), "{out:?}");
+    let all: Vec<AVAILABLE_MODES_DATA> = named(&out, "AVAILABLE_MODES")
+        .iter()
+        .map(|(_, _, m)| match m {
+            MavMessage::AVAILABLE_MODES(m) => m.clone(),
+            _ => unreachable!(),
+        })
+        .collect();
+    assert_eq!(all, modes);
+}
+
+#[test]
+fn current_mode_is_streamed_at_half_a_hertz_and_sent_on_request() {
+    let mut b = Bench::new();
+    let mut seen = 0;
+    for k in 1..=80 {
+        let t = f64::from(k) * 0.05;
+        b.at(t, t);
+        seen += named(&b.out(), "CURRENT_MODE")
+            .iter()
+            .filter(|(l, ..)| *l == Gcs)
+            .count();
+    }
+    assert_eq!(seen, 2, "4 s at 0.5 Hz");
+    b.state.mode = FlightMode::ReturnToLaunch;
+    b.m.handle_state(b.state);
+    b.send(Gcs, QGC, request(436.0, 0.0));
+    let out = b.out();
+    let [(_, _, MavMessage::CURRENT_MODE(m))] = &named(&out, "CURRENT_MODE")[..] else {
+        panic!("{out:?}")
+    };
+    assert_eq!(m.custom_mode, FlightMode::ReturnToLaunch.custom_mode());
+    assert_eq!(m.intended_custom_mode, m.custom_mode);
+    assert_eq!(m.standard_mode, MavStandardMode::MAV_STANDARD_MODE_SAFE_RECOVERY);
+}
