@@ -122,23 +122,11 @@ fn every_request_message_is_answered_with_the_message() {
     assert!(b.asks().is_empty(), "a request for a message never reaches the vehicle");
 }
 
-#[test]
-fn a_parameter_list_is_paced_at_one_per_millisecond() {
-    let mut b = Bench::new();
-    let n = table().len();
-    b.send(
-        Gcs,
-        QGC,
-        MavMessage::PARAM_REQUEST_LIST(PARAM_REQUEST_LIST_DATA {
-            target_system: 1,
-            target_component: 1,
-        }),
-    );
-    b.at(0.0095, 0.0095);
-    assert_eq!(named(&b.out(), "PARAM_VALUE").len(), 10, "t = 0, 1, …, 9 ms");
+/// The PARAM_VALUE indices sent from `from_s` to `to_s` of wall time, a millisecond at a time.
+fn param_indices(b: &mut Bench, from_s: f64, to_s: f64) -> Vec<u16> {
     let mut indices = Vec::new();
-    let mut wall_s = 0.0095;
-    while wall_s < 0.2 {
+    let mut wall_s = from_s;
+    while wall_s < to_s {
         wall_s += 0.001;
         b.at(wall_s, wall_s);
         indices.extend(b.out().into_iter().filter_map(|(_, _, m)| match m {
@@ -146,7 +134,60 @@ fn a_parameter_list_is_paced_at_one_per_millisecond() {
             _ => None,
         }));
     }
-    assert_eq!(indices, (10..n as u16).collect::<Vec<_>>());
+    indices
+}
+
+fn param_request_list() -> MavMessage {
+    MavMessage::PARAM_REQUEST_LIST(PARAM_REQUEST_LIST_DATA {
+        target_system: 1,
+        target_component: 1,
+    })
+}
+
+#[test]
+fn a_parameter_list_is_paced_at_one_per_millisecond_after_px4s_hash() {
+    let mut b = Bench::new();
+    let n = table().len();
+    b.send(Gcs, QGC, param_request_list());
+    b.at(0.0095, 0.0095);
+    let first = b.out();
+    let values = named(&first, "PARAM_VALUE");
+    assert_eq!(values.len(), 10, "t = 0, 1, …, 9 ms");
+    let MavMessage::PARAM_VALUE(hash) = &values[0].2 else {
+        unreachable!()
+    };
+    assert_eq!(
+        (hash.param_id.to_str().unwrap(), hash.param_index),
+        ("_HASH_CHECK", u16::MAX)
+    );
+    assert_eq!(param_indices(&mut b, 0.0095, 0.2), (9..n as u16).collect::<Vec<_>>());
+}
+
+#[test]
+fn a_hash_check_param_set_stops_the_list_as_a_cached_ground_station_asks() {
+    let mut b = Bench::new();
+    b.send(Gcs, QGC, param_request_list());
+    b.at(0.0045, 0.0045);
+    assert_eq!(named(&b.out(), "PARAM_VALUE").len(), 5);
+    b.send(Gcs, QGC, param_set("_HASH_CHECK", 0.0));
+    assert!(b.asks().is_empty(), "nothing for the vehicle");
+    assert!(param_indices(&mut b, 0.0045, 0.2).is_empty(), "the list stopped");
+    // Asked by name, the hash comes alone.
+    b.send(
+        Gcs,
+        QGC,
+        MavMessage::PARAM_REQUEST_READ(PARAM_REQUEST_READ_DATA {
+            param_index: -1,
+            target_system: 1,
+            target_component: 1,
+            param_id: param_id("_HASH_CHECK"),
+        }),
+    );
+    let out = b.out();
+    assert!(
+        matches!(&out[..], [(_, QGC, MavMessage::PARAM_VALUE(p))] if p.param_index == u16::MAX),
+        "{out:?}"
+    );
 }
 
 #[test]

@@ -214,13 +214,19 @@ def test_parameter_protocol(autopilot):
     autopilot.heartbeat()
     autopilot.gcs.mav.param_request_list_send(1, 1)
     values = {}
+    hashes = []
     deadline = time.monotonic() + 5
     count = None
     while time.monotonic() < deadline and (count is None or len(values) < count):
         m = autopilot.gcs.recv_match(type="PARAM_VALUE", blocking=True, timeout=1)
-        if m is not None:
+        if m is not None and m.param_id == "_HASH_CHECK":
+            # PX4 sends the hash of the whole list first, outside the enumeration.
+            assert m.param_index == 65535 and not values, m
+            hashes.append(m)
+        elif m is not None:
             count = m.param_count
             values[m.param_id] = m
+    assert len(hashes) == 1
     assert count is not None and len(values) == count >= 50
     assert values["MIS_TAKEOFF_ALT"].param_value == 2.5
     assert values["RP_CTRL"].param_type == 6 and float_bits_to_int(values["RP_CTRL"].param_value) == 0

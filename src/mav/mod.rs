@@ -12,12 +12,13 @@
 //! - [`telemetry`] (with `status`): the streamed messages built from a snapshot.
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC, FTP's NAK.
 //! - [`modes`]: PROTOCOL_VERSION and the standard modes protocol (AVAILABLE_MODES, CURRENT_MODE).
-//! - [`params`]: PARAM_VALUE / PARAM_SET encoding.
+//! - [`params`]: PARAM_VALUE / PARAM_SET encoding and PX4's `_HASH_CHECK`; [`crc32`]: its CRC.
 //! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation.
 //! - [`gcs`]: the ground-station side (its header, COMMAND_LONG, which ACK answers a command)
 //!   for the bench client, the tests and the fuzz target.
 
 pub mod codec;
+pub mod crc32;
 pub mod duplicates;
 pub mod gcs;
 pub mod identity;

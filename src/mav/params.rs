@@ -1,6 +1,9 @@
 //! Parameter protocol encoding (mavlink.md §8): PARAM_VALUE with INT32 values copied byte-wise
 //! into the float field, and the value of a PARAM_SET decoded by its `param_type` (a REAL32 set
-//! of an INT32 parameter is accepted when it is an exact integer; the table checks that). Pure.
+//! of an INT32 parameter is accepted when it is an exact integer; the table checks that). Also
+//! PX4's `_HASH_CHECK`: a PARAM_VALUE sent before a list, whose value is a CRC-32 over every
+//! parameter's name and 4 value bytes in index order, so QGroundControl can load its cached
+//! copy and stop the list (by a PARAM_SET of `_HASH_CHECK`). Pure.
 
 use mavlink::dialects::common::{
     MavMessage, MavParamError, MavParamType, PARAM_ERROR_DATA, PARAM_SET_DATA, PARAM_VALUE_DATA,
@@ -8,6 +11,7 @@ use mavlink::dialects::common::{
 use mavlink::types::CharArray;
 use mavlink::MavHeader;
 
+use super::crc32::crc32_part;
 use crate::params::{ParamTable, ParamType};
 
 /// PARAM_VALUE for the parameter at `index`, or `None` past the end.
@@ -24,6 +28,31 @@ pub fn param_value(table: &ParamTable, index: usize) -> Option<MavMessage> {
         param_id: param_id(def.name),
         param_type,
     }))
+}
+
+/// The name of PX4's parameter hash.
+pub const HASH_CHECK: &str = "_HASH_CHECK";
+
+/// PARAM_VALUE `_HASH_CHECK` (UINT32, index −1 sent as 65535): CRC-32 ([`crc32_part`] from 0)
+/// over each parameter's name and the 4 bytes of its PARAM_VALUE value, in index order, as PX4
+/// computes it and QGroundControl checks its cache.
+pub fn hash_check(table: &ParamTable) -> MavMessage {
+    let hash = (0..table.len())
+        .filter_map(|i| match param_value(table, i)? {
+            MavMessage::PARAM_VALUE(p) => Some(p),
+            _ => None,
+        })
+        .fold(0, |crc, p| {
+            let crc = crc32_part(name_of(&p.param_id).as_bytes(), crc);
+            crc32_part(&p.param_value.to_bits().to_le_bytes(), crc)
+        });
+    MavMessage::PARAM_VALUE(PARAM_VALUE_DATA {
+        param_value: f32::from_bits(hash),
+        param_count: table.len() as u16,
+        param_index: u16::MAX,
+        param_id: param_id(HASH_CHECK),
+        param_type: MavParamType::MAV_PARAM_TYPE_UINT32,
+    })
 }
 
 /// PARAM_ERROR DOES_NOT_EXIST for `name`, to `sender`.
@@ -114,5 +143,31 @@ mod tests {
         assert_eq!(decode_param_set(&set(2.0, MavParamType::MAV_PARAM_TYPE_REAL32)).1, 2.0);
         // A 16-character name has no terminating NUL.
         assert_eq!(name_of(&param_id("ABCDEFGHIJKLMNOP")), "ABCDEFGHIJKLMNOP");
+    }
+
+    #[test]
+    fn the_hash_covers_every_name_and_value_in_index_order() {
+        let mut t = table();
+        let MavMessage::PARAM_VALUE(h) = hash_check(&t) else {
+            panic!("no hash");
+        };
+        assert_eq!(name_of(&h.param_id), HASH_CHECK);
+        assert_eq!((h.param_index, h.param_count as usize), (u16::MAX, t.len()));
+        assert_eq!(h.param_type, MavParamType::MAV_PARAM_TYPE_UINT32);
+        // The same CRC written out: name bytes, then the 4 value bytes, parameter by parameter.
+        let mut bytes = Vec::new();
+        for i in 0..t.len() {
+            let Some(MavMessage::PARAM_VALUE(v)) = param_value(&t, i) else {
+                panic!("no value {i}");
+            };
+            bytes.extend(name_of(&v.param_id).into_bytes());
+            bytes.extend(v.param_value.to_bits().to_le_bytes());
+        }
+        assert_eq!(h.param_value.to_bits(), crc32_part(&bytes, 0));
+        t.set("MIS_TAKEOFF_ALT", 3.0, 1e-3).unwrap();
+        let MavMessage::PARAM_VALUE(changed) = hash_check(&t) else {
+            panic!("no hash");
+        };
+        assert_ne!(changed.param_value.to_bits(), h.param_value.to_bits());
     }
 }

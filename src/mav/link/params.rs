@@ -1,5 +1,7 @@
 //! The parameter protocol of the link: PARAM_REQUEST_LIST streamed at one PARAM_VALUE per
-//! millisecond of wall time at most, PARAM_REQUEST_READ by index or name, and PARAM_SET: the
+//! millisecond of wall time at most, PX4's `_HASH_CHECK` first (a PARAM_SET of `_HASH_CHECK`
+//! stops the list: the ground station loaded its cached copy), PARAM_REQUEST_READ by index or
+//! name (`_HASH_CHECK` included), and PARAM_SET: the
 //! vehicle applies it at its next tick, then every peer of the link gets the resulting
 //! PARAM_VALUE (the unchanged value when refused, with a STATUSTEXT saying why) and an
 //! unknown name gets PARAM_ERROR.
@@ -9,7 +11,7 @@ use std::hash::Hash;
 use mavlink::MavHeader;
 
 use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest, WARNING};
-use crate::mav::params::{param_error_unknown, param_value};
+use crate::mav::params::{hash_check, param_error_unknown, param_value, HASH_CHECK};
 use crate::mav::telemetry::status_text;
 use crate::params::ParamError;
 
@@ -21,6 +23,8 @@ pub const PARAM_LIST_PERIOD_S: f64 = 1e-3;
 pub(super) struct ParamList<A> {
     pub link: LinkKind,
     pub to: A,
+    /// The `_HASH_CHECK` is still to be sent (it goes first).
+    hash_pending: bool,
     /// Index of the next parameter.
     next: usize,
     /// Wall time the next one is due [s].
@@ -33,6 +37,7 @@ impl<A> ParamList<A> {
         Self {
             link,
             to,
+            hash_pending: true,
             next: 0,
             next_s: now_s,
         }
@@ -54,15 +59,20 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         let mut lists = std::mem::take(&mut self.param_lists);
         for list in &mut lists {
             while list.next_s <= now.wall_s {
-                let Some(msg) = param_value(&self.params, list.next) else {
-                    break;
+                let msg = if std::mem::take(&mut list.hash_pending) {
+                    hash_check(&self.params)
+                } else {
+                    let Some(msg) = param_value(&self.params, list.next) else {
+                        break;
+                    };
+                    list.next += 1;
+                    msg
                 };
                 self.send(now, list.link, list.to, &msg);
-                list.next += 1;
                 list.next_s += PARAM_LIST_PERIOD_S;
             }
         }
-        lists.retain(|l| l.next < self.params.len());
+        lists.retain(|l| l.hash_pending || l.next < self.params.len());
         self.param_lists = lists;
     }
 
@@ -76,17 +86,25 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         name: &str,
         index: Option<usize>,
     ) {
-        let found = index
-            .or_else(|| self.params.index_of(name))
-            .and_then(|i| param_value(&self.params, i));
+        let found = match index {
+            None if name == HASH_CHECK => Some(hash_check(&self.params)),
+            _ => index
+                .or_else(|| self.params.index_of(name))
+                .and_then(|i| param_value(&self.params, i)),
+        };
         match found {
             Some(msg) => self.send(now, link, to, &msg),
             None => self.send(now, link, to, &param_error_unknown(header, name)),
         }
     }
 
-    /// PARAM_SET: asks the vehicle, which answers at its next tick.
+    /// PARAM_SET: asks the vehicle, which answers at its next tick; `_HASH_CHECK`, whatever its
+    /// value, stops the lists streaming to the sender and is not answered (as PX4 does).
     pub(super) fn param_set(&mut self, link: LinkKind, to: A, header: &MavHeader, name: String, value: f64) {
+        if name == HASH_CHECK {
+            self.param_lists.retain(|l| !(l.link == link && l.to == to));
+            return;
+        }
         let token = self.expect(Pending::Param(ParamSet {
             link,
             to,
