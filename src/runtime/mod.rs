@@ -206,10 +206,12 @@ pub fn run(
     for i in 0..config.count.max(1) {
         setups.push(setup_vehicle(&config, i, &rt, &shutdown_rx, &signing)?);
     }
+    // The keeper's last save waits for the links to stop, so no frame is sent after it.
+    let (links_stopped_tx, links_stopped_rx) = watch::channel(false);
     let keeper = rt.spawn(signing_keeper(
         setups.iter().map(|s| s.io.signing.clone()).collect(),
         signing.store.clone(),
-        shutdown_rx.clone(),
+        links_stopped_rx,
     ));
     let stop = Arc::new(AtomicBool::new(false));
     let stats = Arc::new(SchedulerStats::default());
@@ -249,6 +251,7 @@ pub fn run(
         for task in tasks {
             let _ = task.await;
         }
+        let _ = links_stopped_tx.send(true);
         let _ = keeper.await;
     });
     stop.store(true, Ordering::Relaxed);

@@ -43,18 +43,19 @@ impl SigningSetup {
 /// How often the signing timestamp is persisted and dropped frames are reported.
 const SIGNING_KEEP_PERIOD: Duration = Duration::from_secs(10);
 
-/// Persists the latest signing timestamp of all vehicles every [`SIGNING_KEEP_PERIOD`] and at
-/// shutdown (mavlink.md §10: at least once a minute), and logs how many frames signing dropped.
+/// Persists the latest signing timestamp of all vehicles every [`SIGNING_KEEP_PERIOD`] and once
+/// more when `links_stopped` says every link task has ended (at least once a minute, and never
+/// behind a frame sent), and logs how many frames signing dropped.
 pub(super) async fn signing_keeper(
     vehicles: Vec<Arc<SigningStatus>>,
     store: Option<Arc<SigningStore>>,
-    mut shutdown: watch::Receiver<bool>,
+    mut links_stopped: watch::Receiver<bool>,
 ) {
     let mut reported = 0;
     let mut period = tokio::time::interval(SIGNING_KEEP_PERIOD);
     loop {
         let stopping = tokio::select! {
-            _ = shutdown.changed() => true,
+            _ = links_stopped.changed() => true,
             _ = period.tick() => false,
         };
         let (mut timestamp, mut dropped) = (0, 0);
