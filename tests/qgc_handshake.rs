@@ -88,15 +88,8 @@ fn the_modes_come_one_index_at_a_time_as_qgc_asks_and_all_at_once() {
 #[test]
 fn current_mode_is_streamed_at_half_a_hertz_and_sent_on_request() {
     let mut b = Bench::new();
-    let mut seen = 0;
-    for k in 1..=80 {
-        let t = f64::from(k) * 0.05;
-        b.at(t, t);
-        seen += named(&b.out(), "CURRENT_MODE")
-            .iter()
-            .filter(|(l, ..)| *l == Gcs)
-            .count();
-    }
+    let times = (1..=80).map(|k| f64::from(k) * 0.05).map(|t| (t, t));
+    let seen = b.count_sent("CURRENT_MODE", Gcs, times);
     assert_eq!(seen, 2, "4 s at 0.5 Hz");
     b.state.mode = FlightMode::ReturnToLaunch;
     b.m.handle_state(b.state);

@@ -99,6 +99,17 @@ impl Bench {
             .collect()
     }
 
+    /// How many `name` messages go out on `link` while the clocks step through `times`
+    /// ((wall, simulated) [s]), each step's duties run.
+    pub fn count_sent(&mut self, name: &str, link: LinkKind, times: impl IntoIterator<Item = (f64, f64)>) -> usize {
+        let mut count = 0;
+        for (wall_s, sim_s) in times {
+            self.at(wall_s, sim_s);
+            count += named(&self.out(), name).iter().filter(|(l, ..)| *l == link).count();
+        }
+        count
+    }
+
     /// Every request for the vehicle since the last call.
     pub fn asks(&mut self) -> Vec<ToVehicle> {
         std::iter::from_fn(|| self.m.poll_vehicle()).collect()
