@@ -170,7 +170,8 @@ def test_discovery_services(autopilot):
     assert autopilot.command(410).result == ACCEPTED
     home = autopilot.wait(lambda m: True, "HOME_POSITION", 2)
     assert home is not None and (home.latitude, home.longitude, home.altitude) == (473977420, 85455940, 488000)
-    assert autopilot.command(512, 435).result == DENIED, "AVAILABLE_MODES not produced"
+    assert autopilot.command(512, 435, 1).result == ACCEPTED, "AVAILABLE_MODES"
+    assert autopilot.command(512, 999).result == DENIED, "a message that is not produced"
     autopilot.gcs.mav.ping_send(123456, 9, 0, 0)
     ping = autopilot.wait(lambda m: m.seq == 9, "PING", 2)
     assert ping is not None and ping.time_usec == 123456 and ping.target_system == 255
