@@ -1,6 +1,7 @@
 """MAVLink 2 signing against `rotorpilot run --signing-key FILE` with pymavlink's `setup_signing`:
 a signed ground station flies; unsigned and wrong-key senders get nothing and change nothing;
 replayed and stale frames are rejected; SETUP_SIGNING over the link; the timestamp persists."""
+import subprocess
 import os
 import pathlib
 import stat
@@ -182,3 +183,19 @@ def test_bad_key_files_are_refused_by_name(rotorpilot, tmp_path):
     result = rotorpilot("run", "--signing-key", str(empty), "--bind-gcs", "127.0.0.1:0",
                         "--bind-api", "127.0.0.1:0", "--duration", "1", timeout=20)
     assert result.returncode != 0 and "empty.key" in result.stderr and "empty" in result.stderr
+
+
+def test_sigterm_right_after_ready_shuts_down_cleanly_and_saves_the_timestamp(rotorpilot_bin, tmp_path):
+    # The signal handlers are installed before the ready line: a SIGTERM at once is a clean
+    # shutdown (exit 0, timestamp saved), never the signal's default action (it was, 2 times in 15).
+    path = key_file(tmp_path)
+    for _ in range(10):
+        ahead = now_timestamp() + 3600 * 100_000
+        pathlib.Path(f"{path}.timestamp").write_text(f"{ahead}\n")
+        proc = subprocess.Popen([str(rotorpilot_bin), "run", "--signing-key", str(path), "--bind-gcs", "127.0.0.1:0",
+                                 "--bind-api", "127.0.0.1:0", "--gcs", "127.0.0.1:9", "--api", "127.0.0.1:9"],
+                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+        assert proc.stdout.readline().startswith(b"{"), "the ready line"
+        proc.terminate()
+        assert proc.wait(timeout=10) == 0
+        assert int(pathlib.Path(f"{path}.timestamp").read_text()) >= ahead

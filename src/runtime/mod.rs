@@ -201,6 +201,13 @@ pub fn run(
         .build()
         .map_err(RuntimeError::Runtime)?;
     let (shutdown_tx, shutdown_rx) = watch::channel(false);
+    // Polled once before anything is announced, so its signal handlers are installed: a SIGTERM
+    // right after the ready line then shuts down cleanly (the signing timestamp saved) instead
+    // of killing the process with the signal's default action.
+    let mut shutdown = Box::pin(shutdown);
+    let stopped_already = rt.block_on(std::future::poll_fn(|cx| {
+        std::task::Poll::Ready(shutdown.as_mut().poll(cx).is_ready())
+    }));
     let signing = SigningSetup::load(config.signing_key.clone())?;
     let mut setups = Vec::with_capacity(config.count.max(1));
     for i in 0..config.count.max(1) {
@@ -211,6 +218,7 @@ pub fn run(
     let keeper = rt.spawn(signing_keeper(
         setups.iter().map(|s| s.io.signing.clone()).collect(),
         signing.store.clone(),
+        signing.timestamp,
         links_stopped_rx,
     ));
     let stop = Arc::new(AtomicBool::new(false));
@@ -246,7 +254,10 @@ pub fn run(
     });
 
     rt.block_on(async move {
-        shutdown.await;
+        // A future that completed must not be polled again.
+        if !stopped_already {
+            shutdown.await;
+        }
         let _ = shutdown_tx.send(true);
         for task in tasks {
             let _ = task.await;

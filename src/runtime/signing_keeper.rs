@@ -49,6 +49,7 @@ const SIGNING_KEEP_PERIOD: Duration = Duration::from_secs(10);
 pub(super) async fn signing_keeper(
     vehicles: Vec<Arc<SigningStatus>>,
     store: Option<Arc<SigningStore>>,
+    start_timestamp: u64,
     mut links_stopped: watch::Receiver<bool>,
 ) {
     let mut reported = 0;
@@ -58,7 +59,8 @@ pub(super) async fn signing_keeper(
             _ = links_stopped.changed() => true,
             _ = period.tick() => false,
         };
-        let (mut timestamp, mut dropped) = (0, 0);
+        // Never below the timestamp the vehicles started from (before their first frame).
+        let (mut timestamp, mut dropped) = (start_timestamp, 0);
         for status in &vehicles {
             timestamp = timestamp.max(status.timestamp.load(Ordering::Relaxed));
             dropped += status.dropped.load(Ordering::Relaxed);
