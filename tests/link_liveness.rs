@@ -6,7 +6,7 @@ mod link_bench;
 
 use link_bench::*;
 use mavlink::dialects::common::*;
-use rotorpilot::commander::{Event, Request};
+use rotorpilot::commander::{Event, Request, Stream};
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
 
 #[test]
@@ -68,7 +68,12 @@ fn the_offboard_stream_is_alive_for_the_commander_until_com_of_loss_t_of_wall_ti
             ..Default::default()
         })
     };
-    let wall = |alive| VehicleRequest::Commander(Request::OffboardStreamInWallTime { alive });
+    let wall = |alive| {
+        VehicleRequest::Commander(Request::StreamInWallTime {
+            stream: Stream::Offboard,
+            alive,
+        })
+    };
     b.send(Api, SDK, setpoint());
     let asks: Vec<_> = b.asks().into_iter().map(|a| a.request).collect();
     assert!(matches!(

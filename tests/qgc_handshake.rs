@@ -60,10 +60,11 @@ fn the_modes_come_one_index_at_a_time_as_qgc_asks_and_all_at_once() {
         .map(|m| FlightMode::from_custom_mode(m.custom_mode).unwrap())
         .collect();
     assert_eq!(flown, FlightMode::selectable());
-    let hold = &modes[2];
+    let hold = &modes[4];
     assert_eq!(hold.mode_name.to_str().unwrap(), "Hold");
     assert_eq!(hold.standard_mode, MavStandardMode::MAV_STANDARD_MODE_NON_STANDARD);
-    assert_eq!(modes[0].standard_mode, MavStandardMode::MAV_STANDARD_MODE_POSITION_HOLD);
+    assert_eq!(modes[1].standard_mode, MavStandardMode::MAV_STANDARD_MODE_ALTITUDE_HOLD);
+    assert_eq!(modes[2].standard_mode, MavStandardMode::MAV_STANDARD_MODE_POSITION_HOLD);
 
     // One past the last: denied, nothing sent (PX4's answer).
     b.send(Gcs, QGC, request(435.0, modes.len() as f32 + 1.0));

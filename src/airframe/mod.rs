@@ -173,6 +173,12 @@ impl Airframe {
         (self.mass_kg * crate::math::GRAVITY_M_S2 / (self.rotors.len() as f64 * self.c_t)).sqrt()
     }
 
+    /// Collective thrust that holds the believed mass, as a fraction of the maximum:
+    /// m g / (n c_T ω_max²) = (ω_hover / ω_max)² [-].
+    pub fn hover_thrust_fraction(&self) -> f64 {
+        (self.hover_speed_rad_s() / self.omega_max_rad_s).powi(2)
+    }
+
     /// Coplanar rotor planes and no two propeller discs overlapping.
     fn check_geometry(&self, f: &Fields) -> Result<(), AirframeError> {
         let z0 = self.rotors.first().map_or(0.0, |r| r.z_m);

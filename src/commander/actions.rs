@@ -1,6 +1,7 @@
 //! The actions a failsafe parameter chooses between, as enums with PX4's codes: `NAV_DLL_ACT`
-//! (GCS link loss), `COM_OBL_RC_ACT` (offboard loss), `GF_ACTION` (geofence breach) and
-//! `COM_LOW_BAT_ACT` (battery). Each converts from its code with [`TryFrom<i32>`], refusing codes
+//! (GCS link loss), `NAV_RCL_ACT` (stick loss), `COM_RC_IN_MODE` (stick sources),
+//! `COM_OBL_RC_ACT` (offboard loss), `GF_ACTION` (geofence breach) and `COM_LOW_BAT_ACT`
+//! (battery). Each converts from its code with [`TryFrom<i32>`], refusing codes
 //! PX4 does not define, and back with `From<_> for i32` / `f64`. Pure.
 
 use thiserror::Error;
@@ -134,6 +135,54 @@ action_enum! {
 }
 
 action_enum! {
+    /// What the loss of the sticks does (`NAV_RCL_ACT`; the codes of `NAV_DLL_ACT`).
+    ManualLossAction, "NAV_RCL_ACT", default Return {
+        /// Nothing; a stick mode that cannot fly without sticks holds position.
+        Disabled = 0, "disabled";
+        /// Hold position (AUTO.LOITER).
+        Hold = 1, "hold";
+        /// Return to launch.
+        Return = 2, "return";
+        /// Land here.
+        Land = 3, "land";
+        /// Flight termination: motors off.
+        Terminate = 5, "terminate";
+        /// Disarm: motors off.
+        Disarm = 6, "disarm";
+    }
+}
+
+action_enum! {
+    /// Which stick sources the vehicle flies (`COM_RC_IN_MODE`). This vehicle has no RC
+    /// receiver: MANUAL_CONTROL is its only source.
+    ManualInputMode, "COM_RC_IN_MODE", default KeepFirst {
+        /// RC only: MANUAL_CONTROL is ignored.
+        RcOnly = 0, "RC only";
+        /// MAVLink only.
+        MavlinkOnly = 1, "MAVLink only";
+        /// RC or MAVLink, the other when one stops.
+        Fallback = 2, "RC or MAVLink with fallback";
+        /// RC or MAVLink, the first one heard is kept.
+        KeepFirst = 3, "RC or MAVLink, keep first";
+        /// No stick input at all.
+        Disabled = 4, "disabled";
+    }
+}
+
+impl From<ManualLossAction> for LinkLossAction {
+    fn from(action: ManualLossAction) -> Self {
+        match action {
+            ManualLossAction::Disabled => Self::Disabled,
+            ManualLossAction::Hold => Self::Hold,
+            ManualLossAction::Return => Self::Return,
+            ManualLossAction::Land => Self::Land,
+            ManualLossAction::Terminate => Self::Terminate,
+            ManualLossAction::Disarm => Self::Disarm,
+        }
+    }
+}
+
+action_enum! {
     /// What a geofence breach in flight does (`GF_ACTION`).
     GeofenceAction, "GF_ACTION", default Hold {
         /// Nothing (PX4's "none").
@@ -190,6 +239,11 @@ mod tests {
         round_trips(OffboardLossAction::ALL, &[-1, 8]);
         round_trips(GeofenceAction::ALL, &[-1, 6]);
         round_trips(LowBatteryAction::ALL, &[-1, 1, 4]);
+        round_trips(ManualLossAction::ALL, &[-1, 4, 7]);
+        round_trips(ManualInputMode::ALL, &[-1, 5]);
+        for a in ManualLossAction::ALL {
+            assert_eq!(i32::from(LinkLossAction::from(*a)), i32::from(*a), "same codes");
+        }
         assert_eq!(LinkLossAction::ALL.len(), 6);
         assert_eq!(OffboardLossAction::ALL.len(), 8);
         assert_eq!(GeofenceAction::ALL.len(), 6);
@@ -213,5 +267,7 @@ mod tests {
         assert_eq!(OffboardLossAction::default(), OffboardLossAction::Position);
         assert_eq!(GeofenceAction::default(), GeofenceAction::Hold);
         assert_eq!(LowBatteryAction::default(), LowBatteryAction::Warn);
+        assert_eq!(ManualLossAction::default(), ManualLossAction::Return);
+        assert_eq!(ManualInputMode::default(), ManualInputMode::KeepFirst);
     }
 }

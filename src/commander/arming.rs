@@ -1,5 +1,6 @@
 //! Arming and disarming. Arming is refused (unless forced) in AUTO.MISSION without a mission,
-//! in OFFBOARD without a live setpoint stream and in AUTO.LAND / AUTO.RTL; a disarm is refused
+//! in OFFBOARD without a live setpoint stream, in AUTO.LAND / AUTO.RTL, in the stick modes
+//! without sticks and with the throttle up where it sets the thrust; a disarm is refused
 //! in the air unless forced. Disarming leaves the modes that only make sense armed.
 
 use crate::control::VehicleState;
@@ -24,10 +25,16 @@ impl Commander {
                 FlightMode::Land | FlightMode::ReturnToLaunch => {
                     return Outcome::TemporarilyRejected(format!("Arming denied: not in {}", self.mode.name()))
                 }
-                _ => {}
+                mode => {
+                    if let Some(refusal) = self.stick_mode_refusal(mode, t_s, true) {
+                        return refusal;
+                    }
+                }
             }
         }
         self.armed = true;
+        self.manual.at_arming = self.sticks_alive(t_s);
+        self.manual.lost = false;
         self.armed_at_s = t_s;
         self.took_off = !self.detector.landed();
         self.enter(self.mode, x, t_s);

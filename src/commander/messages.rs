@@ -3,7 +3,7 @@
 
 use crate::control::{AttitudeTarget, FlatSetpoint};
 use crate::math::Vec3;
-use crate::navigation::Mission;
+use crate::navigation::{Mission, Sticks};
 
 use super::FlightMode;
 
@@ -90,14 +90,28 @@ pub enum Request {
     SetHome(Option<Vec3>),
     /// No GCS heartbeat for `COM_DL_LOSS_T`: run `NAV_DLL_ACT` if flying.
     GcsLinkLost,
-    /// The link's word on the offboard stream in wall time: `true` from its first setpoint,
-    /// `false` once it was silent for `COM_OF_LOSS_T` of wall time. While it is alive the
-    /// commander does not declare offboard lost, however fast simulated time runs; the
-    /// commander itself judges silence in simulated time only.
-    OffboardStreamInWallTime {
+    /// The link's word on a stream in wall time: `true` from its first message, `false` once
+    /// it was silent for its loss time (`COM_OF_LOSS_T`, `COM_RC_LOSS_T`) of wall time. While
+    /// it is alive the commander does not declare the stream lost, however fast simulated time
+    /// runs; the commander itself judges silence in simulated time only.
+    StreamInWallTime {
+        /// Which stream.
+        stream: Stream,
         /// The stream is alive in wall time.
         alive: bool,
     },
+    /// One MANUAL_CONTROL sample (a joystick, QGroundControl's virtual one, MAVSDK's
+    /// `manual_control`): the sticks of the stick modes.
+    ManualControl(Sticks),
+}
+
+/// A stream of messages whose silence the vehicle reacts to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Stream {
+    /// Offboard setpoints (`COM_OF_LOSS_T`, `COM_OBL_RC_ACT`).
+    Offboard,
+    /// Stick input (`COM_RC_LOSS_T`, `NAV_RCL_ACT`).
+    ManualControl,
 }
 
 impl Request {
@@ -121,11 +135,12 @@ impl Request {
             | Self::ReturnToLaunch
             | Self::StartMission { .. }
             | Self::GcsLinkLost
-            | Self::OffboardStreamInWallTime { .. }
+            | Self::StreamInWallTime { .. }
             | Self::InjectRotorFailure { .. } => true,
             Self::Takeoff { height_m } => opt(height_m),
             Self::OffboardSetpoint { setpoint, .. } => setpoint.is_finite(),
             Self::OffboardAttitude(t) => t.is_finite(),
+            Self::ManualControl(sticks) => sticks.is_finite(),
             Self::SetMission(m) => m.is_finite(),
             Self::Reposition {
                 north_m,

@@ -15,6 +15,8 @@
 //!   hold after a lift-off, auto-disarm (only ever on the ground).
 //! - `offboard.rs`: the offboard setpoint stream, its limiter and its loss.
 //! - `mission_run.rs`: AUTO.MISSION, item by item.
+//! - `manual.rs`: the stick modes (POSCTL, ALTCTL, STABILIZED, ACRO), the sticks' loss
+//!   (`NAV_RCL_ACT`) and a pilot taking over with the sticks.
 //! - `reactions.rs`: failsafes, rotor failures and GCS link loss.
 //! - `failsafe.rs`, `battery.rs`, `mode.rs`: geofence/battery monitor, energy gauge, PX4 modes.
 //! - `actions.rs`: the failsafe parameters' actions (`NAV_DLL_ACT`, `COM_OBL_RC_ACT`,
@@ -31,6 +33,7 @@ mod battery;
 mod failsafe;
 pub mod land_detector;
 mod landing;
+mod manual;
 mod messages;
 mod mission_run;
 mod mode;
@@ -43,17 +46,21 @@ mod rtl;
 #[cfg(test)]
 mod script;
 
-pub use actions::{GeofenceAction, LinkLossAction, LowBatteryAction, OffboardLossAction, UnknownAction};
+pub use actions::{
+    GeofenceAction, LinkLossAction, LowBatteryAction, ManualInputMode, ManualLossAction, OffboardLossAction,
+    UnknownAction,
+};
 pub use battery::{BatteryGauge, BatteryParams};
 pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
 pub use land_detector::{LandDetectorParams, LandStage};
-pub use messages::{CommanderTick, Event, LandedState, Outcome, Request};
+pub use messages::{CommanderTick, Event, LandedState, Outcome, Request, Stream};
 pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
-pub use params::CommanderParams;
+pub use params::{CommanderParams, ManualParams};
 
 use land_detector::LandDetector;
 use landing::Command;
+use manual::ManualInput;
 use mission_run::MissionRun;
 use offboard::Offboard;
 use rtl::RtlPhase;
@@ -82,6 +89,7 @@ pub struct Commander {
     /// The vehicle has been in the air since it was armed.
     took_off: bool,
     offboard: Offboard,
+    manual: ManualInput,
     mission: MissionRun,
     speed_override: Option<f64>,
     home_w: Vec3,
@@ -107,6 +115,7 @@ impl Commander {
             armed_at_s: 0.0,
             took_off: false,
             offboard: Offboard::default(),
+            manual: ManualInput::default(),
             mission: MissionRun::default(),
             speed_override: None,
             home_w: Vec3::zeros(),
@@ -180,6 +189,10 @@ impl Commander {
             self.detect_landing(x, Command::Idle, thrust_over_weight, t_s, &mut events);
             return CommanderTick::idle(events);
         }
+        self.watch_sticks(x, t_s, &mut events);
+        if !self.armed {
+            return CommanderTick::idle(events);
+        }
         let yaw = euler_zyx(&x.r_wb).z;
         let command = match self.mode {
             FlightMode::Takeoff => {
@@ -195,6 +208,7 @@ impl Commander {
                 None
             }
             FlightMode::Offboard => self.offboard_command(x, yaw, dt_s, t_s, &mut events),
+            mode if mode.flown_by_sticks() => Some(self.stick_command(x, yaw, dt_s, t_s)),
             _ => None,
         };
         if !self.armed {

@@ -20,22 +20,30 @@ pub enum FlightMode {
     Land,
     /// OFFBOARD: follow external setpoints.
     Offboard,
+    /// MANUAL: for a multicopter PX4 flies it as STABILIZED.
+    Manual,
+    /// ALTCTL: the sticks set the tilt and the climb rate, the height holds.
+    Altitude,
+    /// ACRO: the sticks set the body rates and the throttle the thrust.
+    Acro,
+    /// STABILIZED: the sticks set the tilt and the heading rate, the throttle the thrust.
+    Stabilized,
 }
 
 /// Why a PX4 mode number cannot be flown.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ModeRefusal {
-    /// A mode that needs a manual-control source (MANUAL, ALTCTL, ACRO, STABILIZED).
-    NeedsManualControl,
     /// Not a PX4 mode this emulator knows.
     Unknown,
 }
 
+const MAIN_MANUAL: u8 = 1;
+const MAIN_ALTCTL: u8 = 2;
 const MAIN_POSCTL: u8 = 3;
 const MAIN_AUTO: u8 = 4;
+const MAIN_ACRO: u8 = 5;
 const MAIN_OFFBOARD: u8 = 6;
-/// MANUAL (1), ALTCTL (2), ACRO (5) and STABILIZED (7): modes that need a manual-control source.
-const MAIN_MANUAL_CONTROL: [u8; 4] = [1, 2, 5, 7];
+const MAIN_STABILIZED: u8 = 7;
 
 /// How PX4 names and numbers one mode.
 struct ModeRow {
@@ -75,9 +83,10 @@ const fn row(
 
 /// Each mode in declaration order (indexed by `mode as usize`): PX4 main and sub mode, the
 /// MAV_STANDARD_MODE it answers to (position hold 1, safe recovery 5, mission 6, land 7,
-/// take-off 8; PX4 gives AUTO.LOITER and OFFBOARD none), PX4's display name, its navigation
-/// state and its UI name. The one table behind every mapping below.
-const MODES: [ModeRow; 8] = [
+/// take-off 8, altitude hold 4; PX4 gives AUTO.LOITER, OFFBOARD and the manual-thrust modes
+/// none), PX4's display name, its navigation state and its UI name. The one table behind every
+/// mapping below.
+const MODES: [ModeRow; 12] = [
     row(
         FlightMode::Position,
         (MAIN_POSCTL, 0),
@@ -121,6 +130,24 @@ const MODES: [ModeRow; 8] = [
         Some(14),
         "Offboard",
     ),
+    row(FlightMode::Manual, (MAIN_MANUAL, 0), None, "MANUAL", Some(0), "Manual"),
+    row(
+        FlightMode::Altitude,
+        (MAIN_ALTCTL, 0),
+        Some(4),
+        "ALTCTL",
+        Some(1),
+        "Altitude",
+    ),
+    row(FlightMode::Acro, (MAIN_ACRO, 0), None, "ACRO", Some(10), "Acro"),
+    row(
+        FlightMode::Stabilized,
+        (MAIN_STABILIZED, 0),
+        None,
+        "STABILIZED",
+        Some(15),
+        "Stabilized",
+    ),
 ];
 
 impl FlightMode {
@@ -145,11 +172,7 @@ impl FlightMode {
         let flown = MODES
             .iter()
             .find(|r| r.main == main && (main != MAIN_AUTO || r.sub == sub));
-        match flown {
-            Some(r) => Ok(r.mode),
-            None if MAIN_MANUAL_CONTROL.contains(&main) => Err(ModeRefusal::NeedsManualControl),
-            None => Err(ModeRefusal::Unknown),
-        }
+        flown.map(|r| r.mode).ok_or(ModeRefusal::Unknown)
     }
 
     /// The mode for a packed `custom_mode` (SET_MODE message).
@@ -157,8 +180,9 @@ impl FlightMode {
         Self::from_px4(((custom_mode >> 16) & 0xFF) as u8, ((custom_mode >> 24) & 0xFF) as u8)
     }
 
-    /// The mode for a MAV_STANDARD_MODE (DO_SET_STANDARD_MODE p1): position hold (1), safe
-    /// recovery (5, return), mission (6), land (7), take-off (8); `None` for the others.
+    /// The mode for a MAV_STANDARD_MODE (DO_SET_STANDARD_MODE p1): position hold (1), altitude
+    /// hold (4), safe recovery (5, return), mission (6), land (7), take-off (8); `None` for the
+    /// others.
     pub fn from_standard_mode(standard_mode: u8) -> Option<Self> {
         MODES.iter().find(|r| r.standard == Some(standard_mode)).map(|r| r.mode)
     }
@@ -178,8 +202,23 @@ impl FlightMode {
         self.row().ui_name
     }
 
+    /// True for the modes flown from the sticks (MANUAL_CONTROL): MANUAL, ALTCTL, POSCTL, ACRO,
+    /// STABILIZED.
+    pub fn flown_by_sticks(self) -> bool {
+        matches!(
+            self,
+            Self::Manual | Self::Altitude | Self::Position | Self::Acro | Self::Stabilized
+        )
+    }
+
+    /// True for the modes where the throttle stick sets the thrust (MANUAL, ACRO, STABILIZED).
+    pub fn manual_thrust(self) -> bool {
+        matches!(self, Self::Manual | Self::Acro | Self::Stabilized)
+    }
+
     /// The modes a ground station can select, in PX4's navigation-state order (the order of
-    /// AVAILABLE_MODES): position, mission, hold, return, offboard, take-off, land.
+    /// AVAILABLE_MODES): manual, altitude, position, mission, hold, return, acro, offboard,
+    /// stabilized, take-off, land.
     pub fn selectable() -> Vec<Self> {
         let mut modes: Vec<(u8, Self)> = MODES.iter().filter_map(|r| Some((r.nav_state?, r.mode))).collect();
         modes.sort_by_key(|(nav_state, _)| *nav_state);
@@ -202,16 +241,19 @@ mod tests {
             (FlightMode::ReturnToLaunch, 84_148_224),
             (FlightMode::Land, 100_925_440),
             (FlightMode::Offboard, 393_216),
+            (FlightMode::Manual, 65_536),
+            (FlightMode::Altitude, 131_072),
+            (FlightMode::Acro, 327_680),
+            (FlightMode::Stabilized, 458_752),
         ];
         for (mode, cm) in table {
             assert_eq!(mode.custom_mode(), cm, "{}", mode.name());
             assert_eq!(FlightMode::from_custom_mode(cm), Ok(mode));
         }
-        assert_eq!(FlightMode::from_px4(1, 0), Err(ModeRefusal::NeedsManualControl));
         assert_eq!(FlightMode::from_px4(4, 9), Err(ModeRefusal::Unknown));
         assert_eq!(FlightMode::from_px4(9, 0), Err(ModeRefusal::Unknown));
         assert_eq!(FlightMode::from_px4(4, 0), Err(ModeRefusal::Unknown));
-        let standard = [1, 5, 6, 7, 8, 2].map(FlightMode::from_standard_mode);
+        let standard = [1, 5, 6, 7, 8, 2, 4].map(FlightMode::from_standard_mode);
         let expected = [
             Some(FlightMode::Position),
             Some(FlightMode::ReturnToLaunch),
@@ -219,6 +261,7 @@ mod tests {
             Some(FlightMode::Land),
             Some(FlightMode::Takeoff),
             None,
+            Some(FlightMode::Altitude),
         ];
         assert_eq!(standard, expected);
         for (k, r) in MODES.iter().enumerate() {
@@ -227,7 +270,19 @@ mod tests {
         use FlightMode::*;
         assert_eq!(
             FlightMode::selectable(),
-            [Position, Mission, Loiter, ReturnToLaunch, Offboard, Takeoff, Land]
+            [
+                Manual,
+                Altitude,
+                Position,
+                Mission,
+                Loiter,
+                ReturnToLaunch,
+                Acro,
+                Offboard,
+                Stabilized,
+                Takeoff,
+                Land
+            ]
         );
         assert_eq!((Loiter.ui_name(), Loiter.standard_mode()), ("Hold", None));
     }

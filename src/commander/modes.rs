@@ -54,9 +54,13 @@ impl Commander {
         }
     }
 
-    /// A requested mode switch: AUTO.MISSION needs a mission, OFFBOARD a live setpoint stream;
+    /// A requested mode switch: AUTO.MISSION needs a mission, OFFBOARD a live setpoint stream,
+    /// the stick modes but POSCTL live sticks;
     /// AUTO.TAKEOFF without a target (or in the air) climbs to `MIS_TAKEOFF_ALT` from here.
     pub(super) fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
+        if let Some(refusal) = self.stick_mode_refusal(mode, t_s, false) {
+            return refusal;
+        }
         match mode {
             FlightMode::Mission if self.mission.mission.is_empty() => {
                 Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into())
@@ -86,6 +90,8 @@ impl Commander {
         self.mode = mode;
         self.climbing_out = false;
         self.offboard.limiter = None;
+        self.manual.reference = None;
+        self.manual.heading_rad = None;
         let yaw = euler_zyx(&x.r_wb).z;
         let on_ground = !self.in_air();
         let hold = Guidance::Hold {

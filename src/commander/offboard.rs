@@ -30,7 +30,7 @@ pub(super) struct Offboard {
 
 impl Commander {
     /// True when an offboard setpoint arrived within `COM_OF_LOSS_T` of `t_s` [s], or the link
-    /// says the stream is alive in wall time ([`Request::OffboardStreamInWallTime`]): a ground
+    /// says the stream is alive in wall time ([`Request::StreamInWallTime`]): a ground
     /// station streaming in wall time does not lose offboard just because simulated time runs
     /// faster, and a stream that stops is lost once it is silent in both clocks.
     pub(super) fn offboard_alive(&self, t_s: f64) -> bool {
@@ -70,11 +70,15 @@ impl Commander {
         }
     }
 
-    /// `COM_OBL_RC_ACT`: without RC the stick modes hold position; 3 return, 4 land, 5 hold,
-    /// 6 and 7 stop the motors (the parameter's own choice of termination).
+    /// `COM_OBL_RC_ACT`: 0–2 the stick mode it names (without live sticks, POSCTL, which holds
+    /// position); 3 return, 4 land, 5 hold, 6 and 7 stop the motors (the parameter's own choice
+    /// of termination).
     fn offboard_lost(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
         events.push(Event::OffboardLost);
+        let sticks = self.sticks_alive(t_s);
         let mode = match self.params.offboard_loss_action {
+            OffboardLossAction::Altitude if sticks => Some(FlightMode::Altitude),
+            OffboardLossAction::Manual if sticks => Some(FlightMode::Stabilized),
             OffboardLossAction::Position | OffboardLossAction::Altitude | OffboardLossAction::Manual => {
                 Some(FlightMode::Position)
             }
@@ -166,7 +170,10 @@ mod tests {
         s.airborne(3.0);
         let here = FlatSetpoint::hold(s.x.pos_w, 0.0);
         stream(&mut s, here, 0.1);
-        let wall = |alive| Request::OffboardStreamInWallTime { alive };
+        let wall = |alive| Request::StreamInWallTime {
+            stream: super::super::Stream::Offboard,
+            alive,
+        };
         assert_eq!(s.request(wall(true)), Outcome::Accepted);
         assert_eq!(s.request(Request::SetMode(FlightMode::Offboard)), Outcome::Accepted);
         s.fly(3.0);

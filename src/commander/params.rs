@@ -1,8 +1,47 @@
 //! The commander's settings, with PX4's parameter names and defaults.
 
-use crate::navigation::MotionLimits;
+use crate::navigation::{MotionLimits, StickShaping};
 
-use super::{BatteryParams, FailsafeParams, LandDetectorParams, LinkLossAction, OffboardLossAction};
+use super::{
+    BatteryParams, FailsafeParams, LandDetectorParams, LinkLossAction, ManualInputMode, ManualLossAction,
+    OffboardLossAction,
+};
+
+/// The stick modes and the loss of the sticks (PX4 names and defaults in brackets).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ManualParams {
+    /// Stick silence that counts as lost, in simulated and in wall time [s] (`COM_RC_LOSS_T`,
+    /// 0.5).
+    pub loss_s: f64,
+    /// What the loss of the sticks does in flight (`NAV_RCL_ACT`, 2 return).
+    pub loss_action: ManualLossAction,
+    /// Which sources are flown (`COM_RC_IN_MODE`, 3 keep the first).
+    pub input_mode: ManualInputMode,
+    /// Modes in which the loss of the sticks is ignored, a bit mask (`COM_RCL_EXCEPT`, 0):
+    /// 1 mission, 2 hold (and take-off), 4 offboard.
+    pub loss_exceptions: u8,
+    /// Where moving the sticks takes over in POSCTL, a bit mask (`COM_RC_OVERRIDE`, 1):
+    /// 1 the AUTO modes, 2 OFFBOARD.
+    pub override_bits: u8,
+    /// Stick deflection that takes over [-] (`COM_RC_STICK_OV`, 30 %).
+    pub override_threshold: f64,
+    /// How the sticks are read.
+    pub shaping: StickShaping,
+}
+
+impl Default for ManualParams {
+    fn default() -> Self {
+        Self {
+            loss_s: 0.5,
+            loss_action: ManualLossAction::Return,
+            input_mode: ManualInputMode::KeepFirst,
+            loss_exceptions: 0,
+            override_bits: 1,
+            override_threshold: 0.3,
+            shaping: StickShaping::default(),
+        }
+    }
+}
 
 /// Commander settings (PX4 parameter names in brackets).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,6 +84,8 @@ pub struct CommanderParams {
     pub motion: MotionLimits,
     /// Land detector.
     pub land_detector: LandDetectorParams,
+    /// Stick modes and stick loss.
+    pub manual: ManualParams,
 }
 
 impl Default for CommanderParams {
@@ -67,6 +108,7 @@ impl Default for CommanderParams {
             battery: BatteryParams::default(),
             failure_injection: false,
             offboard_loss_action: OffboardLossAction::Position,
+            manual: ManualParams::default(),
         }
     }
 }

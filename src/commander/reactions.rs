@@ -7,16 +7,17 @@ use crate::control::VehicleState;
 
 use super::{Commander, Event, FailsafeAction, FlightMode, LinkLossAction, Outcome};
 
-/// What NAV_DLL_ACT did, for the announcement.
-fn link_loss_text(action: LinkLossAction) -> &'static str {
-    match action {
-        LinkLossAction::Hold => "GCS link lost: holding",
-        LinkLossAction::Return => "GCS link lost: returning",
-        LinkLossAction::Land => "GCS link lost: landing",
-        LinkLossAction::Terminate => "GCS link lost: terminating",
-        LinkLossAction::Disarm => "GCS link lost: disarming",
-        LinkLossAction::Disabled => "GCS link lost",
-    }
+/// What a loss action did, for the announcement: `what` is the stream lost.
+fn loss_text(what: &str, action: LinkLossAction) -> String {
+    let did = match action {
+        LinkLossAction::Hold => ": holding",
+        LinkLossAction::Return => ": returning",
+        LinkLossAction::Land => ": landing",
+        LinkLossAction::Terminate => ": terminating",
+        LinkLossAction::Disarm => ": disarming",
+        LinkLossAction::Disabled => "",
+    };
+    format!("{what} lost{did}")
 }
 
 impl Commander {
@@ -101,6 +102,14 @@ impl Commander {
         if action == LinkLossAction::Disabled || !self.armed || !self.in_air() {
             return Outcome::Accepted;
         }
+        let event = self.react_to_loss("GCS link", action, x, t_s);
+        self.pending.push(event);
+        Outcome::Accepted
+    }
+
+    /// Runs a loss `action` (hold, return, land, or 5/6 motors off; the caller has checked the
+    /// vehicle flies) for the lost stream `what`; the announcement.
+    pub(super) fn react_to_loss(&mut self, what: &str, action: LinkLossAction, x: &VehicleState, t_s: f64) -> Event {
         match action {
             LinkLossAction::Hold => self.enter(FlightMode::Loiter, x, t_s),
             LinkLossAction::Return => self.enter(FlightMode::ReturnToLaunch, x, t_s),
@@ -108,8 +117,7 @@ impl Commander {
             LinkLossAction::Terminate | LinkLossAction::Disarm => self.disarm(),
             LinkLossAction::Disabled => {}
         }
-        self.pending.push(Event::Failsafe(link_loss_text(action).to_string()));
-        Outcome::Accepted
+        Event::Failsafe(loss_text(what, action))
     }
 }
 
@@ -269,7 +277,7 @@ mod tests {
             if action == LinkLossAction::Disabled {
                 assert!(announced.is_empty());
             } else {
-                assert_eq!(announced.first(), Some(&Event::Failsafe(link_loss_text(action).into())));
+                assert_eq!(announced.first(), Some(&Event::Failsafe(loss_text("GCS link", action))));
             }
             assert!(s.step().iter().all(|e| !matches!(e, Event::Failsafe(_))), "once");
         }

@@ -8,7 +8,7 @@ use crate::math::{euler_zyx, Vec3};
 
 use super::mission_run::MissionState;
 use super::offboard::OffboardTarget;
-use super::{Commander, FlightMode, Outcome, Request};
+use super::{Commander, FlightMode, Outcome, Request, Stream};
 
 /// Highest take-off height accepted [m].
 const MAX_TAKEOFF_M: f64 = 1000.0;
@@ -33,8 +33,15 @@ impl Commander {
                 self.offboard.latest = Some((OffboardTarget::Attitude(target), t_s));
                 Outcome::Accepted
             }
-            Request::OffboardStreamInWallTime { alive } => {
-                self.offboard.alive_in_wall_time = alive;
+            Request::StreamInWallTime { stream, alive } => {
+                match stream {
+                    Stream::Offboard => self.offboard.alive_in_wall_time = alive,
+                    Stream::ManualControl => self.manual.alive_in_wall_time = alive,
+                }
+                Outcome::Accepted
+            }
+            Request::ManualControl(sticks) => {
+                self.manual.latest = Some((sticks, t_s));
                 Outcome::Accepted
             }
             Request::SetMission(mission) => {

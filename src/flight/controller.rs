@@ -71,10 +71,13 @@ pub struct FlightController {
 
 impl FlightController {
     /// The autopilot's flight controller for `airframe` flown by `kind`, home `home`, step
-    /// `dt_s` [s]: PX4's commander defaults, tilt limit [`AUTOPILOT_TILT_MAX_DEG`], the
-    /// [`DEFAULT_ESTIMATOR`] observing.
+    /// `dt_s` [s]: PX4's commander defaults with `MPC_THR_HOVER` at the airframe's hover thrust
+    /// (where PX4's hover thrust estimator would settle), tilt limit
+    /// [`AUTOPILOT_TILT_MAX_DEG`], the [`DEFAULT_ESTIMATOR`] observing.
     pub fn new(airframe: &Airframe, kind: ControllerKind, home: Home, dt_s: f64) -> Result<Self, CoreError> {
-        Self::with_commander(airframe, kind, home, dt_s, CommanderParams::default())
+        let mut commander = CommanderParams::default();
+        commander.manual.shaping.thrust_hover = airframe.hover_thrust_fraction().clamp(0.1, 0.8);
+        Self::with_commander(airframe, kind, home, dt_s, commander)
     }
 
     /// [`Self::new`] with the commander settings `commander`.

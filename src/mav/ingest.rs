@@ -11,7 +11,7 @@ use mavlink::dialects::common::{MavMessage, MavMissionResult, MavMissionType, Ma
 use mavlink::MavHeader;
 
 use crate::commander::Request;
-use crate::navigation::Home;
+use crate::navigation::{Home, Sticks};
 
 use super::mission_xfer::{mission_ack, Ids};
 use super::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
@@ -37,7 +37,7 @@ pub enum Action {
         /// What to do.
         decision: CommandDecision,
     },
-    /// A commander request that gets no ACK: an offboard setpoint or SET_MODE (#11).
+    /// A commander request that gets no ACK: an offboard setpoint, MANUAL_CONTROL or SET_MODE.
     Request(Request),
     /// A refused message: announce the reason to the sender in a STATUSTEXT warning.
     Refuse(String),
@@ -195,6 +195,10 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
                 Err(why) => Action::Refuse(why),
             }
         }
+        MavMessage::MANUAL_CONTROL(m) if ours(m.target, 0) => match Sticks::from_manual_control(m.x, m.y, m.z, m.r) {
+            Ok(sticks) => Action::Request(Request::ManualControl(sticks)),
+            Err(why) => Action::Refuse(why.to_string()),
+        },
         MavMessage::REQUEST_DATA_STREAM(r) if ours(r.target_system, r.target_component) => Action::DataStream {
             stream_id: r.req_stream_id as u8,
             rate_hz: r.req_message_rate,

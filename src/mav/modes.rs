@@ -30,6 +30,7 @@ pub fn protocol_version() -> MavMessage {
 fn standard(mode: FlightMode) -> MavStandardMode {
     match mode.standard_mode() {
         Some(1) => MavStandardMode::MAV_STANDARD_MODE_POSITION_HOLD,
+        Some(4) => MavStandardMode::MAV_STANDARD_MODE_ALTITUDE_HOLD,
         Some(5) => MavStandardMode::MAV_STANDARD_MODE_SAFE_RECOVERY,
         Some(6) => MavStandardMode::MAV_STANDARD_MODE_MISSION,
         Some(7) => MavStandardMode::MAV_STANDARD_MODE_LAND,
@@ -40,7 +41,8 @@ fn standard(mode: FlightMode) -> MavStandardMode {
 
 /// AVAILABLE_MODES for `index` (1-based, in [`FlightMode::selectable`] order), or for every mode
 /// when `index` is 0; `None` for an index beyond the last mode. As PX4 does, only a
-/// non-standard mode carries its name, and every mode but position is marked advanced.
+/// non-standard mode carries its name, and every mode but position and altitude is marked
+/// advanced.
 pub fn available_modes(index: u8) -> Option<Vec<MavMessage>> {
     let modes = FlightMode::selectable();
     let number_modes = modes.len() as u8;
@@ -51,7 +53,7 @@ pub fn available_modes(index: u8) -> Option<Vec<MavMessage>> {
         } else {
             "".into()
         };
-        let properties = if mode == FlightMode::Position {
+        let properties = if matches!(mode, FlightMode::Position | FlightMode::Altitude) {
             MavModeProperty::empty()
         } else {
             MavModeProperty::MAV_MODE_PROPERTY_ADVANCED
@@ -88,13 +90,13 @@ mod tests {
     #[test]
     fn every_selectable_mode_is_listed_once_in_order_with_names_only_for_non_standard_ones() {
         let all = available_modes(0).unwrap();
-        assert_eq!(all.len(), 7);
+        assert_eq!(all.len(), 11);
         let mut seen = Vec::new();
         for (k, msg) in all.iter().enumerate() {
             let MavMessage::AVAILABLE_MODES(m) = msg else {
                 panic!("{msg:?}")
             };
-            assert_eq!((m.mode_index, m.number_modes), (k as u8 + 1, 7));
+            assert_eq!((m.mode_index, m.number_modes), (k as u8 + 1, 11));
             let name = m.mode_name.to_str().unwrap().to_string();
             let mode = FlightMode::from_custom_mode(m.custom_mode).unwrap();
             assert_eq!(
@@ -103,10 +105,16 @@ mod tests {
             );
             seen.push((mode, name));
         }
-        assert_eq!(seen[2], (FlightMode::Loiter, "Hold".to_string()));
-        assert_eq!(seen[4], (FlightMode::Offboard, "Offboard".to_string()));
+        assert_eq!(
+            seen[1],
+            (FlightMode::Altitude, String::new()),
+            "altitude hold is standard"
+        );
+        assert_eq!(seen[4], (FlightMode::Loiter, "Hold".to_string()));
+        assert_eq!(seen[7], (FlightMode::Offboard, "Offboard".to_string()));
+        assert_eq!(seen[8], (FlightMode::Stabilized, "Stabilized".to_string()));
         assert_eq!(available_modes(3), Some(vec![all[2].clone()]));
-        assert_eq!(available_modes(8), None);
+        assert_eq!(available_modes(12), None);
     }
 
     #[test]

@@ -115,9 +115,6 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             }
             match FlightMode::from_px4(main as u8, sub as u8) {
                 Ok(mode) => CommandDecision::Execute(Request::SetMode(mode)),
-                Err(ModeRefusal::NeedsManualControl) => {
-                    CommandDecision::Refuse(Outcome::TemporarilyRejected("Mode needs manual control input".into()))
-                }
                 Err(ModeRefusal::Unknown) => {
                     CommandDecision::Refuse(Outcome::Denied(format!("Unknown mode {main}/{sub}")))
                 }
@@ -383,10 +380,10 @@ mod tests {
             ),
             CommandDecision::Execute(Request::SetMode(FlightMode::Mission))
         );
-        assert!(matches!(
-            d(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
-            CommandDecision::Refuse(Outcome::TemporarilyRejected(_))
-        ));
+        assert_eq!(
+            d(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+            CommandDecision::Execute(Request::SetMode(FlightMode::Altitude))
+        );
         assert!(matches!(
             d(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 4.0, 12.0, 0.0, 0.0, 0.0, 0.0]),
             CommandDecision::Refuse(Outcome::Denied(_))

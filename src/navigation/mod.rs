@@ -1,5 +1,6 @@
 //! Setpoint generators: the take-off climb, the trajectory generators, the guidance of the
-//! commander's modes, the motion limits they keep and the limiter offboard setpoints go through.
+//! commander's modes, the motion limits they keep, the limiter offboard setpoints go through,
+//! and the sticks with the reference the stick modes fly.
 
 mod climb;
 mod descent;
@@ -8,6 +9,8 @@ mod guidance;
 mod limits;
 pub mod mission;
 mod setpoint_limiter;
+mod stick_reference;
+mod sticks;
 pub mod trajectory;
 
 pub use climb::ClimbProfile;
@@ -17,4 +20,6 @@ pub use guidance::Guidance;
 pub use limits::MotionLimits;
 pub use mission::{Mission, MissionItem};
 pub use setpoint_limiter::SetpointLimiter;
+pub use stick_reference::StickReference;
+pub use sticks::{StickError, StickShaping, Sticks};
 pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};

@@ -35,6 +35,8 @@ pub enum Scope {
     LandDetector,
     /// What the vehicle does when something goes wrong.
     Failsafe,
+    /// How the stick modes read the sticks.
+    Sticks,
     /// The pack the energy gauge counts against.
     Battery,
     /// The control law, its gains and guards.
@@ -52,6 +54,7 @@ impl fmt::Display for Scope {
             Self::Navigation => "navigation",
             Self::LandDetector => "land detector",
             Self::Failsafe => "failsafe",
+            Self::Sticks => "sticks",
             Self::Battery => "battery",
             Self::Controller => "controller",
             Self::Estimator => "estimator",

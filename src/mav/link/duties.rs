@@ -7,7 +7,7 @@ use std::hash::Hash;
 use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
 
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO};
-use crate::commander::{Event, LinkLossAction, Request};
+use crate::commander::{Event, LinkLossAction, Request, Stream};
 use crate::mav::identity::heartbeat;
 use crate::mav::telemetry::{message, mission_current, status_text};
 use crate::telemetry::Snapshot;
@@ -35,7 +35,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             return;
         }
         self.next_duty_s = now.wall_s + DUTY_PERIOD_S;
-        self.check_offboard_stream(now);
+        self.check_streams(now);
         for k in 0..self.ports.len() {
             let link = self.ports[k].kind;
             let targets = self.ports[k].targets(now.wall_s);
@@ -104,32 +104,35 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         });
     }
 
-    /// An offboard setpoint arrived: the stream is alive in wall time; the commander hears of it
-    /// when it starts ([`Request::OffboardStreamInWallTime`]).
-    pub(super) fn heard_offboard(&mut self, now: Now) {
-        if self.offboard_heard_wall_s.replace(now.wall_s).is_none() {
-            self.tell_offboard_stream(true);
+    /// A message of `stream` arrived: the stream is alive in wall time; the commander hears of
+    /// it when it starts ([`Request::StreamInWallTime`]).
+    pub(super) fn heard_stream(&mut self, stream: Stream, now: Now) {
+        if self.stream_heard_wall_s[stream as usize].replace(now.wall_s).is_none() {
+            self.tell_stream(stream, true);
         }
     }
 
-    /// Offboard loss in wall time: `COM_OF_LOSS_T` of wall-time silence ends the stream's
-    /// liveness for the commander, which then judges it in simulated time alone (so a stream is
-    /// lost once it is silent in both clocks).
-    fn check_offboard_stream(&mut self, now: Now) {
-        let loss_s = self.params.current().commander.offboard_loss_s;
-        if self
-            .offboard_heard_wall_s
-            .is_some_and(|heard| now.wall_s - heard >= loss_s)
-        {
-            self.offboard_heard_wall_s = None;
-            self.tell_offboard_stream(false);
+    /// A stream's loss in wall time: its loss time (`COM_OF_LOSS_T`, `COM_RC_LOSS_T`) of
+    /// wall-time silence ends its liveness for the commander, which then judges it in simulated
+    /// time alone (so a stream is lost once it is silent in both clocks).
+    fn check_streams(&mut self, now: Now) {
+        let commander = self.params.current().commander;
+        for (stream, loss_s) in [
+            (Stream::Offboard, commander.offboard_loss_s),
+            (Stream::ManualControl, commander.manual.loss_s),
+        ] {
+            let heard = &mut self.stream_heard_wall_s[stream as usize];
+            if heard.is_some_and(|heard| now.wall_s - heard >= loss_s) {
+                *heard = None;
+                self.tell_stream(stream, false);
+            }
         }
     }
 
-    fn tell_offboard_stream(&mut self, alive: bool) {
+    fn tell_stream(&mut self, stream: Stream, alive: bool) {
         self.to_vehicle.push_back(ToVehicle {
             token: None,
-            request: VehicleRequest::Commander(Request::OffboardStreamInWallTime { alive }),
+            request: VehicleRequest::Commander(Request::StreamInWallTime { stream, alive }),
         });
     }
 }

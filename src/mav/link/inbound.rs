@@ -10,7 +10,7 @@ use mavlink::MavHeader;
 
 use super::params::ParamList;
 use super::{KeyToStore, LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, INFO, WARNING};
-use crate::commander::Request;
+use crate::commander::{ManualInputMode, Request, Stream};
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::ingest::{ingest, Action};
 use crate::mav::signing::{SigningKey, Verdict};
@@ -87,13 +87,18 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             Action::Command { command, decision } => self.command(now, link, from, header, &command, decision),
             // Setpoints and SET_MODE get no answer: the next heartbeat shows the result.
             Action::Request(request) => {
-                let setpoint = matches!(request, Request::OffboardSetpoint { .. } | Request::OffboardAttitude(_));
+                let stream = match request {
+                    Request::OffboardSetpoint { .. } | Request::OffboardAttitude(_) => Some(Stream::Offboard),
+                    Request::ManualControl(_) if !self.flies_sticks_from(link) => return,
+                    Request::ManualControl(_) => Some(Stream::ManualControl),
+                    _ => None,
+                };
                 self.to_vehicle.push_back(ToVehicle {
                     token: None,
                     request: VehicleRequest::Commander(request),
                 });
-                if setpoint {
-                    self.heard_offboard(now);
+                if let Some(stream) = stream {
+                    self.heard_stream(stream, now);
                 }
             }
             Action::Refuse(why) => self.send(now, link, from, &status_text(WARNING, &why)),
@@ -123,6 +128,17 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// SETUP_SIGNING: refused while armed; otherwise the key (all zero: off) applies at once to
     /// every link, and is stored when there is a key file. It reached here only unsigned with
     /// no key set, or signed with the current key.
+    /// Whether MANUAL_CONTROL from `link` is flown (`COM_RC_IN_MODE`): never for "RC only" and
+    /// "disabled" (this vehicle has no RC receiver); from the first link heard for "keep first";
+    /// from any link otherwise.
+    fn flies_sticks_from(&mut self, link: LinkKind) -> bool {
+        match self.params.current().commander.manual.input_mode {
+            ManualInputMode::RcOnly | ManualInputMode::Disabled => false,
+            ManualInputMode::MavlinkOnly | ManualInputMode::Fallback => true,
+            ManualInputMode::KeepFirst => *self.sticks_from.get_or_insert(link) == link,
+        }
+    }
+
     fn setup_signing(&mut self, now: Now, link: LinkKind, from: A, key: SigningKey, initial_timestamp: u64) {
         if self.snapshot.armed {
             self.send(

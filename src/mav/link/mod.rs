@@ -201,8 +201,10 @@ pub struct LinkMachine<A> {
     param_lists: Vec<ParamList<A>>,
     /// Where to announce each stored key's result, oldest first.
     keys_in_store: VecDeque<(LinkKind, A, bool)>,
-    /// Wall time of the latest offboard setpoint while the stream is alive in wall time [s].
-    offboard_heard_wall_s: Option<f64>,
+    /// Wall time of the latest message of each [`Stream`](crate::commander::Stream) while it is alive in wall time [s].
+    stream_heard_wall_s: [Option<f64>; 2],
+    /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
+    sticks_from: Option<LinkKind>,
     next_duty_s: f64,
     transmits: VecDeque<Transmit<A>>,
     to_vehicle: VecDeque<ToVehicle>,
@@ -233,7 +235,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             next_token: 0,
             param_lists: Vec::new(),
             keys_in_store: VecDeque::new(),
-            offboard_heard_wall_s: None,
+            stream_heard_wall_s: [None; 2],
+            sticks_from: None,
             next_duty_s: 0.0,
             transmits: VecDeque::new(),
             to_vehicle: VecDeque::new(),

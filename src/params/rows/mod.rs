@@ -9,6 +9,7 @@
 //! - `gains.rs`: every gain of the three laws, per axis.
 //! - `failsafe.rs`: link and offboard loss, geofence, battery, failure injection.
 //! - `plant.rs`: the plant's ground and ceiling effect.
+//! - `sticks.rs`: the stick modes: sources, stick loss, take-over, stick shaping.
 
 /// Declares one [`ParamDef`](super::ParamDef): name, wire type, `[min, max]`, unit, scope
 /// ([`Scope`](super::Scope) variant), description, then how it reads and writes the settings:
@@ -93,11 +94,12 @@ mod failsafe;
 mod flight;
 mod gains;
 mod plant;
+mod sticks;
 
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 14] = [
+static GROUPS: [&[ParamDef]; 16] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -112,6 +114,8 @@ static GROUPS: [&[ParamDef]; 14] = [
     flight::SPEED_CAPS,
     failsafe::FAILSAFES,
     flight::MOTION,
+    sticks::LOSS,
+    sticks::SHAPING,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 82] = [
+const WIRE_ORDER: [&str; 100] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -87,6 +87,24 @@ const WIRE_ORDER: [&str; 82] = [
     "LNDMC_TRIG_TIME",
     "MPC_LAND_ALT1",
     "MPC_LAND_ALT2",
+    "COM_RC_IN_MODE",
+    "COM_RC_LOSS_T",
+    "NAV_RCL_ACT",
+    "COM_RCL_EXCEPT",
+    "COM_RC_OVERRIDE",
+    "COM_RC_STICK_OV",
+    "MPC_HOLD_DZ",
+    "MPC_XY_MAN_EXPO",
+    "MPC_Z_MAN_EXPO",
+    "MPC_YAW_EXPO",
+    "MPC_VEL_MANUAL",
+    "MPC_MAN_TILT_MAX",
+    "MPC_MAN_Y_MAX",
+    "MC_ACRO_R_MAX",
+    "MC_ACRO_P_MAX",
+    "MC_ACRO_Y_MAX",
+    "MPC_MANTHR_MIN",
+    "MPC_THR_HOVER",
 ];
 
 fn settings() -> VehicleSettings {
