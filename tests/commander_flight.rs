@@ -2,61 +2,15 @@
 //! QGC does), hold, land with touch-down detection and auto-disarm, and return to launch.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::commander::{
-    BatteryParams, Commander, CommanderParams, Event, FailsafeParams, FlightMode, GeofenceAction, LandedState,
-    LinkLossAction, LowBatteryAction, OffboardLossAction, Outcome, Request,
+    BatteryParams, CommanderParams, Event, FailsafeParams, FlightMode, GeofenceAction, LandedState, LinkLossAction,
+    LowBatteryAction, OffboardLossAction, Outcome, Request,
 };
-use rotorpilot::control::ControllerKind;
-use rotorpilot::flight::FlightController;
-use rotorpilot::lockstep::Lockstep;
 use rotorpilot::math::Vec3;
-use rotorpilot::navigation::Home;
-use rotorpilot::sitl::SimPlant;
 
-/// The autopilot's flight controller and the plant in lockstep at 1 kHz, with the events of
-/// every tick kept.
-struct Sim {
-    lockstep: Lockstep<FlightController>,
-    events: Vec<Event>,
-}
+mod flight_bench;
 
-impl Sim {
-    fn new(airframe: &str, params: CommanderParams) -> Self {
-        let src = AirframeSource::resolve(airframe).unwrap();
-        let af = Airframe::from_source(&src).unwrap();
-        let fc =
-            FlightController::with_commander(&af, ControllerKind::Geometric, Home::default(), 1e-3, params).unwrap();
-        Self {
-            lockstep: Lockstep::new(fc, SimPlant::from_source(&src, 0).unwrap(), 1e-3),
-            events: Vec::new(),
-        }
-    }
-
-    fn commander(&self) -> &Commander {
-        self.lockstep.pilot().commander()
-    }
-
-    /// True position, world NED [m].
-    fn position(&self) -> Vec3 {
-        self.lockstep.plant().truth().pos_w
-    }
-
-    fn on_ground(&self) -> bool {
-        self.lockstep.plant().truth().on_ground
-    }
-
-    fn request(&mut self, r: Request) -> Outcome {
-        self.lockstep.request(r)
-    }
-
-    fn run(&mut self, seconds: f64) {
-        for _ in 0..(seconds * 1000.0).round() as u64 {
-            let tick = self.lockstep.step();
-            self.events.extend(tick.control.events);
-        }
-    }
-}
+use flight_bench::Sim;
 
 #[test]
 fn takeoff_hold_land_and_auto_disarm() {

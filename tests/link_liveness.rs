@@ -1,5 +1,6 @@
 //! Liveness judged by the vehicle's MAVLink endpoint with virtual clocks: GCS link loss and the
-//! offboard stream, each counted in wall and in simulated time.
+//! offboard stream and the sticks (MANUAL_CONTROL), each counted in wall and in simulated time;
+//! which links the sticks are flown from (`COM_RC_IN_MODE`).
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
 mod link_bench;
@@ -8,6 +9,7 @@ use link_bench::*;
 use mavlink::dialects::common::*;
 use rotorpilot::commander::{Event, Request, Stream};
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
+use rotorpilot::navigation::Sticks;
 
 #[test]
 fn link_loss_needs_silence_in_wall_and_simulated_time_and_fires_once() {
@@ -97,4 +99,73 @@ fn the_offboard_stream_is_alive_for_the_commander_until_com_of_loss_t_of_wall_ti
     );
     b.at(5.0, 90.0);
     assert!(b.asks().is_empty(), "said once");
+}
+
+fn joystick(x: i16, z: i16) -> MavMessage {
+    MavMessage::MANUAL_CONTROL(MANUAL_CONTROL_DATA {
+        target: 1,
+        x,
+        y: 0,
+        z,
+        r: 0,
+        ..Default::default()
+    })
+}
+
+fn sticks_of(asks: Vec<rotorpilot::mav::link::ToVehicle>) -> Vec<VehicleRequest> {
+    asks.into_iter().map(|a| a.request).collect()
+}
+
+#[test]
+fn manual_control_is_flown_from_the_first_link_and_alive_until_com_rc_loss_t_of_wall_time_silence() {
+    let mut b = Bench::new();
+    let wall = |alive| {
+        VehicleRequest::Commander(Request::StreamInWallTime {
+            stream: Stream::ManualControl,
+            alive,
+        })
+    };
+    b.send(Gcs, QGC, joystick(1000, 500));
+    let forward = Sticks {
+        pitch: 1.0,
+        ..Sticks::CENTRED
+    };
+    assert_eq!(
+        sticks_of(b.asks()),
+        vec![VehicleRequest::Commander(Request::ManualControl(forward)), wall(true)]
+    );
+    // COM_RC_IN_MODE 3 keeps the first source: MAVSDK's sticks on the API link are not flown.
+    b.send(Api, SDK, joystick(-1000, 500));
+    assert!(b.asks().is_empty());
+    b.at(0.45, 30.0);
+    b.send(Gcs, QGC, joystick(0, 500));
+    assert_eq!(sticks_of(b.asks()).len(), 1, "alive: only the sticks");
+    b.at(0.9, 60.0);
+    assert!(b.asks().is_empty(), "0.45 s of silence is within COM_RC_LOSS_T");
+    b.at(0.96, 60.0);
+    assert_eq!(sticks_of(b.asks()), vec![wall(false)]);
+    // A malformed axis is refused with the field named, never flown.
+    b.send(Gcs, QGC, joystick(1001, 500));
+    assert!(b.asks().is_empty());
+    let out = b.out();
+    let texts = named(&out, "STATUSTEXT");
+    assert!(
+        texts.iter().any(|(_, _, m)| matches!(m, MavMessage::STATUSTEXT(t)
+            if t.text.to_str().unwrap() == "MANUAL_CONTROL x = 1001 is outside [-1000, 1000]")),
+        "{texts:?}"
+    );
+}
+
+#[test]
+fn com_rc_in_mode_zero_and_four_ignore_manual_control_and_one_takes_any_link() {
+    for (mode, flown) in [(0.0, [false, false]), (4.0, [false, false]), (1.0, [true, true])] {
+        let mut b = Bench::with(|config| {
+            config.params.set("COM_RC_IN_MODE", mode, 1e-3).unwrap();
+        });
+        b.send(Gcs, QGC, joystick(0, 500));
+        let from_gcs = !b.asks().is_empty();
+        b.send(Api, SDK, joystick(0, 500));
+        let from_api = !b.asks().is_empty();
+        assert_eq!([from_gcs, from_api], flown, "COM_RC_IN_MODE {mode}");
+    }
 }
