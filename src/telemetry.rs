@@ -89,6 +89,8 @@ pub struct Snapshot {
     /// Outside the geofence (`GF_MAX_HOR_DIST` / `GF_MAX_VER_DIST`) as the geofence failsafe
     /// judged at the last check.
     pub geofence_breached: bool,
+    /// The orbit flown in orbit mode: centre, world NED [m], and radius [m], positive clockwise.
+    pub orbit: Option<(Vec3, f64)>,
 }
 
 impl Snapshot {
@@ -118,6 +120,7 @@ impl Snapshot {
             rotor_max_rad_s: 1.0,
             battery: BatterySnapshot::full(3),
             geofence_breached: false,
+            orbit: None,
         }
     }
 
@@ -134,7 +137,7 @@ impl Snapshot {
     }
 
     /// This snapshot with the commander's part (armed state, mode, landed state, home, mission
-    /// progress, geofence) taken from `commander`.
+    /// progress, geofence, orbit) taken from `commander`.
     pub fn with_commander(self, commander: &Commander) -> Self {
         let (seq, total, state) = commander.mission_progress();
         Self {
@@ -143,6 +146,7 @@ impl Snapshot {
             landed: commander.landed_state(),
             home_w: commander.home_w(),
             geofence_breached: commander.geofence_breached(),
+            orbit: commander.orbit_status(),
             mission_seq: seq as u16,
             mission_total: total as u16,
             mission_state: state,

@@ -3,7 +3,7 @@
 
 use crate::control::{AttitudeTarget, FlatSetpoint};
 use crate::math::Vec3;
-use crate::navigation::{Mission, Sticks};
+use crate::navigation::{Mission, OrbitYaw, Sticks};
 
 use super::FlightMode;
 
@@ -100,9 +100,38 @@ pub enum Request {
         /// The stream is alive in wall time.
         alive: bool,
     },
+    /// MAV_CMD_DO_ORBIT: fly a circle; every `None` keeps the running orbit's value or takes
+    /// the default.
+    Orbit(OrbitRequest),
     /// One MANUAL_CONTROL sample (a joystick, QGroundControl's virtual one, MAVSDK's
     /// `manual_control`): the sticks of the stick modes.
     ManualControl(Sticks),
+}
+
+/// What MAV_CMD_DO_ORBIT asks (NaN parameters are `None`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct OrbitRequest {
+    /// Radius [m], positive clockwise seen from above (p1).
+    pub radius_m: Option<f64>,
+    /// Tangential speed [m/s] (p2).
+    pub speed_m_s: Option<f64>,
+    /// Heading rule (p3).
+    pub yaw: Option<OrbitYaw>,
+    /// Centre north and east of home [m] (p5, p6; `None`: where the vehicle is).
+    pub centre_ne_m: Option<(f64, f64)>,
+    /// Centre z, NED [m] (p7 as altitude; `None`: the vehicle's height).
+    pub centre_down_m: Option<f64>,
+}
+
+impl OrbitRequest {
+    /// True when every number it carries is finite.
+    pub fn is_finite(&self) -> bool {
+        let opt = |v: Option<f64>| v.is_none_or(f64::is_finite);
+        opt(self.radius_m)
+            && opt(self.speed_m_s)
+            && opt(self.centre_down_m)
+            && self.centre_ne_m.is_none_or(|(n, e)| n.is_finite() && e.is_finite())
+    }
 }
 
 /// A stream of messages whose silence the vehicle reacts to.
@@ -141,6 +170,7 @@ impl Request {
             Self::OffboardSetpoint { setpoint, .. } => setpoint.is_finite(),
             Self::OffboardAttitude(t) => t.is_finite(),
             Self::ManualControl(sticks) => sticks.is_finite(),
+            Self::Orbit(orbit) => orbit.is_finite(),
             Self::SetMission(m) => m.is_finite(),
             Self::Reposition {
                 north_m,

@@ -15,6 +15,7 @@
 //!   hold after a lift-off, auto-disarm (only ever on the ground).
 //! - `offboard.rs`: the offboard setpoint stream, its limiter and its loss.
 //! - `mission_run.rs`: AUTO.MISSION, item by item.
+//! - `orbit.rs`: orbit mode (MAV_CMD_DO_ORBIT).
 //! - `manual.rs`: the stick modes (POSCTL, ALTCTL, STABILIZED, ACRO), the sticks' loss
 //!   (`NAV_RCL_ACT`) and a pilot taking over with the sticks.
 //! - `reactions.rs`: failsafes, rotor failures and GCS link loss.
@@ -39,6 +40,7 @@ mod mission_run;
 mod mode;
 mod modes;
 mod offboard;
+mod orbit;
 mod params;
 mod reactions;
 mod requests;
@@ -53,7 +55,7 @@ pub use actions::{
 pub use battery::{BatteryGauge, BatteryParams};
 pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
 pub use land_detector::{LandDetectorParams, LandStage};
-pub use messages::{CommanderTick, Event, LandedState, Outcome, Request, Stream};
+pub use messages::{CommanderTick, Event, LandedState, OrbitRequest, Outcome, Request, Stream};
 pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
 pub use params::{CommanderParams, ManualParams};
@@ -67,7 +69,7 @@ use rtl::RtlPhase;
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::Guidance;
+use crate::navigation::{Guidance, Orbit};
 
 /// Tick length assumed before the second tick [s].
 const DEFAULT_DT_S: f64 = 0.001;
@@ -91,6 +93,8 @@ pub struct Commander {
     offboard: Offboard,
     manual: ManualInput,
     mission: MissionRun,
+    /// The orbit flown or approached in orbit mode.
+    orbit: Option<Orbit>,
     speed_override: Option<f64>,
     home_w: Vec3,
     failsafes: FailsafeMonitor,
@@ -117,6 +121,7 @@ impl Commander {
             offboard: Offboard::default(),
             manual: ManualInput::default(),
             mission: MissionRun::default(),
+            orbit: None,
             speed_override: None,
             home_w: Vec3::zeros(),
             failsafes: FailsafeMonitor::default(),
@@ -208,6 +213,10 @@ impl Commander {
                 None
             }
             FlightMode::Offboard => self.offboard_command(x, yaw, dt_s, t_s, &mut events),
+            FlightMode::Orbit => {
+                self.advance_orbit(t_s);
+                None
+            }
             mode if mode.flown_by_sticks() => Some(self.stick_command(x, yaw, dt_s, t_s)),
             _ => None,
         };

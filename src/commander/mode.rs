@@ -28,6 +28,8 @@ pub enum FlightMode {
     Acro,
     /// STABILIZED: the sticks set the tilt and the heading rate, the throttle the thrust.
     Stabilized,
+    /// POSCTL.ORBIT: fly a circle (MAV_CMD_DO_ORBIT).
+    Orbit,
 }
 
 /// Why a PX4 mode number cannot be flown.
@@ -83,10 +85,10 @@ const fn row(
 
 /// Each mode in declaration order (indexed by `mode as usize`): PX4 main and sub mode, the
 /// MAV_STANDARD_MODE it answers to (position hold 1, safe recovery 5, mission 6, land 7,
-/// take-off 8, altitude hold 4; PX4 gives AUTO.LOITER, OFFBOARD and the manual-thrust modes
-/// none), PX4's display name, its navigation state and its UI name. The one table behind every
+/// take-off 8, altitude hold 4, orbit 2; PX4 gives AUTO.LOITER, OFFBOARD and the manual-thrust
+/// modes none), PX4's display name, its navigation state and its UI name. The one table behind every
 /// mapping below.
-const MODES: [ModeRow; 12] = [
+const MODES: [ModeRow; 13] = [
     row(
         FlightMode::Position,
         (MAIN_POSCTL, 0),
@@ -148,6 +150,7 @@ const MODES: [ModeRow; 12] = [
         Some(15),
         "Stabilized",
     ),
+    row(FlightMode::Orbit, (MAIN_POSCTL, 1), Some(2), "ORBIT", Some(21), "Orbit"),
 ];
 
 impl FlightMode {
@@ -167,12 +170,12 @@ impl FlightMode {
         (u32::from(main) << 16) | (u32::from(sub) << 24)
     }
 
-    /// The mode for PX4 numbers (DO_SET_MODE p2/p3).
+    /// The mode for PX4 numbers (DO_SET_MODE p2/p3): the row with both numbers; outside AUTO
+    /// (whose sub modes are modes of their own) an unknown sub mode means the main mode.
     pub fn from_px4(main: u8, sub: u8) -> Result<Self, ModeRefusal> {
-        let flown = MODES
-            .iter()
-            .find(|r| r.main == main && (main != MAIN_AUTO || r.sub == sub));
-        flown.map(|r| r.mode).ok_or(ModeRefusal::Unknown)
+        let exact = MODES.iter().find(|r| r.main == main && r.sub == sub);
+        let main_only = || MODES.iter().find(|r| r.main == main && r.sub == 0 && main != MAIN_AUTO);
+        exact.or_else(main_only).map(|r| r.mode).ok_or(ModeRefusal::Unknown)
     }
 
     /// The mode for a packed `custom_mode` (SET_MODE message).
@@ -218,7 +221,7 @@ impl FlightMode {
 
     /// The modes a ground station can select, in PX4's navigation-state order (the order of
     /// AVAILABLE_MODES): manual, altitude, position, mission, hold, return, acro, offboard,
-    /// stabilized, take-off, land.
+    /// stabilized, take-off, land, orbit.
     pub fn selectable() -> Vec<Self> {
         let mut modes: Vec<(u8, Self)> = MODES.iter().filter_map(|r| Some((r.nav_state?, r.mode))).collect();
         modes.sort_by_key(|(nav_state, _)| *nav_state);
@@ -245,6 +248,7 @@ mod tests {
             (FlightMode::Altitude, 131_072),
             (FlightMode::Acro, 327_680),
             (FlightMode::Stabilized, 458_752),
+            (FlightMode::Orbit, 16_973_824),
         ];
         for (mode, cm) in table {
             assert_eq!(mode.custom_mode(), cm, "{}", mode.name());
@@ -253,7 +257,12 @@ mod tests {
         assert_eq!(FlightMode::from_px4(4, 9), Err(ModeRefusal::Unknown));
         assert_eq!(FlightMode::from_px4(9, 0), Err(ModeRefusal::Unknown));
         assert_eq!(FlightMode::from_px4(4, 0), Err(ModeRefusal::Unknown));
-        let standard = [1, 5, 6, 7, 8, 2, 4].map(FlightMode::from_standard_mode);
+        assert_eq!(
+            FlightMode::from_px4(3, 7),
+            Ok(FlightMode::Position),
+            "POSCTL takes any sub mode"
+        );
+        let standard = [1, 5, 6, 7, 8, 3, 4, 2].map(FlightMode::from_standard_mode);
         let expected = [
             Some(FlightMode::Position),
             Some(FlightMode::ReturnToLaunch),
@@ -262,6 +271,7 @@ mod tests {
             Some(FlightMode::Takeoff),
             None,
             Some(FlightMode::Altitude),
+            Some(FlightMode::Orbit),
         ];
         assert_eq!(standard, expected);
         for (k, r) in MODES.iter().enumerate() {
@@ -281,7 +291,8 @@ mod tests {
                 Offboard,
                 Stabilized,
                 Takeoff,
-                Land
+                Land,
+                Orbit
             ]
         );
         assert_eq!((Loiter.ui_name(), Loiter.standard_mode()), ("Hold", None));

@@ -68,6 +68,7 @@ impl Commander {
             FlightMode::Offboard if !self.offboard_alive(t_s) => {
                 Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into())
             }
+            FlightMode::Orbit if !self.in_air() => Outcome::TemporarilyRejected("Mode ORBIT: not in the air".into()),
             FlightMode::Takeoff if self.takeoff_target_w.is_none() || self.in_air() => {
                 let h = self.params.takeoff_alt_m;
                 self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
@@ -92,6 +93,9 @@ impl Commander {
         self.offboard.limiter = None;
         self.manual.reference = None;
         self.manual.heading_rad = None;
+        if mode != FlightMode::Orbit {
+            self.orbit = None;
+        }
         let yaw = euler_zyx(&x.r_wb).z;
         let on_ground = !self.in_air();
         let hold = Guidance::Hold {
@@ -110,6 +114,7 @@ impl Commander {
                     self.path_to(x, target, yaw, self.cruise_speed(), t_s)
                 }
                 FlightMode::Land => self.descend(x, yaw, t_s),
+                FlightMode::Orbit if !on_ground => self.orbit_approach(x, t_s),
                 FlightMode::ReturnToLaunch => {
                     self.rtl_phase = RtlPhase::Climb;
                     let z = x.pos_w.z.min(self.home_w.z - self.params.rtl_return_alt_m);

@@ -40,6 +40,7 @@ impl Commander {
                 }
                 Outcome::Accepted
             }
+            Request::Orbit(orbit) => self.orbit(orbit, x, t_s),
             Request::ManualControl(sticks) => {
                 self.manual.latest = Some((sticks, t_s));
                 Outcome::Accepted

@@ -16,7 +16,6 @@ impl FlightController {
         let x = &sensors.state;
         let commander = self.commander();
         let step = control.step.as_ref();
-        let progress = commander.mission_progress();
         let mut rotor_speeds = [0.0; MAX_ROTORS];
         for (slot, w) in rotor_speeds.iter_mut().zip(motor_speeds) {
             *slot = *w;
@@ -29,15 +28,6 @@ impl FlightController {
             eta: euler_zyx(&x.r_wb),
             omega_b: x.omega_b,
             accel_b: sensors.accel_b,
-            armed: commander.armed(),
-            mode: commander.mode(),
-            landed: commander.landed_state(),
-            home: self.home(),
-            home_w: commander.home_w(),
-            geofence_breached: commander.geofence_breached(),
-            mission_seq: progress.0 as u16,
-            mission_total: progress.1 as u16,
-            mission_state: progress.2,
             estimate: step.and_then(|s| s.estimate),
             setpoint: control.setpoint,
             eta_desired: step.map(|s| s.control.eta_desired),
@@ -55,6 +45,8 @@ impl FlightController {
                 consumed_mah: gauge.consumed_mah(&pack),
                 energy_j: gauge.used_j(),
             },
+            ..Snapshot::initial(self.home())
         }
+        .with_commander(commander)
     }
 }

@@ -8,6 +8,7 @@
 //! - [`ingest`]: one inbound message → what the link does with it.
 //! - [`translate`], [`identity`]: commands → commander requests, ACKs, HEARTBEAT.
 //! - [`offboard`]: SET_POSITION_TARGET_* and SET_ATTITUDE_TARGET → setpoints.
+//! - [`orbit`]: MAV_CMD_DO_ORBIT and ORBIT_EXECUTION_STATUS.
 //! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
 //! - [`telemetry`] (with `status`): the streamed messages built from a snapshot.
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC, FTP's NAK.
@@ -28,6 +29,7 @@ pub mod mission_items;
 pub mod mission_xfer;
 pub mod modes;
 pub mod offboard;
+pub mod orbit;
 pub mod params;
 pub mod services;
 pub mod signing;

@@ -34,6 +34,7 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         ServoOutputRaw | ActuatorOutputStatus => (1.0, 10.0),
         HighresImu => (0.0, 50.0),
         ExternalForce | ExternalTorque | MassEstimate => (10.0, 10.0),
+        OrbitStatus => (5.0, 5.0),
     };
     match kind {
         LinkKind::Gcs => gcs,

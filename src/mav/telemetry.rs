@@ -59,11 +59,13 @@ pub enum Stream {
     MassEstimate,
     /// CURRENT_MODE (436): the mode flown, with its standard mode.
     CurrentMode,
+    /// ORBIT_EXECUTION_STATUS (360): the orbit flown (only in orbit mode).
+    OrbitStatus,
 }
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 20] = [
+    pub const ALL: [Stream; 21] = [
         Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
@@ -84,6 +86,7 @@ impl Stream {
         Stream::ExternalTorque,
         Stream::MassEstimate,
         Stream::CurrentMode,
+        Stream::OrbitStatus,
     ];
 
     /// MAVLink message id.
@@ -108,6 +111,7 @@ impl Stream {
             Stream::ExternalForce | Stream::ExternalTorque => 250,
             Stream::MassEstimate => 251,
             Stream::CurrentMode => 436,
+            Stream::OrbitStatus => 360,
         }
     }
 }
@@ -158,6 +162,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
     };
     Some(match stream {
         Stream::CurrentMode => super::modes::current_mode(s.mode),
+        Stream::OrbitStatus => return super::orbit::orbit_execution_status(s),
         Stream::AttitudeQuaternion => {
             let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);
             MavMessage::ATTITUDE_QUATERNION(ATTITUDE_QUATERNION_DATA {

@@ -130,6 +130,10 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             None => CommandDecision::Refuse(Outcome::Denied("Set standard mode: no mode".into())),
         },
         MavCmd::MAV_CMD_INJECT_FAILURE => inject_failure(cmd),
+        MavCmd::MAV_CMD_DO_ORBIT => {
+            let centre = |x: f32| (!x.is_nan()).then_some(f64::from(x));
+            super::orbit::decode_orbit(cmd, centre(cmd.param5).zip(centre(cmd.param6)), origin)
+        }
         MavCmd::MAV_CMD_DO_REPOSITION => {
             // COMMAND_LONG form: p5/p6 latitude/longitude [deg], p7 AMSL [m] (NaN = keep).
             let (lat, lon) = (param(cmd.param5), param(cmd.param6));
@@ -232,7 +236,15 @@ fn reposition(cmd: &COMMAND_LONG_DATA, xy: Option<(f64, f64)>, down: Option<f64>
 #[allow(deprecated)]
 pub fn decode_command_int(id: &Identity, sender: &MavHeader, cmd: &COMMAND_INT_DATA, origin: &Home) -> CommandDecision {
     let long = command_int_as_long(cmd);
-    if cmd.command != MavCmd::MAV_CMD_DO_REPOSITION || !id.accepts(sender, cmd.target_system, cmd.target_component) {
+    if !id.accepts(sender, cmd.target_system, cmd.target_component) {
+        return decode_command(id, sender, &long, origin);
+    }
+    if cmd.command == MavCmd::MAV_CMD_DO_ORBIT {
+        let given = cmd.x != i32::MAX && cmd.y != i32::MAX;
+        let centre = given.then(|| (f64::from(cmd.x) * 1e-7, f64::from(cmd.y) * 1e-7));
+        return super::orbit::decode_orbit(&long, centre, origin);
+    }
+    if cmd.command != MavCmd::MAV_CMD_DO_REPOSITION {
         return decode_command(id, sender, &long, origin);
     }
     let alt_amsl = |z: f32| match cmd.frame {
@@ -369,7 +381,7 @@ mod tests {
         assert!(matches!(
             d(
                 MavCmd::MAV_CMD_DO_SET_STANDARD_MODE,
-                [2.0, NAN, NAN, NAN, NAN, NAN, NAN]
+                [3.0, NAN, NAN, NAN, NAN, NAN, NAN]
             ),
             CommandDecision::Refuse(Outcome::Failed(_))
         ));

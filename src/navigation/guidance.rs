@@ -1,12 +1,13 @@
 //! What to fly right now, as the commander's modes need it (PX4 AUTO modes; mavlink.md §2.1):
 //! hold a point, follow a rest-to-rest path (take-off climb, return leg), or descend (fast high
-//! up, at the landing speed near the ground) until the ground stops the vehicle (landing).
+//! up, at the landing speed near the ground) until the ground stops the vehicle (landing), or
+//! fly a circle (orbit).
 
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::Vec3;
 
 use super::trajectory::Quintic;
-use super::{DescentProfile, MotionLimits};
+use super::{DescentProfile, MotionLimits, Orbit};
 
 /// How far the landing reference may run ahead of the vehicle below it [m]; keeps the position
 /// error (and so the thrust reduction) bounded once the ground stops the descent.
@@ -45,6 +46,8 @@ pub enum Guidance {
         /// Descent speed by height.
         profile: DescentProfile,
     },
+    /// Fly a circle (orbit mode).
+    Orbit(Orbit),
 }
 
 impl Guidance {
@@ -79,6 +82,7 @@ impl Guidance {
             Self::Idle => None,
             Self::Hold { pos_w, yaw_rad } => Some(FlatSetpoint::hold(pos_w, yaw_rad)),
             Self::Path { path, start_s } => Some(path.sample(t_s - start_s).setpoint()),
+            Self::Orbit(orbit) => Some(orbit.setpoint(t_s)),
             Self::Descend {
                 xy_w,
                 yaw_rad,

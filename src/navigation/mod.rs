@@ -1,6 +1,6 @@
 //! Setpoint generators: the take-off climb, the trajectory generators, the guidance of the
 //! commander's modes, the motion limits they keep, the limiter offboard setpoints go through,
-//! and the sticks with the reference the stick modes fly.
+//! the sticks with the reference the stick modes fly, and the orbit.
 
 mod climb;
 mod descent;
@@ -8,6 +8,7 @@ pub mod geo;
 mod guidance;
 mod limits;
 pub mod mission;
+mod orbit;
 mod setpoint_limiter;
 mod stick_reference;
 mod sticks;
@@ -19,6 +20,7 @@ pub use geo::Home;
 pub use guidance::Guidance;
 pub use limits::MotionLimits;
 pub use mission::{Mission, MissionItem};
+pub use orbit::{Orbit, OrbitYaw, ORBIT_RADIUS_M};
 pub use setpoint_limiter::SetpointLimiter;
 pub use stick_reference::StickReference;
 pub use sticks::{StickError, StickShaping, Sticks};

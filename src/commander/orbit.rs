@@ -1,0 +1,188 @@
+//! Orbit mode (MAV_CMD_DO_ORBIT, PX4's POSCTL.ORBIT): approach the nearest point of the circle
+//! on a rest-to-rest path, then fly the circle ([`Orbit`]) until another mode is chosen. A new
+//! DO_ORBIT while orbiting changes what it names and keeps the rest (MAVLink: NaN keeps the
+//! running orbit's radius, speed, heading rule and centre). Selected as a mode without a command,
+//! it circles with the vehicle on the circle, as PX4 does: 10 m radius at 1 m/s, centre south.
+
+use crate::control::VehicleState;
+use crate::math::{euler_zyx, Vec3};
+use crate::navigation::{Guidance, Orbit, OrbitYaw, ORBIT_RADIUS_M};
+
+use super::{Commander, FlightMode, OrbitRequest, Outcome};
+
+/// Radius of an orbit that names none [m].
+const DEFAULT_RADIUS_M: f64 = 10.0;
+/// Speed of an orbit that names none [m/s].
+const DEFAULT_SPEED_M_S: f64 = 1.0;
+
+impl Commander {
+    /// The orbit flown (centre [m] and radius [m], positive clockwise) while in orbit mode.
+    pub fn orbit_status(&self) -> Option<(Vec3, f64)> {
+        let o = self.orbit.filter(|_| self.mode == FlightMode::Orbit)?;
+        Some((o.centre_w, if o.clockwise { o.radius_m } else { -o.radius_m }))
+    }
+
+    /// DO_ORBIT: refused on the ground and for a radius outside [1, 1000] m or a speed ≤ 0.
+    pub(super) fn orbit(&mut self, req: OrbitRequest, x: &VehicleState, t_s: f64) -> Outcome {
+        if !self.in_air() {
+            return Outcome::TemporarilyRejected("Orbit: not in the air".into());
+        }
+        let running = self.orbit.filter(|_| self.mode == FlightMode::Orbit);
+        let signed = req
+            .radius_m
+            .or(running.map(|o| if o.clockwise { o.radius_m } else { -o.radius_m }))
+            .unwrap_or(DEFAULT_RADIUS_M);
+        if !(ORBIT_RADIUS_M.0..=ORBIT_RADIUS_M.1).contains(&signed.abs()) {
+            return Outcome::Denied(format!(
+                "Orbit: radius {signed} m outside [{}, {}] m",
+                ORBIT_RADIUS_M.0, ORBIT_RADIUS_M.1
+            ));
+        }
+        let speed = req
+            .speed_m_s
+            .or(running.map(|o| o.speed_m_s))
+            .unwrap_or(DEFAULT_SPEED_M_S);
+        if speed <= 0.0 {
+            return Outcome::Denied(format!("Orbit: speed {speed} m/s"));
+        }
+        let centre_ne = req
+            .centre_ne_m
+            .or(running.map(|o| (o.centre_w.x, o.centre_w.y)))
+            .unwrap_or((x.pos_w.x, x.pos_w.y));
+        let centre_w = Vec3::new(centre_ne.0, centre_ne.1, req.centre_down_m.unwrap_or(x.pos_w.z));
+        let yaw = req.yaw.or(running.map(|o| o.yaw)).unwrap_or_default();
+        self.orbit = Some(self.plan_orbit(centre_w, signed, speed, yaw, x));
+        self.enter(FlightMode::Orbit, x, t_s);
+        Outcome::Accepted
+    }
+
+    /// An orbit around `centre_w` [m] of signed radius `signed_m` [m] at `speed_m_s` [m/s]
+    /// (capped at `MPC_XY_VEL_MAX` and by the centripetal acceleration), starting at the point
+    /// of the circle nearest to the vehicle.
+    fn plan_orbit(&self, centre_w: Vec3, signed_m: f64, speed_m_s: f64, yaw: OrbitYaw, x: &VehicleState) -> Orbit {
+        let radius_m = signed_m.abs();
+        let lim = &self.params.motion;
+        let (_, start_angle_rad) = Orbit::nearest_point(centre_w, radius_m, x.pos_w);
+        Orbit {
+            centre_w,
+            radius_m,
+            clockwise: signed_m > 0.0,
+            speed_m_s: Orbit::speed_within(speed_m_s.min(lim.horizontal_m_s), radius_m, lim.acc_horizontal_m_s2),
+            acc_m_s2: lim.acc_horizontal_m_s2,
+            yaw,
+            initial_yaw_rad: euler_zyx(&x.r_wb).z,
+            start_angle_rad,
+            start_s: 0.0,
+        }
+    }
+
+    /// Orbit mode's guidance on entry: the path to the start of the planned orbit (planned now,
+    /// PX4's default, when the mode was chosen without DO_ORBIT).
+    pub(super) fn orbit_approach(&mut self, x: &VehicleState, t_s: f64) -> Guidance {
+        let plan = match self.orbit {
+            Some(plan) => plan,
+            None => {
+                let centre_w = x.pos_w - Vec3::new(DEFAULT_RADIUS_M, 0.0, 0.0);
+                let plan = self.plan_orbit(centre_w, DEFAULT_RADIUS_M, DEFAULT_SPEED_M_S, OrbitYaw::default(), x);
+                self.orbit = Some(plan);
+                plan
+            }
+        };
+        let start = plan.setpoint(plan.start_s);
+        let to_w = start.pos_w.unwrap_or(x.pos_w);
+        let to_yaw = start.yaw_rad.unwrap_or(plan.initial_yaw_rad);
+        self.path_to(x, to_w, to_yaw, self.cruise_speed(), t_s)
+    }
+
+    /// One orbit-mode tick: once the approach path has ended, the circle starts.
+    pub(super) fn advance_orbit(&mut self, t_s: f64) {
+        if let (Guidance::Path { .. }, Some(plan)) = (self.guidance, self.orbit) {
+            if self.guidance.finished(t_s) {
+                let orbit = Orbit { start_s: t_s, ..plan };
+                self.orbit = Some(orbit);
+                self.guidance = Guidance::Orbit(orbit);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::Script;
+    use super::super::{CommanderParams, FlightMode, Outcome, Request};
+    use super::*;
+
+    fn request(radius_m: f64, speed_m_s: f64, centre: (f64, f64)) -> Request {
+        Request::Orbit(OrbitRequest {
+            radius_m: Some(radius_m),
+            speed_m_s: Some(speed_m_s),
+            yaw: None,
+            centre_ne_m: Some(centre),
+            centre_down_m: Some(-10.0),
+        })
+    }
+
+    #[test]
+    fn do_orbit_approaches_the_circle_then_flies_it_facing_the_centre() {
+        let mut s = Script::new(CommanderParams::default());
+        assert_eq!(
+            s.request(request(10.0, 2.0, (30.0, 0.0))),
+            Outcome::TemporarilyRejected("Orbit: not in the air".into())
+        );
+        s.airborne(5.0);
+        assert_eq!(s.request(request(10.0, 2.0, (30.0, 0.0))), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Orbit);
+        s.fly(20.0);
+        let centre = Vec3::new(30.0, 0.0, -10.0);
+        let on_circle = |s: &Script| ((s.x.pos_w - centre).norm() - 10.0).abs() < 1e-6;
+        assert!(on_circle(&s), "on the circle at the centre's height: {:?}", s.x.pos_w);
+        let mut angles = Vec::new();
+        for _ in 0..40 {
+            s.fly(1.0);
+            assert!(on_circle(&s));
+            let d = s.x.pos_w - centre;
+            angles.push(d.y.atan2(d.x));
+            let yaw = crate::math::euler_zyx(&s.x.r_wb).z;
+            assert!(
+                crate::math::wrap_pi(yaw - (-d).y.atan2(-d.x)).abs() < 1e-6,
+                "nose to the centre"
+            );
+        }
+        assert!(s.x.vel_w.norm() > 1.99 && s.x.vel_w.norm() < 2.01, "{:?}", s.x.vel_w);
+        let turned: f64 = angles.windows(2).map(|w| crate::math::wrap_pi(w[1] - w[0])).sum();
+        assert!(turned > 7.0, "clockwise (angle growing), 80 m of arc: {turned} rad");
+        assert_eq!(s.c.orbit_status(), Some((centre, 10.0)));
+    }
+
+    #[test]
+    fn a_new_do_orbit_keeps_what_it_does_not_name_and_bad_values_are_denied() {
+        let mut s = Script::new(CommanderParams::default());
+        s.airborne(5.0);
+        assert_eq!(s.request(request(-20.0, 3.0, (0.0, 40.0))), Outcome::Accepted);
+        s.fly(30.0);
+        let faster = Request::Orbit(OrbitRequest {
+            speed_m_s: Some(5.0),
+            ..Default::default()
+        });
+        assert_eq!(s.request(faster), Outcome::Accepted);
+        s.fly(30.0);
+        assert_eq!(s.c.orbit_status(), Some((Vec3::new(0.0, 40.0, -10.0), -20.0)));
+        assert!((s.x.vel_w.norm() - 5.0).abs() < 1e-6, "{:?}", s.x.vel_w);
+        assert!(matches!(s.request(request(0.5, 1.0, (0.0, 0.0))), Outcome::Denied(_)));
+        assert!(matches!(s.request(request(10.0, -1.0, (0.0, 0.0))), Outcome::Denied(_)));
+        assert_eq!(s.request(Request::SetMode(FlightMode::Loiter)), Outcome::Accepted);
+        assert_eq!(s.c.orbit_status(), None);
+    }
+
+    #[test]
+    fn the_orbit_mode_alone_circles_with_the_vehicle_on_the_circle() {
+        let mut s = Script::new(CommanderParams::default());
+        s.airborne(5.0);
+        let here = s.x.pos_w;
+        assert_eq!(s.request(Request::SetMode(FlightMode::Orbit)), Outcome::Accepted);
+        s.fly(5.0);
+        let (centre, radius) = s.c.orbit_status().expect("orbiting");
+        assert_eq!((centre, radius), (here - Vec3::new(10.0, 0.0, 0.0), 10.0));
+        assert!(((s.x.pos_w - centre).norm() - 10.0).abs() < 1e-6);
+    }
+}
