@@ -22,7 +22,7 @@ impl Commander {
                 FlightMode::Offboard if !self.offboard_alive(t_s) => {
                     return Outcome::TemporarilyRejected("Arming denied: no offboard setpoints".into())
                 }
-                FlightMode::Land | FlightMode::ReturnToLaunch | FlightMode::Orbit => {
+                FlightMode::Land | FlightMode::ReturnToLaunch | FlightMode::Orbit | FlightMode::FollowTarget => {
                     return Outcome::TemporarilyRejected(format!("Arming denied: not in {}", self.mode.name()))
                 }
                 mode => {

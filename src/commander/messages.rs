@@ -103,6 +103,13 @@ pub enum Request {
     /// MAV_CMD_DO_ORBIT: fly a circle; every `None` keeps the running orbit's value or takes
     /// the default.
     Orbit(OrbitRequest),
+    /// A FOLLOW_TARGET report: where the target is and how it moves.
+    FollowTarget {
+        /// Target position, world NED [m].
+        pos_w: Vec3,
+        /// Target velocity, world NED [m/s] (zero when not reported).
+        vel_w: Vec3,
+    },
     /// One MANUAL_CONTROL sample (a joystick, QGroundControl's virtual one, MAVSDK's
     /// `manual_control`): the sticks of the stick modes.
     ManualControl(Sticks),
@@ -171,6 +178,7 @@ impl Request {
             Self::OffboardAttitude(t) => t.is_finite(),
             Self::ManualControl(sticks) => sticks.is_finite(),
             Self::Orbit(orbit) => orbit.is_finite(),
+            Self::FollowTarget { pos_w, vel_w } => pos_w.iter().chain(vel_w.iter()).all(|v| v.is_finite()),
             Self::SetMission(m) => m.is_finite(),
             Self::Reposition {
                 north_m,

@@ -15,7 +15,7 @@
 //!   hold after a lift-off, auto-disarm (only ever on the ground).
 //! - `offboard.rs`: the offboard setpoint stream, its limiter and its loss.
 //! - `mission_run.rs`: AUTO.MISSION, item by item.
-//! - `orbit.rs`: orbit mode (MAV_CMD_DO_ORBIT).
+//! - `orbit.rs`: orbit mode (MAV_CMD_DO_ORBIT); `follow.rs`: follow-me (FOLLOW_TARGET).
 //! - `manual.rs`: the stick modes (POSCTL, ALTCTL, STABILIZED, ACRO), the sticks' loss
 //!   (`NAV_RCL_ACT`) and a pilot taking over with the sticks.
 //! - `reactions.rs`: failsafes, rotor failures and GCS link loss.
@@ -32,6 +32,7 @@ mod actions;
 mod arming;
 mod battery;
 mod failsafe;
+mod follow;
 pub mod land_detector;
 mod landing;
 mod manual;
@@ -60,6 +61,7 @@ pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
 pub use params::{CommanderParams, ManualParams};
 
+use follow::Follow;
 use land_detector::LandDetector;
 use landing::Command;
 use manual::ManualInput;
@@ -95,6 +97,7 @@ pub struct Commander {
     mission: MissionRun,
     /// The orbit flown or approached in orbit mode.
     orbit: Option<Orbit>,
+    follow: Follow,
     speed_override: Option<f64>,
     home_w: Vec3,
     failsafes: FailsafeMonitor,
@@ -122,6 +125,7 @@ impl Commander {
             manual: ManualInput::default(),
             mission: MissionRun::default(),
             orbit: None,
+            follow: Follow::default(),
             speed_override: None,
             home_w: Vec3::zeros(),
             failsafes: FailsafeMonitor::default(),
@@ -217,6 +221,7 @@ impl Commander {
                 self.advance_orbit(t_s);
                 None
             }
+            FlightMode::FollowTarget => self.follow_command(x, dt_s, t_s),
             mode if mode.flown_by_sticks() => Some(self.stick_command(x, yaw, dt_s, t_s)),
             _ => None,
         };

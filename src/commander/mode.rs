@@ -30,6 +30,8 @@ pub enum FlightMode {
     Stabilized,
     /// POSCTL.ORBIT: fly a circle (MAV_CMD_DO_ORBIT).
     Orbit,
+    /// AUTO.FOLLOW_TARGET: follow the target FOLLOW_TARGET reports (follow-me).
+    FollowTarget,
 }
 
 /// Why a PX4 mode number cannot be flown.
@@ -88,7 +90,7 @@ const fn row(
 /// take-off 8, altitude hold 4, orbit 2; PX4 gives AUTO.LOITER, OFFBOARD and the manual-thrust
 /// modes none), PX4's display name, its navigation state and its UI name. The one table behind every
 /// mapping below.
-const MODES: [ModeRow; 13] = [
+const MODES: [ModeRow; 14] = [
     row(
         FlightMode::Position,
         (MAIN_POSCTL, 0),
@@ -151,6 +153,14 @@ const MODES: [ModeRow; 13] = [
         "Stabilized",
     ),
     row(FlightMode::Orbit, (MAIN_POSCTL, 1), Some(2), "ORBIT", Some(21), "Orbit"),
+    row(
+        FlightMode::FollowTarget,
+        (MAIN_AUTO, 8),
+        None,
+        "AUTO.FOLLOW_TARGET",
+        Some(19),
+        "Follow Me",
+    ),
 ];
 
 impl FlightMode {
@@ -221,7 +231,7 @@ impl FlightMode {
 
     /// The modes a ground station can select, in PX4's navigation-state order (the order of
     /// AVAILABLE_MODES): manual, altitude, position, mission, hold, return, acro, offboard,
-    /// stabilized, take-off, land, orbit.
+    /// stabilized, take-off, land, follow-me, orbit.
     pub fn selectable() -> Vec<Self> {
         let mut modes: Vec<(u8, Self)> = MODES.iter().filter_map(|r| Some((r.nav_state?, r.mode))).collect();
         modes.sort_by_key(|(nav_state, _)| *nav_state);
@@ -249,6 +259,7 @@ mod tests {
             (FlightMode::Acro, 327_680),
             (FlightMode::Stabilized, 458_752),
             (FlightMode::Orbit, 16_973_824),
+            (FlightMode::FollowTarget, 134_479_872),
         ];
         for (mode, cm) in table {
             assert_eq!(mode.custom_mode(), cm, "{}", mode.name());
@@ -292,6 +303,7 @@ mod tests {
                 Stabilized,
                 Takeoff,
                 Land,
+                FollowTarget,
                 Orbit
             ]
         );

@@ -68,7 +68,9 @@ impl Commander {
             FlightMode::Offboard if !self.offboard_alive(t_s) => {
                 Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into())
             }
-            FlightMode::Orbit if !self.in_air() => Outcome::TemporarilyRejected("Mode ORBIT: not in the air".into()),
+            FlightMode::Orbit | FlightMode::FollowTarget if !self.in_air() => {
+                Outcome::TemporarilyRejected(format!("Mode {}: not in the air", mode.name()))
+            }
             FlightMode::Takeoff if self.takeoff_target_w.is_none() || self.in_air() => {
                 let h = self.params.takeoff_alt_m;
                 self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
@@ -96,6 +98,7 @@ impl Commander {
         if mode != FlightMode::Orbit {
             self.orbit = None;
         }
+        self.follow.limiter = None;
         let yaw = euler_zyx(&x.r_wb).z;
         let on_ground = !self.in_air();
         let hold = Guidance::Hold {

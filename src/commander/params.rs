@@ -1,6 +1,6 @@
 //! The commander's settings, with PX4's parameter names and defaults.
 
-use crate::navigation::{MotionLimits, StickShaping};
+use crate::navigation::{FollowParams, MotionLimits, StickShaping};
 
 use super::{
     BatteryParams, FailsafeParams, LandDetectorParams, LinkLossAction, ManualInputMode, ManualLossAction,
@@ -86,6 +86,8 @@ pub struct CommanderParams {
     pub land_detector: LandDetectorParams,
     /// Stick modes and stick loss.
     pub manual: ManualParams,
+    /// Follow-me.
+    pub follow: FollowParams,
 }
 
 impl Default for CommanderParams {
@@ -109,6 +111,7 @@ impl Default for CommanderParams {
             failure_injection: false,
             offboard_loss_action: OffboardLossAction::Position,
             manual: ManualParams::default(),
+            follow: FollowParams::default(),
         }
     }
 }

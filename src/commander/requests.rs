@@ -41,6 +41,10 @@ impl Commander {
                 Outcome::Accepted
             }
             Request::Orbit(orbit) => self.orbit(orbit, x, t_s),
+            Request::FollowTarget { pos_w, vel_w } => {
+                self.follow_report(pos_w, vel_w, t_s);
+                Outcome::Accepted
+            }
             Request::ManualControl(sticks) => {
                 self.manual.latest = Some((sticks, t_s));
                 Outcome::Accepted

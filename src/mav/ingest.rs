@@ -107,6 +107,26 @@ pub enum MissionStep {
     },
 }
 
+/// FOLLOW_TARGET (it names no target: every vehicle hears it): the target's position (degE7,
+/// AMSL) and, when the capabilities' velocity bit (1) is set, its velocity; a position that is
+/// not a place is refused by name.
+fn follow_target(t: &mavlink::dialects::common::FOLLOW_TARGET_DATA, origin: &Home) -> Action {
+    let (lat, lon, alt) = (f64::from(t.lat) * 1e-7, f64::from(t.lon) * 1e-7, f64::from(t.alt));
+    if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite()) {
+        return Action::Refuse(format!("FOLLOW_TARGET: {lat}, {lon}, {alt} m is not a place"));
+    }
+    let vel = t.vel.map(f64::from);
+    let vel_w = if t.est_capabilities & 2 != 0 && vel.iter().all(|v| v.is_finite()) {
+        crate::math::Vec3::new(vel[0], vel[1], vel[2])
+    } else {
+        crate::math::Vec3::zeros()
+    };
+    Action::Request(Request::FollowTarget {
+        pos_w: origin.to_local(lat, lon, alt),
+        vel_w,
+    })
+}
+
 /// What the link does with `message` from `sender`; `origin` is the vehicle's home (global
 /// coordinates → local NED) and `now_ns` the link's clock for TIMESYNC [ns].
 ///
@@ -195,6 +215,7 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
                 Err(why) => Action::Refuse(why),
             }
         }
+        MavMessage::FOLLOW_TARGET(t) => follow_target(t, origin),
         MavMessage::MANUAL_CONTROL(m) if ours(m.target, 0) => match Sticks::from_manual_control(m.x, m.y, m.z, m.r) {
             Ok(sticks) => Action::Request(Request::ManualControl(sticks)),
             Err(why) => Action::Refuse(why.to_string()),
@@ -394,5 +415,33 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(run(MavMessage::MISSION_REQUEST_LIST(other_system)), Action::Ignore);
+    }
+
+    #[test]
+    fn follow_target_reports_become_local_targets_and_bad_places_are_refused() {
+        let home = Home::default();
+        let report = |lat: f64, caps: u8| {
+            MavMessage::FOLLOW_TARGET(mavlink::dialects::common::FOLLOW_TARGET_DATA {
+                lat: (lat * 1e7).round() as i32,
+                lon: (home.lon_deg * 1e7).round() as i32,
+                alt: home.alt_amsl_m as f32,
+                vel: [1.0, 2.0, 0.0],
+                est_capabilities: caps,
+                ..Default::default()
+            })
+        };
+        let Action::Request(Request::FollowTarget { pos_w, vel_w }) = run(report(home.lat_deg + 1e-4, 3)) else {
+            panic!()
+        };
+        assert!(
+            (pos_w.x - 11.1).abs() < 0.1 && pos_w.y.abs() < 0.01 && pos_w.z.abs() < 0.01,
+            "{pos_w:?}"
+        );
+        assert_eq!(vel_w, crate::math::Vec3::new(1.0, 2.0, 0.0));
+        let Action::Request(Request::FollowTarget { vel_w, .. }) = run(report(home.lat_deg, 1)) else {
+            panic!()
+        };
+        assert_eq!(vel_w, crate::math::Vec3::zeros(), "no velocity capability: none used");
+        assert!(matches!(run(report(95.0, 1)), Action::Refuse(_)));
     }
 }

@@ -91,13 +91,13 @@ mod tests {
     #[test]
     fn every_selectable_mode_is_listed_once_in_order_with_names_only_for_non_standard_ones() {
         let all = available_modes(0).unwrap();
-        assert_eq!(all.len(), 12);
+        assert_eq!(all.len(), 13);
         let mut seen = Vec::new();
         for (k, msg) in all.iter().enumerate() {
             let MavMessage::AVAILABLE_MODES(m) = msg else {
                 panic!("{msg:?}")
             };
-            assert_eq!((m.mode_index, m.number_modes), (k as u8 + 1, 12));
+            assert_eq!((m.mode_index, m.number_modes), (k as u8 + 1, 13));
             let name = m.mode_name.to_str().unwrap().to_string();
             let mode = FlightMode::from_custom_mode(m.custom_mode).unwrap();
             assert_eq!(
@@ -115,7 +115,7 @@ mod tests {
         assert_eq!(seen[7], (FlightMode::Offboard, "Offboard".to_string()));
         assert_eq!(seen[8], (FlightMode::Stabilized, "Stabilized".to_string()));
         assert_eq!(available_modes(3), Some(vec![all[2].clone()]));
-        assert_eq!(available_modes(13), None);
+        assert_eq!(available_modes(14), None);
     }
 
     #[test]

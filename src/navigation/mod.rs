@@ -1,9 +1,10 @@
 //! Setpoint generators: the take-off climb, the trajectory generators, the guidance of the
 //! commander's modes, the motion limits they keep, the limiter offboard setpoints go through,
-//! the sticks with the reference the stick modes fly, and the orbit.
+//! the sticks with the reference the stick modes fly, the orbit and the follow-me point.
 
 mod climb;
 mod descent;
+mod follow;
 pub mod geo;
 mod guidance;
 mod limits;
@@ -16,6 +17,7 @@ pub mod trajectory;
 
 pub use climb::ClimbProfile;
 pub use descent::DescentProfile;
+pub use follow::{FollowAltitude, FollowParams, FollowTarget};
 pub use geo::Home;
 pub use guidance::Guidance;
 pub use limits::MotionLimits;

@@ -10,6 +10,7 @@
 //! - `failsafe.rs`: link and offboard loss, geofence, battery, failure injection.
 //! - `plant.rs`: the plant's ground and ceiling effect.
 //! - `sticks.rs`: the stick modes: sources, stick loss, take-over, stick shaping.
+//! - `follow.rs`: follow-me.
 
 /// Declares one [`ParamDef`](super::ParamDef): name, wire type, `[min, max]`, unit, scope
 /// ([`Scope`](super::Scope) variant), description, then how it reads and writes the settings:
@@ -92,6 +93,7 @@ mod control;
 mod estimator;
 mod failsafe;
 mod flight;
+mod follow;
 mod gains;
 mod plant;
 mod sticks;
@@ -99,7 +101,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 16] = [
+static GROUPS: [&[ParamDef]; 17] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -116,6 +118,7 @@ static GROUPS: [&[ParamDef]; 16] = [
     flight::MOTION,
     sticks::LOSS,
     sticks::SHAPING,
+    follow::FOLLOW,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

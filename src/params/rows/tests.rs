@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 100] = [
+const WIRE_ORDER: [&str; 106] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -105,6 +105,12 @@ const WIRE_ORDER: [&str; 100] = [
     "MC_ACRO_Y_MAX",
     "MPC_MANTHR_MIN",
     "MPC_THR_HOVER",
+    "FLW_TGT_HT",
+    "FLW_TGT_DST",
+    "FLW_TGT_FA",
+    "FLW_TGT_ALT_M",
+    "FLW_TGT_MAX_VEL",
+    "FLW_TGT_RS",
 ];
 
 fn settings() -> VehicleSettings {
