@@ -20,6 +20,7 @@
 pub mod codec;
 pub mod crc32;
 pub mod duplicates;
+pub mod ftp;
 pub mod gcs;
 pub mod identity;
 pub mod ingest;
