@@ -10,7 +10,9 @@
 //! - [`offboard`]: SET_POSITION_TARGET_* and SET_ATTITUDE_TARGET → setpoints.
 //! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
 //! - [`telemetry`] (with `status`): the streamed messages built from a snapshot.
-//! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC, FTP's NAK.
+//! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.
+//! - [`ftp`]: MAVLink FTP (payload, in-memory file system, server); [`metadata`]: the component
+//!   metadata files it serves (general, parameters) and COMPONENT_METADATA.
 //! - [`modes`]: PROTOCOL_VERSION and the standard modes protocol (AVAILABLE_MODES, CURRENT_MODE).
 //! - [`params`]: PARAM_VALUE / PARAM_SET encoding and PX4's `_HASH_CHECK`; [`crc32`]: its CRC.
 //! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation.
@@ -25,6 +27,7 @@ pub mod gcs;
 pub mod identity;
 pub mod ingest;
 pub mod link;
+pub mod metadata;
 pub mod mission_items;
 pub mod mission_xfer;
 pub mod modes;

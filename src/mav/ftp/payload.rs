@@ -283,7 +283,10 @@ mod tests {
         assert_eq!(req.path(), Some("/a/b"));
         assert_eq!(req.second_path(), Some("/c"));
         assert_eq!(Payload::request(Opcode::Rename, 0, 0, 0, b"/a").second_path(), None);
-        assert_eq!(Payload::request(Opcode::OpenFileRO, 0, 0, 0, &[0xff, 0xfe]).path(), None);
+        assert_eq!(
+            Payload::request(Opcode::OpenFileRO, 0, 0, 0, &[0xff, 0xfe]).path(),
+            None
+        );
         let mut bytes = [0u8; PAYLOAD_LEN];
         bytes[4] = 250;
         let p = Payload::decode(&bytes);

@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use thiserror::Error;
 
-use super::payload::{ErrorCode, EISDIR, EINVAL, ENOSPC, ENOTDIR, ENOTEMPTY};
+use super::payload::{ErrorCode, EINVAL, EISDIR, ENOSPC, ENOTDIR, ENOTEMPTY};
 use crate::mav::crc32::crc32_part;
 
 /// The writable area: everything strictly below it except [`LOG_DIR`].
@@ -129,7 +129,8 @@ impl Vfs {
         }
         let prefix = format!("{path}/");
         let under = |key: Option<&String>| key.is_some_and(|k| k.starts_with(&prefix));
-        under(self.files.range(prefix.clone()..).next().map(|(k, _)| k)) || under(self.dirs.range(prefix.clone()..).next())
+        under(self.files.range(prefix.clone()..).next().map(|(k, _)| k))
+            || under(self.dirs.range(prefix.clone()..).next())
     }
 
     /// The bytes of the file at `path`; FileNotFound when no file is there.
@@ -153,7 +154,11 @@ impl Vfs {
                 ErrorCode::FileNotFound
             });
         }
-        let prefix = if norm == "/" { "/".to_string() } else { format!("{norm}/") };
+        let prefix = if norm == "/" {
+            "/".to_string()
+        } else {
+            format!("{norm}/")
+        };
         let mut entries: BTreeMap<&str, Entry> = BTreeMap::new();
         let keys = self.files.keys().chain(self.dirs.iter());
         for key in keys.filter(|k| k.starts_with(&prefix)) {
@@ -170,7 +175,11 @@ impl Vfs {
 
     /// Bytes the scratch files hold.
     pub fn scratch_used(&self) -> usize {
-        self.files.iter().filter(|(k, _)| writable(k)).map(|(_, v)| v.len()).sum()
+        self.files
+            .iter()
+            .filter(|(k, _)| writable(k))
+            .map(|(_, v)| v.len())
+            .sum()
     }
 
     /// `path` normalised when clients may write there, else FileProtected.
@@ -303,7 +312,12 @@ impl Vfs {
                 self.files.insert(moved(&k), v);
             }
         }
-        let dirs: Vec<String> = self.dirs.iter().filter(|k| **k == from || k.starts_with(&prefix)).cloned().collect();
+        let dirs: Vec<String> = self
+            .dirs
+            .iter()
+            .filter(|k| **k == from || k.starts_with(&prefix))
+            .cloned()
+            .collect();
         for k in dirs {
             self.dirs.remove(&k);
             self.dirs.insert(moved(&k));

@@ -20,9 +20,15 @@ fn paths_normalise_and_parent_steps_are_refused() {
 fn listings_show_published_files_and_implicit_directories() {
     let mut fs = fs();
     fs.publish_log("flight.ulg", vec![0; 7]).unwrap();
-    assert_eq!(fs.list("/").unwrap(), vec![Entry::Dir("etc".into()), Entry::Dir("fs".into())]);
+    assert_eq!(
+        fs.list("/").unwrap(),
+        vec![Entry::Dir("etc".into()), Entry::Dir("fs".into())]
+    );
     assert_eq!(fs.list("/etc/extras").unwrap(), vec![Entry::File("a.json".into(), 2)]);
-    assert_eq!(fs.list("/fs/microsd/log").unwrap(), vec![Entry::File("flight.ulg".into(), 7)]);
+    assert_eq!(
+        fs.list("/fs/microsd/log").unwrap(),
+        vec![Entry::File("flight.ulg".into(), 7)]
+    );
     assert_eq!(fs.list("/nope"), Err(ErrorCode::FileNotFound));
     assert_eq!(fs.list("/etc/extras/a.json"), Err(ErrorCode::FailErrno(ENOTDIR)));
     assert_eq!(fs.read("etc/extras/a.json").unwrap(), b"{}");
@@ -45,7 +51,10 @@ fn scratch_files_are_written_within_the_byte_limit() {
     assert_eq!(fs.read(&p).unwrap(), b"\0");
     fs.open_write(&p, false).unwrap();
     assert_eq!(fs.read(&p).unwrap().len(), 1, "OpenFileWO keeps the bytes");
-    assert_eq!(fs.open_write("/fs/microsd/no/dir.txt", true), Err(ErrorCode::FileNotFound));
+    assert_eq!(
+        fs.open_write("/fs/microsd/no/dir.txt", true),
+        Err(ErrorCode::FileNotFound)
+    );
     assert_eq!(fs.open_write("/etc/extras/a.json", true), Err(ErrorCode::FileProtected));
     assert_eq!(fs.open_write("/fs/microsd/log/x", true), Err(ErrorCode::FileProtected));
     assert_eq!(fs.remove_file("/etc/extras/a.json"), Err(ErrorCode::FileProtected));
@@ -67,11 +76,23 @@ fn directories_are_made_renamed_and_removed_when_empty() {
     assert_eq!(fs.read("/fs/microsd/e/f").unwrap(), b"hi");
     assert!(!fs.is_dir("/fs/microsd/d"));
     fs.rename("/fs/microsd/e/f", "/fs/microsd/g").unwrap();
-    assert_eq!(fs.rename("/fs/microsd/e", "/fs/microsd/e/h"), Err(ErrorCode::FailErrno(EINVAL)));
-    assert_eq!(fs.rename("/fs/microsd/g", "/fs/microsd/e"), Err(ErrorCode::FailErrno(EISDIR)));
-    assert_eq!(fs.rename("/etc/extras/a.json", "/fs/microsd/a"), Err(ErrorCode::FileProtected));
+    assert_eq!(
+        fs.rename("/fs/microsd/e", "/fs/microsd/e/h"),
+        Err(ErrorCode::FailErrno(EINVAL))
+    );
+    assert_eq!(
+        fs.rename("/fs/microsd/g", "/fs/microsd/e"),
+        Err(ErrorCode::FailErrno(EISDIR))
+    );
+    assert_eq!(
+        fs.rename("/etc/extras/a.json", "/fs/microsd/a"),
+        Err(ErrorCode::FileProtected)
+    );
     fs.remove_dir("/fs/microsd/e").unwrap();
     assert_eq!(fs.remove_dir("/fs/microsd/e"), Err(ErrorCode::FileNotFound));
     assert_eq!(fs.remove_dir("/fs/microsd/log"), Err(ErrorCode::FileProtected));
-    assert_eq!(fs.list("/fs/microsd").unwrap(), vec![Entry::File("g".into(), 2), Entry::Dir("log".into())]);
+    assert_eq!(
+        fs.list("/fs/microsd").unwrap(),
+        vec![Entry::File("g".into(), 2), Entry::Dir("log".into())]
+    );
 }

@@ -19,10 +19,12 @@
 //! - `commands.rs`: COMMAND_LONG/INT, their one ACK, and the vehicle's answers.
 //! - `params.rs`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ, PARAM_SET and its echo.
 //! - `mission.rs`: the mission protocol against the stored mission.
+//! - `files.rs`: MAVLink FTP per link, burst pacing, component metadata.
 //! - `duties.rs`: what time brings: heartbeats, streams, link loss, retransmissions.
 
 mod commands;
 mod duties;
+mod files;
 mod inbound;
 mod mission;
 mod params;
@@ -42,6 +44,7 @@ use super::codec::frame_message;
 use super::signing::{Signing, SigningKey};
 use super::streams::LinkKind;
 use super::translate::Identity;
+use files::Files;
 use params::ParamList;
 use port::Port;
 
@@ -199,6 +202,8 @@ pub struct LinkMachine<A> {
     pending: HashMap<Token, Pending<A>>,
     next_token: Token,
     param_lists: Vec<ParamList<A>>,
+    /// The files served over MAVLink FTP and the FTP server of each link.
+    files: Files<A>,
     /// Where to announce each stored key's result, oldest first.
     keys_in_store: VecDeque<(LinkKind, A, bool)>,
     /// Wall time of the latest offboard setpoint while the stream is alive in wall time [s].
@@ -219,6 +224,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .enumerate()
             .map(|(id, (kind, remote))| Port::new(*kind, *remote, id as u8))
             .collect();
+        let files = Files::new(&config.params, config.links.iter().map(|(kind, _)| *kind));
         Self {
             identity: config.identity,
             ports,
@@ -232,6 +238,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             pending: HashMap::new(),
             next_token: 0,
             param_lists: Vec::new(),
+            files,
             keys_in_store: VecDeque::new(),
             offboard_heard_wall_s: None,
             next_duty_s: 0.0,
@@ -307,6 +314,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .iter()
             .map(|l| l.next_s)
             .fold(self.next_duty_s, f64::min)
+            .min(self.files.next_burst_s().unwrap_or(f64::INFINITY))
     }
 
     /// The signing timestamp to persist [10 µs since 2015].
