@@ -54,6 +54,8 @@ pub enum Action {
     },
     /// FILE_TRANSFER_PROTOCOL addressed to us: the 251-byte MAVLink FTP payload.
     Ftp(Box<[u8; 251]>),
+    /// SERIAL_CONTROL for the shell device addressed to us (not a reply).
+    Shell(Box<mavlink::dialects::common::SERIAL_CONTROL_DATA>),
     /// PARAM_REQUEST_LIST: stream every parameter to the sender.
     ParamList,
     /// PARAM_REQUEST_READ: one parameter by `index`, or by `name` when no index is given.
@@ -213,6 +215,15 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
         }
         MavMessage::FILE_TRANSFER_PROTOCOL(f) if ours(f.target_system, f.target_component) => {
             Action::Ftp(Box::new(f.payload))
+        }
+        MavMessage::SERIAL_CONTROL(m)
+            if ours(m.target_system, m.target_component)
+                && m.device == mavlink::dialects::common::SerialControlDev::SERIAL_CONTROL_DEV_SHELL
+                && !m
+                    .flags
+                    .contains(mavlink::dialects::common::SerialControlFlag::SERIAL_CONTROL_FLAG_REPLY) =>
+        {
+            Action::Shell(Box::new(m.clone()))
         }
         MavMessage::SETUP_SIGNING(m) if m.target_system == id.system_id && m.target_component == id.component_id => {
             Action::SetupSigning {

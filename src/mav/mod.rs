@@ -13,6 +13,7 @@
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.
 //! - [`ftp`]: MAVLink FTP (payload, in-memory file system, server); [`metadata`]: the component
 //!   metadata files it serves (general, parameters) and COMPONENT_METADATA.
+//! - [`shell`]: the MAVLink shell (SERIAL_CONTROL) and its commands.
 //! - [`modes`]: PROTOCOL_VERSION and the standard modes protocol (AVAILABLE_MODES, CURRENT_MODE).
 //! - [`params`]: PARAM_VALUE / PARAM_SET encoding and PX4's `_HASH_CHECK`; [`crc32`]: its CRC.
 //! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation.
@@ -34,6 +35,7 @@ pub mod modes;
 pub mod offboard;
 pub mod params;
 pub mod services;
+pub mod shell;
 pub mod signing;
 mod status;
 pub mod streams;

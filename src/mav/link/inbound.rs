@@ -108,6 +108,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 }
             }
             Action::Ftp(payload) => self.ftp(now, link, from, header, &payload),
+            Action::Shell(msg) => self.shell(now, link, from, header, &msg),
             Action::ParamList => {
                 self.param_lists.retain(|l| !(l.link == link && l.to == from));
                 self.param_lists.push(ParamList::new(link, from, now.wall_s));

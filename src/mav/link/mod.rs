@@ -20,9 +20,11 @@
 //! - `params.rs`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ, PARAM_SET and its echo.
 //! - `mission.rs`: the mission protocol against the stored mission.
 //! - `files.rs`: MAVLink FTP per link, burst pacing, component metadata.
+//! - `console.rs`: the MAVLink shell (SERIAL_CONTROL) per client.
 //! - `duties.rs`: what time brings: heartbeats, streams, link loss, retransmissions.
 
 mod commands;
+mod console;
 mod duties;
 mod files;
 mod inbound;
@@ -179,6 +181,8 @@ enum Pending<A> {
     Command(commands::Asker<A>),
     /// A PARAM_SET's echo.
     Param(params::ParamSet<A>),
+    /// A shell's `param set`.
+    Shell(console::ShellSet<A>),
     /// A validated mission upload's MISSION_ACK.
     Mission {
         link: LinkKind,
@@ -204,6 +208,8 @@ pub struct LinkMachine<A> {
     param_lists: Vec<ParamList<A>>,
     /// The files served over MAVLink FTP and the FTP server of each link.
     files: Files<A>,
+    /// The MAVLink shells of the clients that use one.
+    consoles: Vec<console::Console<A>>,
     /// Where to announce each stored key's result, oldest first.
     keys_in_store: VecDeque<(LinkKind, A, bool)>,
     /// Wall time of the latest offboard setpoint while the stream is alive in wall time [s].
@@ -239,6 +245,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             next_token: 0,
             param_lists: Vec::new(),
             files,
+            consoles: Vec::new(),
             keys_in_store: VecDeque::new(),
             offboard_heard_wall_s: None,
             next_duty_s: 0.0,
@@ -271,6 +278,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 self.answer(now, asker, commands::AckOf::Outcome(&outcome));
             }
             Some(Pending::Param(set)) => self.param_set_done(now, set, reply),
+            Some(Pending::Shell(set)) => self.shell_set_done(now, set, reply),
             Some(Pending::Mission { link, items }) => self.mission_taken(now, link, items, reply),
             None => {}
         }
