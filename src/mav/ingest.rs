@@ -16,7 +16,7 @@ use crate::navigation::{Home, Sticks};
 use super::mission_xfer::{mission_ack, Ids};
 use super::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
 use super::params::{decode_param_set, name_of};
-use super::services::{ftp_reply, ping_reply, timesync_reply};
+use super::services::{ping_reply, timesync_reply};
 use super::signing::SigningKey;
 use super::translate::{
     command_int_as_long, decode_command, decode_command_int, decode_set_mode, CommandDecision, Identity,
@@ -41,7 +41,7 @@ pub enum Action {
     Request(Request),
     /// A refused message: announce the reason to the sender in a STATUSTEXT warning.
     Refuse(String),
-    /// Reply to the sender with this message (PING, TIMESYNC, FTP NAK, mission-type refusals).
+    /// Reply to the sender with this message (PING, TIMESYNC, mission-type refusals).
     Reply(Box<MavMessage>),
     /// REQUEST_DATA_STREAM on this link.
     DataStream {
@@ -52,6 +52,10 @@ pub enum Action {
         /// Start (true) or stop.
         start: bool,
     },
+    /// FILE_TRANSFER_PROTOCOL addressed to us: the 251-byte MAVLink FTP payload.
+    Ftp(Box<[u8; 251]>),
+    /// SERIAL_CONTROL for the shell device addressed to us (not a reply).
+    Shell(Box<mavlink::dialects::common::SERIAL_CONTROL_DATA>),
     /// PARAM_REQUEST_LIST: stream every parameter to the sender.
     ParamList,
     /// PARAM_REQUEST_READ: one parameter by `index`, or by `name` when no index is given.
@@ -235,7 +239,16 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
             Action::ParamSet { name, value }
         }
         MavMessage::FILE_TRANSFER_PROTOCOL(f) if ours(f.target_system, f.target_component) => {
-            Action::Reply(Box::new(ftp_reply(sender, f)))
+            Action::Ftp(Box::new(f.payload))
+        }
+        MavMessage::SERIAL_CONTROL(m)
+            if ours(m.target_system, m.target_component)
+                && m.device == mavlink::dialects::common::SerialControlDev::SERIAL_CONTROL_DEV_SHELL
+                && !m
+                    .flags
+                    .contains(mavlink::dialects::common::SerialControlFlag::SERIAL_CONTROL_FLAG_REPLY) =>
+        {
+            Action::Shell(Box::new(m.clone()))
         }
         MavMessage::SETUP_SIGNING(m) if m.target_system == id.system_id && m.target_component == id.component_id => {
             Action::SetupSigning {

@@ -11,7 +11,10 @@
 //! - [`orbit`]: MAV_CMD_DO_ORBIT and ORBIT_EXECUTION_STATUS.
 //! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
 //! - [`telemetry`] (with `status`): the streamed messages built from a snapshot.
-//! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC, FTP's NAK.
+//! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.
+//! - [`ftp`]: MAVLink FTP (payload, in-memory file system, server); [`metadata`]: the component
+//!   metadata files it serves (general, parameters) and COMPONENT_METADATA.
+//! - [`shell`]: the MAVLink shell (SERIAL_CONTROL) and its commands.
 //! - [`modes`]: PROTOCOL_VERSION and the standard modes protocol (AVAILABLE_MODES, CURRENT_MODE).
 //! - [`params`]: PARAM_VALUE / PARAM_SET encoding and PX4's `_HASH_CHECK`; [`crc32`]: its CRC.
 //! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation.
@@ -21,10 +24,12 @@
 pub mod codec;
 pub mod crc32;
 pub mod duplicates;
+pub mod ftp;
 pub mod gcs;
 pub mod identity;
 pub mod ingest;
 pub mod link;
+pub mod metadata;
 pub mod mission_items;
 pub mod mission_xfer;
 pub mod modes;
@@ -32,6 +37,7 @@ pub mod offboard;
 pub mod orbit;
 pub mod params;
 pub mod services;
+pub mod shell;
 pub mod signing;
 mod status;
 pub mod streams;

@@ -1,12 +1,10 @@
 //! Small request/reply services (mavlink.md §4, §9): the messages REQUEST_MESSAGE can ask for,
-//! AUTOPILOT_VERSION, PING, TIMESYNC and the MAVLink-FTP NAK that makes MAVProxy fall back to the parameter protocol at once. Pure.
+//! AUTOPILOT_VERSION, PING and TIMESYNC (MAVLink FTP is [`super::ftp`]). Pure.
 //!
 //! PING is deprecated in the spec, but MAVSDK sends one every 5 s to PX4 and expects the reply.
 #![allow(deprecated)]
 
-use mavlink::dialects::common::{
-    MavMessage, MavProtocolCapability, AUTOPILOT_VERSION_DATA, FILE_TRANSFER_PROTOCOL_DATA, PING_DATA, TIMESYNC_DATA,
-};
+use mavlink::dialects::common::{MavMessage, MavProtocolCapability, AUTOPILOT_VERSION_DATA, PING_DATA, TIMESYNC_DATA};
 use mavlink::MavHeader;
 
 use super::telemetry::Stream;
@@ -21,6 +19,10 @@ pub enum OneShot {
     ProtocolVersion,
     /// AVAILABLE_MODES (435) of one mode (1-based) or of all (0).
     AvailableModes(u8),
+    /// COMPONENT_METADATA (397): where the general metadata file is.
+    ComponentMetadata,
+    /// COMPONENT_INFORMATION (395, deprecated; PX4 still answers it) likewise.
+    ComponentInformation,
     /// One message of a telemetry stream.
     Stream(Stream),
 }
@@ -30,6 +32,8 @@ pub(super) fn one_shot(id: f32, param2: f32) -> Option<OneShot> {
     Some(match id as u32 {
         148 => OneShot::AutopilotVersion,
         300 => OneShot::ProtocolVersion,
+        395 => OneShot::ComponentInformation,
+        397 => OneShot::ComponentMetadata,
         // PX4 rounds the index; NaN (unset) asks for all.
         435 if param2.is_nan() || (0.0..=255.0).contains(&param2.round()) => {
             OneShot::AvailableModes(if param2.is_nan() { 0 } else { param2.round() as u8 })
@@ -45,20 +49,9 @@ pub(super) fn one_shot(id: f32, param2: f32) -> Option<OneShot> {
     })
 }
 
-/// FTP opcodes (mavlink.md §9).
-const FTP_ACK: u8 = 128;
-const FTP_NAK: u8 = 129;
-const FTP_TERMINATE_SESSION: u8 = 1;
-const FTP_RESET_SESSIONS: u8 = 2;
-const FTP_OPEN_FILE_RO: u8 = 4;
-const FTP_OPEN_FILE_WO: u8 = 11;
-const FTP_CREATE_FILE: u8 = 6;
-const FTP_ERR_UNKNOWN_COMMAND: u8 = 7;
-const FTP_ERR_FILE_NOT_FOUND: u8 = 10;
-
 /// AUTOPILOT_VERSION (mavlink.md §4): MISSION_INT, COMMAND_INT, PARAM_ENCODE_BYTEWISE,
-/// SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED / _GLOBAL_INT and MAVLINK2 — not FTP,
-/// fence or rally, which would make QGC try those transfers; the version packs 0.1.0 as a
+/// SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED / _GLOBAL_INT, MAVLINK2 and FTP (served by
+/// [`super::ftp`]) — not fence or rally, which would make QGC try those transfers; the version packs 0.1.0 as a
 /// release (type byte 255); `uid` is unique per system id.
 pub fn autopilot_version(id: &Identity) -> MavMessage {
     MavMessage::AUTOPILOT_VERSION(AUTOPILOT_VERSION_DATA {
@@ -68,7 +61,8 @@ pub fn autopilot_version(id: &Identity) -> MavMessage {
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_ATTITUDE_TARGET
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_GLOBAL_INT
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2,
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_FTP,
         uid: 0x5250_0000_0000_0000 | u64::from(id.system_id),
         flight_sw_version: (1 << 16) | 255,
         ..Default::default()
@@ -99,36 +93,6 @@ pub fn timesync_reply(sender: &MavHeader, sync: &TIMESYNC_DATA, now_ns: i64) -> 
     })
 }
 
-/// The FTP reply: NAK (FileNotFound for opens, UnknownCommand otherwise), ACK for session
-/// resets; `seq + 1`, same session, `req_opcode` echoed.
-pub fn ftp_reply(sender: &MavHeader, ftp: &FILE_TRANSFER_PROTOCOL_DATA) -> MavMessage {
-    let req = &ftp.payload;
-    let seq = u16::from_le_bytes([req[0], req[1]]).wrapping_add(1);
-    let opcode = req[3];
-    let mut payload = [0u8; 251];
-    payload[0..2].copy_from_slice(&seq.to_le_bytes());
-    payload[2] = req[2];
-    payload[5] = opcode;
-    match opcode {
-        FTP_TERMINATE_SESSION | FTP_RESET_SESSIONS => payload[3] = FTP_ACK,
-        _ => {
-            payload[3] = FTP_NAK;
-            payload[4] = 1;
-            payload[12] = if matches!(opcode, FTP_OPEN_FILE_RO | FTP_OPEN_FILE_WO | FTP_CREATE_FILE) {
-                FTP_ERR_FILE_NOT_FOUND
-            } else {
-                FTP_ERR_UNKNOWN_COMMAND
-            };
-        }
-    }
-    MavMessage::FILE_TRANSFER_PROTOCOL(FILE_TRANSFER_PROTOCOL_DATA {
-        target_network: 0,
-        target_system: sender.system_id as u8,
-        target_component: sender.component_id,
-        payload,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,32 +103,6 @@ mod tests {
             component_id: 230,
             ..gcs_header(0)
         }
-    }
-
-    #[test]
-    fn ftp_open_gets_file_not_found_and_reset_gets_ack() {
-        let mut payload = [0u8; 251];
-        payload[0..2].copy_from_slice(&41u16.to_le_bytes());
-        payload[2] = 3;
-        payload[3] = FTP_OPEN_FILE_RO;
-        let req = FILE_TRANSFER_PROTOCOL_DATA {
-            target_network: 0,
-            target_system: 1,
-            target_component: 1,
-            payload,
-        };
-        let MavMessage::FILE_TRANSFER_PROTOCOL(r) = ftp_reply(&gcs(), &req) else {
-            panic!("not ftp");
-        };
-        assert_eq!(&r.payload[..6], &[42, 0, 3, FTP_NAK, 1, FTP_OPEN_FILE_RO]);
-        assert_eq!(r.payload[12], FTP_ERR_FILE_NOT_FOUND);
-        assert_eq!((r.target_system, r.target_component), (255, 230));
-        let mut reset = req;
-        reset.payload[3] = FTP_RESET_SESSIONS;
-        let MavMessage::FILE_TRANSFER_PROTOCOL(r) = ftp_reply(&gcs(), &reset) else {
-            panic!("not ftp");
-        };
-        assert_eq!(r.payload[3], FTP_ACK);
     }
 
     #[test]
@@ -201,14 +139,14 @@ mod tests {
     }
 
     #[test]
-    fn autopilot_version_advertises_mavlink2() {
+    fn autopilot_version_advertises_mavlink2_and_ftp() {
         let MavMessage::AUTOPILOT_VERSION(v) = autopilot_version(&Identity::autopilot(2, 4)) else {
             panic!("not a version");
         };
         assert!(v
             .capabilities
             .contains(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2));
-        assert!(!v
+        assert!(v
             .capabilities
             .contains(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_FTP));
         assert_eq!(v.uid & 0xFF, 2);

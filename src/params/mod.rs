@@ -81,6 +81,12 @@ impl ParamTable {
         Some((*self.defs.get(index)?, *self.values.get(index)?))
     }
 
+    /// The value at `index` in the settings the table was built with (the airframe's
+    /// defaults, before any `--params` file or PARAM_SET).
+    pub fn default_value(&self, index: usize) -> Option<f64> {
+        Some((self.defs.get(index)?.get)(&self.base))
+    }
+
     /// Index of `name`.
     pub fn index_of(&self, name: &str) -> Option<usize> {
         self.defs.iter().position(|d| d.name == name)

@@ -79,6 +79,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 let msgs = match one_shot {
                     OneShot::AutopilotVersion => Some(vec![autopilot_version(&self.identity)]),
                     OneShot::ProtocolVersion => Some(vec![protocol_version()]),
+                    OneShot::ComponentMetadata => Some(vec![self.component_metadata(now)]),
+                    OneShot::ComponentInformation => Some(vec![self.component_information(now)]),
                     OneShot::AvailableModes(index) => available_modes(index),
                     OneShot::Stream(stream) => message(stream, &self.snapshot).map(|m| vec![m]),
                 };

@@ -112,6 +112,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     port.streams.request_data_stream(stream_id, rate_hz, start);
                 }
             }
+            Action::Ftp(payload) => self.ftp(now, link, from, header, &payload),
+            Action::Shell(msg) => self.shell(now, link, from, header, &msg),
             Action::ParamList => {
                 self.param_lists.retain(|l| !(l.link == link && l.to == from));
                 self.param_lists.push(ParamList::new(link, from, now.wall_s));

@@ -19,10 +19,14 @@
 //! - `commands.rs`: COMMAND_LONG/INT, their one ACK, and the vehicle's answers.
 //! - `params.rs`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ, PARAM_SET and its echo.
 //! - `mission.rs`: the mission protocol against the stored mission.
+//! - `files.rs`: MAVLink FTP per link, burst pacing, component metadata.
+//! - `console.rs`: the MAVLink shell (SERIAL_CONTROL) per client.
 //! - `duties.rs`: what time brings: heartbeats, streams, link loss, retransmissions.
 
 mod commands;
+mod console;
 mod duties;
+mod files;
 mod inbound;
 mod mission;
 mod params;
@@ -42,6 +46,7 @@ use super::codec::frame_message;
 use super::signing::{Signing, SigningKey};
 use super::streams::LinkKind;
 use super::translate::Identity;
+use files::Files;
 use params::ParamList;
 use port::Port;
 
@@ -176,6 +181,8 @@ enum Pending<A> {
     Command(commands::Asker<A>),
     /// A PARAM_SET's echo.
     Param(params::ParamSet<A>),
+    /// A shell's `param set`.
+    Shell(console::ShellSet<A>),
     /// A validated mission upload's MISSION_ACK.
     Mission {
         link: LinkKind,
@@ -199,6 +206,10 @@ pub struct LinkMachine<A> {
     pending: HashMap<Token, Pending<A>>,
     next_token: Token,
     param_lists: Vec<ParamList<A>>,
+    /// The files served over MAVLink FTP and the FTP server of each link.
+    files: Files<A>,
+    /// The MAVLink shells of the clients that use one.
+    consoles: Vec<console::Console<A>>,
     /// Where to announce each stored key's result, oldest first.
     keys_in_store: VecDeque<(LinkKind, A, bool)>,
     /// Wall time of the latest message of each [`Stream`](crate::commander::Stream) while it is alive in wall time [s].
@@ -221,6 +232,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .enumerate()
             .map(|(id, (kind, remote))| Port::new(*kind, *remote, id as u8))
             .collect();
+        let files = Files::new(&config.params, config.links.iter().map(|(kind, _)| *kind));
         Self {
             identity: config.identity,
             ports,
@@ -234,6 +246,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             pending: HashMap::new(),
             next_token: 0,
             param_lists: Vec::new(),
+            files,
+            consoles: Vec::new(),
             keys_in_store: VecDeque::new(),
             stream_heard_wall_s: [None; 2],
             sticks_from: None,
@@ -267,6 +281,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 self.answer(now, asker, commands::AckOf::Outcome(&outcome));
             }
             Some(Pending::Param(set)) => self.param_set_done(now, set, reply),
+            Some(Pending::Shell(set)) => self.shell_set_done(now, set, reply),
             Some(Pending::Mission { link, items }) => self.mission_taken(now, link, items, reply),
             None => {}
         }
@@ -310,6 +325,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .iter()
             .map(|l| l.next_s)
             .fold(self.next_duty_s, f64::min)
+            .min(self.files.next_burst_s().unwrap_or(f64::INFINITY))
     }
 
     /// The signing timestamp to persist [10 µs since 2015].

@@ -1,0 +1,246 @@
+//! One MAVLink FTP server (PX4 runs one per MAVLink instance, i.e. per link): requests in,
+//! replies out, as PX4's `MavlinkFTP` answers them. A reply carries the request's sequence
+//! number plus one, its session and offset, and the request opcode; a failure is a NAK whose
+//! data is the error code (and the errno after FailErrno). A request whose sequence number is
+//! the one just answered gets the last reply again, when that reply was small (≤ 4 data bytes:
+//! the replies with side effects), as PX4 does for a lost ACK. Sessions are bounded
+//! ([`MAX_SESSIONS`]) and closed after [`SESSION_IDLE_S`] without a request. A burst read
+//! answers nothing at once: [`FtpServer::burst_frame`] then yields the file from the offset,
+//! one data reply after another with consecutive sequence numbers, and a NAK EOF after the
+//! last byte. Pure: the caller passes the time and paces the burst.
+
+use super::payload::{ErrorCode, Opcode, Payload, DATA_MAX, EINVAL};
+use super::vfs::{Entry, Vfs};
+
+/// Sessions open at once (PX4 keeps one per link: a second open gets NoSessionsAvailable).
+pub const MAX_SESSIONS: usize = 1;
+/// Sessions are closed after this long without a request [s] (PX4: 10 s).
+pub const SESSION_IDLE_S: f64 = 10.0;
+
+/// An open file.
+#[derive(Debug, Clone, PartialEq)]
+struct Session {
+    /// Normalised path.
+    path: String,
+    /// Opened for writing (CreateFile, OpenFileWO).
+    write: bool,
+}
+
+/// A burst read in progress.
+#[derive(Debug, Clone, PartialEq)]
+struct Burst {
+    session: u8,
+    offset: u32,
+    /// Sequence number of the next frame.
+    seq: u16,
+}
+
+/// The FTP server of one link.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FtpServer {
+    sessions: [Option<Session>; MAX_SESSIONS],
+    /// The last reply when it had at most 4 data bytes (sent again for a repeated request).
+    last_reply: Option<Payload>,
+    burst: Option<Burst>,
+    /// Time of the last request or burst frame [s].
+    last_activity_s: f64,
+}
+
+impl FtpServer {
+    /// The reply to `req` at `now_s` [s] against `fs`; `None` when a burst started (its frames
+    /// come from [`burst_frame`](Self::burst_frame)).
+    pub fn handle(&mut self, fs: &mut Vfs, req: &Payload, now_s: f64) -> Option<Payload> {
+        self.last_activity_s = now_s;
+        let result = if usize::from(req.size) > DATA_MAX {
+            Err(ErrorCode::InvalidDataSize)
+        } else {
+            if let Some(last) = &self.last_reply {
+                if req.seq.wrapping_add(1) == last.seq {
+                    return Some(last.clone());
+                }
+            }
+            self.work(fs, req)
+        };
+        self.last_reply = None;
+        let reply = match result {
+            Ok(None) => return None,
+            Ok(Some(reply)) => reply,
+            Err(error) => req.nak(error),
+        };
+        self.remember(&reply);
+        Some(reply)
+    }
+
+    /// True while a burst has frames to send.
+    pub fn bursting(&self) -> bool {
+        self.burst.is_some()
+    }
+
+    /// The next frame of the burst in progress at `now_s` [s], `None` when there is none.
+    pub fn burst_frame(&mut self, fs: &Vfs, now_s: f64) -> Option<Payload> {
+        let burst = self.burst.as_mut()?;
+        self.last_activity_s = now_s;
+        let mut frame = Payload::request(Opcode::Ack, burst.seq, burst.session, burst.offset, &[]);
+        frame.req_opcode = Opcode::BurstReadFile as u8;
+        burst.seq = burst.seq.wrapping_add(1);
+        let session = self.sessions.get(usize::from(burst.session)).and_then(Option::as_ref);
+        let error = match session.map(|s| fs.read(&s.path)) {
+            None => Some(ErrorCode::InvalidSession),
+            Some(Err(e)) => Some(e),
+            Some(Ok(bytes)) if burst.offset as usize >= bytes.len() => Some(ErrorCode::Eof),
+            Some(Ok(bytes)) => {
+                let start = burst.offset as usize;
+                let end = (start + DATA_MAX).min(bytes.len());
+                frame.data = bytes[start..end].to_vec();
+                frame.size = frame.data.len() as u8;
+                burst.offset = end as u32;
+                None
+            }
+        };
+        if let Some(error) = error {
+            frame.opcode = Opcode::Nak as u8;
+            frame.data = error.bytes();
+            frame.size = frame.data.len() as u8;
+            self.burst = None;
+        }
+        self.last_reply = None;
+        self.remember(&frame);
+        Some(frame)
+    }
+
+    /// Closes every session after [`SESSION_IDLE_S`] without activity by `now_s` [s].
+    pub fn expire(&mut self, now_s: f64) {
+        if self.sessions.iter().any(Option::is_some) && now_s - self.last_activity_s > SESSION_IDLE_S {
+            *self = Self::default();
+        }
+    }
+
+    fn remember(&mut self, reply: &Payload) {
+        if reply.data.len() <= 4 {
+            self.last_reply = Some(reply.clone());
+        }
+    }
+
+    /// The open session `id`.
+    fn session(&self, id: u8) -> Result<&Session, ErrorCode> {
+        self.sessions
+            .get(usize::from(id))
+            .and_then(Option::as_ref)
+            .ok_or(ErrorCode::InvalidSession)
+    }
+
+    /// Opens `path` in a free session: ACK with the session id and the file size.
+    fn open(&mut self, fs: &mut Vfs, req: &Payload, write: Option<bool>) -> Result<Option<Payload>, ErrorCode> {
+        let free = self.sessions.iter().position(Option::is_none);
+        let id = free.ok_or(ErrorCode::NoSessionsAvailable)?;
+        let raw = req.path().ok_or(ErrorCode::Fail)?;
+        let path = match write {
+            None => super::vfs::normalize(raw)?,
+            Some(truncate) => fs.open_write(raw, truncate)?,
+        };
+        let size = fs.read(&path)?.len() as u32;
+        self.sessions[id] = Some(Session {
+            path,
+            write: write.is_some(),
+        });
+        let mut reply = req.ack(size.to_le_bytes().to_vec());
+        reply.session = id as u8;
+        Ok(Some(reply))
+    }
+
+    /// One request's reply, `None` for a burst, or why it failed.
+    fn work(&mut self, fs: &mut Vfs, req: &Payload) -> Result<Option<Payload>, ErrorCode> {
+        let path = || req.path().ok_or(ErrorCode::Fail);
+        let done = |_| Ok(Some(req.ack(Vec::new())));
+        let Some(opcode) = Opcode::from_u8(req.opcode) else {
+            return Err(ErrorCode::UnknownCommand);
+        };
+        match opcode {
+            Opcode::None => done(()),
+            Opcode::TerminateSession => {
+                self.session(req.session)?;
+                self.sessions[usize::from(req.session)] = None;
+                if self.burst.as_ref().is_some_and(|b| b.session == req.session) {
+                    self.burst = None;
+                }
+                done(())
+            }
+            Opcode::ResetSessions => {
+                self.sessions = Default::default();
+                self.burst = None;
+                done(())
+            }
+            Opcode::ListDirectory => Ok(Some(req.ack(list_data(&fs.list(path()?)?, req.offset)?))),
+            Opcode::OpenFileRO => self.open(fs, req, None),
+            Opcode::CreateFile => self.open(fs, req, Some(true)),
+            Opcode::OpenFileWO => self.open(fs, req, Some(false)),
+            Opcode::ReadFile => {
+                let bytes = fs.read(&self.session(req.session)?.path)?;
+                let start = req.offset as usize;
+                if start >= bytes.len() {
+                    return Err(ErrorCode::Eof);
+                }
+                let end = (start + usize::from(req.size)).min(bytes.len());
+                Ok(Some(req.ack(bytes[start..end].to_vec())))
+            }
+            Opcode::BurstReadFile => {
+                self.session(req.session)?;
+                self.burst = Some(Burst {
+                    session: req.session,
+                    offset: req.offset,
+                    seq: req.seq.wrapping_add(1),
+                });
+                Ok(None)
+            }
+            Opcode::WriteFile => {
+                let session = self.session(req.session)?;
+                if !session.write {
+                    return Err(ErrorCode::FileProtected);
+                }
+                let written = fs.write(&session.path.clone(), req.offset as usize, &req.data)?;
+                Ok(Some(req.ack((written as u32).to_le_bytes().to_vec())))
+            }
+            Opcode::RemoveFile => done(fs.remove_file(path()?)?),
+            Opcode::CreateDirectory => done(fs.create_dir(path()?)?),
+            Opcode::RemoveDirectory => done(fs.remove_dir(path()?)?),
+            Opcode::TruncateFile => done(fs.truncate(path()?, req.offset as usize)?),
+            Opcode::Rename => {
+                let to = req.second_path().ok_or(ErrorCode::FailErrno(EINVAL))?;
+                done(fs.rename(path()?, to)?)
+            }
+            Opcode::CalcFileCRC32 => Ok(Some(req.ack(fs.crc32(path()?)?.to_le_bytes().to_vec()))),
+            Opcode::Ack | Opcode::Nak => Err(ErrorCode::UnknownCommand),
+        }
+    }
+}
+
+/// The ListDirectory data from entry `offset`: `D<name>` or `F<name>\t<size>`, each
+/// NUL-terminated, as many as fit (PX4's layout); EOF at or past the last entry (PX4 answers
+/// an empty directory at offset 0 with an empty ACK, which makes QGroundControl ask again
+/// forever on a file system without `.` entries, so EOF it is).
+fn list_data(entries: &[Entry], offset: u32) -> Result<Vec<u8>, ErrorCode> {
+    let start = offset as usize;
+    if start >= entries.len() {
+        return Err(ErrorCode::Eof);
+    }
+    let mut data = Vec::new();
+    for entry in &entries[start..] {
+        let text = match entry {
+            Entry::Dir(name) => format!("D{name}"),
+            Entry::File(name, size) => format!("F{name}\t{size}"),
+        };
+        if data.len() + text.len() + 1 > DATA_MAX {
+            if data.is_empty() {
+                data.extend_from_slice(b"S\0");
+            }
+            break;
+        }
+        data.extend_from_slice(text.as_bytes());
+        data.push(0);
+    }
+    Ok(data)
+}
+
+#[cfg(test)]
+#[path = "server_tests.rs"]
+mod tests;

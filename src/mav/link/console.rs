@@ -1,0 +1,107 @@
+//! The MAVLink shell on the links: one line buffer per client (link and address), each line
+//! run by [`shell::run`] against the latest snapshot and parameter table, the answer sent back
+//! in SERIAL_CONTROL replies to the client's ids; `param set` goes to the vehicle as a
+//! PARAM_SET does and is answered (with the PARAM_VALUE to the link's peers) when the vehicle
+//! replies.
+
+use std::hash::Hash;
+
+use mavlink::dialects::common::{SerialControlFlag, SERIAL_CONTROL_DATA};
+use mavlink::MavHeader;
+
+use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest};
+use crate::mav::params::param_value;
+use crate::mav::shell::{self, frames, param_set_text, Context, LineBuffer, Outcome, PROMPT};
+use crate::params::ParamTable;
+
+/// One client's shell.
+#[derive(Debug)]
+pub(super) struct Console<A> {
+    link: LinkKind,
+    from: A,
+    input: LineBuffer,
+}
+
+/// A `param set` typed in a shell, waiting for the vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct ShellSet<A> {
+    link: LinkKind,
+    to: A,
+    ids: (u8, u8),
+    name: String,
+}
+
+impl<A: Copy + Eq + Hash> LinkMachine<A> {
+    /// SERIAL_CONTROL for the shell from `from`: without RESPOND the client is done (the shell
+    /// closes, as PX4's does); otherwise its bytes are typed and every complete line answered.
+    pub(super) fn shell(&mut self, now: Now, link: LinkKind, from: A, sender: &MavHeader, msg: &SERIAL_CONTROL_DATA) {
+        let ids = (sender.system_id as u8, sender.component_id);
+        let at = self.consoles.iter().position(|c| c.link == link && c.from == from);
+        if !msg.flags.contains(SerialControlFlag::SERIAL_CONTROL_FLAG_RESPOND) {
+            if let Some(k) = at {
+                self.consoles.remove(k);
+            }
+            return;
+        }
+        let k = at.unwrap_or_else(|| {
+            self.consoles.push(Console {
+                link,
+                from,
+                input: LineBuffer::default(),
+            });
+            self.consoles.len() - 1
+        });
+        let count = usize::from(msg.count).min(msg.data.len());
+        let lines = self.consoles[k].input.push(&msg.data[..count]);
+        for line in lines {
+            let ctx = Context {
+                params: &self.params,
+                snapshot: &self.snapshot,
+            };
+            match shell::run(&line, ctx) {
+                Outcome::Text(text) => self.type_out(now, link, from, ids, &format!("{line}\n{text}{PROMPT}")),
+                Outcome::SetParam { name, value } => {
+                    self.type_out(now, link, from, ids, &format!("{line}\n"));
+                    let token = self.expect(Pending::Shell(ShellSet {
+                        link,
+                        to: from,
+                        ids,
+                        name: name.clone(),
+                    }));
+                    self.to_vehicle.push_back(ToVehicle {
+                        token: Some(token),
+                        request: VehicleRequest::SetParam { name, value },
+                    });
+                }
+            }
+        }
+    }
+
+    /// The vehicle's answer to a shell's `param set`.
+    pub(super) fn shell_set_done(&mut self, now: Now, set: ShellSet<A>, reply: VehicleReply) {
+        let ShellSet { link, to, ids, name } = set;
+        let before: ParamTable = self.params.clone();
+        let result = match reply {
+            VehicleReply::Param { result, table } => {
+                self.params = *table;
+                result.map_err(|e| e.to_string())
+            }
+            _ => Err("vehicle busy, try again".to_string()),
+        };
+        if let Ok(index) = result {
+            if let Some(msg) = param_value(&self.params, index) {
+                for target in self.port(link).map(|p| p.targets(now.wall_s)).unwrap_or_default() {
+                    self.send(now, link, target, &msg);
+                }
+            }
+        }
+        let text = param_set_text(&before, &self.params, &name, result.map(|_| ()));
+        self.type_out(now, link, to, ids, &format!("{text}{PROMPT}"));
+    }
+
+    fn type_out(&mut self, now: Now, link: LinkKind, to: A, ids: (u8, u8), text: &str) {
+        for msg in frames(ids, text) {
+            self.send(now, link, to, &msg);
+        }
+    }
+}
