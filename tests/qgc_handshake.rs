@@ -103,3 +103,29 @@ fn current_mode_is_streamed_at_half_a_hertz_and_sent_on_request() {
     assert_eq!(m.intended_custom_mode, m.custom_mode);
     assert_eq!(m.standard_mode, MavStandardMode::MAV_STANDARD_MODE_SAFE_RECOVERY);
 }
+
+#[test]
+fn system_time_goes_to_the_api_link_at_1_hz_from_the_wall_clock_and_on_request() {
+    // Wall time 0 is 2026-12-02 00:00:00 UTC, as a signing timestamp.
+    let unix_s: u64 = 1_795_996_800;
+    let mut b = Bench::with(|config| config.signing_epoch = (unix_s - 1_420_070_400) * 100_000);
+    let seconds = (1..=10).map(|k| (f64::from(k), f64::from(k)));
+    assert_eq!(
+        b.count_sent("SYSTEM_TIME", Api, seconds.clone()),
+        10,
+        "onboard mode: 1 Hz"
+    );
+    assert_eq!(
+        b.count_sent("SYSTEM_TIME", Gcs, seconds.map(|(w, s)| (w + 10.0, s + 10.0))),
+        0
+    );
+    b.at(25.5, 25.5);
+    b.out();
+    b.send(Gcs, QGC, request(2.0, f32::NAN));
+    let out = b.out();
+    assert_eq!(acks(&out), vec![MavResult::MAV_RESULT_ACCEPTED]);
+    let [(_, _, MavMessage::SYSTEM_TIME(t))] = &named(&out, "SYSTEM_TIME")[..] else {
+        panic!("{out:?}")
+    };
+    assert_eq!(t.time_unix_usec, (unix_s * 1_000_000) + 25_500_000);
+}

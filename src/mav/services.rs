@@ -39,6 +39,7 @@ pub(super) fn one_shot(id: f32, param2: f32) -> Option<OneShot> {
             OneShot::AvailableModes(if param2.is_nan() { 0 } else { param2.round() as u8 })
         }
         436 => OneShot::Stream(Stream::CurrentMode),
+        2 => OneShot::Stream(Stream::SystemTime),
         1 => OneShot::Stream(Stream::SysStatus),
         30 => OneShot::Stream(Stream::Attitude),
         32 => OneShot::Stream(Stream::LocalPosition),

@@ -83,6 +83,16 @@ impl SigningKey {
     }
 }
 
+/// Unix time [µs] of signing timestamp `timestamp` [10 µs since 2015-01-01]; 0 for 0 (a clock
+/// that was never set).
+pub fn unix_us_from_timestamp(timestamp: u64) -> u64 {
+    if timestamp == 0 {
+        0
+    } else {
+        timestamp * 10 + SIGNING_EPOCH_UNIX_S * 1_000_000
+    }
+}
+
 /// Signing timestamp of Unix time `unix_us` [µs]: 10 µs units since 2015-01-01 (0 before).
 pub fn timestamp_from_unix_us(unix_us: u128) -> u64 {
     let since = unix_us.saturating_sub(u128::from(SIGNING_EPOCH_UNIX_S) * 1_000_000) / 10;

@@ -35,6 +35,7 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         HighresImu => (0.0, 50.0),
         ExternalForce | ExternalTorque | MassEstimate => (10.0, 10.0),
         OrbitStatus => (5.0, 5.0),
+        SystemTime => (0.0, 1.0),
     };
     match kind {
         LinkKind::Gcs => gcs,

@@ -6,7 +6,7 @@ use mavlink::dialects::common::{
     ACTUATOR_OUTPUT_STATUS_DATA, ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA, DEBUG_VECT_DATA,
     EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, HIGHRES_IMU_DATA, HOME_POSITION_DATA,
     LOCAL_POSITION_NED_DATA, NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA,
-    VFR_HUD_DATA,
+    SYSTEM_TIME_DATA, VFR_HUD_DATA,
 };
 
 use crate::commander::LandedState;
@@ -61,11 +61,14 @@ pub enum Stream {
     CurrentMode,
     /// ORBIT_EXECUTION_STATUS (360): the orbit flown (only in orbit mode).
     OrbitStatus,
+    /// SYSTEM_TIME (2): Unix time and time since boot; the link builds it from its wall clock
+    /// ([`system_time`]), so [`message`] has none.
+    SystemTime,
 }
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 21] = [
+    pub const ALL: [Stream; 22] = [
         Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
@@ -87,6 +90,7 @@ impl Stream {
         Stream::MassEstimate,
         Stream::CurrentMode,
         Stream::OrbitStatus,
+        Stream::SystemTime,
     ];
 
     /// MAVLink message id.
@@ -112,8 +116,17 @@ impl Stream {
             Stream::MassEstimate => 251,
             Stream::CurrentMode => 436,
             Stream::OrbitStatus => 360,
+            Stream::SystemTime => 2,
         }
     }
+}
+
+/// SYSTEM_TIME at Unix time `unix_us` [µs] (0: unknown) and the snapshot's time since boot.
+pub fn system_time(unix_us: u64, s: &Snapshot) -> MavMessage {
+    MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
+        time_unix_usec: unix_us,
+        time_boot_ms: time_boot_ms(s),
+    })
 }
 
 /// Heading [cdeg, 0..35999].
@@ -163,6 +176,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
     Some(match stream {
         Stream::CurrentMode => super::modes::current_mode(s.mode),
         Stream::OrbitStatus => return super::orbit::orbit_execution_status(s),
+        Stream::SystemTime => return None,
         Stream::AttitudeQuaternion => {
             let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);
             MavMessage::ATTITUDE_QUATERNION(ATTITUDE_QUATERNION_DATA {

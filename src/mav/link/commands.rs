@@ -12,7 +12,7 @@ use crate::commander::Outcome;
 use crate::mav::duplicates::{CommandKey, Seen};
 use crate::mav::modes::{available_modes, protocol_version};
 use crate::mav::services::autopilot_version;
-use crate::mav::telemetry::{message, status_text};
+use crate::mav::telemetry::{message, status_text, Stream as TelemetryStream};
 use crate::mav::translate::{command_ack, result_of, CommandDecision, OneShot};
 
 /// What an ACK reports.
@@ -82,6 +82,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     OneShot::ComponentMetadata => Some(vec![self.component_metadata(now)]),
                     OneShot::ComponentInformation => Some(vec![self.component_information(now)]),
                     OneShot::AvailableModes(index) => available_modes(index),
+                    OneShot::Stream(TelemetryStream::SystemTime) => Some(vec![self.system_time(now)]),
                     OneShot::Stream(stream) => message(stream, &self.snapshot).map(|m| vec![m]),
                 };
                 match msgs {

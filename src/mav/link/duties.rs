@@ -9,7 +9,8 @@ use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO};
 use crate::commander::{Event, LinkLossAction, Request, Stream};
 use crate::mav::identity::heartbeat;
-use crate::mav::telemetry::{message, mission_current, status_text};
+use crate::mav::signing::unix_us_from_timestamp;
+use crate::mav::telemetry::{message, mission_current, status_text, system_time, Stream as TelemetryStream};
 use crate::telemetry::Snapshot;
 
 /// How often the link looks at what is due (wall time) [s].
@@ -49,13 +50,22 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             // Rates count simulated time; each stream goes out at most once per duty pass,
             // which caps it at 200 Hz of wall time when simulated time runs fast.
             for stream in self.ports[k].streams.due(now.sim_s) {
-                if let Some(msg) = message(stream, &self.snapshot) {
+                let msg = match stream {
+                    TelemetryStream::SystemTime => Some(self.system_time(now)),
+                    _ => message(stream, &self.snapshot),
+                };
+                if let Some(msg) = msg {
                     for to in &targets {
                         self.send(now, link, *to, &msg);
                     }
                 }
             }
         }
+    }
+
+    /// SYSTEM_TIME now, from the wall clock the signing clock counts.
+    pub(super) fn system_time(&self, now: Now) -> MavMessage {
+        system_time(unix_us_from_timestamp(self.signing_now(now)), &self.snapshot)
     }
 
     /// At least 1 Hz in wall time (MAVSDK drops a silent link after 3 s) and 1 Hz in simulated

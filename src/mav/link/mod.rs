@@ -148,8 +148,8 @@ pub struct LinkConfig<A> {
     pub snapshot: Snapshot,
     /// Signing key and timestamp at start.
     pub signing: Signing,
-    /// Signing timestamp at wall time 0 [10 µs since 2015]: the signing clock is this plus
-    /// wall time.
+    /// The wall clock at wall time 0, as a signing timestamp [10 µs since 2015]: the signing
+    /// clock and SYSTEM_TIME are this plus wall time (0: no clock; SYSTEM_TIME then says 0).
     pub signing_epoch: u64,
     /// SETUP_SIGNING keys are kept (a key file): a change waits for [`LinkMachine::handle_stored`].
     pub key_store: bool,
