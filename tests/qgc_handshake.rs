@@ -129,3 +129,29 @@ fn system_time_goes_to_the_api_link_at_1_hz_from_the_wall_clock_and_on_request()
     };
     assert_eq!(t.time_unix_usec, (unix_s * 1_000_000) + 25_500_000);
 }
+
+#[test]
+fn the_events_protocol_says_there_are_none_and_answers_requests_with_unavailable() {
+    let mut b = Bench::new();
+    let every_3_s = (1..=9).map(|k| (f64::from(k), f64::from(k)));
+    assert_eq!(b.count_sent("CURRENT_EVENT_SEQUENCE", Gcs, every_3_s), 3);
+    b.send(
+        Gcs,
+        QGC,
+        MavMessage::REQUEST_EVENT(REQUEST_EVENT_DATA {
+            first_sequence: 0,
+            last_sequence: 4,
+            target_system: 1,
+            target_component: 1,
+        }),
+    );
+    let out = b.out();
+    let [(_, to, MavMessage::RESPONSE_EVENT_ERROR(e))] = &named(&out, "RESPONSE_EVENT_ERROR")[..] else {
+        panic!("{out:?}")
+    };
+    assert_eq!(*to, QGC);
+    assert_eq!(
+        (e.sequence, e.reason),
+        (0, MavEventErrorReason::MAV_EVENT_ERROR_REASON_UNAVAILABLE)
+    );
+}

@@ -220,6 +220,9 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
             }
         }
         MavMessage::FOLLOW_TARGET(t) => follow_target(t, origin),
+        MavMessage::REQUEST_EVENT(r) if ours(r.target_system, r.target_component) => {
+            Action::Reply(Box::new(super::events::event_unavailable(r, ids)))
+        }
         MavMessage::MANUAL_CONTROL(m) if ours(m.target, 0) => match Sticks::from_manual_control(m.x, m.y, m.z, m.r) {
             Ok(sticks) => Action::Request(Request::ManualControl(sticks)),
             Err(why) => Action::Refuse(why.to_string()),

@@ -15,6 +15,7 @@
 //! - [`ftp`]: MAVLink FTP (payload, in-memory file system, server); [`metadata`]: the component
 //!   metadata files it serves (general, parameters) and COMPONENT_METADATA.
 //! - [`shell`]: the MAVLink shell (SERIAL_CONTROL) and its commands.
+//! - [`events`]: the events protocol of a vehicle that announces by STATUSTEXT.
 //! - [`modes`]: PROTOCOL_VERSION and the standard modes protocol (AVAILABLE_MODES, CURRENT_MODE).
 //! - [`params`]: PARAM_VALUE / PARAM_SET encoding and PX4's `_HASH_CHECK`; [`crc32`]: its CRC.
 //! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation.
@@ -24,6 +25,7 @@
 pub mod codec;
 pub mod crc32;
 pub mod duplicates;
+pub mod events;
 pub mod ftp;
 pub mod gcs;
 pub mod identity;

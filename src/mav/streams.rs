@@ -36,6 +36,10 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         ExternalForce | ExternalTorque | MassEstimate => (10.0, 10.0),
         OrbitStatus => (5.0, 5.0),
         SystemTime => (0.0, 1.0),
+        EventSequence => (
+            1.0 / super::events::CURRENT_SEQUENCE_PERIOD_S,
+            1.0 / super::events::CURRENT_SEQUENCE_PERIOD_S,
+        ),
     };
     match kind {
         LinkKind::Gcs => gcs,

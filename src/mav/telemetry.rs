@@ -61,6 +61,8 @@ pub enum Stream {
     CurrentMode,
     /// ORBIT_EXECUTION_STATUS (360): the orbit flown (only in orbit mode).
     OrbitStatus,
+    /// CURRENT_EVENT_SEQUENCE (411): no events, sequence reset.
+    EventSequence,
     /// SYSTEM_TIME (2): Unix time and time since boot; the link builds it from its wall clock
     /// ([`system_time`]), so [`message`] has none.
     SystemTime,
@@ -68,7 +70,7 @@ pub enum Stream {
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 22] = [
+    pub const ALL: [Stream; 23] = [
         Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
@@ -91,6 +93,7 @@ impl Stream {
         Stream::CurrentMode,
         Stream::OrbitStatus,
         Stream::SystemTime,
+        Stream::EventSequence,
     ];
 
     /// MAVLink message id.
@@ -117,6 +120,7 @@ impl Stream {
             Stream::CurrentMode => 436,
             Stream::OrbitStatus => 360,
             Stream::SystemTime => 2,
+            Stream::EventSequence => 411,
         }
     }
 }
@@ -177,6 +181,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         Stream::CurrentMode => super::modes::current_mode(s.mode),
         Stream::OrbitStatus => return super::orbit::orbit_execution_status(s),
         Stream::SystemTime => return None,
+        Stream::EventSequence => super::events::current_event_sequence(),
         Stream::AttitudeQuaternion => {
             let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);
             MavMessage::ATTITUDE_QUATERNION(ATTITUDE_QUATERNION_DATA {
