@@ -1,6 +1,6 @@
 //! The actions a failsafe parameter chooses between, as enums with PX4's codes: `NAV_DLL_ACT`
 //! (GCS link loss), `COM_OBL_RC_ACT` (offboard loss), `GF_ACTION` (geofence breach) and
-//! `COM_LOW_BAT_ACT` (battery). Each converts from its code with [`TryFrom<i32>`], refusing codes
+//! `COM_LOW_BAT_ACT` (battery); and the destinations a return may choose (`RTL_TYPE`). Each converts from its code with [`TryFrom<i32>`], refusing codes
 //! PX4 does not define, and back with `From<_> for i32` / `f64`. Pure.
 
 use thiserror::Error;
@@ -163,6 +163,22 @@ action_enum! {
     }
 }
 
+action_enum! {
+    /// Where AUTO.RTL returns to (`RTL_TYPE`, PX4's destination rule of `RTL::findRtlDestination`
+    /// without mission landings; the mission-path types 2 and 4 and the battery-aware 6 are not
+    /// modelled).
+    RtlType, "RTL_TYPE", default HomeOrRally {
+        /// Home or the closest rally point, whichever is closer.
+        HomeOrRally = 0, "home or closest rally point";
+        /// The closest rally point; home only when there is none.
+        RallyFirst = 1, "closest rally point, else home";
+        /// The closest safe destination (home or rally point; mission landings are not modelled).
+        Closest = 3, "closest of home and rally points";
+        /// The closest rally point; without one, land where the return started.
+        RallyOnly = 5, "closest rally point, else land here";
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -190,6 +206,7 @@ mod tests {
         round_trips(OffboardLossAction::ALL, &[-1, 8]);
         round_trips(GeofenceAction::ALL, &[-1, 6]);
         round_trips(LowBatteryAction::ALL, &[-1, 1, 4]);
+        round_trips(RtlType::ALL, &[-1, 2, 4, 6]);
         assert_eq!(LinkLossAction::ALL.len(), 6);
         assert_eq!(OffboardLossAction::ALL.len(), 8);
         assert_eq!(GeofenceAction::ALL.len(), 6);
@@ -213,5 +230,6 @@ mod tests {
         assert_eq!(OffboardLossAction::default(), OffboardLossAction::Position);
         assert_eq!(GeofenceAction::default(), GeofenceAction::Hold);
         assert_eq!(LowBatteryAction::default(), LowBatteryAction::Warn);
+        assert_eq!(RtlType::default(), RtlType::HomeOrRally);
     }
 }

@@ -1,4 +1,5 @@
-//! Arming and disarming. Arming is refused (unless forced) in AUTO.MISSION without a mission,
+//! Arming and disarming. Arming is refused (unless forced) outside the geofence (while
+//! `GF_ACTION` is set), in AUTO.MISSION without a mission,
 //! in OFFBOARD without a live setpoint stream and in AUTO.LAND / AUTO.RTL; a disarm is refused
 //! in the air unless forced. Disarming leaves the modes that only make sense armed.
 
@@ -14,6 +15,9 @@ impl Commander {
             return Outcome::Accepted;
         }
         if !force {
+            if self.arming_fence_breach(x).is_some() {
+                return Outcome::TemporarilyRejected("Arming denied: vehicle outside geofence".into());
+            }
             match self.mode {
                 FlightMode::Mission if self.mission.mission.is_empty() => {
                     return Outcome::TemporarilyRejected("Arming denied: no mission".into())

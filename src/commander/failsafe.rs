@@ -1,8 +1,10 @@
 //! Geofence and battery failsafes (mavlink.md §11.2, PX4 names and semantics). Pure: the
-//! commander feeds the position relative to home and the battery's remaining fraction each tick
-//! and gets back the failsafes that have just triggered, each with the action to take.
+//! commander feeds the position relative to home, the uploaded fence's verdict on it and the
+//! battery's remaining fraction each tick and gets back the failsafes that have just triggered,
+//! each with the action to take.
 
 use super::{GeofenceAction, LowBatteryAction};
+use crate::navigation::geofence::ZoneBreach;
 
 /// Failsafe settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,8 +93,8 @@ impl FailsafeMonitor {
         self.battery
     }
 
-    /// True while the vehicle was outside the geofence (`GF_MAX_HOR_DIST` / `GF_MAX_VER_DIST`)
-    /// at the last check: what SYS_STATUS reports as an unhealthy geofence.
+    /// True while the vehicle was outside the geofence (`GF_MAX_HOR_DIST` / `GF_MAX_VER_DIST`,
+    /// the uploaded zones) at the last check: what SYS_STATUS reports as an unhealthy geofence.
     pub fn geofence_breached(&self) -> bool {
         self.fence_breached
     }
@@ -106,6 +108,19 @@ impl FailsafeMonitor {
         battery_fraction: f64,
         in_air: bool,
     ) -> Vec<Failsafe> {
+        self.check_with_zones(p, rel_home_w, None, battery_fraction, in_air)
+    }
+
+    /// [`check`](Self::check) with the uploaded fence's verdict `zone` on the position (`None`:
+    /// inside every inclusion zone and outside every exclusion zone, or no fence).
+    pub fn check_with_zones(
+        &mut self,
+        p: &FailsafeParams,
+        rel_home_w: [f64; 3],
+        zone: Option<ZoneBreach>,
+        battery_fraction: f64,
+        in_air: bool,
+    ) -> Vec<Failsafe> {
         let mut out = Vec::new();
         let level = battery_level(p, battery_fraction);
         if level > self.battery {
@@ -114,23 +129,32 @@ impl FailsafeMonitor {
                 out.extend(battery_failsafe(p, level, battery_fraction));
             }
         }
-        let horizontal = rel_home_w[0].hypot(rel_home_w[1]);
-        let height = -rel_home_w[2];
-        let outside = (p.geofence_max_hor_m > 0.0 && horizontal > p.geofence_max_hor_m)
-            || (p.geofence_max_ver_m > 0.0 && height > p.geofence_max_ver_m);
+        let breach = fence_breach(p, rel_home_w, zone);
+        let outside = breach.is_some();
         let action = fence_failsafe(p.geofence_action).filter(|_| outside && !self.fence_breached && in_air);
-        if let Some(action) = action {
-            out.push(Failsafe {
-                action,
-                text: format!(
-                    "Geofence breached ({horizontal:.1} m from home, {height:.1} m up; limits {} m / {} m)",
-                    p.geofence_max_hor_m, p.geofence_max_ver_m
-                ),
-            });
+        if let (Some(action), Some(text)) = (action, breach) {
+            out.push(Failsafe { action, text });
         }
         self.fence_breached = outside;
         out
     }
+}
+
+/// The announcement of a geofence breach at `rel_home_w` [m] from home (NED) with the uploaded
+/// fence's verdict `zone`, or `None` inside every limit: `GF_MAX_HOR_DIST` and `GF_MAX_VER_DIST`
+/// first (0 = no limit), then the zones (PX4 `Geofence::checkPointAgainstAllGeofences`).
+pub fn fence_breach(p: &FailsafeParams, rel_home_w: [f64; 3], zone: Option<ZoneBreach>) -> Option<String> {
+    let horizontal = rel_home_w[0].hypot(rel_home_w[1]);
+    let height = -rel_home_w[2];
+    if (p.geofence_max_hor_m > 0.0 && horizontal > p.geofence_max_hor_m)
+        || (p.geofence_max_ver_m > 0.0 && height > p.geofence_max_ver_m)
+    {
+        return Some(format!(
+            "Geofence breached ({horizontal:.1} m from home, {height:.1} m up; limits {} m / {} m)",
+            p.geofence_max_hor_m, p.geofence_max_ver_m
+        ));
+    }
+    zone.map(|z| format!("Geofence breached ({z})"))
 }
 
 /// What a breach does under `GF_ACTION` (`None`: nothing, not even an announcement).
@@ -236,6 +260,35 @@ mod tests {
         assert!(FailsafeMonitor::default()
             .check(&off, [1e4, 0.0, -1e3], 1.0, true)
             .is_empty());
+    }
+
+    #[test]
+    fn an_uploaded_zone_breach_fires_once_with_the_distance_limits() {
+        let p = fence(GeofenceAction::Land);
+        let mut m = FailsafeMonitor::default();
+        let out = ZoneBreach {
+            zone: 0,
+            inclusion: true,
+        };
+        let fired = m.check_with_zones(&p, [3.0, 0.0, -2.0], Some(out), 1.0, true);
+        assert_eq!(fired.len(), 1);
+        assert_eq!(
+            (fired[0].action, fired[0].text.as_str()),
+            (FailsafeAction::Land, "Geofence breached (outside inclusion zone 1)")
+        );
+        assert!(m.geofence_breached());
+        // Still out (now also too far): the same breach.
+        assert!(m
+            .check_with_zones(&p, [12.0, 0.0, -2.0], Some(out), 1.0, true)
+            .is_empty());
+        assert!(m.check_with_zones(&p, [3.0, 0.0, -2.0], None, 1.0, true).is_empty());
+        assert!(!m.geofence_breached());
+        let keep_out = ZoneBreach {
+            zone: 2,
+            inclusion: false,
+        };
+        let again = m.check_with_zones(&p, [3.0, 0.0, -2.0], Some(keep_out), 1.0, true);
+        assert_eq!(again[0].text, "Geofence breached (inside exclusion zone 3)");
     }
 
     #[test]

@@ -57,8 +57,9 @@ const FTP_ERR_UNKNOWN_COMMAND: u8 = 7;
 const FTP_ERR_FILE_NOT_FOUND: u8 = 10;
 
 /// AUTOPILOT_VERSION (mavlink.md §4): MISSION_INT, COMMAND_INT, PARAM_ENCODE_BYTEWISE,
-/// SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED / _GLOBAL_INT and MAVLINK2 — not FTP,
-/// fence or rally, which would make QGC try those transfers; the version packs 0.1.0 as a
+/// SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED / _GLOBAL_INT, MAVLINK2 and the fence and
+/// rally plans (MISSION_FENCE, MISSION_RALLY, as PX4) — not FTP, which would make QGC try that
+/// transfer; the version packs 0.1.0 as a
 /// release (type byte 255); `uid` is unique per system id.
 pub fn autopilot_version(id: &Identity) -> MavMessage {
     MavMessage::AUTOPILOT_VERSION(AUTOPILOT_VERSION_DATA {
@@ -68,7 +69,9 @@ pub fn autopilot_version(id: &Identity) -> MavMessage {
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_ATTITUDE_TARGET
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_GLOBAL_INT
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2,
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_RALLY,
         uid: 0x5250_0000_0000_0000 | u64::from(id.system_id),
         flight_sw_version: (1 << 16) | 255,
         ..Default::default()
@@ -208,6 +211,9 @@ mod tests {
         assert!(v
             .capabilities
             .contains(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2));
+        let plans = MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_RALLY;
+        assert!(v.capabilities.contains(plans));
         assert!(!v
             .capabilities
             .contains(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_FTP));

@@ -3,7 +3,8 @@
 //! the order is fixed so clients that cache indices keep working). Pure.
 //!
 //! # Layout
-//! - `flight.rs`: take-off, landing, speeds, accelerations, headings, auto-disarm, land detector.
+//! - `flight.rs`: take-off, landing, speeds, accelerations, headings, auto-disarm, land detector,
+//!   return destination.
 //! - `control.rs`: control law, compensation, tilt limit, guards.
 //! - `estimator.rs`: the wrench estimator's design.
 //! - `gains.rs`: every gain of the three laws, per axis.
@@ -97,7 +98,7 @@ mod plant;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 14] = [
+static GROUPS: [&[ParamDef]; 15] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -112,6 +113,7 @@ static GROUPS: [&[ParamDef]; 14] = [
     flight::SPEED_CAPS,
     failsafe::FAILSAFES,
     flight::MOTION,
+    flight::RETURN,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely
