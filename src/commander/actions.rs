@@ -1,7 +1,8 @@
 //! The actions a failsafe parameter chooses between, as enums with PX4's codes: `NAV_DLL_ACT`
 //! (GCS link loss), `NAV_RCL_ACT` (stick loss), `COM_RC_IN_MODE` (stick sources),
 //! `COM_OBL_RC_ACT` (offboard loss), `GF_ACTION` (geofence breach) and `COM_LOW_BAT_ACT`
-//! (battery). Each converts from its code with [`TryFrom<i32>`], refusing codes
+//! (battery); and the destinations a return may choose (`RTL_TYPE`). Each converts from its
+//! code with [`TryFrom<i32>`], refusing codes
 //! PX4 does not define, and back with `From<_> for i32` / `f64`. Pure.
 
 use thiserror::Error;
@@ -212,6 +213,22 @@ action_enum! {
     }
 }
 
+action_enum! {
+    /// Where AUTO.RTL returns to (`RTL_TYPE`, PX4's destination rule of `RTL::findRtlDestination`
+    /// without mission landings; the mission-path types 2 and 4 and the battery-aware 6 are not
+    /// modelled).
+    RtlType, "RTL_TYPE", default HomeOrRally {
+        /// Home or the closest rally point, whichever is closer.
+        HomeOrRally = 0, "home or closest rally point";
+        /// The closest rally point; home only when there is none.
+        RallyFirst = 1, "closest rally point, else home";
+        /// The closest safe destination (home or rally point; mission landings are not modelled).
+        Closest = 3, "closest of home and rally points";
+        /// The closest rally point; without one, land where the return started.
+        RallyOnly = 5, "closest rally point, else land here";
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -244,6 +261,7 @@ mod tests {
         for a in ManualLossAction::ALL {
             assert_eq!(i32::from(LinkLossAction::from(*a)), i32::from(*a), "same codes");
         }
+        round_trips(RtlType::ALL, &[-1, 2, 4, 6]);
         assert_eq!(LinkLossAction::ALL.len(), 6);
         assert_eq!(OffboardLossAction::ALL.len(), 8);
         assert_eq!(GeofenceAction::ALL.len(), 6);
@@ -269,5 +287,6 @@ mod tests {
         assert_eq!(LowBatteryAction::default(), LowBatteryAction::Warn);
         assert_eq!(ManualLossAction::default(), ManualLossAction::Return);
         assert_eq!(ManualInputMode::default(), ManualInputMode::KeepFirst);
+        assert_eq!(RtlType::default(), RtlType::HomeOrRally);
     }
 }

@@ -1,6 +1,7 @@
-//! Arming and disarming. Arming is refused (unless forced) in AUTO.MISSION without a mission,
-//! in OFFBOARD without a live setpoint stream, in AUTO.LAND / AUTO.RTL, in the stick modes
-//! without sticks and with the throttle up where it sets the thrust; a disarm is refused
+//! Arming and disarming. Arming is refused (unless forced) outside the geofence (while
+//! `GF_ACTION` is set), in AUTO.MISSION without a mission, in OFFBOARD without a live setpoint
+//! stream, in AUTO.LAND / AUTO.RTL, in the stick modes without sticks and with the throttle up
+//! where it sets the thrust; a disarm is refused
 //! in the air unless forced. Disarming leaves the modes that only make sense armed.
 
 use crate::control::VehicleState;
@@ -15,6 +16,9 @@ impl Commander {
             return Outcome::Accepted;
         }
         if !force {
+            if self.arming_fence_breach(x).is_some() {
+                return Outcome::TemporarilyRejected("Arming denied: vehicle outside geofence".into());
+            }
             match self.mode {
                 FlightMode::Mission if self.mission.mission.is_empty() => {
                     return Outcome::TemporarilyRejected("Arming denied: no mission".into())

@@ -1,8 +1,17 @@
 //! Geofence and battery failsafes (mavlink.md §11.2, PX4 names and semantics). Pure: the
-//! commander feeds the position relative to home and the battery's remaining fraction each tick
-//! and gets back the failsafes that have just triggered, each with the action to take.
+//! commander feeds the position relative to home, the uploaded fence's verdict on it and the
+//! battery's remaining fraction each tick and gets back the failsafes that have just triggered,
+//! each with the action to take.
 
 use super::{GeofenceAction, LowBatteryAction};
+use crate::math::Vec3;
+use crate::navigation::geofence::ZoneBreach;
+use crate::navigation::Geofence;
+
+/// A breach ends only once the vehicle is this far inside every limit again [m], so that a
+/// vehicle holding where it crossed a limit does not announce a new breach each time it
+/// wavers across it.
+pub const FENCE_CLEAR_MARGIN_M: f64 = 1.0;
 
 /// Failsafe settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -78,7 +87,8 @@ pub enum BatteryLevel {
 }
 
 /// Remembers which failsafes have fired, so each fires once per breach (a new breach after
-/// the vehicle came back inside the fence fires again; battery levels only go down).
+/// the vehicle came back inside the fence, by [`FENCE_CLEAR_MARGIN_M`], fires again; battery
+/// levels only go down).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FailsafeMonitor {
     fence_breached: bool,
@@ -91,8 +101,9 @@ impl FailsafeMonitor {
         self.battery
     }
 
-    /// True while the vehicle was outside the geofence (`GF_MAX_HOR_DIST` / `GF_MAX_VER_DIST`)
-    /// at the last check: what SYS_STATUS reports as an unhealthy geofence.
+    /// True from a check that found the vehicle outside the geofence (`GF_MAX_HOR_DIST` /
+    /// `GF_MAX_VER_DIST`, the uploaded zones) until one found it [`FENCE_CLEAR_MARGIN_M`] inside
+    /// again: what SYS_STATUS reports as an unhealthy geofence.
     pub fn geofence_breached(&self) -> bool {
         self.fence_breached
     }
@@ -106,6 +117,21 @@ impl FailsafeMonitor {
         battery_fraction: f64,
         in_air: bool,
     ) -> Vec<Failsafe> {
+        let pos_w = Vec3::from(rel_home_w);
+        self.check_with_fence(p, rel_home_w, &Geofence::default(), &pos_w, battery_fraction, in_air)
+    }
+
+    /// [`check`](Self::check) with the uploaded `fence` too, the vehicle at `pos_w` (local NED
+    /// [m], the frame of the fence's zones).
+    pub fn check_with_fence(
+        &mut self,
+        p: &FailsafeParams,
+        rel_home_w: [f64; 3],
+        fence: &Geofence,
+        pos_w: &Vec3,
+        battery_fraction: f64,
+        in_air: bool,
+    ) -> Vec<Failsafe> {
         let mut out = Vec::new();
         let level = battery_level(p, battery_fraction);
         if level > self.battery {
@@ -114,23 +140,51 @@ impl FailsafeMonitor {
                 out.extend(battery_failsafe(p, level, battery_fraction));
             }
         }
-        let horizontal = rel_home_w[0].hypot(rel_home_w[1]);
-        let height = -rel_home_w[2];
-        let outside = (p.geofence_max_hor_m > 0.0 && horizontal > p.geofence_max_hor_m)
-            || (p.geofence_max_ver_m > 0.0 && height > p.geofence_max_ver_m);
+        let breach = fence_breach(p, rel_home_w, fence.breach(pos_w));
+        let outside = breach.is_some();
         let action = fence_failsafe(p.geofence_action).filter(|_| outside && !self.fence_breached && in_air);
-        if let Some(action) = action {
-            out.push(Failsafe {
-                action,
-                text: format!(
-                    "Geofence breached ({horizontal:.1} m from home, {height:.1} m up; limits {} m / {} m)",
-                    p.geofence_max_hor_m, p.geofence_max_ver_m
-                ),
-            });
+        if let (Some(action), Some(text)) = (action, breach) {
+            out.push(Failsafe { action, text });
         }
-        self.fence_breached = outside;
+        if outside {
+            self.fence_breached = true;
+        } else if well_inside(p, rel_home_w, fence, pos_w) {
+            self.fence_breached = false;
+        }
         out
     }
+}
+
+/// Inside every limit by [`FENCE_CLEAR_MARGIN_M`]: below the distance limits by the margin, and
+/// every point at the margin around `pos_w` (eight directions) inside the fence.
+fn well_inside(p: &FailsafeParams, rel_home_w: [f64; 3], fence: &Geofence, pos_w: &Vec3) -> bool {
+    let m = FENCE_CLEAR_MARGIN_M;
+    let horizontal = rel_home_w[0].hypot(rel_home_w[1]);
+    let height = -rel_home_w[2];
+    let near_limit = (p.geofence_max_hor_m > 0.0 && horizontal + m > p.geofence_max_hor_m)
+        || (p.geofence_max_ver_m > 0.0 && height + m > p.geofence_max_ver_m);
+    let around = (0..8).map(|k| f64::from(k) * std::f64::consts::FRAC_PI_4);
+    !near_limit
+        && around
+            .map(|a| pos_w + Vec3::new(m * a.cos(), m * a.sin(), 0.0))
+            .all(|q| fence.contains(&q))
+}
+
+/// The announcement of a geofence breach at `rel_home_w` [m] from home (NED) with the uploaded
+/// fence's verdict `zone`, or `None` inside every limit: `GF_MAX_HOR_DIST` and `GF_MAX_VER_DIST`
+/// first (0 = no limit), then the zones (PX4 `Geofence::checkPointAgainstAllGeofences`).
+pub fn fence_breach(p: &FailsafeParams, rel_home_w: [f64; 3], zone: Option<ZoneBreach>) -> Option<String> {
+    let horizontal = rel_home_w[0].hypot(rel_home_w[1]);
+    let height = -rel_home_w[2];
+    if (p.geofence_max_hor_m > 0.0 && horizontal > p.geofence_max_hor_m)
+        || (p.geofence_max_ver_m > 0.0 && height > p.geofence_max_ver_m)
+    {
+        return Some(format!(
+            "Geofence breached ({horizontal:.1} m from home, {height:.1} m up; limits {} m / {} m)",
+            p.geofence_max_hor_m, p.geofence_max_ver_m
+        ));
+    }
+    zone.map(|z| format!("Geofence breached ({z})"))
 }
 
 /// What a breach does under `GF_ACTION` (`None`: nothing, not even an announcement).
@@ -236,6 +290,50 @@ mod tests {
         assert!(FailsafeMonitor::default()
             .check(&off, [1e4, 0.0, -1e3], 1.0, true)
             .is_empty());
+    }
+
+    #[test]
+    fn an_uploaded_zone_breach_fires_once_until_well_inside_again() {
+        use crate::navigation::geofence::{Shape, Zone};
+        let p = fence(GeofenceAction::Land);
+        let zones = Geofence {
+            zones: vec![
+                Zone {
+                    inclusion: true,
+                    shape: Shape::Circle {
+                        center: [0.0, 0.0],
+                        radius_m: 6.0,
+                    },
+                },
+                Zone {
+                    inclusion: false,
+                    shape: Shape::Circle {
+                        center: [-4.0, 0.0],
+                        radius_m: 1.0,
+                    },
+                },
+            ],
+        };
+        let mut m = FailsafeMonitor::default();
+        let mut at = |n: f64| {
+            let pos = Vec3::new(n, 0.0, -2.0);
+            m.check_with_fence(&p, [n, 0.0, -2.0], &zones, &pos, 1.0, true)
+        };
+        let fired = at(6.1);
+        assert_eq!(fired.len(), 1);
+        assert_eq!(
+            (fired[0].action, fired[0].text.as_str()),
+            (FailsafeAction::Land, "Geofence breached (outside inclusion zone 1)")
+        );
+        // Wavering across the edge: the same breach; back 1 m inside ends it.
+        for n in [5.9, 6.1, 5.5, 6.05] {
+            assert!(at(n).is_empty(), "{n}");
+        }
+        assert!(at(4.9).is_empty());
+        assert_eq!(at(6.2).len(), 1, "a new breach");
+        assert!(at(0.0).is_empty());
+        assert_eq!(at(-4.5)[0].text, "Geofence breached (inside exclusion zone 2)");
+        assert!(m.geofence_breached());
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use crate::control::{AttitudeTarget, FlatSetpoint};
 use crate::math::Vec3;
-use crate::navigation::{Mission, OrbitYaw, Sticks};
+use crate::navigation::{Geofence, Mission, OrbitYaw, RallyPoints, Sticks};
 
 use super::FlightMode;
 
@@ -56,6 +56,11 @@ pub enum Request {
     OffboardAttitude(AttitudeTarget),
     /// Replace the stored mission (a mission replaced during AUTO.MISSION switches to AUTO.LOITER).
     SetMission(Mission),
+    /// Replace the uploaded geofence (zones about home; empty: none). Zones that home breaks,
+    /// or (in flight, `GF_ACTION` set) the current position, are left out, as PX4 does.
+    SetGeofence(Geofence),
+    /// Replace the rally points RTL may return to (empty: none).
+    SetRallyPoints(RallyPoints),
     /// MISSION_START: fly the stored mission from `first` (item index).
     StartMission {
         /// First item.
@@ -180,6 +185,8 @@ impl Request {
             Self::Orbit(orbit) => orbit.is_finite(),
             Self::FollowTarget { pos_w, vel_w } => pos_w.iter().chain(vel_w.iter()).all(|v| v.is_finite()),
             Self::SetMission(m) => m.is_finite(),
+            Self::SetGeofence(f) => f.is_finite(),
+            Self::SetRallyPoints(r) => r.is_finite(),
             Self::Reposition {
                 north_m,
                 east_m,

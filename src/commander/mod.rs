@@ -9,6 +9,8 @@
 //! - `arming.rs`: arm and disarm, and their refusals.
 //! - `modes.rs`: mode switches, each mode's guidance, paths and descents, take-off completion.
 //! - `rtl.rs`: AUTO.RTL's phases (climb, return, descend).
+//! - `plans.rs`: the uploaded geofence and rally points: which zones count, the breach check
+//!   and arming refusal, the return destination (`RTL_TYPE`).
 //! - `messages.rs`: requests, outcomes, events, landed state; `params.rs`: the settings.
 //! - [`land_detector`]: on the ground or in the air, from what the vehicle does.
 //! - `landing.rs`: what the verdict changes: touch-down thrust cut, idle on the ground,
@@ -21,7 +23,7 @@
 //! - `reactions.rs`: failsafes, rotor failures and GCS link loss.
 //! - `failsafe.rs`, `battery.rs`, `mode.rs`: geofence/battery monitor, energy gauge, PX4 modes.
 //! - `actions.rs`: the failsafe parameters' actions (`NAV_DLL_ACT`, `COM_OBL_RC_ACT`,
-//!   `GF_ACTION`, `COM_LOW_BAT_ACT`) as enums with PX4's codes.
+//!   `GF_ACTION`, `COM_LOW_BAT_ACT`) and `RTL_TYPE` as enums with PX4's codes.
 //! - `script.rs` (tests only): a commander flying a vehicle that tracks its setpoints exactly.
 //!
 //! Home is the local NED origin. Wrong-state results follow PX4 (TEMPORARILY_REJECTED when
@@ -43,6 +45,7 @@ mod modes;
 mod offboard;
 mod orbit;
 mod params;
+mod plans;
 mod reactions;
 mod requests;
 mod rtl;
@@ -50,7 +53,7 @@ mod rtl;
 mod script;
 
 pub use actions::{
-    GeofenceAction, LinkLossAction, LowBatteryAction, ManualInputMode, ManualLossAction, OffboardLossAction,
+    GeofenceAction, LinkLossAction, LowBatteryAction, ManualInputMode, ManualLossAction, OffboardLossAction, RtlType,
     UnknownAction,
 };
 pub use battery::{BatteryGauge, BatteryParams};
@@ -71,7 +74,7 @@ use rtl::RtlPhase;
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Guidance, Orbit};
+use crate::navigation::{Geofence, Guidance, Orbit, RallyPoints};
 
 /// Tick length assumed before the second tick [s].
 const DEFAULT_DT_S: f64 = 0.001;
@@ -100,6 +103,10 @@ pub struct Commander {
     follow: Follow,
     speed_override: Option<f64>,
     home_w: Vec3,
+    /// The uploaded fence's zones that count (PX4 leaves out those home breaks).
+    geofence: Geofence,
+    /// The uploaded rally points.
+    rally: RallyPoints,
     failsafes: FailsafeMonitor,
     battery: BatteryGauge,
     last_update_s: Option<f64>,
@@ -128,6 +135,8 @@ impl Commander {
             follow: Follow::default(),
             speed_override: None,
             home_w: Vec3::zeros(),
+            geofence: Geofence::default(),
+            rally: RallyPoints::default(),
             failsafes: FailsafeMonitor::default(),
             battery: BatteryGauge::default(),
             last_update_s: None,

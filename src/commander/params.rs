@@ -4,7 +4,7 @@ use crate::navigation::{FollowParams, MotionLimits, StickShaping};
 
 use super::{
     BatteryParams, FailsafeParams, LandDetectorParams, LinkLossAction, ManualInputMode, ManualLossAction,
-    OffboardLossAction,
+    OffboardLossAction, RtlType,
 };
 
 /// The stick modes and the loss of the sticks (PX4 names and defaults in brackets).
@@ -59,6 +59,8 @@ pub struct CommanderParams {
     pub cruise_speed_m_s: f64,
     /// Return altitude above home [m] (`RTL_RETURN_ALT`, 60).
     pub rtl_return_alt_m: f64,
+    /// Where a return goes: home or a rally point (`RTL_TYPE`, 0).
+    pub rtl_type: RtlType,
     /// Disarm this long after landing [s] (`COM_DISARM_LAND`, 2.0; ≤ 0 never).
     pub disarm_land_s: f64,
     /// Disarm this long after arming without taking off [s] (`COM_DISARM_PRFLT`, 10; ≤ 0 never).
@@ -99,6 +101,7 @@ impl Default for CommanderParams {
             land_alt2_m: 5.0,
             cruise_speed_m_s: 5.0,
             rtl_return_alt_m: 60.0,
+            rtl_type: RtlType::HomeOrRally,
             disarm_land_s: 2.0,
             disarm_preflight_s: 10.0,
             offboard_loss_s: 1.0,

@@ -33,9 +33,11 @@ impl Commander {
         self.battery.draw(power_w, dt_s);
         let rel = x.pos_w - self.home_w;
         let in_air = self.in_air();
-        let fired = self.failsafes.check(
+        let fired = self.failsafes.check_with_fence(
             &self.params.failsafe,
             [rel.x, rel.y, rel.z],
+            &self.geofence,
+            &x.pos_w,
             self.battery.fraction(&self.params.battery),
             in_air,
         );

@@ -1,7 +1,7 @@
 //! [`Commander::request`]: each ground-station request to the part of the commander that
 //! handles it, and the small requests handled here: take-off, reposition (DO_REPOSITION),
 //! change speed (DO_CHANGE_SPEED), set home (DO_SET_HOME), set and start the mission, and the
-//! offboard setpoint store.
+//! offboard setpoint store (the geofence and rally points go to `plans.rs`).
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
@@ -56,6 +56,8 @@ impl Commander {
                 }
                 Outcome::Accepted
             }
+            Request::SetGeofence(fence) => self.set_geofence(fence, x),
+            Request::SetRallyPoints(rally) => self.set_rally_points(rally),
             Request::StartMission { first } => self.start_mission(first, x, t_s),
             Request::Reposition {
                 north_m,

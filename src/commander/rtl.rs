@@ -1,5 +1,6 @@
-//! AUTO.RTL's phases: climb to `RTL_RETURN_ALT` above home (or stay higher), fly over home at
-//! that height, then descend and land there.
+//! AUTO.RTL's phases: climb to `RTL_RETURN_ALT` above home (or stay higher), fly over the
+//! destination `RTL_TYPE` chooses (home or a rally point) at that height, then descend and land
+//! there.
 
 use crate::control::VehicleState;
 use crate::math::Vec3;
@@ -11,9 +12,9 @@ use super::Commander;
 pub(super) enum RtlPhase {
     /// Climbing to the return altitude.
     Climb,
-    /// Flying over home.
+    /// Flying over the destination.
     Return,
-    /// Descending to land at home.
+    /// Descending to land at the destination.
     Descend,
 }
 
@@ -26,8 +27,9 @@ impl Commander {
         match self.rtl_phase {
             RtlPhase::Climb => {
                 self.rtl_phase = RtlPhase::Return;
-                let home_at_alt = Vec3::new(self.home_w.x, self.home_w.y, x.pos_w.z);
-                self.guidance = self.path_to(x, home_at_alt, yaw, self.cruise_speed(), t_s);
+                let to = self.rtl_destination(&x.pos_w);
+                let over = Vec3::new(to.x, to.y, x.pos_w.z);
+                self.guidance = self.path_to(x, over, yaw, self.cruise_speed(), t_s);
             }
             RtlPhase::Return => {
                 self.rtl_phase = RtlPhase::Descend;
@@ -43,6 +45,7 @@ mod tests {
     use super::super::script::{Script, GROUND_Z_M};
     use super::super::{CommanderParams, Event, FlightMode, Outcome, Request};
     use crate::math::Vec3;
+    use crate::navigation::RallyPoints;
 
     fn params() -> CommanderParams {
         CommanderParams {
@@ -87,11 +90,36 @@ mod tests {
         assert!(landed, "returned, landed and disarmed: {:?}", s.events);
         assert!((highest - 15.0).abs() < 1e-6, "returned at RTL_RETURN_ALT: {highest} m");
         assert!(
-            (s.x.pos_w - Vec3::new(0.0, 0.0, GROUND_Z_M)).norm() < 1e-6,
-            "{:?}",
+            (s.x.pos_w - Vec3::new(0.0, 0.0, GROUND_Z_M)).norm() < 1e-4,
+            "home is nearer: {:?}",
             s.x.pos_w
         );
         assert_eq!(s.events, vec![Event::Landed, Event::Disarmed("landed")]);
+    }
+
+    #[test]
+    fn rtl_with_a_rally_point_nearer_than_home_lands_there() {
+        let mut s = Script::new(params());
+        let rally = RallyPoints {
+            points_w: vec![Vec3::new(40.0, 10.0, 0.0), Vec3::new(-60.0, 0.0, 0.0)],
+        };
+        assert_eq!(s.request(Request::SetRallyPoints(rally)), Outcome::Accepted);
+        s.airborne(3.0);
+        reposition(&mut s, Some(30.0), Some(0.0), None);
+        assert_eq!(s.request(Request::ReturnToLaunch), Outcome::Accepted);
+        assert!(s.until_disarmed(200.0), "{:?}", s.events);
+        let landed_at = Vec3::new(40.0, 10.0, GROUND_Z_M);
+        assert!((s.x.pos_w - landed_at).norm() < 1e-6, "{:?}", s.x.pos_w);
+        // From near home, home is closer: it lands at home.
+        s.airborne(3.0);
+        reposition(&mut s, Some(-5.0), Some(5.0), None);
+        assert_eq!(s.request(Request::ReturnToLaunch), Outcome::Accepted);
+        assert!(s.until_disarmed(200.0));
+        assert!(
+            (s.x.pos_w - Vec3::new(0.0, 0.0, GROUND_Z_M)).norm() < 1e-4,
+            "home is nearer: {:?}",
+            s.x.pos_w
+        );
     }
 
     #[test]

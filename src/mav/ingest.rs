@@ -13,7 +13,7 @@ use mavlink::MavHeader;
 use crate::commander::Request;
 use crate::navigation::{Home, Sticks};
 
-use super::mission_xfer::{mission_ack, Ids};
+use super::mission_xfer::{mission_ack, uploadable, Ids};
 use super::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
 use super::params::{decode_param_set, name_of};
 use super::services::{ping_reply, timesync_reply};
@@ -98,8 +98,8 @@ pub enum MissionStep {
     Count(mavlink::dialects::common::MISSION_COUNT_DATA),
     /// MISSION_ITEM_INT of an upload.
     Item(Box<mavlink::dialects::common::MISSION_ITEM_INT_DATA>),
-    /// MISSION_CLEAR_ALL of the mission.
-    Clear,
+    /// MISSION_CLEAR_ALL of the mission, fence or rally plan, or of all three (MAV_MISSION_TYPE_ALL).
+    Clear(MavMissionType),
     /// MISSION_REQUEST_LIST: start a download of the mission, fence or rally plan.
     RequestList(MavMissionType),
     /// MISSION_REQUEST_INT / MISSION_REQUEST: one item of a download.
@@ -152,7 +152,7 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
     let ours = |target_system: u8, target_component: u8| id.accepts(sender, target_system, target_component);
     let ids = (sender.system_id as u8, sender.component_id);
     let mission = |step: MissionStep| Action::Mission { ids, step };
-    let mission_only = |t: MavMissionType| t == MavMissionType::MAV_MISSION_TYPE_MISSION;
+    let clearable = |t: MavMissionType| uploadable(t) || t == MavMissionType::MAV_MISSION_TYPE_ALL;
     let unsupported_type =
         |t: MavMissionType| Action::Reply(Box::new(mission_ack(ids, t, MavMissionResult::MAV_MISSION_UNSUPPORTED)));
     let offboard = |decoded: Result<super::offboard::OffboardTarget, String>| match decoded {
@@ -170,8 +170,8 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
             mission(MissionStep::Item(Box::new(m.clone())))
         }
         MavMessage::MISSION_CLEAR_ALL(m) if ours(m.target_system, m.target_component) => {
-            if mission_only(m.mission_type) {
-                mission(MissionStep::Clear)
+            if clearable(m.mission_type) {
+                mission(MissionStep::Clear(m.mission_type))
             } else {
                 unsupported_type(m.mission_type)
             }
@@ -386,16 +386,19 @@ mod tests {
             MavMissionType::MAV_MISSION_TYPE_FENCE,
             MavMissionType::MAV_MISSION_TYPE_RALLY,
         );
-        let clear = MISSION_CLEAR_ALL_DATA {
-            target_system: 1,
-            target_component: 1,
-            mission_type: fence,
+        let clear = |mission_type| {
+            run(MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
+                target_system: 1,
+                target_component: 1,
+                mission_type,
+            }))
         };
-        let refused = mission_ack((255, 190), fence, MavMissionResult::MAV_MISSION_UNSUPPORTED);
-        assert_eq!(
-            run(MavMessage::MISSION_CLEAR_ALL(clear)),
-            Action::Reply(Box::new(refused))
-        );
+        for t in [fence, MavMissionType::MAV_MISSION_TYPE_ALL] {
+            let step = MissionStep::Clear(t);
+            assert_eq!(clear(t), Action::Mission { ids: (255, 190), step });
+        }
+        let other = MavMissionType::MAV_MISSION_TYPE_MISSION;
+        assert!(matches!(clear(other), Action::Mission { .. }));
         let rally_list = MISSION_REQUEST_LIST_DATA {
             target_system: 1,
             target_component: 1,

@@ -31,9 +31,10 @@ pub fn parse_mission(items: &[MISSION_ITEM_INT_DATA], home: &Home) -> Result<Mis
     Ok(Mission { items: out })
 }
 
-/// A position of a positional frame, local NED [m]; `None` for an unsupported frame.
+/// A position of a positional frame, local NED [m]; UNSUPPORTED_FRAME for another frame,
+/// INVALID_PARAM5_X for a point not finite or more than 100 km from home.
 #[allow(deprecated)]
-fn position(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<Vec3, MavMissionResult> {
+pub(crate) fn position(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<Vec3, MavMissionResult> {
     let z = f64::from(item.z);
     let global = |relative: bool| {
         let alt = if relative { home.alt_amsl_m + z } else { z };

@@ -1,15 +1,17 @@
 //! The mission transfer protocol (mavlink.md §7), as a state machine with the time passed in.
 //!
 //! Upload: MISSION_COUNT(n) → MISSION_REQUEST_INT(0) → MISSION_ITEM_INT(0) → … → the caller
-//! validates the staged items and answers with [`MissionTransfer::finish`]; the stored mission
+//! validates the staged items and answers with [`MissionTransfer::finish`]; the stored plan
 //! changes only then (atomic replace). Out-of-sequence items are dropped and re-requested; a
 //! missing item is re-requested every [`RETRY_S`], at most [`MAX_RETRIES`] times, then the
 //! upload is cancelled with OPERATION_CANCELLED. A second peer is DENIED while one uploads.
-//! Downloads are stateless: the client asks, the machine answers from the stored items.
+//! Downloads are stateless: the client asks, the link answers from the
+//! [`PlanStore`](super::plan_store::PlanStore).
 //!
-//! Every reply carries the `mission_type` of the request it answers. Only the mission (type 0)
-//! is stored: a fence (1) or rally (2) upload is refused with UNSUPPORTED, and a fence or rally
-//! download is an empty plan (MISSION_COUNT 0, as PX4 answers when it holds none).
+//! Every reply carries the `mission_type` of the request it answers. The mission (type 0), the
+//! fence (1) and the rally points (2) are plans of their own, uploaded and cleared alike (as PX4
+//! stores them); MISSION_CLEAR_ALL of MAV_MISSION_TYPE_ALL clears all three, and an upload of
+//! another type is refused with UNSUPPORTED.
 //! Pure; `P` identifies a peer (an address in the runtime).
 
 use mavlink::dialects::common::{
@@ -28,10 +30,11 @@ pub type Ids = (u8, u8);
 /// What an upload produced.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Completed {
-    /// Every item arrived; validate, then call [`MissionTransfer::finish`].
-    Items(Vec<MISSION_ITEM_INT_DATA>),
-    /// MISSION_COUNT(0) or MISSION_CLEAR_ALL: clear the stored mission (already ACKed).
-    Cleared,
+    /// Every item of plan `mission_type` arrived; validate, then call [`MissionTransfer::finish`].
+    Items(MavMissionType, Vec<MISSION_ITEM_INT_DATA>),
+    /// MISSION_COUNT(0) or MISSION_CLEAR_ALL: clear the stored plan of this type (all three for
+    /// MAV_MISSION_TYPE_ALL); already ACKed.
+    Cleared(MavMissionType),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -40,6 +43,7 @@ enum State<P> {
     Receiving {
         peer: P,
         ids: Ids,
+        mission_type: MavMissionType,
         count: u16,
         items: Vec<MISSION_ITEM_INT_DATA>,
         requested_at_s: f64,
@@ -48,6 +52,7 @@ enum State<P> {
     Validating {
         peer: P,
         ids: Ids,
+        mission_type: MavMissionType,
     },
 }
 
@@ -63,8 +68,15 @@ impl<P> Default for MissionTransfer<P> {
     }
 }
 
-/// The plan type uploads fill.
-const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
+/// A plan type an upload can fill: mission, fence or rally.
+pub fn uploadable(mission_type: MavMissionType) -> bool {
+    matches!(
+        mission_type,
+        MavMissionType::MAV_MISSION_TYPE_MISSION
+            | MavMissionType::MAV_MISSION_TYPE_FENCE
+            | MavMissionType::MAV_MISSION_TYPE_RALLY
+    )
+}
 
 /// MISSION_ACK to `ids` answering a request about plan `mission_type`.
 pub fn mission_ack(ids: Ids, mission_type: MavMissionType, result: MavMissionResult) -> MavMessage {
@@ -77,12 +89,12 @@ pub fn mission_ack(ids: Ids, mission_type: MavMissionType, result: MavMissionRes
     })
 }
 
-fn request(ids: Ids, seq: u16) -> MavMessage {
+fn request(ids: Ids, mission_type: MavMissionType, seq: u16) -> MavMessage {
     MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
         seq,
         target_system: ids.0,
         target_component: ids.1,
-        mission_type: MISSION,
+        mission_type,
     })
 }
 
@@ -95,40 +107,34 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         m: &MISSION_COUNT_DATA,
         now_s: f64,
     ) -> (Vec<(P, MavMessage)>, Option<Completed>) {
-        if m.mission_type != MISSION {
-            return (
-                vec![(
-                    peer,
-                    mission_ack(ids, m.mission_type, MavMissionResult::MAV_MISSION_UNSUPPORTED),
-                )],
-                None,
-            );
+        let mission_type = m.mission_type;
+        let ack = |result| vec![(peer, mission_ack(ids, mission_type, result))];
+        if !uploadable(mission_type) {
+            return (ack(MavMissionResult::MAV_MISSION_UNSUPPORTED), None);
         }
         match self.state {
             State::Receiving { peer: busy, .. } | State::Validating { peer: busy, .. } if busy != peer => {
-                return (
-                    vec![(peer, mission_ack(ids, MISSION, MavMissionResult::MAV_MISSION_DENIED))],
-                    None,
-                );
+                return (ack(MavMissionResult::MAV_MISSION_DENIED), None);
             }
             _ => {}
         }
         if m.count == 0 {
             self.state = State::Idle;
             return (
-                vec![(peer, mission_ack(ids, MISSION, MavMissionResult::MAV_MISSION_ACCEPTED))],
-                Some(Completed::Cleared),
+                ack(MavMissionResult::MAV_MISSION_ACCEPTED),
+                Some(Completed::Cleared(mission_type)),
             );
         }
         self.state = State::Receiving {
             peer,
             ids,
+            mission_type,
             count: m.count,
             items: Vec::with_capacity(usize::from(m.count)),
             requested_at_s: now_s,
             retries: 0,
         };
-        (vec![(peer, request(ids, 0))], None)
+        (vec![(peer, request(ids, mission_type, 0))], None)
     }
 
     /// MISSION_ITEM_INT from `peer`.
@@ -141,6 +147,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         let State::Receiving {
             peer: from,
             ids,
+            mission_type,
             count,
             items,
             requested_at_s,
@@ -149,29 +156,37 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         else {
             return (Vec::new(), None);
         };
-        if *from != peer || m.mission_type != MISSION {
+        if *from != peer || m.mission_type != *mission_type {
             return (Vec::new(), None);
         }
         let next = items.len() as u16;
         if m.seq != next {
             // Out of sequence: drop it and ask again for the one we need.
-            return (vec![(peer, request(*ids, next))], None);
+            return (vec![(peer, request(*ids, *mission_type, next))], None);
         }
         items.push(m.clone());
         *requested_at_s = now_s;
         *retries = 0;
         if items.len() < usize::from(*count) {
-            return (vec![(peer, request(*ids, next + 1))], None);
+            return (vec![(peer, request(*ids, *mission_type, next + 1))], None);
         }
-        let (ids, items) = (*ids, std::mem::take(items));
-        self.state = State::Validating { peer, ids };
-        (Vec::new(), Some(Completed::Items(items)))
+        let (ids, mission_type, items) = (*ids, *mission_type, std::mem::take(items));
+        self.state = State::Validating {
+            peer,
+            ids,
+            mission_type,
+        };
+        (Vec::new(), Some(Completed::Items(mission_type, items)))
     }
 
-    /// Answers the validated upload with `result` (the caller stores the mission when ACCEPTED).
+    /// Answers the validated upload with `result` (the caller stores the plan when ACCEPTED).
     pub fn finish(&mut self, result: MavMissionResult) -> Vec<(P, MavMessage)> {
         match std::mem::replace(&mut self.state, State::Idle) {
-            State::Validating { peer, ids } => vec![(peer, mission_ack(ids, MISSION, result))],
+            State::Validating {
+                peer,
+                ids,
+                mission_type,
+            } => vec![(peer, mission_ack(ids, mission_type, result))],
             other => {
                 self.state = other;
                 Vec::new()
@@ -179,12 +194,20 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         }
     }
 
-    /// MISSION_CLEAR_ALL of the mission from `peer`.
-    pub fn on_clear(&mut self, peer: P, ids: Ids) -> (Vec<(P, MavMessage)>, Option<Completed>) {
+    /// MISSION_CLEAR_ALL of plan `mission_type` (mission, fence, rally or all) from `peer`.
+    pub fn on_clear(
+        &mut self,
+        peer: P,
+        ids: Ids,
+        mission_type: MavMissionType,
+    ) -> (Vec<(P, MavMessage)>, Option<Completed>) {
         self.state = State::Idle;
         (
-            vec![(peer, mission_ack(ids, MISSION, MavMissionResult::MAV_MISSION_ACCEPTED))],
-            Some(Completed::Cleared),
+            vec![(
+                peer,
+                mission_ack(ids, mission_type, MavMissionResult::MAV_MISSION_ACCEPTED),
+            )],
+            Some(Completed::Cleared(mission_type)),
         )
     }
 
@@ -193,6 +216,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         let State::Receiving {
             peer,
             ids,
+            mission_type,
             items,
             requested_at_s,
             retries,
@@ -205,56 +229,19 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
             return Vec::new();
         }
         if *retries >= MAX_RETRIES {
-            let out = vec![(
-                *peer,
-                mission_ack(*ids, MISSION, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED),
-            )];
+            let cancelled = MavMissionResult::MAV_MISSION_OPERATION_CANCELLED;
+            let out = vec![(*peer, mission_ack(*ids, *mission_type, cancelled))];
             self.state = State::Idle;
             return out;
         }
         *retries += 1;
         *requested_at_s = now_s;
-        vec![(*peer, request(*ids, items.len() as u16))]
+        vec![(*peer, request(*ids, *mission_type, items.len() as u16))]
     }
 
     /// True while an upload is under way.
     pub fn busy(&self) -> bool {
         !matches!(self.state, State::Idle)
-    }
-}
-
-/// The items of plan `mission_type`: the stored mission for the mission, none for the others
-/// (fence and rally plans are always empty here).
-fn plan(mission_type: MavMissionType, stored: &[MISSION_ITEM_INT_DATA]) -> &[MISSION_ITEM_INT_DATA] {
-    if mission_type == MISSION {
-        stored
-    } else {
-        &[]
-    }
-}
-
-/// MISSION_COUNT of plan `mission_type` for a download (`stored`: the stored mission).
-pub fn download_count(ids: Ids, mission_type: MavMissionType, stored: &[MISSION_ITEM_INT_DATA]) -> MavMessage {
-    MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
-        count: plan(mission_type, stored).len() as u16,
-        target_system: ids.0,
-        target_component: ids.1,
-        mission_type,
-        opaque_id: 0,
-    })
-}
-
-/// Item `seq` of plan `mission_type` addressed to `ids` (`stored`: the stored mission), or a
-/// MISSION_ACK(INVALID_SEQUENCE) of that type.
-pub fn download_item(ids: Ids, mission_type: MavMissionType, seq: u16, stored: &[MISSION_ITEM_INT_DATA]) -> MavMessage {
-    match plan(mission_type, stored).get(usize::from(seq)) {
-        Some(item) => MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
-            target_system: ids.0,
-            target_component: ids.1,
-            mission_type,
-            ..item.clone()
-        }),
-        None => mission_ack(ids, mission_type, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE),
     }
 }
 
@@ -264,13 +251,14 @@ mod tests {
     use mavlink::dialects::common::MavCmd;
 
     const GCS: Ids = (255, 190);
+    const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
 
     fn count(n: u16) -> MISSION_COUNT_DATA {
         MISSION_COUNT_DATA {
             count: n,
             target_system: 1,
             target_component: 1,
-            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            mission_type: MISSION,
             opaque_id: 0,
         }
     }
@@ -301,7 +289,7 @@ mod tests {
         assert_eq!(requested(&x.on_item(7, &item(1), 0.03).0), Some(2));
         let (out, done) = x.on_item(7, &item(2), 0.04);
         assert!(out.is_empty());
-        assert!(matches!(done, Some(Completed::Items(ref v)) if v.len() == 3));
+        assert!(matches!(done, Some(Completed::Items(MISSION, ref v)) if v.len() == 3));
         // Another peer is denied while the first one's upload is validated.
         let (out, _) = x.on_count(8, (250, 1), &count(1), 0.05);
         assert!(
@@ -330,74 +318,66 @@ mod tests {
     }
 
     #[test]
-    fn count_zero_clears_and_downloads_answer_from_the_store() {
+    fn count_zero_and_clear_all_clear_the_plan_of_their_type() {
         let mut x = MissionTransfer::<u8>::default();
         let (_, done) = x.on_count(7, GCS, &count(0), 0.0);
-        assert_eq!(done, Some(Completed::Cleared));
-        let stored = [item(0), item(1)];
-        assert!(matches!(download_count(GCS, MISSION, &stored), MavMessage::MISSION_COUNT(ref c) if c.count == 2));
-        assert!(
-            matches!(download_item(GCS, MISSION, 1, &stored), MavMessage::MISSION_ITEM_INT(ref i) if i.seq == 1 && i.target_system == 255)
-        );
-        assert!(matches!(
-            download_item(GCS, MISSION, 5, &stored),
-            MavMessage::MISSION_ACK(_)
-        ));
+        assert_eq!(done, Some(Completed::Cleared(MISSION)));
+        let all = MavMissionType::MAV_MISSION_TYPE_ALL;
+        let (out, done) = x.on_clear(7, GCS, all);
+        assert_eq!(done, Some(Completed::Cleared(all)));
+        assert!(matches!(out[0].1, MavMessage::MISSION_ACK(ref a) if a.mission_type == all));
     }
 
-    /// The mission_type of a mission-protocol reply and its result, count or seq.
+    /// The mission_type of a mission-protocol reply and its result or seq.
     fn typed(msg: &MavMessage) -> Option<(MavMissionType, u32)> {
         match msg {
             MavMessage::MISSION_ACK(a) => Some((a.mission_type, a.mavtype as u32)),
-            MavMessage::MISSION_COUNT(c) => Some((c.mission_type, u32::from(c.count))),
             MavMessage::MISSION_REQUEST_INT(r) => Some((r.mission_type, u32::from(r.seq))),
-            MavMessage::MISSION_ITEM_INT(i) => Some((i.mission_type, u32::from(i.seq))),
             _ => None,
         }
     }
 
     #[test]
-    fn replies_carry_the_mission_type_of_the_request() {
+    fn fence_and_rally_uploads_run_as_their_own_type() {
         let fence = MavMissionType::MAV_MISSION_TYPE_FENCE;
         let rally = MavMissionType::MAV_MISSION_TYPE_RALLY;
-        let unsupported = MavMissionResult::MAV_MISSION_UNSUPPORTED as u32;
-        let mut x = MissionTransfer::<u8>::default();
-        // Uploads of another plan are refused as that plan: a fence, and clearing rally by count 0.
-        for (mission_type, n) in [(fence, 2), (rally, 0)] {
-            let (out, done) = x.on_count(
-                7,
-                GCS,
-                &MISSION_COUNT_DATA {
-                    mission_type,
-                    ..count(n)
-                },
-                0.0,
-            );
-            assert_eq!(typed(&out[0].1), Some((mission_type, unsupported)), "{mission_type:?}");
-            assert_eq!(done, None);
-            assert!(!x.busy());
-        }
-        // Downloads of fence and rally: an empty plan of that type.
-        let stored = [item(0), item(1)];
-        assert_eq!(typed(&download_count(GCS, fence, &stored)), Some((fence, 0)));
-        assert_eq!(typed(&download_count(GCS, rally, &stored)), Some((rally, 0)));
-        let invalid = MavMissionResult::MAV_MISSION_INVALID_SEQUENCE as u32;
-        assert_eq!(typed(&download_item(GCS, rally, 0, &stored)), Some((rally, invalid)));
-        // The mission's own replies say mission.
-        assert_eq!(typed(&download_count(GCS, MISSION, &stored)), Some((MISSION, 2)));
-        let stray = MISSION_ITEM_INT_DATA {
-            mission_type: fence,
-            ..item(1)
+        let typed_count = |mission_type, n| MISSION_COUNT_DATA {
+            mission_type,
+            ..count(n)
         };
+        let mut x = MissionTransfer::<u8>::default();
+        let (out, _) = x.on_count(7, GCS, &typed_count(fence, 2), 0.0);
+        assert_eq!(typed(&out[0].1), Some((fence, 0)), "MISSION_REQUEST_INT 0 of the fence");
+        // A mission item does not fill a fence upload; a fence item does.
+        assert!(x.on_item(7, &item(0), 0.01).0.is_empty());
+        let fence_item = |seq| MISSION_ITEM_INT_DATA {
+            mission_type: fence,
+            ..item(seq)
+        };
+        assert_eq!(typed(&x.on_item(7, &fence_item(0), 0.02).0[0].1), Some((fence, 1)));
+        let (_, done) = x.on_item(7, &fence_item(1), 0.03);
+        assert!(matches!(done, Some(Completed::Items(t, ref v)) if t == fence && v.len() == 2));
+        let accepted = MavMissionResult::MAV_MISSION_ACCEPTED as u32;
         assert_eq!(
-            typed(&download_item(GCS, MISSION, 1, &[item(0), stray])),
-            Some((MISSION, 1))
+            typed(&x.finish(MavMissionResult::MAV_MISSION_ACCEPTED)[0].1),
+            Some((fence, accepted))
         );
-        let (out, _) = x.on_count(7, GCS, &count(1), 0.0);
-        assert_eq!(
-            typed(&out[0].1),
-            Some((MISSION, 0)),
-            "MISSION_REQUEST_INT 0 of the mission"
-        );
+        // Clearing rally by count 0 is a rally clear.
+        let (out, done) = x.on_count(7, GCS, &typed_count(rally, 0), 0.0);
+        assert_eq!(typed(&out[0].1), Some((rally, accepted)));
+        assert_eq!(done, Some(Completed::Cleared(rally)));
+        // A stalled rally upload is cancelled as rally.
+        x.on_count(7, GCS, &typed_count(rally, 1), 0.0);
+        for k in 1..=MAX_RETRIES {
+            assert_eq!(typed(&x.tick(0.26 * f64::from(k))[0].1), Some((rally, 0)));
+        }
+        let cancelled = MavMissionResult::MAV_MISSION_OPERATION_CANCELLED as u32;
+        assert_eq!(typed(&x.tick(10.0)[0].1), Some((rally, cancelled)));
+        // Another type (ALL) cannot be uploaded.
+        let all = MavMissionType::MAV_MISSION_TYPE_ALL;
+        let (out, done) = x.on_count(7, GCS, &typed_count(all, 3), 0.0);
+        let unsupported = MavMissionResult::MAV_MISSION_UNSUPPORTED as u32;
+        assert_eq!((typed(&out[0].1), done), (Some((all, unsupported)), None));
+        assert!(!x.busy());
     }
 }

@@ -18,7 +18,8 @@
 //! - [`events`]: the events protocol of a vehicle that announces by STATUSTEXT.
 //! - [`modes`]: PROTOCOL_VERSION and the standard modes protocol (AVAILABLE_MODES, CURRENT_MODE).
 //! - [`params`]: PARAM_VALUE / PARAM_SET encoding and PX4's `_HASH_CHECK`; [`crc32`]: its CRC.
-//! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation.
+//! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation;
+//!   [`plan_items`]: fence and rally items; [`plan_store`]: the stored plans and downloads.
 //! - [`gcs`]: the ground-station side (its header, COMMAND_LONG, which ACK answers a command)
 //!   for the bench client, the tests and the fuzz target.
 
@@ -38,6 +39,8 @@ pub mod modes;
 pub mod offboard;
 pub mod orbit;
 pub mod params;
+pub mod plan_items;
+pub mod plan_store;
 pub mod services;
 pub mod shell;
 pub mod signing;

@@ -51,8 +51,9 @@ pub(super) fn one_shot(id: f32, param2: f32) -> Option<OneShot> {
 }
 
 /// AUTOPILOT_VERSION (mavlink.md §4): MISSION_INT, COMMAND_INT, PARAM_ENCODE_BYTEWISE,
-/// SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED / _GLOBAL_INT, MAVLINK2 and FTP (served by
-/// [`super::ftp`]) — not fence or rally, which would make QGC try those transfers; the version packs 0.1.0 as a
+/// SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED / _GLOBAL_INT, MAVLINK2, FTP (served by
+/// [`super::ftp`]) and the fence and rally plans (MISSION_FENCE, MISSION_RALLY, as PX4); the
+/// version packs 0.1.0 as a
 /// release (type byte 255); `uid` is unique per system id.
 pub fn autopilot_version(id: &Identity) -> MavMessage {
     MavMessage::AUTOPILOT_VERSION(AUTOPILOT_VERSION_DATA {
@@ -63,7 +64,9 @@ pub fn autopilot_version(id: &Identity) -> MavMessage {
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_GLOBAL_INT
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_FTP,
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_FTP
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_RALLY,
         uid: 0x5250_0000_0000_0000 | u64::from(id.system_id),
         flight_sw_version: (1 << 16) | 255,
         ..Default::default()
@@ -147,6 +150,9 @@ mod tests {
         assert!(v
             .capabilities
             .contains(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2));
+        let plans = MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_RALLY;
+        assert!(v.capabilities.contains(plans));
         assert!(v
             .capabilities
             .contains(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_FTP));

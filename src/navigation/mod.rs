@@ -1,15 +1,18 @@
 //! Setpoint generators: the take-off climb, the trajectory generators, the guidance of the
 //! commander's modes, the motion limits they keep, the limiter offboard setpoints go through,
-//! the sticks with the reference the stick modes fly, the orbit and the follow-me point.
+//! the sticks with the reference the stick modes fly, the orbit and the follow-me point; the
+//! uploaded geofence and rally points the commander checks and returns to.
 
 mod climb;
 mod descent;
 mod follow;
 pub mod geo;
+pub mod geofence;
 mod guidance;
 mod limits;
 pub mod mission;
 mod orbit;
+pub mod rally;
 mod setpoint_limiter;
 mod stick_reference;
 mod sticks;
@@ -19,10 +22,12 @@ pub use climb::ClimbProfile;
 pub use descent::DescentProfile;
 pub use follow::{FollowAltitude, FollowParams, FollowTarget};
 pub use geo::Home;
+pub use geofence::Geofence;
 pub use guidance::Guidance;
 pub use limits::MotionLimits;
 pub use mission::{Mission, MissionItem};
 pub use orbit::{Orbit, OrbitYaw, ORBIT_RADIUS_M};
+pub use rally::RallyPoints;
 pub use setpoint_limiter::SetpointLimiter;
 pub use stick_reference::StickReference;
 pub use sticks::{StickError, StickShaping, Sticks};

@@ -18,7 +18,7 @@
 //!   what to do; SETUP_SIGNING.
 //! - `commands.rs`: COMMAND_LONG/INT, their one ACK, and the vehicle's answers.
 //! - `params.rs`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ, PARAM_SET and its echo.
-//! - `mission.rs`: the mission protocol against the stored mission.
+//! - `mission.rs`: the mission protocol against the stored plans (mission, fence, rally).
 //! - `files.rs`: MAVLink FTP per link, burst pacing, component metadata.
 //! - `console.rs`: the MAVLink shell (SERIAL_CONTROL) per client.
 //! - `duties.rs`: what time brings: heartbeats, streams, link loss, retransmissions.
@@ -35,7 +35,7 @@ mod port;
 use std::collections::{HashMap, VecDeque};
 use std::hash::Hash;
 
-use mavlink::dialects::common::{MavMessage, MavSeverity, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::common::{MavMessage, MavMissionType, MavSeverity, MISSION_ITEM_INT_DATA};
 use mavlink::{MAVLinkV2MessageRaw, MavHeader};
 
 use crate::commander::{Event, Outcome, Request};
@@ -43,6 +43,7 @@ use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::codec::frame_message;
+use super::plan_store::PlanStore;
 use super::signing::{Signing, SigningKey};
 use super::streams::LinkKind;
 use super::translate::Identity;
@@ -183,9 +184,10 @@ enum Pending<A> {
     Param(params::ParamSet<A>),
     /// A shell's `param set`.
     Shell(console::ShellSet<A>),
-    /// A validated mission upload's MISSION_ACK.
+    /// A validated upload's MISSION_ACK (mission, fence or rally plan).
     Mission {
         link: LinkKind,
+        mission_type: MavMissionType,
         items: Vec<MISSION_ITEM_INT_DATA>,
     },
 }
@@ -201,8 +203,8 @@ pub struct LinkMachine<A> {
     record_received: bool,
     params: ParamTable,
     snapshot: Snapshot,
-    /// The mission as uploaded, for downloads; replaced only when the vehicle took an upload.
-    mission_store: Vec<MISSION_ITEM_INT_DATA>,
+    /// The plans as uploaded, for downloads; each replaced only when the vehicle took an upload.
+    plans: PlanStore,
     pending: HashMap<Token, Pending<A>>,
     next_token: Token,
     param_lists: Vec<ParamList<A>>,
@@ -242,7 +244,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             record_received: config.record_received,
             params: config.params,
             snapshot: config.snapshot,
-            mission_store: Vec::new(),
+            plans: PlanStore::default(),
             pending: HashMap::new(),
             next_token: 0,
             param_lists: Vec::new(),
@@ -282,7 +284,11 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             }
             Some(Pending::Param(set)) => self.param_set_done(now, set, reply),
             Some(Pending::Shell(set)) => self.shell_set_done(now, set, reply),
-            Some(Pending::Mission { link, items }) => self.mission_taken(now, link, items, reply),
+            Some(Pending::Mission {
+                link,
+                mission_type,
+                items,
+            }) => self.mission_taken(now, link, mission_type, items, reply),
             None => {}
         }
     }
@@ -340,7 +346,12 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// The mission as last uploaded.
     pub fn stored_mission(&self) -> &[MISSION_ITEM_INT_DATA] {
-        &self.mission_store
+        self.plans.items(MavMissionType::MAV_MISSION_TYPE_MISSION)
+    }
+
+    /// Plan `mission_type` (mission, fence or rally) as last uploaded.
+    pub fn stored_plan(&self, mission_type: MavMissionType) -> &[MISSION_ITEM_INT_DATA] {
+        self.plans.items(mission_type)
     }
 
     /// A fresh token for a request whose answer is awaited.

@@ -1,6 +1,7 @@
 //! How the vehicle flies its paths (PX4's `MIS_`, `MPC_`, `MC_`, `RTL_` parameters), when it
 //! disarms by itself (`COM_DISARM_*`) and how it decides it has landed (`LNDMC_*`).
 
+use crate::commander::RtlType;
 use crate::params::ParamDef;
 
 /// Take-off, return and auto-disarm (indices 0–6).
@@ -194,3 +195,14 @@ pub(super) static MOTION: &[ParamDef] = &[
         value commander.land_alt2_m
     ),
 ];
+
+/// Where a return goes (index 82).
+pub(super) static RETURN: &[ParamDef] = &[row!(
+    "RTL_TYPE",
+    Int32,
+    [0.0, 5.0],
+    "",
+    Navigation,
+    "Where AUTO.RTL flies to and lands: home or an uploaded rally point (one more than 2 m nearer than the alternative and, unless 5, over 10 m from home)",
+    action RtlType commander.rtl_type
+)];

@@ -3,7 +3,8 @@
 //! the order is fixed so clients that cache indices keep working). Pure.
 //!
 //! # Layout
-//! - `flight.rs`: take-off, landing, speeds, accelerations, headings, auto-disarm, land detector.
+//! - `flight.rs`: take-off, landing, speeds, accelerations, headings, auto-disarm, land detector,
+//!   return destination.
 //! - `control.rs`: control law, compensation, tilt limit, guards.
 //! - `estimator.rs`: the wrench estimator's design.
 //! - `gains.rs`: every gain of the three laws, per axis.
@@ -101,7 +102,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 17] = [
+static GROUPS: [&[ParamDef]; 18] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -116,6 +117,7 @@ static GROUPS: [&[ParamDef]; 17] = [
     flight::SPEED_CAPS,
     failsafe::FAILSAFES,
     flight::MOTION,
+    flight::RETURN,
     sticks::LOSS,
     sticks::SHAPING,
     follow::FOLLOW,

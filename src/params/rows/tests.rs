@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 106] = [
+const WIRE_ORDER: [&str; 107] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -87,6 +87,7 @@ const WIRE_ORDER: [&str; 106] = [
     "LNDMC_TRIG_TIME",
     "MPC_LAND_ALT1",
     "MPC_LAND_ALT2",
+    "RTL_TYPE",
     "COM_RC_IN_MODE",
     "COM_RC_LOSS_T",
     "NAV_RCL_ACT",

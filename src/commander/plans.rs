@@ -1,0 +1,227 @@
+//! The uploaded geofence and rally points in the commander, as PX4's navigator uses them: which
+//! zones of an uploaded fence count (`Geofence::_updateFence`), the arming refusal outside the
+//! fence (the commander's geofence pre-arm check) and where a return goes (`RTL_TYPE`,
+//! `RTL::findRtlDestination`). The breach failsafe itself runs with the others in `reactions.rs`.
+
+use crate::control::VehicleState;
+use crate::math::Vec3;
+use crate::navigation::{Geofence, RallyPoints};
+
+use super::failsafe::fence_breach;
+use super::{Commander, Event, GeofenceAction, Outcome, RtlType};
+
+/// Announced for each uploaded zone home breaks (PX4's wording).
+pub const ZONE_WITHOUT_HOME: &str = "Geofence invalid, doesn't contain Home position";
+/// Announced for each uploaded zone the vehicle in flight breaks (PX4's wording).
+pub const ZONE_WITHOUT_VEHICLE: &str = "Geofence invalid, doesn't contain current vehicle position";
+
+impl Commander {
+    /// A new uploaded fence: a zone home breaks is left out, and so is, in flight with
+    /// `GF_ACTION` set, a zone the vehicle breaks now; each left-out zone is announced on the
+    /// next tick. Always accepted (the plan is stored as uploaded).
+    pub(super) fn set_geofence(&mut self, fence: Geofence, x: &VehicleState) -> Outcome {
+        let home = [self.home_w.x, self.home_w.y];
+        let here = [x.pos_w.x, x.pos_w.y];
+        let check_here = self.params.failsafe.geofence_action != GeofenceAction::Disabled && self.in_air();
+        let mut zones = Vec::with_capacity(fence.zones.len());
+        for zone in fence.zones {
+            if !zone.allows(home) {
+                self.pending.push(Event::Failsafe(ZONE_WITHOUT_HOME.into()));
+            } else if check_here && !zone.allows(here) {
+                self.pending.push(Event::Failsafe(ZONE_WITHOUT_VEHICLE.into()));
+            } else {
+                zones.push(zone);
+            }
+        }
+        self.geofence = Geofence { zones };
+        Outcome::Accepted
+    }
+
+    /// New rally points. Always accepted.
+    pub(super) fn set_rally_points(&mut self, rally: RallyPoints) -> Outcome {
+        self.rally = rally;
+        Outcome::Accepted
+    }
+
+    /// The geofence breach at the vehicle's position, if any (distance limits and the zones in
+    /// force); `None` also while `GF_ACTION` is 0, which switches the geofence off (PX4's pre-arm
+    /// check only looks while it is set).
+    pub(super) fn arming_fence_breach(&self, x: &VehicleState) -> Option<String> {
+        if self.params.failsafe.geofence_action == GeofenceAction::Disabled {
+            return None;
+        }
+        let rel = x.pos_w - self.home_w;
+        fence_breach(
+            &self.params.failsafe,
+            [rel.x, rel.y, rel.z],
+            self.geofence.breach(&x.pos_w),
+        )
+    }
+
+    /// Where a return from `from_w` [m] goes (horizontally, local NED) under `RTL_TYPE`: home, or
+    /// a rally point closer by more than 2 m and (while home is a choice) over 10 m from home;
+    /// type 1 prefers any rally point to home; type 5 knows only rally points and, without
+    /// one, lands where it is.
+    pub(super) fn rtl_destination(&self, from_w: &Vec3) -> Vec3 {
+        let home = self.home_w;
+        let rally = match self.params.rtl_type {
+            RtlType::HomeOrRally | RtlType::Closest => {
+                let to_home = (from_w.xy() - home.xy()).norm();
+                self.rally.closest(from_w, to_home, Some(&home))
+            }
+            RtlType::RallyFirst => self.rally.closest(from_w, f64::INFINITY, Some(&home)),
+            RtlType::RallyOnly => return self.rally.closest(from_w, f64::INFINITY, None).unwrap_or(*from_w),
+        };
+        rally.unwrap_or(home)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::{Script, GROUND_Z_M};
+    use super::super::{CommanderParams, FailsafeParams, FlightMode, Request};
+    use super::*;
+    use crate::navigation::geofence::{Shape, Zone};
+
+    fn circle(center: [f64; 2], radius_m: f64, inclusion: bool) -> Zone {
+        Zone {
+            inclusion,
+            shape: Shape::Circle { center, radius_m },
+        }
+    }
+
+    fn fenced(action: GeofenceAction) -> Script {
+        let mut s = Script::new(CommanderParams {
+            failsafe: FailsafeParams {
+                geofence_action: action,
+                ..Default::default()
+            },
+            ..Default::default()
+        });
+        let fence = Geofence {
+            zones: vec![circle([0.0, 0.0], 15.0, true), circle([-8.0, 0.0], 3.0, false)],
+        };
+        assert_eq!(s.request(Request::SetGeofence(fence)), Outcome::Accepted);
+        s
+    }
+
+    fn to(north_m: f64, east_m: f64) -> Request {
+        Request::Reposition {
+            north_m: Some(north_m),
+            east_m: Some(east_m),
+            down_m: None,
+            yaw_rad: None,
+            speed_m_s: None,
+        }
+    }
+
+    fn failsafes(s: &Script) -> Vec<String> {
+        let texts = s.events.iter().filter_map(|e| match e {
+            Event::Failsafe(t) => Some(t.clone()),
+            _ => None,
+        });
+        texts.collect()
+    }
+
+    #[test]
+    fn leaving_an_inclusion_zone_runs_gf_action_once() {
+        let mut s = fenced(GeofenceAction::Return);
+        s.airborne(3.0);
+        assert_eq!(s.request(to(40.0, 0.0)), Outcome::Accepted);
+        assert!(s.fly_until(30.0, |s| s.c.mode() == FlightMode::ReturnToLaunch));
+        assert!(s.x.pos_w.x > 15.0 && s.x.pos_w.x < 16.0, "{:?}", s.x.pos_w);
+        assert_eq!(failsafes(&s), vec!["Geofence breached (outside inclusion zone 1)"]);
+        assert!(s.until_disarmed(200.0), "returned home and landed");
+        assert!(s.x.pos_w.xy().norm() < 1e-6);
+        assert_eq!(failsafes(&s).len(), 1, "once per breach");
+    }
+
+    #[test]
+    fn entering_an_exclusion_zone_holds() {
+        let mut s = fenced(GeofenceAction::Hold);
+        s.airborne(3.0);
+        assert_eq!(s.request(to(-20.0, 0.0)), Outcome::Accepted);
+        assert!(s.fly_until(30.0, |s| s.c.geofence_breached()));
+        let at = s.x.pos_w;
+        assert!((at.x + 5.0).abs() < 0.1, "at the keep-out circle: {at:?}");
+        s.fly(5.0);
+        assert!((s.x.pos_w - at).norm() < 1e-9, "holds where it breached");
+        assert_eq!(failsafes(&s), vec!["Geofence breached (inside exclusion zone 2)"]);
+    }
+
+    #[test]
+    fn arming_outside_the_fence_is_refused_unless_forced() {
+        let mut s = fenced(GeofenceAction::Warn);
+        s.airborne(3.0);
+        assert_eq!(s.request(to(25.0, 0.0)), Outcome::Accepted);
+        s.fly(15.0);
+        assert_eq!(failsafes(&s).len(), 1, "warned only");
+        assert_eq!(s.request(Request::Land), Outcome::Accepted);
+        assert!(s.until_disarmed(60.0));
+        let refused = Outcome::TemporarilyRejected("Arming denied: vehicle outside geofence".into());
+        assert_eq!(s.request(Request::Arm { force: false }), refused);
+        assert_eq!(s.request(Request::Arm { force: true }), Outcome::Accepted);
+        // With GF_ACTION 0 the fence is off.
+        let mut off = fenced(GeofenceAction::Disabled);
+        off.x.pos_w = Vec3::new(25.0, 0.0, GROUND_Z_M);
+        assert_eq!(off.request(Request::Arm { force: false }), Outcome::Accepted);
+    }
+
+    #[test]
+    fn zones_that_home_or_the_flying_vehicle_break_are_left_out() {
+        let mut s = fenced(GeofenceAction::Hold);
+        let far = Geofence {
+            zones: vec![circle([100.0, 0.0], 10.0, true), circle([0.0, 0.0], 5.0, false)],
+        };
+        assert_eq!(s.request(Request::SetGeofence(far)), Outcome::Accepted);
+        assert!(s.c.geofence.is_empty());
+        assert_eq!(
+            failsafes(&{
+                s.step();
+                s
+            }),
+            vec![ZONE_WITHOUT_HOME, ZONE_WITHOUT_HOME]
+        );
+        let mut s = fenced(GeofenceAction::Hold);
+        s.airborne(3.0);
+        assert_eq!(s.request(to(10.0, 0.0)), Outcome::Accepted);
+        s.fly(10.0);
+        let here_out = Geofence {
+            zones: vec![circle([0.0, 0.0], 5.0, true), circle([0.0, 0.0], 50.0, true)],
+        };
+        assert_eq!(s.request(Request::SetGeofence(here_out)), Outcome::Accepted);
+        assert_eq!(s.c.geofence.zones, vec![circle([0.0, 0.0], 50.0, true)]);
+        s.step();
+        assert_eq!(failsafes(&s), vec![ZONE_WITHOUT_VEHICLE]);
+    }
+
+    #[test]
+    fn rtl_type_picks_home_or_a_rally_point() {
+        let mut s = Script::new(CommanderParams::default());
+        let rally = RallyPoints {
+            points_w: vec![Vec3::new(40.0, 0.0, -5.0), Vec3::new(0.0, 5.0, 0.0)],
+        };
+        assert_eq!(s.request(Request::SetRallyPoints(rally)), Outcome::Accepted);
+        let dest = |s: &mut Script, t: RtlType, from: Vec3| {
+            s.c.params.rtl_type = t;
+            s.c.rtl_destination(&from)
+        };
+        let near_rally = Vec3::new(30.0, 0.0, -3.0);
+        let near_home = Vec3::new(8.0, 0.0, -3.0);
+        assert_eq!(
+            dest(&mut s, RtlType::HomeOrRally, near_rally),
+            Vec3::new(40.0, 0.0, -5.0)
+        );
+        assert_eq!(dest(&mut s, RtlType::HomeOrRally, near_home), Vec3::zeros());
+        assert_eq!(dest(&mut s, RtlType::Closest, near_home), Vec3::zeros());
+        assert_eq!(dest(&mut s, RtlType::RallyFirst, near_home), Vec3::new(40.0, 0.0, -5.0));
+        assert_eq!(
+            dest(&mut s, RtlType::RallyOnly, near_home),
+            Vec3::new(0.0, 5.0, 0.0),
+            "the point by home counts"
+        );
+        s.request(Request::SetRallyPoints(RallyPoints::default()));
+        assert_eq!(dest(&mut s, RtlType::RallyOnly, near_home), near_home, "lands here");
+        assert_eq!(dest(&mut s, RtlType::RallyFirst, near_home), Vec3::zeros());
+    }
+}
