@@ -123,12 +123,16 @@ def test_command_rules(autopilot):
     # SET_MODE (#11), QGC's way: no ACK, the heartbeat confirms.
     autopilot.gcs.mav.set_mode_send(1, 1, (4 << 16) | (3 << 24))
     assert autopilot.wait(lambda m: m.custom_mode == (4 << 16) | (3 << 24), "HEARTBEAT", 2) is not None
-    # DO_SET_STANDARD_MODE (262): POSITION_HOLD → POSCTL; ORBIT is not available → FAILED.
+    # DO_SET_STANDARD_MODE (262): POSITION_HOLD → POSCTL; ORBIT needs the air; CRUISE is not
+    # available → FAILED.
     assert autopilot.command(262, 1).result == ACCEPTED
     assert autopilot.wait(lambda m: m.custom_mode == 3 << 16, "HEARTBEAT", 2) is not None
-    assert autopilot.command(262, 2).result == 4  # MAV_RESULT_FAILED
+    assert autopilot.command(262, 2).result == 1  # MAV_RESULT_TEMPORARILY_REJECTED
     text = autopilot.wait(lambda m: True, "STATUSTEXT", 2)
-    assert text is not None and "Standard mode 2" in text.text
+    assert text is not None and text.text == "Mode ORBIT: not in the air"
+    assert autopilot.command(262, 3).result == 4  # MAV_RESULT_FAILED
+    text = autopilot.wait(lambda m: True, "STATUSTEXT", 2)
+    assert text is not None and "Standard mode 3" in text.text
 
 
 def test_takeoff_hold_land_and_auto_disarm(autopilot):
