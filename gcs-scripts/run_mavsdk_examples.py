@@ -380,7 +380,10 @@ def fly(example, speedup, timeout_s, keep):
         verdict["verdict"] = "expected refusal" if not problems else "FAIL"
         verdict["why"] = spec["why"]
     else:
-        verdict["verdict"] = "pending" if not ran else "works (no longer pending: update SPECS)"
+        if ran:
+            verdict["verdict"] = "works (no longer pending: update SPECS)"
+        else:
+            verdict["verdict"] = "pending" if not problems else "FAIL"
         verdict["why"] = spec["why"]
         if not ran:
             verdict["pending_output"] = output[-600:]
