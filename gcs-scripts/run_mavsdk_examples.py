@@ -215,8 +215,9 @@ def fly_inside(example, spec, log_dir, work_dir, speedup, timeout_s):
         ready = json.loads(vehicle.stdout.readline())
         assert ready.get("event") == "ready", ready
         if spec.get("server"):
+            # Started where the example runs: the server writes downloads relative to its own cwd.
             server = subprocess.Popen([str(mavsdk_server()), "-p", "50051", "udpin://0.0.0.0:14540"],
-                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                                      cwd=work_dir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         run = subprocess.Popen([sys.executable, f"{example}.py"], cwd=work_dir, stdin=subprocess.PIPE,
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                start_new_session=True)
