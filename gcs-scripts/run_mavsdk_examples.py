@@ -4,34 +4,60 @@
 Each example runs in its own network namespace (`unshare -n`, so the examples' fixed ports,
 14540 for MAVLink and 50051 for mavsdk_server's gRPC, never clash), against a fresh
 `rotorpilot run --airframe quad_x` that sends its API link to 127.0.0.1:14540 as PX4 SITL does.
-The examples are MAVSDK-Python's (BSD-3-Clause, tests/third_party/mavsdk_examples/LICENSE.txt) as published,
-with mavsdk 3.17.4 and its bundled mavsdk_server (gcs-scripts/requirements.txt).
+The examples are MAVSDK-Python's (BSD-3-Clause, tests/third_party/mavsdk_examples/LICENSE.txt) as
+published (examples/ at MAVSDK-Python commit 4fab80e4, 2026-02-11), with mavsdk 3.17.4 and its
+bundled mavsdk_server (gcs-scripts/requirements.txt).
 
-The flight log (`--log`) is then read back: the example must exit 0, the vehicle must never be
-disarmed more than 0.5 m above the ground, and must end on the ground when the example lands
-(and disarmed, for an example that waits COM_DISARM_LAND after touch-down). One JSON line per example on stdout; exit 1 when any example fails.
+Each example is run as a user runs it: `cd examples && python3 NAME.py` (a scratch copy of the
+directory, so `mission_import` finds `example-mission.plan` and downloads land there). The table
+`SPECS` says what else a user does: the examples that never end by themselves (a loop, a
+telemetry printer) are stopped with Ctrl-C (SIGINT to their process group) after a fixed time and
+count as running when they were still running then; `shell` gets typed lines on stdin; the FTP
+examples talk to a mavsdk_server the user started first (`mavsdk_server -p 50051
+udpin://0.0.0.0:14540`), as their `System(mavsdk_server_address=..., port=50051)` expects.
+
+The flight log (`--log`) is then read back: the vehicle must never be disarmed more than 0.5 m
+above the ground, must end on the ground when the example lands, and must have done what the
+example asks (the per-example check in `SPECS`: modes in HEARTBEAT.custom_mode, heights, messages).
+An example whose refusal is the PX4-like answer (a failure unit without a sensor model, a file
+PX4 SITL does not have either) is an "expected refusal": it must fail, and the vehicle must have
+answered as expected. A "pending" example needs a vehicle feature not merged yet.
+One JSON line per example on stdout (`verdict`: works / expected refusal / pending / FAIL);
+exit 1 when any example fails.
 
 usage: run_mavsdk_examples.py [EXAMPLE ...] [--speedup X] [--timeout S] [--keep DIR]
        (no EXAMPLE: every example in tests/third_party/mavsdk_examples/; needs root for unshare -n)
 """
 import argparse
 import json
+import math
 import os
 import pathlib
+import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
+import threading
+import time
 
 HERE = pathlib.Path(__file__).resolve().parent
 EXAMPLES = HERE / "tests" / "third_party" / "mavsdk_examples"
 ROOT = HERE.parent
-# Examples that end once the vehicle is on the ground (they stop watching at touch-down).
-LANDING = {"mission", "offboard_position_ned", "telemetry_takeoff_and_land"}
-# Examples that wait long enough after touch-down for COM_DISARM_LAND (2 s) to disarm.
-DISARMING = {"offboard_position_ned"}
+# An example still running this long after printing a traceback is stopped [s].
+RAISED_GRACE_S = 8.0
 # A disarm above this height [m] is a vehicle dropped from the sky.
 DISARM_HEIGHT_MAX_M = 0.5
+# PX4's custom_mode values (main mode << 16 | sub mode << 24) in HEARTBEAT.
+POSCTL, ORBIT, OFFBOARD = 196608, 16973824, 393216
+AUTO_LOITER, AUTO_RTL, AUTO_LAND, FOLLOW_TARGET = 50593792, 84148224, 100925440, 134479872
+# MAV_CMD ids and MAV_RESULT values read from COMMAND_ACK.
+INJECT_FAILURE, PREFLIGHT_CALIBRATION = 420, 241
+UNSUPPORTED, DENIED = 3, 2
+# Messages pymavlink 2.4.49's generated dialects lack (they arrive as UNKNOWN_<id>).
+UNKNOWN_NAMES = {300: "PROTOCOL_VERSION", 360: "ORBIT_EXECUTION_STATUS", 397: "COMPONENT_METADATA",
+                 435: "AVAILABLE_MODES", 436: "CURRENT_MODE"}
 
 
 def binary():
@@ -39,24 +65,209 @@ def binary():
     return pathlib.Path(os.environ.get("ROTORPILOT_BIN", ROOT / "target" / "release" / "rotorpilot"))
 
 
-def fly_inside(example, log_dir, speedup, timeout_s):
-    """In the namespace: starts the vehicle, runs the example; the example's exit code and output."""
+def mavsdk_server():
+    """The mavsdk_server bundled with the installed mavsdk package."""
+    import importlib.util
+
+    return pathlib.Path(importlib.util.find_spec("mavsdk").origin).parent / "bin" / "mavsdk_server"
+
+
+def horizontal_m(a, b):
+    """Distance [m] between two (lat, lon) [deg] points (equirectangular, fine over km)."""
+    k = math.pi / 180.0 * 6_371_000.0
+    return math.hypot((a[0] - b[0]) * k, (a[1] - b[1]) * k * math.cos(math.radians(a[0])))
+
+
+# What each example must do besides never disarming in the air. Keys: speedup (rotorpilot
+# --speedup), run_for (s; then Ctrl-C), stdin (typed lines), server (start mavsdk_server first),
+# expect ("works" | "expected refusal" | "pending"), why (the reason of a refusal or wait), check
+# (the judged summary and the example's output → a list of problems).
+SPECS = {
+    "firmware_version": {},
+    "takeoff_and_land": {},
+    "telemetry_takeoff_and_land": {"lands": True},
+    "mission": {"lands": True},
+    "offboard_position_ned": {"lands": True, "disarms": True},
+    "offboard_velocity_ned": {},
+    "offboard_velocity_body": {},
+    "offboard_position_velocity_ned": {},
+    "manual_control": {
+        "run_for": 35,
+        "check": lambda s, out: [p for p in [
+            None if POSCTL in s["airborne_modes"] else f"never airborne in POSCTL: {s['airborne_modes']}",
+            None if s["max_height_m"] > 1.0 else f"never airborne ({s['max_height_m']} m)",
+        ] if p],
+    },
+    "do_orbit": {
+        "check": lambda s, out: [p for p in [
+            None if ORBIT in s["airborne_modes"] else f"never in POSCTL.ORBIT: {s['airborne_modes']}",
+            None if s["counts"].get("ORBIT_EXECUTION_STATUS", 0) > 100 else "too few ORBIT_EXECUTION_STATUS",
+            None if 9.0 < s["max_height_m"] < 11.5 else f"max height {s['max_height_m']} m, not the orbit's 10 m",
+            None if 9.0 < s["orbit_radius_m"][0] and s["orbit_radius_m"][1] < 11.0
+            else f"{s['orbit_radius_m']} m from the centre on the circle, not 10",
+            None if AUTO_RTL in s["airborne_modes"] else "no RTL at the end",
+        ] if p],
+    },
+    "follow_me_example": {
+        "check": lambda s, out: [p for p in [
+            None if FOLLOW_TARGET in s["airborne_modes"] else f"never in AUTO.FOLLOW_TARGET: {s['airborne_modes']}",
+            None if s["counts"].get("FOLLOW_TARGET", 0) >= 3 else "fewer than 3 FOLLOW_TARGET received",
+            # The example's target is 8 m below home with FLW_TGT_HT 8 m: PX4 holds 1 m above home.
+            None if s["min_follow_height_m"] > 0.8 else f"followed down to {s['min_follow_height_m']} m",
+            None if AUTO_LAND in s["modes"] else "no landing at the end",
+        ] if p],
+    },
+    "goto": {
+        "run_for": 70,
+        "check": lambda s, out: [p for p in [
+            None if 19.0 < s["final_height_m"] < 21.0 else f"final height {s['final_height_m']} m, not the 20 m asked",
+            None if s["final_target_m"] < 3.0
+            else f"not at the target: {s['start_target_m']} m → {s['final_target_m']} m",
+        ] if p],
+        "target": (47.397606, 8.543060),
+    },
+    "offboard_attitude": {
+        "check": lambda s, out: [p for p in [
+            None if OFFBOARD in s["airborne_modes"] else f"never airborne in OFFBOARD: {s['airborne_modes']}",
+            None if s["max_height_m"] > 1.0 else f"never airborne ({s['max_height_m']} m)",
+            None if AUTO_LAND in s["modes"] else "no landing at the end",
+        ] if p],
+    },
+    "mission_raw": {
+        "check": lambda s, out: [] if (0, 0) in s["mission_acks"] else [f"no MISSION_ACK ACCEPTED: {s['mission_acks']}"],
+    },
+    "mission_import": {
+        "expect": "pending",
+        "why": "the rally points (mission type 2) wait for the fence/rally mission types being merged",
+        "check": lambda s, out: [] if (0, 0) in s["mission_acks"] else [f"mission not accepted: {s['mission_acks']}"],
+    },
+    "geofence": {
+        "expect": "pending",
+        "why": "the fence upload (mission type 1) waits for the fence/rally mission types being merged",
+    },
+    "telemetry": {
+        "run_for": 15,
+        "check": lambda s, out: [f"no {w!r} printed" for w in ("Battery:", "GPS info:", "In air: False",
+                                                               "Position: [") if w not in out],
+    },
+    "telemetry_flight_mode": {
+        "run_for": 10,
+        "check": lambda s, out: [] if "FlightMode: HOLD" in out else ["no 'FlightMode: HOLD' printed"],
+    },
+    "all_params": {
+        "check": lambda s, out: [] if len(re.findall(r"^[A-Z][A-Z0-9_]*: ", out, re.M)) == s["param_count"] > 80
+        else [f"printed {len(re.findall(r'^[A-Z][A-Z0-9_]*: ', out, re.M))} of {s['param_count']} parameters"],
+    },
+    "shell": {
+        "stdin": "help\nver all\n",
+        "check": lambda s, out: [] if "Connected to drone" in out else ["never connected"],
+    },
+    "ftp_list_dir": {
+        "server": True,
+        "check": lambda s, out: [] if "directory list" in out and "fs" in out else ["no directory listed"],
+    },
+    "ftp_download_file": {
+        "server": True,
+        "expect": "expected refusal",
+        "why": "it asks for /etc/extras/px4_io-v2_default.bin, a Pixhawk's IO firmware that PX4 SITL "
+               "does not have either: the vehicle answers FTP NAK FileNotFound",
+        "check": lambda s, out: [] if "FILE_DOES_NOT_EXIST" in out else ["no 'file does not exist' error"],
+    },
+    "logfile_download": {
+        "expect": "expected refusal",
+        "why": "the vehicle keeps no logs yet: LOG_ENTRY num_logs 0 as PX4 with none, which MAVSDK "
+               "reports as NO_LOGFILES",
+        "check": lambda s, out: [] if "NO_LOGFILES" in out else ["not answered 'no log files'"],
+    },
+    "failure_injection": {
+        "expect": "expected refusal",
+        "why": "GPS failure injection needs a GPS sensor model, which does not exist yet: COMMAND_ACK "
+               "UNSUPPORTED with a STATUSTEXT, as PX4 answers for a unit it does not simulate",
+        "check": lambda s, out: [p for p in [
+            None if (INJECT_FAILURE, UNSUPPORTED) in s["command_acks"] else f"no UNSUPPORTED ACK: {s['command_acks']}",
+            None if any("not simulated" in t for t in s["statustexts"]) else "no STATUSTEXT saying why",
+            None if s["max_height_m"] > 15.0 else f"did not climb towards 20 m ({s['max_height_m']} m)",
+        ] if p],
+    },
+    "calibration": {
+        "expect": "expected refusal",
+        "why": "gyro calibration completes; accelerometer calibration needs the vehicle turned onto "
+               "its six sides, which the simulation cannot do: '[cal] calibration failed' as PX4 "
+               "reports a calibration it cannot finish",
+        "check": lambda s, out: [p for p in [
+            None if "[cal] calibration done: gyro" in s["statustexts"] else "gyro calibration not done",
+            None if any(t.startswith("[cal] calibration failed") for t in s["statustexts"]) else "no failure reason",
+        ] if p],
+    },
+}
+
+
+def fly_inside(example, spec, log_dir, work_dir, speedup, timeout_s):
+    """In the namespace: starts the vehicle, runs the example; the example's exit code and output
+    (code "running" when it was stopped with Ctrl-C while still running)."""
     subprocess.run(["ip", "link", "set", "lo", "up"], check=True)
     vehicle = subprocess.Popen(
         [str(binary()), "run", "--airframe", "quad_x", "--bind-gcs", "127.0.0.1:0", "--bind-api",
          "127.0.0.1:0", "--log", str(log_dir), "--speedup", str(speedup)],
         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    server = None
     try:
         ready = json.loads(vehicle.stdout.readline())
         assert ready.get("event") == "ready", ready
-        try:
-            run = subprocess.run([sys.executable, str(EXAMPLES / f"{example}.py")], capture_output=True,
-                                 text=True, timeout=timeout_s, check=False)
-            code, output = run.returncode, run.stdout + run.stderr
-        except subprocess.TimeoutExpired as e:
-            code, output = 124, f"timed out after {timeout_s} s\n{e.stdout or ''}{e.stderr or ''}"
+        if spec.get("server"):
+            # Started where the example runs: the server writes downloads relative to its own cwd.
+            server = subprocess.Popen([str(mavsdk_server()), "-p", "50051", "udpin://0.0.0.0:14540"],
+                                      cwd=work_dir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        run = subprocess.Popen([sys.executable, f"{example}.py"], cwd=work_dir, stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                               start_new_session=True)
+        lines = []
+        reader = threading.Thread(target=lambda: lines.extend(iter(run.stdout.readline, "")), daemon=True)
+        reader.start()
+        started = time.monotonic()
+        stdin = spec.get("stdin")
+        if stdin is not None:
+            # Typed a line at a time, after the example has had time to connect.
+            time.sleep(5)
+            for line in stdin.splitlines(keepends=True):
+                try:
+                    run.stdin.write(line)
+                    run.stdin.flush()
+                except (BrokenPipeError, ValueError):
+                    break
+                time.sleep(1)
+        limit = spec.get("run_for") or timeout_s
+        raised_at = None
+        code = None
+        while code is None:
+            time.sleep(0.2)
+            if run.poll() is not None:
+                code = run.returncode
+            elif time.monotonic() - started > limit:
+                code = "running" if spec.get("run_for") else 124
+            elif raised_at is None and any("Traceback (most recent call last)" in line for line in lines):
+                raised_at = time.monotonic()
+            elif raised_at is not None and time.monotonic() - raised_at > RAISED_GRACE_S:
+                # mavsdk keeps the process alive after an uncaught exception: Ctrl-C, as a user would.
+                code = "raised"
+        if run.poll() is None:
+            os.killpg(run.pid, signal.SIGINT)  # Ctrl-C: the whole foreground group
+            try:
+                run.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                os.killpg(run.pid, signal.SIGKILL)
+                run.wait()
+            lines.append(f"\n[stopped with Ctrl-C after {time.monotonic() - started:.0f} s]")
+        reader.join(timeout=5)
+        output = "".join(lines)
     finally:
-        vehicle.send_signal(2)
+        if server is not None:
+            server.send_signal(signal.SIGINT)
+            try:
+                server.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                server.kill()
+        vehicle.send_signal(signal.SIGINT)
         try:
             vehicle.wait(timeout=10)
         except subprocess.TimeoutExpired:
@@ -64,33 +275,66 @@ def fly_inside(example, log_dir, speedup, timeout_s):
     return code, output
 
 
-def judge(tlog):
-    """What the vehicle did, from the tlog: heights, disarms in the air, final state."""
+def judge(tlog, target=None):
+    """What the vehicle did, from the tlog: heights, modes, disarms in the air, answers."""
     from pymavlink import mavutil
 
-    log = mavutil.mavlink_connection(str(tlog))
-    height, armed, landed = 0.0, False, None
-    summary = {"max_height_m": 0.0, "disarms_in_air": [], "landed_states": [], "touchdown_m_s": 0.0}
+    log = mavutil.mavlink_connection(str(tlog), dialect="common")
+    height, armed, landed, mode, where = 0.0, False, None, None, None
+    summary = {"max_height_m": 0.0, "disarms_in_air": [], "landed_states": [], "touchdown_m_s": 0.0,
+               "modes": [], "airborne_modes": [], "counts": {}, "statustexts": [], "command_acks": [],
+               "mission_acks": [], "param_count": 0}
+    orbit_centre, radii = None, []
     while True:
-        m = log.recv_match(type=["GLOBAL_POSITION_INT", "HEARTBEAT", "EXTENDED_SYS_STATE"])
+        m = log.recv_match()
         if m is None:
             break
+        kind = m.get_type()
+        if kind.startswith("UNKNOWN_"):  # no header fields either: counted only
+            kind = UNKNOWN_NAMES.get(int(kind[8:]), kind)
+        summary["counts"][kind] = summary["counts"].get(kind, 0) + 1
+        if kind == "COMMAND_LONG" and m.command == 34:  # DO_ORBIT as COMMAND_LONG
+            orbit_centre = (m.param5, m.param6)
+        elif kind == "COMMAND_INT" and m.command == 34:
+            orbit_centre = (m.x / 1e7, m.y / 1e7)
         if m.get_srcSystem() != 1 or m.get_srcComponent() != 1:
             continue
-        kind = m.get_type()
         if kind == "GLOBAL_POSITION_INT":
             height = m.relative_alt / 1000.0 - 0.1
-            summary["max_height_m"] = max(summary["max_height_m"], height)
+            where = (m.lat / 1e7, m.lon / 1e7)
+            summary["max_height_m"] = round(max(summary["max_height_m"], height), 2)
             if height < 0.3 and armed:
                 summary["touchdown_m_s"] = max(summary["touchdown_m_s"], m.vz / 100.0)
+            if target is not None:
+                summary.setdefault("start_target_m", round(horizontal_m(where, target), 1))
+                summary["final_target_m"] = round(horizontal_m(where, target), 1)
+            if mode == FOLLOW_TARGET and armed:
+                summary["min_follow_height_m"] = round(min(summary.get("min_follow_height_m", 99.0), height), 2)
+            if orbit_centre is not None and mode == ORBIT:
+                radii.append(horizontal_m(where, orbit_centre))
         elif kind == "HEARTBEAT":
             now_armed = bool(m.base_mode & mavutil.mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
             if armed and not now_armed and height > DISARM_HEIGHT_MAX_M:
                 summary["disarms_in_air"].append(round(height, 2))
-            armed = now_armed
+            armed, mode = now_armed, m.custom_mode
+            if mode not in summary["modes"]:
+                summary["modes"].append(mode)
+            if armed and height > 1.0 and mode not in summary["airborne_modes"]:
+                summary["airborne_modes"].append(mode)
         elif kind == "EXTENDED_SYS_STATE" and m.landed_state != landed:
             landed = m.landed_state
             summary["landed_states"].append(mavutil.mavlink.enums["MAV_LANDED_STATE"][landed].name[17:])
+        elif kind == "STATUSTEXT":
+            summary["statustexts"].append(m.text)
+        elif kind == "COMMAND_ACK":
+            summary["command_acks"].append((m.command, m.result))
+        elif kind == "PARAM_VALUE":
+            summary["param_count"] = m.param_count
+        elif kind == "MISSION_ACK":
+            summary["mission_acks"].append((m.mission_type, m.type))
+    # On the circle: the second half of the orbit (the first includes the approach).
+    on_circle = radii[len(radii) // 2:] or [0.0]
+    summary["orbit_radius_m"] = [round(min(on_circle), 2), round(max(on_circle), 2)]
     summary["final_armed"] = armed
     summary["final_height_m"] = round(height, 2)
     return summary
@@ -98,29 +342,58 @@ def judge(tlog):
 
 def fly(example, speedup, timeout_s, keep):
     """Runs one example in a new network namespace; its verdict as a dict."""
-    log_dir = pathlib.Path(tempfile.mkdtemp(prefix=f"rp-{example}-"))
+    spec = SPECS.get(example, {})
+    speedup = spec.get("speedup", speedup)
+    scratch = pathlib.Path(tempfile.mkdtemp(prefix=f"rp-{example}-"))
+    log_dir, work_dir = scratch / "log", scratch / "examples"
+    shutil.copytree(EXAMPLES, work_dir)
     inner = subprocess.run(
         ["unshare", "-n", sys.executable, __file__, "--inside", example, "--log-dir", str(log_dir),
-         "--speedup", str(speedup), "--timeout", str(timeout_s)],
+         "--work-dir", str(work_dir), "--speedup", str(speedup), "--timeout", str(timeout_s)],
         capture_output=True, text=True, timeout=timeout_s + 60, check=False)
-    verdict = {"example": example, "exit": inner.returncode}
+    lines = inner.stdout.splitlines()
+    code = lines[0] if lines and lines[0].startswith("exit ") else f"exit runner {inner.returncode}"
+    output = "\n".join(lines[1:]) + inner.stderr
+    verdict = {"example": example, "exit": code[5:], "expect": spec.get("expect", "works")}
     tlog = log_dir / "flight.tlog"
-    verdict.update(judge(tlog) if tlog.exists() else {"error": "no flight log"})
-    problems = []
-    if inner.returncode != 0:
-        problems.append(f"exit {inner.returncode}: {inner.stdout[-800:]}{inner.stderr[-800:]}")
-    if verdict.get("disarms_in_air"):
-        problems.append(f"disarmed in the air at {verdict['disarms_in_air']} m")
-    on_ground = verdict.get("landed_states", [None])[-1] == "ON_GROUND" and verdict.get("final_height_m", 9) < 0.3
-    if example in LANDING and not on_ground:
-        problems.append("did not end on the ground")
-    if example in DISARMING and verdict.get("final_armed", True):
-        problems.append("did not disarm after landing")
-    verdict["ok"] = not problems
+    summary = judge(tlog, spec.get("target")) if tlog.exists() else None
+    problems = [] if summary else ["no flight log"]
+    if summary:
+        verdict.update({k: v for k, v in summary.items() if k not in ("counts", "statustexts", "command_acks")})
+        if summary["disarms_in_air"]:
+            problems.append(f"disarmed in the air at {summary['disarms_in_air']} m")
+        on_ground = summary["landed_states"][-1:] == ["ON_GROUND"] and summary["final_height_m"] < 0.3
+        if spec.get("lands") and not on_ground:
+            problems.append("did not end on the ground")
+        if spec.get("disarms") and summary["final_armed"]:
+            problems.append("did not disarm after landing")
+        if "check" in spec:
+            problems += spec["check"](summary, output)
+    ran = verdict["exit"] == ("running" if spec.get("run_for") else "0")
+    expect = verdict["expect"]
+    if expect == "works":
+        if not ran:
+            problems.insert(0, f"exit {verdict['exit']}: {output[-1500:]}")
+        verdict["verdict"] = "works" if not problems else "FAIL"
+    elif expect == "expected refusal":
+        if ran:
+            problems.insert(0, "it succeeded: the refusal it expects is gone, update SPECS")
+        verdict["verdict"] = "expected refusal" if not problems else "FAIL"
+        verdict["why"] = spec["why"]
+    else:
+        if ran:
+            verdict["verdict"] = "works (no longer pending: update SPECS)"
+        else:
+            verdict["verdict"] = "pending" if not problems else "FAIL"
+        verdict["why"] = spec["why"]
+        if not ran:
+            verdict["pending_output"] = output[-600:]
+    verdict["ok"] = verdict["verdict"] != "FAIL"
     verdict["problems"] = problems
     if keep:
-        shutil.copytree(log_dir, pathlib.Path(keep) / example, dirs_exist_ok=True)
-    shutil.rmtree(log_dir, ignore_errors=True)
+        shutil.copytree(scratch, pathlib.Path(keep) / example, dirs_exist_ok=True)
+        pathlib.Path(keep, example, "output.txt").write_text(output)
+    shutil.rmtree(scratch, ignore_errors=True)
     return verdict
 
 
@@ -129,14 +402,16 @@ def main():
     p.add_argument("examples", nargs="*", help="example names (default: all)")
     p.add_argument("--speedup", default="1", help="rotorpilot --speedup (default 1)")
     p.add_argument("--timeout", type=float, default=240.0, help="seconds per example (default 240)")
-    p.add_argument("--keep", help="copy each flight's logs to KEEP/EXAMPLE")
+    p.add_argument("--keep", help="copy each flight's logs and output to KEEP/EXAMPLE")
     p.add_argument("--inside", help=argparse.SUPPRESS)
     p.add_argument("--log-dir", help=argparse.SUPPRESS)
+    p.add_argument("--work-dir", help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.inside:
-        code, output = fly_inside(args.inside, args.log_dir, args.speedup, args.timeout)
-        sys.stdout.write(output)
-        return code
+        code, output = fly_inside(args.inside, SPECS.get(args.inside, {}), args.log_dir, args.work_dir,
+                                  args.speedup, args.timeout)
+        sys.stdout.write(f"exit {code}\n{output}")
+        return 0
     names = args.examples or sorted(f.stem for f in EXAMPLES.glob("*.py"))
     unknown = [n for n in names if not (EXAMPLES / f"{n}.py").exists()]
     if unknown:

@@ -2,8 +2,8 @@
 (`mavproxy.py --master=udpin:127.0.0.1:14550`): it finds the vehicle, downloads every parameter,
 reads the geofence as present and enabled and prints no false "fence breach" (it reads a clear
 MAV_SYS_STATUS_GEOFENCE health bit as a breach); its `fence` and `rally` commands (load, list,
-add, clear) work over the mission protocol with mission_type 1 and 2. Runs in its own network
-namespace, so the fixed port 14550 is used as it is."""
+add, clear) work over the mission protocol with mission_type 1 and 2; `log list` ends with "No
+logs". Runs in its own network namespace, so the fixed port 14550 is used as it is."""
 import pathlib
 import re
 import shutil
@@ -89,3 +89,24 @@ wait $vehicle
     assert "Requesting 3 rally items" in out, "the added rally point went up: " + out
     assert "47.3975000000 8.5456000000 15.000000" in out, out
     assert "Requesting 0 fence items" in out, "the fence was cleared: " + out
+
+
+@pytest.mark.skipif(not can_unshare(), reason="needs unshare -n (root)")
+def test_mavproxy_log_list_says_no_logs(rotorpilot_bin, tmp_path):
+    """`log list` typed at MAVProxy's prompt once the vehicle is detected: the vehicle answers
+    LOG_REQUEST_LIST with PX4's empty list (LOG_ENTRY num_logs 0) and MAVProxy prints "No logs"
+    instead of waiting for entries."""
+    script = f"""
+ip link set lo up
+{rotorpilot_bin} run --airframe quad_x --bind-gcs 127.0.0.1:0 --bind-api 127.0.0.1:0 > /dev/null 2>&1 &
+vehicle=$!
+(sleep 6; echo "log list"; sleep 4; echo "exit") | timeout 20 {sys.executable} {MAVPROXY} \\
+    --master=udpin:127.0.0.1:14550 --default-modules=link,param,log --state-basedir={tmp_path} 2>&1
+kill -INT $vehicle
+wait $vehicle
+"""
+    run = subprocess.run(["unshare", "-n", "bash", "-c", script], capture_output=True, text=True, timeout=60,
+                         check=False, cwd=tmp_path)
+    out = run.stdout + run.stderr
+    assert "Detected vehicle 1:1" in out and "Requesting log list" in out, out
+    assert "No logs" in out, out

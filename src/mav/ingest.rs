@@ -259,6 +259,9 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
                 initial_timestamp: m.initial_timestamp,
             }
         }
+        MavMessage::LOG_REQUEST_LIST(r) if ours(r.target_system, r.target_component) => {
+            Action::Reply(Box::new(super::logs::log_list()))
+        }
         // MISSION_ACK ends a download; nothing to answer.
         MavMessage::MISSION_ACK(_) => Action::Ignore,
         // SET_MODE has no ACK; the next heartbeat shows the result.

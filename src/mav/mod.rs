@@ -9,6 +9,9 @@
 //! - [`translate`], [`identity`]: commands → commander requests, ACKs, HEARTBEAT.
 //! - [`offboard`]: SET_POSITION_TARGET_* and SET_ATTITUDE_TARGET → setpoints.
 //! - [`orbit`]: MAV_CMD_DO_ORBIT and ORBIT_EXECUTION_STATUS.
+//! - [`failure`]: MAV_CMD_INJECT_FAILURE (motors simulated, other units refused by name).
+//! - [`calibration`]: MAV_CMD_PREFLIGHT_CALIBRATION and its `[cal]` STATUSTEXT protocol.
+//! - [`logs`]: LOG_REQUEST_LIST answered with PX4's empty list.
 //! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
 //! - [`telemetry`] (with `status`): the streamed messages built from a snapshot.
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.
@@ -23,15 +26,18 @@
 //! - [`gcs`]: the ground-station side (its header, COMMAND_LONG, which ACK answers a command)
 //!   for the bench client, the tests and the fuzz target.
 
+pub mod calibration;
 pub mod codec;
 pub mod crc32;
 pub mod duplicates;
 pub mod events;
+pub mod failure;
 pub mod ftp;
 pub mod gcs;
 pub mod identity;
 pub mod ingest;
 pub mod link;
+pub mod logs;
 pub mod metadata;
 pub mod mission_items;
 pub mod mission_xfer;

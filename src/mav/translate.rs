@@ -29,6 +29,11 @@ pub enum CommandDecision {
     Refuse(Outcome),
     /// A command this emulator does not implement.
     Unsupported,
+    /// Understood, but about something this emulator does not simulate: ACK UNSUPPORTED and a
+    /// STATUSTEXT with the reason.
+    NotSimulated(String),
+    /// PREFLIGHT_CALIBRATION: ACK and the `[cal]` STATUSTEXTs ([`super::calibration`]).
+    Calibrate(super::calibration::Calibration),
     /// ACK ACCEPTED, then send this message to the requester (REQUEST_MESSAGE and friends).
     Reply(OneShot),
     /// SET_MESSAGE_INTERVAL on this link (§5.2): −1 off, 0 default, else µs.
@@ -129,7 +134,11 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             },
             None => CommandDecision::Refuse(Outcome::Denied("Set standard mode: no mode".into())),
         },
-        MavCmd::MAV_CMD_INJECT_FAILURE => inject_failure(cmd),
+        MavCmd::MAV_CMD_INJECT_FAILURE => super::failure::inject_failure(cmd),
+        MavCmd::MAV_CMD_PREFLIGHT_CALIBRATION => match super::calibration::decode(cmd) {
+            Some(calibration) => CommandDecision::Calibrate(calibration),
+            None => CommandDecision::Unsupported,
+        },
         MavCmd::MAV_CMD_DO_ORBIT => {
             let centre = |x: f32| (!x.is_nan()).then_some(f64::from(x));
             super::orbit::decode_orbit(cmd, centre(cmd.param5).zip(centre(cmd.param6)), origin)
@@ -270,25 +279,6 @@ pub fn decode_command_int(id: &Identity, sender: &MavHeader, cmd: &COMMAND_INT_D
     });
     let down = param(cmd.z).and_then(alt_amsl).map(|amsl| origin.alt_amsl_m - amsl);
     reposition(&long, xy, down)
-}
-
-/// MAV_CMD_INJECT_FAILURE (420): p1 FAILURE_UNIT_SYSTEM_MOTOR (101), p2 FAILURE_TYPE_OK (0,
-/// restore) or FAILURE_TYPE_OFF (1, stop), p3 motor (1-based, 0 = all). Other units and types
-/// are UNSUPPORTED, as PX4 answers.
-fn inject_failure(cmd: &COMMAND_LONG_DATA) -> CommandDecision {
-    const MOTOR_UNIT: f32 = 101.0;
-    let failed = match (param(cmd.param1), param(cmd.param2)) {
-        (Some(MOTOR_UNIT), Some(0.0)) => false,
-        (Some(MOTOR_UNIT), Some(1.0)) => true,
-        _ => return CommandDecision::Unsupported,
-    };
-    match param(cmd.param3).unwrap_or(0.0) {
-        r if r >= 0.0 && r.fract() == 0.0 && r <= 255.0 => CommandDecision::Execute(Request::InjectRotorFailure {
-            rotor: r as usize,
-            failed,
-        }),
-        r => CommandDecision::Refuse(Outcome::Denied(format!("Failure injection: bad motor {r}"))),
-    }
 }
 
 /// Latitude [deg] in ±90, longitude [deg] in ±180 and altitude [m AMSL] in −1 km … 100 km.

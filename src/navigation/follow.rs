@@ -10,12 +10,20 @@
 //! z_f    = z_home − h   (FLW_TGT_ALT_M 0, 1)  or  ẑ − h (2, the target's altitude)   h = FLW_TGT_HT
 //! ψ_f    = bearing from the vehicle to the target
 //! ```
+//! Never below PX4's `MINIMUM_SAFETY_ALTITUDE` ([`SAFETY_HEIGHT_M`] above home): z_f is capped
+//! there (a target reported at or below home's altitude, as MAVSDK's follow-me example does in
+//! SITL, holds the vehicle at that height instead of landing it), and a vehicle below it holds
+//! its horizontal position and climbs at [`EMERGENCY_ASCENT_M_S`] (PX4's emergency ascent).
 
 use crate::control::FlatSetpoint;
 use crate::math::Vec3;
 
 /// A target slower than this keeps its last course [m/s].
 pub const MOVING_M_S: f64 = 0.5;
+/// The lowest height above home the mode flies (PX4's `MINIMUM_SAFETY_ALTITUDE`) [m].
+pub const SAFETY_HEIGHT_M: f64 = 1.0;
+/// The climb rate below [`SAFETY_HEIGHT_M`] (PX4's `EMERGENCY_ASCENT_SPEED`) [m/s].
+pub const EMERGENCY_ASCENT_M_S: f64 = 0.5;
 
 /// Where the height of the follow point comes from (`FLW_TGT_ALT_M`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -94,6 +102,14 @@ impl FollowTarget {
     /// `home_w` [m] (the raw setpoint; the caller flies it through its limits).
     pub fn setpoint(&mut self, vehicle_w: Vec3, home_w: Vec3, p: &FollowParams) -> FlatSetpoint {
         let to_target = self.pos_w - vehicle_w;
+        let floor_z = home_w.z - SAFETY_HEIGHT_M;
+        if vehicle_w.z > floor_z {
+            return FlatSetpoint {
+                pos_w: Some(Vec3::new(vehicle_w.x, vehicle_w.y, floor_z)),
+                vel_w: Some(Vec3::new(0.0, 0.0, -EMERGENCY_ASCENT_M_S)),
+                ..FlatSetpoint::default()
+            };
+        }
         let course = *self.course_rad.get_or_insert(to_target.y.atan2(to_target.x));
         let a = course + p.angle_rad;
         let z = match p.altitude {
@@ -103,7 +119,7 @@ impl FollowTarget {
         let point = Vec3::new(
             self.pos_w.x + p.distance_m * a.cos(),
             self.pos_w.y + p.distance_m * a.sin(),
-            z,
+            z.min(floor_z),
         );
         let facing = if to_target.xy().norm() > 0.1 {
             Some(to_target.y.atan2(to_target.x))
@@ -158,6 +174,24 @@ mod tests {
         t.report(Vec3::new(10.0, 0.0, -1.0), Vec3::new(0.0, 1.5, 0.0), &p);
         let sp = t.setpoint(Vec3::new(0.0, 0.0, -8.0), Vec3::zeros(), &p);
         assert!((sp.pos_w.unwrap_or_default() - Vec3::new(10.0, 2.0, -9.0)).norm() < 1e-9);
+    }
+
+    #[test]
+    fn the_vehicle_never_follows_below_the_safety_height() {
+        let p = FollowParams {
+            altitude: FollowAltitude::AboveTarget,
+            height_m: 8.0,
+            ..Default::default()
+        };
+        // A target 8 m below home (MAVSDK's example: 480 m AMSL, home 488 m): capped at 1 m.
+        let home = Vec3::new(0.0, 0.0, 0.0);
+        let mut t = FollowTarget::new(Vec3::new(30.0, 0.0, 8.0), Vec3::zeros());
+        let sp = t.setpoint(Vec3::new(0.0, 0.0, -5.0), home, &p);
+        assert_eq!(sp.pos_w.map(|w| w.z), Some(-SAFETY_HEIGHT_M));
+        // Below it: hold horizontally, climb at the emergency rate.
+        let sp = t.setpoint(Vec3::new(3.0, 4.0, -0.5), home, &p);
+        assert_eq!(sp.pos_w, Some(Vec3::new(3.0, 4.0, -SAFETY_HEIGHT_M)));
+        assert_eq!(sp.vel_w, Some(Vec3::new(0.0, 0.0, -EMERGENCY_ASCENT_M_S)));
     }
 
     #[test]

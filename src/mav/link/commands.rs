@@ -1,14 +1,16 @@
 //! COMMAND_LONG / COMMAND_INT: the duplicate check (information requests bypass the cache and
 //! are answered every time), the decision, exactly one COMMAND_ACK to the sender, the message
-//! a request asked for right after its ACK, and a STATUSTEXT with the reason of a refusal.
+//! a request asked for right after its ACK, a STATUSTEXT with the reason of a refusal, and the
+//! `[cal]` STATUSTEXTs of a calibration after its ACK.
 
 use std::hash::Hash;
 
 use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA};
 use mavlink::MavHeader;
 
-use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleRequest, WARNING};
+use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
 use crate::commander::Outcome;
+use crate::mav::calibration;
 use crate::mav::duplicates::{CommandKey, Seen};
 use crate::mav::modes::{available_modes, protocol_version};
 use crate::mav::services::autopilot_version;
@@ -74,6 +76,20 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 let unsupported = AckOf::Result(MavResult::MAV_RESULT_UNSUPPORTED);
                 self.answer(now, asker, unsupported);
             }
+            CommandDecision::NotSimulated(why) => {
+                self.answer(now, asker, AckOf::Result(MavResult::MAV_RESULT_UNSUPPORTED));
+                self.send(now, link, from, &status_text(WARNING, &why));
+            }
+            CommandDecision::Calibrate(calibration) => match calibration::run(calibration, self.snapshot.armed) {
+                Err(refusal) => self.answer(now, asker, AckOf::Outcome(&refusal)),
+                Ok(texts) => {
+                    self.answer(now, asker, accepted);
+                    for t in texts {
+                        let severity = if t.critical { CRITICAL } else { INFO };
+                        self.send(now, link, from, &status_text(severity, &t.text));
+                    }
+                }
+            },
             CommandDecision::Refuse(outcome) => self.answer(now, asker, AckOf::Outcome(&outcome)),
             CommandDecision::Reply(one_shot) => {
                 let msgs = match one_shot {
