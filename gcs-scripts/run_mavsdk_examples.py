@@ -137,13 +137,11 @@ SPECS = {
         "check": lambda s, out: [] if (0, 0) in s["mission_acks"] else [f"no MISSION_ACK ACCEPTED: {s['mission_acks']}"],
     },
     "mission_import": {
-        "expect": "pending",
-        "why": "the rally points (mission type 2) wait for the fence/rally mission types being merged",
-        "check": lambda s, out: [] if (0, 0) in s["mission_acks"] else [f"mission not accepted: {s['mission_acks']}"],
+        "check": lambda s, out: [] if {(0, 0), (2, 0)} <= set(s["mission_acks"])
+        else [f"mission and rally points not both accepted: {s['mission_acks']}"],
     },
     "geofence": {
-        "expect": "pending",
-        "why": "the fence upload (mission type 1) waits for the fence/rally mission types being merged",
+        "check": lambda s, out: [] if (1, 0) in s["mission_acks"] else [f"fence not accepted: {s['mission_acks']}"],
     },
     "telemetry": {
         "run_for": 15,

@@ -10,7 +10,8 @@ asks), COMPONENT_METADATA (397), then the general metadata JSON and the paramete
 downloaded over MAVLink FTP as QGC's FTPManager does (OpenFileRO, BurstReadFile, ReadFile for the
 gaps, TerminateSession; the CRC checked against COMPONENT_METADATA.file_crc and `fileCrc`);
 PARAM_REQUEST_LIST (every PARAM_VALUE, `_HASH_CHECK` first); MISSION_REQUEST_LIST for the mission,
-the fence and the rally points; and a MAVLink shell round trip over SERIAL_CONTROL (`ver all`)
+the fence and the rally points (empty, then a `.plan`'s fence and rally points uploaded and
+downloaded back identical); and a MAVLink shell round trip over SERIAL_CONTROL (`ver all`)
 as QGC's MAVLink console sends it. Ports are ephemeral (port 0, read from the ready line)."""
 import json
 import os
@@ -23,6 +24,7 @@ import pytest
 
 os.environ["MAVLINK20"] = "1"
 from pymavlink import mavutil  # noqa: E402
+from test_fence_rally import FENCE, RALLY, download, fence_items, qgc_plan, rally_items, upload  # noqa: E402
 
 QGC = (255, 190)  # QGroundControl's system and component ids
 TRIES, ACK_TIMEOUT_S = 3, 3.0
@@ -43,6 +45,21 @@ RAW_LAYOUTS = {
     435: ("AVAILABLE_MODES", "<IIBBB35s", ("custom_mode", "properties", "number_modes", "mode_index",
                                            "standard_mode", "mode_name")),
 }
+
+
+class PlanLink:
+    """The plan helpers' view of the QGC link (`gcs`, `wait`, `pending`)."""
+
+    def __init__(self, qgc):
+        self.gcs, self.qgc, self.pending = qgc.mav, qgc, []
+
+    def wait(self, predicate, types, timeout):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            m = self.qgc.recv(types, max(0.0, deadline - time.monotonic()))
+            if m is not None and predicate(m):
+                return m
+        return None
 
 
 def decode_raw(m):
@@ -266,9 +283,14 @@ def test_qgc_initial_connect_sequence(qgc):
         counts[mission_type] = (answer.get_type(), answer.mission_type, getattr(answer, "count", None))
     # A fresh vehicle: an empty mission, each answer carrying the type asked for.
     assert counts[0] == ("MISSION_COUNT", 0, 0), counts
-    # TODO fence/rally: assert the downloaded plans once mission types 1 and 2 land.
-    # Until then the vehicle lists an empty fence and rally list (QGC asks no items, sends no ACK).
     assert counts[1] == ("MISSION_COUNT", 1, 0) and counts[2] == ("MISSION_COUNT", 2, 0), counts
+    # A vehicle holding a fence and rally points (uploaded as QGC's plan managers send a `.plan`):
+    # QGC's download of each plan brings back exactly what went up.
+    link = PlanLink(qgc)
+    plan = qgc_plan()
+    for mission_type, items in ((FENCE, fence_items(plan)), (RALLY, rally_items(plan))):
+        assert upload(link, mission_type, items).type == 0, mission_type
+        assert download(link, mission_type) == items, mission_type
 
     # The MAVLink console: `ver all` over SERIAL_CONTROL, answered by the shell with REPLY frames.
     line = b"ver all\n"

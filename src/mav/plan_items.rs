@@ -5,7 +5,7 @@
 //! Fence: MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION / _EXCLUSION (5001 / 5002), one item per
 //! vertex, param1 the polygon's vertex count (rounded; fewer than 3 → ERROR, as PX4; a run that
 //! does not hold that many vertices of one kind → INVALID_PARAM1); _CIRCLE_INCLUSION /
-//! _EXCLUSION (5003 / 5004), param1 the radius (positive, else INVALID_PARAM1);
+//! _EXCLUSION (5003 / 5004), param1 the radius (not negative, else INVALID_PARAM1);
 //! MAV_CMD_NAV_FENCE_RETURN_POINT (5000) is kept in the plan and, as in PX4, not used. Rally:
 //! MAV_CMD_NAV_RALLY_POINT (5100). Both plans take the global frames only (GLOBAL,
 //! GLOBAL_RELATIVE_ALT and their _INT forms; MISSION → UNSUPPORTED, others UNSUPPORTED_FRAME);
@@ -13,22 +13,36 @@
 
 use mavlink::dialects::common::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
 
-use super::mission_items::{position, ItemError};
+use super::mission_items::ItemError;
 use crate::math::Vec3;
 use crate::navigation::geofence::{Shape, Zone};
 use crate::navigation::{Geofence, Home, RallyPoints};
 
-/// The item's position in local NED [m] when its frame is a global one.
+/// The item's position in local NED [m] when its frame is a global one. Unlike a mission item, a
+/// zone may lie anywhere on Earth (PX4 takes MAVSDK's placeholder circle at 0°, 0°): only a
+/// latitude beyond ±90° or a longitude beyond ±180° is INVALID_PARAM5_X / _PARAM6_Y; a zone that
+/// does not hold home is left out when the fence is checked.
 #[allow(deprecated)]
 fn global_position(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<Vec3, MavMissionResult> {
-    match item.frame {
-        MavFrame::MAV_FRAME_GLOBAL
-        | MavFrame::MAV_FRAME_GLOBAL_INT
-        | MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT
-        | MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT => position(item, home),
-        MavFrame::MAV_FRAME_MISSION => Err(MavMissionResult::MAV_MISSION_UNSUPPORTED),
-        _ => Err(MavMissionResult::MAV_MISSION_UNSUPPORTED_FRAME),
+    let alt_amsl_m = match item.frame {
+        MavFrame::MAV_FRAME_GLOBAL | MavFrame::MAV_FRAME_GLOBAL_INT => f64::from(item.z),
+        MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT | MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT => {
+            home.alt_amsl_m + f64::from(item.z)
+        }
+        MavFrame::MAV_FRAME_MISSION => return Err(MavMissionResult::MAV_MISSION_UNSUPPORTED),
+        _ => return Err(MavMissionResult::MAV_MISSION_UNSUPPORTED_FRAME),
+    };
+    let (lat, lon) = (f64::from(item.x) * 1e-7, f64::from(item.y) * 1e-7);
+    if lat.abs() > 90.0 {
+        return Err(MavMissionResult::MAV_MISSION_INVALID_PARAM5_X);
     }
+    if lon.abs() > 180.0 {
+        return Err(MavMissionResult::MAV_MISSION_INVALID_PARAM6_Y);
+    }
+    if !alt_amsl_m.is_finite() {
+        return Err(MavMissionResult::MAV_MISSION_INVALID_PARAM7);
+    }
+    Ok(home.to_local(lat, lon, alt_amsl_m))
 }
 
 /// Items must come in sequence order.
@@ -61,8 +75,9 @@ pub fn parse_fence(items: &[MISSION_ITEM_INT_DATA], home: &Home) -> Result<Geofe
         match item.command {
             MavCmd::MAV_CMD_NAV_FENCE_RETURN_POINT => i += 1,
             MavCmd::MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION | MavCmd::MAV_CMD_NAV_FENCE_CIRCLE_EXCLUSION => {
+                // PX4 takes a zero radius (MAVSDK's placeholder circle); a negative one is refused.
                 let radius_m = f64::from(item.param1);
-                if !(radius_m.is_finite() && radius_m > 0.0) {
+                if !(radius_m.is_finite() && radius_m >= 0.0) {
                     return Err(refuse(MAV_MISSION_INVALID_PARAM1));
                 }
                 zones.push(Zone {
@@ -198,8 +213,15 @@ mod tests {
         miscounted[1].param1 = 4.0;
         assert_eq!(bad(&miscounted).seq, 1);
         let circle = |r| item(0, MavCmd::MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION, 0, 0, r);
-        assert_eq!(bad(&[circle(0.0)]).result, MAV_MISSION_INVALID_PARAM1);
+        assert_eq!(bad(&[circle(-1.0)]).result, MAV_MISSION_INVALID_PARAM1);
         assert_eq!(bad(&[circle(f32::NAN)]).result, MAV_MISSION_INVALID_PARAM1);
+        // MAVSDK's placeholder circle (0°, 0°, radius 0) is taken, as PX4 takes it.
+        let mut placeholder = circle(0.0);
+        (placeholder.x, placeholder.y) = (0, 0);
+        assert!(parse_fence(&[placeholder], &home).is_ok());
+        let mut off_earth = circle(5.0);
+        off_earth.x = 910_000_000;
+        assert_eq!(bad(&[off_earth]).result, MAV_MISSION_INVALID_PARAM5_X);
         let mut local = circle(5.0);
         local.frame = MavFrame::MAV_FRAME_LOCAL_NED;
         assert_eq!(bad(&[local]).result, MAV_MISSION_UNSUPPORTED_FRAME);
