@@ -14,7 +14,7 @@ use crate::mav::calibration;
 use crate::mav::duplicates::{CommandKey, Seen};
 use crate::mav::modes::{available_modes, protocol_version};
 use crate::mav::services::autopilot_version;
-use crate::mav::telemetry::{message, status_text, Stream as TelemetryStream};
+use crate::mav::telemetry::status_text;
 use crate::mav::translate::{command_ack, result_of, CommandDecision, OneShot};
 
 /// What an ACK reports.
@@ -98,8 +98,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     OneShot::ComponentMetadata => Some(vec![self.component_metadata(now)]),
                     OneShot::ComponentInformation => Some(vec![self.component_information(now)]),
                     OneShot::AvailableModes(index) => available_modes(index),
-                    OneShot::Stream(TelemetryStream::SystemTime) => Some(vec![self.system_time(now)]),
-                    OneShot::Stream(stream) => message(stream, &self.snapshot).map(|m| vec![m]),
+                    OneShot::Stream(stream) => self.stream_message(now, stream).map(|m| vec![m]),
                 };
                 match msgs {
                     Some(msgs) => {

@@ -50,11 +50,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             // Rates count simulated time; each stream goes out at most once per duty pass,
             // which caps it at 200 Hz of wall time when simulated time runs fast.
             for stream in self.ports[k].streams.due(now.sim_s) {
-                let msg = match stream {
-                    TelemetryStream::SystemTime => Some(self.system_time(now)),
-                    _ => message(stream, &self.snapshot),
-                };
-                if let Some(msg) = msg {
+                if let Some(msg) = self.stream_message(now, stream) {
                     for to in &targets {
                         self.send(now, link, *to, &msg);
                     }
@@ -63,9 +59,16 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         }
     }
 
-    /// SYSTEM_TIME now, from the wall clock the signing clock counts.
-    pub(super) fn system_time(&self, now: Now) -> MavMessage {
-        system_time(unix_us_from_timestamp(self.signing_now(now)), &self.snapshot)
+    /// `stream`'s message now (streamed or asked for): from the snapshot, except SYSTEM_TIME,
+    /// which comes from the wall clock the signing clock counts; `None` when there is none.
+    pub(super) fn stream_message(&self, now: Now, stream: TelemetryStream) -> Option<MavMessage> {
+        match stream {
+            TelemetryStream::SystemTime => Some(system_time(
+                unix_us_from_timestamp(self.signing_now(now)),
+                &self.snapshot,
+            )),
+            _ => message(stream, &self.snapshot),
+        }
     }
 
     /// At least 1 Hz in wall time (MAVSDK drops a silent link after 3 s) and 1 Hz in simulated
