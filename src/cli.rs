@@ -78,9 +78,13 @@ pub(crate) enum Command {
         /// Stop after this many wall-clock seconds (default: run until Ctrl-C / SIGTERM).
         #[arg(long)]
         duration: Option<f64>,
-        /// Write DIR/flight.tlog (MAVLink telemetry log) and DIR/run.csv (every 1 kHz tick).
+        /// Write DIR/flight.tlog (MAVLink telemetry log) and a ULog flight log per arming,
+        /// DIR/log/YYYY-MM-DD/HH_MM_SS.ulg (PX4's naming, UTC), served to log downloads.
         #[arg(long)]
         log: Option<PathBuf>,
+        /// Rates of the ULog topics: default (PX4-like, tens of Hz) or full (every 1 kHz tick).
+        #[arg(long = "log-profile", default_value = "default")]
+        log_profile: rotorpilot::ulog::Profile,
         /// Parameter file (QGC `SYSID COMPID NAME VALUE TYPE` lines or `NAME VALUE` lines).
         #[arg(long)]
         params: Option<PathBuf>,
@@ -107,15 +111,21 @@ pub(crate) enum Command {
         /// Write every tick to this CSV file.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Write every tick to this ULog file (the full profile).
+        #[arg(long)]
+        log: Option<PathBuf>,
     },
-    /// Fly a scenario file headless as fast as the CPU allows; write DIR/run.csv and
-    /// DIR/summary.json and print the summary.
+    /// Fly a scenario file headless as fast as the CPU allows; write DIR/run.ulg (ULog, every
+    /// tick) and DIR/summary.json and print the summary.
     Sim {
         /// Scenario file (TOML).
         scenario: PathBuf,
         /// Output directory (created if missing).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Also write DIR/run.csv (one row per tick, the columns plot_run.py reads).
+        #[arg(long, requires = "out")]
+        csv: bool,
         /// Simulated seconds per wall second (0.1 to 1000), or `max` (default): the output is
         /// the same at any speed.
         #[arg(long, default_value = "max")]

@@ -1,7 +1,7 @@
 //! `rotorpilot fly`: a take-off climb and hover flown by a bare flight core following a
 //! [`ClimbProfile`], in [`Lockstep`] with the plant, as fast as the CPU allows. Runtime layer: it
-//! reads the wall clock (for the real-time factor) and writes the CSV log; the maths it calls is
-//! pure.
+//! reads the wall clock (for the real-time factor) and writes the CSV export and the ULog file;
+//! the maths it calls is pure.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -16,7 +16,9 @@ use crate::flight::{FlightCore, SetpointFollower};
 use crate::lockstep::{Exit, Lockstep, Observer, SetupError, Tick};
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::ClimbProfile;
+use crate::runtime::ulog_file::UlogFile;
 use crate::scenario::summary::RunStats;
+use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
 use crate::sitl::SimPlant;
 
 /// What to fly.
@@ -36,6 +38,8 @@ pub struct FlyOptions {
     pub controller: ControllerKind,
     /// CSV log to write, if any.
     pub csv: Option<PathBuf>,
+    /// ULog file to write (every tick: the full profile), if any.
+    pub ulog: Option<PathBuf>,
 }
 
 impl Default for FlyOptions {
@@ -48,6 +52,7 @@ impl Default for FlyOptions {
             seed: 0,
             controller: ControllerKind::Geometric,
             csv: None,
+            ulog: None,
         }
     }
 }
@@ -129,17 +134,35 @@ pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, Fly
         Some(path) => Some(CsvLog::create(path, rotors)?),
         None => None,
     };
+    let ulog = match &opts.ulog {
+        Some(path) => {
+            let setup = RecorderSetup::new(&airframe, plant.true_mass_kg(), Profile::Full, opts.dt_s);
+            let info = LogInfo::new(&airframe.name, opts.controller, None);
+            let file = UlogFile::create(path, Recorder::new(setup), &info, &[], 0.0);
+            Some(file.map_err(|source| FlyError::Io {
+                path: path.display().to_string(),
+                source,
+            })?)
+        }
+        None => None,
+    };
     let mut lockstep = Lockstep::new(SetpointFollower::new(core, climb), plant, opts.dt_s);
-    let mut observer = (RunStats::default(), log);
+    let mut observer = (RunStats::default(), log, ulog);
 
     let ticks = (opts.duration_s / opts.dt_s).round() as u64;
     let wall = Instant::now();
     lockstep.run(ticks, &mut observer);
     let wall_time_s = wall.elapsed().as_secs_f64();
-    let (stats, log) = observer;
+    let (stats, log, ulog) = observer;
     let stats = stats.summary(opts.dt_s);
     if let Some(log) = log {
         log.finish()?;
+    }
+    if let Some(ulog) = ulog {
+        ulog.finish().map_err(|e| FlyError::Io {
+            path: opts.ulog.as_ref().map(|p| p.display().to_string()).unwrap_or_default(),
+            source: std::io::Error::other(e),
+        })?;
     }
     let plant = lockstep.plant();
     let truth = plant.truth();

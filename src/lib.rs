@@ -35,6 +35,7 @@
 //! - [`sim`]: `rotorpilot sim`: scenario runs writing run.csv and summary.json (runtime layer).
 //! - [`telemetry`]: the per-tick snapshot the links stream.
 //! - [`runtime`]: the autopilot process: paced tick thread and MAVLink UDP links (runtime layer).
+//! - [`ulog`]: flight logs in PX4's ULog format (encoder, topics, profiles, recorder).
 //! - [`sitl`]: the only seam between the flight controller and the plant.
 //! - [`fly`]: `rotorpilot fly`: a take-off and hover at full speed (runtime layer: wall clock,
 //!   files).
@@ -62,3 +63,4 @@ pub mod scenario;
 pub mod sim;
 pub mod sitl;
 pub mod telemetry;
+pub mod ulog;

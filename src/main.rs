@@ -111,6 +111,7 @@ fn execute(command: Command) -> Result<String, String> {
             seed,
             duration,
             log,
+            log_profile,
             params,
         } => {
             let local = |port: u16| {
@@ -157,6 +158,7 @@ fn execute(command: Command) -> Result<String, String> {
                 seed,
                 dt_s: 1e-3,
                 log_dir: log,
+                log_profile,
                 params,
                 count,
                 spacing_m: spacing,
@@ -185,6 +187,7 @@ fn execute(command: Command) -> Result<String, String> {
             seed,
             controller,
             out,
+            log,
         } => {
             let src = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
             let opts = FlyOptions {
@@ -193,14 +196,20 @@ fn execute(command: Command) -> Result<String, String> {
                 seed,
                 controller,
                 csv: out,
+                ulog: log,
                 ..Default::default()
             };
             let summary = fly(&src, &opts).map_err(|e| e.to_string())?;
             serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
         }
-        Command::Sim { scenario, out, speedup } => {
+        Command::Sim {
+            scenario,
+            out,
+            csv,
+            speedup,
+        } => {
             let scn = Scenario::load(&scenario).map_err(|e| e.to_string())?;
-            let summary = simulate_paced(&scn, out.as_deref(), speedup).map_err(|e| e.to_string())?;
+            let summary = simulate_paced(&scn, out.as_deref(), speedup, csv).map_err(|e| e.to_string())?;
             serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
         }
         Command::Estimate {

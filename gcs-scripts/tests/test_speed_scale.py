@@ -1,6 +1,5 @@
 """Speed-up and many vehicles: `rotorpilot run --speedup` and `--count`, the swarm script, the
 same flight at 1× and 20×, and `rotorpilot bench --quick --json`. Ports are all ephemeral."""
-import csv
 import json
 import os
 import pathlib
@@ -119,17 +118,19 @@ def test_speedup_runs_every_timer_in_simulated_time(rotorpilot_bin):
 
 
 def trajectory_after_arming(log_dir):
-    """(x, y, z) per tick from the first tick with thrust (the arming tick), from run.csv."""
-    with open(log_dir / "run.csv") as f:
-        rows = list(csv.DictReader(f))
-    start = next(i for i, r in enumerate(rows) if float(r["thrust"] or 0) > 0)
-    return [(float(r["x"]), float(r["y"]), float(r["z"])) for r in rows[start:]]
+    """(x, y, z) per tick from the arming tick, from the flight's ULog file (full profile: one
+    record per tick; the file opens at arming)."""
+    from pyulog import ULog
+
+    (path,) = sorted(log_dir.glob("log/*/*.ulg"))
+    pos = ULog(str(path), ["vehicle_local_position"]).get_dataset("vehicle_local_position").data
+    return list(zip(pos["x"].tolist(), pos["y"].tolist(), pos["z"].tolist()))
 
 
 def scripted_mission(binary, speedup, log_dir):
     """Uploads take-off → waypoint 4 m north → land, arms in AUTO.MISSION and waits for the
     disarm; the ground station acts on the vehicle's simulated clock only."""
-    ap = Process(binary, "--speedup", str(speedup), "--log", str(log_dir))
+    ap = Process(binary, "--speedup", str(speedup), "--log", str(log_dir), "--log-profile", "full")
     try:
         conn = ap.connect()
         assert conn.recv_match(type="HEARTBEAT", blocking=True, timeout=3) is not None

@@ -237,6 +237,15 @@ pub enum Event {
 }
 
 impl Event {
+    /// The severity of its announcement (MAVLink / syslog levels): critical (2) for a failsafe,
+    /// information (6) for the rest.
+    pub fn severity(&self) -> u8 {
+        match self {
+            Self::Failsafe(_) => 2,
+            _ => 6,
+        }
+    }
+
     /// The STATUSTEXT announcing it.
     pub fn describe(&self) -> String {
         match self {

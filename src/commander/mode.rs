@@ -205,6 +205,11 @@ impl FlightMode {
         self.row().standard
     }
 
+    /// PX4's navigation state number (`vehicle_status.nav_state`); AUTO.READY has none.
+    pub fn nav_state(self) -> Option<u8> {
+        self.row().nav_state
+    }
+
     /// PX4's display name.
     pub fn name(self) -> &'static str {
         self.row().name

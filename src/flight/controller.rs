@@ -238,6 +238,10 @@ impl Pilot for FlightController {
     fn report(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Snapshot {
         self.snapshot(t_s, sensors, control, motor_speeds)
     }
+
+    fn params(&self) -> Option<&ParamTable> {
+        Some(&self.params)
+    }
 }
 
 #[cfg(test)]

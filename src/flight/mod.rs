@@ -29,6 +29,7 @@ pub mod snapshot;
 use crate::allocation::RotorSpeeds;
 use crate::commander::Event;
 use crate::control::FlatSetpoint;
+use crate::params::ParamTable;
 use crate::sitl::{EscReport, Sensors};
 
 pub use controller::{FlightController, Reply, AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
@@ -73,4 +74,9 @@ pub trait Pilot {
     /// The tick's report once the plant has stepped with `control`, its rotors now turning at
     /// `motor_speeds` [rad/s].
     fn report(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Self::Report;
+
+    /// The parameter table, for a flight controller (a bare flight core has none).
+    fn params(&self) -> Option<&ParamTable> {
+        None
+    }
 }

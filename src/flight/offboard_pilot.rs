@@ -68,6 +68,10 @@ impl<S: SetpointSource> Pilot for OffboardPilot<S> {
     fn report(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Snapshot {
         self.controller.report(t_s, sensors, control, motor_speeds)
     }
+
+    fn params(&self) -> Option<&crate::params::ParamTable> {
+        Pilot::params(&self.controller)
+    }
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@
 
 pub mod observer;
 pub mod rotor_schedule;
+pub mod view;
 
 use serde::Serialize;
 use thiserror::Error;
@@ -33,6 +34,7 @@ use crate::sitl::{PlantChange, PlantStatus, Sensors, SimPlant, SitlError};
 
 pub use observer::{Guard, Observer};
 pub use rotor_schedule::{FailureSchedule, ScheduledFailure};
+pub use view::{SnapshotReport, TickView};
 
 /// Why a flight cannot be set up: the flight controller's view of the airframe, its flight core
 /// or the plant was refused. Every runner (`fly`, `sim`, Monte Carlo, the autopilot) reports it.

@@ -38,8 +38,10 @@ pub struct RunConfig {
     pub seed: u64,
     /// Tick [s].
     pub dt_s: f64,
-    /// `--log DIR`: tlog and 1 kHz CSV (per vehicle in `DIR/vehicle-SYSID` when there are several).
+    /// `--log DIR`: tlog and one ULog file per flight (per vehicle in `DIR/vehicle-SYSID` when there are several).
     pub log_dir: Option<std::path::PathBuf>,
+    /// Rates of the flight logs' topics.
+    pub log_profile: crate::ulog::Profile,
     /// Parameter values applied before start (`--params FILE`): (where, name, value).
     pub params: Vec<(String, String, f64)>,
     /// Number of vehicles (1 or more).
@@ -71,6 +73,7 @@ impl RunConfig {
             seed: 0,
             dt_s: 1e-3,
             log_dir: None,
+            log_profile: crate::ulog::Profile::Default,
             params: Vec::new(),
             count: 1,
             spacing_m: DEFAULT_SPACING_M,

@@ -1,79 +1,34 @@
-//! `rotorpilot run --log DIR`: `DIR/flight.tlog` (every MAVLink frame sent or received on the
-//! links, each preceded by its 8-byte big-endian wall-clock time in µs since the Unix epoch: the
-//! format pymavlink's mavlogdump and MAVExplorer read) and `DIR/run.csv` (one row per 1 kHz tick,
-//! the columns of `rotorpilot sim`). A dedicated writer thread owns the files; the tick thread and
-//! the links hand it records through a bounded queue without ever waiting (a full queue drops
-//! the record and counts it). Files are flushed at least every [`FLUSH_PERIOD`].
+//! The log writer thread: it owns the files of `run --log DIR` (`DIR/flight.tlog` and the ULog
+//! of each flight), of `sim --out` and of `fly --log`, so the tick thread and the links never
+//! wait on a disk. They hand it records through a bounded queue: tlog frames (each stored after
+//! its 8-byte big-endian wall-clock time in µs since the Unix epoch, the format pymavlink's
+//! mavlogdump and MAVExplorer read) and ULog bytes for the file currently open. A sender that must
+//! not block (the autopilot) drops what a full queue cannot take and counts it; a run that must
+//! keep everything (`sim`, `fly`) waits instead. Files are flushed at least every
+//! [`FLUSH_PERIOD`].
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender};
+use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::sync::Arc;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use crate::control::VehicleState;
-use crate::flight::CoreStep;
-use crate::lockstep::{Exit, Observer, Tick};
-use crate::math::Vec3;
-use crate::sim::run_csv::{RunCsv, RunRow};
-use crate::sitl::SimPlant;
-
 /// Longest time a record waits in a buffer before it reaches the file.
 pub const FLUSH_PERIOD: Duration = Duration::from_millis(100);
-/// Records queued for the writer; 1 s of ticks plus telemetry.
+/// Records queued for the writer.
 const QUEUE: usize = 4096;
 
-/// One tick for `run.csv`.
-#[derive(Debug, Clone)]
-pub struct TickLog {
-    /// Simulated time [s].
-    pub t_s: f64,
-    /// State the controller saw.
-    pub state: VehicleState,
-    /// Reference position [m].
-    pub ref_w: Vec3,
-    /// Flight-core outputs (None while the motors are off).
-    pub step: Option<CoreStep>,
-    /// True motor speeds [rad/s].
-    pub motor_speeds: Vec<f64>,
-    /// True scripted external force, world NED [N].
-    pub true_force_w: Vec3,
-    /// True scripted external torque, body FRD [N·m].
-    pub true_torque_b: Vec3,
-}
-
-impl TickLog {
-    /// The owned copy of `row`, for the writer thread.
-    pub fn of(row: &RunRow) -> Self {
-        Self {
-            t_s: row.t_s,
-            state: *row.state,
-            ref_w: row.ref_w,
-            step: row.step.copied(),
-            motor_speeds: row.motor_speeds.to_vec(),
-            true_force_w: row.true_force_w,
-            true_torque_b: row.true_torque_b,
-        }
-    }
-
-    /// The row it writes.
-    fn row(&self) -> RunRow<'_> {
-        RunRow {
-            t_s: self.t_s,
-            state: &self.state,
-            ref_w: self.ref_w,
-            step: self.step.as_ref(),
-            motor_speeds: &self.motor_speeds,
-            true_force_w: self.true_force_w,
-            true_torque_b: self.true_torque_b,
-        }
-    }
-}
+type File = std::io::BufWriter<std::fs::File>;
 
 enum Record {
-    Tick(Box<TickLog>),
     Frame(u64, Vec<u8>),
+    /// Create the ULog file (and its directory) and make it the current one.
+    Open(PathBuf),
+    /// Bytes of the current ULog file.
+    Ulog(Vec<u8>),
+    /// Close the current ULog file.
+    Close,
 }
 
 /// Where the tick thread and the links send records.
@@ -90,10 +45,13 @@ impl std::fmt::Debug for LogSender {
 }
 
 impl LogSender {
-    /// Queues a tick row.
-    pub fn tick(&self, t: TickLog) {
-        if self.tx.try_send(Record::Tick(Box::new(t))).is_err() {
-            self.dropped.fetch_add(1, Ordering::Relaxed);
+    fn try_send(&self, record: Record) -> bool {
+        match self.tx.try_send(record) {
+            Ok(()) => true,
+            Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) => {
+                self.dropped.fetch_add(1, Ordering::Relaxed);
+                false
+            }
         }
     }
 
@@ -103,8 +61,29 @@ impl LogSender {
             .duration_since(UNIX_EPOCH)
             .map(|d| d.as_micros() as u64)
             .unwrap_or(0);
-        if self.tx.try_send(Record::Frame(t_us, bytes.to_vec())).is_err() {
-            self.dropped.fetch_add(1, Ordering::Relaxed);
+        self.try_send(Record::Frame(t_us, bytes.to_vec()));
+    }
+
+    /// Opens the ULog file `path`, waiting for room when `wait`.
+    pub fn open_ulog(&self, path: PathBuf, wait: bool) -> bool {
+        self.send(Record::Open(path), wait)
+    }
+
+    /// Queues bytes of the open ULog file, waiting for room when `wait`; false when dropped.
+    pub fn ulog(&self, bytes: Vec<u8>, wait: bool) -> bool {
+        self.send(Record::Ulog(bytes), wait)
+    }
+
+    /// Closes the open ULog file.
+    pub fn close_ulog(&self, wait: bool) -> bool {
+        self.send(Record::Close, wait)
+    }
+
+    fn send(&self, record: Record, wait: bool) -> bool {
+        if wait {
+            self.tx.send(record).is_ok()
+        } else {
+            self.try_send(record)
         }
     }
 
@@ -114,62 +93,111 @@ impl LogSender {
     }
 }
 
-/// Queues every lockstep tick as a `run.csv` row; never stops the run.
-impl<R> Observer<R> for LogSender {
-    fn observe(&mut self, tick: &Tick<R>, plant: &SimPlant) -> Option<Exit> {
-        self.tick(TickLog::of(&RunRow::of(tick, plant)));
-        None
+/// The writer thread; [`LogWriter::finish`] waits for it and returns its first error.
+#[derive(Debug)]
+pub struct LogWriter {
+    handle: std::thread::JoinHandle<Result<(), String>>,
+}
+
+impl LogWriter {
+    /// Waits until every [`LogSender`] is dropped and the files are flushed; the first error
+    /// (file and cause), if any.
+    pub fn finish(self) -> Result<(), String> {
+        self.handle.join().unwrap_or_else(|_| Err("log writer thread panicked".into()))
     }
 }
 
-/// Creates `dir`, opens the files and starts the writer thread; the thread ends (after a final
-/// flush) when every [`LogSender`] is dropped.
-pub fn start(dir: &Path, rotors: usize) -> std::io::Result<(LogSender, std::thread::JoinHandle<()>)> {
-    std::fs::create_dir_all(dir)?;
-    let csv = RunCsv::create(&dir.join("run.csv"), rotors)?;
-    let tlog = std::io::BufWriter::new(std::fs::File::create(dir.join("flight.tlog"))?);
+/// Starts the writer thread, with a tlog at `tlog` when given (created now).
+pub fn start(tlog: Option<PathBuf>) -> std::io::Result<(LogSender, LogWriter)> {
+    let tlog = match tlog {
+        Some(path) => {
+            if let Some(dir) = path.parent() {
+                std::fs::create_dir_all(dir)?;
+            }
+            Some((std::io::BufWriter::new(std::fs::File::create(&path)?), path))
+        }
+        None => None,
+    };
     let (tx, rx) = sync_channel(QUEUE);
-    let dir: PathBuf = dir.to_path_buf();
     let handle = std::thread::Builder::new()
         .name("rotorpilot-log".into())
-        .spawn(move || write_loop(rx, csv, tlog, &dir))?;
-    Ok((
-        LogSender {
-            tx,
-            dropped: Arc::new(AtomicU64::new(0)),
-        },
-        handle,
-    ))
+        .spawn(move || write_loop(rx, tlog))?;
+    let sender = LogSender {
+        tx,
+        dropped: Arc::new(AtomicU64::new(0)),
+    };
+    Ok((sender, LogWriter { handle }))
 }
 
-fn write_loop(rx: Receiver<Record>, mut csv: RunCsv, mut tlog: std::io::BufWriter<std::fs::File>, dir: &Path) {
+/// Creates `path` and its directory.
+fn create(path: &PathBuf) -> std::io::Result<File> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    Ok(std::io::BufWriter::with_capacity(1 << 18, std::fs::File::create(path)?))
+}
+
+fn write_loop(rx: Receiver<Record>, mut tlog: Option<(File, PathBuf)>) -> Result<(), String> {
+    let mut ulog: Option<(File, PathBuf)> = None;
     let mut last_flush = Instant::now();
-    let mut failed = false;
+    let mut first_error: Option<String> = None;
+    let mut fail = |path: &PathBuf, e: std::io::Error| {
+        if first_error.is_none() {
+            let text = format!("{}: {e}", path.display());
+            tracing::error!("log {text}");
+            first_error = Some(text);
+        }
+    };
     loop {
-        let record = rx.recv_timeout(FLUSH_PERIOD / 2);
-        let result = match &record {
-            Ok(Record::Tick(t)) => csv.row(&t.row()),
-            Ok(Record::Frame(t_us, bytes)) => tlog.write_all(&t_us.to_be_bytes()).and_then(|()| tlog.write_all(bytes)),
-            Err(RecvTimeoutError::Timeout) => Ok(()),
+        match rx.recv_timeout(FLUSH_PERIOD / 2) {
+            Ok(Record::Frame(t_us, bytes)) => {
+                if let Some((f, path)) = &mut tlog {
+                    if let Err(e) = f.write_all(&t_us.to_be_bytes()).and_then(|()| f.write_all(&bytes)) {
+                        fail(path, e);
+                    }
+                }
+            }
+            Ok(Record::Open(path)) => {
+                if let Some((mut f, old)) = ulog.take() {
+                    if let Err(e) = f.flush() {
+                        fail(&old, e);
+                    }
+                }
+                match create(&path) {
+                    Ok(f) => ulog = Some((f, path)),
+                    Err(e) => fail(&path, e),
+                }
+            }
+            Ok(Record::Ulog(bytes)) => {
+                if let Some((f, path)) = &mut ulog {
+                    if let Err(e) = f.write_all(&bytes) {
+                        fail(path, e);
+                    }
+                }
+            }
+            Ok(Record::Close) => {
+                if let Some((mut f, path)) = ulog.take() {
+                    if let Err(e) = f.flush() {
+                        fail(&path, e);
+                    }
+                }
+            }
+            Err(RecvTimeoutError::Timeout) => {}
             Err(RecvTimeoutError::Disconnected) => break,
-        };
+        }
         if last_flush.elapsed() >= FLUSH_PERIOD {
             last_flush = Instant::now();
-            let flushed = csv.flush().and_then(|()| tlog.flush());
-            if let Err(e) = flushed {
-                if !failed {
-                    tracing::error!("log {}: {e}", dir.display());
-                    failed = true;
+            for (f, path) in [&mut tlog, &mut ulog].into_iter().flatten() {
+                if let Err(e) = f.flush() {
+                    fail(path, e);
                 }
             }
         }
-        if let Err(e) = result {
-            if !failed {
-                tracing::error!("log {}: {e}", dir.display());
-                failed = true;
-            }
+    }
+    for (f, path) in [&mut tlog, &mut ulog].into_iter().flatten() {
+        if let Err(e) = f.flush() {
+            fail(path, e);
         }
     }
-    let _ = csv.flush();
-    let _ = tlog.flush();
+    first_error.map_or(Ok(()), Err)
 }

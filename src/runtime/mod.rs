@@ -9,10 +9,16 @@
 //! - [`scheduler`]: the tick threads; [`pacer`]: their pace; [`vehicle`]: one vehicle's lockstep.
 //! - [`link`]: the link task: sockets ↔ `mav::link::LinkMachine` ↔ the tick thread.
 //! - [`signing_store`], `signing_keeper.rs`: the `--signing-key` file and its timestamp.
-//! - [`flight_log`]: the tlog and run.csv of `--log`.
+//! - [`flight_log`]: the log writer thread (tlog and ULog files of `--log`, `sim`, `fly`).
+//! - [`ulog_file`]: one ULog file for a whole headless run (`sim`, `fly`).
+//! - [`ulog_stream`]: the tick thread's side of a ULog file.
+//! - [`log_names`]: PX4's flight-log file names.
 
 mod config;
 pub mod flight_log;
+pub mod log_names;
+pub mod ulog_file;
+pub mod ulog_stream;
 pub mod link;
 pub mod pacer;
 pub mod scheduler;
@@ -57,7 +63,7 @@ struct VehicleSetup {
     ready: VehicleReady,
     machine: LinkMachine<SocketAddr>,
     io: LinkIo,
-    log: Option<(LogSender, std::thread::JoinHandle<()>)>,
+    log: Option<(LogSender, flight_log::LogWriter)>,
 }
 
 /// Port `port + i` of an address; port 0 stays 0 (any free port).
@@ -119,11 +125,11 @@ fn setup_vehicle(
                 dir.clone()
             };
             let (sender, writer) =
-                flight_log::start(&dir, vehicle.rotor_count()).map_err(|source| RuntimeError::Log {
+                flight_log::start(Some(dir.join("flight.tlog"))).map_err(|source| RuntimeError::Log {
                     dir: dir.display().to_string(),
                     source,
                 })?;
-            vehicle.set_log(sender.clone());
+            vehicle.set_log(sender.clone(), &dir, config.log_profile);
             Some((sender, writer))
         }
         None => None,
@@ -274,7 +280,9 @@ pub fn run(
     for (sender, writer) in logs {
         let dropped = sender.dropped();
         drop(sender);
-        let _ = writer.join();
+        if let Err(e) = writer.finish() {
+            tracing::error!("log: {e}");
+        }
         if dropped > 0 {
             tracing::warn!("log: {dropped} records dropped (writer too slow)");
         }

@@ -1,18 +1,22 @@
 //! One autopilot vehicle as the tick thread holds it: the flight controller and the plant in a
-//! [`Lockstep`], and the `run.csv` log sender of `--log DIR`. A thin wrapper: every decision is
-//! made by [`FlightController`], every tick by [`Lockstep::step`].
+//! [`Lockstep`], and the flight logs of `--log DIR` (one ULog file per arming, as PX4 logs from
+//! arming to disarming). A thin wrapper: every decision is made by [`FlightController`], every
+//! tick by [`Lockstep::step`].
 
 use crate::airframe::{Airframe, AirframeSource};
 use crate::commander::{Event, Outcome, Request};
 use crate::control::ControllerKind;
 use crate::flight::FlightController;
-use crate::lockstep::{Lockstep, Observer, ScheduledFailure, SetupError};
+use crate::lockstep::{Lockstep, ScheduledFailure, SetupError, TickView};
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable};
 use crate::sitl::SimPlant;
 use crate::telemetry::Snapshot;
 
 use super::flight_log::LogSender;
+use super::log_names::flight_log_path;
+use super::ulog_stream::{log_params, param_value, UlogStream};
+use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
 
 /// The autopilot's start-up estimator and tilt limit, where the fuzz targets name them.
 pub use crate::flight::{AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
@@ -21,7 +25,20 @@ pub use crate::flight::{AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
 #[derive(Debug)]
 pub struct Vehicle {
     lockstep: Lockstep<FlightController>,
-    log: Option<LogSender>,
+    log: Option<FlightLogs>,
+    /// What the ULog recorder needs of the airframe.
+    log_setup: RecorderSetup,
+    /// The log's info.
+    log_info: LogInfo,
+}
+
+/// The ULog files of `--log DIR`: the stream and where each flight's file goes.
+#[derive(Debug)]
+struct FlightLogs {
+    stream: UlogStream,
+    dir: std::path::PathBuf,
+    /// The last file opened (a second arming within the same second gets a suffix).
+    last: Option<std::path::PathBuf>,
 }
 
 /// What one tick produced for the links.
@@ -48,15 +65,27 @@ impl Vehicle {
         for w in plant.warnings() {
             tracing::warn!("{w}");
         }
+        let log_setup = RecorderSetup::new(&airframe, plant.true_mass_kg(), Profile::Default, dt_s);
+        let log_info = LogInfo::new(&airframe.name, kind, None);
         Ok(Self {
             lockstep: Lockstep::new(controller, plant, dt_s),
             log: None,
+            log_setup,
+            log_info,
         })
     }
 
-    /// Sends every tick to `log` (`run.csv` of `--log DIR`).
-    pub fn set_log(&mut self, log: LogSender) {
-        self.log = Some(log);
+    /// Writes a ULog file of every flight into `dir/log/` through `sender`, with `profile`.
+    pub fn set_log(&mut self, sender: LogSender, dir: &std::path::Path, profile: Profile) {
+        let setup = RecorderSetup {
+            profile,
+            ..self.log_setup.clone()
+        };
+        self.log = Some(FlightLogs {
+            stream: UlogStream::new(Recorder::new(setup), sender, false),
+            dir: dir.to_path_buf(),
+            last: None,
+        });
     }
 
     /// The parameter table.
@@ -66,7 +95,11 @@ impl Vehicle {
 
     /// Sets parameter `name` to `value` at this tick boundary ([`FlightController::set_param`]).
     pub fn set_param(&mut self, name: &str, value: f64) -> Result<usize, ParamError> {
-        self.lockstep.set_param(name, value)
+        let index = self.lockstep.set_param(name, value)?;
+        if let (Some(log), Some((def, value))) = (&mut self.log, self.lockstep.pilot().params().get(index)) {
+            log.stream.param_changed(def.name, param_value(def, value));
+        }
+        Ok(index)
     }
 
     /// Rotor count.
@@ -90,10 +123,25 @@ impl Vehicle {
         self.lockstep.schedule_rotor_failure(failure)
     }
 
-    /// One tick ([`Lockstep::step`]), logged when a log is set.
+    /// One tick ([`Lockstep::step`]), logged when a log is set: a flight's file opens at arming
+    /// and closes at disarming.
     pub fn step(&mut self) -> TickOutput {
         let tick = self.lockstep.step();
-        self.log.observe(&tick, self.lockstep.plant());
+        if let Some(log) = &mut self.log {
+            let armed = tick.report.armed;
+            if armed && !log.stream.is_open() {
+                let path = flight_log_path(&log.dir, std::time::SystemTime::now(), log.last.as_deref());
+                let mut info = self.log_info.clone();
+                info.utc_s = crate::runtime::log_names::unix_s(std::time::SystemTime::now());
+                let params = log_params(self.lockstep.pilot().params());
+                log.stream.open(path.clone(), tick.t_s, &info, &params);
+                log.last = Some(path);
+            }
+            log.stream.record(&TickView::of(&tick, self.lockstep.plant()));
+            if !armed && log.stream.is_open() {
+                log.stream.close();
+            }
+        }
         TickOutput {
             snapshot: tick.report,
             events: tick.control.events,

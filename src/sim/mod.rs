@@ -2,7 +2,8 @@
 //! its trajectory ([`SetpointFollower`]), or with `[autopilot]` the flight controller flown along
 //! it in OFFBOARD ([`OffboardPilot`]), in [`Lockstep`] with the plant, as fast as the CPU allows
 //! or paced by the runtime's [`Pacer`] (`--speedup`). Runtime layer: it reads the wall clock and
-//! writes `DIR/run.csv` and `DIR/summary.json`; the maths it calls is pure.
+//! writes `DIR/run.ulg` (ULog, every tick: the full profile), `DIR/summary.json` and on request
+//! `DIR/run.csv`; the maths it calls is pure.
 
 pub mod run_csv;
 
@@ -13,14 +14,17 @@ use serde::Serialize;
 use thiserror::Error;
 
 use crate::flight::{OffboardPilot, Pilot, SetpointFollower};
-use crate::lockstep::{Exit, Guard, Lockstep, Observer, SetupError, Tick};
+use crate::lockstep::{Exit, Guard, Lockstep, Observer, SetupError, SnapshotReport, Tick, TickView};
 use crate::math::GRAVITY_M_S2;
 use crate::runtime::pacer::{Pace, Pacer, Wait};
+use crate::runtime::ulog_file::UlogFile;
+use crate::runtime::ulog_stream::log_params;
 use crate::scenario::summary::{RunStats, TickRecord, TrackingSummary};
 use crate::scenario::Scenario;
 use crate::sitl::SimPlant;
 
-use run_csv::{RunCsv, RunRow};
+use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
+use run_csv::RunCsv;
 
 /// Beyond this distance from the origin the run is stopped as a fly-away [m].
 const FLY_AWAY_M: f64 = 1e4;
@@ -105,15 +109,16 @@ pub struct SimSummary {
     pub real_time_factor: f64,
 }
 
-/// Flies `scn` as fast as the CPU allows; with `out_dir`, writes `run.csv` and `summary.json`
+/// Flies `scn` as fast as the CPU allows; with `out_dir`, writes `run.ulg` and `summary.json`
 /// there (creating the directory).
 pub fn simulate(scn: &Scenario, out_dir: Option<&Path>) -> Result<SimSummary, SimError> {
-    simulate_paced(scn, out_dir, Pace::Max)
+    simulate_paced(scn, out_dir, Pace::Max, false)
 }
 
-/// [`simulate`] with simulated time paced against the wall clock (`--speedup`): the same ticks in
-/// the same order whatever the pace, so `run.csv` is bit-identical at any speed-up.
-pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Result<SimSummary, SimError> {
+/// [`simulate`] with simulated time paced against the wall clock (`--speedup`), and `run.csv`
+/// too when `csv`: the same ticks in the same order whatever the pace, so the files are
+/// bit-identical at any speed-up.
+pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace, csv: bool) -> Result<SimSummary, SimError> {
     let mut plant = SimPlant::from_source(&scn.airframe_source, scn.seed).map_err(SetupError::from)?;
     for w in plant.warnings() {
         tracing::warn!("{w}");
@@ -130,11 +135,11 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
         let core = scn.flight_core().map_err(SetupError::from)?;
         let mut lockstep = Lockstep::new(SetpointFollower::new(core, trajectory), plant, scn.dt_s);
         let order = scn.estimator.as_ref().map_or(0, |s| s.gains.len());
-        return fly(&mut lockstep, scn, order, out_dir, pace);
+        return fly(&mut lockstep, scn, order, out_dir.map(|dir| (dir, csv)), pace);
     };
     let order = fc.params().settings().estimator.map_or(0, |d| d.order);
     let mut lockstep = Lockstep::new(OffboardPilot::new(fc, trajectory), plant, scn.dt_s);
-    let summary = fly(&mut lockstep, scn, order, out_dir, pace)?;
+    let summary = fly(&mut lockstep, scn, order, out_dir.map(|dir| (dir, csv)), pace)?;
     match lockstep.pilot().start_refused() {
         Some(why) => Err(SimError::Autopilot {
             field: "autopilot".into(),
@@ -144,22 +149,26 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace) -> Res
     }
 }
 
-/// Flies `lockstep` for the scenario's duration with its rotor failures, writing `run.csv` and
-/// `summary.json` into `out_dir` when given.
+/// Flies `lockstep` for the scenario's duration with its rotor failures, writing `run.ulg`,
+/// `summary.json` and, when asked, `run.csv` into the output directory when given.
 fn fly<P: Pilot>(
     lockstep: &mut Lockstep<P>,
     scn: &Scenario,
     estimator_order: usize,
-    out_dir: Option<&Path>,
+    out: Option<(&Path, bool)>,
     pace: Pace,
-) -> Result<SimSummary, SimError> {
+) -> Result<SimSummary, SimError>
+where
+    P::Report: SnapshotReport,
+{
     let rotors = lockstep.plant().failed_rotors().len();
     let io = |path: &Path| {
         let path = path.display().to_string();
         move |source| SimError::Io { path, source }
     };
-    let csv = match out_dir {
-        Some(dir) => {
+    let out_dir = out.map(|(dir, _)| dir);
+    let csv = match out {
+        Some((dir, true)) => {
             std::fs::create_dir_all(dir).map_err(io(dir))?;
             let path = dir.join("run.csv");
             Some(CsvObserver {
@@ -168,10 +177,20 @@ fn fly<P: Pilot>(
                 error: None,
             })
         }
+        _ => None,
+    };
+    let ulog = match out_dir {
+        Some(dir) => {
+            let path = dir.join("run.ulg");
+            let setup = RecorderSetup::new(&scn.airframe, lockstep.plant().true_mass_kg(), Profile::Full, scn.dt_s);
+            let info = LogInfo::new(&scn.airframe.name, scn.controller, None);
+            let params = lockstep.pilot().params().map(log_params).unwrap_or_default();
+            Some(UlogFile::create(&path, Recorder::new(setup), &info, &params, 0.0).map_err(io(&path))?)
+        }
         None => None,
     };
     lockstep.set_rotor_failures(scn.rotor_failures.clone());
-    let mut observer = (RunStats::default(), csv, Guard { fly_away_m: FLY_AWAY_M });
+    let mut observer = (RunStats::default(), (csv, ulog), Guard { fly_away_m: FLY_AWAY_M });
     let mut events = Vec::new();
 
     let ticks = (scn.duration_s / scn.dt_s).round() as u64;
@@ -200,9 +219,15 @@ fn fly<P: Pilot>(
         }
     }
     let wall_time_s = wall.elapsed().as_secs_f64();
-    let (stats, csv, _) = observer;
+    let (stats, (csv, ulog), _) = observer;
     if let Some(csv) = csv {
         csv.finish()?;
+    }
+    if let Some(ulog) = ulog {
+        ulog.finish().map_err(|e| SimError::Io {
+            path: "run.ulg".into(),
+            source: std::io::Error::other(e),
+        })?;
     }
     let sim_time_s = lockstep.ticks() as f64 * scn.dt_s;
     let plant = lockstep.plant();
@@ -287,9 +312,9 @@ impl CsvObserver {
     }
 }
 
-impl<R> Observer<R> for CsvObserver {
+impl<R: SnapshotReport> Observer<R> for CsvObserver {
     fn observe(&mut self, tick: &Tick<R>, plant: &SimPlant) -> Option<Exit> {
-        let e = self.csv.row(&RunRow::of(tick, plant)).err()?;
+        let e = self.csv.row(&TickView::of(tick, plant)).err()?;
         self.error = Some(e);
         Some(Exit::Stopped)
     }

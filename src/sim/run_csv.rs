@@ -11,11 +11,8 @@ use std::fmt::Write as _;
 use std::io::Write;
 use std::path::Path;
 
-use crate::control::VehicleState;
-use crate::flight::CoreStep;
-use crate::lockstep::Tick;
-use crate::math::{euler_zyx, Vec3};
-use crate::sitl::SimPlant;
+use crate::lockstep::TickView;
+use crate::math::euler_zyx;
 
 /// Header of `run.csv` for `rotors` rotors.
 pub fn header(rotors: usize) -> String {
@@ -38,40 +35,6 @@ pub struct RunCsv {
     line: String,
 }
 
-/// One row's inputs.
-pub struct RunRow<'a> {
-    /// Simulated time [s].
-    pub t_s: f64,
-    /// State the controller saw.
-    pub state: &'a VehicleState,
-    /// Reference position [m].
-    pub ref_w: Vec3,
-    /// The tick's outputs; `None` while the motors are off (control columns left empty).
-    pub step: Option<&'a CoreStep>,
-    /// True motor speeds [rad/s].
-    pub motor_speeds: &'a [f64],
-    /// True scripted external force, world NED [N].
-    pub true_force_w: Vec3,
-    /// True scripted external torque, body FRD [N·m].
-    pub true_torque_b: Vec3,
-}
-
-impl<'a> RunRow<'a> {
-    /// The row of lockstep tick `tick`, with the plant `plant` after its step.
-    pub fn of<R>(tick: &'a Tick<R>, plant: &'a SimPlant) -> Self {
-        let truth = plant.truth();
-        Self {
-            t_s: tick.t_s,
-            state: &tick.sensors.state,
-            ref_w: tick.reference_w(),
-            step: tick.control.step.as_ref(),
-            motor_speeds: plant.motor_speeds(),
-            true_force_w: truth.external_force_w,
-            true_torque_b: truth.external_torque_b,
-        }
-    }
-}
-
 impl RunCsv {
     /// Creates `path` and writes the header.
     pub fn create(path: &Path, rotors: usize) -> std::io::Result<Self> {
@@ -84,7 +47,7 @@ impl RunCsv {
     }
 
     /// Appends one row.
-    pub fn row(&mut self, r: &RunRow) -> std::io::Result<()> {
+    pub fn row(&mut self, r: &TickView) -> std::io::Result<()> {
         let l = &mut self.line;
         l.clear();
         let eta = euler_zyx(&r.state.r_wb);

@@ -1,0 +1,78 @@
+//! One tick's values as the logs read them ([`TickView`]): what the plant sensed, what the pilot
+//! commanded, the telemetry snapshot when the pilot is a flight controller, and the plant's truth
+//! after the step. `run.csv` rows and ULog records are both written from it. Pure.
+
+use crate::commander::Event;
+use crate::control::{FlatSetpoint, VehicleState};
+use crate::flight::CoreStep;
+use crate::math::Vec3;
+use crate::sitl::SimPlant;
+use crate::telemetry::Snapshot;
+
+use super::Tick;
+
+/// A pilot report that may carry the telemetry snapshot (the flight controller's does; a bare
+/// flight core reports nothing).
+pub trait SnapshotReport {
+    /// The snapshot, when the pilot publishes one.
+    fn snapshot(&self) -> Option<&Snapshot>;
+}
+
+impl SnapshotReport for () {
+    fn snapshot(&self) -> Option<&Snapshot> {
+        None
+    }
+}
+
+impl SnapshotReport for Snapshot {
+    fn snapshot(&self) -> Option<&Snapshot> {
+        Some(self)
+    }
+}
+
+/// One tick's values, borrowed from the tick and the plant.
+#[derive(Debug, Clone, Copy)]
+pub struct TickView<'a> {
+    /// Simulated time [s].
+    pub t_s: f64,
+    /// State the controller saw.
+    pub state: &'a VehicleState,
+    /// Specific force the accelerometer sensed, body FRD [m/s²].
+    pub accel_b: Vec3,
+    /// Reference position [m].
+    pub ref_w: Vec3,
+    /// Setpoint flown, when one is.
+    pub setpoint: Option<&'a FlatSetpoint>,
+    /// The tick's outputs; `None` while the motors are off.
+    pub step: Option<&'a CoreStep>,
+    /// What the commander did on its own this tick.
+    pub events: &'a [Event],
+    /// The flight controller's telemetry snapshot (`None` for a bare flight core).
+    pub snapshot: Option<&'a Snapshot>,
+    /// True motor speeds [rad/s].
+    pub motor_speeds: &'a [f64],
+    /// True scripted external force, world NED [N].
+    pub true_force_w: Vec3,
+    /// True scripted external torque, body FRD [N·m].
+    pub true_torque_b: Vec3,
+}
+
+impl<'a> TickView<'a> {
+    /// The view of lockstep tick `tick`, with the plant `plant` after its step.
+    pub fn of<R: SnapshotReport>(tick: &'a Tick<R>, plant: &'a SimPlant) -> Self {
+        let truth = plant.truth();
+        Self {
+            t_s: tick.t_s,
+            state: &tick.sensors.state,
+            accel_b: tick.sensors.accel_b,
+            ref_w: tick.reference_w(),
+            setpoint: tick.control.setpoint.as_ref(),
+            step: tick.control.step.as_ref(),
+            events: &tick.control.events,
+            snapshot: tick.report.snapshot(),
+            motor_speeds: plant.motor_speeds(),
+            true_force_w: truth.external_force_w,
+            true_torque_b: truth.external_torque_b,
+        }
+    }
+}

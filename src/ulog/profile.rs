@@ -1,0 +1,89 @@
+//! How often each topic is logged: the default profile of `rotorpilot run` (rates near PX4's
+//! default logger profile) and the full profile of `sim` and `fly --log` (every 1 kHz tick for
+//! the state, the control and the estimate; the rest at PX4's rates or faster). Topics that
+//! change seldom (status, land detector, the true wrench) are also logged whenever they change.
+//! Pure.
+
+use std::str::FromStr;
+
+use super::topics::Topic;
+
+/// A logging profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Profile {
+    /// PX4-like rates (tens of Hz); `rotorpilot run`'s flight logs.
+    #[default]
+    Default,
+    /// Every tick for the state, control and estimate topics; `sim` and `fly --log`.
+    Full,
+}
+
+impl FromStr for Profile {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "default" => Ok(Self::Default),
+            "full" => Ok(Self::Full),
+            other => Err(format!("{other:?}: expected default or full")),
+        }
+    }
+}
+
+impl Profile {
+    /// The name on the command line and in the log's info.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Default => "default",
+            Self::Full => "full",
+        }
+    }
+
+    /// Least time between two records of `topic` [µs]; 0 logs every tick.
+    pub fn interval_us(self, topic: Topic) -> u64 {
+        use Topic::*;
+        let ms = match (self, topic) {
+            (Self::Full, VehicleAttitude | VehicleAngularVelocity | VehicleLocalPosition) => 0,
+            (Self::Full, ControllerErrors | AllocationStatus | ExternalWrenchEstimate) => 0,
+            (Self::Full, VehicleThrustSetpoint | VehicleTorqueSetpoint | VehicleAttitudeSetpoint) => 10,
+            (Self::Full, VehicleLocalPositionSetpoint | SensorCombined | ActuatorMotors) => 10,
+            (Self::Full, VehicleGlobalPosition | BatteryStatus | ExternalWrenchTruth) => 100,
+            (Self::Default, VehicleAngularVelocity | VehicleThrustSetpoint | VehicleTorqueSetpoint) => 20,
+            (Self::Default, ControllerErrors | AllocationStatus | ExternalWrenchEstimate) => 20,
+            (Self::Default, VehicleAttitude | VehicleAttitudeSetpoint) => 50,
+            (Self::Default, VehicleLocalPosition | VehicleLocalPositionSetpoint) => 100,
+            (Self::Default, SensorCombined | ActuatorMotors) => 100,
+            (Self::Default, VehicleGlobalPosition | BatteryStatus) => 200,
+            (Self::Default, ExternalWrenchTruth) => 1000,
+            (_, VehicleStatus | VehicleLandDetected) => 1000,
+        };
+        ms * 1000
+    }
+
+    /// True for topics also logged as soon as their value changes.
+    pub fn on_change(topic: Topic) -> bool {
+        matches!(
+            topic,
+            Topic::VehicleStatus | Topic::VehicleLandDetected | Topic::ExternalWrenchTruth
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_full_profile_logs_the_state_every_tick() {
+        for t in [Topic::VehicleAttitude, Topic::VehicleLocalPosition, Topic::AllocationStatus] {
+            assert_eq!(Profile::Full.interval_us(t), 0);
+            assert!(Profile::Default.interval_us(t) >= 20_000);
+        }
+    }
+
+    #[test]
+    fn profiles_parse_by_name() {
+        assert_eq!("full".parse::<Profile>(), Ok(Profile::Full));
+        assert!("fast".parse::<Profile>().unwrap_err().contains("default or full"));
+    }
+}
