@@ -20,7 +20,7 @@ none).
   1000 Hz, rotorpilot's step). Timed: ``Environment.run`` (its loop, which keeps every step in
   memory, and the arrays it builds at the end).
 - rotorpilot: ``rotorpilot sim SCENARIO.toml`` (geometric controller, RK4 plant, motor lag) at its
-  1 ms step, run twice: printing only its summary, and with ``--out DIR`` writing ``run.csv``
+  1 ms step, run twice: printing only its summary, and with ``--out DIR`` writing ``run.ulg`` (ULog, every tick)
   every tick and ``summary.json``. Timed: the loop, as ``wall_time_s`` in its summary.
 
 Printed per simulator: step [ms], steps, wall seconds, steps per wall second, simulated seconds
@@ -216,18 +216,18 @@ def run_rotorpilot_once(binary, scenario, out_dir):
         raise BenchError(f"{' '.join(cmd)}: summary is not JSON: {exc}") from exc
 
 
-def run_rotorpilot(binary, task, with_csv, repeat):
+def run_rotorpilot(binary, task, with_log, repeat):
     """Flies the task `repeat` times in rotorpilot; figures of the median loop wall time."""
     with tempfile.TemporaryDirectory(prefix="bench_peer_") as tmp:
         scenario = pathlib.Path(tmp) / "circle.toml"
         scenario.write_text(scenario_toml(task))
-        out_dir = pathlib.Path(tmp) / "run" if with_csv else None
+        out_dir = pathlib.Path(tmp) / "run" if with_log else None
         summaries = [run_rotorpilot_once(binary, scenario, out_dir) for _ in range(repeat)]
     last = summaries[-1]
     if last["exit"] != "complete":
         raise BenchError(f"rotorpilot stopped early: {last['exit']} after {last['sim_time_s']} s")
     rms = math.sqrt(sum(e * e for e in last["rms_position_error_m"]))
-    name = "rotorpilot + run.csv" if with_csv else "rotorpilot"
+    name = "rotorpilot + run.ulg" if with_log else "rotorpilot"
     wall_s = statistics.median(s["wall_time_s"] for s in summaries)
     return figures(name, last["dt_s"], last["ticks"], wall_s, (last["final_position_error_norm_m"], rms),
                    (last["final_position_m"], last["final_reference_m"]))
@@ -314,12 +314,12 @@ def machine():
     return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version()}
 
 
-def compare(rotorpy, rotorpilot, rotorpilot_csv):
+def compare(rotorpy, rotorpilot, rotorpilot_log):
     """Ratios rotorpilot / RotorPy of steps and of simulated seconds per wall second [-]."""
     ratio = rotorpilot["steps_per_wall_s"] / rotorpy["steps_per_wall_s"]
     return {
         "ratio_steps_per_wall_s": ratio,
-        "ratio_steps_per_wall_s_with_csv": rotorpilot_csv["steps_per_wall_s"] / rotorpy["steps_per_wall_s"],
+        "ratio_steps_per_wall_s_with_log": rotorpilot_log["steps_per_wall_s"] / rotorpy["steps_per_wall_s"],
         "ratio_sim_s_per_wall_s": rotorpilot["sim_s_per_wall_s"] / rotorpy["sim_s_per_wall_s"],
         "target_ratio": TARGET_RATIO,
         "target_met": ratio >= TARGET_RATIO,
@@ -354,7 +354,7 @@ def format_text(report):
         "",
         f"ratio rotorpilot / RotorPy, steps per wall second: {cmp_['ratio_steps_per_wall_s']:.1f}x "
         f"(target >= {cmp_['target_ratio']:g}x: {verdict})",
-        f"ratio with rotorpilot writing run.csv every tick: {cmp_['ratio_steps_per_wall_s_with_csv']:.1f}x",
+        f"ratio with rotorpilot writing run.ulg every tick: {cmp_['ratio_steps_per_wall_s_with_log']:.1f}x",
         f"ratio of simulated seconds per wall second: {cmp_['ratio_sim_s_per_wall_s']:.1f}x",
     ]
     return "\n".join(lines)
@@ -400,16 +400,16 @@ def run(args):
                          "or pass --rotorpilot PATH")
     modules = import_rotorpy()
     task = Task(args.duration, args.radius, args.speed, args.ramp)
-    rotorpilot = run_rotorpilot(args.rotorpilot, task, with_csv=False, repeat=args.repeat)
-    rotorpilot_csv = run_rotorpilot(args.rotorpilot, task, with_csv=True, repeat=args.repeat)
+    rotorpilot = run_rotorpilot(args.rotorpilot, task, with_log=False, repeat=args.repeat)
+    rotorpilot_log = run_rotorpilot(args.rotorpilot, task, with_log=True, repeat=args.repeat)
     rotorpy = run_rotorpy(modules, task, args.rotorpy_rate, args.repeat)
     return {
         "task": task.as_dict(),
         "machine": machine(),
         "rotorpy_version": modules[3],
         "repeat": args.repeat,
-        "simulators": [rotorpy, rotorpilot, rotorpilot_csv],
-        "comparison": compare(rotorpy, rotorpilot, rotorpilot_csv),
+        "simulators": [rotorpy, rotorpilot, rotorpilot_log],
+        "comparison": compare(rotorpy, rotorpilot, rotorpilot_log),
     }
 
 

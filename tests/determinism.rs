@@ -1,5 +1,5 @@
-//! Same scenario and seed give a bit-identical run.csv at any speed-up; another seed gives
-//! another run.
+//! Same scenario and seed give a bit-identical run.csv and run.ulg at any speed-up; another seed
+//! gives another run.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::{Path, PathBuf};
@@ -35,8 +35,10 @@ period = 4.0
     );
     let out = std::env::temp_dir().join(format!("rotorpilot-determinism-{}-{dir}", std::process::id()));
     let scn = Scenario::from_toml_str(&text, "det", "det", Path::new(".")).unwrap();
-    simulate_paced(&scn, Some(&out), pace).unwrap();
-    (std::fs::read(out.join("run.csv")).unwrap(), out)
+    simulate_paced(&scn, Some(&out), pace, true).unwrap();
+    let mut bytes = std::fs::read(out.join("run.csv")).unwrap();
+    bytes.extend(std::fs::read(out.join("run.ulg")).unwrap());
+    (bytes, out)
 }
 
 #[test]
@@ -47,8 +49,8 @@ fn same_seed_same_bytes_other_seed_other_run() {
     // 3 simulated seconds at 20× take 0.15 s of wall time, paced tick by tick.
     let (d, dd) = run(7, Pace::Speedup(20.0), "d");
     assert!(a.len() > 100_000);
-    assert!(a == b, "same scenario and seed must give identical run.csv");
-    assert!(a == d, "the speed-up must not change run.csv");
+    assert!(a == b, "same scenario and seed must give identical files");
+    assert!(a == d, "the speed-up must not change the files");
     assert!(a != c, "the seed must change the noise");
     for d in [da, db, dc, dd] {
         let _ = std::fs::remove_dir_all(d);

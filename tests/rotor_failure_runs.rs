@@ -10,7 +10,8 @@ use rotorpilot::control::ControllerKind;
 use rotorpilot::lockstep::ScheduledFailure;
 use rotorpilot::montecarlo::{self, Campaign, MonteCarloError};
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::simulate;
+use rotorpilot::runtime::Pace;
+use rotorpilot::sim::simulate_paced;
 
 /// A hexacopter hovering at 2 m whose rotor `rotor` stops at 1 s.
 fn hexa_losing(rotor: usize) -> Result<Scenario, String> {
@@ -37,7 +38,7 @@ at = 1.0
 #[test]
 fn a_scenario_rotor_failure_stops_the_rotor_and_the_law_is_allocated_around_it() {
     let out = std::env::temp_dir().join(format!("rotorpilot-rotor-failure-{}", std::process::id()));
-    let summary = simulate(&hexa_losing(2).unwrap(), Some(&out)).unwrap();
+    let summary = simulate_paced(&hexa_losing(2).unwrap(), Some(&out), Pace::Max, true).unwrap();
     assert_eq!(summary.exit, "complete");
     // Flown on the nominal allocation the lost rotor's share is missing and the hexacopter
     // settles 0.29 m off; re-allocated, it holds the point (its heading is given up).

@@ -18,7 +18,7 @@ SCRIPT = pathlib.Path(__file__).resolve().parents[1] / "bench_peer.py"
 # Short flight: 1.5 s, of which 0.5 s spinning up from hover, on a 1 m circle at 1 m/s.
 TASK = ["--duration", "1.5", "--ramp", "0.5", "--radius", "1", "--speed", "1"]
 DURATION_S, RAMP_S, RADIUS_M, SPEED_M_S, ALTITUDE_M = 1.5, 0.5, 1.0, 1.0, 2.0
-NAMES = ("RotorPy (SE3Control)", "rotorpilot", "rotorpilot + run.csv")
+NAMES = ("RotorPy (SE3Control)", "rotorpilot", "rotorpilot + run.ulg")
 ROW_FIELDS = {"simulator", "step_s", "steps", "sim_time_s", "wall_s", "steps_per_wall_s", "sim_s_per_wall_s",
               "final_error_m", "rms_error_m", "final_position_ned_m", "final_reference_ned_m"}
 
@@ -66,7 +66,7 @@ def test_json_fields(report):
     assert tuple(rows) == NAMES
     for row in rows.values():
         assert set(row) == ROW_FIELDS
-    assert set(report["comparison"]) == {"ratio_steps_per_wall_s", "ratio_steps_per_wall_s_with_csv",
+    assert set(report["comparison"]) == {"ratio_steps_per_wall_s", "ratio_steps_per_wall_s_with_log",
                                          "ratio_sim_s_per_wall_s", "target_ratio", "target_met"}
 
 
@@ -85,8 +85,8 @@ def test_rates_and_ratios_follow_from_the_figures(report):
     rows, cmp_ = rows_by_name(report), report["comparison"]
     rotorpy = rows["RotorPy (SE3Control)"]["steps_per_wall_s"]
     assert cmp_["ratio_steps_per_wall_s"] == pytest.approx(rows["rotorpilot"]["steps_per_wall_s"] / rotorpy)
-    assert cmp_["ratio_steps_per_wall_s_with_csv"] == pytest.approx(
-        rows["rotorpilot + run.csv"]["steps_per_wall_s"] / rotorpy)
+    assert cmp_["ratio_steps_per_wall_s_with_log"] == pytest.approx(
+        rows["rotorpilot + run.ulg"]["steps_per_wall_s"] / rotorpy)
     assert cmp_["ratio_sim_s_per_wall_s"] == pytest.approx(
         rows["rotorpilot"]["sim_s_per_wall_s"] / rows["RotorPy (SE3Control)"]["sim_s_per_wall_s"])
     assert cmp_["target_ratio"] == 1000
@@ -97,7 +97,7 @@ def test_both_flew_the_circle(report):
     rows = rows_by_name(report)
     # The last recorded sample: rotorpilot's last tick starts at t = T - dt, RotorPy's state is at T.
     ends = {"RotorPy (SE3Control)": DURATION_S, "rotorpilot": DURATION_S - 0.001,
-            "rotorpilot + run.csv": DURATION_S - 0.001}
+            "rotorpilot + run.ulg": DURATION_S - 0.001}
     start = np.array([RADIUS_M, 0.0, -ALTITUDE_M])
     for name, row in rows.items():
         reference = np.array(row["final_reference_ned_m"])
@@ -108,7 +108,7 @@ def test_both_flew_the_circle(report):
         assert row["final_error_m"] < 0.15, name
         assert row["rms_error_m"] < 0.1, name
     assert rows["rotorpilot"]["rms_error_m"] < 0.02
-    assert rows["rotorpilot + run.csv"]["final_error_m"] == rows["rotorpilot"]["final_error_m"]
+    assert rows["rotorpilot + run.ulg"]["final_error_m"] == rows["rotorpilot"]["final_error_m"]
 
 
 def parse_table(text):
@@ -118,20 +118,20 @@ def parse_table(text):
         line = next(ln for ln in text.splitlines() if ln.startswith(name + " ") and "steps/s" not in ln)
         rows[name] = [float(v) for v in line[len(name):].split()]
     ratio = float(re.search(r"steps per wall second: ([0-9.]+)x", text).group(1))
-    ratio_csv = float(re.search(r"run\.csv every tick: ([0-9.]+)x", text).group(1))
+    ratio_log = float(re.search(r"run\.ulg every tick: ([0-9.]+)x", text).group(1))
     ratio_sim = float(re.search(r"simulated seconds per wall second: ([0-9.]+)x", text).group(1))
-    return rows, ratio, ratio_csv, ratio_sim
+    return rows, ratio, ratio_log, ratio_sim
 
 
 def test_text_ratio_from_printed_figures_at_100_hz(rotorpilot_bin):
     proc = run_script(*TASK, "--rotorpy-rate", "100", "--rotorpilot", str(rotorpilot_bin))
     assert proc.returncode == 0, proc.stderr
-    rows, ratio, ratio_csv, ratio_sim = parse_table(proc.stdout)
-    rotorpy, rotorpilot, with_csv = (rows[name] for name in NAMES)
+    rows, ratio, ratio_log, ratio_sim = parse_table(proc.stdout)
+    rotorpy, rotorpilot, with_log = (rows[name] for name in NAMES)
     assert rotorpy[:2] == [10.0, 150.0]
-    assert rotorpilot[:2] == with_csv[:2] == [1.0, 1500.0]
+    assert rotorpilot[:2] == with_log[:2] == [1.0, 1500.0]
     assert ratio == pytest.approx(rotorpilot[3] / rotorpy[3], rel=2e-3)
-    assert ratio_csv == pytest.approx(with_csv[3] / rotorpy[3], rel=2e-3)
+    assert ratio_log == pytest.approx(with_log[3] / rotorpy[3], rel=2e-3)
     assert ratio_sim == pytest.approx(rotorpilot[4] / rotorpy[4], rel=2e-3)
     assert ratio_sim == pytest.approx(ratio / 10, rel=1e-3)  # RotorPy's step is 10x rotorpilot's
     assert ("target >= 1000x: met" in proc.stdout) == (ratio >= 1000)

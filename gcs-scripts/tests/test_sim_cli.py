@@ -1,4 +1,5 @@
-"""`rotorpilot sim` end to end: the shipped homework scenario writes run.csv and summary.json."""
+"""`rotorpilot sim` end to end: the shipped homework scenario writes run.ulg, summary.json and, with
+`--csv`, run.csv."""
 import csv
 import json
 import pathlib
@@ -10,7 +11,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 def test_ex5_writes_every_signal_and_reaches_the_goal(rotorpilot, tmp_path):
     out = tmp_path / "ex5"
-    proc = rotorpilot("sim", str(ROOT / "scenarios" / "ex5_geometric.toml"), "--out", str(out))
+    proc = rotorpilot("sim", str(ROOT / "scenarios" / "ex5_geometric.toml"), "--out", str(out), "--csv")
     assert proc.returncode == 0, proc.stderr
     printed = json.loads(proc.stdout)
     summary = json.loads((out / "summary.json").read_text())
@@ -41,7 +42,7 @@ def test_ex5_writes_every_signal_and_reaches_the_goal(rotorpilot, tmp_path):
 
 def test_estimator_scenario_logs_estimate_and_truth(rotorpilot, tmp_path):
     out = tmp_path / "ex4"
-    proc = rotorpilot("sim", str(ROOT / "scenarios" / "ex4_estimator.toml"), "--out", str(out))
+    proc = rotorpilot("sim", str(ROOT / "scenarios" / "ex4_estimator.toml"), "--out", str(out), "--csv")
     assert proc.returncode == 0, proc.stderr
     with open(out / "run.csv", newline="") as f:
         rows = list(csv.DictReader(f))
@@ -68,7 +69,7 @@ def test_plot_run_renders_a_real_run(rotorpilot, tmp_path):
     out = tmp_path / "ex4"
     scenario = (ROOT / "scenarios" / "ex4_estimator.toml").read_text().replace("duration = 40.0", "duration = 3.0")
     (tmp_path / "short.toml").write_text(scenario)
-    assert rotorpilot("sim", str(tmp_path / "short.toml"), "--out", str(out)).returncode == 0
+    assert rotorpilot("sim", str(tmp_path / "short.toml"), "--out", str(out), "--csv").returncode == 0
     proc = subprocess.run([sys.executable, str(ROOT / "gcs-scripts" / "plot_run.py"), str(out)],
                           capture_output=True, text=True, timeout=300, check=False)
     assert proc.returncode == 0, proc.stderr
