@@ -135,7 +135,9 @@ pub(crate) enum Command {
     /// {"samples", "final", "mass_estimate"} as JSON.
     #[command(allow_negative_numbers = true)]
     Estimate {
-        /// Log CSV with columns t,thrust,tau_x,tau_y,tau_z,vx,vy,vz,phi,theta,psi,phi_dot,theta_dot,psi_dot.
+        /// The flight log: a ULog file with every tick (`sim --out DIR` writes DIR/run.ulg; `fly
+        /// --log`; `run --log-profile full`), a run.csv (`sim --csv`), or a CSV with columns
+        /// t,thrust,tau_x,tau_y,tau_z,vx,vy,vz,phi,theta,psi,phi_dot,theta_dot,psi_dot.
         #[arg(long)]
         log: PathBuf,
         /// Nominal mass [kg].

@@ -18,8 +18,8 @@ use crate::math::{euler_zyx, Vec3};
 use crate::navigation::ClimbProfile;
 use crate::runtime::ulog_file::UlogFile;
 use crate::scenario::summary::RunStats;
-use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
 use crate::sitl::SimPlant;
+use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
 
 /// What to fly.
 #[derive(Debug, Clone, PartialEq)]

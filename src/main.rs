@@ -8,6 +8,7 @@ use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::allocation::Allocator;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::estimation::log_replay::{parse_log, replay};
+use rotorpilot::estimation::ulog_log::parse_ulog;
 use rotorpilot::estimation::{ChebyshevDesign, WrenchObserver};
 use rotorpilot::fly::{fly, FlyOptions};
 use rotorpilot::math::Vec3;
@@ -298,8 +299,14 @@ fn estimate(
     let observer = WrenchObserver::new(mass, Vec3::new(ixx, iyy, izz), gains, ts)
         .map_err(|e| format!("--mass {mass} / --inertia: {e}"))?;
     let origin = log.display().to_string();
-    let text = std::fs::read_to_string(log).map_err(|e| format!("{origin}: cannot read the file: {e}"))?;
-    let samples = parse_log(&text, &origin, ts).map_err(|e| e.to_string())?;
+    let bytes = std::fs::read(log).map_err(|e| format!("{origin}: cannot read the file: {e}"))?;
+    let samples = if bytes.starts_with(&rotorpilot::ulog::encoder::FILE_MAGIC) {
+        parse_ulog(&bytes, &origin, ts)
+    } else {
+        let text = String::from_utf8(bytes).map_err(|e| format!("{origin}: neither a ULog file nor CSV text: {e}"))?;
+        parse_log(&text, &origin, ts)
+    }
+    .map_err(|e| e.to_string())?;
     let rows = replay(&samples, observer);
     if let Some(path) = out {
         std::fs::write(path, estimate_csv(&rows)).map_err(|e| format!("cannot write {}: {e}", path.display()))?;

@@ -9,8 +9,8 @@ use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::lockstep::ScheduledFailure;
 use rotorpilot::montecarlo::{self, Campaign, MonteCarloError};
-use rotorpilot::scenario::Scenario;
 use rotorpilot::runtime::Pace;
+use rotorpilot::scenario::Scenario;
 use rotorpilot::sim::simulate_paced;
 
 /// A hexacopter hovering at 2 m whose rotor `rotor` stops at 1 s.

@@ -1,4 +1,5 @@
-"""`rotorpilot estimate`: the offline estimator of homework exercise 4 over a CSV log."""
+"""`rotorpilot estimate`: the offline estimator of homework exercise 4 over a CSV log, a run.csv or
+a ULog file."""
 import csv
 import json
 
@@ -88,3 +89,46 @@ def test_bad_options_are_refused(rotorpilot, tmp_path):
     assert unstable.returncode != 0 and "largest stable passband edge" in unstable.stderr
     missing = rotorpilot("estimate", "--log", str(tmp_path / "nope.csv"), *ARGS)
     assert missing.returncode != 0 and "nope.csv" in missing.stderr
+
+
+def test_the_homework_workflow_runs_on_the_logs_sim_writes(rotorpilot, tmp_path):
+    """Ex. 4 end to end: fly the scenario, then run the offline estimator on its ULog and its
+    run.csv as they are; both recover the disturbance and the mass."""
+    import pathlib
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    out = tmp_path / "ex4"
+    proc = rotorpilot("sim", str(root / "scenarios" / "ex4_estimator.toml"), "--out", str(out), "--csv")
+    assert proc.returncode == 0, proc.stderr
+    for log in (out / "run.ulg", out / "run.csv"):
+        proc = rotorpilot("estimate", "--log", str(log), *ARGS)
+        assert proc.returncode == 0, proc.stderr
+        result = json.loads(proc.stdout)
+        assert result["samples"] == 40000, log
+        final = result["final"]
+        assert final["fx"] == pytest.approx(0.5, rel=0.01) and final["fy"] == pytest.approx(0.5, rel=0.01), log
+        assert final["fz"] == pytest.approx(0.2 * G, rel=0.01) and final["tz"] == pytest.approx(0.2, rel=0.01), log
+        assert result["mass_estimate"] == pytest.approx(1.7, rel=0.005), log
+
+
+def test_a_log_without_every_tick_is_refused_with_the_reason(rotorpilot, tmp_path):
+    import pathlib
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    flight = tmp_path / "fly.ulg"
+    assert rotorpilot("fly", "--duration", "1", "--log", str(flight)).returncode == 0
+    proc = rotorpilot("estimate", "--log", str(flight), *ARGS)
+    assert proc.returncode == 0 and json.loads(proc.stdout)["samples"] == 1000, "fly --log has every tick"
+    data = flight.read_bytes()
+    broken = tmp_path / "broken.ulg"
+    broken.write_bytes(data[:16] + b"\xff" * 64)
+    proc = rotorpilot("estimate", "--log", str(broken), *ARGS)
+    assert proc.returncode != 0 and str(broken) in proc.stderr
+    assert "panicked" not in proc.stderr
+    sparse = tmp_path / "sparse"
+    scenario = (root / "scenarios" / "ex4_estimator.toml").read_text().replace("duration = 40.0", "duration = 1.0")
+    (tmp_path / "short.toml").write_text(scenario)
+    assert rotorpilot("sim", str(tmp_path / "short.toml"), "--out", str(sparse)).returncode == 0
+    proc = rotorpilot("estimate", "--log", str(sparse / "run.ulg"), *ARGS, "--ts", "0.002")
+    assert proc.returncode != 0 and "differs from the expected 0.002 s" in proc.stderr, proc.stderr
+    assert "every tick" in proc.stderr and str(sparse / "run.ulg") in proc.stderr

@@ -34,16 +34,28 @@ const SAMPLE_TIME_TOLERANCE: f64 = 0.01;
 
 /// A log that cannot be used: the file, the line (1-based, the header is line 1), the column and why.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("{origin}: line {line}{}: {reason}", column.as_ref().map(|c| format!(", column {c}")).unwrap_or_default())]
+#[error("{origin}: {}: {reason}", self.place())]
 pub struct LogError {
     /// File the log came from.
     pub origin: String,
-    /// Line number, 1-based.
+    /// Line number, 1-based (0 for a ULog file, which has none).
     pub line: usize,
     /// Column name, when one is at fault.
     pub column: Option<String>,
     /// What is wrong.
     pub reason: String,
+}
+
+impl LogError {
+    /// Where in the file: `line L, column C`, `line L` or, for a ULog file, the topic field.
+    fn place(&self) -> String {
+        match (self.line, &self.column) {
+            (0, Some(c)) => c.clone(),
+            (0, None) => "data".into(),
+            (l, Some(c)) => format!("line {l}, column {c}"),
+            (l, None) => format!("line {l}"),
+        }
+    }
 }
 
 /// One row of the log.
@@ -72,7 +84,43 @@ pub struct ReplayRow {
     pub estimate: WrenchEstimate,
 }
 
-/// Parses `text` (from `origin`), checking every value and that t advances by `ts_s` [s].
+/// Columns of a `run.csv` (`rotorpilot sim --csv`): applied thrust and torques (empty while the
+/// motors are off: no wrench), world velocity, ZYX Euler angles and body rates.
+pub const RUN_CSV_COLUMNS: [&str; 14] = [
+    "t", "thrust", "tau_x", "tau_y", "tau_z", "vx", "vy", "vz", "roll", "pitch", "yaw", "p", "q", "r",
+];
+
+/// Below this |cos θ| Euler-angle rates are not defined (θ near ±90°).
+const COS_THETA_MIN: f64 = 1e-3;
+
+/// η̇ = Q(η)⁻¹ ω_b (control.md §2.2); `None` near θ = ±90°.
+pub fn euler_rates(eta: &Vec3, omega_b: &Vec3) -> Option<Vec3> {
+    crate::rpy::q_inverse(eta, COS_THETA_MIN).map(|q_inv| q_inv * omega_b)
+}
+
+/// Why `sample` cannot follow `prev` (the time step must be `ts_s` [s]) or is not a sample.
+pub fn check_sample(prev: Option<&LogSample>, sample: &LogSample, ts_s: f64) -> Result<(), (&'static str, String)> {
+    if let Some(prev) = prev.map(|s| s.t_s) {
+        let step = sample.t_s - prev;
+        if step <= 0.0 {
+            return Err((
+                "t",
+                format!("time {} s does not increase (previous sample {prev} s)", sample.t_s),
+            ));
+        }
+        if (step - ts_s).abs() > SAMPLE_TIME_TOLERANCE * ts_s {
+            return Err(("t", format!("sample time {step} s differs from the expected {ts_s} s")));
+        }
+    }
+    if sample.thrust_n < 0.0 {
+        return Err(("thrust", format!("thrust {} N must not be negative", sample.thrust_n)));
+    }
+    Ok(())
+}
+
+/// Parses `text` (from `origin`), checking every value and that t advances by `ts_s` [s]. The
+/// columns are either [`REQUIRED_COLUMNS`] (the homework's log) or [`RUN_CSV_COLUMNS`] (a
+/// `run.csv`, whose Euler rates are computed from the body rates).
 pub fn parse_log(text: &str, origin: &str, ts_s: f64) -> Result<Vec<LogSample>, LogError> {
     let err = |line: usize, column: Option<&str>, reason: String| LogError {
         origin: origin.to_string(),
@@ -85,17 +133,24 @@ pub fn parse_log(text: &str, origin: &str, ts_s: f64) -> Result<Vec<LogSample>, 
         return Err(err(1, None, "empty file: expected a header row".into()));
     };
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let has = |cols: &[&str]| cols.iter().all(|c| names.contains(c));
+    let run_csv = !has(&REQUIRED_COLUMNS) && has(&RUN_CSV_COLUMNS);
+    let wanted = if run_csv { RUN_CSV_COLUMNS } else { REQUIRED_COLUMNS };
     let mut index = [0usize; REQUIRED_COLUMNS.len()];
-    for (slot, name) in index.iter_mut().zip(REQUIRED_COLUMNS) {
+    for (slot, name) in index.iter_mut().zip(wanted) {
         *slot = names.iter().position(|n| *n == name).ok_or_else(|| {
             err(
                 h + 1,
                 Some(name),
-                format!("missing column (header has: {})", names.join(",")),
+                format!(
+                    "missing column (header has: {}; a run.csv needs {})",
+                    names.join(","),
+                    RUN_CSV_COLUMNS.join(",")
+                ),
             )
         })?;
     }
-    let mut samples = Vec::new();
+    let mut samples: Vec<LogSample> = Vec::new();
     for (i, line) in lines {
         let line_no = i + 1;
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
@@ -107,46 +162,38 @@ pub fn parse_log(text: &str, origin: &str, ts_s: f64) -> Result<Vec<LogSample>, 
             ));
         }
         let mut v = [0.0; REQUIRED_COLUMNS.len()];
-        for ((value, &col), name) in v.iter_mut().zip(&index).zip(REQUIRED_COLUMNS) {
+        for (k, ((value, &col), name)) in v.iter_mut().zip(&index).zip(wanted).enumerate() {
             let text = fields[col];
             *value = match text.parse::<f64>() {
                 Ok(x) if x.is_finite() => x,
+                // A run.csv leaves the wrench empty while the motors are off.
+                _ if run_csv && (1..=4).contains(&k) && text.is_empty() => 0.0,
                 Ok(_) => return Err(err(line_no, Some(name), format!("{text:?} is not a finite number"))),
                 Err(_) => return Err(err(line_no, Some(name), format!("{text:?} is not a number"))),
             };
         }
+        let eta = Vec3::new(v[8], v[9], v[10]);
+        let rates = Vec3::new(v[11], v[12], v[13]);
+        let eta_dot = if run_csv {
+            euler_rates(&eta, &rates).ok_or_else(|| {
+                err(
+                    line_no,
+                    Some("pitch"),
+                    format!("pitch {} rad: Euler rates undefined", eta.y),
+                )
+            })?
+        } else {
+            rates
+        };
         let sample = LogSample {
             t_s: v[0],
             thrust_n: v[1],
             torque_b: Vec3::new(v[2], v[3], v[4]),
             vel_w: Vec3::new(v[5], v[6], v[7]),
-            eta: Vec3::new(v[8], v[9], v[10]),
-            eta_dot: Vec3::new(v[11], v[12], v[13]),
+            eta,
+            eta_dot,
         };
-        if let Some(prev) = samples.last().map(|s: &LogSample| s.t_s) {
-            let step = sample.t_s - prev;
-            if step <= 0.0 {
-                return Err(err(
-                    line_no,
-                    Some("t"),
-                    format!("time {} s does not increase (previous row {prev} s)", sample.t_s),
-                ));
-            }
-            if (step - ts_s).abs() > SAMPLE_TIME_TOLERANCE * ts_s {
-                return Err(err(
-                    line_no,
-                    Some("t"),
-                    format!("sample time {step} s differs from the expected {ts_s} s"),
-                ));
-            }
-        }
-        if sample.thrust_n < 0.0 {
-            return Err(err(
-                line_no,
-                Some("thrust"),
-                format!("thrust {} N must not be negative", sample.thrust_n),
-            ));
-        }
+        check_sample(samples.last(), &sample, ts_s).map_err(|(col, why)| err(line_no, Some(col), why))?;
         samples.push(sample);
     }
     if samples.is_empty() {

@@ -4,6 +4,7 @@
 
 mod chebyshev;
 pub mod log_replay;
+pub mod ulog_log;
 mod wrench_estimate;
 mod wrench_observer;
 

@@ -103,7 +103,9 @@ impl LogWriter {
     /// Waits until every [`LogSender`] is dropped and the files are flushed; the first error
     /// (file and cause), if any.
     pub fn finish(self) -> Result<(), String> {
-        self.handle.join().unwrap_or_else(|_| Err("log writer thread panicked".into()))
+        self.handle
+            .join()
+            .unwrap_or_else(|_| Err("log writer thread panicked".into()))
     }
 }
 

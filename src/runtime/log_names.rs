@@ -62,6 +62,9 @@ mod tests {
         let t = UNIX_EPOCH + std::time::Duration::from_secs(3661);
         let first = flight_log_path(dir, t, None);
         assert_eq!(first, dir.join("log/1970-01-01/01_01_01.ulg"));
-        assert_eq!(flight_log_path(dir, t, Some(&first)), dir.join("log/1970-01-01/01_01_01_1.ulg"));
+        assert_eq!(
+            flight_log_path(dir, t, Some(&first)),
+            dir.join("log/1970-01-01/01_01_01_1.ulg")
+        );
     }
 }

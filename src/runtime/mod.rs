@@ -16,14 +16,14 @@
 
 mod config;
 pub mod flight_log;
-pub mod log_names;
-pub mod ulog_file;
-pub mod ulog_stream;
 pub mod link;
+pub mod log_names;
 pub mod pacer;
 pub mod scheduler;
 mod signing_keeper;
 pub mod signing_store;
+pub mod ulog_file;
+pub mod ulog_stream;
 pub mod vehicle;
 
 use std::future::Future;

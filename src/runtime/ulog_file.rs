@@ -47,7 +47,9 @@ impl UlogFile {
     pub fn finish(self) -> Result<(), String> {
         let Self { stream, writer, path } = self;
         drop(stream);
-        writer.finish().map_err(|e| format!("cannot write {}: {e}", path.display()))
+        writer
+            .finish()
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))
     }
 }
 

@@ -4,8 +4,9 @@
 //! `t, x,y,z, x_ref,y_ref,z_ref, ex,ey,ez, evx,evy,evz, roll,pitch,yaw, roll_ref,pitch_ref,yaw_ref,
 //! eR_x,eR_y,eR_z, ew_x,ew_y,ew_z, thrust, tau_x,tau_y,tau_z, omega_1..omega_n,
 //! fx_hat,fy_hat,fz_hat, tx_hat,ty_hat,tz_hat, fx_true,fy_true,fz_true, tx_true,ty_true,tz_true,
-//! mass_hat, saturated`. The attitude errors are e_R, e_ω (geometric) or e_η, ė_η (RPY laws);
-//! thrust and torques are the applied ones; `*_hat` are empty when the estimator is off.
+//! mass_hat, saturated, vx,vy,vz, p,q,r` (world velocity [m/s], body rates FRD [rad/s]). The
+//! attitude errors are e_R, e_ω (geometric) or e_η, ė_η (RPY laws); thrust and torques are the
+//! applied ones; `*_hat` are empty when the estimator is off.
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -24,7 +25,8 @@ pub fn header(rotors: usize) -> String {
         let _ = write!(h, ",omega_{i}");
     }
     h.push_str(
-        ",fx_hat,fy_hat,fz_hat,tx_hat,ty_hat,tz_hat,fx_true,fy_true,fz_true,tx_true,ty_true,tz_true,mass_hat,saturated",
+        ",fx_hat,fy_hat,fz_hat,tx_hat,ty_hat,tz_hat,fx_true,fy_true,fz_true,tx_true,ty_true,tz_true,mass_hat,saturated,\
+         vx,vy,vz,p,q,r",
     );
     h
 }
@@ -98,7 +100,9 @@ impl RunCsv {
             None => l.push(','),
         }
         let saturated = r.step.is_some_and(|s| s.allocation.saturation.is_saturated());
-        let _ = writeln!(l, ",{}", u8::from(saturated));
+        let _ = write!(l, ",{}", u8::from(saturated));
+        let (v, w) = (r.state.vel_w, r.state.omega_b);
+        let _ = writeln!(l, ",{},{},{},{},{},{}", v.x, v.y, v.z, w.x, w.y, w.z);
         self.out.write_all(l.as_bytes())
     }
 

@@ -57,7 +57,8 @@ impl<'a> Encoder<'a> {
 
     /// A message header for a payload of `len` bytes, cut to what a u16 holds.
     fn header(&mut self, kind: u8, len: usize) {
-        self.out.extend_from_slice(&(len.min(usize::from(u16::MAX)) as u16).to_le_bytes());
+        self.out
+            .extend_from_slice(&(len.min(usize::from(u16::MAX)) as u16).to_le_bytes());
         self.out.push(kind);
     }
 
@@ -144,7 +145,8 @@ impl<'a> Encoder<'a> {
     /// A dropout of `ms` milliseconds (cut to 65535).
     pub fn dropout(&mut self, ms: u64) {
         self.header(b'O', 2);
-        self.out.extend_from_slice(&(ms.min(u64::from(u16::MAX)) as u16).to_le_bytes());
+        self.out
+            .extend_from_slice(&(ms.min(u64::from(u16::MAX)) as u16).to_le_bytes());
     }
 }
 

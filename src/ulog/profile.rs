@@ -75,7 +75,11 @@ mod tests {
 
     #[test]
     fn the_full_profile_logs_the_state_every_tick() {
-        for t in [Topic::VehicleAttitude, Topic::VehicleLocalPosition, Topic::AllocationStatus] {
+        for t in [
+            Topic::VehicleAttitude,
+            Topic::VehicleLocalPosition,
+            Topic::AllocationStatus,
+        ] {
             assert_eq!(Profile::Full.interval_us(t), 0);
             assert!(Profile::Default.interval_us(t) >= 20_000);
         }

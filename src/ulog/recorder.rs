@@ -231,7 +231,7 @@ impl Recorder {
     fn start_record(&mut self, out: &mut Vec<u8>, topic: Topic, t_us: u64) {
         let i = topic as usize;
         let interval = self.setup.profile.interval_us(topic);
-        self.next_due_us[i] = if interval == 0 { t_us } else { (t_us / interval + 1) * interval };
+        self.next_due_us[i] = t_us.checked_div(interval).map_or(t_us, |k| (k + 1) * interval);
         if !self.subscribed[i] {
             self.subscribed[i] = true;
             Encoder::new(out).subscription(topic.msg_id(), topic.name());
@@ -273,7 +273,9 @@ impl Recorder {
             Topic::VehicleLocalPositionSetpoint => {
                 let Some(sp) = v.setpoint else { return false };
                 let or_nan = |o: Option<Vec3>| o.map_or(nan3, Into::into);
-                b.f32x3(or_nan(sp.pos_w)).f32x3(or_nan(sp.vel_w)).f32x3(or_nan(sp.acc_w));
+                b.f32x3(or_nan(sp.pos_w))
+                    .f32x3(or_nan(sp.vel_w))
+                    .f32x3(or_nan(sp.acc_w));
                 b.f32(sp.yaw_rad.unwrap_or(f64::NAN));
             }
             Topic::VehicleStatus => {
@@ -309,15 +311,23 @@ impl Recorder {
             Topic::BatteryStatus => {
                 let Some(snap) = v.snapshot else { return false };
                 let bat = &snap.battery;
-                b.f32(bat.cell_v * f64::from(bat.cells)).f32(bat.current_a).f32(bat.consumed_mah);
+                b.f32(bat.cell_v * f64::from(bat.cells))
+                    .f32(bat.current_a)
+                    .f32(bat.consumed_mah);
                 b.f32(bat.fraction).u8(bat.cells.min(255) as u8).bool(true);
             }
             Topic::SensorCombined => {
                 let dt_us = (s.dt_s * 1e6).round() as u32;
-                b.f32x3(x.omega_b.into()).u32(dt_us).i32(0).f32x3(v.accel_b.into()).u32(dt_us);
+                b.f32x3(x.omega_b.into())
+                    .u32(dt_us)
+                    .i32(0)
+                    .f32x3(v.accel_b.into())
+                    .u32(dt_us);
             }
             Topic::ExternalWrenchEstimate => {
-                let Some(e) = v.step.and_then(|st| st.estimate) else { return false };
+                let Some(e) = v.step.and_then(|st| st.estimate) else {
+                    return false;
+                };
                 b.f32x3(e.force_w.into()).f32x3(e.torque_b.into()).f32(e.mass_kg);
             }
             Topic::ExternalWrenchTruth => {
@@ -328,7 +338,10 @@ impl Recorder {
             Topic::ControllerErrors => {
                 let Some(step) = v.step else { return false };
                 let e = &step.control.errors;
-                b.f32x3(e.pos_w.into()).f32x3(e.vel_w.into()).f32x3(e.attitude.into()).f32x3(e.rate.into());
+                b.f32x3(e.pos_w.into())
+                    .f32x3(e.vel_w.into())
+                    .f32x3(e.attitude.into())
+                    .f32x3(e.rate.into());
             }
             Topic::AllocationStatus => {
                 let Some(step) = v.step else { return false };
@@ -340,3 +353,7 @@ impl Recorder {
         true
     }
 }
+
+#[cfg(test)]
+#[path = "recorder_tests.rs"]
+mod tests;

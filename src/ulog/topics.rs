@@ -120,7 +120,9 @@ impl Topic {
                 "uint64_t timestamp;float x;float y;float z;float vx;float vy;float vz;float[3] acceleration;\
                  float yaw;"
             }
-            Self::VehicleStatus => "uint64_t timestamp;uint8_t arming_state;uint8_t nav_state;uint8_t vehicle_type;bool failsafe;",
+            Self::VehicleStatus => {
+                "uint64_t timestamp;uint8_t arming_state;uint8_t nav_state;uint8_t vehicle_type;bool failsafe;"
+            }
             Self::VehicleLandDetected => {
                 "uint64_t timestamp;bool freefall;bool ground_contact;bool maybe_landed;bool landed;"
             }
