@@ -6,10 +6,12 @@
 //! - the largest number of flying vehicles that holds real time (factor ≥ 0.99) with their
 //!   default telemetry read by one ground-station socket, and the memory per vehicle;
 //! - the time from spawning `rotorpilot run` to its first HEARTBEAT;
-//! - the COMMAND_ACK round trip over loopback (p50/p99) of commands that pass the tick thread.
+//! - the COMMAND_ACK round trip over loopback (p50/p99) of commands that pass the tick thread;
+//! - what the ULog flight log costs `fly` and `sim` (speed with / without, bytes per second).
 
 pub mod autopilot;
 pub mod client;
+mod logging;
 mod runs;
 
 use std::collections::BTreeMap;
@@ -45,6 +47,10 @@ pub struct BenchOptions {
     pub startups: usize,
     /// COMMAND_ACK round trips.
     pub acks: usize,
+    /// Unlogged/logged pairs of `fly` and `sim` runs timed for the logging cost.
+    pub log_pairs: usize,
+    /// Simulated time of each of those runs [s].
+    pub log_sim_s: f64,
 }
 
 impl BenchOptions {
@@ -58,6 +64,8 @@ impl BenchOptions {
             first_count: 25,
             startups: 5,
             acks: 1000,
+            log_pairs: 7,
+            log_sim_s: 40.0,
         }
     }
 
@@ -71,6 +79,8 @@ impl BenchOptions {
             first_count: 2,
             startups: 2,
             acks: 50,
+            log_pairs: 1,
+            log_sim_s: 2.0,
         }
     }
 }
@@ -95,6 +105,9 @@ pub enum BenchError {
     /// The autopilot did not answer.
     #[error("no answer: {0}")]
     Silent(&'static str),
+    /// A headless run failed.
+    #[error("{0}")]
+    Failed(String),
 }
 
 /// One real-time trial.
@@ -144,6 +157,8 @@ pub struct BenchReport {
     pub first_heartbeat_ms: f64,
     /// COMMAND_ACK round trip over loopback (DO_CHANGE_SPEED through the tick thread, 1×).
     pub command_ack: Latency,
+    /// What the full-profile ULog costs `fly` and `sim`.
+    pub logging: logging::LoggingCost,
 }
 
 /// Runs every benchmark.
@@ -173,6 +188,7 @@ pub fn run(options: &BenchOptions) -> Result<BenchReport, BenchError> {
         trials,
         first_heartbeat_ms: runs::first_heartbeat_ms(options)?,
         command_ack: runs::command_ack_latency(options)?,
+        logging: logging::logging_cost(options)?,
     })
 }
 
@@ -254,6 +270,15 @@ impl BenchReport {
             "COMMAND_ACK round trip: p50 {:.3} ms, p99 {:.3} ms, max {:.3} ms ({} samples)\n",
             self.command_ack.p50_ms, self.command_ack.p99_ms, self.command_ack.max_ms, self.command_ack.samples
         );
+        for (name, c) in [("fly", &self.logging.fly), ("sim (Ex. 4)", &self.logging.sim)] {
+            out += &format!(
+                "{name} with the full-profile ULog: {:.0}x real time vs {:.0}x without ({:.0} % of the speed), {:.0} KB per simulated second\n",
+                c.logged_factor,
+                c.unlogged_factor,
+                100.0 * c.speed_ratio,
+                c.bytes_per_sim_s / 1e3
+            );
+        }
         out
     }
 }

@@ -11,13 +11,18 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TrySendError};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 /// Longest time a record waits in a buffer before it reaches the file.
 pub const FLUSH_PERIOD: Duration = Duration::from_millis(100);
 /// Records queued for the writer.
 const QUEUE: usize = 4096;
+/// Emptied ULog buffers kept for reuse (a fresh one costs its page faults again).
+const SPARE_BUFFERS: usize = 4;
+
+/// Emptied ULog buffers the writer hands back to the tick thread.
+type Spares = Arc<Mutex<Vec<Vec<u8>>>>;
 
 type File = std::io::BufWriter<std::fs::File>;
 
@@ -36,6 +41,7 @@ enum Record {
 pub struct LogSender {
     tx: SyncSender<Record>,
     dropped: Arc<AtomicU64>,
+    spares: Spares,
 }
 
 impl std::fmt::Debug for LogSender {
@@ -87,6 +93,12 @@ impl LogSender {
         }
     }
 
+    /// An empty buffer of at least `capacity` bytes: one the writer has emptied, or a new one.
+    pub fn buffer(&self, capacity: usize) -> Vec<u8> {
+        let spare = self.spares.lock().ok().and_then(|mut s| s.pop());
+        spare.unwrap_or_else(|| Vec::with_capacity(capacity))
+    }
+
     /// Records dropped because the writer fell behind.
     pub fn dropped(&self) -> u64 {
         self.dropped.load(Ordering::Relaxed)
@@ -121,12 +133,15 @@ pub fn start(tlog: Option<PathBuf>) -> std::io::Result<(LogSender, LogWriter)> {
         None => None,
     };
     let (tx, rx) = sync_channel(QUEUE);
+    let spares = Spares::default();
+    let returned = spares.clone();
     let handle = std::thread::Builder::new()
         .name("rotorpilot-log".into())
-        .spawn(move || write_loop(rx, tlog))?;
+        .spawn(move || write_loop(rx, tlog, &returned))?;
     let sender = LogSender {
         tx,
         dropped: Arc::new(AtomicU64::new(0)),
+        spares,
     };
     Ok((sender, LogWriter { handle }))
 }
@@ -139,7 +154,7 @@ fn create(path: &PathBuf) -> std::io::Result<File> {
     Ok(std::io::BufWriter::with_capacity(1 << 18, std::fs::File::create(path)?))
 }
 
-fn write_loop(rx: Receiver<Record>, mut tlog: Option<(File, PathBuf)>) -> Result<(), String> {
+fn write_loop(rx: Receiver<Record>, mut tlog: Option<(File, PathBuf)>, spares: &Spares) -> Result<(), String> {
     let mut ulog: Option<(File, PathBuf)> = None;
     let mut last_flush = Instant::now();
     let mut first_error: Option<String> = None;
@@ -170,10 +185,16 @@ fn write_loop(rx: Receiver<Record>, mut tlog: Option<(File, PathBuf)>) -> Result
                     Err(e) => fail(&path, e),
                 }
             }
-            Ok(Record::Ulog(bytes)) => {
+            Ok(Record::Ulog(mut bytes)) => {
                 if let Some((f, path)) = &mut ulog {
                     if let Err(e) = f.write_all(&bytes) {
                         fail(path, e);
+                    }
+                }
+                bytes.clear();
+                if let Ok(mut pool) = spares.lock() {
+                    if pool.len() < SPARE_BUFFERS {
+                        pool.push(bytes);
                     }
                 }
             }

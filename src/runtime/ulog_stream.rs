@@ -123,7 +123,8 @@ impl UlogStream {
         if self.buf.is_empty() {
             return;
         }
-        let bytes = std::mem::replace(&mut self.buf, Vec::with_capacity(SHIP_BYTES + (1 << 12)));
+        let fresh = self.sender.buffer(SHIP_BYTES + (1 << 12));
+        let bytes = std::mem::replace(&mut self.buf, fresh);
         if !self.sender.ulog(bytes, self.wait) {
             // The lost bytes may have held subscriptions: announce them again.
             self.recorder.forget_subscriptions();

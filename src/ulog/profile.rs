@@ -67,6 +67,16 @@ impl Profile {
             Topic::VehicleStatus | Topic::VehicleLandDetected | Topic::ExternalWrenchTruth
         )
     }
+
+    /// Least time between two looks for a change of an on-change topic [µs]: every tick for
+    /// the status and the land detector, every 10 ms for the true wrench (a disturbance that
+    /// varies all the time is logged at 100 Hz, not at every tick).
+    pub fn change_interval_us(topic: Topic) -> u64 {
+        match topic {
+            Topic::ExternalWrenchTruth => 10_000,
+            _ => 0,
+        }
+    }
 }
 
 #[cfg(test)]

@@ -96,6 +96,8 @@ pub struct Recorder {
     setup: RecorderSetup,
     /// Log time each topic is next due [µs].
     next_due_us: [u64; Topic::ALL.len()],
+    /// Log time each on-change topic is next looked at for a change [µs].
+    next_check_us: [u64; Topic::ALL.len()],
     /// Topics whose subscription has been written.
     subscribed: [bool; Topic::ALL.len()],
     /// Last payload (timestamp excluded) of the topics logged on change.
@@ -135,6 +137,7 @@ impl Recorder {
         Self {
             setup,
             next_due_us: [0; Topic::ALL.len()],
+            next_check_us: [0; Topic::ALL.len()],
             subscribed: [false; Topic::ALL.len()],
             last: Default::default(),
             next_sync_us: 0,
@@ -207,6 +210,11 @@ impl Recorder {
                 continue;
             }
             if on_change {
+                if !due && t_us < self.next_check_us[i] {
+                    continue;
+                }
+                let every = Profile::change_interval_us(topic);
+                self.next_check_us[i] = t_us.checked_div(every).map_or(t_us, |k| (k + 1) * every);
                 // Compare the fields with the last record's before writing.
                 let mut fields = std::mem::take(&mut self.scratch);
                 fields.clear();
