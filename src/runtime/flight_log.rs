@@ -105,6 +105,28 @@ impl LogSender {
     }
 }
 
+/// A sender with no writer: its queue holds `capacity` records that `take` returns as the ULog
+/// bytes queued (for tests of what a full queue does).
+#[cfg(test)]
+pub(crate) fn detached(capacity: usize) -> (LogSender, impl FnMut() -> Vec<u8>) {
+    let (tx, rx) = sync_channel(capacity);
+    let sender = LogSender {
+        tx,
+        dropped: Arc::new(AtomicU64::new(0)),
+        spares: Spares::default(),
+    };
+    let take = move || {
+        let mut bytes = Vec::new();
+        while let Ok(record) = rx.try_recv() {
+            if let Record::Ulog(b) = record {
+                bytes.extend(b);
+            }
+        }
+        bytes
+    };
+    (sender, take)
+}
+
 /// The writer thread; [`LogWriter::finish`] waits for it and returns its first error.
 #[derive(Debug)]
 pub struct LogWriter {

@@ -10,6 +10,9 @@ use std::time::{Duration, Instant};
 use super::flight_log::LogSender;
 use crate::lockstep::TickView;
 use crate::params::{ParamDef, ParamTable, ParamType};
+use crate::ulog::encoder::Encoder;
+#[cfg(test)]
+use crate::ulog::Topic;
 use crate::ulog::{micros, LogInfo, ParamValue, Recorder};
 
 /// Longest wall time encoded bytes wait on the tick thread.
@@ -47,7 +50,8 @@ pub struct UlogStream {
     shipped_at: Instant,
     /// Log time of the first record lost since the last shipped buffer [µs].
     lost_since_us: Option<u64>,
-    last_t_us: u64,
+    /// Log time of the first tick in the buffer [µs].
+    buf_start_us: Option<u64>,
     /// Ticks recorded.
     ticks: u64,
 }
@@ -63,7 +67,7 @@ impl UlogStream {
             open: false,
             shipped_at: Instant::now(),
             lost_since_us: None,
-            last_t_us: 0,
+            buf_start_us: None,
             ticks: 0,
         }
     }
@@ -82,7 +86,11 @@ impl UlogStream {
         self.lost_since_us = None;
         self.open = self.sender.open_ulog(path, self.wait);
         self.recorder.begin(&mut self.buf, micros(t_s), info, params);
-        self.ship();
+        if !self.ship() && self.open {
+            // A file without its definitions is unreadable: close it; the next tick tries again.
+            self.sender.close_ulog(false);
+            self.open = false;
+        }
     }
 
     /// Records one tick.
@@ -90,11 +98,7 @@ impl UlogStream {
         if !self.open {
             return;
         }
-        self.last_t_us = micros(view.t_s);
-        if let Some(since) = self.lost_since_us.take() {
-            let ms = self.last_t_us.saturating_sub(since) / 1000;
-            crate::ulog::encoder::Encoder::new(&mut self.buf).dropout(ms);
-        }
+        self.buf_start_us.get_or_insert(micros(view.t_s));
         self.recorder.record(&mut self.buf, view);
         // The clock is read every CLOCK_EVERY ticks only (it costs as much as a record).
         self.ticks = self.ticks.wrapping_add(1);
@@ -117,19 +121,32 @@ impl UlogStream {
         }
     }
 
-    /// Hands the buffer to the writer.
-    pub fn ship(&mut self) {
+    /// Hands the buffer to the writer; false when the writer's full queue dropped it. After lost
+    /// buffers, the first one that gets through starts with a dropout message spanning the lost
+    /// log time.
+    pub fn ship(&mut self) -> bool {
         self.shipped_at = Instant::now();
         if self.buf.is_empty() {
-            return;
+            return true;
+        }
+        let start_us = self.buf_start_us.take();
+        if let (Some(lost), Some(start)) = (self.lost_since_us, start_us) {
+            let mut gap = Vec::with_capacity(5);
+            Encoder::new(&mut gap).dropout(start.saturating_sub(lost) / 1000);
+            self.buf.splice(0..0, gap);
         }
         let fresh = self.sender.buffer(SHIP_BYTES + (1 << 12));
         let bytes = std::mem::replace(&mut self.buf, fresh);
-        if !self.sender.ulog(bytes, self.wait) {
-            // The lost bytes may have held subscriptions: announce them again.
-            self.recorder.forget_subscriptions();
-            self.lost_since_us.get_or_insert(self.last_t_us);
+        if self.sender.ulog(bytes, self.wait) {
+            self.lost_since_us = None;
+            return true;
         }
+        // The lost bytes may have held subscriptions: announce them again.
+        self.recorder.forget_subscriptions();
+        if let Some(start) = start_us {
+            self.lost_since_us.get_or_insert(start);
+        }
+        false
     }
 
     /// Ships what is left and closes the file.
@@ -145,5 +162,91 @@ impl UlogStream {
 impl Drop for UlogStream {
     fn drop(&mut self) {
         self.close();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::{ControllerKind, VehicleState};
+    use crate::math::Vec3;
+    use crate::runtime::flight_log::detached;
+    use crate::ulog::{Profile, RecorderSetup};
+
+    fn recorder() -> Recorder {
+        Recorder::new(RecorderSetup {
+            profile: Profile::Full,
+            rotors: 4,
+            omega_max_rad_s: 1000.0,
+            thrust_max_n: 40.0,
+            torque_max_b: Vec3::new(2.0, 2.0, 1.0),
+            believed_mass_kg: 1.5,
+            true_mass_kg: 1.5,
+            dt_s: 1e-3,
+        })
+    }
+
+    fn tick(stream: &mut UlogStream, t_s: f64) {
+        let state = VehicleState::at_rest(t_s, Vec3::zeros());
+        stream.record(&TickView {
+            t_s,
+            state: &state,
+            accel_b: Vec3::zeros(),
+            ref_w: Vec3::zeros(),
+            setpoint: None,
+            step: None,
+            events: &[],
+            snapshot: None,
+            motor_speeds: &[0.0; 4],
+            true_force_w: Vec3::zeros(),
+            true_torque_b: Vec3::zeros(),
+        });
+    }
+
+    /// The (type, payload) of every message after the 16-byte file header.
+    fn messages(bytes: &[u8]) -> Vec<(u8, Vec<u8>)> {
+        let (mut out, mut at) = (Vec::new(), 16);
+        while at + 3 <= bytes.len() {
+            let len = usize::from(u16::from_le_bytes([bytes[at], bytes[at + 1]]));
+            out.push((bytes[at + 2], bytes[at + 3..at + 3 + len].to_vec()));
+            at += 3 + len;
+        }
+        assert_eq!(at, bytes.len(), "whole messages only");
+        out
+    }
+
+    #[test]
+    fn a_full_queue_drops_whole_buffers_and_logs_the_gap_as_a_dropout() {
+        // Room for the open, the definitions and one buffer of data.
+        let (sender, mut take) = detached(3);
+        let mut stream = UlogStream::new(recorder(), sender, false);
+        let info = LogInfo::new("quad_x", ControllerKind::Geometric, None);
+        stream.open(PathBuf::from("x.ulg"), 0.0, &info, &[]);
+        tick(&mut stream, 0.0);
+        stream.ship();
+        for k in 1..=250 {
+            tick(&mut stream, k as f64 * 1e-3);
+            if k % 50 == 0 {
+                stream.ship(); // the queue is full: dropped
+            }
+        }
+        let mut written = take();
+        // The queue has room again: the next buffer starts with the gap.
+        tick(&mut stream, 0.251);
+        stream.ship();
+        written.extend(take());
+        let msgs = messages(&written);
+        let dropouts: Vec<u16> = msgs
+            .iter()
+            .filter(|(kind, _)| *kind == b'O')
+            .map(|(_, p)| u16::from_le_bytes([p[0], p[1]]))
+            .collect();
+        assert_eq!(dropouts, vec![250], "ticks 1 to 250 ms were lost");
+        let attitude_subscriptions = msgs
+            .iter()
+            .filter(|(kind, p)| *kind == b'A' && p[1..3] == Topic::VehicleAttitude.msg_id().to_le_bytes())
+            .count();
+        assert_eq!(attitude_subscriptions, 2, "subscribed again after the loss");
+        assert!(stream.sender.dropped() >= 5);
     }
 }
