@@ -70,6 +70,14 @@ impl LogSender {
         self.try_send(Record::Frame(t_us, bytes.to_vec()));
     }
 
+    /// Appends a logged string at `level` (MAVLink severity), log time `t_s` [s], to the open
+    /// ULog file, if any (a STATUSTEXT the links said).
+    pub fn logged_string(&self, level: u8, t_s: f64, text: &str) {
+        let mut bytes = Vec::with_capacity(12 + text.len());
+        crate::ulog::encoder::Encoder::new(&mut bytes).logged_string(level, crate::ulog::micros(t_s), text);
+        self.try_send(Record::Ulog(bytes));
+    }
+
     /// Opens the ULog file `path`, waiting for room when `wait`.
     pub fn open_ulog(&self, path: PathBuf, wait: bool) -> bool {
         self.send(Record::Open(path), wait)

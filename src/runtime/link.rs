@@ -175,10 +175,9 @@ fn read_burst(
 /// Carries out everything the machine decided, in order, until it has nothing more.
 async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo) {
     loop {
-        while let Some(frame) = machine.poll_received() {
-            if let Some(log) = &io.log {
-                log.frame(&frame);
-            }
+        if let Some(log) = &io.log {
+            std::iter::from_fn(|| machine.poll_received()).for_each(|frame| log.frame(&frame));
+            std::iter::from_fn(|| machine.poll_said()).for_each(|s| log.logged_string(s.severity, s.t_s, &s.text));
         }
         while let Some(t) = machine.poll_transmit() {
             if let Some(log) = &io.log {

@@ -223,6 +223,20 @@ pub struct LinkMachine<A> {
     to_vehicle: VecDeque<ToVehicle>,
     to_store: VecDeque<KeyToStore>,
     received: VecDeque<Vec<u8>>,
+    /// The STATUSTEXTs said to one client, for the flight log (kept when logging).
+    said: VecDeque<Said>,
+}
+
+/// A STATUSTEXT the link said to a client (a refusal, a calibration step, a signing change), for
+/// the flight log; the commander's announcements to everyone are logged by the recorder.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Said {
+    /// Simulated time of the vehicle's latest tick [s].
+    pub t_s: f64,
+    /// MAV_SEVERITY (0 emergency … 7 debug).
+    pub severity: u8,
+    /// The text.
+    pub text: String,
 }
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
@@ -258,6 +272,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             to_vehicle: VecDeque::new(),
             to_store: VecDeque::new(),
             received: VecDeque::new(),
+            said: VecDeque::new(),
         }
     }
 
@@ -313,6 +328,11 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// The next request for the vehicle.
     pub fn poll_vehicle(&mut self) -> Option<ToVehicle> {
         self.to_vehicle.pop_front()
+    }
+
+    /// The next STATUSTEXT said to one client, for the flight log (only while logging).
+    pub fn poll_said(&mut self) -> Option<Said> {
+        self.said.pop_front()
     }
 
     /// The next key to write to the key file.
@@ -373,6 +393,19 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// Queues `msg` to `to` on `link`.
     fn send(&mut self, now: Now, link: LinkKind, to: A, msg: &MavMessage) {
+        if let (MavMessage::STATUSTEXT(t), true) = (msg, self.record_received) {
+            let end = t.text.iter().position(|&b| b == 0).unwrap_or(t.text.len());
+            self.said.push_back(Said {
+                t_s: self.snapshot.t_s,
+                severity: t.severity as u8,
+                text: String::from_utf8_lossy(&t.text[..end]).into_owned(),
+            });
+        }
+        self.send_unlogged(now, link, to, msg);
+    }
+
+    /// [`Self::send`] without noting a STATUSTEXT for the flight log.
+    fn send_unlogged(&mut self, now: Now, link: LinkKind, to: A, msg: &MavMessage) {
         self.send_frame(now, link, to, |header| frame_message(header, msg));
     }
 
@@ -405,7 +438,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         for k in 0..self.ports.len() {
             let link = self.ports[k].kind;
             for to in self.ports[k].targets(now.wall_s) {
-                self.send(now, link, to, msg);
+                self.send_unlogged(now, link, to, msg);
             }
         }
     }
