@@ -9,11 +9,13 @@
 //! - [`scheduler`]: the tick threads; [`pacer`]: their pace; [`vehicle`]: one vehicle's lockstep.
 //! - [`link`]: the link task: sockets ↔ `mav::link::LinkMachine` ↔ the tick thread.
 //! - [`signing_store`], `signing_keeper.rs`: the `--signing-key` file and its timestamp.
-//! - [`flight_log`]: the tlog and run.csv of `--log`.
+//! - [`flight_log`]: the tlog and run.csv of `--log`; [`log_store`]: the flight logs in
+//!   `--log DIR/log/`, served over the log protocol and FTP.
 
 mod config;
 pub mod flight_log;
 pub mod link;
+pub mod log_store;
 pub mod pacer;
 pub mod scheduler;
 mod signing_keeper;
@@ -30,6 +32,7 @@ use tokio::sync::{mpsc, watch};
 
 use crate::math::Vec3;
 use crate::mav::link::{LinkConfig, LinkMachine};
+use crate::mav::logs::{LogStore, MemLogStore};
 use crate::mav::signing::Signing;
 use crate::mav::streams::LinkKind;
 use crate::mav::translate::Identity;
@@ -39,6 +42,7 @@ use crate::telemetry::Snapshot;
 pub use config::{Ready, RunConfig, RunReport, RuntimeError, VehicleReady, DEFAULT_SPACING_M};
 use flight_log::LogSender;
 use link::{LinkIo, LinkSockets, SigningStatus};
+use log_store::LogDir;
 pub use pacer::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
 use signing_keeper::{signing_keeper, SigningSetup};
@@ -111,6 +115,7 @@ fn setup_vehicle(
             .schedule_rotor_failure(*failure)
             .map_err(RuntimeError::RotorFailure)?;
     }
+    let mut logs: Box<dyn LogStore> = Box::new(MemLogStore::default());
     let log = match &config.log_dir {
         Some(dir) => {
             let dir = if config.count > 1 {
@@ -118,11 +123,12 @@ fn setup_vehicle(
             } else {
                 dir.clone()
             };
-            let (sender, writer) =
-                flight_log::start(&dir, vehicle.rotor_count()).map_err(|source| RuntimeError::Log {
-                    dir: dir.display().to_string(),
-                    source,
-                })?;
+            let log_error = |source| RuntimeError::Log {
+                dir: dir.display().to_string(),
+                source,
+            };
+            let (sender, writer) = flight_log::start(&dir, vehicle.rotor_count()).map_err(log_error)?;
+            logs = Box::new(LogDir::open(&dir.join("log")).map_err(log_error)?);
             vehicle.set_log(sender.clone());
             Some((sender, writer))
         }
@@ -154,6 +160,7 @@ fn setup_vehicle(
         signing_epoch: signing_now(),
         key_store: signing.store.is_some(),
         record_received: log.is_some(),
+        logs,
     });
     let io = LinkIo {
         sockets,
