@@ -16,7 +16,9 @@ count as running when they were still running then; `shell` gets typed lines on 
 examples talk to a mavsdk_server the user started first (`mavsdk_server -p 50051
 udpin://0.0.0.0:14540`), as their `System(mavsdk_server_address=..., port=50051)` expects.
 
-The flight log (`--log`) is then read back: the vehicle must never be disarmed more than 0.5 m
+An example that downloads flight logs finds the ones `SPECS` names in the vehicle's `--log`
+directory (seeded random bytes, PX4's layout `log/YYYY-MM-DD/HH_MM_SS.ulg`) and must bring each
+back byte for byte. The flight log (`--log`) is then read back: the vehicle must never be disarmed more than 0.5 m
 above the ground, must end on the ground when the example lands, and must have done what the
 example asks (the per-example check in `SPECS`: modes in HEARTBEAT.custom_mode, heights, messages).
 An example whose refusal is the PX4-like answer (a failure unit without a sensor model, a file
@@ -33,6 +35,7 @@ import json
 import math
 import os
 import pathlib
+import random
 import re
 import shutil
 import signal
@@ -172,10 +175,11 @@ SPECS = {
         "check": lambda s, out: [] if "FILE_DOES_NOT_EXIST" in out else ["no 'file does not exist' error"],
     },
     "logfile_download": {
-        "expect": "expected refusal",
-        "why": "the vehicle keeps no logs yet: LOG_ENTRY num_logs 0 as PX4 with none, which MAVSDK "
-               "reports as NO_LOGFILES",
-        "check": lambda s, out: [] if "NO_LOGFILES" in out else ["not answered 'no log files'"],
+        # Two logs in the vehicle's log directory before it starts, downloaded by the example to
+        # ./log-<date>.ulog and compared with them byte for byte (a size not a multiple of 90
+        # bytes, and a log of a few bytes).
+        "logs": {"2026-01-01/10_00_00.ulg": 20001, "2026-01-02/11_30_00.ulg": 3},
+        "check": lambda s, out: [] if "Log 1 from 2026-01-02T11:30:00Z" in out else ["second log not listed"],
     },
     "failure_injection": {
         "expect": "expected refusal",
@@ -338,6 +342,32 @@ def judge(tlog, target=None):
     return summary
 
 
+def place_logs(log_dir, logs):
+    """Writes the flight logs `logs` ({name under DIR/log: size}) into the vehicle's `--log` DIR,
+    seeded pseudo-random bytes; their bytes by name."""
+    placed = {}
+    for name, size in logs.items():
+        path = pathlib.Path(log_dir, "log", name)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        placed[name] = random.Random(name).randbytes(size)
+        path.write_bytes(placed[name])
+    return placed
+
+
+def downloads_differ(work_dir, placed):
+    """Problems with the example's downloads: `log-<date>.ulog` (MAVSDK's ISO date with ':' as
+    '-') must hold each placed log's bytes."""
+    problems = []
+    for name, data in placed.items():
+        day, clock = name[:-len(".ulg")].split("/")
+        got = pathlib.Path(work_dir, f"log-{day}T{clock.replace('_', '-')}Z.ulog")
+        if not got.exists():
+            problems.append(f"{name} not downloaded to {got.name}")
+        elif got.read_bytes() != data:
+            problems.append(f"{got.name}: {got.stat().st_size} bytes differ from {name}'s {len(data)}")
+    return problems
+
+
 def fly(example, speedup, timeout_s, keep):
     """Runs one example in a new network namespace; its verdict as a dict."""
     spec = SPECS.get(example, {})
@@ -345,6 +375,7 @@ def fly(example, speedup, timeout_s, keep):
     scratch = pathlib.Path(tempfile.mkdtemp(prefix=f"rp-{example}-"))
     log_dir, work_dir = scratch / "log", scratch / "examples"
     shutil.copytree(EXAMPLES, work_dir)
+    placed = place_logs(log_dir, spec.get("logs", {}))
     inner = subprocess.run(
         ["unshare", "-n", sys.executable, __file__, "--inside", example, "--log-dir", str(log_dir),
          "--work-dir", str(work_dir), "--speedup", str(speedup), "--timeout", str(timeout_s)],
@@ -367,6 +398,7 @@ def fly(example, speedup, timeout_s, keep):
             problems.append("did not disarm after landing")
         if "check" in spec:
             problems += spec["check"](summary, output)
+        problems += downloads_differ(work_dir, placed)
     ran = verdict["exit"] == ("running" if spec.get("run_for") else "0")
     expect = verdict["expect"]
     if expect == "works":

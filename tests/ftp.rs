@@ -295,7 +295,16 @@ fn the_scratch_area_takes_files_and_nothing_escapes() {
     let mut unknown = Payload::request(Opcode::None, 50, 0, 0, &[]);
     unknown.opcode = 99;
     assert_eq!(nak(&ftp(&mut b, unknown)[0]), Some(7));
-    assert!(b.m.handle_log_file("run1.ulg", vec![1, 2, 3]).is_ok());
-    let mut seq = 60;
-    assert_eq!(list(&mut b, &mut seq, "/fs/microsd/log"), vec!["Frun1.ulg\t3"]);
+    // The flight logs' directory is the log store's (tests/log_download.rs): read-only.
+    for (k, path) in [&b"/fs/microsd/log/x.ulg"[..], b"/fs/microsd/log/2026-01-01"]
+        .into_iter()
+        .enumerate()
+    {
+        let create = if k == 0 {
+            Opcode::CreateFile
+        } else {
+            Opcode::CreateDirectory
+        };
+        assert_eq!(nak(&one(&mut b, create, 60 + 2 * k as u16, 0, 0, path)), Some(9));
+    }
 }

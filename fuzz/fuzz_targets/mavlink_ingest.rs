@@ -1,5 +1,5 @@
 //! One UDP datagram → the shipped `LinkMachine` (signing, ingest, commands, parameters, missions,
-//! SETUP_SIGNING), whose requests a stub vehicle answers: a `Commander` tracking perfectly. An
+//! logs, SETUP_SIGNING), whose requests a stub vehicle answers: a `Commander` tracking perfectly. An
 //! input starting with `F` is framed chunks (valid CRCs around fuzzed payloads); `S` the same with
 //! a signing key on the vehicle, so every unsigned frame but HEARTBEAT is dropped. Invariants
 //! beyond "no panic": every datagram out is one frame; a request with a non-finite number is never
@@ -14,6 +14,7 @@ use rotorpilot::math::{UnitQuat, Vec3};
 use rotorpilot::mav::codec::{decode_datagram, frame_v2};
 use rotorpilot::mav::gcs::gcs_header;
 use rotorpilot::mav::link::{LinkConfig, LinkMachine, Now, ToVehicle, VehicleReply, VehicleRequest};
+use rotorpilot::mav::logs::MemLogStore;
 use rotorpilot::mav::signing::{Signing, SigningKey};
 use rotorpilot::mav::streams::LinkKind;
 use rotorpilot::mav::translate::Identity;
@@ -67,6 +68,7 @@ impl Stub {
         let links = vec![(LinkKind::Gcs, GCS), (LinkKind::Api, GCS + 1)];
         let mut config = LinkConfig::new(Identity::autopilot(1, 4), links, params.clone(), snapshot);
         (config.signing, config.key_store, config.record_received) = (Signing::new(key, 1), true, true);
+        config.logs = Box::new(MemLogStore::from_iter([(1_767_261_600, vec![7; 200])]));
         let x = VehicleState::at_rest(0.0, Vec3::new(0.0, 0.0, -0.1));
         let (machine, commander) = (LinkMachine::new(config), Commander::new(settings.commander));
         Self {

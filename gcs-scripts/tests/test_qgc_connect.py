@@ -95,10 +95,11 @@ def crc32_part(data, state=0):
 class Qgc:
     """A pymavlink link to `rotorpilot run` with QGroundControl's ids, heartbeating as QGC does."""
 
-    def __init__(self, binary):
+    def __init__(self, binary, *args):
+        """`rotorpilot run` on ephemeral ports with `args` added (`--log DIR`, …)."""
         self.proc = subprocess.Popen(
             [str(binary), "run", "--bind-gcs", "127.0.0.1:0", "--bind-api", "127.0.0.1:0", "--api",
-             "127.0.0.1:9", "--duration", "120"],
+             "127.0.0.1:9", "--duration", "120", *args],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.ready = json.loads(self.proc.stdout.readline())
         self.mav = mavutil.mavlink_connection(f"udpout:{self.ready['gcs_bind']}", dialect="common",

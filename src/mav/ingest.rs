@@ -13,6 +13,7 @@ use mavlink::MavHeader;
 use crate::commander::Request;
 use crate::navigation::{Home, Sticks};
 
+use super::logs::LogRequest;
 use super::mission_xfer::{mission_ack, uploadable, Ids};
 use super::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
 use super::params::{decode_param_set, name_of};
@@ -54,6 +55,8 @@ pub enum Action {
     },
     /// FILE_TRANSFER_PROTOCOL addressed to us: the 251-byte MAVLink FTP payload.
     Ftp(Box<[u8; 251]>),
+    /// LOG_REQUEST_LIST, LOG_REQUEST_DATA, LOG_REQUEST_END or LOG_ERASE addressed to us.
+    Log(LogRequest),
     /// SERIAL_CONTROL for the shell device addressed to us (not a reply).
     Shell(Box<mavlink::dialects::common::SERIAL_CONTROL_DATA>),
     /// PARAM_REQUEST_LIST: stream every parameter to the sender.
@@ -259,9 +262,17 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
                 initial_timestamp: m.initial_timestamp,
             }
         }
-        MavMessage::LOG_REQUEST_LIST(r) if ours(r.target_system, r.target_component) => {
-            Action::Reply(Box::new(super::logs::log_list()))
-        }
+        MavMessage::LOG_REQUEST_LIST(r) if ours(r.target_system, r.target_component) => Action::Log(LogRequest::List {
+            start: r.start,
+            end: r.end,
+        }),
+        MavMessage::LOG_REQUEST_DATA(r) if ours(r.target_system, r.target_component) => Action::Log(LogRequest::Data {
+            id: r.id,
+            offset: r.ofs,
+            count: r.count,
+        }),
+        MavMessage::LOG_REQUEST_END(r) if ours(r.target_system, r.target_component) => Action::Log(LogRequest::End),
+        MavMessage::LOG_ERASE(r) if ours(r.target_system, r.target_component) => Action::Log(LogRequest::Erase),
         // MISSION_ACK ends a download; nothing to answer.
         MavMessage::MISSION_ACK(_) => Action::Ignore,
         // SET_MODE has no ACK; the next heartbeat shows the result.

@@ -11,7 +11,7 @@
 //! - [`orbit`]: MAV_CMD_DO_ORBIT and ORBIT_EXECUTION_STATUS.
 //! - [`failure`]: MAV_CMD_INJECT_FAILURE (motors simulated, other units refused by name).
 //! - [`calibration`]: MAV_CMD_PREFLIGHT_CALIBRATION and its `[cal]` STATUSTEXT protocol.
-//! - [`logs`]: LOG_REQUEST_LIST answered with PX4's empty list.
+//! - [`logs`]: the flight logs (PX4's names, the store interface) and the log protocol.
 //! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
 //! - [`telemetry`] (with `status`): the streamed messages built from a snapshot.
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.

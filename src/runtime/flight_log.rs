@@ -14,6 +14,8 @@ use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TryS
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
+use super::log_store::LogDir;
+
 /// Longest time a record waits in a buffer before it reaches the file.
 pub const FLUSH_PERIOD: Duration = Duration::from_millis(100);
 /// Records queued for the writer.
@@ -30,10 +32,22 @@ enum Record {
     Frame(u64, Vec<u8>),
     /// Create the ULog file (and its directory) and make it the current one.
     Open(PathBuf),
+    /// Begin the flight log of wall time `at` in the log directory and make it the current one.
+    OpenFlight(SystemTime),
     /// Bytes of the current ULog file.
     Ulog(Vec<u8>),
     /// Close the current ULog file.
     Close,
+}
+
+/// Where a ULog file goes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum UlogTarget {
+    /// This file (created with its directory).
+    File(PathBuf),
+    /// The next flight log of the writer's log directory, armed at this wall time
+    /// ([`LogDir::begin`]: PX4's name, marked as being written until closed).
+    Flight(SystemTime),
 }
 
 /// Where the tick thread and the links send records.
@@ -78,9 +92,13 @@ impl LogSender {
         self.try_send(Record::Ulog(bytes));
     }
 
-    /// Opens the ULog file `path`, waiting for room when `wait`.
-    pub fn open_ulog(&self, path: PathBuf, wait: bool) -> bool {
-        self.send(Record::Open(path), wait)
+    /// Opens the ULog file `target`, waiting for room when `wait`.
+    pub fn open_ulog(&self, target: UlogTarget, wait: bool) -> bool {
+        let record = match target {
+            UlogTarget::File(path) => Record::Open(path),
+            UlogTarget::Flight(at) => Record::OpenFlight(at),
+        };
+        self.send(record, wait)
     }
 
     /// Queues bytes of the open ULog file, waiting for room when `wait`; false when dropped.
@@ -151,8 +169,9 @@ impl LogWriter {
     }
 }
 
-/// Starts the writer thread, with a tlog at `tlog` when given (created now).
-pub fn start(tlog: Option<PathBuf>) -> std::io::Result<(LogSender, LogWriter)> {
+/// Starts the writer thread, with a tlog at `tlog` when given (created now) and the flight logs
+/// in `flights`.
+pub fn start(tlog: Option<PathBuf>, flights: Option<LogDir>) -> std::io::Result<(LogSender, LogWriter)> {
     let tlog = match tlog {
         Some(path) => {
             if let Some(dir) = path.parent() {
@@ -167,7 +186,7 @@ pub fn start(tlog: Option<PathBuf>) -> std::io::Result<(LogSender, LogWriter)> {
     let returned = spares.clone();
     let handle = std::thread::Builder::new()
         .name("rotorpilot-log".into())
-        .spawn(move || write_loop(rx, tlog, &returned))?;
+        .spawn(move || write_loop(rx, tlog, flights, &returned))?;
     let sender = LogSender {
         tx,
         dropped: Arc::new(AtomicU64::new(0)),
@@ -184,8 +203,29 @@ fn create(path: &PathBuf) -> std::io::Result<File> {
     Ok(std::io::BufWriter::with_capacity(1 << 18, std::fs::File::create(path)?))
 }
 
-fn write_loop(rx: Receiver<Record>, mut tlog: Option<(File, PathBuf)>, spares: &Spares) -> Result<(), String> {
-    let mut ulog: Option<(File, PathBuf)> = None;
+/// The ULog file being written: the file, its path, and its time when it is a flight log.
+type Current = Option<(File, PathBuf, Option<u32>)>;
+
+/// Flushes and closes the current file; a flight log is then no longer being written.
+fn close(ulog: &mut Current, flights: Option<&LogDir>) -> Result<(), (PathBuf, std::io::Error)> {
+    let Some((mut f, path, flight)) = ulog.take() else {
+        return Ok(());
+    };
+    let flushed = f.flush();
+    drop(f);
+    if let (Some(dir), Some(utc_s)) = (flights, flight) {
+        dir.end(utc_s);
+    }
+    flushed.map_err(|e| (path, e))
+}
+
+fn write_loop(
+    rx: Receiver<Record>,
+    mut tlog: Option<(File, PathBuf)>,
+    flights: Option<LogDir>,
+    spares: &Spares,
+) -> Result<(), String> {
+    let mut ulog: Current = None;
     let mut last_flush = Instant::now();
     let mut first_error: Option<String> = None;
     let mut fail = |path: &PathBuf, e: std::io::Error| {
@@ -205,18 +245,30 @@ fn write_loop(rx: Receiver<Record>, mut tlog: Option<(File, PathBuf)>, spares: &
                 }
             }
             Ok(Record::Open(path)) => {
-                if let Some((mut f, old)) = ulog.take() {
-                    if let Err(e) = f.flush() {
-                        fail(&old, e);
-                    }
+                if let Err((old, e)) = close(&mut ulog, flights.as_ref()) {
+                    fail(&old, e);
                 }
                 match create(&path) {
-                    Ok(f) => ulog = Some((f, path)),
+                    Ok(f) => ulog = Some((f, path, None)),
                     Err(e) => fail(&path, e),
                 }
             }
+            Ok(Record::OpenFlight(at)) => {
+                if let Err((old, e)) = close(&mut ulog, flights.as_ref()) {
+                    fail(&old, e);
+                }
+                if let Some(dir) = &flights {
+                    match dir.begin(at) {
+                        Ok(new) => {
+                            let file = std::io::BufWriter::with_capacity(1 << 18, new.file);
+                            ulog = Some((file, new.path, Some(new.utc_s)));
+                        }
+                        Err(e) => fail(&dir.root().to_path_buf(), e),
+                    }
+                }
+            }
             Ok(Record::Ulog(mut bytes)) => {
-                if let Some((f, path)) = &mut ulog {
+                if let Some((f, path, _)) = &mut ulog {
                     if let Err(e) = f.write_all(&bytes) {
                         fail(path, e);
                     }
@@ -229,10 +281,8 @@ fn write_loop(rx: Receiver<Record>, mut tlog: Option<(File, PathBuf)>, spares: &
                 }
             }
             Ok(Record::Close) => {
-                if let Some((mut f, path)) = ulog.take() {
-                    if let Err(e) = f.flush() {
-                        fail(&path, e);
-                    }
+                if let Err((path, e)) = close(&mut ulog, flights.as_ref()) {
+                    fail(&path, e);
                 }
             }
             Err(RecvTimeoutError::Timeout) => {}
@@ -240,17 +290,21 @@ fn write_loop(rx: Receiver<Record>, mut tlog: Option<(File, PathBuf)>, spares: &
         }
         if last_flush.elapsed() >= FLUSH_PERIOD {
             last_flush = Instant::now();
-            for (f, path) in [&mut tlog, &mut ulog].into_iter().flatten() {
+            let current = ulog.as_mut().map(|(f, path, _)| (f, &*path));
+            for (f, path) in [tlog.as_mut().map(|(f, p)| (f, &*p)), current].into_iter().flatten() {
                 if let Err(e) = f.flush() {
                     fail(path, e);
                 }
             }
         }
     }
-    for (f, path) in [&mut tlog, &mut ulog].into_iter().flatten() {
+    if let Some((f, path)) = &mut tlog {
         if let Err(e) = f.flush() {
             fail(path, e);
         }
+    }
+    if let Err((path, e)) = close(&mut ulog, flights.as_ref()) {
+        fail(&path, e);
     }
     first_error.map_or(Ok(()), Err)
 }

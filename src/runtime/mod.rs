@@ -12,12 +12,13 @@
 //! - [`flight_log`]: the log writer thread (tlog and ULog files of `--log`, `sim`, `fly`).
 //! - [`ulog_file`]: one ULog file for a whole headless run (`sim`, `fly`).
 //! - [`ulog_stream`]: the tick thread's side of a ULog file.
-//! - [`log_names`]: PX4's flight-log file names.
+//! - [`log_store`]: the flight logs in `--log DIR/log/`, written one per arming, served over the
+//!   log protocol and FTP.
 
 mod config;
 pub mod flight_log;
 pub mod link;
-pub mod log_names;
+pub mod log_store;
 pub mod pacer;
 pub mod scheduler;
 mod signing_keeper;
@@ -36,6 +37,7 @@ use tokio::sync::{mpsc, watch};
 
 use crate::math::Vec3;
 use crate::mav::link::{LinkConfig, LinkMachine};
+use crate::mav::logs::{LogStore, MemLogStore};
 use crate::mav::signing::Signing;
 use crate::mav::streams::LinkKind;
 use crate::mav::translate::Identity;
@@ -45,6 +47,7 @@ use crate::telemetry::Snapshot;
 pub use config::{Ready, RunConfig, RunReport, RuntimeError, VehicleReady, DEFAULT_SPACING_M};
 use flight_log::LogSender;
 use link::{LinkIo, LinkSockets, SigningStatus};
+use log_store::LogDir;
 pub use pacer::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
 use signing_keeper::{signing_keeper, SigningSetup};
@@ -117,6 +120,7 @@ fn setup_vehicle(
             .schedule_rotor_failure(*failure)
             .map_err(RuntimeError::RotorFailure)?;
     }
+    let mut logs: Box<dyn LogStore> = Box::new(MemLogStore::default());
     let log = match &config.log_dir {
         Some(dir) => {
             let dir = if config.count > 1 {
@@ -124,12 +128,15 @@ fn setup_vehicle(
             } else {
                 dir.clone()
             };
+            let log_error = |source| RuntimeError::Log {
+                dir: dir.display().to_string(),
+                source,
+            };
+            let flights = LogDir::open(&dir.join("log")).map_err(log_error)?;
+            logs = Box::new(flights.clone());
             let (sender, writer) =
-                flight_log::start(Some(dir.join("flight.tlog"))).map_err(|source| RuntimeError::Log {
-                    dir: dir.display().to_string(),
-                    source,
-                })?;
-            vehicle.set_log(sender.clone(), &dir, config.log_profile);
+                flight_log::start(Some(dir.join("flight.tlog")), Some(flights)).map_err(log_error)?;
+            vehicle.set_log(sender.clone(), config.log_profile);
             Some((sender, writer))
         }
         None => None,
@@ -160,6 +167,7 @@ fn setup_vehicle(
         signing_epoch: signing_now(),
         key_store: signing.store.is_some(),
         record_received: log.is_some(),
+        logs,
     });
     let io = LinkIo {
         sockets,

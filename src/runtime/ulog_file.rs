@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::flight_log::{self, LogWriter};
+use super::flight_log::{self, LogWriter, UlogTarget};
 use super::ulog_stream::UlogStream;
 use crate::lockstep::{Exit, Observer, SnapshotReport, Tick, TickView};
 use crate::sitl::SimPlant;
@@ -33,9 +33,9 @@ impl UlogFile {
         }
         // Fail here, not in the writer thread, when the file cannot be created.
         std::fs::File::create(path)?;
-        let (sender, writer) = flight_log::start(None)?;
+        let (sender, writer) = flight_log::start(None, None)?;
         let mut stream = UlogStream::new(recorder, sender, true);
-        stream.open(path.to_path_buf(), t_s, info, params);
+        stream.open(UlogTarget::File(path.to_path_buf()), t_s, info, params);
         Ok(Self {
             stream,
             writer,

@@ -4,10 +4,9 @@
 //! `SHIP_PERIOD` + the writer's flush period is on disk. A buffer the writer's full queue cannot
 //! take is dropped (autopilot only; `sim` and `fly` wait) and the gap is logged as a dropout.
 
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use super::flight_log::LogSender;
+use super::flight_log::{LogSender, UlogTarget};
 use crate::lockstep::TickView;
 use crate::params::{ParamDef, ParamTable, ParamType};
 use crate::ulog::encoder::Encoder;
@@ -77,14 +76,14 @@ impl UlogStream {
         self.open
     }
 
-    /// Opens `path` at log time `t_s` [s] and writes the definitions (info, every parameter).
-    pub fn open(&mut self, path: PathBuf, t_s: f64, info: &LogInfo, params: &[(String, ParamValue)]) {
+    /// Opens `target` at log time `t_s` [s] and writes the definitions (info, every parameter).
+    pub fn open(&mut self, target: UlogTarget, t_s: f64, info: &LogInfo, params: &[(String, ParamValue)]) {
         if self.open {
             self.close();
         }
         self.buf.clear();
         self.lost_since_us = None;
-        self.open = self.sender.open_ulog(path, self.wait);
+        self.open = self.sender.open_ulog(target, self.wait);
         self.recorder.begin(&mut self.buf, micros(t_s), info, params);
         if !self.ship() && self.open {
             // A file without its definitions is unreadable: close it; the next tick tries again.
@@ -221,7 +220,7 @@ mod tests {
         let (sender, mut take) = detached(3);
         let mut stream = UlogStream::new(recorder(), sender, false);
         let info = LogInfo::new("quad_x", ControllerKind::Geometric, None);
-        stream.open(PathBuf::from("x.ulg"), 0.0, &info, &[]);
+        stream.open(UlogTarget::File("x.ulg".into()), 0.0, &info, &[]);
         tick(&mut stream, 0.0);
         stream.ship();
         for k in 1..=250 {

@@ -13,8 +13,7 @@ use crate::params::{ParamError, ParamTable};
 use crate::sitl::SimPlant;
 use crate::telemetry::Snapshot;
 
-use super::flight_log::LogSender;
-use super::log_names::flight_log_path;
+use super::flight_log::{LogSender, UlogTarget};
 use super::ulog_stream::{log_params, param_value, UlogStream};
 use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
 
@@ -32,13 +31,10 @@ pub struct Vehicle {
     log_info: LogInfo,
 }
 
-/// The ULog files of `--log DIR`: the stream and where each flight's file goes.
+/// The ULog files of `--log DIR`, one per flight (the writer names them in `DIR/log/`).
 #[derive(Debug)]
 struct FlightLogs {
     stream: UlogStream,
-    dir: std::path::PathBuf,
-    /// The last file opened (a second arming within the same second gets a suffix).
-    last: Option<std::path::PathBuf>,
 }
 
 /// What one tick produced for the links.
@@ -75,16 +71,15 @@ impl Vehicle {
         })
     }
 
-    /// Writes a ULog file of every flight into `dir/log/` through `sender`, with `profile`.
-    pub fn set_log(&mut self, sender: LogSender, dir: &std::path::Path, profile: Profile) {
+    /// Writes a ULog file of every flight through `sender` (into its log directory), with
+    /// `profile`.
+    pub fn set_log(&mut self, sender: LogSender, profile: Profile) {
         let setup = RecorderSetup {
             profile,
             ..self.log_setup.clone()
         };
         self.log = Some(FlightLogs {
             stream: UlogStream::new(Recorder::new(setup), sender, false),
-            dir: dir.to_path_buf(),
-            last: None,
         });
     }
 
@@ -130,12 +125,11 @@ impl Vehicle {
         if let Some(log) = &mut self.log {
             let armed = tick.report.armed;
             if armed && !log.stream.is_open() {
-                let path = flight_log_path(&log.dir, std::time::SystemTime::now(), log.last.as_deref());
+                let now = std::time::SystemTime::now();
                 let mut info = self.log_info.clone();
-                info.utc_s = crate::runtime::log_names::unix_s(std::time::SystemTime::now());
+                info.utc_s = now.duration_since(std::time::UNIX_EPOCH).ok().map(|d| d.as_secs());
                 let params = log_params(self.lockstep.pilot().params());
-                log.stream.open(path.clone(), tick.t_s, &info, &params);
-                log.last = Some(path);
+                log.stream.open(UlogTarget::Flight(now), tick.t_s, &info, &params);
             }
             log.stream.record(&TickView::of(&tick, self.lockstep.plant()));
             if !armed && log.stream.is_open() {

@@ -10,7 +10,8 @@
 //! last byte. Pure: the caller passes the time and paces the burst.
 
 use super::payload::{ErrorCode, Opcode, Payload, DATA_MAX, EINVAL};
-use super::vfs::{Entry, Vfs};
+use super::storage::Storage;
+use super::vfs::Entry;
 
 /// Sessions open at once (PX4 keeps one per link: a second open gets NoSessionsAvailable).
 pub const MAX_SESSIONS: usize = 1;
@@ -49,7 +50,7 @@ pub struct FtpServer {
 impl FtpServer {
     /// The reply to `req` at `now_s` [s] against `fs`; `None` when a burst started (its frames
     /// come from [`burst_frame`](Self::burst_frame)).
-    pub fn handle(&mut self, fs: &mut Vfs, req: &Payload, now_s: f64) -> Option<Payload> {
+    pub fn handle(&mut self, fs: &mut Storage, req: &Payload, now_s: f64) -> Option<Payload> {
         self.last_activity_s = now_s;
         let result = if usize::from(req.size) > DATA_MAX {
             Err(ErrorCode::InvalidDataSize)
@@ -77,23 +78,20 @@ impl FtpServer {
     }
 
     /// The next frame of the burst in progress at `now_s` [s], `None` when there is none.
-    pub fn burst_frame(&mut self, fs: &Vfs, now_s: f64) -> Option<Payload> {
+    pub fn burst_frame(&mut self, fs: &mut Storage, now_s: f64) -> Option<Payload> {
         let burst = self.burst.as_mut()?;
         self.last_activity_s = now_s;
         let mut frame = Payload::request(Opcode::Ack, burst.seq, burst.session, burst.offset, &[]);
         frame.req_opcode = Opcode::BurstReadFile as u8;
         burst.seq = burst.seq.wrapping_add(1);
         let session = self.sessions.get(usize::from(burst.session)).and_then(Option::as_ref);
-        let error = match session.map(|s| fs.read(&s.path)) {
+        let error = match session.map(|s| fs.read_at(&s.path, burst.offset, DATA_MAX)) {
             None => Some(ErrorCode::InvalidSession),
             Some(Err(e)) => Some(e),
-            Some(Ok(bytes)) if burst.offset as usize >= bytes.len() => Some(ErrorCode::Eof),
             Some(Ok(bytes)) => {
-                let start = burst.offset as usize;
-                let end = (start + DATA_MAX).min(bytes.len());
-                frame.data = bytes[start..end].to_vec();
+                frame.data = bytes;
                 frame.size = frame.data.len() as u8;
-                burst.offset = end as u32;
+                burst.offset += u32::from(frame.size);
                 None
             }
         };
@@ -130,15 +128,15 @@ impl FtpServer {
     }
 
     /// Opens `path` in a free session: ACK with the session id and the file size.
-    fn open(&mut self, fs: &mut Vfs, req: &Payload, write: Option<bool>) -> Result<Option<Payload>, ErrorCode> {
+    fn open(&mut self, fs: &mut Storage, req: &Payload, write: Option<bool>) -> Result<Option<Payload>, ErrorCode> {
         let free = self.sessions.iter().position(Option::is_none);
         let id = free.ok_or(ErrorCode::NoSessionsAvailable)?;
         let raw = req.path().ok_or(ErrorCode::Fail)?;
         let path = match write {
             None => super::vfs::normalize(raw)?,
-            Some(truncate) => fs.open_write(raw, truncate)?,
+            Some(truncate) => fs.vfs.open_write(raw, truncate)?,
         };
-        let size = fs.read(&path)?.len() as u32;
+        let size = u32::try_from(fs.size(&path)?).unwrap_or(u32::MAX);
         self.sessions[id] = Some(Session {
             path,
             write: write.is_some(),
@@ -149,7 +147,7 @@ impl FtpServer {
     }
 
     /// One request's reply, `None` for a burst, or why it failed.
-    fn work(&mut self, fs: &mut Vfs, req: &Payload) -> Result<Option<Payload>, ErrorCode> {
+    fn work(&mut self, fs: &mut Storage, req: &Payload) -> Result<Option<Payload>, ErrorCode> {
         let path = || req.path().ok_or(ErrorCode::Fail);
         let done = |_| Ok(Some(req.ack(Vec::new())));
         let Some(opcode) = Opcode::from_u8(req.opcode) else {
@@ -175,13 +173,8 @@ impl FtpServer {
             Opcode::CreateFile => self.open(fs, req, Some(true)),
             Opcode::OpenFileWO => self.open(fs, req, Some(false)),
             Opcode::ReadFile => {
-                let bytes = fs.read(&self.session(req.session)?.path)?;
-                let start = req.offset as usize;
-                if start >= bytes.len() {
-                    return Err(ErrorCode::Eof);
-                }
-                let end = (start + usize::from(req.size)).min(bytes.len());
-                Ok(Some(req.ack(bytes[start..end].to_vec())))
+                let path = &self.session(req.session)?.path;
+                Ok(Some(req.ack(fs.read_at(path, req.offset, usize::from(req.size))?)))
             }
             Opcode::BurstReadFile => {
                 self.session(req.session)?;
@@ -197,16 +190,16 @@ impl FtpServer {
                 if !session.write {
                     return Err(ErrorCode::FileProtected);
                 }
-                let written = fs.write(&session.path.clone(), req.offset as usize, &req.data)?;
+                let written = fs.vfs.write(&session.path.clone(), req.offset as usize, &req.data)?;
                 Ok(Some(req.ack((written as u32).to_le_bytes().to_vec())))
             }
-            Opcode::RemoveFile => done(fs.remove_file(path()?)?),
-            Opcode::CreateDirectory => done(fs.create_dir(path()?)?),
-            Opcode::RemoveDirectory => done(fs.remove_dir(path()?)?),
-            Opcode::TruncateFile => done(fs.truncate(path()?, req.offset as usize)?),
+            Opcode::RemoveFile => done(fs.vfs.remove_file(path()?)?),
+            Opcode::CreateDirectory => done(fs.vfs.create_dir(path()?)?),
+            Opcode::RemoveDirectory => done(fs.vfs.remove_dir(path()?)?),
+            Opcode::TruncateFile => done(fs.vfs.truncate(path()?, req.offset as usize)?),
             Opcode::Rename => {
                 let to = req.second_path().ok_or(ErrorCode::FailErrno(EINVAL))?;
-                done(fs.rename(path()?, to)?)
+                done(fs.vfs.rename(path()?, to)?)
             }
             Opcode::CalcFileCRC32 => Ok(Some(req.ack(fs.crc32(path()?)?.to_le_bytes().to_vec()))),
             Opcode::Ack | Opcode::Nak => Err(ErrorCode::UnknownCommand),

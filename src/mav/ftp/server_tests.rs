@@ -1,12 +1,13 @@
 use super::*;
 use crate::mav::crc32::crc32_part;
 use crate::mav::ftp::payload::ENOSPC;
+use crate::mav::ftp::Vfs;
 
-fn fs() -> Vfs {
+fn fs() -> Storage {
     let mut fs = Vfs::new(1000);
     fs.publish("/etc/extras/big.bin", (0..600u32).map(|i| i as u8).collect())
         .unwrap();
-    fs
+    Storage::new(fs, Box::<crate::mav::logs::MemLogStore>::default())
 }
 
 fn req(op: Opcode, seq: u16, session: u8, offset: u32, data: &[u8]) -> Payload {
@@ -79,7 +80,7 @@ fn a_burst_streams_the_file_then_naks_eof() {
         .is_none());
     let mut got = Vec::new();
     let mut seqs = Vec::new();
-    while let Some(frame) = s.burst_frame(&fs, 0.0) {
+    while let Some(frame) = s.burst_frame(&mut fs, 0.0) {
         seqs.push(frame.seq);
         if frame.opcode == Opcode::Nak as u8 {
             assert_eq!(frame.data, vec![6]);
@@ -90,7 +91,7 @@ fn a_burst_streams_the_file_then_naks_eof() {
     }
     assert_eq!(got, (100..600u32).map(|i| i as u8).collect::<Vec<_>>());
     assert_eq!(seqs, vec![3, 4, 5, 6]);
-    assert!(!s.bursting() && s.burst_frame(&fs, 0.0).is_none());
+    assert!(!s.bursting() && s.burst_frame(&mut fs, 0.0).is_none());
 }
 
 #[test]

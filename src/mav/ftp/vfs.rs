@@ -1,7 +1,7 @@
-//! The file system MAVLink FTP serves, held in memory: read-only files the vehicle publishes
-//! (component metadata under `/etc/extras`, flight logs under [`LOG_DIR`]), and a writable
-//! scratch area under [`SCRATCH_ROOT`] (PX4 allows writes only below `/fs/microsd/`) bounded to
-//! a number of bytes. Paths are normalised before use: empty and `.` components are dropped, a
+//! The in-memory part of the file system MAVLink FTP serves: read-only files the vehicle
+//! publishes (component metadata under `/etc/extras`), the empty [`LOG_DIR`] where the flight
+//! logs are mounted (`storage.rs`), and a writable scratch area under [`SCRATCH_ROOT`] (PX4 allows
+//! writes only below `/fs/microsd/`) bounded to a number of bytes. Paths are normalised before use: empty and `.` components are dropped, a
 //! relative path starts at `/`, and a `..` component is refused (FileProtected), so no request
 //! reaches anything but these nodes. Errors are the NAK codes the server sends. Pure.
 
@@ -14,7 +14,7 @@ use crate::mav::crc32::crc32_part;
 
 /// The writable area: everything strictly below it except [`LOG_DIR`].
 pub const SCRATCH_ROOT: &str = "/fs/microsd";
-/// Where flight logs are published (read-only for clients).
+/// Where the flight logs are mounted (read-only for clients).
 pub const LOG_DIR: &str = "/fs/microsd/log";
 /// Bytes the scratch files may hold together, by default.
 pub const SCRATCH_LIMIT_BYTES: usize = 1 << 20;
@@ -40,6 +40,9 @@ pub enum PublishError {
     /// A directory is there.
     #[error("cannot publish {0:?}: a directory is there")]
     Directory(String),
+    /// Inside [`LOG_DIR`], whose files are the log store's.
+    #[error("cannot publish {0:?}: the log directory shows the log store")]
+    Logs(String),
 }
 
 /// `raw` as an absolute path without empty or `.` components; FileProtected for `..`.
@@ -97,7 +100,7 @@ impl Vfs {
         }
     }
 
-    /// Publishes a read-only file at `path` (replacing one there): component metadata, a log.
+    /// Publishes a read-only file at `path` (replacing one there): component metadata.
     pub fn publish(&mut self, path: &str, bytes: Vec<u8>) -> Result<(), PublishError> {
         let invalid = || PublishError::InvalidPath(path.to_string());
         let norm = normalize(path).map_err(|_| invalid())?;
@@ -107,19 +110,14 @@ impl Vfs {
         if writable(&norm) {
             return Err(PublishError::Scratch(path.to_string()));
         }
+        if norm.starts_with(&format!("{LOG_DIR}/")) {
+            return Err(PublishError::Logs(path.to_string()));
+        }
         if self.is_dir(&norm) {
             return Err(PublishError::Directory(path.to_string()));
         }
         self.files.insert(norm, bytes);
         Ok(())
-    }
-
-    /// Publishes the flight log `name` in [`LOG_DIR`] (a plain file name).
-    pub fn publish_log(&mut self, name: &str, bytes: Vec<u8>) -> Result<(), PublishError> {
-        if name.is_empty() || name.contains('/') || name == "." || name == ".." {
-            return Err(PublishError::InvalidPath(name.to_string()));
-        }
-        self.publish(&format!("{LOG_DIR}/{name}"), bytes)
     }
 
     /// True when a directory is at the normalised `path`.

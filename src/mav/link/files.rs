@@ -1,16 +1,18 @@
 //! MAVLink FTP on every link and the component metadata it serves: one [`FtpServer`] per link
-//! (PX4 runs one per MAVLink instance) over the vehicle's one file system, replies to the
-//! sender, and burst reads paced at one frame per [`FTP_BURST_PERIOD_S`] of wall time to the
-//! client that asked; COMPONENT_METADATA / COMPONENT_INFORMATION carry the general metadata
-//! file's CRC.
+//! (PX4 runs one per MAVLink instance) over the vehicle's one file system (the metadata and
+//! scratch files in memory, the flight logs from the log store), replies to the sender, and
+//! burst reads paced at one frame per [`FTP_BURST_PERIOD_S`] of wall time to the client that
+//! asked; COMPONENT_METADATA / COMPONENT_INFORMATION carry the general metadata file's CRC.
 
 use std::hash::Hash;
 
 use mavlink::dialects::common::{MavMessage, FILE_TRANSFER_PROTOCOL_DATA};
 use mavlink::MavHeader;
 
+use super::logs::LogLink;
 use super::{LinkKind, LinkMachine, Now};
-use crate::mav::ftp::{FtpServer, Payload, PublishError, Vfs};
+use crate::mav::ftp::{FtpServer, Payload, Storage, Vfs};
+use crate::mav::logs::LogStore;
 use crate::mav::metadata;
 use crate::params::ParamTable;
 
@@ -28,38 +30,46 @@ struct FtpLink<A> {
     next_s: f64,
 }
 
-/// The vehicle's files and the FTP servers of its links.
+/// The vehicle's files, the FTP servers and the log protocol of its links.
 #[derive(Debug)]
 pub(super) struct Files<A> {
-    fs: Vfs,
+    pub(super) fs: Storage,
     links: Vec<FtpLink<A>>,
+    /// The log protocol of each link.
+    pub(super) logs: Vec<LogLink<A>>,
     /// CRC-32 of the general metadata file.
     pub general_crc: u32,
 }
 
 impl<A> Files<A> {
-    /// The file system with the component metadata of `params`, a server per link of `links`.
-    pub fn new(params: &ParamTable, links: impl Iterator<Item = LinkKind>) -> Self {
-        let mut fs = Vfs::default();
+    /// The file system with the component metadata of `params` and the flight logs of `logs`,
+    /// an FTP server and a log server per link of `links`.
+    pub fn new(params: &ParamTable, links: &[LinkKind], logs: Box<dyn LogStore>) -> Self {
+        let mut vfs = Vfs::default();
         // The metadata paths are fixed and outside the scratch area: publishing cannot fail.
-        let general_crc = metadata::install(&mut fs, params).unwrap_or_default();
-        let links = links
+        let general_crc = metadata::install(&mut vfs, params).unwrap_or_default();
+        let ftp = links
+            .iter()
             .map(|link| FtpLink {
-                link,
+                link: *link,
                 server: FtpServer::default(),
                 client: None,
                 next_s: 0.0,
             })
             .collect();
-        Self { fs, links, general_crc }
+        Self {
+            fs: Storage::new(vfs, logs),
+            links: ftp,
+            logs: links.iter().map(|link| LogLink::new(*link)).collect(),
+            general_crc,
+        }
     }
 
-    /// Wall time the next burst frame of any link is due [s].
-    pub fn next_burst_s(&self) -> Option<f64> {
-        self.links
-            .iter()
-            .filter(|l| l.server.bursting())
-            .map(|l| l.next_s)
+    /// Wall time the next burst frame or log message of any link is due [s].
+    pub fn next_due_s(&self) -> Option<f64> {
+        let bursts = self.links.iter().filter(|l| l.server.bursting()).map(|l| l.next_s);
+        bursts
+            .chain(self.logs.iter().filter_map(LogLink::due_s))
             .reduce(f64::min)
     }
 }
@@ -75,14 +85,9 @@ fn ftp_message(ids: (u8, u8), payload: &Payload) -> MavMessage {
 }
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
-    /// Publishes the flight log `name` (a file name) in the FTP log directory.
-    pub fn handle_log_file(&mut self, name: &str, bytes: Vec<u8>) -> Result<(), PublishError> {
-        self.files.fs.publish_log(name, bytes)
-    }
-
-    /// The files served over MAVLink FTP.
+    /// The files served over MAVLink FTP from memory (metadata, scratch area).
     pub fn files(&self) -> &Vfs {
-        &self.files.fs
+        &self.files.fs.vfs
     }
 
     /// One FTP request from `from` on `link`: the reply to the sender, or a burst that starts.

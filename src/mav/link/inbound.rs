@@ -113,6 +113,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 }
             }
             Action::Ftp(payload) => self.ftp(now, link, from, header, &payload),
+            Action::Log(request) => self.log_request(now, link, from, request),
             Action::Shell(msg) => self.shell(now, link, from, header, &msg),
             Action::ParamList => {
                 self.param_lists.retain(|l| !(l.link == link && l.to == from));

@@ -20,6 +20,7 @@
 //! - `params.rs`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ, PARAM_SET and its echo.
 //! - `mission.rs`: the mission protocol against the stored plans (mission, fence, rally).
 //! - `files.rs`: MAVLink FTP per link, burst pacing, component metadata.
+//! - `logs.rs`: the log protocol per link (list, download, erase of the log store's logs), paced.
 //! - `console.rs`: the MAVLink shell (SERIAL_CONTROL) per client.
 //! - `duties.rs`: what time brings: heartbeats, streams, link loss, retransmissions.
 
@@ -28,6 +29,7 @@ mod console;
 mod duties;
 mod files;
 mod inbound;
+mod logs;
 mod mission;
 mod params;
 mod port;
@@ -43,11 +45,13 @@ use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::codec::frame_message;
+use super::logs::{LogStore, MemLogStore};
 use super::plan_store::PlanStore;
 use super::signing::{Signing, SigningKey};
 use super::streams::LinkKind;
 use super::translate::Identity;
 use files::Files;
+pub use logs::{LOG_MESSAGES_AT_ONCE, LOG_MESSAGE_PERIOD_S};
 use params::ParamList;
 use port::Port;
 
@@ -156,11 +160,13 @@ pub struct LinkConfig<A> {
     pub key_store: bool,
     /// Received frames are handed out for the tlog ([`LinkMachine::poll_received`]).
     pub record_received: bool,
+    /// The flight logs served by the log protocol and at `/fs/microsd/log` over FTP.
+    pub logs: Box<dyn LogStore>,
 }
 
 impl<A> LinkConfig<A> {
     /// A vehicle with `identity` on `links`, `params` and `snapshot` at start; no signing key,
-    /// no key file, received frames not recorded.
+    /// no key file, received frames not recorded, no flight logs.
     pub fn new(identity: Identity, links: Vec<(LinkKind, A)>, params: ParamTable, snapshot: Snapshot) -> Self {
         Self {
             identity,
@@ -171,6 +177,7 @@ impl<A> LinkConfig<A> {
             signing_epoch: 0,
             key_store: false,
             record_received: false,
+            logs: Box::new(MemLogStore::default()),
         }
     }
 }
@@ -248,7 +255,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .enumerate()
             .map(|(id, (kind, remote))| Port::new(*kind, *remote, id as u8))
             .collect();
-        let files = Files::new(&config.params, config.links.iter().map(|(kind, _)| *kind));
+        let kinds: Vec<LinkKind> = config.links.iter().map(|(kind, _)| *kind).collect();
+        let files = Files::new(&config.params, &kinds, config.logs);
         Self {
             identity: config.identity,
             ports,
@@ -351,7 +359,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .iter()
             .map(|l| l.next_s)
             .fold(self.next_duty_s, f64::min)
-            .min(self.files.next_burst_s().unwrap_or(f64::INFINITY))
+            .min(self.files.next_due_s().unwrap_or(f64::INFINITY))
     }
 
     /// The signing timestamp to persist [10 µs since 2015].

@@ -1,0 +1,262 @@
+"""Flight logs of `rotorpilot run --log DIR` downloaded by the ground stations, unchanged or as they
+download them, and compared byte for byte with the files on disk. Two logs are placed in
+`DIR/log/` (PX4's layout) before the vehicle starts: `2026-01-01/10_00_00.ulg` (20 001 random
+bytes, not a multiple of LOG_DATA's 90) and `2026-01-02/11_30_00.ulg` (3 bytes).
+
+- QGroundControl's LogDownloadController, replayed with pymavlink: LOG_REQUEST_LIST (0 … 0xFFFF,
+  missing entries re-requested after 0.5 s), then each log in chunks of 512 bins of 90 bytes
+  (the last chunk rounded up to whole bins), a lost range re-requested from its offset after
+  0.5 s of silence (some pieces are dropped on purpose); then the same log by MAVLink FTP as
+  QGC's FTP manager reads it (burst, ReadFile for gaps) at PX4's path; then LOG_ERASE, after
+  which the list is empty and the files are gone.
+- MAVProxy 1.8.75, unchanged, typed at its prompt: `log list`, `log download all` (both logs, a
+  LOG_REQUEST_END after each) and `ftp list` of a date directory. (Its `ftp get` routes replies
+  by the random session number it sends, which PX4 does not echo: PX4 opens every file as
+  session 0, so `ftp get` times out against PX4 and against this vehicle alike.)
+- pymavlink's MAVFTP client (`pymavlink.mavftp`, its `ftp get` with a callback): one log.
+- MAVSDK-Python's `logfile_download.py` example, unchanged, through `run_mavsdk_examples.py`
+  (needs `unshare -n`, root: the example's ports are fixed).
+
+The vehicle binds port 0 (ports from its ready line), so the tests run side by side."""
+import json
+import os
+import pathlib
+import queue
+import random
+import re
+import shutil
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+
+os.environ["MAVLINK20"] = "1"
+from pymavlink import mavutil  # noqa: E402
+from pymavlink.mavftp import MAVFTP, MAVFTPSettings  # noqa: E402
+from test_qgc_connect import ACK, Qgc  # noqa: E402
+
+# The logs placed before start: name under DIR/log → size [bytes], and their UTC times.
+LOGS = {"2026-01-01/10_00_00.ulg": 20001, "2026-01-02/11_30_00.ulg": 3}
+TIMES = [1767261600, 1767353400]
+BIN = 90  # bytes of LOG_DATA
+BINS = 512  # QGC's bins per chunk
+QGC_TIMEOUT_S = 0.5  # QGC's kTimeOutMs
+LIST_DIR = 3  # MAVLink FTP ListDirectory
+RUNNER = pathlib.Path(__file__).resolve().parents[1] / "run_mavsdk_examples.py"
+MAVPROXY = pathlib.Path(sys.executable).parent / "mavproxy.py"
+
+
+def place_logs(log_dir):
+    """The two logs written into `log_dir`/log (seeded random bytes); their bytes in id order."""
+    placed = []
+    for name, size in LOGS.items():
+        path = log_dir / "log" / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        placed.append(random.Random(name).randbytes(size))
+        path.write_bytes(placed[-1])
+    return placed
+
+
+def qgc_list(qgc):
+    """LOG_REQUEST_LIST as QGC sends it; the entries by id (missing ones re-requested)."""
+    qgc.mav.mav.log_request_list_send(1, 1, 0, 0xFFFF)
+    entries, num_logs, retries = {}, None, 0
+    first = qgc.recv("LOG_ENTRY", 5.0)  # kRequestLogListTimeoutMs
+    assert first is not None, "LOG_REQUEST_LIST unanswered"
+    m = first
+    while True:
+        if m is not None:
+            num_logs = m.num_logs
+            if num_logs == 0:
+                return {}
+            entries[m.id] = m
+        missing = [i for i in range(num_logs) if i not in entries]
+        if not missing:
+            return entries
+        if m is None:
+            retries += 1
+            assert retries <= 3, f"entries {missing} never came"
+            qgc.mav.mav.log_request_list_send(1, 1, missing[0], missing[-1])
+        m = qgc.recv("LOG_ENTRY", QGC_TIMEOUT_S)
+
+
+def qgc_download(qgc, log_id, size, drop):
+    """Log `log_id` as QGC's LogDownloadController downloads it; the pieces at the offsets in
+    `drop` are ignored the first time they arrive (lost on the way)."""
+    chunk_size = BINS * BIN
+    chunks = -(-size // chunk_size)
+    chunk, data, dropped, retries = 0, bytearray(size), set(), 0
+
+    def bins(c):
+        return min(-(-(size - c * chunk_size) // BIN), BINS)
+
+    def request_gap():
+        start = table.index(False)
+        end = table.index(True, start) if True in table[start:] else len(table)
+        qgc.mav.mav.log_request_data_send(1, 1, log_id, chunk * chunk_size + start * BIN, (end - start) * BIN)
+
+    table = [False] * bins(0)
+    qgc.mav.mav.log_request_data_send(1, 1, log_id, 0, len(table) * BIN)
+    while True:
+        m = qgc.recv("LOG_DATA", QGC_TIMEOUT_S)
+        if m is None:
+            retries += 1
+            assert retries < 10, f"log {log_id} stalled at chunk {chunk}: {table.count(False)} bins missing"
+            request_gap()
+            continue
+        if m.id != log_id or m.ofs % BIN or m.ofs > size or m.ofs // chunk_size != chunk:
+            continue  # QGC ignores another log's, misaligned and out-of-chunk pieces
+        if m.ofs in drop and m.ofs not in dropped:
+            dropped.add(m.ofs)
+            continue
+        retries = 0
+        b = (m.ofs - chunk * chunk_size) // BIN
+        table[b] = True
+        data[m.ofs:m.ofs + m.count] = bytes(m.data[:m.count])
+        if all(table):
+            if chunk + 1 == chunks:
+                assert dropped == set(drop) & set(range(0, size, BIN)), dropped
+                return bytes(data)
+            chunk += 1
+            table = [False] * bins(chunk)
+            qgc.mav.mav.log_request_data_send(1, 1, log_id, chunk * chunk_size, len(table) * BIN)
+        elif b < len(table) - 1 and table[b + 1]:
+            request_gap()  # the end of a gap being filled: the next gap
+
+
+def test_qgc_lists_downloads_reads_by_ftp_and_erases_the_logs(rotorpilot_bin, tmp_path):
+    placed = place_logs(tmp_path)
+    qgc = Qgc(rotorpilot_bin, "--log", str(tmp_path))
+    try:
+        assert qgc.recv("HEARTBEAT", 5) is not None, "no HEARTBEAT"
+        entries = qgc_list(qgc)
+        assert sorted(entries) == [0, 1]
+        listed = [(e.id, e.num_logs, e.last_log_num, e.size, e.time_utc) for e in entries.values()]
+        assert sorted(listed) == [(0, 2, 1, 20001, TIMES[0]), (1, 2, 1, 3, TIMES[1])], listed
+        # Pieces 40 … 49 and the last one of log 0 are lost once: QGC asks for the gap again.
+        drop = {k * BIN for k in list(range(40, 50)) + [222]}
+        for log_id, data in enumerate(placed):
+            assert qgc_download(qgc, log_id, len(data), drop) == data, f"log {log_id}"
+
+        # The same files at PX4's FTP path.
+        days = qgc.ftp(LIST_DIR, data=b"/fs/microsd/log\0")
+        assert days["opcode"] == ACK and days["data"].split(b"\0")[:2] == [b"D2026-01-01", b"D2026-01-02"], days
+        files = qgc.ftp(LIST_DIR, data=b"/fs/microsd/log/2026-01-01\0")
+        assert files["data"].split(b"\0")[0] == b"F10_00_00.ulg\t20001", files
+        assert qgc.download("/fs/microsd/log/2026-01-01/10_00_00.ulg") == placed[0]
+        assert qgc.download("/fs/microsd/log/2026-01-02/11_30_00.ulg") == placed[1]
+
+        # LOG_ERASE (QGC's "Erase All"), then QGC's refresh: the list is empty.
+        qgc.mav.mav.log_erase_send(1, 1)
+        assert qgc_list(qgc) == {}
+        assert not list((tmp_path / "log").rglob("*.ulg")), "the files are gone"
+    finally:
+        qgc.close()
+
+
+class Typist:
+    """MAVProxy at its prompt: lines typed on stdin, its output read line by line."""
+
+    def __init__(self, argv, cwd):
+        self.proc = subprocess.Popen(argv, cwd=cwd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     stderr=subprocess.STDOUT, text=True,
+                                     env=dict(os.environ, PYTHONUNBUFFERED="1"))
+        self.lines, self.seen = queue.Queue(), []
+        threading.Thread(target=lambda: [self.lines.put(x) for x in self.proc.stdout], daemon=True).start()
+
+    def wait_for(self, pattern, timeout=30.0):
+        """The first line from now on matching `pattern`; fails after `timeout` [s] without it."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            try:
+                line = self.lines.get(timeout=max(0.0, deadline - time.monotonic()))
+            except queue.Empty:
+                break
+            self.seen.append(line)
+            found = re.search(pattern, line)
+            if found:
+                return found
+        pytest.fail(f"no {pattern!r} in MAVProxy's output:\n{''.join(self.seen[-60:])}")
+
+    def type(self, line):
+        self.proc.stdin.write(line + "\n")
+        self.proc.stdin.flush()
+
+    def close(self):
+        if self.proc.poll() is None:
+            self.proc.kill()
+        self.proc.wait(timeout=10)
+
+
+def test_mavproxy_lists_downloads_and_ftp_gets_the_logs_unchanged(rotorpilot_bin, tmp_path):
+    placed = place_logs(tmp_path / "vehicle")
+    vehicle, ready = start_vehicle(rotorpilot_bin, tmp_path / "vehicle")
+    mavproxy = None
+    try:
+        mavproxy = Typist([sys.executable, str(MAVPROXY), f"--master=udpout:{ready['gcs_bind']}",
+                           "--default-modules=link,log,ftp", f"--state-basedir={tmp_path}"], tmp_path)
+        mavproxy.wait_for(r"Detected vehicle 1:1")
+        mavproxy.type("log list")
+        mavproxy.wait_for(r"Log 1\s+numLogs 2 lastLog 1 size 3 ")
+        # Both logs, the newest first, each ended with LOG_REQUEST_END before the next.
+        mavproxy.type("log download all")
+        mavproxy.wait_for(r"Finished downloading log1\.bin \(3 bytes")
+        mavproxy.wait_for(r"Finished downloading log0\.bin \(20001 bytes")
+        assert (tmp_path / "log0.bin").read_bytes() == placed[0]
+        assert (tmp_path / "log1.bin").read_bytes() == placed[1]
+        # Its FTP listing (after its ListDirectoryWithTime probe gets UnknownCommand, as from PX4).
+        mavproxy.type("ftp list /fs/microsd/log/2026-01-01")
+        mavproxy.wait_for(r"10_00_00\.ulg\s+20001")
+    finally:
+        if mavproxy is not None:
+            mavproxy.close()
+        vehicle.send_signal(2)
+        vehicle.wait(timeout=10)
+
+
+def start_vehicle(binary, log_dir):
+    """`rotorpilot run --log log_dir` on ephemeral ports; the process and its ready line."""
+    vehicle = subprocess.Popen(
+        [str(binary), "run", "--bind-gcs", "127.0.0.1:0", "--bind-api", "127.0.0.1:0", "--api",
+         "127.0.0.1:9", "--duration", "120", "--log", str(log_dir)],
+        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    return vehicle, json.loads(vehicle.stdout.readline())
+
+
+def test_pymavlink_mavftp_gets_a_log(rotorpilot_bin, tmp_path):
+    placed = place_logs(tmp_path)
+    vehicle, ready = start_vehicle(rotorpilot_bin, tmp_path)
+    try:
+        master = mavutil.mavlink_connection(f"udpout:{ready['gcs_bind']}", dialect="common",
+                                            source_system=254, source_component=190)
+        # pymavlink's defaults but a shorter wait for silence after each operation (3.7 s).
+        settings = MAVFTPSettings([("debug", int, 0), ("pkt_loss_tx", int, 0), ("pkt_loss_rx", int, 0),
+                                   ("max_backlog", int, 5), ("burst_read_size", int, 80),
+                                   ("write_size", int, 80), ("write_qsize", int, 5),
+                                   ("idle_detection_time", float, 1.5), ("read_retry_time", float, 1.0),
+                                   ("retry_time", float, 0.5)])
+        ftp = MAVFTP(master, 1, 1, settings=settings)
+        got, local = [], tmp_path / "mavftp.ulg"
+        ftp.cmd_get(["/fs/microsd/log/2026-01-01/10_00_00.ulg", str(local)], callback=lambda fh: got.append(fh.read()))
+        ftp.process_ftp_reply("OpenFileRO", timeout=30)
+        assert got == [placed[0]] and local.read_bytes() == placed[0]
+    finally:
+        vehicle.send_signal(2)
+        vehicle.wait(timeout=10)
+
+
+def can_unshare():
+    return shutil.which("unshare") and subprocess.run(["unshare", "-n", "true"], check=False).returncode == 0
+
+
+@pytest.mark.skipif(not can_unshare(), reason="needs unshare -n (root)")
+def test_mavsdk_logfile_download_example_brings_both_logs_back(rotorpilot_bin):
+    env = dict(os.environ, ROTORPILOT_BIN=str(rotorpilot_bin))
+    run = subprocess.run([sys.executable, str(RUNNER), "logfile_download", "--timeout", "90"],
+                         capture_output=True, text=True, env=env, timeout=200, check=False)
+    assert run.stdout.strip(), run.stderr[-2000:]
+    verdict = json.loads(run.stdout.strip().splitlines()[-1])
+    # The runner compares log-<date>.ulog with the placed logs byte for byte.
+    assert verdict["verdict"] == "works" and verdict["exit"] == "0", verdict
