@@ -198,3 +198,42 @@ def test_fly_log_and_bad_paths(tmp_path, rotorpilot_bin):
     r = subprocess.run([str(rotorpilot_bin), "fly", "--duration", "1", "--log", str(blocker / "x.ulg")],
                        capture_output=True, text=True, timeout=60, check=False)
     assert r.returncode != 0 and str(blocker / "x.ulg") in r.stderr
+
+
+class _Station:
+    """The Autopilot's pymavlink connection as test_log_download's QGC helpers use it."""
+
+    def __init__(self, ap):
+        self.mav = ap.gcs
+
+    def recv(self, kind, timeout):
+        return self.mav.recv_match(type=kind, blocking=True, timeout=timeout)
+
+
+def test_a_flight_log_downloads_as_qgc_does_equal_to_the_file(tmp_path, rotorpilot_bin):
+    """The log of a real flight: listed while it is being written, then downloaded after the
+    disarm as QGroundControl downloads it (a piece lost and asked again), equal to the file on
+    disk, and read by pyulog."""
+    from test_log_download import qgc_download, qgc_list
+
+    log_dir = tmp_path / "log"
+    ap = Autopilot("--log", str(log_dir))
+    try:
+        ap.heartbeat()
+        ap.take_off()
+        station = _Station(ap)
+        during = qgc_list(station)
+        assert len(during) == 1 and during[0].size > 0, "the log being written is listed"
+        assert ap.command(400, 0.0, 21196).result == ACCEPTED
+        time.sleep(0.5)  # the writer closes the file
+        entries = qgc_list(station)
+        (path,) = flight_logs(log_dir)
+        size = path.stat().st_size
+        assert entries[0].size == size > during[0].size
+        data = qgc_download(station, 0, size, drop={90 * 7})
+    finally:
+        assert ap.close() == 0
+    assert data == path.read_bytes()
+    copy = tmp_path / "downloaded.ulg"
+    copy.write_bytes(data)
+    assert "vehicle_attitude" in topics(ULog(str(copy)))
