@@ -100,7 +100,7 @@ def test_run_log_writes_one_ulog_per_flight_with_params_messages_and_changes(tmp
     assert second.initial_parameters["MPC_XY_VEL_MAX"] == pytest.approx(7.5)
     # Default profile: PX4-like rates, not every tick.
     t = data["vehicle_attitude"].data["timestamp"]
-    assert np.median(np.diff(t)) == 50_000
+    assert np.median(np.diff(t)) == 20_000
 
 
 def test_ulog_and_tlog_agree_on_the_trajectory(tmp_path, rotorpilot_bin):
@@ -237,3 +237,29 @@ def test_a_flight_log_downloads_as_qgc_does_equal_to_the_file(tmp_path, rotorpil
     copy = tmp_path / "downloaded.ulg"
     copy.write_bytes(data)
     assert "vehicle_attitude" in topics(ULog(str(copy)))
+
+
+def test_estimate_replays_a_run_log_at_its_default_rate(tmp_path, rotorpilot_bin):
+    """`run --log`'s default profile logs the estimator's inputs together every 20 ms: the
+    offline estimator at --ts 0.02 recovers the 0.2 kg the controller does not believe in."""
+    frame = tmp_path / "heavy.toml"
+    frame.write_text((ROOT / "airframes" / "quad_x.toml").read_text() + "\n[fc]\nmass = 1.3 # [kg] believed\n")
+    log_dir = tmp_path / "log"
+    ap = Autopilot("--log", str(log_dir), "--airframe", str(frame))
+    try:
+        ap.heartbeat()
+        ap.take_off()
+        time.sleep(8.0)
+        assert ap.command(400, 0.0, 21196).result == ACCEPTED
+        time.sleep(0.3)
+    finally:
+        assert ap.close() == 0
+    (path,) = flight_logs(log_dir)
+    args = ["estimate", "--log", str(path), "--mass", "1.3", "--inertia", "0.029125,0.029125,0.055225",
+            "--order", "1", "--ripple-db", "3", "--wp", "2"]
+    r = subprocess.run([str(rotorpilot_bin), *args, "--ts", "0.02"], capture_output=True, text=True, check=False)
+    assert r.returncode == 0, r.stderr
+    result = json.loads(r.stdout)
+    assert result["mass_estimate"] == pytest.approx(1.5, rel=0.005) and result["samples"] > 400
+    r = subprocess.run([str(rotorpilot_bin), *args], capture_output=True, text=True, check=False)
+    assert r.returncode != 0 and "--ts 0.02" in r.stderr, "at the default --ts it says which step to use"

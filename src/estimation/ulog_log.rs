@@ -3,8 +3,8 @@
 //! attitude (`vehicle_attitude` q), the body rates (`vehicle_angular_velocity` xyz) and, while
 //! the motors run, the applied wrench (`allocation_status` thrust, torque; none logged means
 //! the motors are off: no wrench). The Euler angles come from q and their rates from
-//! η̇ = Q(η)⁻¹ ω_b. Only a log with every tick (the full profile: `sim`, `fly --log`,
-//! `run --log-profile full`) has the samples at the estimator's step. Pure: bytes in, samples
+//! η̇ = Q(η)⁻¹ ω_b. A full-profile log (`sim`, `fly --log`, `run --log-profile full`) has them
+//! at every tick; `run`'s default profile every 20 ms (`--ts 0.02`). Pure: bytes in, samples
 //! out; the parsing is px4-ulog's.
 
 use std::collections::BTreeMap;
@@ -117,7 +117,11 @@ pub fn parse_ulog(bytes: &[u8], origin: &str, ts_s: f64) -> Result<Vec<LogSample
         check_sample(samples.last(), &sample, ts_s).map_err(|(_, why)| {
             err(
                 Some(&place),
-                format!("{why}: the estimator needs every tick (a full-profile log: sim, fly --log, run --log-profile full)"),
+                format!(
+                    "{why}: the estimator needs every sample at --ts (every tick of a full-profile log \
+                     at --ts 0.001: sim, fly --log, run --log-profile full; a run --log default-profile \
+                     log at --ts 0.02)"
+                ),
             )
         })?;
         samples.push(sample);

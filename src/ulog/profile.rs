@@ -1,5 +1,5 @@
 //! How often each topic is logged: the default profile of `rotorpilot run` (rates near PX4's
-//! default logger profile) and the full profile of `sim` and `fly --log` (every 1 kHz tick for
+//! default logger profile, the estimator's inputs together at 50 Hz) and the full profile of `sim` and `fly --log` (every 1 kHz tick for
 //! the state, the control and the estimate; the rest at PX4's rates or faster). Topics that
 //! change seldom (status, land detector, the true wrench) are also logged whenever they change.
 //! Pure.
@@ -48,10 +48,12 @@ impl Profile {
             (Self::Full, VehicleThrustSetpoint | VehicleTorqueSetpoint | VehicleAttitudeSetpoint) => 10,
             (Self::Full, VehicleLocalPositionSetpoint | SensorCombined | ActuatorMotors) => 10,
             (Self::Full, VehicleGlobalPosition | BatteryStatus | ExternalWrenchTruth) => 100,
-            (Self::Default, VehicleAngularVelocity | VehicleThrustSetpoint | VehicleTorqueSetpoint) => 20,
+            // The estimator's inputs share one rate, so `estimate --ts 0.02` replays a flight.
+            (Self::Default, VehicleAttitude | VehicleAngularVelocity | VehicleLocalPosition) => 20,
             (Self::Default, ControllerErrors | AllocationStatus | ExternalWrenchEstimate) => 20,
-            (Self::Default, VehicleAttitude | VehicleAttitudeSetpoint) => 50,
-            (Self::Default, VehicleLocalPosition | VehicleLocalPositionSetpoint) => 100,
+            (Self::Default, VehicleThrustSetpoint | VehicleTorqueSetpoint) => 20,
+            (Self::Default, VehicleAttitudeSetpoint) => 50,
+            (Self::Default, VehicleLocalPositionSetpoint) => 100,
             (Self::Default, SensorCombined | ActuatorMotors) => 100,
             (Self::Default, VehicleGlobalPosition | BatteryStatus) => 200,
             (Self::Default, ExternalWrenchTruth) => 1000,

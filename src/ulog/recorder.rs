@@ -155,6 +155,11 @@ impl Recorder {
     pub fn begin(&mut self, out: &mut Vec<u8>, t_us: u64, info: &LogInfo, params: &[(String, ParamValue)]) {
         *self = Self::new(self.setup.clone());
         self.next_sync_us = t_us + SYNC_PERIOD_US;
+        // Every topic on its rate's grid of log time, so topics of one rate share timestamps.
+        for topic in Topic::ALL {
+            let every = self.setup.profile.interval_us(topic);
+            self.next_due_us[topic as usize] = if every == 0 { t_us } else { t_us.div_ceil(every) * every };
+        }
         let mut e = Encoder::new(out);
         e.file_header(t_us);
         e.flag_bits();

@@ -104,7 +104,13 @@ fn the_full_profile_records_the_state_every_tick_and_the_rest_at_its_rate() {
 #[test]
 fn the_default_profile_follows_px4_rates_and_logs_changes_at_once() {
     let msgs = messages(&record(Profile::Default, 1000));
-    assert_eq!(count(&msgs, b'D', Topic::VehicleAttitude), 20, "every 50 ms");
+    assert_eq!(
+        count(&msgs, b'D', Topic::VehicleAttitudeSetpoint),
+        0,
+        "nothing without a step"
+    );
+    assert_eq!(count(&msgs, b'D', Topic::VehicleAttitude), 50, "every 20 ms");
+    assert_eq!(count(&msgs, b'D', Topic::VehicleLocalPositionSetpoint), 0);
     assert_eq!(count(&msgs, b'D', Topic::VehicleAngularVelocity), 50, "every 20 ms");
     // The true wrench: at the start (due), then when it changes at 0.5 s.
     assert_eq!(count(&msgs, b'D', Topic::ExternalWrenchTruth), 2);
