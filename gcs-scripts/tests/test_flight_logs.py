@@ -48,6 +48,21 @@ def flight_logs(log_dir):
     return sorted(log_dir.glob("log/*/*.ulg"))
 
 
+def fly_one_flight(log_dir, *args, hover_s=1.0):
+    """`run --log log_dir ARGS`: take off, hover `hover_s`, forced disarm; the flight's ULog."""
+    ap = Autopilot("--log", str(log_dir), *args)
+    try:
+        ap.heartbeat()
+        ap.take_off()
+        time.sleep(hover_s)
+        assert ap.command(400, 0.0, 21196).result == ACCEPTED
+        time.sleep(0.3)  # the writer closes the file
+    finally:
+        assert ap.close() == 0
+    (path,) = flight_logs(log_dir)
+    return path
+
+
 def test_run_log_writes_one_ulog_per_flight_with_params_messages_and_changes(tmp_path, rotorpilot_bin):
     log_dir = tmp_path / "log"
     ap = Autopilot("--log", str(log_dir))
@@ -105,16 +120,7 @@ def test_run_log_writes_one_ulog_per_flight_with_params_messages_and_changes(tmp
 
 def test_ulog_and_tlog_agree_on_the_trajectory(tmp_path, rotorpilot_bin):
     log_dir = tmp_path / "log"
-    ap = Autopilot("--log", str(log_dir), "--log-profile", "full")
-    try:
-        ap.heartbeat()
-        ap.take_off()
-        time.sleep(1.0)
-        assert ap.command(400, 0.0, 21196).result == ACCEPTED
-        time.sleep(0.3)
-    finally:
-        assert ap.close() == 0
-    (path,) = flight_logs(log_dir)
+    path = fly_one_flight(log_dir, "--log-profile", "full")
     lpos = ULog(str(path), ["vehicle_local_position"]).get_dataset("vehicle_local_position").data
     assert np.all(np.diff(lpos["timestamp"]) == 1000), "full profile: every 1 ms tick"
     by_us = {int(t): (x, y, z) for t, x, y, z in zip(lpos["timestamp"], lpos["x"], lpos["y"], lpos["z"])}
@@ -244,17 +250,7 @@ def test_estimate_replays_a_run_log_at_its_default_rate(tmp_path, rotorpilot_bin
     offline estimator at --ts 0.02 recovers the 0.2 kg the controller does not believe in."""
     frame = tmp_path / "heavy.toml"
     frame.write_text((ROOT / "airframes" / "quad_x.toml").read_text() + "\n[fc]\nmass = 1.3 # [kg] believed\n")
-    log_dir = tmp_path / "log"
-    ap = Autopilot("--log", str(log_dir), "--airframe", str(frame))
-    try:
-        ap.heartbeat()
-        ap.take_off()
-        time.sleep(8.0)
-        assert ap.command(400, 0.0, 21196).result == ACCEPTED
-        time.sleep(0.3)
-    finally:
-        assert ap.close() == 0
-    (path,) = flight_logs(log_dir)
+    path = fly_one_flight(tmp_path / "log", "--airframe", str(frame), hover_s=8.0)
     args = ["estimate", "--log", str(path), "--mass", "1.3", "--inertia", "0.029125,0.029125,0.055225",
             "--order", "1", "--ripple-db", "3", "--wp", "2"]
     r = subprocess.run([str(rotorpilot_bin), *args, "--ts", "0.02"], capture_output=True, text=True, check=False)

@@ -76,3 +76,23 @@ impl<'a> TickView<'a> {
         }
     }
 }
+
+#[cfg(test)]
+impl<'a> TickView<'a> {
+    /// A tick of a vehicle in `state` with the motors off and nothing else going on (tests).
+    pub(crate) fn resting(state: &'a VehicleState) -> Self {
+        Self {
+            t_s: state.t_s,
+            state,
+            accel_b: Vec3::new(0.0, 0.0, -crate::math::GRAVITY_M_S2),
+            ref_w: state.pos_w,
+            setpoint: None,
+            step: None,
+            events: &[],
+            snapshot: None,
+            motor_speeds: &[],
+            true_force_w: Vec3::zeros(),
+            true_torque_b: Vec3::zeros(),
+        }
+    }
+}

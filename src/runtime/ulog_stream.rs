@@ -187,19 +187,7 @@ mod tests {
 
     fn tick(stream: &mut UlogStream, t_s: f64) {
         let state = VehicleState::at_rest(t_s, Vec3::zeros());
-        stream.record(&TickView {
-            t_s,
-            state: &state,
-            accel_b: Vec3::zeros(),
-            ref_w: Vec3::zeros(),
-            setpoint: None,
-            step: None,
-            events: &[],
-            snapshot: None,
-            motor_speeds: &[0.0; 4],
-            true_force_w: Vec3::zeros(),
-            true_torque_b: Vec3::zeros(),
-        });
+        stream.record(&TickView::resting(&state));
     }
 
     /// The (type, payload) of every message after the 16-byte file header.

@@ -55,17 +55,8 @@ fn record(profile: Profile, ticks: u64) -> Vec<u8> {
         let t_s = k as f64 * 1e-3;
         let state = VehicleState::at_rest(t_s, Vec3::zeros());
         let view = TickView {
-            t_s,
-            state: &state,
-            accel_b: Vec3::new(0.0, 0.0, -GRAVITY_M_S2),
-            ref_w: Vec3::zeros(),
-            setpoint: None,
-            step: None,
-            events: &[],
-            snapshot: None,
-            motor_speeds: &[0.0; 4],
             true_force_w: Vec3::new(if k < 500 { 0.0 } else { 0.5 }, 0.0, 0.0),
-            true_torque_b: Vec3::zeros(),
+            ..TickView::resting(&state)
         };
         r.record(&mut out, &view);
     }
