@@ -18,6 +18,9 @@ use crate::ulog::{micros, LogInfo, ParamValue, Recorder};
 pub const SHIP_PERIOD: Duration = Duration::from_millis(50);
 /// Ticks between two looks at the wall clock (at 1 kHz real time: 16 ms).
 const CLOCK_EVERY: u64 = 16;
+/// Capacity of a new buffer [bytes]; buffers grow to what `SHIP_PERIOD` holds (a few KiB at
+/// the default profile in real time, up to `SHIP_BYTES` flat out) and are reused.
+const FIRST_CAPACITY: usize = 1 << 12;
 /// Buffer size that is shipped at once [bytes].
 pub const SHIP_BYTES: usize = 1 << 18;
 
@@ -60,7 +63,7 @@ impl UlogStream {
     pub fn new(recorder: Recorder, sender: LogSender, wait: bool) -> Self {
         Self {
             recorder,
-            buf: Vec::with_capacity(SHIP_BYTES + (1 << 12)),
+            buf: Vec::with_capacity(FIRST_CAPACITY),
             sender,
             wait,
             open: false,
@@ -134,7 +137,7 @@ impl UlogStream {
             Encoder::new(&mut gap).dropout(start.saturating_sub(lost) / 1000);
             self.buf.splice(0..0, gap);
         }
-        let fresh = self.sender.buffer(SHIP_BYTES + (1 << 12));
+        let fresh = self.sender.buffer(FIRST_CAPACITY);
         let bytes = std::mem::replace(&mut self.buf, fresh);
         if self.sender.ulog(bytes, self.wait) {
             self.lost_since_us = None;
