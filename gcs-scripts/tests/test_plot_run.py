@@ -1,4 +1,5 @@
-"""plot_run.py on synthetic run.csv files (no rotorpilot binary needed)."""
+"""plot_run.py on synthetic run.csv files (no rotorpilot binary needed) and on what rotorpilot writes:
+every shipped scenario's run.ulg and run.csv, and the flight logs of `run --log`."""
 import importlib.util
 import json
 import pathlib
@@ -112,7 +113,26 @@ def test_missing_directory_exits_2(tmp_path):
     missing = tmp_path / "nope"
     proc = plot_run(missing)
     assert proc.returncode == 2
-    assert f"error: {missing / 'run.csv'}:" in proc.stderr
+    assert f"error: {missing}: no such file or directory" in proc.stderr
+    proc = plot_run(tmp_path)
+    assert proc.returncode == 2 and "no run.ulg, run.csv or log/*/*.ulg" in proc.stderr
+
+
+def test_empty_cells_are_gaps(tmp_path):
+    """run.csv leaves the control columns empty while the motors are off."""
+    write_run(tmp_path, rows=50)
+    lines = (tmp_path / "run.csv").read_text().splitlines()
+    header = lines[0].split(",")
+    for i in range(1, 10):
+        cells = lines[i].split(",")
+        for name in ("ex", "thrust", "tau_z", "fx_hat", "mass_hat"):
+            cells[header.index(name)] = ""
+        lines[i] = ",".join(cells)
+    (tmp_path / "run.csv").write_text("\n".join(lines) + "\n")
+    proc = plot_run(tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    for name in ALL_FIGURES:
+        assert_png(tmp_path / name)
 
 
 @pytest.mark.parametrize("column", ["evy", "omega_3", "tau_z"])
@@ -170,3 +190,31 @@ def test_decimation_keeps_extremes_and_bounds_points():
     assert np.all(np.diff(idx) > 0) and idx[0] == 0 and idx[-1] == len(y) - 1
     assert 123_457 in idx and 777_777 in idx
     assert np.array_equal(module.decimation_indices(y[:500], 20_000), np.arange(500))
+
+
+SCENARIOS = sorted((pathlib.Path(__file__).resolve().parents[2] / "scenarios").glob("*.toml"))
+
+
+@pytest.mark.parametrize("scenario", SCENARIOS, ids=[p.stem for p in SCENARIOS])
+def test_every_shipped_scenario_plots_from_its_ulog_and_its_csv(rotorpilot, tmp_path, scenario):
+    out = tmp_path / scenario.stem
+    sim = rotorpilot("sim", str(scenario), "--out", str(out), "--csv")
+    assert sim.returncode == 0, sim.stderr
+    summary = json.loads(sim.stdout)
+    for run in (out, out / "run.csv"):
+        figures = tmp_path / ("csv" if run.suffix else "ulog")
+        proc = plot_run(run, "--out", str(figures))
+        assert proc.returncode == 0, proc.stderr
+        for name in ALL_FIGURES[:5]:
+            assert_png(figures / name)
+        assert (figures / "wrench.png").exists() == (summary["estimate"] is not None), proc.stderr
+
+
+def test_a_run_log_directory_plots_its_latest_flight(rotorpilot_bin, tmp_path):
+    from test_flight_logs import fly_one_flight
+
+    fly_one_flight(tmp_path / "log")
+    proc = plot_run(tmp_path / "log")
+    assert proc.returncode == 0, proc.stderr
+    for name in ALL_FIGURES:
+        assert_png(tmp_path / "log" / name)
