@@ -36,6 +36,7 @@
 //! - [`telemetry`]: the per-tick snapshot the links stream.
 //! - [`runtime`]: the autopilot process: paced tick thread and MAVLink UDP links (runtime layer).
 //! - [`ulog`]: flight logs in PX4's ULog format (encoder, topics, profiles, recorder).
+//! - [`suggest`]: "did you mean …?" for mistyped names.
 //! - [`sitl`]: the only seam between the flight controller and the plant.
 //! - [`fly`]: `rotorpilot fly`: a take-off and hover at full speed (runtime layer: wall clock,
 //!   files).
@@ -62,5 +63,6 @@ pub mod runtime;
 pub mod scenario;
 pub mod sim;
 pub mod sitl;
+pub mod suggest;
 pub mod telemetry;
 pub mod ulog;

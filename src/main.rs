@@ -73,8 +73,11 @@ async fn shutdown_signal(duration_s: Option<f64>) {
 }
 
 fn main() -> ExitCode {
+    // Colours only on a terminal, and never when NO_COLOR is set (no-color.org).
+    let colour = std::io::IsTerminal::is_terminal(&std::io::stderr()) && std::env::var_os("NO_COLOR").is_none();
     tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
+        .with_ansi(colour)
         .with_target(false)
         .init();
     let cli = Cli::parse();

@@ -22,11 +22,11 @@ pub const MAX_ROTORS: usize = 16;
 
 /// A refused airframe: file (or preset), field and reason.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("{origin}: {field}: {reason}")]
+#[error("{origin}: {}{reason}", if field.is_empty() { String::new() } else { format!("{field}: ") })]
 pub struct AirframeError {
     /// Preset name or file path.
     pub origin: String,
-    /// Dotted path of the field at fault.
+    /// Dotted path of the field at fault (empty when the whole file or name is at fault).
     pub field: String,
     /// What is wrong.
     pub reason: String,
@@ -284,7 +284,7 @@ impl Fields<'_> {
     fn syntax(&self, text: &str, e: &toml::de::Error) -> AirframeError {
         let field = match e.span() {
             Some(s) => format!("line {}", text[..s.start.min(text.len())].lines().count().max(1)),
-            None => "(file)".into(),
+            None => String::new(),
         };
         self.bad(&field, e.message().trim().to_string())
     }

@@ -31,13 +31,17 @@ impl AirframeSource {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound && !name_or_path.contains(['/', '.']) => {
                 Err(AirframeError::new(
                     name_or_path,
-                    "(name)",
-                    format!("no preset of that name ({}) and no such file", preset_names()),
+                    "",
+                    format!(
+                        "no preset of that name and no such file{} (presets: {})",
+                        crate::suggest::did_you_mean(name_or_path, super::presets::PRESETS.iter().map(|(n, _)| *n)),
+                        preset_names()
+                    ),
                 ))
             }
             Err(e) => Err(AirframeError::new(
                 name_or_path,
-                "(file)",
+                "",
                 format!("cannot read the file: {e}"),
             )),
         }

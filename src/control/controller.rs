@@ -49,10 +49,10 @@ impl ControllerKind {
 impl std::str::FromStr for ControllerKind {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| format!("unknown controller {s:?}; expected geometric, hierarchical or passivity"))
+        Self::ALL.into_iter().find(|k| k.name() == s).ok_or_else(|| {
+            let hint = crate::suggest::did_you_mean(s, Self::ALL.iter().map(|k| k.name()));
+            format!("unknown controller {s:?}{hint}; expected geometric, hierarchical or passivity")
+        })
     }
 }
 

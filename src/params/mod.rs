@@ -30,8 +30,8 @@ pub use settings::VehicleSettings;
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ParamError {
     /// No parameter of that name.
-    #[error("{0}: no such parameter")]
-    Unknown(String),
+    #[error("{0}: no such parameter{1}")]
+    Unknown(String, String),
     /// Value outside the parameter's range or of the wrong kind.
     #[error("{name}: {reason}")]
     Invalid {
@@ -107,9 +107,10 @@ impl ParamTable {
     /// resulting settings are invalid ([`VehicleSettings::validate`] at step `ts_s` [s]: a gain
     /// ≤ 0, battery thresholds not falling, an unstable estimator design). Returns the index.
     pub fn set(&mut self, name: &str, value: f64, ts_s: f64) -> Result<usize, ParamError> {
-        let index = self
-            .index_of(name)
-            .ok_or_else(|| ParamError::Unknown(name.to_string()))?;
+        let index = self.index_of(name).ok_or_else(|| {
+            let hint = crate::suggest::did_you_mean(name, self.defs.iter().map(|d| d.name));
+            ParamError::Unknown(name.to_string(), hint)
+        })?;
         let invalid = |reason: String| ParamError::Invalid {
             name: name.to_string(),
             reason,
@@ -194,7 +195,12 @@ mod tests {
         t.set("RP_EST_ORDER", 13.0, 1e-3).unwrap();
         let e = t.set("RP_EST_WP", 20.0, 1e-3).unwrap_err().to_string();
         assert!(e.contains("largest stable passband edge"), "{e}");
-        assert_eq!(t.set("NOPE", 1.0, 1e-3), Err(ParamError::Unknown("NOPE".into())));
+        assert_eq!(
+            t.set("NOPE", 1.0, 1e-3),
+            Err(ParamError::Unknown("NOPE".into(), String::new()))
+        );
+        let typo = t.set("MPC_XY_VEL_MX", 1.0, 1e-3).unwrap_err().to_string();
+        assert_eq!(typo, "MPC_XY_VEL_MX: no such parameter; did you mean MPC_XY_VEL_MAX?");
         assert_eq!(t.settings().estimator.map(|d| d.order), Some(13));
         t.set("RP_EST_ORDER", 0.0, 1e-3).unwrap();
         assert_eq!(t.settings().estimator, None);

@@ -55,11 +55,11 @@ pub use merge::merge_tables;
 
 /// A refused scenario: which file, which field, and why.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("{origin}: {field}: {reason}")]
+#[error("{origin}: {}{reason}", if field.is_empty() { String::new() } else { format!("{field}: ") })]
 pub struct ScenarioError {
     /// Scenario file.
     pub origin: String,
-    /// Dotted field path.
+    /// Dotted field path (empty when the whole file is at fault).
     pub field: String,
     /// What is wrong.
     pub reason: String,
@@ -133,7 +133,7 @@ impl Scenario {
         let origin = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
             origin: origin.clone(),
-            field: "(file)".into(),
+            field: String::new(),
             reason: format!("cannot read the file: {e}"),
         })?;
         let stem = path

@@ -139,7 +139,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     }
                 }
             }
-            Some(Err(ParamError::Unknown(_))) => {
+            Some(Err(ParamError::Unknown(..))) => {
                 self.send(now, link, to, &param_error_unknown(&header, &name));
                 let text = format!("Unknown parameter {name}");
                 self.send(now, link, to, &status_text(WARNING, &text));
