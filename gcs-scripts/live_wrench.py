@@ -51,6 +51,13 @@ def main(argv=None):
     args = p.parse_args(argv)
     if args.duration is not None and args.duration <= 0:
         p.error("--duration must be > 0")
+    # Before listening, not after the flight: a missing matplotlib must not cost the data.
+    if args.plot:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            p.error("--plot needs matplotlib: install it (pip install matplotlib, or the pinned "
+                    "gcs-scripts/requirements.txt) or leave --plot out")
 
     conn = common.connect(args.connection, args.timeout)
     series = {name: [] for name in NAMES}

@@ -59,3 +59,17 @@ def test_colours_only_on_a_terminal_and_never_with_no_color(rotorpilot, rotorpil
     env = {k: v for k, v in os.environ.items() if k != "NO_COLOR"}
     assert "\x1b[" in on_a_terminal(rotorpilot_bin, env)
     assert "\x1b[" not in on_a_terminal(rotorpilot_bin, {**env, "NO_COLOR": "1"})
+
+
+def test_live_wrench_plot_without_matplotlib_stops_before_flying():
+    """`--plot` without matplotlib is refused at once, before any data is gathered (it used to
+    listen for the whole flight and then crash, losing the data)."""
+    import pathlib
+    import sys
+
+    script = pathlib.Path(__file__).resolve().parents[1] / "live_wrench.py"
+    hide = ("import runpy, sys; sys.modules['matplotlib'] = None; "
+            f"sys.argv = [{str(script)!r}, '--plot', 'x.png', '--connection', 'udpin:127.0.0.1:0']; "
+            f"sys.path.insert(0, {str(script.parent)!r}); runpy.run_path({str(script)!r}, run_name='__main__')")
+    proc = subprocess.run([sys.executable, "-c", hide], capture_output=True, text=True, timeout=30, check=False)
+    assert proc.returncode == 2 and "--plot needs matplotlib" in proc.stderr, proc.stderr
