@@ -109,7 +109,7 @@ def custom_mode(main, sub=0):
 
 
 def int32_bits(value):
-    """Byte-wise INT32 in PARAM_SET's float field (PX4 and mavlink.md §8.2)."""
+    """Byte-wise INT32 in PARAM_SET's float field (PX4 and docs/mavlink.md §8.2)."""
     return struct.unpack("<f", struct.pack("<i", int(value)))[0]
 
 

@@ -189,7 +189,7 @@ pub(crate) enum Command {
     /// convergence rate, non-finite values, faults, panics and convergence times.
     #[command(allow_negative_numbers = true)]
     Montecarlo(MonteCarloArgs),
-    /// Design wrench-estimator gains from an analog Chebyshev type-I low-pass (control.md §7.3).
+    /// Design wrench-estimator gains from an analog Chebyshev type-I low-pass (docs/estimator.md §3).
     #[command(allow_negative_numbers = true)]
     Gains {
         #[command(flatten)]
@@ -273,7 +273,7 @@ pub(crate) struct MonteCarloArgs {
     pub(crate) threads: Option<usize>,
 }
 
-/// A Chebyshev estimator design on the command line (control.md §7.3).
+/// A Chebyshev estimator design on the command line (docs/estimator.md §3).
 #[derive(Debug, Args)]
 pub(crate) struct DesignArgs {
     /// Estimator (filter) order r.

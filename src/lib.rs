@@ -10,18 +10,18 @@
 //! - [`math`]: numeric aliases, hat/vee, Euler angles, angle wrapping.
 //! - [`airframe`]: the FC's view of an airframe file (presets, validation, errors naming the field).
 //! - [`bench`]: `rotorpilot bench`: ticks/s, speed-up, vehicles at real time, start-up, ACK latency (runtime layer).
-//! - [`allocation`]: G_q from the airframe, min-norm inverse, saturation policy (control.md §3).
+//! - [`allocation`]: G_q from the airframe, min-norm inverse, saturation policy (docs/allocation.md).
 //! - [`commander`]: arm/disarm, PX4 flight modes, take-off/hold/land/return, land detection
 //!   and auto-disarm on simulated time.
 //! - [`control`]: vehicle state, setpoints and the geometric, hierarchical and passivity-based
-//!   controllers behind one interface (control.md §4–§6).
+//!   controllers behind one interface (docs/control.md).
 //! - [`flight`]: what flies the plant: the flight controller (commander, flight core, parameters,
 //!   rotor-failure monitor, home; telemetry snapshot) or a bare flight core following setpoints;
 //!   its `flight_core` is one control tick: estimator → controller → allocation → estimator.
 //! - [`lockstep`]: a pilot and the plant stepped together at a fixed step; the only place the
 //!   plant is stepped; observers and exit status of runs; scheduled rotor failures.
-//! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (control.md §7).
-//! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (control.md §2.2).
+//! - [`estimation`]: Chebyshev gain design and the momentum-based wrench estimator (docs/estimator.md).
+//! - [`rpy`]: the RPY (ZYX) dynamic model: Q, Q̇, M, skew-consistent C (docs/model.md §3).
 //! - [`montecarlo`]: `rotorpilot montecarlo`: random initial states and wrenches in an envelope,
 //!   convergence rate per law (sampling, runs and statistics pure; threads in its runner).
 //! - [`mav`]: MAVLink codec (datagram ↔ frames, hand-built ACK for unknown commands).

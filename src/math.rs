@@ -9,7 +9,7 @@ pub type Mat3 = nalgebra::Matrix3<Real>;
 /// Unit quaternion.
 pub type UnitQuat = nalgebra::UnitQuaternion<Real>;
 
-/// Standard gravity [m/s²] (control.md §1).
+/// Standard gravity [m/s²] (docs/model.md §1).
 pub const GRAVITY_M_S2: Real = 9.81;
 
 /// `e3 = [0, 0, 1]ᵀ`, down in NED.
@@ -17,7 +17,7 @@ pub fn e3() -> Vec3 {
     Vec3::new(0.0, 0.0, 1.0)
 }
 
-/// Skew matrix `S(v)` with `S(v) b = v × b` (control.md §1).
+/// Skew matrix `S(v)` with `S(v) b = v × b` (docs/model.md §1, eq. (1.1)).
 pub fn hat(v: &Vec3) -> Mat3 {
     Mat3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
@@ -37,7 +37,7 @@ pub fn wrap_pi(a: Real) -> Real {
     }
 }
 
-/// Roll, pitch, yaw (ZYX) of `R_b` [rad] (control.md §2.2): `φ = atan2(R32, R33)`,
+/// Roll, pitch, yaw (ZYX) of `R_b` [rad] (docs/model.md §3, eq. (3.2)): `φ = atan2(R32, R33)`,
 /// `θ = −asin(R31)`, `ψ = atan2(R21, R11)`.
 pub fn euler_zyx(r: &Mat3) -> Vec3 {
     Vec3::new(

@@ -1,8 +1,9 @@
-//! The RPY (ZYX) dynamic model of control.md §2.2, used by the hierarchical and passivity
+//! The RPY (ZYX) dynamic model of docs/model.md §3, used by the hierarchical and passivity
 //! controllers and by the wrench estimator.
 //!
 //! `ω_b = Q(η) η̇`, `M(η) = Qᵀ I_b Q`, and the skew-consistent Coriolis matrix
-//! `C = Qᵀ I_b Q̇ − Qᵀ S(I_b Q η̇) Q` (erratum E4), for which `Ṁ = C + Cᵀ`.
+//! `C = Qᵀ I_b Q̇ − Qᵀ S(I_b Q η̇) Q` (docs/model.md §3, eqs. (3.3)–(3.10); not the course's
+//! form, docs/homework.md §3, E4), for which `Ṁ = C + Cᵀ`.
 
 use crate::math::{hat, Mat3, Vec3};
 
@@ -73,7 +74,7 @@ pub fn mass_matrix(eta: &Vec3, inertia: &Mat3) -> Mat3 {
     q.transpose() * inertia * q
 }
 
-/// Skew-consistent Coriolis matrix `C = Qᵀ I_b Q̇ − Qᵀ S(I_b Q η̇) Q` (control.md §2.2).
+/// Skew-consistent Coriolis matrix `C = Qᵀ I_b Q̇ − Qᵀ S(I_b Q η̇) Q` (docs/model.md §3, eq. (3.9)).
 pub fn coriolis(eta: &Vec3, eta_dot: &Vec3, inertia: &Mat3) -> Mat3 {
     let q = q_matrix(eta);
     let qt = q.transpose();

@@ -1,5 +1,5 @@
-//! Allocation: golden matrices (homework eqs. 2–5, quad-X, hex-X), min-norm inverse properties,
-//! and the saturation priority of control.md §3.4.
+//! Allocation: golden matrices (docs/allocation.md §2, eq. (2.3): the homework's octocopter; quad-X,
+//! hex-X), min-norm inverse properties, and the saturation priority of docs/allocation.md §4.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a failed set-up step should panic in a test
 
 use nalgebra::{DMatrix, Vector3};

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Enforces the dependency rules of architecture.md §1 with grep: the plant never names the flight
+# Enforces the dependency rules of docs/architecture.md §1 with grep: the plant never names the flight
 # controller, tokio or mavlink; only src/sitl.rs names firmware_sim; only src/mav/ names mavlink;
 # the plant is stepped in one place (src/lockstep/mod.rs); pure modules never name clocks,
 # sockets, threads or locks.
@@ -50,5 +50,12 @@ hits=$(grep -L 'LinkMachine' fuzz/fuzz_targets/mavlink_ingest.rs || true)
 # Parameters are declared once, as rows (src/params/rows/): nothing names them by position.
 hits=$(code 'PARAM_NAMES' --include='*.rs' src tests benches fuzz/fuzz_targets; code '\b(v|values)\[[0-9]+' src/params src/mav/params.rs)
 [ -z "$hits" ] || complain "parameters are read and written through their rows, never by index" "$hits"
+
+# Documentation (docs/README.md §4): nothing points outside the repository; every docs/ citation
+# names an existing note, section heading and equation; no old-style or homework-numbered
+# citation is left. tests/docs_citations.py prints file:line of every problem.
+if ! python3 tests/docs_citations.py; then
+    complain "documentation citations are broken (see the file:line list above)" ""
+fi
 
 exit "$fail"

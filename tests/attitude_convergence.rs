@@ -1,5 +1,5 @@
 //! The geometric controller recovers from large initial attitude errors (below 180°), including
-//! an initial attitude given by the antipodal quaternion (control.md §5; Lee et al. show almost
+//! an initial attitude given by the antipodal quaternion (docs/control.md §5.4; Lee et al. show almost
 //! global convergence of the attitude error).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 

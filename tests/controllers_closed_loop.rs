@@ -1,5 +1,5 @@
 //! Closed loop with the plant: every controller on every airframe preset holds hover and tracks a
-//! quintic move (control.md §4–§6, default gains scaled from the homework tuning).
+//! quintic move (docs/control.md §4–§6, default gains scaled from the homework tuning, docs/control.md §7).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::Path;
@@ -81,7 +81,7 @@ fn every_controller_tracks_a_quintic_move_on_every_airframe() {
         );
         assert!(s.tracking.max_tilt_deg < 15.0, "{tag}: {}", s.tracking.max_tilt_deg);
         // The homework vehicle's yaw inertia (2.48 kg·m²) is ~45× a real quad's: the 60° turn
-        // saturates yaw briefly there (the policy gives up yaw first, control.md §3.4).
+        // saturates yaw briefly there (the policy gives up yaw first, docs/allocation.md §4).
         assert!(
             s.tracking.saturated_time_s < 0.5,
             "{tag}: {}",

@@ -1,4 +1,4 @@
-//! The shipped homework scenarios reproduce the homework's results (control.md §5, §7.6).
+//! The shipped homework scenarios reproduce the homework's results (docs/homework.md §2, §5).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::Path;
@@ -33,7 +33,7 @@ fn ex5_geometric_reaches_the_goal_within_a_centimetre_with_hover_thrust_mg() {
         "{}",
         s.tracking.final_thrust_n
     );
-    // control.md §9: the §5 move stays inside the rotor limits.
+    // docs/homework.md §2.5: the Ex. 5 move stays inside the rotor limits.
     assert_eq!(s.tracking.saturated_time_s, 0.0);
 }
 
@@ -43,7 +43,7 @@ fn ex4_estimator_recovers_the_wrench_within_one_percent_and_the_mass_within_half
     let est = s.estimate.as_ref().expect("estimator on");
     assert_eq!(est.order, 1);
     // Truth: scripted f_e = (0.5, 0.5, 0) N and τ_e = (0, 0, 0.2) N·m, plus the unmodelled
-    // weight (m_r − m_e) g = 1.962 N along +z (control.md §7.6).
+    // weight (m_r − m_e) g = 1.962 N along +z (docs/estimator.md §5, eq. (5.2)).
     assert_eq!(s.true_force_n, [0.5, 0.5, 0.0]);
     let unmodelled = (s.true_mass_kg - s.believed_mass_kg) * 9.81;
     let expected = [s.true_force_n[0], s.true_force_n[1], s.true_force_n[2] + unmodelled];

@@ -1,5 +1,5 @@
 //! The plant's wrench, summed per rotor with its own geometry, equals the FC's `G_q ω²` for the
-//! same speeds (architecture.md §2): a sign error on either side fails here.
+//! same speeds (docs/architecture.md §2): a sign error on either side fails here.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a failed set-up step should panic in a test
 
 use firmware_sim::rotor::rotor_wrench_b;

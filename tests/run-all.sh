@@ -11,7 +11,7 @@ echo "== format and lints"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --release -- -D warnings
 
-echo "== architecture rules (architecture.md §1)"
+echo "== architecture rules (docs/architecture.md §1)"
 bash tests/architecture-rules.sh
 
 echo "== Rust tests"

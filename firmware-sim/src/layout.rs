@@ -1,4 +1,5 @@
-//! Rotor hub positions and spins from a ring or an explicit list (control.md §3.1).
+//! Rotor hub positions and spins from a ring or an explicit list
+//! (docs/allocation.md §1, eqs. (1.1)–(1.3)).
 //!
 //! Rotor i sits at angle α_i counted counter-clockwise seen from above from body +x, which in
 //! FRD runs from +x towards −y: hub `r_i = l [cos α_i, −sin α_i, 0]ᵀ + z e3`.

@@ -39,7 +39,7 @@ pub use rand_chacha::ChaCha8Rng;
 pub use rigid_body::RigidBodyState;
 pub use sensors::{NoiseParams, SensorSample};
 
-/// Standard gravity used by plant and controller alike [m/s²] (control.md §1).
+/// Standard gravity used by plant and controller alike [m/s²] (docs/model.md §1).
 pub const GRAVITY_M_S2: f64 = 9.81;
 
 /// Default integration step [s] (1 kHz).

@@ -1,7 +1,7 @@
 //! The plant's view of an airframe file, validated into typed parameters.
 //!
 //! The plant parses the file with its own types and derives rotor positions with its own
-//! code (architecture.md §2: no constants shared with the flight controller). A bad file is
+//! code (docs/architecture.md §2: no constants shared with the flight controller). A bad file is
 //! refused with a [`ParamsError`] naming the file, the field and the reason.
 
 use nalgebra::Vector3;
@@ -25,7 +25,7 @@ pub struct ParamsError {
     pub reason: String,
 }
 
-/// Motor and propeller constants shared by every rotor (control.md §2.3).
+/// Motor and propeller constants shared by every rotor (docs/model.md §4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RotorConstants {
     /// Propeller radius ρ [m].
@@ -50,7 +50,7 @@ pub struct RotorGeometry {
     /// Hub position in the body frame (FRD) [m].
     pub hub_b: Vector3<f64>,
     /// Sign of the reaction torque about +z_b: −1 for a propeller turning clockwise seen from
-    /// above, +1 for counter-clockwise (control.md §3.1).
+    /// above, +1 for counter-clockwise (docs/allocation.md §1, eq. (1.3)).
     pub reaction_sign: f64,
 }
 
@@ -63,14 +63,14 @@ pub struct GroundSettings {
     pub effect: Option<ProximityModel>,
 }
 
-/// Ceiling plane and the ceiling-effect law (control.md §8.3).
+/// Ceiling plane and the ceiling-effect law (docs/ground_ceiling.md §4).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CeilingSettings {
     /// Ceiling plane height as a NED z coordinate [m] (above the vehicle: more negative).
     pub plane_z_m: f64,
     /// Thrust factor law.
     pub effect: ProximityModel,
-    /// True while k1, k2 are the unconfirmed placeholders of control.md §8.3.
+    /// True while k1, k2 are the unconfirmed placeholders of docs/ground_ceiling.md §4.
     pub unconfirmed: bool,
 }
 
@@ -172,7 +172,7 @@ impl PlantParams {
         let mut out = Vec::new();
         if self.ceiling.as_ref().is_some_and(|c| c.unconfirmed) {
             out.push(format!(
-                "{}: ceiling effect uses the unconfirmed placeholder k1 = 16, k2 = 0 (control.md §8.3)",
+                "{}: ceiling effect uses the unconfirmed placeholder k1 = 16, k2 = 0 (docs/ground_ceiling.md §4)",
                 self.name
             ));
         }

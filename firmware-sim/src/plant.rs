@@ -261,8 +261,6 @@ impl Plant {
         rejected
     }
 
-    /// Thrust factor of each rotor from its hub's distance to ground and ceiling
-    /// (control.md §8.4 rules 1–2), held over the step.
     /// Fails (`true`) or repairs rotor `index` (0-based); false when there is no such rotor.
     pub fn set_rotor_failed(&mut self, index: usize, failed: bool) -> bool {
         match self.failed.get_mut(index) {
@@ -288,6 +286,8 @@ impl Plant {
         }
     }
 
+    /// Thrust factor of each rotor from its hub's distance to ground and ceiling
+    /// (docs/ground_ceiling.md §5.1–§5.2), held over the step.
     fn update_proximity_factors(&mut self) {
         let ground = &self.params.ground;
         let ceiling = self.params.ceiling.as_ref().filter(|_| self.proximity_enabled.1);

@@ -1,19 +1,19 @@
-//! Ground- and ceiling-effect thrust factors per rotor (control.md §8).
+//! Ground- and ceiling-effect thrust factors per rotor (docs/ground_ceiling.md).
 //!
 //! A [`ProximityModel`] maps a rotor's distance to a surface `h` [m] to the factor by which its
 //! thrust is multiplied. The raw laws are singular close to the surface, so the model applies the
-//! simulator rules of control.md §8.4: clamp at `h_min`, cap the factor, return exactly 1 above the
-//! cutoff `h_cut`, and blend C¹ over `[0.8 h_cut, h_cut]`.
+//! simulator rules of docs/ground_ceiling.md §5: clamp at `h_min`, cap the factor, return
+//! exactly 1 above the cutoff `h_cut`, and blend C¹ over `[0.8 h_cut, h_cut]`.
 
 use thiserror::Error;
 
 /// The raw thrust-ratio law.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ProximityLaw {
-    /// Single rotor, method of images (Cheeseman & Bennett 1955), control.md §8.1:
+    /// Single rotor, method of images (Cheeseman & Bennett 1955), docs/ground_ceiling.md §2, eq. (2.1):
     /// `k = 1 / (1 − (ρ/4z)²)`.
     CheesemanBennett,
-    /// Multirotor ground effect (Sanchez-Cuevas et al. 2017), control.md §8.2.
+    /// Multirotor ground effect (Sanchez-Cuevas et al. 2017), docs/ground_ceiling.md §3, eq. (3.1).
     Multirotor {
         /// Spacing d between adjacent rotors [m].
         spacing_m: f64,
@@ -22,7 +22,7 @@ pub enum ProximityLaw {
         /// Empirical body-lift gain K_b [-] (to be confirmed from the paper; 0 = pure images).
         body_gain: f64,
     },
-    /// Ceiling effect (Sanchez-Cuevas et al., ICUAS 2017), control.md §8.3:
+    /// Ceiling effect (Sanchez-Cuevas et al., ICUAS 2017), docs/ground_ceiling.md §4, eq. (4.1):
     /// `k = 1 / (1 − (1/k1)(ρ/(z + k2))²)`.
     Ceiling {
         /// Fitted constant k1 [-].
@@ -68,7 +68,7 @@ pub struct ProximityModel {
     cap: f64,
 }
 
-/// Raw factor at which the default cutoff is placed (control.md §8.4 rule 5).
+/// Raw factor at which the default cutoff is placed (docs/ground_ceiling.md §5.5).
 const CUTOFF_EXCESS: f64 = 1e-3;
 
 impl ProximityModel {
@@ -120,7 +120,8 @@ impl ProximityModel {
         self.law
     }
 
-    /// Thrust factor at distance `h_m` [m] from the surface, following control.md §8.4:
+    /// Thrust factor at distance `h_m` [m] from the surface, following
+    /// docs/ground_ceiling.md §5.3–§5.5, eq. (5.4):
     /// 1 above the cutoff, blended with `S(x) = 3x² − 2x³` over `[0.8 h_cut, h_cut]`, the raw law
     /// at `max(h, h_min)` below, capped, and never a division by a non-positive denominator.
     pub fn factor(&self, h_m: f64) -> f64 {

@@ -1,4 +1,5 @@
-//! 6-DoF rigid body in NED world / FRD body, integrated with fixed-step RK4 (control.md §2.1).
+//! 6-DoF rigid body in NED world / FRD body, integrated with fixed-step RK4
+//! (docs/model.md §2, eqs. (2.1)–(2.5)).
 //!
 //! ```text
 //! ṗ = v,   m v̇ = m g e3 + f_w,   q̇ = ½ q ⊗ (0, ω),   I ω̇ = −ω × I ω + τ_b

@@ -1,4 +1,4 @@
-//! Rotor thrust and drag torque, and the first-order motor lag (control.md §2.3).
+//! Rotor thrust and drag torque, and the first-order motor lag (docs/model.md §4, eqs. (4.1)–(4.5)).
 //!
 //! `T_i = c_T ω_i² k_i` along −z_b, where k_i is the ground/ceiling factor, and drag torque
 //! `Q_i = c_Q ω_i²` whose reaction on the body is `s_i Q_i e3`. Motor speed follows

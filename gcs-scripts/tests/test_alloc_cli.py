@@ -1,4 +1,4 @@
-"""`rotorpilot alloc` against an independent numpy rendering of homework eqs. (2)-(5)."""
+"""`rotorpilot alloc` against an independent numpy rendering of docs/allocation.md §2, eq. (2.3)."""
 import json
 import math
 

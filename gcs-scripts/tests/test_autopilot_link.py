@@ -42,7 +42,7 @@ class Autopilot:
         return hb
 
     def command(self, command, *params, target=(1, 1)):
-        """COMMAND_LONG; returns the COMMAND_ACK for it (within the 0.5 s budget of mavlink.md §3.1).
+        """COMMAND_LONG; returns the COMMAND_ACK for it (within the 0.5 s budget of docs/mavlink.md §3.1).
         One-shot messages arriving meanwhile are kept for `wait` (a STATUSTEXT may overtake the ACK)."""
         p = list(params) + [NAN] * (7 - len(params))
         self.gcs.mav.command_long_send(target[0], target[1], command, 0, *p)
@@ -205,7 +205,7 @@ def test_duplicates_and_command_int(autopilot):
 
 
 def int32_bits(value):
-    """Byte-wise INT32 in the float field (mavlink.md §8.2)."""
+    """Byte-wise INT32 in the float field (docs/mavlink.md §8.2)."""
     import struct
     return struct.unpack("<f", struct.pack("<i", value))[0]
 

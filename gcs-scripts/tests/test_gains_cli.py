@@ -1,4 +1,5 @@
-"""`rotorpilot gains` against the golden values of control.md §7.4 and an independent numpy design."""
+"""`rotorpilot gains` against the golden values of docs/estimator.md §3.3 and an independent
+numpy design."""
 import json
 import math
 
@@ -22,7 +23,7 @@ def test_order_seven_matches_reference_table(rotorpilot):
     assert out["order"] == 7 and out["stable"] is True
     np.testing.assert_allclose(out["a"], R7_DENOMINATOR, rtol=1e-9)
     np.testing.assert_allclose(out["K"], R7_GAINS, rtol=1e-9)
-    # Slowest pole of control.md §7.4: −0.0563 ± 1.965j.
+    # Slowest pole of docs/estimator.md §3.3: −0.0563 ± 1.965j.
     slowest = max(out["poles"], key=lambda p: p[0])
     assert abs(slowest[0] + 0.0563) < 1e-4 and abs(abs(slowest[1]) - 1.965) < 1e-3
 

@@ -1,5 +1,5 @@
 //! The flight controller's view of an airframe: what it believes the vehicle's mass, inertia and
-//! rotors are. Parsed with the FC's own types (architecture.md §2); the plant reads the same file
+//! rotors are. Parsed with the FC's own types (docs/architecture.md §2); the plant reads the same file
 //! with its own. Mass and inertia come from `[fc]` when it gives them (a believed vehicle that
 //! differs from the true one), else from `[vehicle]`.
 
@@ -52,7 +52,7 @@ pub enum Spin {
 }
 
 impl Spin {
-    /// Sign of the yaw-row entry of this rotor's column of G_q (control.md §3.1).
+    /// Sign of the yaw-row entry of this rotor's column of G_q (docs/allocation.md §1, eq. (1.3)).
     pub fn yaw_sign(self) -> f64 {
         match self {
             Self::Clockwise => -1.0,
@@ -214,8 +214,8 @@ impl Airframe {
     }
 }
 
-/// Rotor angles, arms and spins from a ring or a list (control.md §3.1: α_i = α_0 + 2π(i−1)/n,
-/// spins alternating from rotor 1).
+/// Rotor angles, arms and spins from a ring or a list (docs/allocation.md §1, eqs. (1.1)–(1.3):
+/// α_i = α_0 + 2π(i−1)/n, spins alternating from rotor 1).
 fn rotor_defs(f: &Fields, r: &RotorsTable) -> Result<Vec<RotorDef>, AirframeError> {
     let defs = match (&r.ring, &r.rotor) {
         (Some(_), Some(_)) => {

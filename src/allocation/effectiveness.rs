@@ -1,5 +1,6 @@
-//! The allocation (effectiveness) matrix G_q ∈ R^{4×n} of n coplanar rotors (control.md §3.2,
-//! homework eqs. 2–5): `[u_T, τx, τy, τz]ᵀ = G_q [ω_1², …, ω_n²]ᵀ` with column i
+//! The allocation (effectiveness) matrix G_q ∈ R^{4×n} of n coplanar rotors
+//! (docs/allocation.md §2, eqs. (2.1)–(2.3); the homework's octocopter matrix is the n = 8 case):
+//! `[u_T, τx, τy, τz]ᵀ = G_q [ω_1², …, ω_n²]ᵀ` with column i
 //! `[c_T, c_T l sin α_i, c_T l cos α_i, s_i c_Q]ᵀ`.
 
 use nalgebra::DMatrix;

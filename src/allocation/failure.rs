@@ -1,5 +1,5 @@
 //! Allocation after rotor failures (issue 6): the columns of the stopped rotors leave G_q and the
-//! min-norm inverse is taken of what is left (control.md §3.3).
+//! min-norm inverse is taken of what is left (docs/allocation.md §5, eqs. (5.1)–(5.3)).
 
 use nalgebra::DMatrix;
 
@@ -17,7 +17,7 @@ pub enum FailedRotors {
 }
 
 impl Allocator {
-    /// The allocator after the rotors marked in `failed` stopped (control.md §3.3 with their
+    /// The allocator after the rotors marked in `failed` stopped (docs/allocation.md §5: their
     /// columns of G_q set to zero): the min-norm inverse of what is left when it still spans
     /// thrust and all three torques with room to stabilise around hover; otherwise (a
     /// quadrotor, or a PNPNPN hexacopter, that lost a rotor) thrust, roll and pitch only, giving

@@ -1,4 +1,4 @@
-//! Minimum-norm inverse of the allocation (control.md §3.3): `ω² = A w` with
+//! Minimum-norm inverse of the allocation (docs/allocation.md §3, eq. (3.1)): `ω² = A w` with
 //! `A = G_qᵀ (G_q G_qᵀ)⁻¹`, computed once per airframe.
 
 use nalgebra::DMatrix;
@@ -36,7 +36,8 @@ pub fn min_norm_inverse(g: &DMatrix<f64>) -> Result<DMatrix<f64>, AllocationErro
     Ok(g.transpose() * gram_inv)
 }
 
-/// Closed-form inverse for n ≥ 4 evenly spaced rotors with alternating spins (control.md §3.3):
+/// Closed-form inverse for an even n ≥ 4 of evenly spaced rotors with alternating spins
+/// (docs/allocation.md §3, eq. (3.3)):
 /// `ω_i² = u_T/(n c_T) + 2 τx sin α_i/(n c_T l) + 2 τy cos α_i/(n c_T l) + s_i τz/(n c_Q)`.
 /// `alpha_rad[i]` and `yaw_sign[i]` describe rotor i; returns A (n × 4).
 pub fn closed_form_ring_inverse(c_t: f64, c_q: f64, arm_m: f64, alpha_rad: &[f64], yaw_sign: &[f64]) -> DMatrix<f64> {

@@ -1,4 +1,4 @@
-//! Control allocation for n ≥ 4 coplanar rotors (control.md §3): G_q from the FC's airframe,
+//! Control allocation for n ≥ 4 coplanar rotors (docs/allocation.md): G_q from the FC's airframe,
 //! its minimum-norm inverse, and the saturation policy.
 //!
 //! The hot path ([`Allocator::allocate`]) works on fixed-size arrays and never allocates.
@@ -51,7 +51,8 @@ impl Wrench {
 pub struct Allocation {
     n: usize,
     omega_sq: RotorArray,
-    /// Wrench the commanded speeds produce, `G_q ω²` (what the estimator must use, §3.4).
+    /// Wrench the commanded speeds produce, `G_q ω²` (what the estimator must use,
+    /// docs/allocation.md §4).
     pub applied: Wrench,
     /// What was given up to stay within the speed limits.
     pub saturation: Saturation,
@@ -185,7 +186,7 @@ impl Allocator {
         }
     }
 
-    /// Min-norm allocation of `w` with the saturation policy of control.md §3.4. A non-finite
+    /// Min-norm allocation of `w` with the saturation policy of docs/allocation.md §4. A non-finite
     /// wrench allocates zero thrust and torque and reports full saturation.
     pub fn allocate(&self, w: &Wrench) -> Allocation {
         let mut omega_sq = [0.0; MAX_ROTORS];

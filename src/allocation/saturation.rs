@@ -1,4 +1,5 @@
-//! Saturation policy (control.md §3.4): keep thrust and roll/pitch, give up yaw first.
+//! Saturation policy (docs/allocation.md §4, eqs. (4.1)–(4.2)): keep thrust and roll/pitch, give
+//! up yaw first.
 //!
 //! Every `ω_i²` is affine in any one scalar of the wrench, so each step intersects n intervals:
 //! 1. clamp u_T to `[0, u_T,max]`;

@@ -1,4 +1,4 @@
-//! Geofence and battery failsafes (mavlink.md §11.2, PX4 names and semantics). Pure: the
+//! Geofence and battery failsafes (docs/mavlink.md §11.2, PX4 names and semantics). Pure: the
 //! commander feeds the position relative to home, the uploaded fence's verdict on it and the
 //! battery's remaining fraction each tick and gets back the failsafes that have just triggered,
 //! each with the action to take.

@@ -1,4 +1,4 @@
-//! AUTO.MISSION execution (mavlink.md §7 "Execution", "Progress"): one item at a time, each
+//! AUTO.MISSION execution and progress (docs/mavlink.md §7): one item at a time, each
 //! turned into guidance; reached items are announced; after the last item the vehicle loiters
 //! (unless it landed or returns).
 

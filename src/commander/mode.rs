@@ -1,4 +1,4 @@
-//! PX4 flight modes and their `custom_mode` packing (mavlink.md §2.1):
+//! PX4 flight modes and their `custom_mode` packing (docs/mavlink.md §2.1):
 //! `custom_mode = (main_mode << 16) | (sub_mode << 24)`.
 
 /// Flight modes the emulator flies.

@@ -1,5 +1,5 @@
 //! The commander's reactions to what goes wrong on its own: geofence and battery failsafes,
-//! rotor failures and GCS link loss (mavlink.md §6). Each announces itself and switches the
+//! rotor failures and GCS link loss (docs/mavlink.md §11.2). Each announces itself and switches the
 //! mode (hold, return, land) or, for a termination, stops the motors.
 
 use crate::allocation::FailedRotors;

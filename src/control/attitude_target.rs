@@ -1,5 +1,6 @@
-//! Direct attitude or body-rate control for offboard SET_ATTITUDE_TARGET (mavlink.md §6):
-//! the attitude part of the geometric law (control.md §5, eqs. (9), (10), (14)) with a given
+//! Direct attitude or body-rate control for offboard SET_ATTITUDE_TARGET (docs/mavlink.md §6,
+//! docs/control.md §9): the attitude part of the geometric law
+//! (docs/control.md §5.4, eqs. (5.7)–(5.9)) with a given
 //! `R_{b,d}` and `ω_{b,d}` (ω̇_{b,d} = 0), or a body-rate loop
 //! `τ_b = −K_ω (ω_b − ω_{b,d}) + ω_b × I_b ω_b` when only rates are given. Thrust is commanded
 //! directly as a fraction of the rotors' maximum.

@@ -23,12 +23,12 @@ use super::{ControlFlags, ControlOutput, FlatSetpoint, TrackingErrors, VehicleSt
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ControllerKind {
-    /// Geometric tracking on SE(3) (control.md §5).
+    /// Geometric tracking on SE(3) (docs/control.md §5).
     #[default]
     Geometric,
-    /// Hierarchical RPY law with feedback linearisation (control.md §4).
+    /// Hierarchical RPY law with feedback linearisation (docs/control.md §4).
     Hierarchical,
-    /// Passivity-based RPY law (control.md §6).
+    /// Passivity-based RPY law (docs/control.md §6).
     Passivity,
 }
 
@@ -164,7 +164,7 @@ impl Controller {
         Ok(())
     }
 
-    /// Selects how the geometric law obtains ω_{b,d} (control.md §5).
+    /// Selects how the geometric law obtains ω_{b,d} (docs/control.md §5.3).
     pub fn set_desired_rate_mode(&mut self, mode: DesiredRateMode, ts_s: f64) {
         self.geometric = GeometricLaw::new(ts_s, self.gains.limits.derivative_tau_s, mode);
     }

@@ -1,8 +1,8 @@
-//! Filtered numerical derivative ("dirty derivative") of control.md §4.2:
+//! Filtered numerical derivative ("dirty derivative") of docs/control.md §3, eqs. (3.1)–(3.2):
 //! `D(s) = s / (τ_f s + 1)` discretised with backward Euler,
 //!
 //! ```text
-//! d_k = ( τ_f d_{k−1} + (x_k − x_{k−1}) ) / (τ_f + Ts)
+//! d_k = ( τ_f d_{k−1} + (x_k − x_{k−1}) ) / (τ_f + Ts)                        (3.2)
 //! ```
 //!
 //! initialised from the first sample (`x_{−1} = x_0`, `d = 0`) so a controller starting away

@@ -1,11 +1,12 @@
 //! Gains and limits of the three controllers, with units, and their defaults.
 //!
-//! The defaults are the homework's (control.md §5 "Homework gains", §4.2 and §6 example
-//! gains), tuned for the homework vehicle `fsr_quad`: m = 1.5 kg,
+//! The defaults are the homework's (docs/control.md §7), tuned for the homework vehicle
+//! `fsr_quad`: m = 1.5 kg,
 //! I_b = diag(1.2416, 1.2416, 2.4832) kg·m². For another airframe [`ControllerGains::for_vehicle`]
 //! keeps the natural frequencies and damping ratios of that tuning: gains in force units scale
 //! with the mass, gains in torque units with the inertia of each axis (`K_R = I_b ω_n²`,
-//! `K_ω = 2 ζ I_b ω_n`, control.md §5). On `fsr_quad` they are exactly the homework's.
+//! `K_ω = 2 ζ I_b ω_n`, docs/control.md §7, eqs. (7.1)–(7.2)). On `fsr_quad` they are exactly
+//! the homework's.
 
 use serde::{Deserialize, Serialize};
 
@@ -40,7 +41,7 @@ impl VehicleModel {
     }
 }
 
-/// Geometric controller gains (control.md §5), force and torque units.
+/// Geometric controller gains (docs/control.md §5, §7), force and torque units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GeometricGains {
@@ -54,7 +55,7 @@ pub struct GeometricGains {
     pub komega: Vec3,
 }
 
-/// Hierarchical controller gains (control.md §4), per unit mass and per unit inertia
+/// Hierarchical controller gains (docs/control.md §4, §7), per unit mass and per unit inertia
 /// (feedback linearisation makes them vehicle-independent).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -69,7 +70,7 @@ pub struct HierarchicalGains {
     pub k_eta_dot: Vec3,
 }
 
-/// Passivity-based controller gains (control.md §6).
+/// Passivity-based controller gains (docs/control.md §6, §7).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PassivityGains {
@@ -85,7 +86,7 @@ pub struct PassivityGains {
     pub k_o: Vec3,
 }
 
-/// Guards shared by the laws (control.md §4.1, §5 "Guards").
+/// Guards shared by the laws (docs/control.md §8).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ControlLimits {

@@ -1,16 +1,20 @@
 //! Geometric tracking controller on SE(3) (T. Lee, M. Leok, N. H. McClamroch, CDC 2010;
-//! homework eqs. (7)–(14) with the position-feedback sign corrected, erratum E2;
-//! control.md §5):
+//! docs/control.md §5, eqs. (5.1)–(5.10), with the homework's position-feedback sign corrected,
+//! docs/homework.md §3, E2):
 //!
 //! ```text
-//! A   = −K_p e_p − K_v ė_p − m g e3 + m p̈_{b,d}  [− f̂_e]                       (E2)
-//! u_T = −Aᵀ R_b e3                                                                (12)
-//! z_{b,d} = −A / ‖A‖                                                              (13)
-//! e_R = ½ vee( R_{b,d}ᵀ R_b − R_bᵀ R_{b,d} )                                      (9)
-//! e_ω = ω_b − R_bᵀ R_{b,d} ω_{b,d}                                                (10)
+//! A   = −K_p e_p − K_v ė_p − m g e3 + m p̈_{b,d}  [− f̂_e]                       (5.1)
+//! u_T = −Aᵀ R_b e3                                                                (5.2)
+//! z_{b,d} = −A / ‖A‖                                                              (5.3)
+//! R_{b,d} = [y_{b,d} × z_{b,d}, y_{b,d}, z_{b,d}],  y_{b,d} ∥ z_{b,d} × x_c          (5.4)
+//! e_R = ½ vee( R_{b,d}ᵀ R_b − R_bᵀ R_{b,d} )                                      (5.7)
+//! e_ω = ω_b − R_bᵀ R_{b,d} ω_{b,d}                                                (5.8)
 //! τ_b = −K_R e_R − K_ω e_ω + ω_b × I_b ω_b
-//!       − I_b ( S(ω_b) R_bᵀ R_{b,d} ω_{b,d} − R_bᵀ R_{b,d} ω̇_{b,d} )  [− τ̂_e^b]  (14)
+//!       − I_b ( S(ω_b) R_bᵀ R_{b,d} ω_{b,d} − R_bᵀ R_{b,d} ω̇_{b,d} )  [− τ̂_e^b]  (5.9)
 //! ```
+//!
+//! with `x_c = [cos ψ_d, sin ψ_d, 0]ᵀ`; ω_{b,d} and ω̇_{b,d} by [`DesiredRateMode`]
+//! (docs/control.md §5.3, eqs. (5.5)–(5.6)).
 
 use serde::{Deserialize, Serialize};
 
@@ -25,7 +29,7 @@ use super::{ControlFlags, ControlOutput, TrackingErrors, VehicleState};
 /// Below this `‖z_{b,d} × x_c‖` the previous `y_{b,d}` is kept (heading undefined) [-].
 const CROSS_MIN: f64 = 1e-6;
 
-/// How ω_{b,d} and ω̇_{b,d} are obtained (control.md §5).
+/// How ω_{b,d} and ω̇_{b,d} are obtained (docs/control.md §5.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DesiredRateMode {
@@ -68,7 +72,7 @@ impl GeometricLaw {
         *self = Self::new(self.ts_s, self.tau_s, self.mode);
     }
 
-    /// One tick of eqs. (7)–(14).
+    /// One tick of docs/control.md §5, eqs. (5.1)–(5.10).
     pub fn update(&mut self, gains: &GeometricGains, input: &LawInput) -> ControlOutput {
         let (model, limits, tr, heading) = (input.model, input.limits, &input.translation, &input.heading);
         let m = model.mass_kg;
@@ -76,7 +80,7 @@ impl GeometricLaw {
         let mut a = -gains.kp.component_mul(&tr.e_p) - gains.kv.component_mul(&tr.e_v) - m * GRAVITY_M_S2 * e3()
             + m * tr.acc_w
             - input.force_hat_w();
-        // Guards: keep an upward thrust component and the tilt limit (control.md §5 "Guards").
+        // Guards: keep an upward thrust component and the tilt limit (docs/control.md §5.1).
         if a.z > -m * limits.eps_z_m_s2 {
             a.z = -m * limits.eps_z_m_s2;
             flags.thrust_direction_held = true;
@@ -132,7 +136,7 @@ impl GeometricLaw {
     }
 }
 
-/// A desired attitude with its rates (control.md §5).
+/// A desired attitude with its rates (docs/control.md §5.2–§5.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DesiredAttitude {
     /// `R_{b,d}`, body → world.
@@ -183,7 +187,7 @@ impl AttitudeTracking {
     }
 }
 
-/// The attitude part of the geometric law, eqs. (9), (10), (14) of the module doc: e_R, e_ω
+/// The attitude part of the geometric law (docs/control.md §5.4, eqs. (5.7)–(5.10)): e_R, e_ω
 /// and τ_b from state `x` towards `desired`, minus the estimated body torque `tau_hat_b` [N·m]
 /// (zero for no compensation); also serves offboard attitude targets.
 pub fn attitude_tracking(
@@ -239,7 +243,7 @@ mod tests {
 
     #[test]
     fn one_metre_low_adds_k_p_z_newtons() {
-        // control.md §5 "NED sign check": e_z = 1 m ⇒ u_T = m g + K_p,z.
+        // docs/control.md §5.5: e_z = 1 m ⇒ u_T = m g + K_p,z.
         let out = step(
             &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
             &level(Vec3::new(0.0, 0.0, 1.0)),

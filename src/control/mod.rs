@@ -2,9 +2,9 @@
 //! interface ([`Controller`]). Controllers take the state and a setpoint and return a
 //! [`Wrench`](crate::allocation::Wrench); they never touch clocks or I/O.
 //!
-//! - [`geometric`]: Lee et al. on SE(3) (control.md §5).
-//! - [`hierarchical`]: RPY, feedback-linearised inner loop (control.md §4).
-//! - [`passivity`]: RPY, passivity-based, no feedback linearisation (control.md §6).
+//! - [`geometric`]: Lee et al. on SE(3) (docs/control.md §5).
+//! - [`hierarchical`]: RPY, feedback-linearised inner loop (docs/control.md §4).
+//! - [`passivity`]: RPY, passivity-based, no feedback linearisation (docs/control.md §6).
 //!
 //! The two RPY laws are their gains' outer and inner loops run by one shared skeleton
 //! (`rpy_law`: μ_d → η_d by `rpy_reference` → τ_b, estimate compensation); the attitude part

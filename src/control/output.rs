@@ -4,13 +4,13 @@
 use crate::allocation::Wrench;
 use crate::math::{Mat3, Vec3};
 
-/// Guards and faults of one controller update (control.md §4.1, §5 "Guards").
+/// Guards and faults of one controller update (docs/control.md §8).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ControlFlags {
     /// An input (state, setpoint or estimate) or the computed output was not finite; the
     /// controller returned its last good output instead.
     pub non_finite: bool,
-    /// Commanded thrust was clamped to `[0, u_T,max]` (or to `u_min` in the RPY laws).
+    /// Commanded thrust was clamped to `[0, u_T,max]`.
     pub thrust_clamped: bool,
     /// The horizontal acceleration demand was scaled down to respect the tilt limit.
     pub tilt_limited: bool,
@@ -31,7 +31,7 @@ impl ControlFlags {
     }
 }
 
-/// Tracking errors, "current minus desired" (control.md §1).
+/// Tracking errors, "current minus desired" (docs/model.md §1).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct TrackingErrors {
     /// e_p, world NED [m] (zero when no position is commanded).

@@ -1,5 +1,5 @@
 //! Turns an optional-field [`FlatSetpoint`] into the concrete errors and feed-forwards every
-//! law uses (control.md §4.1, §5 eqs. (7)–(8)), following the semantics documented on
+//! law uses (docs/control.md §2, eqs. (2.1)–(2.3)), following the semantics documented on
 //! [`FlatSetpoint`], and bundles them with the rest of what a law reads in one tick
 //! ([`LawInput`]).
 
@@ -9,7 +9,7 @@ use crate::math::{euler_zyx, Vec3};
 use super::gains::{ControlLimits, VehicleModel};
 use super::{FlatSetpoint, VehicleState};
 
-/// What every law reads in one tick (control.md §4–§6).
+/// What every law reads in one tick (docs/control.md §4–§6).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LawInput<'a> {
     /// Vehicle model.

@@ -1,6 +1,7 @@
-//! Outer-loop output of the RPY laws (control.md §4.1, used by §4 and §6): from the desired
-//! acceleration μ_d to collective thrust and desired roll and pitch, with the corrected
-//! definition (erratum E1) `μ_d = g e3 − (u_T/m) R_b(η_d) e3`:
+//! Outer-loop output of the RPY laws (docs/control.md §4.1, used by docs/control.md §4, §6): from the
+//! desired acceleration μ_d to collective thrust and desired roll and pitch, with the corrected
+//! definition `μ_d = g e3 − (u_T/m) R_b(η_d) e3` (docs/control.md §4.1, eq. (4.2);
+//! docs/homework.md §3, E1), giving (docs/control.md §4.1, eqs. (4.3)–(4.5)):
 //!
 //! ```text
 //! u_T = m √( μ_x² + μ_y² + (μ_z − g)² )
@@ -10,7 +11,7 @@
 
 use crate::math::{Vec3, GRAVITY_M_S2};
 
-/// Guards of the extraction (control.md §4.1 "Guards").
+/// Guards of the extraction (docs/control.md §4.1, §8).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExtractionLimits {
     /// Largest tilt of the thrust direction [rad]; kept well below π/2 (RPY singularity).
@@ -92,7 +93,7 @@ mod tests {
             (Vec3::zeros(), 1.0),
         ] {
             let e = extract(mu, yaw, m, &limits());
-            // Definition (E1): μ = g e3 − (u_T/m) R(η_d) e3.
+            // Definition (docs/control.md §4.1, eq. (4.2)): μ = g e3 − (u_T/m) R(η_d) e3.
             let back = GRAVITY_M_S2 * e3() - e.thrust_n / m * rotation(&Vec3::new(e.roll_rad, e.pitch_rad, yaw)) * e3();
             assert!((back - mu).norm() < 1e-12, "{mu} → {back}");
             assert!(!e.tilt_limited && !e.vertical_limited);

@@ -1,4 +1,4 @@
-//! The skeleton the two RPY laws share (control.md §4, §6): the law's outer loop gives μ_d,
+//! The skeleton the two RPY laws share (docs/control.md §4.3, §6): the law's outer loop gives μ_d,
 //! [`RpyReference`] turns it into u_T, η_d and the errors, the law's inner loop gives τ_b, and
 //! the estimate is compensated the same way in both:
 //!
@@ -67,7 +67,8 @@ impl RpyLaw {
 }
 
 /// First tick of an RPY law on the homework vehicle holding the origin, and the η-space plant
-/// `M η̈ = Qᵀ τ_b − C η̇` (control.md §2.2) the laws' unit tests check their closed loop with.
+/// `M η̈ = Qᵀ τ_b − C η̇` (docs/model.md §3, eq. (3.8)) the laws' unit tests check their closed
+/// loop with.
 #[cfg(test)]
 pub(super) mod plant {
     use super::*;

@@ -1,9 +1,11 @@
-//! Shared middle of the RPY laws (control.md §4.1–§4.2, §6): from the outer loop's μ_d to the
-//! desired angles η_d with filtered derivatives, and the measured η, η̇ with their errors.
+//! Shared middle of the RPY laws (docs/control.md §4.3, used by docs/control.md §4, §6): from the outer
+//! loop's μ_d to the desired angles η_d with filtered derivatives, and the measured η, η̇ with
+//! their errors.
 //!
 //! φ̇_d, θ̇_d, φ̈_d, θ̈_d come from the filtered derivative `D(s) = s/(τ_f s + 1)` applied once and
-//! twice (§4.2); ψ_d, ψ̇_d, ψ̈_d come from the planner. `e_η = η − η_d` with the yaw wrapped into
-//! (−π, π]; `η̇ = Q(η)⁻¹ ω_b`.
+//! twice (docs/control.md §3, eq. (3.2)); ψ_d, ψ̇_d, ψ̈_d come from the planner.
+//! `e_η = η − η_d` with every angle wrapped into (−π, π]; `η̇ = Q(η)⁻¹ ω_b`
+//! (docs/control.md §4.3, eqs. (4.10)–(4.11); docs/control.md §4.2, eq. (4.6)).
 
 use crate::allocation::Wrench;
 use crate::math::{euler_zyx, wrap_pi, Mat3, Vec3};

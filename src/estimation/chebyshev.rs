@@ -1,10 +1,13 @@
-//! Estimator gains from an analog Chebyshev type-I low-pass (control.md §7.3–7.5).
+//! Estimator gains from an analog Chebyshev type-I low-pass (docs/estimator.md §3–§4).
 //!
 //! Prototype poles `p_k = Wp (−sinh v sin θ_k + j cosh v cos θ_k)`, `θ_k = (2k − 1)π/(2r)`,
-//! `v = asinh(1/ε)/r`, `ε = √(10^(Rp/10) − 1)`; the monic denominator `∏ (s − p_k)` is expanded
-//! over real factors; eq. (20) `c_j = ∏_{i=j+1}^{r} K_i` inverts to `K_i = c_{i−1}/c_i`. The
-//! forward-Euler update at Ts has discrete poles `1 + Ts p_k`, stable iff all lie inside the unit
-//! circle, i.e. `Wp < Wp_max = min_k 2(−Re p̂_k)/(Ts |p̂_k|²)` with p̂ the poles for Wp = 1.
+//! `v = asinh(1/ε)/r`, `ε = √(10^(Rp/10) − 1)` (docs/estimator.md §3.2, eqs. (3.2)–(3.5)); the
+//! monic denominator `∏ (s − p_k)` is expanded over real factors (docs/estimator.md §3.2, eq. (3.6));
+//! `c_j = ∏_{i=j+1}^{r} K_i` (docs/estimator.md §2, eq. (2.5)) inverts to `K_i = c_{i−1}/c_i`
+//! (docs/estimator.md §3.1, eq. (3.1)). The forward-Euler update at Ts has discrete poles
+//! `1 + Ts p_k`, stable iff all lie inside the unit circle, i.e.
+//! `Wp < Wp_max = min_k 2(−Re p̂_k)/(Ts |p̂_k|²)` with p̂ the poles for Wp = 1
+//! (docs/estimator.md §4, eqs. (4.6)–(4.8)).
 
 use thiserror::Error;
 
@@ -142,7 +145,7 @@ impl ChebyshevDesign {
 }
 
 /// Estimator gains from a monic denominator (ascending powers, c[r] = 1): `K_i = c_{i−1}/c_i`,
-/// i = 1 … r (eq. 20 inverted).
+/// i = 1 … r (docs/estimator.md §3.1, eq. (3.1)).
 pub fn estimator_gains(c: &[f64]) -> Vec<f64> {
     c.windows(2).map(|w| w[0] / w[1]).collect()
 }

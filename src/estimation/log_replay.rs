@@ -1,10 +1,11 @@
 //! Offline run of the wrench estimator over a flight log (homework exercise 4;
-//! `rotorpilot estimate`). Pure: the log arrives as text, the estimates leave as values.
+//! docs/estimator.md §7; `rotorpilot estimate`). Pure: the log arrives as text, the estimates
+//! leave as values.
 //!
 //! The log is CSV with a header row and the columns [`REQUIRED_COLUMNS`] in any order (extra
 //! columns are ignored): time [s], commanded thrust [N, positive], commanded body torques FRD
 //! [N·m], world NED velocity [m/s], ZYX Euler angles [rad] and their rates [rad/s]. Each row
-//! feeds one [`WrenchObserver::update`] (control.md §7.5).
+//! feeds one [`WrenchObserver::update`] (docs/estimator.md §4).
 
 use thiserror::Error;
 
@@ -93,7 +94,7 @@ pub const RUN_CSV_COLUMNS: [&str; 14] = [
 /// Below this |cos θ| Euler-angle rates are not defined (θ near ±90°).
 const COS_THETA_MIN: f64 = 1e-3;
 
-/// η̇ = Q(η)⁻¹ ω_b (control.md §2.2); `None` near θ = ±90°.
+/// η̇ = Q(η)⁻¹ ω_b (docs/model.md §3, eq. (3.4)); `None` near θ = ±90°.
 pub fn euler_rates(eta: &Vec3, omega_b: &Vec3) -> Option<Vec3> {
     crate::rpy::q_inverse(eta, COS_THETA_MIN).map(|q_inv| q_inv * omega_b)
 }

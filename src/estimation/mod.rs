@@ -1,4 +1,4 @@
-//! Estimation: Chebyshev gain design, the momentum-based wrench estimator (control.md §7), the
+//! Estimation: Chebyshev gain design, the momentum-based wrench estimator (docs/estimator.md), the
 //! [`WrenchEstimate`] it produces (the one external-wrench value every layer passes on) and its
 //! offline run over a flight log.
 

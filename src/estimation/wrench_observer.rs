@@ -1,18 +1,21 @@
-//! Momentum-based estimator of order r of the external wrench (Ruggiero et al.; control.md §7).
+//! Momentum-based estimator of order r of the external wrench (Ruggiero et al.;
+//! docs/estimator.md §1–§5).
 //!
 //! Generalized momentum `q = [m ṗ_b ; M(η) η̇]`, `q̇ = β + w` with
-//! `β = [m g e3 − u_T R_b(η) e3 ; Cᵀ(η, η̇) η̇ + Qᵀ τ_b]` (§7.1). Forward-Euler (Jacobi) update
-//! at Ts (§7.5), using only previous-tick values inside the chain:
+//! `β = [m g e3 − u_T R_b(η) e3 ; Cᵀ(η, η̇) η̇ + Qᵀ τ_b]` (docs/estimator.md §1, eqs. (1.1)–(1.3)).
+//! Forward-Euler (Jacobi) update at Ts (docs/estimator.md §4), using only previous-tick values
+//! inside the chain:
 //!
 //! ```text
-//! γ_1[k] = γ_1[k−1] + K_1 ( q_k − q_{k−1} − Ts (ŵ_{k−1} + β_{k−1}) )
-//! γ_i[k] = γ_i[k−1] + K_i Ts ( γ_{i−1}[k−1] − ŵ_{k−1} ),   i = 2 … r
-//! ŵ_k = γ_r[k]
+//! γ_1[k] = γ_1[k−1] + K_1 ( q_k − q_{k−1} − Ts (ŵ_{k−1} + β_{k−1}) )          (4.3)
+//! γ_i[k] = γ_i[k−1] + K_i Ts ( γ_{i−1}[k−1] − ŵ_{k−1} ),   i = 2 … r           (4.4)
+//! ŵ_k = γ_r[k]                                                                 (4.5)
 //! ```
 //!
 //! The force is in world NED, the torque in η coordinates (`τ̂_e^b = Q⁻ᵀ τ̂_e` in body FRD), and
-//! the mass estimate is `m_r = m_e + f̂_ez / g` (§7.6). The thrust and torque fed in must be the
-//! *applied* ones (`G_q ω²` after saturation, §3.4).
+//! the mass estimate is `m_r = m_e + f̂_ez / g` (docs/estimator.md §5, eqs. (5.1)–(5.3)). The
+//! thrust and torque fed in must be the *applied* ones (`G_q ω²` after saturation,
+//! docs/allocation.md §4).
 
 use nalgebra::Vector6;
 use thiserror::Error;
@@ -122,7 +125,8 @@ impl WrenchObserver {
         self.held = false;
     }
 
-    /// One tick of §7.5 with this tick's measurements and applied inputs: [`observe`](Self::observe)
+    /// One tick of docs/estimator.md §4 with this tick's measurements and applied inputs:
+    /// [`observe`](Self::observe)
     /// then [`apply`](Self::apply). Used when the applied inputs of tick k are known together with
     /// its measurements (offline logs).
     pub fn update(&mut self, x: &ObserverInput) -> WrenchEstimate {
@@ -132,7 +136,7 @@ impl WrenchObserver {
     }
 
     /// First half of a closed-loop tick: ŵ_k from this tick's momentum q_k and the previous
-    /// tick's β_{k−1} (architecture.md §4), before the controller runs. Non-finite input holds
+    /// tick's β_{k−1} (docs/estimator.md §6), before the controller runs. Non-finite input holds
     /// the previous estimate.
     pub fn observe(&mut self, vel_w: &Vec3, eta: &Vec3, eta_dot: &Vec3) -> WrenchEstimate {
         let finite = vel_w
@@ -165,8 +169,9 @@ impl WrenchObserver {
 
     /// Second half of a closed-loop tick: β_k from the state given to the last
     /// [`observe`](Self::observe) and the *applied* thrust `thrust_n` [N] and body torque
-    /// `torque_b` [N·m] (§3.4), kept for tick k+1:
-    /// `β = [m g e3 − u_T R_b(η) e3 ; Cᵀ(η, η̇) η̇ + Qᵀ τ_b]` (§7.1). Ignored when the
+    /// `torque_b` [N·m] (docs/allocation.md §4), kept for tick k+1:
+    /// `β = [m g e3 − u_T R_b(η) e3 ; Cᵀ(η, η̇) η̇ + Qᵀ τ_b]` (docs/estimator.md §4, eq. (4.2)).
+    /// Ignored when the
     /// observation was held or the inputs are not finite (β_{k−1} is kept).
     pub fn apply(&mut self, thrust_n: f64, torque_b: &Vec3) {
         let Some((eta, eta_dot)) = self.pending.take() else {

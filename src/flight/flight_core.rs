@@ -1,10 +1,11 @@
-//! One flight-controller tick (architecture.md §4): estimation → control → allocation →
-//! estimation, as plain values in and out. The runtime decides when to call it.
+//! One flight-controller tick (docs/architecture.md §4, docs/estimator.md §6): estimation →
+//! control → allocation → estimation, as plain values in and out. The runtime decides when to
+//! call it.
 //!
 //! ```text
-//! ŵ_k   = observer.observe(q_k)            uses β_{k−1} (control.md §7.5)
+//! ŵ_k   = observer.observe(q_k)            uses β_{k−1} (docs/estimator.md §4)
 //! out_k = controller.update(x_k, sp_k, ŵ_k)
-//! alloc = allocator.allocate(out_k.wrench) min-norm + saturation (§3.4)
+//! alloc = allocator.allocate(out_k.wrench) min-norm + saturation (docs/allocation.md §4)
 //! observer.apply(alloc.applied)            β_k from the applied wrench, kept for tick k+1
 //! ```
 

@@ -1,4 +1,4 @@
-//! Datagram ↔ MAVLink frames (mavlink.md §13.2, §13.4). Pure: bytes in, typed messages out.
+//! Datagram ↔ MAVLink frames (docs/mavlink.md §13.2, §13.3). Pure: bytes in, typed messages out.
 //!
 //! Every datagram is parsed with a fresh reader (frames never straddle datagrams), MAVLink 1 and
 //! 2 alike, truncated MAVLink 2 payloads included. A COMMAND_LONG / COMMAND_INT whose command id
@@ -126,7 +126,7 @@ pub fn frame_v2(header: MavHeader, message_id: u32, payload: &[u8], buf: &mut Ve
 }
 
 /// A MAVLink 2 COMMAND_ACK with `MAV_RESULT_UNSUPPORTED` for a command id the dialect may not
-/// know, addressed to `target_system`/`target_component` (mavlink.md §13.4): the crate encodes an
+/// know, addressed to `target_system`/`target_component` (docs/mavlink.md §13.3): the crate encodes an
 /// ACK for a placeholder command, then the command bytes are replaced and the CRC recomputed.
 pub fn unsupported_command_ack(
     header: MavHeader,

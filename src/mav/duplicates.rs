@@ -1,4 +1,4 @@
-//! Idempotent command retransmissions (mavlink.md §3.1): a COMMAND_LONG/INT that changes state,
+//! Idempotent command retransmissions (docs/mavlink.md §3.1): a COMMAND_LONG/INT that changes state,
 //! repeated within [`DUPLICATE_WINDOW_S`] (same sender, command and seven parameters bit for
 //! bit), gets the cached result and is not executed again; a repeat arriving while the first is
 //! still being executed is dropped. Only ACCEPTED results are remembered: a refusal changed

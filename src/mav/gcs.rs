@@ -1,6 +1,6 @@
 //! The ground-station side of the protocol, for the bench client, the tests and the fuzz
-//! target: the header a ground station sends with (255/190, mavlink.md §1), COMMAND_LONG from
-//! its seven parameters, and which COMMAND_ACK answers a command (§3.1). Pure.
+//! target: the header a ground station sends with (255/190, docs/mavlink.md §1), COMMAND_LONG from
+//! its seven parameters, and which COMMAND_ACK answers a command (docs/mavlink.md §3.1). Pure.
 
 use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, COMMAND_LONG_DATA};
 use mavlink::MavHeader;

@@ -1,5 +1,5 @@
 //! Who the autopilot is on a link and how it answers: its identity and addressing rule
-//! (mavlink.md §1, §3.1), its HEARTBEAT, and COMMAND_ACK with the MAV_RESULT of an outcome. Pure.
+//! (docs/mavlink.md §1, §3.1), its HEARTBEAT, and COMMAND_ACK with the MAV_RESULT of an outcome. Pure.
 
 use mavlink::dialects::common::{
     MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavResult, MavState, MavType, COMMAND_ACK_DATA, HEARTBEAT_DATA,
@@ -20,7 +20,7 @@ pub struct Identity {
 }
 
 impl Identity {
-    /// Autopilot `system_id`/1 with the vehicle type of `rotors` rotors (§1).
+    /// Autopilot `system_id`/1 with the vehicle type of `rotors` rotors (docs/mavlink.md §1).
     pub fn autopilot(system_id: u8, rotors: usize) -> Self {
         let mav_type = match rotors {
             4 => MavType::MAV_TYPE_QUADROTOR,
@@ -68,7 +68,7 @@ pub fn command_ack(sender: &MavHeader, command: MavCmd, result: MavResult) -> Ma
     })
 }
 
-/// HEARTBEAT for the commander's state (§1): PX4 autopilot, custom mode, armed bit, and the
+/// HEARTBEAT for the commander's state (docs/mavlink.md §1): PX4 autopilot, custom mode, armed bit, and the
 /// base-mode flags pymavlink's PX4 table sends (POSCTL: manual | stabilize; AUTO and OFFBOARD:
 /// auto | guided | stabilize).
 pub fn heartbeat(id: &Identity, armed: bool, mode: FlightMode) -> MavMessage {

@@ -1,11 +1,11 @@
-//! One inbound message → what the link does with it (mavlink.md §1–§9), decided without
+//! One inbound message → what the link does with it (docs/mavlink.md §1–§9), decided without
 //! sockets, clocks or shared state. Pure: the link (`runtime::link`) matches on the
 //! [`Action`] and performs it; the fuzz target `mavlink_ingest` does the same without sockets.
 //!
 //! The decision functions are the protocol modules' own ([`decode_command`],
 //! [`decode_command_int`], the offboard decoders, [`decode_param_set`], …); this module only
-//! routes a message to them and applies the addressing rule of §3.1 to the messages that carry
-//! a target.
+//! routes a message to them and applies the addressing rule of docs/mavlink.md §3.1 to the
+//! messages that carry a target.
 
 use mavlink::dialects::common::{MavMessage, MavMissionResult, MavMissionType, MavType, COMMAND_LONG_DATA};
 use mavlink::MavHeader;
@@ -93,7 +93,7 @@ pub enum Action {
     },
 }
 
-/// A mission-protocol message addressed to us (mavlink.md §7), mission type already checked
+/// A mission-protocol message addressed to us (docs/mavlink.md §7), mission type already checked
 /// where the protocol step needs it; the replies carry the request's mission type.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MissionStep {

@@ -1,4 +1,4 @@
-//! The mission transfer protocol (mavlink.md §7), as a state machine with the time passed in.
+//! The mission transfer protocol (docs/mavlink.md §7), as a state machine with the time passed in.
 //!
 //! Upload: MISSION_COUNT(n) → MISSION_REQUEST_INT(0) → MISSION_ITEM_INT(0) → … → the caller
 //! validates the staged items and answers with [`MissionTransfer::finish`]; the stored plan

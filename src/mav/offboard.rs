@@ -1,4 +1,4 @@
-//! Offboard setpoints (mavlink.md §6): SET_POSITION_TARGET_LOCAL_NED decoded into a
+//! Offboard setpoints (docs/mavlink.md §6): SET_POSITION_TARGET_LOCAL_NED decoded into a
 //! [`FlatSetpoint`] with PX4's accepted combinations. `type_mask` bits are *ignore* bits:
 //! X 1, Y 2, Z 4, VX 8, VY 16, VZ 32, AX 64, AY 128, AZ 256, FORCE 512, YAW 1024, YAW_RATE 2048.
 //! Pure.
@@ -134,8 +134,8 @@ const IGNORE_THRUST_BODY: u8 = 32;
 const IGNORE_THROTTLE: u8 = 64;
 const IGNORE_ATTITUDE: u8 = 128;
 
-/// Decodes SET_ATTITUDE_TARGET (§6): attitude + thrust (MAVSDK mask 7), rates + thrust (128),
-/// or all three; `q` is w-first, body → world (NED → FRD), thrust normalised 0..1.
+/// Decodes SET_ATTITUDE_TARGET (docs/mavlink.md §6): attitude + thrust (MAVSDK mask 7), rates +
+/// thrust (128), or all three; `q` is w-first, body → world (NED → FRD), thrust normalised 0..1.
 pub fn decode_attitude_target(m: &SET_ATTITUDE_TARGET_DATA) -> Result<AttitudeTarget, String> {
     let mask = m.type_mask.bits();
     if mask & IGNORE_THRUST_BODY == 0 && m.thrust_body.iter().any(|t| *t != 0.0) {

@@ -1,4 +1,4 @@
-//! Parameter protocol encoding (mavlink.md §8): PARAM_VALUE with INT32 values copied byte-wise
+//! Parameter protocol encoding (docs/mavlink.md §8): PARAM_VALUE with INT32 values copied byte-wise
 //! into the float field, and the value of a PARAM_SET decoded by its `param_type` (a REAL32 set
 //! of an INT32 parameter is accepted when it is an exact integer; the table checks that). Also
 //! PX4's `_HASH_CHECK`: a PARAM_VALUE sent before a list, whose value is a CRC-32 over every

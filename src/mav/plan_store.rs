@@ -1,5 +1,5 @@
 //! The stored plans of the mission protocol, one per MAV_MISSION_TYPE (mission, fence, rally),
-//! as uploaded, and the stateless downloads answered from them (mavlink.md §7). A plan changes
+//! as uploaded, and the stateless downloads answered from them (docs/mavlink.md §7). A plan changes
 //! only when the vehicle took a validated upload of its type, or on a clear. Pure.
 
 use mavlink::dialects::common::{

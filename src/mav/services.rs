@@ -1,4 +1,4 @@
-//! Small request/reply services (mavlink.md §4, §9): the messages REQUEST_MESSAGE can ask for,
+//! Small request/reply services (docs/mavlink.md §4, §9): the messages REQUEST_MESSAGE can ask for,
 //! AUTOPILOT_VERSION, PING and TIMESYNC (MAVLink FTP is [`super::ftp`]). Pure.
 //!
 //! PING is deprecated in the spec, but MAVSDK sends one every 5 s to PX4 and expects the reply.
@@ -50,7 +50,7 @@ pub(super) fn one_shot(id: f32, param2: f32) -> Option<OneShot> {
     })
 }
 
-/// AUTOPILOT_VERSION (mavlink.md §4): MISSION_INT, COMMAND_INT, PARAM_ENCODE_BYTEWISE,
+/// AUTOPILOT_VERSION (docs/mavlink.md §4): MISSION_INT, COMMAND_INT, PARAM_ENCODE_BYTEWISE,
 /// SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED / _GLOBAL_INT, MAVLINK2, FTP (served by
 /// [`super::ftp`]) and the fence and rally plans (MISSION_FENCE, MISSION_RALLY, as PX4); the
 /// version packs 0.1.0 as a

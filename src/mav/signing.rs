@@ -1,4 +1,4 @@
-//! MAVLink 2 message signing (mavlink.md §10): the key, the timestamps and the unsigned policy.
+//! MAVLink 2 message signing (docs/mavlink.md §10): the key, the timestamps and the unsigned policy.
 //! Pure: the wall clock comes in as a signing timestamp ([`timestamp_from_unix_us`]); the key
 //! file and the persisted timestamp are the runtime's (`runtime::signing_store`).
 //!

@@ -38,7 +38,7 @@ pub(super) fn battery_status(b: &BatterySnapshot) -> MavMessage {
     })
 }
 
-/// MISSION_CURRENT for item `seq` (mavlink.md §7 "Progress"): total UINT16_MAX without a mission,
+/// MISSION_CURRENT for item `seq` (docs/mavlink.md §7): total UINT16_MAX without a mission,
 /// mission_mode 1 in AUTO.MISSION.
 pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
     MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
@@ -61,8 +61,8 @@ pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
 }
 
 /// SYS_STATUS with the sensors MAVSDK's `health_all_ok()` checks present, enabled and healthy,
-/// the pre-arm check healthy (the emulator is armable at once, §4), and the geofence present,
-/// enabled and healthy unless the vehicle is outside it. A clear geofence health bit reads as a
+/// the pre-arm check healthy (the emulator is armable at once, docs/mavlink.md §4), and the
+/// geofence present, enabled and healthy unless the vehicle is outside it. A clear geofence health bit reads as a
 /// breach (MAVProxy says "fence breach" when it sees one), so the bit is cleared on a real
 /// breach only.
 pub(super) fn sys_status(s: &Snapshot) -> MavMessage {

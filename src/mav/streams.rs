@@ -1,6 +1,6 @@
-//! Per-link telemetry rates (mavlink.md §5): PX4 SITL defaults for the GCS and API links,
+//! Per-link telemetry rates (docs/mavlink.md §5): PX4 SITL defaults for the GCS and API links,
 //! changed by SET_MESSAGE_INTERVAL and REQUEST_DATA_STREAM; given the time, which streams are
-//! due. Pure: the link passes wall-clock seconds.
+//! due. Pure: the link passes the simulated time, in seconds.
 
 use super::telemetry::Stream;
 
@@ -16,7 +16,7 @@ pub enum LinkKind {
     Api,
 }
 
-/// Default rate [Hz] of `stream` on a link of `kind`; 0 = off (§5.1 table).
+/// Default rate [Hz] of `stream` on a link of `kind`; 0 = off (docs/mavlink.md §5).
 pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
     use Stream::*;
     let (gcs, api) = match stream {
@@ -108,7 +108,7 @@ impl StreamTable {
     }
 
     /// REQUEST_DATA_STREAM (MAVProxy): the group `stream_id` at `rate_hz`, or off when `start`
-    /// is false (§5.2 groups; ALL = 0).
+    /// is false (docs/mavlink.md §5; ALL = 0).
     pub fn request_data_stream(&mut self, stream_id: u8, rate_hz: u16, start: bool) {
         use Stream::*;
         let group: &[Stream] = match stream_id {

@@ -1,4 +1,4 @@
-//! Telemetry messages from a [`Snapshot`] (mavlink.md §4–§5): the periodic streams. The status
+//! Telemetry messages from a [`Snapshot`] (docs/mavlink.md §4–§5): the periodic streams. The status
 //! messages (battery, SYS_STATUS, MISSION_CURRENT, STATUSTEXT) are in `status.rs`. Pure.
 
 use mavlink::dialects::common::{

@@ -1,6 +1,6 @@
-//! MAVLink messages ↔ the commander's requests and state (mavlink.md §1–§3). Pure.
+//! MAVLink messages ↔ the commander's requests and state (docs/mavlink.md §1–§3). Pure.
 //!
-//! Addressing (§3.1): a command is ours when `target_system ∈ {own, 0}` and
+//! Addressing (docs/mavlink.md §3.1): a command is ours when `target_system ∈ {own, 0}` and
 //! `target_component ∈ {1, 0}` and it does not come from our own ids. NaN parameters mean
 //! "not set". Results map to MAV_RESULT with the refusal reason kept for STATUSTEXT.
 
@@ -36,7 +36,7 @@ pub enum CommandDecision {
     Calibrate(super::calibration::Calibration),
     /// ACK ACCEPTED, then send this message to the requester (REQUEST_MESSAGE and friends).
     Reply(OneShot),
-    /// SET_MESSAGE_INTERVAL on this link (§5.2): −1 off, 0 default, else µs.
+    /// SET_MESSAGE_INTERVAL on this link (docs/mavlink.md §5): −1 off, 0 default, else µs.
     SetMessageInterval {
         /// Message id.
         message_id: u32,
@@ -68,13 +68,13 @@ pub fn command_int_as_long(c: &COMMAND_INT_DATA) -> COMMAND_LONG_DATA {
     }
 }
 
-/// `None` for NaN ("not set", §3.1).
+/// `None` for NaN ("not set", docs/mavlink.md §3.1).
 fn param(x: f32) -> Option<f32> {
     (!x.is_nan()).then_some(x)
 }
 
 /// GET_HOME_POSITION and REQUEST_AUTOPILOT_CAPABILITIES are deprecated but MAVProxy and MAVSDK
-/// still send them (mavlink.md §3.2, §12).
+/// still send them (docs/mavlink.md §3.2, §12).
 ///
 /// Decides what a COMMAND_LONG from `sender` means; `home_amsl_m` [m] turns NAV_TAKEOFF's AMSL
 /// param7 into a height above home (a value below home AMSL is taken as the height itself, as
@@ -219,7 +219,7 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
 }
 
 /// The mode a SET_MODE message (#11) asks for, when it is addressed to us and names a PX4 mode.
-/// The message is deprecated in the spec but QGC 4.x changes modes with it (mavlink.md §2.2).
+/// The message is deprecated in the spec but QGC 4.x changes modes with it (docs/mavlink.md §2.2).
 #[allow(deprecated)]
 pub fn decode_set_mode(id: &Identity, message: &MavMessage) -> Option<FlightMode> {
     match message {
@@ -239,8 +239,8 @@ fn reposition(cmd: &COMMAND_LONG_DATA, xy: Option<(f64, f64)>, down: Option<f64>
     })
 }
 
-/// A COMMAND_INT: positional commands use the exact degE7 x/y and the frame of z (mavlink.md
-/// §3.2: GLOBAL(_INT) → z AMSL, GLOBAL_RELATIVE_ALT(_INT) → z above home; other frames
+/// A COMMAND_INT: positional commands use the exact degE7 x/y and the frame of z
+/// (docs/mavlink.md §3.2: GLOBAL(_INT) → z AMSL, GLOBAL_RELATIVE_ALT(_INT) → z above home; other frames
 /// UNSUPPORTED_MAV_FRAME); the rest decode as the equivalent COMMAND_LONG.
 #[allow(deprecated)]
 pub fn decode_command_int(id: &Identity, sender: &MavHeader, cmd: &COMMAND_INT_DATA, origin: &Home) -> CommandDecision {

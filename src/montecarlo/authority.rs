@@ -1,6 +1,6 @@
 //! Torque authority about a thrust level, and the default Monte Carlo envelope it scales.
 //!
-//! With the min-norm inverse A (control.md §3.3), a torque τ about body axis i alone at
+//! With the min-norm inverse A (docs/allocation.md §3, eq. (3.1)), a torque τ about body axis i alone at
 //! collective thrust T asks for `ω² = A[:,0] T + A[:,1+i] τ`. The authority is the largest |τ|
 //! that keeps every `ω_j²` in `[ω_min², ω_max²]` for both signs of τ:
 //!

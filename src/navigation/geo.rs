@@ -1,4 +1,4 @@
-//! Local NED ↔ geodetic about home (mavlink.md §4): equirectangular with R = 6 371 000 m,
+//! Local NED ↔ geodetic about home (docs/mavlink.md §4, eq. (4.1)): equirectangular with R = 6 371 000 m,
 //! `lat = lat0 + x/R`, `lon = lon0 + y/(R cos lat0)`, `alt = alt0 − z`.
 
 use crate::math::Vec3;

@@ -1,4 +1,4 @@
-//! What to fly right now, as the commander's modes need it (PX4 AUTO modes; mavlink.md §2.1):
+//! What to fly right now, as the commander's modes need it (PX4 AUTO modes; docs/mavlink.md §2.1):
 //! hold a point, follow a rest-to-rest path (take-off climb, return leg), or descend (fast high
 //! up, at the landing speed near the ground) until the ground stops the vehicle (landing), or
 //! fly a circle (orbit).

@@ -1,4 +1,4 @@
-//! A stored mission as the commander flies it (mavlink.md §7), in local NED about home.
+//! A stored mission as the commander flies it (docs/mavlink.md §7), in local NED about home.
 
 use crate::math::Vec3;
 

@@ -1,4 +1,4 @@
-//! The parameter table (mavlink.md §8): PX4 names where they exist, `RP_` names for the
+//! The parameter table (docs/mavlink.md §8): PX4 names where they exist, `RP_` names for the
 //! emulator's own settings (controller, every gain, estimator, compensation). Each parameter is
 //! declared once, as a row of [`rows`]: name, type, range, unit, meaning, and how it reads and
 //! writes [`VehicleSettings`]. The table is built once per vehicle from its settings (the

@@ -1,4 +1,4 @@
-//! The 1 kHz tick on dedicated threads (architecture.md §5, mavlink.md §11.3, §13.5). One thread
+//! The 1 kHz tick on dedicated threads (docs/architecture.md §5, docs/mavlink.md §11.3, §13.4). One thread
 //! steps a group of vehicles; every tick of every vehicle in the group runs before the next
 //! deadline of its [`Pacer`] (`t0 + k·dt/N`; backlog up to
 //! [`MAX_BACKLOG`](super::pacer::MAX_BACKLOG), then rebased and an overrun counted). The thread

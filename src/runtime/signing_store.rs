@@ -1,5 +1,5 @@
 //! The signing key file of `--signing-key FILE` and the timestamp kept beside it
-//! (`FILE.timestamp`), and the wall clock of signing (mavlink.md §10). Runtime layer: files and
+//! (`FILE.timestamp`), and the wall clock of signing (docs/mavlink.md §10). Runtime layer: files and
 //! `SystemTime`; the signing rules are `mav::signing`'s.
 
 use std::io::Write;

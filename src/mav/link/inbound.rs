@@ -128,9 +128,6 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         }
     }
 
-    /// SETUP_SIGNING: refused while armed; otherwise the key (all zero: off) applies at once to
-    /// every link, and is stored when there is a key file. It reached here only unsigned with
-    /// no key set, or signed with the current key.
     /// Whether MANUAL_CONTROL from `link` is flown (`COM_RC_IN_MODE`): never for "RC only" and
     /// "disabled" (this vehicle has no RC receiver); from the first link heard for "keep first";
     /// from any link otherwise.
@@ -142,6 +139,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         }
     }
 
+    /// SETUP_SIGNING: refused while armed; otherwise the key (all zero: off) applies at once to
+    /// every link, and is stored when there is a key file. It reached here only unsigned with
+    /// no key set, or signed with the current key.
     fn setup_signing(&mut self, now: Now, link: LinkKind, from: A, key: SigningKey, initial_timestamp: u64) {
         if self.snapshot.armed {
             self.send(

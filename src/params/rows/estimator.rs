@@ -1,4 +1,4 @@
-//! The wrench estimator's Chebyshev design (`RP_EST_*`, control.md §7): order 0 switches it off.
+//! The wrench estimator's Chebyshev design (`RP_EST_*`, docs/estimator.md §6): order 0 switches it off.
 
 use crate::estimation::{ChebyshevDesign, MAX_ORDER};
 use crate::params::{ParamDef, VehicleSettings};
