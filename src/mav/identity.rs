@@ -68,14 +68,22 @@ pub fn command_ack(sender: &MavHeader, command: MavCmd, result: MavResult) -> Ma
     })
 }
 
-/// HEARTBEAT for the commander's state (docs/mavlink.md §1): PX4 autopilot, custom mode, armed bit, and the
-/// base-mode flags pymavlink's PX4 table sends (POSCTL: manual | stabilize; AUTO and OFFBOARD:
-/// auto | guided | stabilize).
+/// HEARTBEAT for the commander's state (docs/mavlink.md §1): PX4 autopilot, custom mode, armed bit, and
+/// the base-mode flags PX4 sends for the mode: manual input for the stick modes (with stabilize
+/// but in ACRO, and guided in POSCTL and its orbit), auto | guided | stabilize for the AUTO modes
+/// and OFFBOARD.
 pub fn heartbeat(id: &Identity, armed: bool, mode: FlightMode) -> MavMessage {
-    let mut base = MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | MavModeFlag::MAV_MODE_FLAG_STABILIZE_ENABLED;
+    use MavModeFlag as F;
+    let mut base = F::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED;
     base |= match mode {
-        FlightMode::Position => MavModeFlag::MAV_MODE_FLAG_MANUAL_INPUT_ENABLED,
-        _ => MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED | MavModeFlag::MAV_MODE_FLAG_GUIDED_ENABLED,
+        FlightMode::Acro => F::MAV_MODE_FLAG_MANUAL_INPUT_ENABLED,
+        FlightMode::Manual | FlightMode::Stabilized | FlightMode::Altitude => {
+            F::MAV_MODE_FLAG_MANUAL_INPUT_ENABLED | F::MAV_MODE_FLAG_STABILIZE_ENABLED
+        }
+        FlightMode::Position | FlightMode::Orbit => {
+            F::MAV_MODE_FLAG_MANUAL_INPUT_ENABLED | F::MAV_MODE_FLAG_STABILIZE_ENABLED | F::MAV_MODE_FLAG_GUIDED_ENABLED
+        }
+        _ => F::MAV_MODE_FLAG_AUTO_ENABLED | F::MAV_MODE_FLAG_GUIDED_ENABLED | F::MAV_MODE_FLAG_STABILIZE_ENABLED,
     };
     if armed {
         base |= MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED;
@@ -111,7 +119,21 @@ mod tests {
         let MavMessage::HEARTBEAT(hb) = heartbeat(&id, false, FlightMode::Position) else {
             panic!("not a heartbeat");
         };
-        assert_eq!(hb.base_mode.bits(), 81);
+        assert_eq!(
+            hb.base_mode.bits(),
+            64 | 16 | 8 | 1,
+            "POSCTL: manual input, stabilize, guided"
+        );
+        for (mode, bits) in [
+            (FlightMode::Acro, 64 | 1),
+            (FlightMode::Altitude, 64 | 16 | 1),
+            (FlightMode::Orbit, 89),
+        ] {
+            let MavMessage::HEARTBEAT(hb) = heartbeat(&id, false, mode) else {
+                panic!("not a heartbeat");
+            };
+            assert_eq!(hb.base_mode.bits(), bits, "{mode:?}");
+        }
         let MavMessage::COMMAND_ACK(ack) = command_ack(
             &gcs_header(0),
             MavCmd::MAV_CMD_NAV_LAND,
