@@ -1,6 +1,6 @@
-//! "Did you mean …?" for names a user mistyped (airframe presets, control laws, parameters): the
-//! closest known name by edit distance, ignoring case, when it is close enough to be a typo.
-//! Pure.
+//! "Did you mean …?" for names a user mistyped (airframe presets, control laws, parameters, TOML
+//! keys and kinds): the closest known name by edit distance, ignoring case, when it is close
+//! enough to be a typo. Pure.
 
 /// Levenshtein distance between `a` and `b`, ignoring ASCII case.
 fn distance(a: &str, b: &str) -> usize {
@@ -19,14 +19,14 @@ fn distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
-/// The candidate closest to `name` if it is within a third of the name's length (at least 1, at
-/// most 3 edits), else `None`.
+/// The candidate closest to `name` if it is within a third of the longer name's length (at least
+/// 1, at most 3 edits), else `None`.
 pub fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
-    let limit = (name.chars().count() / 3).clamp(1, 3);
+    let limit = |c: &str| (name.chars().count().max(c.chars().count()) / 3).clamp(1, 3);
     candidates
         .into_iter()
         .map(|c| (distance(name, c), c))
-        .filter(|(d, _)| *d <= limit)
+        .filter(|(d, c)| *d <= limit(c))
         .min_by_key(|(d, _)| *d)
         .map(|(_, c)| c)
 }
@@ -34,6 +34,25 @@ pub fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) ->
 /// `"; did you mean NAME?"` for the closest candidate, or nothing.
 pub fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
     closest(name, candidates).map_or_else(String::new, |c| format!("; did you mean {c}?"))
+}
+
+/// The place (`line N`, or empty when unknown) and the reason of a TOML error in `text`, with a
+/// "did you mean" when serde names an unknown field or variant and the ones it expected.
+pub fn toml_error(text: &str, e: &toml::de::Error) -> (String, String) {
+    let place = e.span().map_or_else(String::new, |s| {
+        format!("line {}", text[..s.start.min(text.len())].lines().count().max(1))
+    });
+    let message = e.message().trim();
+    (place, format!("{message}{}", unknown_name_hint(message)))
+}
+
+/// "; did you mean …?" for serde's "unknown field `x`, expected one of `a`, `b`" (or variant).
+fn unknown_name_hint(message: &str) -> String {
+    let quoted: Vec<&str> = message.split('`').skip(1).step_by(2).collect();
+    match quoted.split_first() {
+        Some((name, expected)) if message.starts_with("unknown ") => did_you_mean(name, expected.iter().copied()),
+        _ => String::new(),
+    }
 }
 
 #[cfg(test)]
@@ -52,6 +71,26 @@ mod tests {
             "; did you mean MPC_XY_VEL_MAX?"
         );
         assert_eq!(did_you_mean("zzz", ["MPC_XY_VEL_MAX"]), "");
+    }
+
+    #[test]
+    fn unknown_toml_keys_and_variants_get_a_suggestion() {
+        let text = "duraton = 3\n";
+        #[derive(Debug, serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        #[allow(dead_code)]
+        struct File {
+            duration: f64,
+        }
+        let e = toml::from_str::<File>(text).unwrap_err();
+        let (place, reason) = toml_error(text, &e);
+        assert_eq!(place, "line 1");
+        assert!(reason.ends_with("; did you mean duration?"), "{reason}");
+        assert_eq!(
+            unknown_name_hint("unknown variant `hoover`, expected one of `hover`, `circle`"),
+            "; did you mean hover?"
+        );
+        assert_eq!(unknown_name_hint("invalid type: string"), "");
     }
 
     #[test]

@@ -282,11 +282,8 @@ impl Fields<'_> {
     }
 
     fn syntax(&self, text: &str, e: &toml::de::Error) -> AirframeError {
-        let field = match e.span() {
-            Some(s) => format!("line {}", text[..s.start.min(text.len())].lines().count().max(1)),
-            None => String::new(),
-        };
-        self.bad(&field, e.message().trim().to_string())
+        let (place, reason) = crate::suggest::toml_error(text, e);
+        self.bad(&place, reason)
     }
 
     fn finite(&self, v: f64, field: &str) -> Result<f64, AirframeError> {

@@ -152,9 +152,8 @@ impl Scenario {
             reason,
         };
         let file: spec::ScenarioFile = toml::from_str(text).map_err(|e| {
-            let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
-            let at = line.map_or(String::new(), |l| format!(" (line {l})"));
-            err("(syntax)", format!("{}{at}", e.message()))
+            let (place, reason) = crate::suggest::toml_error(text, &e);
+            err(&place, reason)
         })?;
         let positive = |x: f64| x.is_finite() && x > 0.0;
         if !(positive(file.duration) && file.duration <= 1e6) {
