@@ -73,3 +73,12 @@ def test_live_wrench_plot_without_matplotlib_stops_before_flying():
             f"sys.path.insert(0, {str(script.parent)!r}); runpy.run_path({str(script)!r}, run_name='__main__')")
     proc = subprocess.run([sys.executable, "-c", hide], capture_output=True, text=True, timeout=30, check=False)
     assert proc.returncode == 2 and "--plot needs matplotlib" in proc.stderr, proc.stderr
+
+
+def test_a_mistyped_scenario_key_names_its_line_and_the_key_meant(rotorpilot, tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "x"\nduraton = 3.0\n[airframe]\npreset = "quad_x"\n[trajectory]\nkind = "hover"\n'
+                   'position = [0.0, 0.0, 0.0]\n')
+    proc = rotorpilot("sim", str(bad))
+    assert proc.returncode != 0
+    assert f"{bad}: line 2: unknown field `duraton`" in proc.stderr and "did you mean duration?" in proc.stderr
