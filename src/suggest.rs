@@ -40,7 +40,7 @@ pub fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str
 /// "did you mean" when serde names an unknown field or variant and the ones it expected.
 pub fn toml_error(text: &str, e: &toml::de::Error) -> (String, String) {
     let place = e.span().map_or_else(String::new, |s| {
-        format!("line {}", text[..s.start.min(text.len())].lines().count().max(1))
+        format!("line {}", text[..s.start.min(text.len())].matches('\n').count() + 1)
     });
     let message = e.message().trim();
     (place, format!("{message}{}", unknown_name_hint(message)))
