@@ -14,7 +14,7 @@ when nothing arrives. Without --duration it runs until Ctrl-C. With --plot it sa
 """
 import time
 
-import common
+import rotorpilot_gcs as gcs
 
 NAMES = ("EXT_F", "EXT_T", "EXT_MASS")
 
@@ -45,7 +45,7 @@ def plot(path, series):
 
 
 def main(argv=None):
-    p = common.parser(__doc__.split("\n\n")[0])
+    p = gcs.parser(__doc__.split("\n\n")[0])
     p.add_argument("--duration", type=float, default=None, help="stop after S seconds (default: until Ctrl-C)")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="save a figure of the estimate at the end")
     args = p.parse_args(argv)
@@ -59,7 +59,7 @@ def main(argv=None):
             p.error("--plot needs matplotlib: install it (pip install matplotlib, or the pinned "
                     "gcs-scripts/requirements.txt) or leave --plot out")
 
-    conn = common.connect(args.connection, args.timeout)
+    conn = gcs.connect(args.connection, args.timeout)
     series = {name: [] for name in NAMES}
     quiet_note = [time.monotonic()]
 
@@ -87,11 +87,11 @@ def main(argv=None):
     try:
         if args.duration is None:
             while True:
-                tick(common.recv(conn, 1.0))
+                tick(gcs.recv(conn, 1.0))
         else:
             deadline = time.monotonic() + args.duration
             while (remaining := deadline - time.monotonic()) > 0:
-                tick(common.recv(conn, min(remaining, 1.0)))
+                tick(gcs.recv(conn, min(remaining, 1.0)))
     except KeyboardInterrupt:
         pass
     counts = ", ".join(f"{name} {len(series[name])}" for name in NAMES)
@@ -103,4 +103,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    common.script_main(main)
+    gcs.script_main(main)

@@ -17,18 +17,19 @@ bad usage.
 import math
 import time
 
-import common
-from common import mavlink
+import rotorpilot_gcs as gcs
+from rotorpilot_gcs import mavlink
 
 # REQUEST_MESSAGE sends at a corner, each answered within 0.3 s or sent again.
 CORNER_REQUESTS = 3
 
 
 def main(argv=None):
-    p = common.parser(__doc__.split("\n\n")[0])
+    p = gcs.parser(__doc__.split("\n\n")[0])
     p.add_argument("--side", type=float, default=2.0, help="side of the square [m] (default 2)")
     p.add_argument("--leg-time", type=float, default=4.0, help="seconds per corner (default 4)")
-    p.add_argument("--height", type=float, default=None, help="take-off height above home [m] (default MIS_TAKEOFF_ALT)")
+    p.add_argument("--height", type=float, default=None,
+                   help="take-off height above home [m] (default MIS_TAKEOFF_ALT)")
     p.add_argument("--land", action="store_true", help="land at the end instead of switching to AUTO.LOITER")
     args = p.parse_args(argv)
     if not 0 < args.side <= 100:
@@ -38,56 +39,56 @@ def main(argv=None):
     if args.height is not None and not 0 < args.height <= 1000:
         p.error("--height must be in (0, 1000] m")
 
-    conn = common.connect(args.connection, args.timeout)
-    height = common.takeoff(conn, args.height)
-    start = common.local_position(conn)
-    yaw = common.request_message(conn, mavlink.MAVLINK_MSG_ID_ATTITUDE, "ATTITUDE").yaw
-    print(f"took off to {height:g} m: {common.format_position(start)}", flush=True)
+    conn = gcs.connect(args.connection, args.timeout)
+    height = gcs.takeoff(conn, args.height)
+    start = gcs.local_position(conn)
+    yaw = gcs.request_message(conn, mavlink.MAVLINK_MSG_ID_ATTITUDE, "ATTITUDE").yaw
+    print(f"took off to {height:g} m: {gcs.format_position(start)}", flush=True)
 
     x0, y0, z0 = start.x, start.y, start.z
-    common.set_setpoint(conn, x0, y0, z0, yaw)
-    common.sleep(conn, 0.3)  # proof of life before the mode switch
-    common.set_mode(conn, common.OFFBOARD)
+    gcs.set_setpoint(conn, x0, y0, z0, yaw)
+    gcs.sleep(conn, 0.3)  # proof of life before the mode switch
+    gcs.set_mode(conn, gcs.OFFBOARD)
     print("OFFBOARD", flush=True)
 
     corners = [(x0 + args.side, y0), (x0 + args.side, y0 + args.side), (x0, y0 + args.side), (x0, y0)]
     worst = 0.0
     for i, (x, y) in enumerate(corners, 1):
-        common.set_setpoint(conn, x, y, z0, yaw)
-        common.sleep(conn, args.leg_time - 0.3)
+        gcs.set_setpoint(conn, x, y, z0, yaw)
+        gcs.sleep(conn, args.leg_time - 0.3)
         sent = time.monotonic()
         fresh = []
         for _ in range(CORNER_REQUESTS):  # the same request again if the answer was lost
             conn.mav.command_long_send(conn.target_system, conn.target_component, mavlink.MAV_CMD_REQUEST_MESSAGE,
-                                       0, mavlink.MAVLINK_MSG_ID_LOCAL_POSITION_NED, *([common.NAN] * 6))
-            common.sleep(conn, 0.3, lambda m: fresh.append(m) if m.get_type() == "LOCAL_POSITION_NED" else None)
+                                       0, mavlink.MAVLINK_MSG_ID_LOCAL_POSITION_NED, *([gcs.NAN] * 6))
+            gcs.sleep(conn, 0.3, lambda m: fresh.append(m) if m.get_type() == "LOCAL_POSITION_NED" else None)
             if fresh:
                 break
         if not fresh:
-            latest = common._state(conn).latest.get("LOCAL_POSITION_NED")
-            if latest is None or latest[0] < sent - 1.5:
-                raise common.LinkTimeout(f"no LOCAL_POSITION_NED at corner {i}")
-            fresh = [latest[1]]
+            latest = gcs.latest(conn, "LOCAL_POSITION_NED", since=sent - 1.5)
+            if latest is None:
+                raise gcs.LinkTimeout(f"no LOCAL_POSITION_NED at corner {i}")
+            fresh = [latest]
         pos = fresh[-1]
         err = math.sqrt((pos.x - x) ** 2 + (pos.y - y) ** 2 + (pos.z - z0) ** 2)
         worst = max(worst, err)
         print(f"corner {i}: target north {x:+.2f} east {y:+.2f} up {-z0:+.2f}; "
-              f"at {common.format_position(pos)}; error {err:.3f} m", flush=True)
+              f"at {gcs.format_position(pos)}; error {err:.3f} m", flush=True)
 
     print(f"max corner error: {worst:.3f} m", flush=True)
     if args.land:
-        common.land(conn)
-        common.stop_setpoints(conn)
+        gcs.land(conn)
+        gcs.stop_setpoints(conn)
         print("landing", flush=True)
-        common.wait_landed_state(conn, common.ON_GROUND, 15.0 + 3.0 * height)
-        common.wait_disarmed(conn, 10.0 + args.timeout)
-        print(f"landed and disarmed: {common.format_position(common.local_position(conn))}", flush=True)
+        gcs.wait_landed_state(conn, gcs.ON_GROUND, 15.0 + 3.0 * height)
+        gcs.wait_disarmed(conn, 10.0 + args.timeout)
+        print(f"landed and disarmed: {gcs.format_position(gcs.local_position(conn))}", flush=True)
     else:
-        common.set_mode(conn, common.AUTO_LOITER)
-        common.stop_setpoints(conn)
+        gcs.set_mode(conn, gcs.AUTO_LOITER)
+        gcs.stop_setpoints(conn)
         print("AUTO.LOITER", flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    common.script_main(main)
+    gcs.script_main(main)

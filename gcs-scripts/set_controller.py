@@ -14,7 +14,7 @@ the old one) stops the script with ``error:`` and the autopilot's reason, exit s
 """
 import math
 
-import common
+import rotorpilot_gcs as gcs
 
 CONTROLLERS = {"geometric": 0, "hierarchical": 1, "passivity": 2}
 
@@ -36,7 +36,7 @@ gain.__name__ = "NAME=VALUE"
 
 
 def main(argv=None):
-    p = common.parser(__doc__.split("\n\n")[0])
+    p = gcs.parser(__doc__.split("\n\n")[0])
     p.add_argument("controller", choices=sorted(CONTROLLERS, key=CONTROLLERS.get), help="control law (RP_CTRL)")
     p.add_argument("--estimator-order", type=int, default=None, metavar="R",
                    help="wrench estimator order, 0 = off (RP_EST_ORDER)")
@@ -61,12 +61,12 @@ def main(argv=None):
         settings.append(("RP_COMP", int(args.compensation == "on"), True))
     settings += [(name, value, False) for name, value in args.gain]
 
-    conn = common.connect(args.connection, args.timeout)
+    conn = gcs.connect(args.connection, args.timeout)
     for name, value, int32 in settings:
-        got = common.param_set(conn, name, value, int32=int32)
+        got = gcs.param_set(conn, name, value, int32=int32)
         print(f"{name} = {got:g}" if not int32 else f"{name} = {got}", flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    common.script_main(main)
+    gcs.script_main(main)

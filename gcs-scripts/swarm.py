@@ -25,8 +25,8 @@ import argparse
 import math
 import time
 
-import common
-from common import mavlink
+import rotorpilot_gcs as gcs
+from rotorpilot_gcs import mavlink
 
 API_PORT = 14540
 
@@ -41,9 +41,7 @@ def ring_slots(count, radius):
 
 def home_offset(home, origin):
     """(north, east) [m] of geodetic `home` from `origin`, both (lat_deg, lon_deg, alt_m)."""
-    north = math.radians(home[0] - origin[0]) * common.EARTH_RADIUS_M
-    east = math.radians(home[1] - origin[1]) * common.EARTH_RADIUS_M * math.cos(math.radians(origin[0]))
-    return north, east
+    return gcs.global_to_offset(origin[0], origin[1], home[0], home[1])
 
 
 def service_all(conns, seconds):
@@ -51,7 +49,7 @@ def service_all(conns, seconds):
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
         for conn in conns:
-            common.recv(conn, 0.002)
+            gcs.recv(conn, 0.002)
 
 
 class Member:
@@ -65,11 +63,11 @@ class Member:
     def fly_to(self, north, east, up):
         """Streams the common-frame point (north, east, up) [m] as this vehicle's local setpoint."""
         self.target = (north, east, up)
-        common.set_setpoint(self.conn, north - self.north0, east - self.east0, -up)
+        gcs.set_setpoint(self.conn, north - self.north0, east - self.east0, -up)
 
     def error(self):
         """Distance [m] between the vehicle and its target, from a fresh LOCAL_POSITION_NED."""
-        p = common.local_position(self.conn)
+        p = gcs.local_position(self.conn)
         north, east, up = self.target
         return math.sqrt((p.x + self.north0 - north) ** 2 + (p.y + self.east0 - east) ** 2 + (-p.z - up) ** 2)
 
@@ -84,8 +82,8 @@ def main(argv=None):
     p.add_argument("--radius", type=float, default=2.0, help="ring radius [m] (default 2)")
     p.add_argument("--side", type=float, default=4.0, help="side of the square the centre flies [m] (default 4)")
     p.add_argument("--leg-time", type=float, default=5.0, help="seconds per leg (default 5)")
-    p.add_argument("--timeout", type=float, default=common.DEFAULT_TIMEOUT,
-                   help=f"seconds to wait for each heartbeat and reply (default {common.DEFAULT_TIMEOUT:g})")
+    p.add_argument("--timeout", type=float, default=gcs.DEFAULT_TIMEOUT,
+                   help=f"seconds to wait for each heartbeat and reply (default {gcs.DEFAULT_TIMEOUT:g})")
     args = p.parse_args(argv)
     if not 1 <= args.count <= 255:
         p.error("--count must be in [1, 255]")
@@ -97,30 +95,30 @@ def main(argv=None):
     if not 1 <= args.leg_time <= 120:
         p.error("--leg-time must be in [1, 120] s")
 
-    conns = [common.connect(url, args.timeout) for url in connections]
+    conns = [gcs.connect(url, args.timeout) for url in connections]
     sysids = [c.target_system for c in conns]
     if len(set(sysids)) != len(sysids):
-        raise common.GcsError(f"two connections reach the same vehicle: system ids {sysids}")
-    homes = [common.home_position(c) for c in conns]
+        raise gcs.GcsError(f"two connections reach the same vehicle: system ids {sysids}")
+    homes = [gcs.home_position(c) for c in conns]
     members = [Member(c, home_offset(h, homes[0])) for c, h in zip(conns, homes)]
 
     for m in members:
-        common.command(m.conn, mavlink.MAV_CMD_NAV_TAKEOFF, *([common.NAN] * 6), homes[0][2] + args.height)
-        common.arm(m.conn)
+        gcs.command(m.conn, mavlink.MAV_CMD_NAV_TAKEOFF, *([gcs.NAN] * 6), homes[0][2] + args.height)
+        gcs.arm(m.conn)
     for m in members:
-        common.wait_landed_state(m.conn, common.IN_AIR, 15.0 + 2.0 * args.height)
+        gcs.wait_landed_state(m.conn, gcs.IN_AIR, 15.0 + 2.0 * args.height)
     print(f"{len(members)} vehicles in the air (systems {', '.join(map(str, sysids))})", flush=True)
 
     slots = ring_slots(len(members), args.radius)
     centre_n = sum(m.north0 for m in members) / len(members)
     centre_e = sum(m.east0 for m in members) / len(members)
     for m in members:
-        p = common.local_position(m.conn)
+        p = gcs.local_position(m.conn)
         m.target = (p.x + m.north0, p.y + m.east0, -p.z)
         m.fly_to(*m.target)
     service_all(conns, 0.3)  # proof of life before OFFBOARD
     for m in members:
-        common.set_mode(m.conn, common.OFFBOARD)
+        gcs.set_mode(m.conn, gcs.OFFBOARD)
     print("OFFBOARD", flush=True)
 
     legs = [(0.0, 0.0), (args.side, 0.0), (args.side, args.side), (0.0, args.side), (0.0, 0.0)]
@@ -136,13 +134,13 @@ def main(argv=None):
     print(f"max formation error: {worst:.3f} m", flush=True)
 
     for m in members:
-        common.land(m.conn)
-        common.stop_setpoints(m.conn)
+        gcs.land(m.conn)
+        gcs.stop_setpoints(m.conn)
     for m in members:
-        common.wait_disarmed(m.conn, 20.0 + 3.0 * args.height)
+        gcs.wait_disarmed(m.conn, 20.0 + 3.0 * args.height)
     print(f"{len(members)} vehicles landed and disarmed", flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    common.script_main(main)
+    gcs.script_main(main)

@@ -10,12 +10,13 @@ printing LOCAL_POSITION_NED (north, east, up relative to home), sends NAV_LAND a
 touch-down and the autopilot's auto-disarm (COM_DISARM_LAND). Exit status 0 on success, 1 when a
 command is refused or a wait times out (``error: ...`` on stderr), 2 for bad usage.
 """
-import common
+import rotorpilot_gcs as gcs
 
 
 def main(argv=None):
-    p = common.parser(__doc__.split("\n\n")[0])
-    p.add_argument("--height", type=float, default=None, help="take-off height above home [m] (default MIS_TAKEOFF_ALT)")
+    p = gcs.parser(__doc__.split("\n\n")[0])
+    p.add_argument("--height", type=float, default=None,
+                   help="take-off height above home [m] (default MIS_TAKEOFF_ALT)")
     p.add_argument("--hold", type=float, default=5.0, help="hover time before landing [s] (default 5)")
     args = p.parse_args(argv)
     if args.height is not None and not 0 < args.height <= 1000:
@@ -23,27 +24,27 @@ def main(argv=None):
     if args.hold < 0:
         p.error("--hold must be >= 0")
 
-    conn = common.connect(args.connection, args.timeout)
-    start = common.local_position(conn)
-    print(f"start position: {common.format_position(start)}", flush=True)
-    height = common.takeoff(conn, args.height)
-    pos = common.local_position(conn)
-    print(f"took off to {height:g} m: {common.format_position(pos)}", flush=True)
+    conn = gcs.connect(args.connection, args.timeout)
+    start = gcs.local_position(conn)
+    print(f"start position: {gcs.format_position(start)}", flush=True)
+    height = gcs.takeoff(conn, args.height)
+    pos = gcs.local_position(conn)
+    print(f"took off to {height:g} m: {gcs.format_position(pos)}", flush=True)
 
     def show(m):
         if m.get_type() == "LOCAL_POSITION_NED":
-            print(f"hover: {common.format_position(m)}", flush=True)
+            print(f"hover: {gcs.format_position(m)}", flush=True)
 
-    common.sleep(conn, args.hold, show)
+    gcs.sleep(conn, args.hold, show)
     print("landing", flush=True)
-    common.land(conn)
+    gcs.land(conn)
     descent = 15.0 + 3.0 * height
-    common.wait_landed_state(conn, common.ON_GROUND, descent)
-    common.wait_disarmed(conn, 10.0 + args.timeout)
-    pos = common.local_position(conn)
-    print(f"landed and disarmed: {common.format_position(pos)}", flush=True)
+    gcs.wait_landed_state(conn, gcs.ON_GROUND, descent)
+    gcs.wait_disarmed(conn, 10.0 + args.timeout)
+    pos = gcs.local_position(conn)
+    print(f"landed and disarmed: {gcs.format_position(pos)}", flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    common.script_main(main)
+    gcs.script_main(main)

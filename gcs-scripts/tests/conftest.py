@@ -1,28 +1,17 @@
-"""Shared fixtures: the rotorpilot binary under test."""
+"""The suite's fixtures come from the rotorpilot-gcs pytest plugin (`autopilot`,
+`autopilot_factory`, `rotorpilot_bin`, `rotorpilot`): install the package into the venv first
+(`pip install -e ./gcs-scripts --no-deps`, as tests/run-all.sh does). Without --rotorpilot-bin or
+ROTORPILOT_BIN the binary is this repository's release build."""
 import os
 import pathlib
-import subprocess
 
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+os.environ.setdefault("ROTORPILOT_BIN", str(ROOT / "target" / "release" / "rotorpilot"))
 
 
-@pytest.fixture(scope="session")
-def rotorpilot_bin():
-    """The release binary under test (`ROTORPILOT_BIN` or target/release); fails when missing."""
-    binary = pathlib.Path(os.environ.get("ROTORPILOT_BIN", ROOT / "target" / "release" / "rotorpilot"))
-    if not binary.exists():
-        pytest.fail(f"rotorpilot binary not found at {binary}: run cargo build --release first")
-    return binary
-
-
-@pytest.fixture(scope="session")
-def rotorpilot(rotorpilot_bin):
-    """Returns a function that runs the release binary and returns the CompletedProcess."""
-    binary = rotorpilot_bin
-
-    def run(*args, timeout=120):
-        return subprocess.run([str(binary), *args], capture_output=True, text=True, timeout=timeout, check=False)
-
-    return run
+def pytest_configure(config):
+    if not config.pluginmanager.has_plugin("rotorpilot"):
+        raise pytest.UsageError("the rotorpilot-gcs pytest plugin is not installed: "
+                                "pip install -e ./gcs-scripts --no-deps (see tests/run-all.sh)")

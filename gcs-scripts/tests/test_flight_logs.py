@@ -13,9 +13,12 @@ import time
 import numpy as np
 import pytest
 from pyulog import ULog
+from qgc_replay import Qgc, qgc_download, qgc_list
 
-from test_autopilot_link import ACCEPTED, ROOT, Autopilot, int32_bits  # noqa: E402
-from pymavlink import mavutil  # noqa: E402
+import rotorpilot_gcs as gcs
+from rotorpilot_gcs import mavutil
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 PX4_TOPICS = {
     "vehicle_attitude": ["q[0]", "q[1]", "q[2]", "q[3]"],
@@ -48,41 +51,32 @@ def flight_logs(log_dir):
     return sorted(log_dir.glob("log/*/*.ulg"))
 
 
-def fly_one_flight(log_dir, *args, hover_s=1.0):
+def fly_one_flight(autopilot_factory, log_dir, *args, hover_s=1.0):
     """`run --log log_dir ARGS`: take off, hover `hover_s`, forced disarm; the flight's ULog."""
-    ap = Autopilot("--log", str(log_dir), *args)
-    try:
-        ap.heartbeat()
-        ap.take_off()
-        time.sleep(hover_s)
-        assert ap.command(400, 0.0, 21196).result == ACCEPTED
-        time.sleep(0.3)  # the writer closes the file
-    finally:
-        assert ap.close() == 0
+    ap = autopilot_factory(log=log_dir, args=args)
+    ap.takeoff()
+    time.sleep(hover_s)
+    ap.disarm(force=True)
+    time.sleep(0.3)  # the writer closes the file
+    assert ap.stop() == 0
     (path,) = flight_logs(log_dir)
     return path
 
 
-def test_run_log_writes_one_ulog_per_flight_with_params_messages_and_changes(tmp_path, rotorpilot_bin):
+def test_run_log_writes_one_ulog_per_flight_with_params_messages_and_changes(tmp_path, autopilot_factory):
     log_dir = tmp_path / "log"
-    ap = Autopilot("--log", str(log_dir))
-    try:
-        ap.heartbeat()
-        # An estimator, so its topic has data.
-        ap.gcs.mav.param_set_send(1, 1, b"RP_EST_ORDER", int32_bits(1), 6)
-        value = ap.wait(lambda m: m.param_id == "RP_EST_ORDER", "PARAM_VALUE", 2)
-        assert value is not None
-        count = value.param_count
-        ap.take_off()
-        ap.gcs.mav.param_set_send(1, 1, b"MPC_XY_VEL_MAX", 7.5, 9)
-        assert ap.wait(lambda m: m.param_id == "MPC_XY_VEL_MAX", "PARAM_VALUE", 2) is not None
-        assert ap.command(21).result == ACCEPTED
-        assert ap.wait(lambda m: not m.base_mode & 128, "HEARTBEAT", 30) is not None, "landed and disarmed"
-        ap.take_off()
-        assert ap.command(400, 0.0, 21196).result == ACCEPTED, "second flight ends by a forced disarm"
-        time.sleep(0.3)
-    finally:
-        assert ap.close() == 0
+    ap = autopilot_factory(log=log_dir)
+    # An estimator, so its topic has data.
+    ap.param_set("RP_EST_ORDER", 1)
+    count = gcs.latest(ap.conn, "PARAM_VALUE").param_count
+    ap.takeoff()
+    ap.param_set("MPC_XY_VEL_MAX", 7.5)
+    ap.land()
+    ap.wait_disarmed(30)  # landed and disarmed
+    ap.takeoff()
+    ap.disarm(force=True)  # the second flight ends by a forced disarm
+    time.sleep(0.3)
+    assert ap.stop() == 0
     files = flight_logs(log_dir)
     assert len(files) == 2, files
     day, name = files[0].parent.name, files[0].name
@@ -118,9 +112,9 @@ def test_run_log_writes_one_ulog_per_flight_with_params_messages_and_changes(tmp
     assert np.median(np.diff(t)) == 20_000
 
 
-def test_ulog_and_tlog_agree_on_the_trajectory(tmp_path, rotorpilot_bin):
+def test_ulog_and_tlog_agree_on_the_trajectory(tmp_path, autopilot_factory):
     log_dir = tmp_path / "log"
-    path = fly_one_flight(log_dir, "--log-profile", "full")
+    path = fly_one_flight(autopilot_factory, log_dir, "--log-profile", "full")
     lpos = ULog(str(path), ["vehicle_local_position"]).get_dataset("vehicle_local_position").data
     assert np.all(np.diff(lpos["timestamp"]) == 1000), "full profile: every 1 ms tick"
     by_us = {int(t): (x, y, z) for t, x, y, z in zip(lpos["timestamp"], lpos["x"], lpos["y"], lpos["z"])}
@@ -138,20 +132,17 @@ def test_ulog_and_tlog_agree_on_the_trajectory(tmp_path, rotorpilot_bin):
     assert compared > 20, "the tlog's positions during the flight are in the ULog"
 
 
-def test_kill_9_keeps_every_record_older_than_200_ms(tmp_path, rotorpilot_bin):
+def test_kill_9_keeps_every_record_older_than_200_ms(tmp_path, autopilot_factory):
     """After SIGKILL, the flight's ULog holds every tick and flight.tlog every frame older than 200 ms."""
     log_dir = tmp_path / "log"
-    ap = Autopilot("--log", str(log_dir), "--log-profile", "full")
-    try:
-        ap.heartbeat()
-        ap.take_off()
-        att = ap.wait(lambda m: True, "ATTITUDE", 2)
-        received = time.monotonic()
-        ap.proc.send_signal(signal.SIGKILL)
-        killed_wall = time.time()
-        sim_at_kill = att.time_boot_ms / 1000 + (time.monotonic() - received)
-    finally:
-        ap.close()
+    ap = autopilot_factory(log=log_dir, log_profile="full")
+    ap.takeoff()
+    att = ap.wait("ATTITUDE", timeout=2)
+    received = time.monotonic()
+    ap.proc.send_signal(signal.SIGKILL)
+    killed_wall = time.time()
+    sim_at_kill = att.time_boot_ms / 1000 + (time.monotonic() - received)
+    assert ap.stop() == -signal.SIGKILL
     (path,) = flight_logs(log_dir)
     att = ULog(str(path), ["vehicle_attitude"]).get_dataset("vehicle_attitude").data
     t = att["timestamp"]
@@ -206,51 +197,37 @@ def test_fly_log_and_bad_paths(tmp_path, rotorpilot_bin):
     assert r.returncode != 0 and str(blocker / "x.ulg") in r.stderr
 
 
-class _Station:
-    """The Autopilot's pymavlink connection as test_log_download's QGC helpers use it."""
-
-    def __init__(self, ap):
-        self.mav = ap.gcs
-
-    def recv(self, kind, timeout):
-        return self.mav.recv_match(type=kind, blocking=True, timeout=timeout)
-
-
-def test_a_flight_log_downloads_as_qgc_does_equal_to_the_file(tmp_path, rotorpilot_bin):
+def test_a_flight_log_downloads_as_qgc_does_equal_to_the_file(tmp_path, autopilot_factory):
     """The log of a real flight: listed while it is being written, then downloaded after the
     disarm as QGroundControl downloads it (a piece lost and asked again), equal to the file on
     disk, and read by pyulog."""
-    from test_log_download import qgc_download, qgc_list
-
     log_dir = tmp_path / "log"
-    ap = Autopilot("--log", str(log_dir))
-    try:
-        ap.heartbeat()
-        ap.take_off()
-        station = _Station(ap)
-        during = qgc_list(station)
-        assert len(during) == 1 and during[0].size > 0, "the log being written is listed"
-        assert ap.command(400, 0.0, 21196).result == ACCEPTED
-        time.sleep(0.5)  # the writer closes the file
-        entries = qgc_list(station)
-        (path,) = flight_logs(log_dir)
-        size = path.stat().st_size
-        assert entries[0].size == size > during[0].size
-        data = qgc_download(station, 0, size, drop={90 * 7})
-    finally:
-        assert ap.close() == 0
+    ap = autopilot_factory(log=log_dir)
+    ap.takeoff()
+    station = Qgc(ap)
+    during = qgc_list(station)
+    assert len(during) == 1 and during[0].size > 0, "the log being written is listed"
+    ap.disarm(force=True)
+    time.sleep(0.5)  # the writer closes the file
+    entries = qgc_list(station)
+    (path,) = flight_logs(log_dir)
+    size = path.stat().st_size
+    assert entries[0].size == size > during[0].size
+    data = qgc_download(station, 0, size, drop={90 * 7})
+    station.close()
+    assert ap.stop() == 0
     assert data == path.read_bytes()
     copy = tmp_path / "downloaded.ulg"
     copy.write_bytes(data)
     assert "vehicle_attitude" in topics(ULog(str(copy)))
 
 
-def test_estimate_replays_a_run_log_at_its_default_rate(tmp_path, rotorpilot_bin):
+def test_estimate_replays_a_run_log_at_its_default_rate(tmp_path, autopilot_factory, rotorpilot_bin):
     """`run --log`'s default profile logs the estimator's inputs together every 20 ms: the
     offline estimator at --ts 0.02 recovers the 0.2 kg the controller does not believe in."""
     frame = tmp_path / "heavy.toml"
     frame.write_text((ROOT / "airframes" / "quad_x.toml").read_text() + "\n[fc]\nmass = 1.3 # [kg] believed\n")
-    path = fly_one_flight(tmp_path / "log", "--airframe", str(frame), hover_s=8.0)
+    path = fly_one_flight(autopilot_factory, tmp_path / "log", "--airframe", str(frame), hover_s=8.0)
     args = ["estimate", "--log", str(path), "--mass", "1.3", "--inertia", "0.029125,0.029125,0.055225",
             "--order", "1", "--ripple-db", "3", "--wp", "2"]
     r = subprocess.run([str(rotorpilot_bin), *args, "--ts", "0.02"], capture_output=True, text=True, check=False)

@@ -31,18 +31,14 @@ import threading
 import time
 
 import pytest
+from pymavlink.mavftp import MAVFTP, MAVFTPSettings
+from qgc_replay import ACK, BIN, Qgc, qgc_download, qgc_list
 
-os.environ["MAVLINK20"] = "1"
-from pymavlink import mavutil  # noqa: E402
-from pymavlink.mavftp import MAVFTP, MAVFTPSettings  # noqa: E402
-from test_qgc_connect import ACK, Qgc  # noqa: E402
+from rotorpilot_gcs import mavutil
 
 # The logs placed before start: name under DIR/log → size [bytes], and their UTC times.
 LOGS = {"2026-01-01/10_00_00.ulg": 20001, "2026-01-02/11_30_00.ulg": 3}
 TIMES = [1767261600, 1767353400]
-BIN = 90  # bytes of LOG_DATA
-BINS = 512  # QGC's bins per chunk
-QGC_TIMEOUT_S = 0.5  # QGC's kTimeOutMs
 LIST_DIR = 3  # MAVLink FTP ListDirectory
 RUNNER = pathlib.Path(__file__).resolve().parents[1] / "run_mavsdk_examples.py"
 MAVPROXY = pathlib.Path(sys.executable).parent / "mavproxy.py"
@@ -59,76 +55,9 @@ def place_logs(log_dir):
     return placed
 
 
-def qgc_list(qgc):
-    """LOG_REQUEST_LIST as QGC sends it; the entries by id (missing ones re-requested)."""
-    qgc.mav.mav.log_request_list_send(1, 1, 0, 0xFFFF)
-    entries, num_logs, retries = {}, None, 0
-    first = qgc.recv("LOG_ENTRY", 5.0)  # kRequestLogListTimeoutMs
-    assert first is not None, "LOG_REQUEST_LIST unanswered"
-    m = first
-    while True:
-        if m is not None:
-            num_logs = m.num_logs
-            if num_logs == 0:
-                return {}
-            entries[m.id] = m
-        missing = [i for i in range(num_logs) if i not in entries]
-        if not missing:
-            return entries
-        if m is None:
-            retries += 1
-            assert retries <= 3, f"entries {missing} never came"
-            qgc.mav.mav.log_request_list_send(1, 1, missing[0], missing[-1])
-        m = qgc.recv("LOG_ENTRY", QGC_TIMEOUT_S)
-
-
-def qgc_download(qgc, log_id, size, drop):
-    """Log `log_id` as QGC's LogDownloadController downloads it; the pieces at the offsets in
-    `drop` are ignored the first time they arrive (lost on the way)."""
-    chunk_size = BINS * BIN
-    chunks = -(-size // chunk_size)
-    chunk, data, dropped, retries = 0, bytearray(size), set(), 0
-
-    def bins(c):
-        return min(-(-(size - c * chunk_size) // BIN), BINS)
-
-    def request_gap():
-        start = table.index(False)
-        end = table.index(True, start) if True in table[start:] else len(table)
-        qgc.mav.mav.log_request_data_send(1, 1, log_id, chunk * chunk_size + start * BIN, (end - start) * BIN)
-
-    table = [False] * bins(0)
-    qgc.mav.mav.log_request_data_send(1, 1, log_id, 0, len(table) * BIN)
-    while True:
-        m = qgc.recv("LOG_DATA", QGC_TIMEOUT_S)
-        if m is None:
-            retries += 1
-            assert retries < 10, f"log {log_id} stalled at chunk {chunk}: {table.count(False)} bins missing"
-            request_gap()
-            continue
-        if m.id != log_id or m.ofs % BIN or m.ofs > size or m.ofs // chunk_size != chunk:
-            continue  # QGC ignores another log's, misaligned and out-of-chunk pieces
-        if m.ofs in drop and m.ofs not in dropped:
-            dropped.add(m.ofs)
-            continue
-        retries = 0
-        b = (m.ofs - chunk * chunk_size) // BIN
-        table[b] = True
-        data[m.ofs:m.ofs + m.count] = bytes(m.data[:m.count])
-        if all(table):
-            if chunk + 1 == chunks:
-                assert dropped == set(drop) & set(range(0, size, BIN)), dropped
-                return bytes(data)
-            chunk += 1
-            table = [False] * bins(chunk)
-            qgc.mav.mav.log_request_data_send(1, 1, log_id, chunk * chunk_size, len(table) * BIN)
-        elif b < len(table) - 1 and table[b + 1]:
-            request_gap()  # the end of a gap being filled: the next gap
-
-
-def test_qgc_lists_downloads_reads_by_ftp_and_erases_the_logs(rotorpilot_bin, tmp_path):
+def test_qgc_lists_downloads_reads_by_ftp_and_erases_the_logs(autopilot_factory, tmp_path):
     placed = place_logs(tmp_path)
-    qgc = Qgc(rotorpilot_bin, "--log", str(tmp_path))
+    qgc = Qgc(autopilot_factory(log=tmp_path))
     try:
         assert qgc.recv("HEARTBEAT", 5) is not None, "no HEARTBEAT"
         entries = qgc_list(qgc)
@@ -190,12 +119,12 @@ class Typist:
         self.proc.wait(timeout=10)
 
 
-def test_mavproxy_lists_downloads_and_ftp_gets_the_logs_unchanged(rotorpilot_bin, tmp_path):
+def test_mavproxy_lists_downloads_and_ftp_gets_the_logs_unchanged(autopilot_factory, tmp_path):
     placed = place_logs(tmp_path / "vehicle")
-    vehicle, ready = start_vehicle(rotorpilot_bin, tmp_path / "vehicle")
+    vehicle = autopilot_factory(log=tmp_path / "vehicle")
     mavproxy = None
     try:
-        mavproxy = Typist([sys.executable, str(MAVPROXY), f"--master=udpout:{ready['gcs_bind']}",
+        mavproxy = Typist([sys.executable, str(MAVPROXY), f"--master={vehicle.gcs}",
                            "--default-modules=link,log,ftp", f"--state-basedir={tmp_path}"], tmp_path)
         mavproxy.wait_for(r"Detected vehicle 1:1")
         mavproxy.type("log list")
@@ -212,24 +141,13 @@ def test_mavproxy_lists_downloads_and_ftp_gets_the_logs_unchanged(rotorpilot_bin
     finally:
         if mavproxy is not None:
             mavproxy.close()
-        vehicle.send_signal(2)
-        vehicle.wait(timeout=10)
 
 
-def start_vehicle(binary, log_dir):
-    """`rotorpilot run --log log_dir` on ephemeral ports; the process and its ready line."""
-    vehicle = subprocess.Popen(
-        [str(binary), "run", "--bind-gcs", "127.0.0.1:0", "--bind-api", "127.0.0.1:0", "--api",
-         "127.0.0.1:9", "--duration", "120", "--log", str(log_dir)],
-        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-    return vehicle, json.loads(vehicle.stdout.readline())
-
-
-def test_pymavlink_mavftp_gets_a_log(rotorpilot_bin, tmp_path):
+def test_pymavlink_mavftp_gets_a_log(autopilot_factory, tmp_path):
     placed = place_logs(tmp_path)
-    vehicle, ready = start_vehicle(rotorpilot_bin, tmp_path)
+    vehicle = autopilot_factory(log=tmp_path)
     try:
-        master = mavutil.mavlink_connection(f"udpout:{ready['gcs_bind']}", dialect="common",
+        master = mavutil.mavlink_connection(vehicle.gcs, dialect="common",
                                             source_system=254, source_component=190)
         # pymavlink's defaults but a shorter wait for silence after each operation (3.7 s).
         settings = MAVFTPSettings([("debug", int, 0), ("pkt_loss_tx", int, 0), ("pkt_loss_rx", int, 0),
@@ -243,8 +161,7 @@ def test_pymavlink_mavftp_gets_a_log(rotorpilot_bin, tmp_path):
         ftp.process_ftp_reply("OpenFileRO", timeout=30)
         assert got == [placed[0]] and local.read_bytes() == placed[0]
     finally:
-        vehicle.send_signal(2)
-        vehicle.wait(timeout=10)
+        master.close()
 
 
 def can_unshare():

@@ -3,16 +3,12 @@ pymavlink (x pitch, y roll, z throttle 0..1000 with 500 centred, r yaw), against
 ephemeral ports. POSCTL arms with centred sticks, the throttle takes off, the pitch stick flies
 north, centred sticks hold, the throttle down lands and auto-disarms; silent sticks run
 NAV_RCL_ACT (return) with its STATUSTEXT."""
-import os
 import threading
 import time
 
-os.environ["MAVLINK20"] = "1"
-from test_autopilot_link import ACCEPTED, Autopilot  # noqa: E402
+from rotorpilot_gcs import mavlink
 
-POSCTL = 3 << 16
-RTL_MODE = (4 << 16) | (5 << 24)
-ON_GROUND, IN_AIR = 1, 2
+ACCEPTED = mavlink.MAV_RESULT_ACCEPTED
 
 
 class Joystick:
@@ -26,7 +22,7 @@ class Joystick:
     def run(self):
         while self.running:
             x, y, z, r = self.sticks
-            self.ap.gcs.mav.manual_control_send(1, x, y, z, r, 0)
+            self.ap.conn.mav.manual_control_send(1, x, y, z, r, 0)
             time.sleep(0.02)
 
     def stop(self):
@@ -35,20 +31,19 @@ class Joystick:
 
 
 def position(ap):
-    return ap.wait(lambda m: True, "LOCAL_POSITION_NED", 2)
+    return ap.wait("LOCAL_POSITION_NED", timeout=2)
 
 
-def test_posctl_takes_off_flies_holds_and_lands_on_the_sticks():
-    ap = Autopilot()
+def test_posctl_takes_off_flies_holds_and_lands_on_the_sticks(autopilot):
+    ap = autopilot
     stick = Joystick(ap)
     try:
-        ap.heartbeat()
         time.sleep(0.3)
-        assert ap.command(176, 1, 3, 0).result == ACCEPTED, "POSCTL with sticks"
-        assert ap.command(400, 1.0).result == ACCEPTED
+        assert ap.command_ack(176, 1, 3, 0).result == ACCEPTED, "POSCTL with sticks"
+        assert ap.command_ack(400, 1.0).result == ACCEPTED
         stick.sticks = (0, 0, 1000, 0)
-        assert ap.wait(lambda m: m.landed_state == IN_AIR, "EXTENDED_SYS_STATE", 10) is not None
-        assert ap.wait(lambda m: m.z < -4.0, "LOCAL_POSITION_NED", 10) is not None, "climbs on the throttle"
+        ap.wait_in_air(10)
+        ap.wait("LOCAL_POSITION_NED", lambda m: m.z < -4.0, 10, what="a climb on the throttle")
         stick.sticks = (0, 0, 500, 0)
         time.sleep(2.0)
         held = position(ap)
@@ -56,31 +51,26 @@ def test_posctl_takes_off_flies_holds_and_lands_on_the_sticks():
         still = position(ap)
         assert abs(still.x - held.x) < 0.5 and abs(still.z - held.z) < 0.5, (held, still)
         stick.sticks = (1000, 0, 500, 0)
-        assert ap.wait(lambda m: m.vx > 5.0, "LOCAL_POSITION_NED", 8) is not None, "full pitch flies north"
+        ap.wait("LOCAL_POSITION_NED", lambda m: m.vx > 5.0, 8, what="full pitch flying north")
         stick.sticks = (0, 0, 500, 0)
-        assert ap.wait(lambda m: abs(m.vx) < 0.2 and abs(m.vy) < 0.2, "LOCAL_POSITION_NED", 10) is not None
-        hb = ap.wait(lambda m: m.get_srcComponent() == 1, "HEARTBEAT", 2)
-        assert hb.custom_mode == POSCTL, "still in POSCTL"
+        ap.wait("LOCAL_POSITION_NED", lambda m: abs(m.vx) < 0.2 and abs(m.vy) < 0.2, 10)
+        assert ap.wait_heartbeat(timeout=2).custom_mode == 3 << 16, "still in POSCTL"
         stick.sticks = (0, 0, 0, 0)
-        assert ap.wait(lambda m: m.landed_state == ON_GROUND, "EXTENDED_SYS_STATE", 30) is not None, "landed"
-        disarmed = ap.wait(lambda m: m.get_srcComponent() == 1 and not m.base_mode & 128, "HEARTBEAT", 6)
-        assert disarmed is not None, "COM_DISARM_LAND"
+        ap.wait_on_ground(30)
+        ap.wait_disarmed(6)  # COM_DISARM_LAND
     finally:
         stick.stop()
-        ap.close()
 
 
-def test_stick_loss_in_the_air_returns():
-    ap = Autopilot()
+def test_stick_loss_in_the_air_returns(autopilot):
+    ap = autopilot
     stick = Joystick(ap)
     try:
-        ap.heartbeat()
         time.sleep(0.3)
-        ap.take_off()
+        ap.takeoff()
         stick.stop()
-        lost = ap.wait(lambda m: m.text.startswith("Manual control lost"), "STATUSTEXT", 3)
-        assert lost is not None and lost.text == "Manual control lost: returning"
-        assert ap.wait(lambda m: m.custom_mode == RTL_MODE, "HEARTBEAT", 3) is not None
+        lost = ap.wait("STATUSTEXT", lambda m: m.text.startswith("Manual control lost"), 3)
+        assert lost.text == "Manual control lost: returning"
+        ap.wait_mode("AUTO.RTL", 3)
     finally:
         stick.stop()
-        ap.close()

@@ -210,11 +210,14 @@ def test_every_shipped_scenario_plots_from_its_ulog_and_its_csv(rotorpilot, tmp_
         assert (figures / "wrench.png").exists() == (summary["estimate"] is not None), proc.stderr
 
 
-def test_a_run_log_directory_plots_its_latest_flight(rotorpilot_bin, tmp_path):
-    from test_flight_logs import fly_one_flight
-
-    fly_one_flight(tmp_path / "log")
-    proc = plot_run(tmp_path / "log")
+@pytest.mark.rotorpilot(log=True)
+def test_a_run_log_directory_plots_its_latest_flight(autopilot):
+    autopilot.takeoff()
+    autopilot.sleep(1.0)
+    autopilot.disarm(force=True)
+    assert autopilot.stop() == 0
+    (flight,) = autopilot.flight_logs()
+    proc = plot_run(autopilot.log_dir)
     assert proc.returncode == 0, proc.stderr
     for name in ALL_FIGURES:
-        assert_png(tmp_path / "log" / name)
+        assert_png(autopilot.log_dir / name)

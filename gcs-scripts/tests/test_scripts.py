@@ -1,51 +1,23 @@
 """The ground-station scripts run as a user runs them, against the real `rotorpilot run`.
 
-The autopilot binds its GCS port to an ephemeral port (read from its ready line) and each script
-connects with ``--connection udpout:127.0.0.1:PORT``: the script's first heartbeat registers it as
-a peer, exactly as a GCS on a PX4 SITL's bind port does."""
+The autopilot (the plugin's `autopilot` fixture) binds its GCS port to an ephemeral port (read
+from its ready line) and each script connects with ``--connection udpout:127.0.0.1:PORT``: the
+script's first heartbeat registers it as a peer, exactly as a GCS on a PX4 SITL's bind port does."""
 import csv
 import json
 import math
-import os
 import pathlib
 import subprocess
 import sys
-import time
 
 import pytest
 
-os.environ["MAVLINK20"] = "1"
-from pymavlink import mavutil  # noqa: E402
+import rotorpilot_gcs as gcs
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-SCRIPTS = ROOT / "gcs-scripts"
-BINARY = pathlib.Path(os.environ.get("ROTORPILOT_BIN", ROOT / "target" / "release" / "rotorpilot"))
+SCRIPTS = pathlib.Path(__file__).resolve().parents[1]
+EXAMPLE_PLAN = SCRIPTS / "tests" / "third_party" / "mavsdk_examples" / "example-mission.plan"
 ALL_SCRIPTS = ["takeoff_land.py", "offboard_square.py", "mission.py", "set_controller.py", "log_telemetry.py",
                "live_wrench.py"]
-NAN = float("nan")
-
-sys.path.insert(0, str(SCRIPTS))
-import common  # noqa: E402
-
-
-class Autopilot:
-    """`rotorpilot run` on ephemeral ports; `connection` is what a script passes as --connection."""
-
-    def __init__(self, *args):
-        self.proc = subprocess.Popen(
-            [str(BINARY), "run", "--bind-gcs", "127.0.0.1:0", "--bind-api", "127.0.0.1:0", "--gcs", "127.0.0.1:9",
-             "--api", "127.0.0.1:9", "--duration", "150", *args],
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        self.ready = json.loads(self.proc.stdout.readline())
-        self.connection = f"udpout:{self.ready['gcs_bind']}"
-
-    def script(self, name, *args, timeout=90):
-        return run_script(name, "--connection", self.connection, *args, timeout=timeout)
-
-    def close(self):
-        if self.proc.poll() is None:
-            self.proc.terminate()
-        self.proc.wait(timeout=10)
 
 
 def run_script(name, *args, timeout=90):
@@ -53,11 +25,9 @@ def run_script(name, *args, timeout=90):
                           timeout=timeout, check=False)
 
 
-@pytest.fixture
-def autopilot(rotorpilot_bin):
-    ap = Autopilot()
-    yield ap
-    ap.close()
+def script(autopilot, name, *args, timeout=90):
+    """`name` run against `autopilot` (--connection to its GCS port)."""
+    return run_script(name, "--connection", autopilot.gcs, *args, timeout=timeout)
 
 
 def floats_after(text, label):
@@ -67,17 +37,17 @@ def floats_after(text, label):
             .replace(".", "", 1).isdigit()]
 
 
-@pytest.mark.parametrize("script", ALL_SCRIPTS)
-def test_help_names_the_default_connection(script):
-    r = run_script(script, "--help", timeout=30)
+@pytest.mark.parametrize("name", ALL_SCRIPTS)
+def test_help_names_the_default_connection(name):
+    r = run_script(name, "--help", timeout=30)
     assert r.returncode == 0, r.stderr
     assert "--connection" in r.stdout and "udpin:0.0.0.0:14550" in r.stdout
 
 
-@pytest.mark.parametrize("script,extra", [("takeoff_land.py", []), ("set_controller.py", ["geometric"]),
-                                          ("log_telemetry.py", ["--out", "unused.csv"])])
-def test_no_autopilot_is_a_clear_timeout(script, extra, tmp_path):
-    r = run_script(script, *extra, "--connection", "udpin:127.0.0.1:0", "--timeout", "1", timeout=30)
+@pytest.mark.parametrize("name,extra", [("takeoff_land.py", []), ("set_controller.py", ["geometric"]),
+                                        ("log_telemetry.py", ["--out", "unused.csv"])])
+def test_no_autopilot_is_a_clear_timeout(name, extra, tmp_path):
+    r = run_script(name, *extra, "--connection", "udpin:127.0.0.1:0", "--timeout", "1", timeout=30)
     assert r.returncode == 1
     assert r.stderr.startswith("error: no autopilot heartbeat on udpin:127.0.0.1:0 within 1 s"), r.stderr
     assert "Traceback" not in r.stderr
@@ -89,7 +59,7 @@ def test_bad_usage_exits_2():
 
 
 def test_takeoff_land(autopilot):
-    r = autopilot.script("takeoff_land.py", "--height", "2", "--hold", "1")
+    r = script(autopilot, "takeoff_land.py", "--height", "2", "--hold", "1")
     assert r.returncode == 0, r.stdout + r.stderr
     assert "connected to system 1 (QUADROTOR)" in r.stdout
     north, east, up = floats_after(r.stdout, "took off to 2 m:")
@@ -100,7 +70,7 @@ def test_takeoff_land(autopilot):
 
 
 def test_offboard_square_reaches_every_corner(autopilot):
-    r = autopilot.script("offboard_square.py", "--height", "2", "--side", "2", "--leg-time", "4", "--land")
+    r = script(autopilot, "offboard_square.py", "--height", "2", "--side", "2", "--leg-time", "4", "--land")
     assert r.returncode == 0, r.stdout + r.stderr
     corners = [line for line in r.stdout.splitlines() if line.startswith("corner ")]
     assert len(corners) == 4
@@ -110,7 +80,7 @@ def test_offboard_square_reaches_every_corner(autopilot):
 
 
 def test_mission_plan_uploads_and_flies(autopilot):
-    r = autopilot.script("mission.py", str(SCRIPTS / "plans" / "square.json"), "--fly", timeout=120)
+    r = script(autopilot, "mission.py", str(SCRIPTS / "plans" / "square.json"), "--fly", timeout=120)
     assert r.returncode == 0, r.stdout + r.stderr
     assert "RTL_RETURN_ALT = 5" in r.stdout and "uploaded 7 items:" in r.stdout
     reached = [int(line.split()[2]) for line in r.stdout.splitlines() if line.startswith("reached item")]
@@ -118,6 +88,32 @@ def test_mission_plan_uploads_and_flies(autopilot):
     assert "landed and disarmed" in r.stdout
     north, east, up = floats_after(r.stdout, "final position:")
     assert math.hypot(north, east) < 0.3 and abs(up) < 0.15
+
+
+def test_mission_uploads_a_qgc_plan_and_a_wpl_file_as_they_are(autopilot, tmp_path):
+    plan = json.loads(EXAMPLE_PLAN.read_text())
+    plan["rallyPoints"]["points"] = plan["rallyPoints"]["points"][:1]
+    path = tmp_path / "mission.plan"
+    path.write_text(json.dumps(plan))
+    r = script(autopilot, "mission.py", str(path))
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "uploaded 5 items:" in r.stdout and "uploaded 1 rally items" in r.stdout, r.stdout
+    expected = gcs.load_qgc_plan(path)
+    assert autopilot.download_mission() == expected.mission
+    assert autopilot.download_mission(gcs.RALLY) == expected.rally
+    # The same mission as MAVProxy's `wp save` writes it: the home position first.
+    rows = ["QGC WPL 110", "0\t1\t0\t16\t0\t0\t0\t0\t47.3977420\t8.5455940\t488.0\t1"]
+    for seq, it in enumerate(expected.mission, 1):
+        lat, lon = (it.x * 1e-7, it.y * 1e-7) if it.frame == 3 else (it.x, it.y)
+        rows.append(f"{seq}\t0\t{it.frame}\t{it.command}\t{it.param1:g}\t{it.param2:g}\t{it.param3:g}\t"
+                    f"{it.param4:g}\t{lat:.10f}\t{lon:.10f}\t{it.z:g}\t{it.autocontinue}")
+    wpl = tmp_path / "mission.txt"
+    wpl.write_text("\n".join(rows) + "\n")
+    autopilot.clear_mission()
+    r = script(autopilot, "mission.py", str(wpl), "--wpl-skip-home")
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "uploaded 5 items:" in r.stdout and "MAV_CMD_NAV_TAKEOFF: lat 47.3977632" in r.stdout, r.stdout
+    assert autopilot.download_mission() == expected.mission
 
 
 def test_mission_plan_errors_name_the_field(tmp_path):
@@ -129,48 +125,37 @@ def test_mission_plan_errors_name_the_field(tmp_path):
     plan.write_text("{")
     r = run_script("mission.py", str(plan), timeout=30)
     assert r.returncode == 2 and "invalid JSON" in r.stderr
+    plan.write_text("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t47.4\t8.5\n")
+    r = run_script("mission.py", str(plan), timeout=30)
+    assert r.returncode == 2 and r.stderr.strip() == f"error: {plan}:2: 10 fields, not 12"
 
 
 def test_set_controller_and_refusal(autopilot):
-    r = autopilot.script("set_controller.py", "passivity", "--estimator-order", "3", "--compensation", "off",
-                         "--gain", "PAS_KO_Z=12.5")
+    r = script(autopilot, "set_controller.py", "passivity", "--estimator-order", "3", "--compensation", "off",
+               "--gain", "PAS_KO_Z=12.5")
     assert r.returncode == 0, r.stdout + r.stderr
     for line in ("RP_CTRL = 2", "RP_EST_ORDER = 3", "RP_COMP = 0", "RP_PAS_KO_Z = 12.5"):
         assert line in r.stdout, r.stdout
-    r = autopilot.script("set_controller.py", "geometric", "--gain", "GEO_KP_Z=-1")
+    r = script(autopilot, "set_controller.py", "geometric", "--gain", "GEO_KP_Z=-1")
     assert r.returncode == 1
     assert r.stderr.startswith("error: RP_GEO_KP_Z = -1.0 refused: the autopilot kept"), r.stderr
-    r = autopilot.script("set_controller.py", "geometric", "--gain", "NO_SUCH_GAIN=1")
+    r = script(autopilot, "set_controller.py", "geometric", "--gain", "NO_SUCH_GAIN=1")
     assert r.returncode == 1 and "RP_NO_SUCH_GAIN" in r.stderr
 
 
 def test_refused_command_names_the_result_and_reason(autopilot):
-    conn = common.connect(autopilot.connection, 5)
-    try:
-        with pytest.raises(common.CommandError) as refused:
-            common.set_mode(conn, common.OFFBOARD)  # no setpoints streaming
-        assert refused.value.result in (1, 2)
-        assert str(refused.value).startswith("MAV_CMD_DO_SET_MODE (176) refused: MAV_RESULT_")
-        assert refused.value.reason, "the autopilot's STATUSTEXT explains the refusal"
-    finally:
-        conn.close()
-
-
-def fly_with_pymavlink(autopilot, height_m):
-    """Arms and takes off with a separate GCS connection; returns it (keep it alive)."""
-    conn = common.connect(autopilot.connection, 5)
-    common.takeoff(conn, height_m)
-    return conn
+    with pytest.raises(gcs.CommandError) as refused:
+        autopilot.set_mode("OFFBOARD")  # no setpoints streaming
+    assert refused.value.result in (1, 2)
+    assert str(refused.value).startswith("MAV_CMD_DO_SET_MODE (176) refused: MAV_RESULT_")
+    assert refused.value.reason, "the autopilot's STATUSTEXT explains the refusal"
 
 
 def test_log_telemetry_writes_csv(autopilot, tmp_path):
-    conn = fly_with_pymavlink(autopilot, 2.0)
-    try:
-        out = tmp_path / "telemetry.csv"
-        r = autopilot.script("log_telemetry.py", "--out", str(out), "--duration", "3")
-        assert r.returncode == 0, r.stdout + r.stderr
-    finally:
-        conn.close()
+    autopilot.takeoff(2.0)
+    out = tmp_path / "telemetry.csv"
+    r = script(autopilot, "log_telemetry.py", "--out", str(out), "--duration", "3")
+    assert r.returncode == 0, r.stdout + r.stderr
     rows = list(csv.reader(out.open()))
     assert rows[0] == ["t_wall", "msg", "t_boot", "f1", "f2", "f3", "f4", "f5", "f6"]
     kinds = [row[1] for row in rows[1:]]
@@ -183,13 +168,10 @@ def test_log_telemetry_writes_csv(autopilot, tmp_path):
 
 
 def test_live_wrench_prints_and_plots(autopilot, tmp_path):
-    conn = fly_with_pymavlink(autopilot, 2.0)
-    try:
-        figure = tmp_path / "wrench.png"
-        r = autopilot.script("live_wrench.py", "--duration", "2", "--plot", str(figure))
-        assert r.returncode == 0, r.stdout + r.stderr
-    finally:
-        conn.close()
+    autopilot.takeoff(2.0)
+    figure = tmp_path / "wrench.png"
+    r = script(autopilot, "live_wrench.py", "--duration", "2", "--plot", str(figure))
+    assert r.returncode == 0, r.stdout + r.stderr
     forces = [line.split() for line in r.stdout.splitlines() if " EXT_F " in line and not line.startswith("received")]
     assert len(forces) >= 10
     # Hovering with no disturbance: the estimated external force is near zero.

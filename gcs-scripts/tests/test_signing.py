@@ -1,16 +1,17 @@
 """MAVLink 2 signing against `rotorpilot run --signing-key FILE` with pymavlink's `setup_signing`:
 a signed ground station flies; unsigned and wrong-key senders get nothing and change nothing;
 replayed and stale frames are rejected; SETUP_SIGNING over the link; the timestamp persists."""
-import subprocess
-import os
 import pathlib
 import stat
 import time
 
-from test_autopilot_link import ACCEPTED, NAN, Autopilot
+import pytest
 
-os.environ["MAVLINK20"] = "1"
-from pymavlink import mavutil  # noqa: E402
+import rotorpilot_gcs as gcs
+from rotorpilot_gcs import mavlink, mavutil
+
+ACCEPTED = mavlink.MAV_RESULT_ACCEPTED
+NAN = float("nan")
 
 KEY = bytes(range(1, 33))
 WRONG_KEY = bytes(range(101, 133))
@@ -31,7 +32,7 @@ def key_file(tmp_path, key=KEY):
 
 def sender(ap, key=None, link_id=3):
     """A pymavlink connection sending to the vehicle's GCS port (it hears only what is sent back)."""
-    conn = mavutil.mavlink_connection(f"udpout:{ap.ready['gcs_bind']}", source_system=255, source_component=190)
+    conn = mavutil.mavlink_connection(ap.gcs, source_system=255, source_component=190)
     if key is not None:
         conn.setup_signing(key, sign_outgoing=True, link_id=link_id)
     return conn
@@ -51,36 +52,31 @@ def ack_for(conn, command, timeout=1.0):
     return None
 
 
-def test_signed_gcs_flies_and_everything_it_receives_is_signed(rotorpilot_bin, tmp_path):
+def test_signed_gcs_flies_and_everything_it_receives_is_signed(autopilot_factory, tmp_path):
     path = key_file(tmp_path)
-    ap = Autopilot("--signing-key", str(path))
-    try:
-        ap.gcs.setup_signing(KEY, sign_outgoing=True, link_id=1)
-        ap.heartbeat()
-        ap.gcs.mav.heartbeat_send(6, 8, 0, 0, 0)
-        ap.take_off()
-        assert ap.command(21).result == ACCEPTED
-        assert ap.wait(lambda m: "Disarmed" in m.text, "STATUSTEXT", 15) is not None, "landed and disarmed"
-        signing = ap.gcs.mav.signing
-        assert signing.goodsig_count > 100
-        assert (signing.badsig_count, signing.unsigned_count, signing.reject_count) == (0, 0, 0)
-        assert ap.proc.poll() is None
-    finally:
-        ap.close()
+    ap = autopilot_factory(args=["--signing-key", path])
+    ap.conn.setup_signing(KEY, sign_outgoing=True, link_id=1)
+    ap.takeoff()
+    ap.land()
+    ap.wait("STATUSTEXT", lambda m: "Disarmed" in m.text, 15)  # landed and disarmed
+    signing = ap.conn.mav.signing
+    assert signing.goodsig_count > 100
+    assert (signing.badsig_count, signing.unsigned_count, signing.reject_count) == (0, 0, 0)
+    assert ap.proc.poll() is None
+    ap.stop()
     # Neither the key nor anything of it in what the process printed.
-    out = ap.proc.stdout.read() + ap.proc.stderr.read()
+    out = ap.stdout_text() + ap.stderr_text()
     assert KEY.hex() not in out and "1, 2, 3, 4, 5, 6, 7, 8" not in out
     persisted = int((tmp_path / "signing.key.timestamp").read_text())
     assert persisted >= now_timestamp() - 60 * 100_000
 
 
-def test_unsigned_and_wrong_key_senders_receive_nothing_and_change_nothing(rotorpilot_bin, tmp_path):
+def test_unsigned_and_wrong_key_senders_receive_nothing_and_change_nothing(autopilot_factory, tmp_path):
     path = key_file(tmp_path)
-    ap = Autopilot("--signing-key", str(path))
+    ap = autopilot_factory(args=["--signing-key", path])
     intruders = [sender(ap), sender(ap, key=WRONG_KEY)]
     try:
-        ap.gcs.setup_signing(KEY, sign_outgoing=True, link_id=1)
-        ap.heartbeat()
+        ap.conn.setup_signing(KEY, sign_outgoing=True, link_id=1)
         for who in intruders:
             who.mav.heartbeat_send(6, 8, 0, 0, 0)
             who.mav.command_long_send(1, 1, 400, 0, 1, 21196, NAN, NAN, NAN, NAN, NAN)  # force-arm
@@ -92,23 +88,19 @@ def test_unsigned_and_wrong_key_senders_receive_nothing_and_change_nothing(rotor
         for who in intruders:
             assert anything(who, 2.0) is None, "an intruder received a frame"
         # The signed ground station still gets the telemetry, and nothing moved.
-        hb = ap.wait(lambda m: m.get_srcSystem() == 1, "HEARTBEAT", 3)
-        assert hb is not None and not hb.base_mode & 128 and hb.custom_mode == (4 << 16) | (3 << 24)
-        ap.gcs.mav.param_request_read_send(1, 1, b"MIS_TAKEOFF_ALT", -1)
-        value = ap.wait(lambda m: m.param_id == "MIS_TAKEOFF_ALT", "PARAM_VALUE", 2)
-        assert value is not None and abs(value.param_value - 2.5) < 1e-6
+        hb = ap.wait_heartbeat(timeout=3)
+        assert not gcs.is_armed(hb) and hb.custom_mode == gcs.custom_mode("AUTO.LOITER")
+        assert abs(ap.param_get("MIS_TAKEOFF_ALT") - 2.5) < 1e-6
         assert path.read_bytes() == KEY, "the key file is unchanged"
     finally:
         for who in intruders:
             who.close()
-        ap.close()
 
 
-def test_replayed_and_stale_frames_are_rejected(rotorpilot_bin, tmp_path):
-    ap = Autopilot("--signing-key", str(key_file(tmp_path)))
+def test_replayed_and_stale_frames_are_rejected(autopilot_factory, tmp_path):
+    ap = autopilot_factory(args=["--signing-key", key_file(tmp_path)])
     replayer = sender(ap, key=KEY, link_id=7)
     try:
-        ap.heartbeat()
         request = replayer.mav.command_long_encode(1, 1, REQUEST_MESSAGE, 0, AUTOPILOT_VERSION, 0, 0, 0, 0, 0, 0)
         frame = request.pack(replayer.mav)
         replayer.write(frame)
@@ -128,52 +120,46 @@ def test_replayed_and_stale_frames_are_rejected(rotorpilot_bin, tmp_path):
         assert ack_for(replayer, REQUEST_MESSAGE) is not None
     finally:
         replayer.close()
-        ap.close()
 
 
-def test_setup_signing_sets_stores_and_clears_the_key(rotorpilot_bin, tmp_path):
+def test_setup_signing_sets_stores_and_clears_the_key(autopilot_factory, tmp_path):
     path = tmp_path / "new.key"
-    ap = Autopilot("--signing-key", str(path))
-    try:
-        ap.heartbeat()
-        assert ap.command(400, 1.0).result == ACCEPTED, "unsigned commands work without a key"
-        ap.gcs.mav.setup_signing_send(1, 1, KEY, now_timestamp())
-        refused = ap.wait(lambda m: "SETUP_SIGNING" in m.text, "STATUSTEXT", 2)
-        assert refused is not None and "disarm" in refused.text, "refused while armed"
-        assert ap.command(400, 0.0).result == ACCEPTED
-        ap.gcs.mav.setup_signing_send(0, 0, KEY, now_timestamp())
-        assert ap.wait(lambda m: "Signing" in m.text, "STATUSTEXT", 1) is None, "never by broadcast"
-        ap.gcs.mav.setup_signing_send(1, 1, KEY, now_timestamp())
-        enabled = ap.wait(lambda m: "Signing" in m.text, "STATUSTEXT", 2)
-        assert enabled is not None and enabled.text == "Signing enabled; key stored"
-        assert path.read_bytes() == KEY and stat.S_IMODE(path.stat().st_mode) & 0o077 == 0
-        assert ap.command(400, 1.0) is None, "unsigned commands are ignored once a key is set"
-        # Unsigned frames are let through on our side: the answer to "signing off" comes unsigned.
-        ap.gcs.setup_signing(KEY, sign_outgoing=True, link_id=2, allow_unsigned_callback=lambda *_: True)
-        assert ap.command(400, 1.0).result == ACCEPTED and ap.command(400, 0.0).result == ACCEPTED
-        # Signed with the current key, an all-zero key turns signing off and removes the file.
-        ap.gcs.mav.setup_signing_send(1, 1, bytes(32), 0)
-        disabled = ap.wait(lambda m: "Signing" in m.text, "STATUSTEXT", 2)
-        assert disabled is not None and disabled.text == "Signing disabled; key stored"
-        assert not path.exists()
-        ap.gcs.disable_signing()
-        assert ap.command(400, 1.0).result == ACCEPTED, "unsigned again"
-    finally:
-        ap.close()
+    ap = autopilot_factory(args=["--signing-key", path])
+    assert ap.command_ack(400, 1.0).result == ACCEPTED, "unsigned commands work without a key"
+    ap.conn.mav.setup_signing_send(1, 1, KEY, now_timestamp())
+    refused = ap.wait("STATUSTEXT", lambda m: "SETUP_SIGNING" in m.text, 2)
+    assert "disarm" in refused.text, "refused while armed"
+    assert ap.command_ack(400, 0.0).result == ACCEPTED
+    ap.conn.mav.setup_signing_send(0, 0, KEY, now_timestamp())
+    with pytest.raises(gcs.LinkTimeout):
+        ap.wait("STATUSTEXT", lambda m: "Signing" in m.text, 1)  # never by broadcast
+    ap.conn.mav.setup_signing_send(1, 1, KEY, now_timestamp())
+    enabled = ap.wait("STATUSTEXT", lambda m: "Signing" in m.text, 2)
+    assert enabled.text == "Signing enabled; key stored"
+    assert path.read_bytes() == KEY and stat.S_IMODE(path.stat().st_mode) & 0o077 == 0
+    assert ap.command_ack(400, 1.0) is None, "unsigned commands are ignored once a key is set"
+    # Unsigned frames are let through on our side: the answer to "signing off" comes unsigned.
+    ap.conn.setup_signing(KEY, sign_outgoing=True, link_id=2, allow_unsigned_callback=lambda *_: True)
+    assert ap.command_ack(400, 1.0).result == ACCEPTED and ap.command_ack(400, 0.0).result == ACCEPTED
+    # Signed with the current key, an all-zero key turns signing off and removes the file.
+    ap.conn.mav.setup_signing_send(1, 1, bytes(32), 0)
+    disabled = ap.wait("STATUSTEXT", lambda m: "Signing" in m.text, 2)
+    assert disabled.text == "Signing disabled; key stored"
+    assert not path.exists()
+    ap.conn.disable_signing()
+    assert ap.command_ack(400, 1.0).result == ACCEPTED, "unsigned again"
 
 
-def test_the_signing_timestamp_survives_a_restart(rotorpilot_bin, tmp_path):
+def test_the_signing_timestamp_survives_a_restart(autopilot_factory, tmp_path):
     path = key_file(tmp_path)
     ahead = now_timestamp() + 3600 * 100_000
     pathlib.Path(f"{path}.timestamp").write_text(f"{ahead}\n")
-    ap = Autopilot("--signing-key", str(path))
-    try:
-        ap.gcs.setup_signing(KEY, sign_outgoing=True, link_id=1)
-        ap.heartbeat()
-        sent = max(ap.gcs.mav.signing.stream_timestamps.values())
-        assert sent > ahead, "outgoing timestamps continue after the persisted one"
-    finally:
-        ap.close()
+    ap = autopilot_factory(args=["--signing-key", path])
+    ap.conn.setup_signing(KEY, sign_outgoing=True, link_id=1)
+    ap.wait_heartbeat()  # a signed frame read with the key
+    sent = max(ap.conn.mav.signing.stream_timestamps.values())
+    assert sent > ahead, "outgoing timestamps continue after the persisted one"
+    ap.stop()
     assert int(pathlib.Path(f"{path}.timestamp").read_text()) >= sent
 
 
@@ -185,17 +171,14 @@ def test_bad_key_files_are_refused_by_name(rotorpilot, tmp_path):
     assert result.returncode != 0 and "empty.key" in result.stderr and "empty" in result.stderr
 
 
-def test_sigterm_right_after_ready_shuts_down_cleanly_and_saves_the_timestamp(rotorpilot_bin, tmp_path):
+def test_sigterm_right_after_ready_shuts_down_cleanly_and_saves_the_timestamp(autopilot_factory, tmp_path):
     # The signal handlers are installed before the ready line: a SIGTERM at once is a clean
     # shutdown (exit 0, timestamp saved), never the signal's default action (it was, 2 times in 15).
     path = key_file(tmp_path)
     for _ in range(10):
         ahead = now_timestamp() + 3600 * 100_000
         pathlib.Path(f"{path}.timestamp").write_text(f"{ahead}\n")
-        proc = subprocess.Popen([str(rotorpilot_bin), "run", "--signing-key", str(path), "--bind-gcs", "127.0.0.1:0",
-                                 "--bind-api", "127.0.0.1:0", "--gcs", "127.0.0.1:9", "--api", "127.0.0.1:9"],
-                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
-        assert proc.stdout.readline().startswith(b"{"), "the ready line"
-        proc.terminate()
-        assert proc.wait(timeout=10) == 0
+        ap = autopilot_factory(args=["--signing-key", path], connect=False, duration=None)  # after the ready line
+        ap.proc.terminate()
+        assert ap.proc.wait(timeout=10) == 0
         assert int(pathlib.Path(f"{path}.timestamp").read_text()) >= ahead

@@ -1,120 +1,77 @@
 """Speed-up and many vehicles: `rotorpilot run --speedup` and `--count`, the swarm script, the
 same flight at 1× and 20×, and `rotorpilot bench --quick --json`. Ports are all ephemeral."""
 import json
-import os
 import pathlib
 import subprocess
 import sys
 import time
 
-os.environ["MAVLINK20"] = "1"
-from pymavlink import mavutil  # noqa: E402
+import rotorpilot_gcs as gcs
+from rotorpilot_gcs import mavlink
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-SCRIPTS = ROOT / "gcs-scripts"
-NAN = float("nan")
-ACCEPTED = 0
+SCRIPTS = pathlib.Path(__file__).resolve().parents[1]
+ACCEPTED = mavlink.MAV_RESULT_ACCEPTED
 
 
-class Process:
-    """`rotorpilot run ARGS` on ephemeral ports; the ready line parsed."""
-
-    def __init__(self, binary, *args):
-        self.proc = subprocess.Popen(
-            [str(binary), "run", "--bind-gcs", "127.0.0.1:0", "--bind-api", "127.0.0.1:0", "--gcs", "127.0.0.1:9",
-             "--api", "127.0.0.1:9", "--duration", "120", *args],
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        self.ready = json.loads(self.proc.stdout.readline())
-
-    def connect(self, index=0):
-        """A pymavlink connection to vehicle `index`'s GCS link (udpout to its bind port)."""
-        conn = mavutil.mavlink_connection(f"udpout:{self.ready['vehicles'][index]['gcs_bind']}",
-                                          source_system=255, source_component=190)
-        conn.mav.heartbeat_send(6, 8, 0, 0, 0)
-        return conn
-
-    def close(self):
-        if self.proc.poll() is None:
-            self.proc.terminate()
-        self.proc.wait(timeout=10)
-        return self.proc.stderr.read()
+def result(vehicle, cmd, *params):
+    """The MAV_RESULT of one COMMAND_LONG (None without an answer within 2 s)."""
+    ack = vehicle.command_ack(cmd, *params, timeout=2)
+    return None if ack is None else ack.result
 
 
-def command(conn, cmd, *params, sysid=1):
-    p = list(params) + [NAN] * (7 - len(params))
-    conn.mav.command_long_send(sysid, 1, cmd, 0, *p)
-    deadline = time.monotonic() + 2
-    while time.monotonic() < deadline:
-        ack = conn.recv_match(type="COMMAND_ACK", blocking=True, timeout=0.2)
-        if ack is not None and ack.command == cmd:
-            return ack.result
-    return None
+def test_count_gives_separate_vehicles_on_a_grid(autopilot_factory):
+    ap = autopilot_factory(count=4, args=["--spacing", "5", "--sysid", "11"])
+    vehicles = ap.vehicles
+    assert [v["sysid"] for v in vehicles] == [11, 12, 13, 14]
+    assert len({v["gcs_bind"] for v in vehicles} | {v["api_bind"] for v in vehicles}) == 8
+    api = [int(v["api"].rsplit(":", 1)[1]) for v in vehicles]
+    assert api == [api[0] + i for i in range(4)], "vehicle i's API telemetry goes to the first port + i"
+    homes = []
+    for i, v in enumerate(vehicles):
+        vehicle = gcs.Vehicle.connect(f"udpout:{v['gcs_bind']}", 3)
+        assert vehicle.conn.target_system == 11 + i
+        lat, lon, _ = vehicle.home_position()
+        homes.append((lat, lon))
+        vehicle.close()
+    # A 2 × 2 grid, 5 m apart: rows north, columns east.
+    north, east = gcs.global_to_offset(*homes[0], *homes[2])
+    assert abs(north - 5) < 0.01 and abs(east) < 0.01 and homes[1][0] == homes[0][0]
+    assert homes[1][1] > homes[0][1] and homes[3][1] == homes[1][1]
 
 
-def test_count_gives_separate_vehicles_on_a_grid(rotorpilot_bin):
-    ap = Process(rotorpilot_bin, "--count", "4", "--spacing", "5", "--sysid", "11")
-    try:
-        vehicles = ap.ready["vehicles"]
-        assert [v["sysid"] for v in vehicles] == [11, 12, 13, 14]
-        assert len({v["gcs_bind"] for v in vehicles} | {v["api_bind"] for v in vehicles}) == 8
-        assert [v["api"] for v in vehicles] == ["127.0.0.1:9", "127.0.0.1:10", "127.0.0.1:11", "127.0.0.1:12"]
-        homes = []
-        for i in range(4):
-            conn = ap.connect(i)
-            hb = conn.recv_match(type="HEARTBEAT", blocking=True, timeout=3)
-            assert hb is not None and hb.get_srcSystem() == 11 + i
-            command(conn, 512, 242, sysid=11 + i)
-            home = conn.recv_match(type="HOME_POSITION", blocking=True, timeout=3)
-            homes.append((home.latitude, home.longitude))
-            conn.close()
-        metre = 1e7 / (6371000 * 3.141592653589793 / 180)
-        # A 2 × 2 grid, 5 m apart: rows north, columns east.
-        assert abs((homes[2][0] - homes[0][0]) / metre - 5) < 0.01 and homes[1][0] == homes[0][0]
-        assert homes[1][1] > homes[0][1] and homes[3][1] == homes[1][1]
-    finally:
-        ap.close()
-
-
-def test_speedup_runs_every_timer_in_simulated_time(rotorpilot_bin):
-    ap = Process(rotorpilot_bin, "--speedup", "20")
-    try:
-        conn = ap.connect()
-        first = conn.recv_match(type="ATTITUDE", blocking=True, timeout=3)
-        # Read all along: at 20× the streams fill a default socket buffer in about half a second,
-        # and the kernel would drop the newest messages.
-        last = None
-        end = time.monotonic() + 1.0
-        while time.monotonic() < end:
-            m = conn.recv_match(type="ATTITUDE", blocking=True, timeout=0.1)
-            last = m or last
-        assert last is not None
-        sim_s = (last.time_boot_ms - first.time_boot_ms) / 1000
-        assert 15 < sim_s < 25, f"20 simulated seconds per wall second: {sim_s}"
-        # COM_DISARM_PRFLT (10 s simulated) disarms an idle armed vehicle after ~0.5 s wall.
-        assert command(conn, 400, 1) == ACCEPTED
-        armed = time.monotonic()
-        deadline = armed + 5
-        disarmed = None
-        while time.monotonic() < deadline and disarmed is None:
-            hb = conn.recv_match(type="HEARTBEAT", blocking=True, timeout=0.2)
-            if hb is not None and not hb.base_mode & 128:
-                disarmed = time.monotonic() - armed
-        assert disarmed is not None and disarmed < 2.5, disarmed
-        # Commands are still answered at once, and at --speedup max too (below).
-        assert command(conn, 176, 1, 3, 0) == ACCEPTED
-    finally:
-        ap.close()
-    fast = Process(rotorpilot_bin, "--speedup", "max")
-    try:
-        conn = fast.connect()
-        assert conn.recv_match(type="HEARTBEAT", blocking=True, timeout=3) is not None
-        assert command(conn, 22) == ACCEPTED and command(conn, 400, 1) == ACCEPTED
-        assert conn.recv_match(type="EXTENDED_SYS_STATE", condition="EXTENDED_SYS_STATE.landed_state==2",
-                               blocking=True, timeout=5) is not None
-        assert command(conn, 21) == ACCEPTED, "NAV_LAND answered while the tick runs flat out"
-    finally:
-        stderr = fast.close()
-    assert "stopped after" in stderr
+def test_speedup_runs_every_timer_in_simulated_time(autopilot_factory):
+    ap = autopilot_factory(speedup=20)
+    conn = ap.conn
+    first = conn.recv_match(type="ATTITUDE", blocking=True, timeout=3)
+    # Read all along: at 20× the streams fill a default socket buffer in about half a second,
+    # and the kernel would drop the newest messages.
+    last = None
+    end = time.monotonic() + 1.0
+    while time.monotonic() < end:
+        m = conn.recv_match(type="ATTITUDE", blocking=True, timeout=0.1)
+        last = m or last
+    assert last is not None
+    sim_s = (last.time_boot_ms - first.time_boot_ms) / 1000
+    assert 15 < sim_s < 25, f"20 simulated seconds per wall second: {sim_s}"
+    # COM_DISARM_PRFLT (10 s simulated) disarms an idle armed vehicle after ~0.5 s wall.
+    assert result(ap, 400, 1) == ACCEPTED
+    armed = time.monotonic()
+    deadline = armed + 5
+    disarmed = None
+    while time.monotonic() < deadline and disarmed is None:
+        hb = conn.recv_match(type="HEARTBEAT", blocking=True, timeout=0.2)
+        if hb is not None and not hb.base_mode & 128:
+            disarmed = time.monotonic() - armed
+    assert disarmed is not None and disarmed < 2.5, disarmed
+    # Commands are still answered at once, and at --speedup max too (below).
+    assert result(ap, 176, 1, 3, 0) == ACCEPTED
+    ap.stop()
+    fast = autopilot_factory(speedup="max")
+    assert result(fast, 22) == ACCEPTED and result(fast, 400, 1) == ACCEPTED
+    fast.wait_in_air(5)
+    assert result(fast, 21) == ACCEPTED, "NAV_LAND answered while the tick runs flat out"
+    fast.stop()
+    assert "stopped after" in fast.stderr_text()
 
 
 def trajectory_after_arming(log_dir):
@@ -127,43 +84,23 @@ def trajectory_after_arming(log_dir):
     return list(zip(pos["x"].tolist(), pos["y"].tolist(), pos["z"].tolist()))
 
 
-def scripted_mission(binary, speedup, log_dir):
+def scripted_mission(autopilot_factory, speedup, log_dir):
     """Uploads take-off → waypoint 4 m north → land, arms in AUTO.MISSION and waits for the
     disarm; the ground station acts on the vehicle's simulated clock only."""
-    ap = Process(binary, "--speedup", str(speedup), "--log", str(log_dir), "--log-profile", "full")
-    try:
-        conn = ap.connect()
-        assert conn.recv_match(type="HEARTBEAT", blocking=True, timeout=3) is not None
-        lat, lon = 473977420, 85455940
-        items = [(22, lat, lon, 2.0), (16, lat + 360, lon, 2.0), (21, lat + 360, lon, 0.0)]
-        conn.mav.mission_count_send(1, 1, len(items), 0)
-        while True:
-            m = conn.recv_match(type=["MISSION_REQUEST_INT", "MISSION_ACK"], blocking=True, timeout=3)
-            assert m is not None
-            if m.get_type() == "MISSION_ACK":
-                assert m.type == 0
-                break
-            cmd, x, y, z = items[m.seq]
-            conn.mav.mission_item_int_send(1, 1, m.seq, 6, cmd, 0, 1, 0, 0, 0, NAN, x, y, z, 0)
-        assert command(conn, 176, 1, 4, 4) == ACCEPTED
-        assert command(conn, 400, 1) == ACCEPTED
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:
-            # A ground station keeps sending its heartbeat; a silent peer expires after 10 s.
-            conn.mav.heartbeat_send(6, 8, 0, 0, 0)
-            hb = conn.recv_match(type="HEARTBEAT", blocking=True, timeout=0.5)
-            if hb is not None and hb.get_srcComponent() == 1 and not hb.base_mode & 128:
-                break
-        else:
-            raise AssertionError("the mission did not end in a disarm")
-    finally:
-        ap.close()
+    ap = autopilot_factory(speedup=speedup, log=log_dir, log_profile="full")
+    lat, lon = 473977420, 85455940
+    ap.upload_mission([gcs.nav_takeoff(lat, lon, 2.0), gcs.nav_waypoint(lat + 360, lon, 2.0),
+                       gcs.nav_land(lat + 360, lon)])
+    assert result(ap, 176, 1, 4, 4) == ACCEPTED
+    assert result(ap, 400, 1) == ACCEPTED
+    ap.wait_disarmed(60)  # the mission's end
+    ap.stop()
     return trajectory_after_arming(log_dir)
 
 
-def test_same_flight_at_1x_and_20x(rotorpilot_bin, tmp_path):
-    slow = scripted_mission(rotorpilot_bin, 1, tmp_path / "1x")
-    fast = scripted_mission(rotorpilot_bin, 20, tmp_path / "20x")
+def test_same_flight_at_1x_and_20x(autopilot_factory, tmp_path):
+    slow = scripted_mission(autopilot_factory, 1, tmp_path / "1x")
+    fast = scripted_mission(autopilot_factory, 20, tmp_path / "20x")
     flight = min(len(slow), len(fast))
     assert flight > 8000, "take-off, 4 m leg and landing take more than 8 s"
     worst = max(max(abs(a - b) for a, b in zip(p, q)) for p, q in zip(slow[:flight], fast[:flight]))
@@ -171,15 +108,12 @@ def test_same_flight_at_1x_and_20x(rotorpilot_bin, tmp_path):
     assert abs(slow[flight - 1][0] - 4.0) < 0.1, "flew the leg"
 
 
-def test_swarm_script_flies_a_formation(rotorpilot_bin):
-    ap = Process(rotorpilot_bin, "--count", "3", "--spacing", "4")
-    try:
-        urls = [arg for v in ap.ready["vehicles"] for arg in ("--connection", f"udpout:{v['api_bind']}")]
-        r = subprocess.run([sys.executable, str(SCRIPTS / "swarm.py"), "--count", "3", *urls, "--height", "2",
-                            "--radius", "1.5", "--side", "2", "--leg-time", "4"],
-                           capture_output=True, text=True, timeout=150, check=False)
-    finally:
-        ap.close()
+def test_swarm_script_flies_a_formation(autopilot_factory):
+    ap = autopilot_factory(count=3, args=["--spacing", "4"])
+    urls = [arg for v in ap.vehicles for arg in ("--connection", f"udpout:{v['api_bind']}")]
+    r = subprocess.run([sys.executable, str(SCRIPTS / "swarm.py"), "--count", "3", *urls, "--height", "2",
+                        "--radius", "1.5", "--side", "2", "--leg-time", "4"],
+                       capture_output=True, text=True, timeout=150, check=False)
     assert r.returncode == 0, r.stdout + r.stderr
     assert "3 vehicles in the air (systems 1, 2, 3)" in r.stdout
     worst = float(next(line for line in r.stdout.splitlines() if line.startswith("max formation error")).split()[3])

@@ -1,0 +1,256 @@
+"""The link to one autopilot: connect, receive, wait, and what a ground station sends unasked.
+
+Every message goes through `recv`, which first sends what is due (the GCS heartbeat once a
+second, an offboard setpoint stream: `set_periodic`), drops messages of other systems than the
+target and undecodable ones, records the latest message of each type (`latest`) and each
+parameter's type, and prints each STATUSTEXT as ``autopilot: [severity] text``.
+
+Every wait has a timeout and raises `LinkTimeout` when it expires. Helpers that wait for their
+own answer (commands, parameters, plan transfers) keep the one-shot messages they read past
+(`ONE_SHOT`: a STATUSTEXT may overtake a COMMAND_ACK) for the next `wait`, which looks at those
+first; a `wait` that does not find its message among them drops them and reads new ones.
+"""
+from __future__ import annotations
+
+import collections
+import math
+import sys
+import time
+from typing import Any, Callable, Iterable, TextIO, Union
+
+from ._mav import mavlink, mavutil
+from .errors import GcsError, LinkTimeout
+from .modes import mode_name
+from .names import enum_name
+
+#: A pymavlink connection (``mavutil.mavfile``; pymavlink has no type hints).
+Connection = Any
+#: A decoded pymavlink message.
+Message = Any
+#: One message type name or several.
+Types = Union[str, Iterable[str]]
+
+#: Where `rotorpilot run` (and PX4 SITL) sends its GCS telemetry.
+DEFAULT_CONNECTION = "udpin:0.0.0.0:14550"
+#: Seconds to wait for the autopilot's heartbeat and for each reply.
+DEFAULT_TIMEOUT = 5.0
+#: The GCS heartbeat period [s].
+HEARTBEAT_PERIOD_S = 1.0
+#: A request whose answer has not come within this long [s] is sent again (same content): UDP
+#: loses datagrams, and every request here is safe to repeat (PARAM_SET is idempotent, a repeated
+#: command is answered from the autopilot's cache, a repeated information request again).
+RESEND_S = 1.0
+#: Message types that come once (events and replies), kept for `wait` when a helper reads past them.
+ONE_SHOT = frozenset({"STATUSTEXT", "MISSION_ITEM_REACHED", "PARAM_VALUE", "AUTOPILOT_VERSION", "MESSAGE_INTERVAL"})
+#: At most this many kept one-shot messages (the oldest go first).
+PENDING_MAX = 100
+#: The ids a ground station uses (QGroundControl's).
+GCS_SYSTEM, GCS_COMPONENT = 255, 190
+
+
+class LinkState:
+    """What the helpers keep per connection (``conn.rp_state``)."""
+
+    def __init__(self, timeout: float) -> None:
+        self.timeout = timeout
+        self.started = time.monotonic()
+        # name -> [period_s, last_sent (monotonic), send]
+        self.periodic: dict[str, list[Any]] = {}
+        self.latest: dict[str, tuple[float, Message]] = {}
+        self.texts: collections.deque[tuple[float, str]] = collections.deque(maxlen=20)
+        self.pending: list[Message] = []
+        self.param_types: dict[str, int] = {}
+        self.print_texts = True
+
+
+def link_state(conn: Connection) -> LinkState:
+    """The helpers' state of `conn`, created (GCS heartbeat on, `DEFAULT_TIMEOUT`) on first use."""
+    state = getattr(conn, "rp_state", None)
+    if state is None:
+        state = conn.rp_state = LinkState(DEFAULT_TIMEOUT)
+        state.periodic["heartbeat"] = [HEARTBEAT_PERIOD_S, -math.inf, lambda: _heartbeat(conn)]
+    return state
+
+
+def _heartbeat(conn: Connection) -> None:
+    conn.mav.heartbeat_send(mavlink.MAV_TYPE_GCS, mavlink.MAV_AUTOPILOT_INVALID, 0, 0, mavlink.MAV_STATE_ACTIVE)
+
+
+def send_heartbeat(conn: Connection) -> None:
+    """Sends a GCS heartbeat now (also when the periodic one is off)."""
+    _heartbeat(conn)
+    beat = link_state(conn).periodic.get("heartbeat")
+    if beat is not None:
+        beat[1] = time.monotonic()
+
+
+def set_heartbeats(conn: Connection, enabled: bool) -> None:
+    """Turns the GCS heartbeat `recv` sends once a second on or off (off: the autopilot's
+    data-link-loss failsafe can be tested)."""
+    state = link_state(conn)
+    if enabled:
+        state.periodic.setdefault("heartbeat", [HEARTBEAT_PERIOD_S, -math.inf, lambda: _heartbeat(conn)])
+    else:
+        state.periodic.pop("heartbeat", None)
+
+
+def set_periodic(conn: Connection, name: str, period_s: float, send: Callable[[], None]) -> None:
+    """Calls `send()` now and then every `period_s` [s] while any helper reads the link, until
+    `stop_periodic(conn, name)`; a second stream of the same `name` replaces the first."""
+    send()
+    link_state(conn).periodic[name] = [period_s, time.monotonic(), send]
+
+
+def stop_periodic(conn: Connection, name: str) -> None:
+    """Stops the periodic sender `name` (nothing when there is none)."""
+    link_state(conn).periodic.pop(name, None)
+
+
+def service(conn: Connection) -> None:
+    """Sends what is due now: the GCS heartbeat and every periodic stream."""
+    now = time.monotonic()
+    for entry in list(link_state(conn).periodic.values()):
+        period, last, send = entry
+        if now - last >= period:
+            send()
+            entry[1] = time.monotonic()
+
+
+def print_statustext(msg: Message, out: TextIO | None = None) -> None:
+    """Prints a STATUSTEXT as ``autopilot: [severity] text``."""
+    severity = enum_name("MAV_SEVERITY", msg.severity).replace("MAV_SEVERITY_", "").lower()
+    print(f"autopilot: [{severity}] {msg.text}", file=out or sys.stdout, flush=True)
+
+
+def recv(conn: Connection, timeout: float) -> Message | None:
+    """The next message from the autopilot within `timeout` [s], or None; keeps the link
+    serviced meanwhile (see the module's description)."""
+    state = link_state(conn)
+    deadline = time.monotonic() + timeout
+    while True:
+        service(conn)
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            return None
+        fastest = min((entry[0] for entry in state.periodic.values()), default=1.0)
+        m = conn.recv_match(blocking=True, timeout=min(remaining, 0.02 if fastest < 0.2 else 0.2))
+        if m is None:
+            continue
+        kind = m.get_type()
+        if kind.startswith("BAD_DATA") or kind.startswith("UNKNOWN"):
+            continue
+        if conn.target_system and m.get_srcSystem() != conn.target_system:
+            continue
+        now = time.monotonic()
+        state.latest[kind] = (now, m)
+        if kind == "PARAM_VALUE":
+            state.param_types[m.param_id] = m.param_type
+        elif kind == "STATUSTEXT":
+            state.texts.append((now, m.text))
+            if state.print_texts:
+                print_statustext(m)
+        return m
+
+
+def keep(conn: Connection, m: Message) -> None:
+    """Keeps `m` for the next `wait` if it is one-shot (helpers call this for what they read past)."""
+    if m.get_type() in ONE_SHOT:
+        pending = link_state(conn).pending
+        pending.append(m)
+        del pending[:-PENDING_MAX]
+
+
+def _names(types: Types) -> list[str]:
+    return [types] if isinstance(types, str) else list(types)
+
+
+def wait(conn: Connection, types: Types, predicate: Callable[[Message], Any] | None = None,
+         timeout: float | None = None, what: str | None = None) -> Message:
+    """The first message of `types` (a name or several) satisfying `predicate`, looking first at
+    the one-shot messages helpers kept; `LinkTimeout` (naming `what`) after `timeout` [s]
+    (default: the connection's timeout)."""
+    names = _names(types)
+    state = link_state(conn)
+    for i, m in enumerate(state.pending):
+        if m.get_type() in names and (predicate is None or predicate(m)):
+            del state.pending[: i + 1]
+            return m
+    state.pending.clear()
+    timeout = state.timeout if timeout is None else timeout
+    deadline = time.monotonic() + timeout
+    while True:
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            raise LinkTimeout(f"timed out after {timeout:g} s waiting for {what or ' or '.join(names)}")
+        m = recv(conn, remaining)
+        if m is not None and m.get_type() in names and (predicate is None or predicate(m)):
+            return m
+
+
+def sleep(conn: Connection, seconds: float, on_message: Callable[[Message], Any] | None = None) -> None:
+    """Keeps the link serviced for `seconds`, passing every message to `on_message`."""
+    deadline = time.monotonic() + seconds
+    while (remaining := deadline - time.monotonic()) > 0:
+        m = recv(conn, remaining)
+        if m is not None and on_message is not None:
+            on_message(m)
+
+
+def recent_text(conn: Connection, since: float, containing: str | None = None) -> str | None:
+    """The latest STATUSTEXT that arrived after `since` (``time.monotonic()``) and contains
+    `containing`, or None."""
+    for t, text in reversed(link_state(conn).texts):
+        if t >= since and (containing is None or containing in text):
+            return text
+    return None
+
+
+def latest(conn: Connection, kind: str, since: float | None = None) -> Message | None:
+    """The latest `kind` message received (after `since`, ``time.monotonic()``), or None."""
+    got = link_state(conn).latest.get(kind)
+    if got is None or (since is not None and got[0] < since):
+        return None
+    return got[1]
+
+
+def connect(connection: str | Connection = DEFAULT_CONNECTION, timeout: float = DEFAULT_TIMEOUT, *,
+            target_system: int | None = None, source_system: int = GCS_SYSTEM,
+            source_component: int = GCS_COMPONENT, quiet: bool = False) -> Connection:
+    """Opens `connection` (a pymavlink connection string, or an open pymavlink connection) as a
+    GCS and waits for an autopilot's heartbeat (component 1, not a GCS; of `target_system` if
+    given). Returns the connection with target_system/target_component set to that autopilot;
+    prints ``connected to system 1 (QUADROTOR) in AUTO.LOITER, disarmed`` unless `quiet`.
+    `GcsError` when the string cannot be opened, `LinkTimeout` without a heartbeat."""
+    if isinstance(connection, str):
+        try:
+            conn = mavutil.mavlink_connection(connection, source_system=source_system,
+                                              source_component=source_component)
+        except Exception as e:  # pymavlink raises plain Exceptions for bad strings, OSError for ports.
+            raise GcsError(f"cannot open {connection}: {e}") from e
+        name = connection
+    else:
+        conn, name = connection, getattr(connection, "address", "the connection")
+    state = link_state(conn)
+    state.timeout = timeout
+    conn.target_system = target_system or 0
+    deadline = time.monotonic() + timeout
+    while True:
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            if isinstance(connection, str):
+                conn.close()
+            raise LinkTimeout(f"no autopilot heartbeat on {name} within {timeout:g} s")
+        m = recv(conn, remaining)
+        if (m is not None and m.get_type() == "HEARTBEAT"
+                and m.get_srcComponent() == mavlink.MAV_COMP_ID_AUTOPILOT1 and m.type != mavlink.MAV_TYPE_GCS):
+            break
+    conn.target_system = m.get_srcSystem()
+    conn.target_component = m.get_srcComponent()
+    if "heartbeat" in state.periodic:
+        send_heartbeat(conn)
+    if not quiet:
+        kind = enum_name("MAV_TYPE", m.type).replace("MAV_TYPE_", "")
+        armed = "armed" if m.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED else "disarmed"
+        print(f"connected to system {conn.target_system} ({kind}) in {mode_name(m.custom_mode)}, {armed}",
+              flush=True)
+    return conn

@@ -1,0 +1,120 @@
+"""Parameters (PARAM_REQUEST_READ / PARAM_SET and the PARAM_VALUE echo).
+
+Integer parameters travel byte-wise: the INT32's four bytes in PARAM_SET's and PARAM_VALUE's
+float field (PX4's convention), so `param_set` and `param_get` convert with `int32_bits` and
+`float_bits_to_int`. A value the autopilot refuses is echoed unchanged (`ParamError` then names
+the value kept and the autopilot's STATUSTEXT); an unknown name gets a STATUSTEXT naming it.
+"""
+from __future__ import annotations
+
+import struct
+import time
+from typing import Callable
+
+from ._mav import mavlink
+from .errors import LinkTimeout, ParamError
+from .link import RESEND_S, Connection, Message, keep, link_state, recent_text, recv, wait
+
+#: The integer MAV_PARAM_TYPEs (sent byte-wise in the float field).
+INTEGER_TYPES = frozenset({mavlink.MAV_PARAM_TYPE_UINT8, mavlink.MAV_PARAM_TYPE_INT8, mavlink.MAV_PARAM_TYPE_UINT16,
+                           mavlink.MAV_PARAM_TYPE_INT16, mavlink.MAV_PARAM_TYPE_UINT32, mavlink.MAV_PARAM_TYPE_INT32})
+
+
+def int32_bits(value: int) -> float:
+    """The float whose four bytes are the INT32 `value` (what PARAM_SET carries for an integer)."""
+    return struct.unpack("<f", struct.pack("<i", int(value)))[0]
+
+
+def float_bits_to_int(value: float) -> int:
+    """The INT32 whose four bytes are the float `value` (an integer PARAM_VALUE's value)."""
+    return struct.unpack("<i", struct.pack("<f", value))[0]
+
+
+def as_float32(value: float) -> float:
+    """`value` rounded to the nearest float32 (what a REAL32 parameter holds)."""
+    return struct.unpack("<f", struct.pack("<f", value))[0]
+
+
+def param_value(m: Message) -> float | int:
+    """The value of a PARAM_VALUE: an int for the integer types, else the float."""
+    if m.param_type in INTEGER_TYPES:
+        return float_bits_to_int(m.param_value)
+    return m.param_value
+
+
+def _param_reply(conn: Connection, name: str, start: float, timeout: float, send: Callable[[], None]) -> Message:
+    """Calls `send()` (again every `RESEND_S` until answered) and returns the PARAM_VALUE for
+    `name`; a STATUSTEXT naming it without one means it is unknown."""
+    deadline = time.monotonic() + timeout
+    resend = time.monotonic()
+    while (remaining := deadline - time.monotonic()) > 0:
+        if time.monotonic() >= resend:
+            send()
+            resend = time.monotonic() + RESEND_S
+        m = recv(conn, max(0.0, min(remaining, resend - time.monotonic())))
+        if m is None:
+            continue
+        if m.get_type() == "PARAM_VALUE" and m.param_id == name:
+            return m
+        keep(conn, m)
+        if m.get_type() == "STATUSTEXT" and name in m.text:
+            # Unknown names get PARAM_ERROR (newer than pymavlink's dialect) and this STATUSTEXT.
+            try:
+                return wait(conn, "PARAM_VALUE", lambda p: p.param_id == name, timeout=0.3)
+            except LinkTimeout:
+                raise ParamError(f"{name}: {m.text}") from None
+    reason = recent_text(conn, start, name)
+    raise ParamError(f"{name}: no PARAM_VALUE within {timeout:g} s" + (f" ({reason})" if reason else ""))
+
+
+def _read(conn: Connection, name: str, timeout: float | None) -> Message:
+    timeout = link_state(conn).timeout if timeout is None else timeout
+
+    def send() -> None:
+        conn.mav.param_request_read_send(conn.target_system, conn.target_component, name.encode(), -1)
+
+    return _param_reply(conn, name, time.monotonic(), timeout, send)
+
+
+def param_get(conn: Connection, name: str, timeout: float | None = None) -> float | int:
+    """The value of parameter `name` (an int for integer types); `ParamError` if unknown."""
+    return param_value(_read(conn, name, timeout))
+
+
+def param_set(conn: Connection, name: str, value: float, int32: bool | None = None,
+              timeout: float | None = None) -> float | int:
+    """Sets `name` to `value` and checks the echo; returns the echoed value. `int32`: send as
+    INT32 (True), REAL32 (False), or as the autopilot declares the parameter (None: its type is
+    read first unless a PARAM_VALUE already told it). `ParamError` when the autopilot keeps
+    another value (a refusal, with its reason) or does not know the name."""
+    timeout = link_state(conn).timeout if timeout is None else timeout
+    if int32 is None:
+        ptype = link_state(conn).param_types.get(name)
+        if ptype is None:
+            ptype = _read(conn, name, timeout).param_type
+        int32 = ptype in INTEGER_TYPES
+    if int32:
+        if int(value) != value:
+            raise ParamError(f"{name}: {value} is not an integer")
+        wanted: float | int = int(value)
+        raw, ptype = int32_bits(int(value)), mavlink.MAV_PARAM_TYPE_INT32
+    else:
+        wanted = raw = as_float32(float(value))
+        ptype = mavlink.MAV_PARAM_TYPE_REAL32
+    start = time.monotonic()
+
+    def send() -> None:
+        conn.mav.param_set_send(conn.target_system, conn.target_component, name.encode(), raw, ptype)
+
+    got = param_value(_param_reply(conn, name, start, timeout, send))
+    if got != wanted:
+        reason = recent_text(conn, start, name)
+        if reason is None:
+            try:
+                text = wait(conn, "STATUSTEXT", lambda m: name in m.text, timeout=0.5)
+                reason = text.text
+                keep(conn, text)
+            except LinkTimeout:
+                pass
+        raise ParamError(f"{name} = {value} refused: the autopilot kept {got}" + (f" ({reason})" if reason else ""))
+    return got
