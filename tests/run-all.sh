@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test of rotorpilot on a fresh machine: formatting, lints, architecture rules,
 # Rust unit/integration/doc tests (release build, reused by the Python tests), a bounded run of
-# every fuzz target from the committed corpus, and the pytest
+# every fuzz target from the committed corpus, the README's set-up lines on a fresh clone, and the pytest
 # suite in a venv with the pinned gcs-scripts/requirements.txt. Exits non-zero on any failure,
 # including a pytest run that collects no test.
 set -euo pipefail
@@ -32,6 +32,11 @@ fi
 # plugin provides the suite's fixtures.
 "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps -e ./gcs-scripts
 export ROTORPILOT_BIN="$PWD/target/release/rotorpilot"
+
+echo "== the README's set-up lines on a fresh clone"
+bash tests/readme-setup.sh
+
+echo "== pytest"
 # Two workers (pytest-xdist): most tests wait on flights in wall time. MAVSDK's examples run
 # afterwards on their own: they fly six vehicles at once and need the CPU to keep time. (--ignore
 # takes a path: node ids are relative to pytest's rootdir, gcs-scripts/ with its pyproject.toml.)
