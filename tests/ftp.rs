@@ -16,16 +16,7 @@ const NAK: u8 = 129;
 
 /// Sends `req` from QGC on the GCS link; the FTP replies that came back at once.
 fn ftp(b: &mut Bench, req: Payload) -> Vec<Payload> {
-    b.send(
-        Gcs,
-        QGC,
-        MavMessage::FILE_TRANSFER_PROTOCOL(FILE_TRANSFER_PROTOCOL_DATA {
-            target_network: 0,
-            target_system: 1,
-            target_component: 1,
-            payload: req.encode(),
-        }),
-    );
+    b.send(Gcs, QGC, req.message((1, 1)));
     replies(&b.out())
 }
 

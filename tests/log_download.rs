@@ -338,16 +338,7 @@ fn erase_deletes_every_log_but_the_one_being_written() {
 
 /// One FTP request from QGC; the replies (with the burst frames due over the next 2 s).
 fn ftp(b: &mut Bench, req: Payload) -> Vec<Payload> {
-    b.send(
-        Gcs,
-        QGC,
-        MavMessage::FILE_TRANSFER_PROTOCOL(FILE_TRANSFER_PROTOCOL_DATA {
-            target_network: 0,
-            target_system: 1,
-            target_component: 1,
-            payload: req.encode(),
-        }),
-    );
+    b.send(Gcs, QGC, req.message((1, 1)));
     let mut out: Vec<(LinkKind, u16, MavMessage)> = b.out();
     for _ in 0..2000 {
         let (wall, sim) = (b.now.wall_s + 1e-3, b.now.sim_s);

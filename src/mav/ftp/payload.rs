@@ -3,6 +3,8 @@
 //! padding, offset; little endian) and up to 239 data bytes; the opcodes and NAK error codes
 //! PX4's server uses. Pure.
 
+use mavlink::dialects::common::{MavMessage, FILE_TRANSFER_PROTOCOL_DATA};
+
 /// Bytes of the FILE_TRANSFER_PROTOCOL payload.
 pub const PAYLOAD_LEN: usize = 251;
 /// Bytes of the header before the data.
@@ -156,6 +158,16 @@ pub struct Payload {
 }
 
 impl Payload {
+    /// FILE_TRANSFER_PROTOCOL carrying this payload to the system and component `target`.
+    pub fn message(&self, target: (u8, u8)) -> MavMessage {
+        MavMessage::FILE_TRANSFER_PROTOCOL(FILE_TRANSFER_PROTOCOL_DATA {
+            target_network: 0,
+            target_system: target.0,
+            target_component: target.1,
+            payload: self.encode(),
+        })
+    }
+
     /// The payload in `bytes`; data beyond [`DATA_MAX`] cannot exist, so a larger `size` keeps
     /// every data byte and records the size for the InvalidDataSize check.
     pub fn decode(bytes: &[u8; PAYLOAD_LEN]) -> Self {

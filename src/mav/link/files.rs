@@ -6,7 +6,7 @@
 
 use std::hash::Hash;
 
-use mavlink::dialects::common::{MavMessage, FILE_TRANSFER_PROTOCOL_DATA};
+use mavlink::dialects::common::MavMessage;
 use mavlink::MavHeader;
 
 use super::logs::LogLink;
@@ -74,16 +74,6 @@ impl<A> Files<A> {
     }
 }
 
-/// FILE_TRANSFER_PROTOCOL with `payload` to the client with MAVLink ids `ids`.
-fn ftp_message(ids: (u8, u8), payload: &Payload) -> MavMessage {
-    MavMessage::FILE_TRANSFER_PROTOCOL(FILE_TRANSFER_PROTOCOL_DATA {
-        target_network: 0,
-        target_system: ids.0,
-        target_component: ids.1,
-        payload: payload.encode(),
-    })
-}
-
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// The files served over MAVLink FTP from memory (metadata, scratch area).
     pub fn files(&self) -> &Vfs {
@@ -98,7 +88,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             return;
         };
         match ftp.server.handle(fs, &Payload::decode(payload), now.wall_s) {
-            Some(reply) => self.send(now, link, from, &ftp_message(ids, &reply)),
+            Some(reply) => self.send(now, link, from, &reply.message(ids)),
             None => {
                 ftp.client = Some((from, ids));
                 ftp.next_s = now.wall_s;
@@ -123,7 +113,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             let (link, client) = (ftp.link, ftp.client);
             if let Some((to, ids)) = client {
                 for frame in &frames {
-                    self.send(now, link, to, &ftp_message(ids, frame));
+                    self.send(now, link, to, &frame.message(ids));
                 }
             }
         }
