@@ -46,8 +46,9 @@ from importlib.metadata import version
 
 import numpy as np
 
+from rotorpilot_gcs import checkout_binary, find_binary
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-DEFAULT_BINARY = ROOT / "target" / "release" / "rotorpilot"
 ALTITUDE_M = 2.0
 ROTORPILOT_STEP_S = 0.001
 TARGET_RATIO = 1000.0
@@ -387,17 +388,18 @@ def parse_args(argv):
     parser.add_argument("--repeat", type=positive(int), default=1,
                         help="flights per simulator; the median wall time counts (default 1)")
     parser.add_argument("--rotorpilot", type=pathlib.Path,
-                        default=pathlib.Path(os.environ.get("ROTORPILOT_BIN", DEFAULT_BINARY)),
-                        help="rotorpilot binary (default: $ROTORPILOT_BIN or target/release/rotorpilot)")
+                        default=None,
+                        help="rotorpilot binary (default: $ROTORPILOT_BIN, else target/release/rotorpilot, else PATH)")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     return parser.parse_args(argv)
 
 
 def run(args):
     """Flies both simulators and returns the report dict; BenchError on failure."""
-    if not args.rotorpilot.is_file():
-        raise BenchError(f"rotorpilot binary not found at {args.rotorpilot}: run cargo build --release "
-                         "or pass --rotorpilot PATH")
+    try:
+        args.rotorpilot = find_binary(args.rotorpilot, fallback=checkout_binary())
+    except FileNotFoundError as exc:
+        raise BenchError(f"{exc} (or pass --rotorpilot PATH)") from None
     modules = import_rotorpy()
     task = Task(args.duration, args.radius, args.speed, args.ramp)
     rotorpilot = run_rotorpilot(args.rotorpilot, task, with_log=False, repeat=args.repeat)

@@ -38,6 +38,7 @@ import numpy as np
 
 import homework_figures
 import plot_run
+import rotorpilot_gcs
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 EX4_SCENARIO = ROOT / "scenarios" / "ex4_estimator.toml"
@@ -74,17 +75,17 @@ def parse_args(argv):
     parser.add_argument("--out", type=pathlib.Path, required=True, help="output directory (created if missing)")
     parser.add_argument("--only", choices=("ex4", "ex5"), help="run one exercise only")
     parser.add_argument("--binary", type=pathlib.Path, default=None,
-                        help="rotorpilot binary (default: $ROTORPILOT_BIN, else target/release/rotorpilot)")
+                        help="rotorpilot binary (default: $ROTORPILOT_BIN, else target/release/rotorpilot, else PATH)")
     return parser.parse_args(argv)
 
 
 def find_binary(arg):
-    """The rotorpilot binary to run; StudyError if it is missing or not executable."""
-    env = os.environ.get("ROTORPILOT_BIN")
-    binary = arg or (pathlib.Path(env) if env else ROOT / "target" / "release" / "rotorpilot")
-    if not binary.is_file():
-        raise StudyError(f"rotorpilot binary not found at {binary} (build it with cargo build --release, "
-                         "or pass --binary / set ROTORPILOT_BIN)")
+    """The rotorpilot binary to run (rotorpilot_gcs.find_binary: --binary, $ROTORPILOT_BIN, the
+    checkout's build, PATH); StudyError if it is missing or not executable."""
+    try:
+        binary = rotorpilot_gcs.find_binary(arg, fallback=rotorpilot_gcs.checkout_binary())
+    except FileNotFoundError as exc:
+        raise StudyError(f"{exc} (or pass --binary)") from None
     if not os.access(binary, os.X_OK):
         raise StudyError(f"rotorpilot binary {binary} is not executable")
     return binary

@@ -45,6 +45,8 @@ import tempfile
 import threading
 import time
 
+from rotorpilot_gcs import checkout_binary, find_binary
+
 HERE = pathlib.Path(__file__).resolve().parent
 EXAMPLES = HERE / "tests" / "third_party" / "mavsdk_examples"
 ROOT = HERE.parent
@@ -64,8 +66,9 @@ UNKNOWN_NAMES = {300: "PROTOCOL_VERSION", 360: "ORBIT_EXECUTION_STATUS", 397: "C
 
 
 def binary():
-    """The rotorpilot binary: ROTORPILOT_BIN or target/release/rotorpilot."""
-    return pathlib.Path(os.environ.get("ROTORPILOT_BIN", ROOT / "target" / "release" / "rotorpilot"))
+    """The rotorpilot binary: ROTORPILOT_BIN, else the checkout's target/release/rotorpilot, else
+    rotorpilot on PATH (rotorpilot_gcs.find_binary)."""
+    return find_binary(fallback=checkout_binary())
 
 
 def mavsdk_server():

@@ -81,7 +81,7 @@ from .names import command_name, enum_name
 from .offboard import POSITION_MASK, SETPOINT_RATE_HZ, set_setpoint, stop_setpoints
 from .params import as_float32, float_bits_to_int, int32_bits, param_get, param_set, param_value
 from .plans import QgcPlan, load_plan, load_qgc_plan, load_wpl, plan_items, qgc_plan_items
-from .process import Autopilot, find_binary, free_port
+from .process import Autopilot, checkout_binary, find_binary, free_port
 from .telemetry import (
     IN_AIR,
     LANDING,
@@ -111,7 +111,7 @@ __all__ = [
     "POSITION_MASK", "PX4_MODES", "ParamError", "QgcPlan", "RALLY", "RESEND_S", "SETPOINT_RATE_HZ", "TAKEOFF",
     "UsageError", "Vehicle", "add_common_args", "arm", "as_float32", "clear_mission", "command", "command_ack",
     "command_name", "connect", "custom_mode", "deg_e7_per_metre", "disarm", "download_mission", "enum_name",
-    "find_binary", "float_bits_to_int", "format_position", "free_port", "global_to_offset", "home_position",
+    "checkout_binary", "find_binary", "float_bits_to_int", "format_position", "free_port", "global_to_offset", "home_position",
     "int32_bits", "is_armed", "item_from_message", "keep", "land", "latest", "link_state", "load_plan",
     "load_qgc_plan", "load_wpl", "local_position", "mavlink", "mavutil", "mode_name", "mode_of", "nav_land",
     "nav_return_to_launch", "nav_takeoff", "nav_waypoint", "offset_to_global", "param_get", "param_set",

@@ -40,13 +40,23 @@ READY_TIMEOUT_S = 30.0
 STOP_TIMEOUT_S = 10.0
 
 
-def find_binary(explicit: str | os.PathLike[str] | None = None) -> pathlib.Path:
-    """The rotorpilot binary: `explicit` if given, else ``$ROTORPILOT_BIN``, else ``rotorpilot``
-    on PATH. `FileNotFoundError` naming what was tried."""
+def checkout_binary() -> pathlib.Path:
+    """``target/release/rotorpilot`` of the checkout this package lives in (the scripts' default
+    when run from a checkout; it may not be built)."""
+    return pathlib.Path(__file__).resolve().parents[2] / "target" / "release" / "rotorpilot"
+
+
+def find_binary(explicit: str | os.PathLike[str] | None = None,
+                fallback: str | os.PathLike[str] | None = None) -> pathlib.Path:
+    """The rotorpilot binary: `explicit` if given, else ``$ROTORPILOT_BIN``, else `fallback` if
+    given (the scripts pass `checkout_binary()`), else ``rotorpilot`` on PATH.
+    `FileNotFoundError` naming what was tried."""
     if explicit:
         path, source = pathlib.Path(explicit), "the given path"
     elif os.environ.get(ENV_BIN):
         path, source = pathlib.Path(os.environ[ENV_BIN]), f"${ENV_BIN}"
+    elif fallback:
+        path, source = pathlib.Path(fallback), "the checkout's build"
     else:
         found = shutil.which("rotorpilot")
         if found is None:

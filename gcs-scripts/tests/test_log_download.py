@@ -24,13 +24,13 @@ import pathlib
 import queue
 import random
 import re
-import shutil
 import subprocess
 import sys
 import threading
 import time
 
 import pytest
+from netns import can_unshare
 from pymavlink.mavftp import MAVFTP, MAVFTPSettings
 from qgc_replay import ACK, BIN, Qgc, qgc_download, qgc_list
 
@@ -162,10 +162,6 @@ def test_pymavlink_mavftp_gets_a_log(autopilot_factory, tmp_path):
         assert got == [placed[0]] and local.read_bytes() == placed[0]
     finally:
         master.close()
-
-
-def can_unshare():
-    return shutil.which("unshare") and subprocess.run(["unshare", "-n", "true"], check=False).returncode == 0
 
 
 @pytest.mark.skipif(not can_unshare(), reason="needs unshare -n (root)")

@@ -6,20 +6,16 @@ add, clear) work over the mission protocol with mission_type 1 and 2; `log list`
 logs". Runs in its own network namespace, so the fixed port 14550 is used as it is."""
 import pathlib
 import re
-import shutil
 import subprocess
 import sys
 
 import pytest
+from netns import can_unshare
 
 MAVPROXY = pathlib.Path(sys.executable).parent / "mavproxy.py"
 # The console modules MAVProxy loads here (its map, console GUI and camera modules need the GUI
 # dependencies that requirements-nodeps.txt leaves out).
 MODULES = "fence,link,param,mode,arm,signing,misc"
-
-
-def can_unshare():
-    return shutil.which("unshare") and subprocess.run(["unshare", "-n", "true"], check=False).returncode == 0
 
 
 @pytest.mark.skipif(not can_unshare(), reason="needs unshare -n (root)")

@@ -7,12 +7,12 @@ pending examples included."""
 import json
 import os
 import pathlib
-import shutil
 import subprocess
 import sys
 import time
 
 import pytest
+from netns import can_unshare
 
 RUNNER = pathlib.Path(__file__).resolve().parents[1] / "run_mavsdk_examples.py"
 
@@ -36,10 +36,6 @@ SUBSET = [
 ]
 # PX4's HEARTBEAT custom_mode of POSCTL, POSCTL.ORBIT, AUTO.RTL, AUTO.FOLLOW_TARGET, AUTO.LAND.
 POSCTL, ORBIT, RTL, FOLLOW_TARGET, LAND = 196608, 16973824, 84148224, 134479872, 100925440
-
-
-def can_unshare():
-    return shutil.which("unshare") and subprocess.run(["unshare", "-n", "true"], check=False).returncode == 0
 
 
 @pytest.mark.skipif(not can_unshare(), reason="needs unshare -n (root)")
