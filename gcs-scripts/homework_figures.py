@@ -64,18 +64,14 @@ def ex5_figures(errors, alloc, weight, t_end):
     the reference trajectory ends, dotted."""
     t = errors["t"]
     title_end = "" if t_end is None else f", the move ends at {t_end:g} s (dotted)"
-    yield "ex5_position_errors.png", stacked(
-        t, columns(errors, "e_p"), "Position error e_p = p − p_d (world NED)" + title_end,
-        [f"e_p,{a} [m]" for a in AXES], t_end)
-    yield "ex5_velocity_errors.png", stacked(
-        t, columns(errors, "e_v"), "Velocity error e_v = ṗ − ṗ_d (world NED)" + title_end,
-        [f"e_v,{a} [m/s]" for a in AXES], t_end)
-    yield "ex5_attitude_errors.png", stacked(
-        t, columns(errors, "e_r"), "Attitude error e_R = ½ vee(R_dᵀR − RᵀR_d) (body FRD)" + title_end,
-        [f"e_R,{a} [-]" for a in AXES], t_end)
-    yield "ex5_rate_errors.png", stacked(
-        t, columns(errors, "e_omega"), "Angular-velocity error e_ω = ω − RᵀR_d ω_d (body FRD)" + title_end,
-        [f"e_ω,{a} [rad/s]" for a in AXES], t_end)
+    for name, field, symbol, unit, title in (
+        ("position", "e_p", "e_p", "m", "Position error e_p = p − p_d (world NED)"),
+        ("velocity", "e_v", "e_v", "m/s", "Velocity error e_v = ṗ − ṗ_d (world NED)"),
+        ("attitude", "e_r", "e_R", "-", "Attitude error e_R = ½ vee(R_dᵀR − RᵀR_d) (body FRD)"),
+        ("rate", "e_omega", "e_ω", "rad/s", "Angular-velocity error e_ω = ω − RᵀR_d ω_d (body FRD)"),
+    ):
+        yield f"ex5_{name}_errors.png", stacked(
+            t, columns(errors, field), title + title_end, [f"{symbol},{a} [{unit}]" for a in AXES], t_end)
     fig, axes = plot_run.new_figure(1, title="Total thrust u_T" + title_end, row_height=3.5)
     ax = axes[0, 0]
     plot_run.plot_line(ax, alloc["t"], alloc["thrust"], label="u_T")
