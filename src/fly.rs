@@ -160,8 +160,8 @@ pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, Fly
     }
     if let Some(ulog) = ulog {
         ulog.finish().map_err(|e| FlyError::Io {
-            path: opts.ulog.as_ref().map(|p| p.display().to_string()).unwrap_or_default(),
-            source: std::io::Error::other(e),
+            path: e.path.display().to_string(),
+            source: e.source,
         })?;
     }
     let plant = lockstep.plant();

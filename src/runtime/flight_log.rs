@@ -153,19 +153,32 @@ pub(crate) fn detached(capacity: usize) -> (LogSender, impl FnMut() -> Vec<u8>) 
     (sender, take)
 }
 
+/// The first file the writer could not write, and why.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {source}", path.display())]
+pub struct LogWriteError {
+    /// The file.
+    pub path: PathBuf,
+    /// Cause.
+    pub source: std::io::Error,
+}
+
 /// The writer thread; [`LogWriter::finish`] waits for it and returns its first error.
 #[derive(Debug)]
 pub struct LogWriter {
-    handle: std::thread::JoinHandle<Result<(), String>>,
+    handle: std::thread::JoinHandle<Result<(), LogWriteError>>,
 }
 
 impl LogWriter {
     /// Waits until every [`LogSender`] is dropped and the files are flushed; the first error
     /// (file and cause), if any.
-    pub fn finish(self) -> Result<(), String> {
-        self.handle
-            .join()
-            .unwrap_or_else(|_| Err("log writer thread panicked".into()))
+    pub fn finish(self) -> Result<(), LogWriteError> {
+        self.handle.join().unwrap_or_else(|_| {
+            Err(LogWriteError {
+                path: PathBuf::new(),
+                source: std::io::Error::other("log writer thread panicked"),
+            })
+        })
     }
 }
 
@@ -224,15 +237,18 @@ fn write_loop(
     mut tlog: Option<(File, PathBuf)>,
     flights: Option<LogDir>,
     spares: &Spares,
-) -> Result<(), String> {
+) -> Result<(), LogWriteError> {
     let mut ulog: Current = None;
     let mut last_flush = Instant::now();
-    let mut first_error: Option<String> = None;
-    let mut fail = |path: &PathBuf, e: std::io::Error| {
+    let mut first_error: Option<LogWriteError> = None;
+    let mut fail = |path: &PathBuf, source: std::io::Error| {
         if first_error.is_none() {
-            let text = format!("{}: {e}", path.display());
-            tracing::error!("log {text}");
-            first_error = Some(text);
+            let e = LogWriteError {
+                path: path.clone(),
+                source,
+            };
+            tracing::error!("log {e}");
+            first_error = Some(e);
         }
     };
     loop {

@@ -2,9 +2,9 @@
 //! for the writer instead of dropping, its own writer thread, and the lockstep [`Observer`] that
 //! records every tick.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use super::flight_log::{self, LogWriter, UlogTarget};
+use super::flight_log::{self, LogWriteError, LogWriter, UlogTarget};
 use super::ulog_stream::UlogStream;
 use crate::lockstep::{Exit, Observer, SnapshotReport, Tick, TickView};
 use crate::sitl::SimPlant;
@@ -15,7 +15,6 @@ use crate::ulog::{LogInfo, ParamValue, Recorder};
 pub struct UlogFile {
     stream: UlogStream,
     writer: LogWriter,
-    path: PathBuf,
 }
 
 impl UlogFile {
@@ -36,20 +35,14 @@ impl UlogFile {
         let (sender, writer) = flight_log::start(None, None)?;
         let mut stream = UlogStream::new(recorder, sender, true);
         stream.open(UlogTarget::File(path.to_path_buf()), t_s, info, params);
-        Ok(Self {
-            stream,
-            writer,
-            path: path.to_path_buf(),
-        })
+        Ok(Self { stream, writer })
     }
 
     /// Writes what is left and closes the file; the first write error names the file.
-    pub fn finish(self) -> Result<(), String> {
-        let Self { stream, writer, path } = self;
+    pub fn finish(self) -> Result<(), LogWriteError> {
+        let Self { stream, writer } = self;
         drop(stream);
-        writer
-            .finish()
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))
+        writer.finish()
     }
 }
 

@@ -116,13 +116,6 @@ impl UlogStream {
         }
     }
 
-    /// Logs a string at `level` (MAVLink severity) at log time `t_s` [s].
-    pub fn message(&mut self, level: u8, t_s: f64, text: &str) {
-        if self.open {
-            self.recorder.message(&mut self.buf, level, micros(t_s), text);
-        }
-    }
-
     /// Hands the buffer to the writer; false when the writer's full queue dropped it. After lost
     /// buffers, the first one that gets through starts with a dropout message spanning the lost
     /// log time.

@@ -225,8 +225,8 @@ where
     }
     if let Some(ulog) = ulog {
         ulog.finish().map_err(|e| SimError::Io {
-            path: "run.ulg".into(),
-            source: std::io::Error::other(e),
+            path: e.path.display().to_string(),
+            source: e.source,
         })?;
     }
     let sim_time_s = lockstep.ticks() as f64 * scn.dt_s;

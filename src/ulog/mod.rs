@@ -8,7 +8,8 @@
 //! - [`topics`]: the logged topics, their PX4 names and fields, and this project's own.
 //! - [`profile`]: how often each topic is logged (default and full profiles).
 //! - [`recorder`]: one flight log: definitions, then each tick's due records, strings, changes.
-//! - [`reader`]: the series `estimate` needs, read back from a ULog file.
+//!
+//! Reading a ULog back (`estimate`) is `estimation::ulog_log`'s, with px4-ulog's parser.
 
 pub mod encoder;
 pub mod profile;

@@ -117,6 +117,11 @@ fn quat(r: &Mat3) -> [f64; 4] {
     [q.w, q.i, q.j, q.k]
 }
 
+/// The first multiple of `every` [µs] after `t_us` (`t_us` itself when `every` is 0: every tick).
+fn grid_after(t_us: u64, every: u64) -> u64 {
+    t_us.checked_div(every).map_or(t_us, |k| (k + 1) * every)
+}
+
 /// False when the tick has nothing for `topic`: no snapshot (a bare flight core), the motors
 /// off, no setpoint, no estimator.
 fn has_data(topic: Topic, v: &TickView) -> bool {
@@ -143,11 +148,6 @@ impl Recorder {
             next_sync_us: 0,
             scratch: Vec::with_capacity(128),
         }
-    }
-
-    /// The setup.
-    pub fn setup(&self) -> &RecorderSetup {
-        &self.setup
     }
 
     /// Starts a log at `t_us` [µs]: file header, flag bits, every topic's format, `info` and
@@ -187,14 +187,10 @@ impl Recorder {
         self.subscribed = [false; Topic::ALL.len()];
     }
 
-    /// A parameter change at `t_us` [µs] (written in the data section, where PX4 logs changes).
+    /// A parameter change, written in the data section (where PX4 logs changes) between the
+    /// records of the ticks around it.
     pub fn param_changed(&mut self, out: &mut Vec<u8>, name: &str, value: ParamValue) {
         Encoder::new(out).param(name, value);
-    }
-
-    /// A logged string at `level` (MAVLink severity) at `t_us` [µs].
-    pub fn message(&mut self, out: &mut Vec<u8>, level: u8, t_us: u64, text: &str) {
-        Encoder::new(out).logged_string(level, t_us, text);
     }
 
     /// The records of one tick that are due.
@@ -219,7 +215,7 @@ impl Recorder {
                     continue;
                 }
                 let every = Profile::change_interval_us(topic);
-                self.next_check_us[i] = t_us.checked_div(every).map_or(t_us, |k| (k + 1) * every);
+                self.next_check_us[i] = grid_after(t_us, every);
                 // Compare the fields with the last record's before writing.
                 let mut fields = std::mem::take(&mut self.scratch);
                 fields.clear();
@@ -244,7 +240,7 @@ impl Recorder {
     fn start_record(&mut self, out: &mut Vec<u8>, topic: Topic, t_us: u64) {
         let i = topic as usize;
         let interval = self.setup.profile.interval_us(topic);
-        self.next_due_us[i] = t_us.checked_div(interval).map_or(t_us, |k| (k + 1) * interval);
+        self.next_due_us[i] = grid_after(t_us, interval);
         if !self.subscribed[i] {
             self.subscribed[i] = true;
             Encoder::new(out).subscription(topic.msg_id(), topic.name());
