@@ -1,4 +1,4 @@
-//! Scripted external wrench and linear drag.
+//! Scripted external wrench and aerodynamic drag.
 //!
 //! A [`Disturbance`] adds a force in world coordinates (NED) [N] and a torque in body
 //! coordinates (FRD) [N·m] that is constant, switched on at a time, or sinusoidal. The plant
@@ -66,11 +66,19 @@ pub fn external_wrench(components: &[Disturbance], t_s: f64) -> (Vector3<f64>, V
         })
 }
 
-/// Linear drag `f = −R D Rᵀ v` with D = diag(coefficients along body axes) [N·s/m];
+/// Drag on the body moving at `v_air_w` relative to the air (world NED [m/s]):
+/// f = −R (D_1 v_b + D_2 |v_b| ⊙ v_b) with v_b = Rᵀ v_air, D_1 = diag(`linear_b`) [N·s/m] and
+/// D_2 = diag(`quadratic_b`) [N·s²/m²] along the body axes (docs/model.md §5.1, eqs. (5.1)–(5.2));
 /// returns the force in world NED [N].
-pub fn linear_drag_w(coeff_b: &Vector3<f64>, r_wb: &nalgebra::Matrix3<f64>, vel_w: &Vector3<f64>) -> Vector3<f64> {
-    let v_b = r_wb.transpose() * vel_w;
-    -(r_wb * coeff_b.component_mul(&v_b))
+pub fn drag_w(
+    linear_b: &Vector3<f64>,
+    quadratic_b: &Vector3<f64>,
+    r_wb: &nalgebra::Matrix3<f64>,
+    v_air_w: &Vector3<f64>,
+) -> Vector3<f64> {
+    let v_b = r_wb.transpose() * v_air_w;
+    let quad_b = quadratic_b.component_mul(&v_b.abs()).component_mul(&v_b);
+    -(r_wb * (linear_b.component_mul(&v_b) + quad_b))
 }
 
 #[cfg(test)]
@@ -110,9 +118,14 @@ mod tests {
     fn drag_opposes_velocity() {
         let r = nalgebra::Rotation3::from_euler_angles(0.1, -0.2, 0.7).into_inner();
         let v = Vector3::new(1.0, -2.0, 0.5);
-        let f = linear_drag_w(&Vector3::new(0.3, 0.3, 0.3), &r, &v);
+        let zero = Vector3::zeros();
+        let f = drag_w(&Vector3::new(0.3, 0.3, 0.3), &zero, &r, &v);
         assert!((f + 0.3 * v).norm() < 1e-12);
-        let f = linear_drag_w(&Vector3::new(0.1, 0.2, 0.4), &r, &v);
+        let f = drag_w(&Vector3::new(0.1, 0.2, 0.4), &zero, &r, &v);
         assert!(f.dot(&v) < 0.0);
+        // Quadratic drag with equal coefficients along axis-aligned motion: c |v| v.
+        let level = nalgebra::Matrix3::identity();
+        let f = drag_w(&zero, &Vector3::repeat(0.02), &level, &Vector3::new(0.0, -5.0, 0.0));
+        assert!((f - Vector3::new(0.0, 0.5, 0.0)).norm() < 1e-12);
     }
 }

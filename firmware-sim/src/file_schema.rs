@@ -78,6 +78,7 @@ pub(crate) struct FilePlant {
     pub noise: Option<FileNoise>,
     pub disturbance: Option<Vec<FileDisturbance>>,
     pub initial: Option<FileInitial>,
+    pub wind: Option<FileWind>,
 }
 
 /// `[plant.ground]`.
@@ -110,6 +111,25 @@ pub(crate) struct FileCeiling {
 #[serde(deny_unknown_fields)]
 pub(crate) struct FileDrag {
     pub linear: Option<Vec<f64>>,
+    pub quadratic: Option<Vec<f64>>,
+}
+
+/// `[plant.wind]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct FileWind {
+    pub velocity: Option<Vec<f64>>,
+    pub turbulence: Option<f64>,
+    pub gust: Option<Vec<FileGust>>,
+}
+
+/// `[[plant.wind.gust]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct FileGust {
+    pub start: Option<f64>,
+    pub duration: Option<f64>,
+    pub velocity: Option<Vec<f64>>,
 }
 
 /// `[plant.noise]`: standard deviations.

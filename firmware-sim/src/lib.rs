@@ -14,7 +14,8 @@
 //! - [`rotor`]: thrust and drag torque per rotor, first-order motor lag with up/down constants.
 //! - [`proximity`]: ground and ceiling thrust factors (Cheeseman–Bennett, multirotor, ceiling).
 //! - [`contact`]: resting on the ground without sinking or bouncing; ceiling stop.
-//! - [`disturbance`]: scripted external wrench (constant, step, sinusoid) and linear drag.
+//! - [`disturbance`]: scripted external wrench (constant, step, sinusoid) and aerodynamic drag.
+//! - [`wind`]: mean wind, discrete gusts and Dryden turbulence, seeded.
 //! - [`sensors`]: samples with seeded ChaCha noise; zero noise by default.
 //! - [`plant`]: [`Plant::step`], [`Plant::truth`], [`Plant::sense`].
 #![warn(missing_docs)]
@@ -31,6 +32,7 @@ pub mod rigid_body;
 pub mod rotor;
 pub mod sensors;
 mod validate;
+pub mod wind;
 
 pub use layout::{MAX_ROTORS, MIN_ROTORS};
 pub use params::{ParamsError, PlantParams};

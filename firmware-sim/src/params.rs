@@ -11,6 +11,7 @@ use crate::disturbance::{Disturbance, DisturbanceKind};
 use crate::file_schema::{FileAirframe, FileGround, FilePlant, FileRotors};
 use crate::proximity::{ProximityError, ProximityLaw, ProximityModel};
 use crate::sensors::NoiseParams;
+use crate::wind::WindSettings;
 use crate::validate::{finite, non_negative, positive, required, vec3, Checker};
 
 /// A refused airframe file: which file, which field, and why.
@@ -102,8 +103,12 @@ pub struct PlantParams {
     pub ground: GroundSettings,
     /// Ceiling, when configured.
     pub ceiling: Option<CeilingSettings>,
-    /// Linear drag coefficients along the body axes [N·s/m].
+    /// Linear drag coefficients along the body axes [N·s/m] (docs/model.md §5.1, eq. (5.2)).
     pub linear_drag_n_s_m: Vector3<f64>,
+    /// Quadratic drag coefficients along the body axes [N·s²/m²] (eq. (5.2)).
+    pub quadratic_drag_n_s2_m2: Vector3<f64>,
+    /// Mean wind, gusts and turbulence (docs/model.md §5.2).
+    pub wind: WindSettings,
     /// Sensor noise.
     pub noise: NoiseParams,
     /// Scripted external wrench components, summed.
@@ -138,16 +143,11 @@ impl PlantParams {
         let plant = file.plant.unwrap_or_default();
         let ground = ground_settings(&check, plant.ground.as_ref(), &rotors, rotor.radius_m)?;
         let ceiling = ceiling_settings(&check, &plant, rotor.radius_m)?;
-        let linear_drag_n_s_m = match plant.drag.as_ref().and_then(|d| d.linear.clone()) {
-            Some(v) => {
-                let d = vec3(&check, v, "plant.drag.linear")?;
-                for (i, c) in d.iter().enumerate() {
-                    non_negative(&check, *c, &format!("plant.drag.linear[{i}]"))?;
-                }
-                d
-            }
-            None => Vector3::zeros(),
-        };
+        let drag = plant.drag.as_ref();
+        let linear_drag_n_s_m = drag_coefficients(&check, drag.and_then(|d| d.linear.clone()), "plant.drag.linear")?;
+        let quadratic_drag_n_s2_m2 =
+            drag_coefficients(&check, drag.and_then(|d| d.quadratic.clone()), "plant.drag.quadratic")?;
+        let wind = crate::wind::wind_settings(&check, plant.wind.as_ref())?;
         let noise = noise_params(&check, &plant)?;
         let disturbances = disturbances(&check, &plant)?;
         let initial = initial_state(&check, &plant)?;
@@ -161,6 +161,8 @@ impl PlantParams {
             ground,
             ceiling,
             linear_drag_n_s_m,
+            quadratic_drag_n_s2_m2,
+            wind,
             noise,
             disturbances,
             initial,
@@ -170,6 +172,13 @@ impl PlantParams {
     /// Warnings worth logging at start-up (e.g. unconfirmed ceiling constants).
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
+        let no_drag = self.linear_drag_n_s_m == Vector3::zeros() && self.quadratic_drag_n_s2_m2 == Vector3::zeros();
+        if !self.wind.is_calm() && no_drag {
+            out.push(format!(
+                "{}: wind is set but plant.drag is zero: the wind exerts no force (docs/model.md §5.1)",
+                self.name
+            ));
+        }
         if self.ceiling.as_ref().is_some_and(|c| c.unconfirmed) {
             out.push(format!(
                 "{}: ceiling effect uses the unconfirmed placeholder k1 = 16, k2 = 0 (docs/ground_ceiling.md §4)",
@@ -183,6 +192,19 @@ impl PlantParams {
     pub fn hover_speed_rad_s(&self) -> f64 {
         (self.mass_kg * crate::GRAVITY_M_S2 / (self.rotors.len() as f64 * self.rotor.c_t)).sqrt()
     }
+}
+
+/// Drag coefficients along the body axes from `field`: three non-negative numbers, zero when
+/// absent.
+fn drag_coefficients(check: &Checker, v: Option<Vec<f64>>, field: &str) -> Result<Vector3<f64>, ParamsError> {
+    let Some(v) = v else {
+        return Ok(Vector3::zeros());
+    };
+    let d = vec3(check, v, field)?;
+    for (i, c) in d.iter().enumerate() {
+        non_negative(check, *c, &format!("{field}[{i}]"))?;
+    }
+    Ok(d)
 }
 
 fn check_inertia(check: &Checker, i: Vector3<f64>) -> Result<Vector3<f64>, ParamsError> {

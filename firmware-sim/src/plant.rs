@@ -4,11 +4,12 @@ use nalgebra::{UnitQuaternion, Vector3};
 use rand_chacha::ChaCha8Rng;
 
 use crate::contact::Contact;
-use crate::disturbance::{external_wrench, linear_drag_w};
+use crate::disturbance::{drag_w, external_wrench};
 use crate::params::PlantParams;
 use crate::rigid_body::{MassProperties, RigidBodyState, StageLoads};
 use crate::rotor::{rotor_wrench_b, MotorBank};
 use crate::sensors::SensorSample;
+use crate::wind::{WindField, WindSettings};
 
 /// Longest step the plant accepts [s]; longer ones are refused rather than integrated badly.
 pub const MAX_DT_S: f64 = 0.1;
@@ -46,6 +47,11 @@ pub struct TruthState {
     pub external_force_w: Vector3<f64>,
     /// Scripted external torque at the start of the last step, body FRD [N·m].
     pub external_torque_b: Vector3<f64>,
+    /// The air's velocity at the vehicle over the last step, world NED [m/s].
+    pub wind_w: Vector3<f64>,
+    /// Aerodynamic drag at the start of the last step, wind included, world NED [N]
+    /// (docs/model.md §5.1, eq. (5.2)).
+    pub drag_force_w: Vector3<f64>,
 }
 
 /// The simulated multirotor. Deterministic: same parameters, commands and seed give
@@ -76,6 +82,8 @@ pub struct Plant {
     at_ceiling: bool,
     external_force_w: Vector3<f64>,
     external_torque_b: Vector3<f64>,
+    wind: WindField,
+    drag_force_w: Vector3<f64>,
     /// Ground and ceiling effect switched on (contact is always on).
     proximity_enabled: (bool, bool),
     /// Rotors that have failed: commanded zero whatever the controller asks (they spin down
@@ -103,6 +111,7 @@ impl Plant {
             omega_b: Vector3::zeros(),
         };
         let on_ground = pos_w.z >= contact.resting_z_m();
+        let wind = params.wind.clone();
         Self {
             mass: MassProperties {
                 mass_kg: params.mass_kg,
@@ -120,6 +129,8 @@ impl Plant {
             at_ceiling: false,
             external_force_w: Vector3::zeros(),
             external_torque_b: Vector3::zeros(),
+            wind: WindField::new(wind, 0),
+            drag_force_w: Vector3::zeros(),
             proximity_enabled: (true, true),
             failed: vec![false; n],
         }
@@ -162,7 +173,25 @@ impl Plant {
             at_ceiling: self.at_ceiling,
             external_force_w: self.external_force_w,
             external_torque_b: self.external_torque_b,
+            wind_w: self.wind.velocity_w(),
+            drag_force_w: self.drag_force_w,
         }
+    }
+
+    /// Restarts the wind's turbulence from `seed` (the run's seed: same seed, same gusts).
+    pub fn seed_wind(&mut self, seed: u64) {
+        self.wind = WindField::new(self.wind.settings().clone(), seed);
+    }
+
+    /// Replaces the wind settings from now on (parameters set in flight); the turbulence
+    /// keeps its random stream.
+    pub fn set_wind(&mut self, settings: WindSettings) {
+        self.wind.set_settings(settings);
+    }
+
+    /// The wind settings in force.
+    pub fn wind(&self) -> &WindSettings {
+        self.wind.settings()
     }
 
     /// Simulated time [s], counted in whole nanoseconds so it never drifts.
@@ -197,7 +226,13 @@ impl Plant {
         let (force0, torque0) = external_wrench(&self.params.disturbances, t0);
         self.external_force_w = force0;
         self.external_torque_b = torque0;
+        let height_m = self.contact.ground_z_m - self.body.pos_w.z;
+        let wind_w = self.wind.advance(t0, dt_s, height_m, &self.body.vel_w);
         let params = &self.params;
+        let drag = |r_wb: &nalgebra::Matrix3<f64>, v_w: &Vector3<f64>| {
+            drag_w(&params.linear_drag_n_s_m, &params.quadratic_drag_n_s2_m2, r_wb, &(v_w - wind_w))
+        };
+        self.drag_force_w = drag(self.body.q_wb.to_rotation_matrix().matrix(), &self.body.vel_w);
         let motors = &self.motors;
         let factor = &self.factor;
         let loads = |stage: usize, s: &RigidBodyState| {
@@ -213,7 +248,7 @@ impl Plant {
                 external_wrench(&params.disturbances, t)
             };
             let r_wb = s.q_wb.to_rotation_matrix().into_inner();
-            let drag_w = linear_drag_w(&params.linear_drag_n_s_m, &r_wb, &s.vel_w);
+            let drag_w = drag(&r_wb, &s.vel_w);
             StageLoads {
                 force_w: r_wb * thrust_b + ext_f_w + drag_w,
                 torque_b: rotor_torque_b + ext_t_b,

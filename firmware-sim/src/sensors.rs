@@ -82,7 +82,7 @@ fn gaussian3(rng: &mut ChaCha8Rng, sd: f64) -> Vector3<f64> {
 }
 
 /// One standard normal variate (Box–Muller, cosine branch).
-fn gaussian(rng: &mut ChaCha8Rng) -> f64 {
+pub(crate) fn gaussian(rng: &mut ChaCha8Rng) -> f64 {
     let u1 = 1.0 - uniform(rng); // (0, 1]: the logarithm stays finite
     let u2 = uniform(rng);
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
