@@ -12,6 +12,7 @@ use thiserror::Error;
 use crate::airframe::AirframeSource;
 use crate::control::VehicleState;
 use crate::math::{UnitQuat, Vec3};
+use crate::params::WindParams;
 
 /// The plant refused the airframe.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -60,6 +61,9 @@ pub enum PlantChange {
         /// Stop (`true`) or restore.
         failed: bool,
     },
+    /// Set the mean wind's horizontal components and the turbulence (gusts and the vertical
+    /// mean wind of the airframe file stay).
+    Wind(WindParams),
     /// Switch the plant's ground and ceiling effects (contact stays).
     ProximityEffects {
         /// Ground effect on.
@@ -94,14 +98,47 @@ pub struct PlantTruth {
     pub external_force_w: Vec3,
     /// Scripted external torque over the last step, body FRD [N·m].
     pub external_torque_b: Vec3,
+    /// Acceleration over the last step, world NED [m/s²].
+    pub accel_w: Vec3,
+    /// The air's velocity at the vehicle, world NED [m/s].
+    pub wind_w: Vec3,
+    /// Aerodynamic drag, wind included, world NED [N] (docs/model.md §5.1, eq. (5.2)).
+    pub drag_force_w: Vec3,
+}
+
+impl PlantTruth {
+    /// The whole external force a wrench estimator should recover: the scripted force plus
+    /// the drag, wind included (world NED [N]).
+    pub fn external_and_drag_force_w(&self) -> Vec3 {
+        self.external_force_w + self.drag_force_w
+    }
+
+    /// The truth of a vehicle resting in `state` in calm air (tests).
+    #[cfg(test)]
+    pub(crate) fn at_rest(state: &VehicleState) -> Self {
+        Self {
+            pos_w: state.pos_w,
+            vel_w: state.vel_w,
+            q_wb: UnitQuat::from_matrix(&state.r_wb),
+            omega_b: state.omega_b,
+            on_ground: true,
+            external_force_w: Vec3::zeros(),
+            external_torque_b: Vec3::zeros(),
+            accel_w: Vec3::zeros(),
+            wind_w: Vec3::zeros(),
+            drag_force_w: Vec3::zeros(),
+        }
+    }
 }
 
 impl SimPlant {
     /// Builds the plant from an airframe text with sensor noise seeded by `seed`.
     pub fn from_source(src: &AirframeSource, seed: u64) -> Result<Self, SitlError> {
         let params = PlantParams::from_toml_str(&src.text, &src.origin)?;
+        let mut plant = Plant::new(params);
+        plant.seed_wind(seed);
         Ok(Self {
-            plant: Plant::new(params),
+            plant,
             rng: rand_chacha_seed(seed),
             accel_b: Vec3::zeros(),
         })
@@ -148,6 +185,13 @@ impl SimPlant {
                 }
             }
             PlantChange::ProximityEffects { ground, ceiling } => self.plant.set_proximity_effects(*ground, *ceiling),
+            PlantChange::Wind(w) => {
+                let mut wind = self.plant.wind().clone();
+                wind.mean_w.x = w.north_m_s;
+                wind.mean_w.y = w.east_m_s;
+                wind.turbulence_w20_m_s = Some(w.turbulence_w20_m_s).filter(|w20| *w20 > 0.0);
+                self.plant.set_wind(wind);
+            }
         }
     }
 
@@ -189,6 +233,9 @@ impl SimPlant {
             on_ground: t.on_ground,
             external_force_w: t.external_force_w,
             external_torque_b: t.external_torque_b,
+            accel_w: t.accel_w,
+            wind_w: t.wind_w,
+            drag_force_w: t.drag_force_w,
         }
     }
 

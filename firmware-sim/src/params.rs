@@ -11,8 +11,8 @@ use crate::disturbance::{Disturbance, DisturbanceKind};
 use crate::file_schema::{FileAirframe, FileGround, FilePlant, FileRotors};
 use crate::proximity::{ProximityError, ProximityLaw, ProximityModel};
 use crate::sensors::NoiseParams;
-use crate::wind::WindSettings;
 use crate::validate::{finite, non_negative, positive, required, vec3, Checker};
+use crate::wind::WindSettings;
 
 /// A refused airframe file: which file, which field, and why.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -105,7 +105,7 @@ pub struct PlantParams {
     pub ceiling: Option<CeilingSettings>,
     /// Linear drag coefficients along the body axes [N·s/m] (docs/model.md §5.1, eq. (5.2)).
     pub linear_drag_n_s_m: Vector3<f64>,
-    /// Quadratic drag coefficients along the body axes [N·s²/m²] (eq. (5.2)).
+    /// Quadratic drag coefficients along the body axes [N·s²/m²] (docs/model.md §5.1, eq. (5.2)).
     pub quadratic_drag_n_s2_m2: Vector3<f64>,
     /// Mean wind, gusts and turbulence (docs/model.md §5.2).
     pub wind: WindSettings,

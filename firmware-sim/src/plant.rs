@@ -230,7 +230,12 @@ impl Plant {
         let wind_w = self.wind.advance(t0, dt_s, height_m, &self.body.vel_w);
         let params = &self.params;
         let drag = |r_wb: &nalgebra::Matrix3<f64>, v_w: &Vector3<f64>| {
-            drag_w(&params.linear_drag_n_s_m, &params.quadratic_drag_n_s2_m2, r_wb, &(v_w - wind_w))
+            drag_w(
+                &params.linear_drag_n_s_m,
+                &params.quadratic_drag_n_s2_m2,
+                r_wb,
+                &(v_w - wind_w),
+            )
         };
         self.drag_force_w = drag(self.body.q_wb.to_rotation_matrix().matrix(), &self.body.vel_w);
         let motors = &self.motors;

@@ -20,7 +20,11 @@ fn a_mean_wind_pushes_a_hovering_vehicle_downwind_with_c_v_squared() {
     let t = plant.truth();
     assert_eq!(t.wind_w, Vector3::new(0.0, 5.0, 0.0));
     // At rest in a 5 m/s east wind: f = c |v_a| v_a with v_a = −w: 0.02 · 25 = 0.5 N east.
-    assert!((t.drag_force_w - Vector3::new(0.0, 0.5, 0.0)).norm() < 1e-9, "{:?}", t.drag_force_w);
+    assert!(
+        (t.drag_force_w - Vector3::new(0.0, 0.5, 0.0)).norm() < 1e-9,
+        "{:?}",
+        t.drag_force_w
+    );
     for _ in 0..999 {
         plant.step(&[hover; 4], DEFAULT_DT_S);
     }
@@ -45,7 +49,11 @@ fn turbulence_is_seeded_and_calm_air_changes_nothing() {
     assert_ne!(run(1, windy).wind_w, run(2, windy).wind_w);
     let calm = run(1, "");
     assert_eq!(calm.wind_w, Vector3::zeros());
-    assert!(calm.drag_force_w.xy().norm() < 1e-12, "only its own vertical motion: {:?}", calm.drag_force_w);
+    assert!(
+        calm.drag_force_w.xy().norm() < 1e-12,
+        "only its own vertical motion: {:?}",
+        calm.drag_force_w
+    );
 }
 
 #[test]

@@ -155,7 +155,7 @@ impl FlightController {
     /// Sets parameter `name` to `value` and applies the new settings at this tick boundary:
     /// commander limits, control law (its filters restart from the next sample), compensation,
     /// gains, the estimator (a new design restarts it from ŵ = 0), and the plant's ground and
-    /// ceiling effects (the reply's plant change). Refused sets change nothing.
+    /// ceiling effects or its wind (the reply's plant change). Refused sets change nothing.
     pub fn set_param(&mut self, name: &str, value: f64) -> Reply<Result<usize, ParamError>> {
         let before = self.params.settings();
         let index = match self.params.set(name, value, self.dt_s) {
@@ -172,12 +172,16 @@ impl FlightController {
         if s.estimator != before.estimator {
             self.install_observer(s.estimator);
         }
-        Reply {
-            answer: Ok(index),
-            plant: Some(PlantChange::ProximityEffects {
+        let plant = match s.wind {
+            wind if wind != before.wind => PlantChange::Wind(wind),
+            _ => PlantChange::ProximityEffects {
                 ground: s.ground_effect,
                 ceiling: s.ceiling_effect,
-            }),
+            },
+        };
+        Reply {
+            answer: Ok(index),
+            plant: Some(plant),
         }
     }
 
@@ -273,6 +277,14 @@ mod tests {
                 ground: true,
                 ceiling: true
             })
+        );
+        let wind = fc.set_param("SIH_WIND_E", 4.0);
+        assert_eq!(
+            wind.plant,
+            Some(PlantChange::Wind(crate::params::WindParams {
+                east_m_s: 4.0,
+                ..Default::default()
+            }))
         );
         let refused = fc.set_param("NO_SUCH_PARAM", 1.0);
         assert!(refused.answer.is_err() && refused.plant.is_none());

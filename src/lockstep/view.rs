@@ -6,7 +6,7 @@ use crate::commander::Event;
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::flight::CoreStep;
 use crate::math::Vec3;
-use crate::sitl::SimPlant;
+use crate::sitl::{PlantTruth, SimPlant};
 use crate::telemetry::Snapshot;
 
 use super::Tick;
@@ -51,10 +51,8 @@ pub struct TickView<'a> {
     pub snapshot: Option<&'a Snapshot>,
     /// True motor speeds [rad/s].
     pub motor_speeds: &'a [f64],
-    /// True scripted external force, world NED [N].
-    pub true_force_w: Vec3,
-    /// True scripted external torque, body FRD [N·m].
-    pub true_torque_b: Vec3,
+    /// The plant's exact state and wind after the step.
+    pub truth: PlantTruth,
 }
 
 impl<'a> TickView<'a> {
@@ -71,8 +69,7 @@ impl<'a> TickView<'a> {
             events: &tick.control.events,
             snapshot: tick.report.snapshot(),
             motor_speeds: plant.motor_speeds(),
-            true_force_w: truth.external_force_w,
-            true_torque_b: truth.external_torque_b,
+            truth,
         }
     }
 }
@@ -91,8 +88,7 @@ impl<'a> TickView<'a> {
             events: &[],
             snapshot: None,
             motor_speeds: &[],
-            true_force_w: Vec3::zeros(),
-            true_torque_b: Vec3::zeros(),
+            truth: PlantTruth::at_rest(state),
         }
     }
 }

@@ -24,7 +24,7 @@ pub use def::{Codes, ParamDef, ParamType, Scope};
 pub use file::{parse_param_file, ParamFileError};
 pub use markdown::markdown_table;
 pub use rows::rows;
-pub use settings::VehicleSettings;
+pub use settings::{VehicleSettings, WindParams};
 
 /// A refused parameter set.
 #[derive(Debug, Clone, PartialEq, Error)]

@@ -22,6 +22,21 @@ pub struct VehicleSettings {
     pub ground_effect: bool,
     /// The plant's ceiling effect switched on.
     pub ceiling_effect: bool,
+    /// The simulated wind the parameters set (the airframe's or scenario's wind blows until one
+    /// of them changes).
+    pub wind: WindParams,
+}
+
+/// The simulated wind as parameters set it (PX4 SIH's `SIH_WIND_N`/`SIH_WIND_E`, and the
+/// Dryden intensity).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WindParams {
+    /// Mean wind toward north [m/s].
+    pub north_m_s: f64,
+    /// Mean wind toward east [m/s].
+    pub east_m_s: f64,
+    /// Dryden turbulence intensity W20 [m/s]; 0: none (docs/model.md §5.3).
+    pub turbulence_w20_m_s: f64,
 }
 
 impl VehicleSettings {
@@ -36,6 +51,7 @@ impl VehicleSettings {
             estimator,
             ground_effect: true,
             ceiling_effect: true,
+            wind: WindParams::default(),
         }
     }
 

@@ -34,6 +34,7 @@
 //! params = { BAT1_CAPACITY = 300, COM_LOW_BAT_ACT = 3 }   # set first (PX4 / RP_ names)
 //! ```
 
+pub mod estimate_stats;
 mod merge;
 mod spec;
 pub mod summary;

@@ -15,10 +15,11 @@ use thiserror::Error;
 
 use crate::flight::{OffboardPilot, Pilot, SetpointFollower};
 use crate::lockstep::{Exit, Guard, Lockstep, Observer, SetupError, SnapshotReport, Tick, TickView};
-use crate::math::GRAVITY_M_S2;
+use crate::math::{Vec3, GRAVITY_M_S2};
 use crate::runtime::pacer::{Pace, Pacer, Wait};
 use crate::runtime::ulog_file::UlogFile;
 use crate::runtime::ulog_stream::log_params;
+use crate::scenario::estimate_stats::{EstimateStats, EstimateTracking, SETTLE_TIME_CONSTANTS};
 use crate::scenario::summary::{RunStats, TickRecord, TrackingSummary};
 use crate::scenario::Scenario;
 use crate::sitl::SimPlant;
@@ -64,6 +65,8 @@ pub struct EstimateSummary {
     pub torque_n_m: [f64; 3],
     /// Final mass estimate m_e + f̂_ez / g [kg].
     pub mass_kg: f64,
+    /// RMS errors against the truth once settled.
+    pub tracking: Option<EstimateTracking>,
 }
 
 /// `summary.json`.
@@ -149,6 +152,15 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace, csv: b
     }
 }
 
+/// When the estimate's errors start to count [s]: [`SETTLE_TIME_CONSTANTS`] passband time
+/// constants of the scenario's design, a tenth of the run for explicit gains.
+fn estimator_settle_s(scn: &Scenario) -> f64 {
+    match scn.estimator.as_ref().and_then(|e| e.design) {
+        Some(d) => SETTLE_TIME_CONSTANTS / d.passband_rad_s,
+        None => 0.1 * scn.duration_s,
+    }
+}
+
 /// Flies `lockstep` for the scenario's duration with its rotor failures, writing `run.ulg`,
 /// `summary.json` and, when asked, `run.csv` into the output directory when given.
 fn fly<P: Pilot>(
@@ -198,6 +210,8 @@ where
     let mut pacer = Pacer::new(pace, Duration::from_secs_f64(scn.dt_s), wall);
     let mut exit = Exit::Complete;
     let mut last_estimate = None;
+    let mut estimate_stats = EstimateStats::starting_at(estimator_settle_s(scn));
+    let mismatch_n = (lockstep.plant().true_mass_kg() - scn.airframe.mass_kg) * GRAVITY_M_S2;
     for _ in 0..ticks {
         if pacer.is_paced() {
             if let Wait::Sleep(d) = pacer.next_tick(Instant::now()) {
@@ -206,6 +220,13 @@ where
         }
         let tick = lockstep.step();
         last_estimate = tick.control.step.and_then(|s| s.estimate);
+        let truth = lockstep.plant().truth();
+        estimate_stats.add(
+            tick.t_s,
+            last_estimate.as_ref(),
+            truth.external_and_drag_force_w() + Vec3::new(0.0, 0.0, mismatch_n),
+            truth.external_torque_b,
+        );
         let t_s = tick.t_s;
         events.extend(
             tick.control
@@ -246,13 +267,14 @@ where
         believed_mass_kg: scn.airframe.mass_kg,
         true_mass_kg,
         true_weight_n: true_mass_kg * GRAVITY_M_S2,
-        true_force_n: truth.external_force_w.into(),
+        true_force_n: truth.external_and_drag_force_w().into(),
         true_torque_n_m: truth.external_torque_b.into(),
         estimate: last_estimate.map(|e| EstimateSummary {
             order: estimator_order,
             force_n: e.force_w.into(),
             torque_n_m: e.torque_b.into(),
             mass_kg: e.mass_kg,
+            tracking: estimate_stats.summary(),
         }),
         events,
         wall_time_s,

@@ -91,7 +91,7 @@ impl RunCsv {
             }
             None => l.push_str(",,,,,,"),
         }
-        let (f, tq) = (r.true_force_w, r.true_torque_b);
+        let (f, tq) = (r.truth.external_and_drag_force_w(), r.truth.external_torque_b);
         let _ = write!(l, ",{},{},{},{},{},{}", f.x, f.y, f.z, tq.x, tq.y, tq.z);
         match &estimate {
             Some(e) => {

@@ -44,12 +44,20 @@ impl Profile {
         use Topic::*;
         let ms = match (self, topic) {
             (Self::Full, VehicleAttitude | VehicleAngularVelocity | VehicleLocalPosition) => 0,
+            (
+                Self::Full,
+                VehicleAttitudeGroundtruth | VehicleAngularVelocityGroundtruth | VehicleLocalPositionGroundtruth,
+            ) => 0,
             (Self::Full, ControllerErrors | AllocationStatus | ExternalWrenchEstimate) => 0,
             (Self::Full, VehicleThrustSetpoint | VehicleTorqueSetpoint | VehicleAttitudeSetpoint) => 10,
             (Self::Full, VehicleLocalPositionSetpoint | SensorCombined | ActuatorMotors) => 10,
             (Self::Full, VehicleGlobalPosition | BatteryStatus | ExternalWrenchTruth) => 100,
             // The estimator's inputs share one rate, so `estimate --ts 0.02` replays a flight.
             (Self::Default, VehicleAttitude | VehicleAngularVelocity | VehicleLocalPosition) => 20,
+            (
+                Self::Default,
+                VehicleAttitudeGroundtruth | VehicleAngularVelocityGroundtruth | VehicleLocalPositionGroundtruth,
+            ) => 20,
             (Self::Default, ControllerErrors | AllocationStatus | ExternalWrenchEstimate) => 20,
             (Self::Default, VehicleThrustSetpoint | VehicleTorqueSetpoint) => 20,
             (Self::Default, VehicleAttitudeSetpoint) => 50,

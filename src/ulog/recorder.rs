@@ -124,6 +124,19 @@ fn grid_after(t_us: u64, every: u64) -> u64 {
 
 /// False when the tick has nothing for `topic`: no snapshot (a bare flight core), the motors
 /// off, no setpoint, no estimator.
+/// A `vehicle_attitude` record: the quaternion (w, x, y, z).
+fn quat_record(b: &mut Vec<u8>, q: [f64; 4]) {
+    b.f32(q[0]).f32(q[1]).f32(q[2]).f32(q[3]);
+}
+
+/// A `vehicle_local_position` record: position [m], velocity [m/s], acceleration [m/s²]
+/// (world NED), heading of `r_wb` [rad] and the validity flags.
+fn local_position_record(b: &mut Vec<u8>, pos_w: &Vec3, vel_w: &Vec3, acc_w: &Vec3, r_wb: &Mat3) {
+    b.f32x3((*pos_w).into()).f32x3((*vel_w).into()).f32x3((*acc_w).into());
+    b.f32(r_wb[(1, 0)].atan2(r_wb[(0, 0)]));
+    b.extend_from_slice(&[1, 1, 1, 1]);
+}
+
 fn has_data(topic: Topic, v: &TickView) -> bool {
     match topic {
         Topic::VehicleGlobalPosition | Topic::VehicleStatus | Topic::VehicleLandDetected | Topic::BatteryStatus => {
@@ -255,18 +268,25 @@ impl Recorder {
         let x = v.state;
         let nan3 = [f64::NAN; 3];
         match topic {
-            Topic::VehicleAttitude => {
-                let q = quat(&x.r_wb);
-                b.f32(q[0]).f32(q[1]).f32(q[2]).f32(q[3]);
-            }
+            Topic::VehicleAttitude => quat_record(b, quat(&x.r_wb)),
             Topic::VehicleAngularVelocity => {
                 b.f32x3(x.omega_b.into());
             }
             Topic::VehicleLocalPosition => {
                 let a_w = x.r_wb * v.accel_b + Vec3::new(0.0, 0.0, GRAVITY_M_S2);
-                b.f32x3(x.pos_w.into()).f32x3(x.vel_w.into()).f32x3(a_w.into());
-                b.f32(x.r_wb[(1, 0)].atan2(x.r_wb[(0, 0)]));
-                b.extend_from_slice(&[1, 1, 1, 1]);
+                local_position_record(b, &x.pos_w, &x.vel_w, &a_w, &x.r_wb);
+            }
+            Topic::VehicleAttitudeGroundtruth => {
+                let q = v.truth.q_wb;
+                quat_record(b, [q.w, q.i, q.j, q.k]);
+            }
+            Topic::VehicleAngularVelocityGroundtruth => {
+                b.f32x3(v.truth.omega_b.into());
+            }
+            Topic::VehicleLocalPositionGroundtruth => {
+                let t = &v.truth;
+                let r_wb = t.q_wb.to_rotation_matrix();
+                local_position_record(b, &t.pos_w, &t.vel_w, &t.accel_w, r_wb.matrix());
             }
             Topic::VehicleGlobalPosition => {
                 let Some(snap) = v.snapshot else { return false };
@@ -341,8 +361,11 @@ impl Recorder {
             }
             Topic::ExternalWrenchTruth => {
                 let mismatch = (s.true_mass_kg - s.believed_mass_kg) * GRAVITY_M_S2;
-                b.f32x3(v.true_force_w.into()).f32x3(v.true_torque_b.into());
+                let t = &v.truth;
+                b.f32x3(t.external_and_drag_force_w().into())
+                    .f32x3(t.external_torque_b.into());
                 b.f32(s.true_mass_kg).f32(mismatch);
+                b.f32x3(t.wind_w.into()).f32x3(t.drag_force_w.into());
             }
             Topic::ControllerErrors => {
                 let Some(step) = v.step else { return false };

@@ -54,10 +54,8 @@ fn record(profile: Profile, ticks: u64) -> Vec<u8> {
     for k in 0..ticks {
         let t_s = k as f64 * 1e-3;
         let state = VehicleState::at_rest(t_s, Vec3::zeros());
-        let view = TickView {
-            true_force_w: Vec3::new(if k < 500 { 0.0 } else { 0.5 }, 0.0, 0.0),
-            ..TickView::resting(&state)
-        };
+        let mut view = TickView::resting(&state);
+        view.truth.external_force_w = Vec3::new(if k < 500 { 0.0 } else { 0.5 }, 0.0, 0.0);
         r.record(&mut out, &view);
     }
     out

@@ -5,9 +5,13 @@
 //! Own topics:
 //! - `external_wrench_estimate`: f̂_e world NED `force[3]` [N], τ̂_e body FRD `torque[3]` [N·m],
 //!   `mass` m_e + f̂_ez / g [kg];
-//! - `external_wrench_truth`: the plant's scripted external `force[3]` (world NED) [N] and
-//!   `torque[3]` (body FRD) [N·m], the true `mass` [kg], and `mass_mismatch_force`, the
-//!   (m_r − m_e) g [N] (down) the estimator adds to `force[2]`;
+//! - `external_wrench_truth`: the plant's true external `force[3]` (world NED) [N]: the scripted
+//!   force plus the aerodynamic drag, wind included; `torque[3]` (body FRD) [N·m], the true
+//!   `mass` [kg], `mass_mismatch_force`, the (m_r − m_e) g [N] (down) the estimator adds to
+//!   `force[2]`, the air's `wind_velocity[3]` [m/s] and the drag `wind_force[3]` [N] (world NED,
+//!   docs/model.md §5.1, eq. (5.2));
+//! - `vehicle_*_groundtruth`: PX4 SITL's topics of the plant's true state, beside the estimate
+//!   the controllers fly on;
 //! - `controller_errors`: e_p, e_v (world NED) [m, m/s], e_R, e_ω of the geometric law (or e_η,
 //!   ė_η of the RPY laws) [rad, rad/s];
 //! - `allocation_status`: the applied collective thrust [N] and body torque FRD [N·m] (G_q ω² of
@@ -50,6 +54,13 @@ pub enum Topic {
     ControllerErrors,
     /// The applied wrench and the allocation's saturation.
     AllocationStatus,
+    /// The plant's true attitude (fields of [`Topic::VehicleAttitude`]).
+    VehicleAttitudeGroundtruth,
+    /// The plant's true body rates (fields of [`Topic::VehicleAngularVelocity`]).
+    VehicleAngularVelocityGroundtruth,
+    /// The plant's true position, velocity and acceleration (fields of
+    /// [`Topic::VehicleLocalPosition`]).
+    VehicleLocalPositionGroundtruth,
 }
 
 /// Width of `actuator_motors.control` (PX4's).
@@ -57,7 +68,7 @@ pub const ACTUATOR_MOTORS: usize = 12;
 
 impl Topic {
     /// Every topic, in message-id order.
-    pub const ALL: [Topic; 17] = [
+    pub const ALL: [Topic; 20] = [
         Self::VehicleAttitude,
         Self::VehicleAngularVelocity,
         Self::VehicleLocalPosition,
@@ -75,6 +86,9 @@ impl Topic {
         Self::ExternalWrenchTruth,
         Self::ControllerErrors,
         Self::AllocationStatus,
+        Self::VehicleAttitudeGroundtruth,
+        Self::VehicleAngularVelocityGroundtruth,
+        Self::VehicleLocalPositionGroundtruth,
     ];
 
     /// The message id of its data.
@@ -102,15 +116,20 @@ impl Topic {
             Self::ExternalWrenchTruth => "external_wrench_truth",
             Self::ControllerErrors => "controller_errors",
             Self::AllocationStatus => "allocation_status",
+            Self::VehicleAttitudeGroundtruth => "vehicle_attitude_groundtruth",
+            Self::VehicleAngularVelocityGroundtruth => "vehicle_angular_velocity_groundtruth",
+            Self::VehicleLocalPositionGroundtruth => "vehicle_local_position_groundtruth",
         }
     }
 
     /// The fields, as the format message declares them (`type name;` each, timestamp first).
     pub fn fields(self) -> &'static str {
         match self {
-            Self::VehicleAttitude => "uint64_t timestamp;float[4] q;",
-            Self::VehicleAngularVelocity => "uint64_t timestamp;float[3] xyz;",
-            Self::VehicleLocalPosition => {
+            Self::VehicleAttitude | Self::VehicleAttitudeGroundtruth => "uint64_t timestamp;float[4] q;",
+            Self::VehicleAngularVelocity | Self::VehicleAngularVelocityGroundtruth => {
+                "uint64_t timestamp;float[3] xyz;"
+            }
+            Self::VehicleLocalPosition | Self::VehicleLocalPositionGroundtruth => {
                 "uint64_t timestamp;float x;float y;float z;float vx;float vy;float vz;float ax;float ay;\
                  float az;float heading;bool xy_valid;bool z_valid;bool v_xy_valid;bool v_z_valid;"
             }
@@ -139,7 +158,8 @@ impl Topic {
             }
             Self::ExternalWrenchEstimate => "uint64_t timestamp;float[3] force;float[3] torque;float mass;",
             Self::ExternalWrenchTruth => {
-                "uint64_t timestamp;float[3] force;float[3] torque;float mass;float mass_mismatch_force;"
+                "uint64_t timestamp;float[3] force;float[3] torque;float mass;float mass_mismatch_force;\
+                 float[3] wind_velocity;float[3] wind_force;"
             }
             Self::ControllerErrors => "uint64_t timestamp;float[3] e_p;float[3] e_v;float[3] e_r;float[3] e_omega;",
             Self::AllocationStatus => "uint64_t timestamp;float thrust;float[3] torque;bool saturated;",
@@ -150,9 +170,12 @@ impl Topic {
     /// (checked by a test against [`Self::declared_size`]).
     pub fn size(self) -> usize {
         match self {
-            Self::VehicleAttitude => 24,
-            Self::VehicleAngularVelocity | Self::VehicleThrustSetpoint | Self::VehicleTorqueSetpoint => 20,
-            Self::VehicleLocalPosition => 52,
+            Self::VehicleAttitude | Self::VehicleAttitudeGroundtruth => 24,
+            Self::VehicleAngularVelocity
+            | Self::VehicleAngularVelocityGroundtruth
+            | Self::VehicleThrustSetpoint
+            | Self::VehicleTorqueSetpoint => 20,
+            Self::VehicleLocalPosition | Self::VehicleLocalPositionGroundtruth => 52,
             Self::VehicleGlobalPosition => 28,
             Self::VehicleAttitudeSetpoint => 36,
             Self::VehicleLocalPositionSetpoint => 48,
@@ -161,7 +184,7 @@ impl Topic {
             Self::BatteryStatus => 26,
             Self::SensorCombined => 44,
             Self::ExternalWrenchEstimate => 36,
-            Self::ExternalWrenchTruth => 40,
+            Self::ExternalWrenchTruth => 64,
             Self::ControllerErrors => 56,
             Self::AllocationStatus => 25,
         }

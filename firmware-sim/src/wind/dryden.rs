@@ -58,7 +58,8 @@ impl DrydenFilter {
 
     /// Advances the filters by `dt_s` [s] at `airspeed_m_s` [m/s] with the scales `scales`,
     /// drawing three normal variates from `rng`. The first-order filter is discretised exactly
-    /// (eq. (5.9)); the second-order ones by holding the white noise over the step (eq. (5.10)),
+    /// (docs/model.md §5.3, eq. (5.9)); the second-order ones by holding the white noise over the
+    /// step (docs/model.md §5.3, eq. (5.10)),
     /// accurate while dt ≪ L/V.
     pub fn advance(&mut self, dt_s: f64, airspeed_m_s: f64, scales: &DrydenScales, rng: &mut ChaCha8Rng) {
         let v = airspeed_m_s.max(MIN_AIRSPEED_M_S);
@@ -96,7 +97,10 @@ mod tests {
         assert!(s.sigma_m_s[0] > 1.5 * s.sigma_m_s[2]);
         assert!(s.length_m[0] > 3.0 * s.length_m[2]);
         // Below 10 ft the model holds its 10 ft values.
-        assert_eq!(DrydenScales::low_altitude(0.0, 5.0), DrydenScales::low_altitude(10.0 * M_PER_FT, 5.0));
+        assert_eq!(
+            DrydenScales::low_altitude(0.0, 5.0),
+            DrydenScales::low_altitude(10.0 * M_PER_FT, 5.0)
+        );
     }
 
     #[test]

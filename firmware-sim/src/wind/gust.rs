@@ -16,7 +16,7 @@ pub struct Gust {
 
 impl Gust {
     /// The gust velocity at `t_s` [s]: peak · ½ (1 − cos(2π (t − t₀) / d)) inside the gust,
-    /// zero outside (eq. (5.6)).
+    /// zero outside (docs/model.md §5.2, eq. (5.6)).
     pub fn velocity_w(&self, t_s: f64) -> Vector3<f64> {
         let x = (t_s - self.start_s) / self.duration_s;
         if (0.0..=1.0).contains(&x) {

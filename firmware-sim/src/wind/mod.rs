@@ -124,7 +124,10 @@ mod tests {
     #[test]
     fn mean_and_gusts_without_turbulence_are_exact() {
         let mut f = field(None);
-        assert_eq!(f.advance(0.5, 1e-3, 10.0, &Vector3::zeros()), Vector3::new(0.0, 5.0, 0.0));
+        assert_eq!(
+            f.advance(0.5, 1e-3, 10.0, &Vector3::zeros()),
+            Vector3::new(0.0, 5.0, 0.0)
+        );
         let w = f.advance(2.0, 1e-3, 10.0, &Vector3::zeros());
         assert!((w - Vector3::new(0.0, 5.0, -1.0)).norm() < 1e-12);
     }

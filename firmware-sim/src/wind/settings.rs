@@ -33,8 +33,16 @@ pub(crate) fn wind_settings(check: &Checker, wind: Option<&FileWind>) -> Result<
         let field = |f: &str| format!("plant.wind.gust[{i}].{f}");
         gusts.push(Gust {
             start_s: non_negative(check, required(check, g.start, &field("start"))?, &field("start"))?,
-            duration_s: positive(check, required(check, g.duration, &field("duration"))?, &field("duration"))?,
-            peak_w: vec3(check, required(check, g.velocity.clone(), &field("velocity"))?, &field("velocity"))?,
+            duration_s: positive(
+                check,
+                required(check, g.duration, &field("duration"))?,
+                &field("duration"),
+            )?,
+            peak_w: vec3(
+                check,
+                required(check, g.velocity.clone(), &field("velocity"))?,
+                &field("velocity"),
+            )?,
         });
     }
     Ok(WindSettings {

@@ -9,7 +9,7 @@
 //! - `estimator.rs`: the wrench estimator's design.
 //! - `gains.rs`: every gain of the three laws, per axis.
 //! - `failsafe.rs`: link and offboard loss, geofence, battery, failure injection.
-//! - `plant.rs`: the plant's ground and ceiling effect.
+//! - `plant.rs`: the plant's ground and ceiling effect, and the simulated wind.
 //! - `sticks.rs`: the stick modes: sources, stick loss, take-over, stick shaping.
 //! - `follow.rs`: follow-me.
 
@@ -102,7 +102,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 18] = [
+static GROUPS: [&[ParamDef]; 19] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -121,6 +121,7 @@ static GROUPS: [&[ParamDef]; 18] = [
     sticks::LOSS,
     sticks::SHAPING,
     follow::FOLLOW,
+    plant::WIND,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

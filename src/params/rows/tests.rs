@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 107] = [
+const WIRE_ORDER: [&str; 110] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -112,6 +112,9 @@ const WIRE_ORDER: [&str; 107] = [
     "FLW_TGT_ALT_M",
     "FLW_TGT_MAX_VEL",
     "FLW_TGT_RS",
+    "SIH_WIND_N",
+    "SIH_WIND_E",
+    "RP_WIND_TURB",
 ];
 
 fn settings() -> VehicleSettings {
