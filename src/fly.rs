@@ -234,7 +234,7 @@ impl Observer<()> for CsvLog {
         };
         let written = self.row(
             tick.t_s,
-            &tick.sensors.state,
+            &tick.control.state,
             &tick.reference_w(),
             &step.allocation.applied,
             plant.motor_speeds(),

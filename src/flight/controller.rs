@@ -231,6 +231,7 @@ impl Pilot for FlightController {
             s.allocation.applied.thrust_n / (self.believed_mass_kg * GRAVITY_M_S2)
         });
         Control {
+            state: x,
             rotors: self.rotors.rotor_count(),
             step,
             setpoint: tick.setpoint,

@@ -65,6 +65,7 @@ impl<S: SetpointSource> Pilot for SetpointFollower<S> {
         self.rotors.reallocate(esc.failed_rotors(), &mut self.core);
         let setpoint = self.source.setpoint(t_s);
         Control {
+            state: sensors.state,
             rotors: self.core.allocator().rotor_count(),
             step: Some(self.core.step(&sensors.state, &setpoint)),
             setpoint: Some(setpoint),

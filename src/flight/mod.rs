@@ -28,7 +28,7 @@ pub mod snapshot;
 
 use crate::allocation::RotorSpeeds;
 use crate::commander::Event;
-use crate::control::FlatSetpoint;
+use crate::control::{FlatSetpoint, VehicleState};
 use crate::params::ParamTable;
 use crate::sitl::{EscReport, Sensors};
 
@@ -40,6 +40,9 @@ pub use offboard_pilot::OffboardPilot;
 /// What one control tick commands.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Control {
+    /// The vehicle's state as the pilot knew it this tick (its navigation estimate): what the
+    /// controllers flew on.
+    pub state: VehicleState,
     /// Rotor count.
     pub rotors: usize,
     /// The flight core's step; `None` while the motors are off.

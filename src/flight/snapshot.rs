@@ -13,7 +13,7 @@ impl FlightController {
     /// commander state, the controller step of `control`, and the true rotor speeds
     /// `motor_speeds` [rad/s] after the plant step.
     pub fn snapshot(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Snapshot {
-        let x = &sensors.state;
+        let x = &control.state;
         let commander = self.commander();
         let step = control.step.as_ref();
         let mut rotor_speeds = [0.0; MAX_ROTORS];

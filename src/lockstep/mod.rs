@@ -95,7 +95,7 @@ pub struct Tick<R> {
 impl<R> Tick<R> {
     /// Reference position of the tick: the setpoint's, else where the vehicle is (world NED) [m].
     pub fn reference_w(&self) -> Vec3 {
-        let pos_w = self.sensors.state.pos_w;
+        let pos_w = self.control.state.pos_w;
         self.control.setpoint.and_then(|sp| sp.pos_w).unwrap_or(pos_w)
     }
 }

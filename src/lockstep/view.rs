@@ -35,7 +35,7 @@ impl SnapshotReport for Snapshot {
 pub struct TickView<'a> {
     /// Simulated time [s].
     pub t_s: f64,
-    /// State the controller saw.
+    /// State the controller flew on (its navigation estimate).
     pub state: &'a VehicleState,
     /// Specific force the accelerometer sensed, body FRD [m/s²].
     pub accel_b: Vec3,
@@ -61,7 +61,7 @@ impl<'a> TickView<'a> {
         let truth = plant.truth();
         Self {
             t_s: tick.t_s,
-            state: &tick.sensors.state,
+            state: &tick.control.state,
             accel_b: tick.sensors.accel_b,
             ref_w: tick.reference_w(),
             setpoint: tick.control.setpoint.as_ref(),

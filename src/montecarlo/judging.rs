@@ -207,7 +207,7 @@ impl<R> Observer<R> for Judge {
     fn observe(&mut self, tick: &Tick<R>, plant: &SimPlant) -> Option<Exit> {
         self.flown += 1;
         let truth = plant.truth();
-        let state = &tick.sensors.state;
+        let state = &tick.control.state;
         let step = tick.control.step.as_ref();
         let estimate_finite = step
             .and_then(|s| s.estimate)

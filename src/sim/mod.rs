@@ -299,7 +299,7 @@ where
 impl<R> Observer<R> for RunStats {
     fn observe(&mut self, tick: &Tick<R>, _plant: &SimPlant) -> Option<Exit> {
         let step = tick.control.step.as_ref()?;
-        let state = &tick.sensors.state;
+        let state = &tick.control.state;
         self.add(&TickRecord {
             t_s: tick.t_s,
             pos_w: state.pos_w,
