@@ -10,7 +10,8 @@ use thiserror::Error;
 use crate::disturbance::{Disturbance, DisturbanceKind};
 use crate::file_schema::{FileAirframe, FileGround, FilePlant, FileRotors};
 use crate::proximity::{ProximityError, ProximityLaw, ProximityModel};
-use crate::sensors::NoiseParams;
+use crate::sensor_params::sensor_suite_config;
+use crate::sensors::{NoiseParams, SensorSuiteConfig};
 use crate::validate::{finite, non_negative, positive, required, vec3, Checker};
 
 /// A refused airframe file: which file, which field, and why.
@@ -104,8 +105,11 @@ pub struct PlantParams {
     pub ceiling: Option<CeilingSettings>,
     /// Linear drag coefficients along the body axes [N·s/m].
     pub linear_drag_n_s_m: Vector3<f64>,
-    /// Sensor noise.
+    /// Noise of the state sensor (`[plant.noise]`, docs/model.md §6).
     pub noise: NoiseParams,
+    /// The sensor suite (`[plant.sensors]`, docs/model.md §10.7): typical values unless the file
+    /// overrides them.
+    pub sensors: SensorSuiteConfig,
     /// Scripted external wrench components, summed.
     pub disturbances: Vec<Disturbance>,
     /// Initial pose.
@@ -149,6 +153,7 @@ impl PlantParams {
             None => Vector3::zeros(),
         };
         let noise = noise_params(&check, &plant)?;
+        let sensors = sensor_suite_config(&check, plant.sensors.as_ref())?;
         let disturbances = disturbances(&check, &plant)?;
         let initial = initial_state(&check, &plant)?;
         Ok(Self {
@@ -162,6 +167,7 @@ impl PlantParams {
             ceiling,
             linear_drag_n_s_m,
             noise,
+            sensors,
             disturbances,
             initial,
         })
