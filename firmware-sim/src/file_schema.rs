@@ -7,6 +7,8 @@
 
 use serde::Deserialize;
 
+use crate::file_sensors::FileSensors;
+
 /// Top level of an airframe file.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -76,6 +78,7 @@ pub(crate) struct FilePlant {
     pub ceiling: Option<FileCeiling>,
     pub drag: Option<FileDrag>,
     pub noise: Option<FileNoise>,
+    pub sensors: Option<FileSensors>,
     pub disturbance: Option<Vec<FileDisturbance>>,
     pub initial: Option<FileInitial>,
     pub wind: Option<FileWind>,

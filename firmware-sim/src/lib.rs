@@ -16,7 +16,10 @@
 //! - [`contact`]: resting on the ground without sinking or bouncing; ceiling stop.
 //! - [`disturbance`]: scripted external wrench (constant, step, sinusoid) and aerodynamic drag.
 //! - [`wind`]: mean wind, discrete gusts and Dryden turbulence, seeded.
-//! - [`sensors`]: samples with seeded ChaCha noise; zero noise by default.
+//! - [`sensors`]: the state sensor (exact state with seeded ChaCha noise, zero by default) and the
+//!   sensor suite: IMU, GPS, barometer and magnetometer with bias, drift, latency and injectable
+//!   failures ([`SensorSuite`], [`SensorFault`]; docs/model.md §10).
+//! - `file_sensors`, `sensor_params`: the `[plant.sensors]` tables and their validation.
 //! - [`plant`]: [`Plant::step`], [`Plant::truth`], [`Plant::sense`].
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
@@ -24,12 +27,14 @@
 pub mod contact;
 pub mod disturbance;
 mod file_schema;
+mod file_sensors;
 mod layout;
 pub mod params;
 pub mod plant;
 pub mod proximity;
 pub mod rigid_body;
 pub mod rotor;
+mod sensor_params;
 pub mod sensors;
 mod validate;
 pub mod wind;
@@ -39,7 +44,10 @@ pub use params::{ParamsError, PlantParams};
 pub use plant::{Plant, StepStatus, TruthState};
 pub use rand_chacha::ChaCha8Rng;
 pub use rigid_body::RigidBodyState;
-pub use sensors::{NoiseParams, SensorSample};
+pub use sensors::{
+    BaroConfig, BaroSample, GpsConfig, GpsFix, GpsSample, ImuConfig, ImuSample, MagConfig, MagSample, NoiseParams,
+    SensorErrors, SensorFault, SensorReadings, SensorSample, SensorSuite, SensorSuiteConfig, SensorUnit,
+};
 
 /// Standard gravity used by plant and controller alike [m/s²] (docs/model.md §1).
 pub const GRAVITY_M_S2: f64 = 9.81;

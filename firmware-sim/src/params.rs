@@ -10,7 +10,8 @@ use thiserror::Error;
 use crate::disturbance::{Disturbance, DisturbanceKind};
 use crate::file_schema::{FileAirframe, FileGround, FilePlant, FileRotors};
 use crate::proximity::{ProximityError, ProximityLaw, ProximityModel};
-use crate::sensors::NoiseParams;
+use crate::sensor_params::sensor_suite_config;
+use crate::sensors::{NoiseParams, SensorSuiteConfig};
 use crate::validate::{finite, non_negative, positive, required, vec3, Checker};
 use crate::wind::WindSettings;
 
@@ -109,8 +110,11 @@ pub struct PlantParams {
     pub quadratic_drag_n_s2_m2: Vector3<f64>,
     /// Mean wind, gusts and turbulence (docs/model.md §5.2).
     pub wind: WindSettings,
-    /// Sensor noise.
+    /// Noise of the state sensor (`[plant.noise]`, docs/model.md §6).
     pub noise: NoiseParams,
+    /// The sensor suite (`[plant.sensors]`, docs/model.md §10.7): typical values unless the file
+    /// overrides them.
+    pub sensors: SensorSuiteConfig,
     /// Scripted external wrench components, summed.
     pub disturbances: Vec<Disturbance>,
     /// Initial pose.
@@ -149,6 +153,7 @@ impl PlantParams {
             drag_coefficients(&check, drag.and_then(|d| d.quadratic.clone()), "plant.drag.quadratic")?;
         let wind = crate::wind::wind_settings(&check, plant.wind.as_ref())?;
         let noise = noise_params(&check, &plant)?;
+        let sensors = sensor_suite_config(&check, plant.sensors.as_ref())?;
         let disturbances = disturbances(&check, &plant)?;
         let initial = initial_state(&check, &plant)?;
         Ok(Self {
@@ -164,6 +169,7 @@ impl PlantParams {
             quadratic_drag_n_s2_m2,
             wind,
             noise,
+            sensors,
             disturbances,
             initial,
         })

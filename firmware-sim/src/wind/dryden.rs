@@ -4,7 +4,7 @@
 
 use rand_chacha::ChaCha8Rng;
 
-use crate::sensors::gaussian;
+use crate::sensors::gauss::gaussian;
 
 /// Metres per foot: the standard's scale lengths and heights are in feet.
 const M_PER_FT: f64 = 0.3048;

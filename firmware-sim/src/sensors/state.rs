@@ -1,13 +1,14 @@
-//! Sensor samples with Gaussian noise drawn from an injected, seeded ChaCha RNG.
+//! The state sensor: the exact state with Gaussian noise drawn from an injected, seeded ChaCha RNG
+//! (docs/model.md §6, eqs. (6.1)–(6.2)).
 //!
 //! Noise is zero by default, and then the sample equals the truth bit for bit. Normal variates
-//! come from the Box–Muller transform on 53-bit uniforms, so a seed gives the same samples on
-//! every platform and every version of this crate.
+//! come from the Box–Muller transform on 53-bit uniforms ([`super::gauss`]), so a seed gives the
+//! same samples on every platform and every version of this crate.
 
 use nalgebra::{UnitQuaternion, Vector3};
-use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
 
+use super::gauss::gaussian3;
 use crate::rigid_body::RigidBodyState;
 use crate::GRAVITY_M_S2;
 
@@ -75,26 +76,9 @@ impl NoiseParams {
     }
 }
 
-/// Three independent N(0, sd²) values; draws from the RNG even when sd is 0 so the stream
-/// position does not depend on which channels are noisy.
-fn gaussian3(rng: &mut ChaCha8Rng, sd: f64) -> Vector3<f64> {
-    Vector3::new(gaussian(rng), gaussian(rng), gaussian(rng)) * sd
-}
-
-/// One standard normal variate (Box–Muller, cosine branch).
-pub(crate) fn gaussian(rng: &mut ChaCha8Rng) -> f64 {
-    let u1 = 1.0 - uniform(rng); // (0, 1]: the logarithm stays finite
-    let u2 = uniform(rng);
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-}
-
-/// Uniform in [0, 1) from the top 53 bits of a u64.
-fn uniform(rng: &mut ChaCha8Rng) -> f64 {
-    (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::gauss::gaussian;
     use super::*;
     use rand_chacha::rand_core::SeedableRng;
 
