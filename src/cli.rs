@@ -60,6 +60,15 @@ pub(crate) enum Command {
         /// (repeatable), e.g. `--fail-rotor 2@20`.
         #[arg(long = "fail-rotor", value_name = "ROTOR@SECONDS")]
         fail_rotor: Vec<rotorpilot::lockstep::ScheduledFailure>,
+        /// Fail sensor UNIT (gyro, accel, mag, baro, gps) in way TYPE (off, stuck, garbage,
+        /// wrong, slow, delayed, intermittent; ok restores it) at SECONDS of simulated time, on
+        /// every vehicle (repeatable), e.g. `--fail gps:off@30`.
+        #[arg(long = "fail", value_name = "UNIT:TYPE@SECONDS")]
+        fail: Vec<rotorpilot::lockstep::ScheduledSensorFailure>,
+        /// What the flight controller reads: `realistic` (IMU, GPS, barometer and magnetometer
+        /// through the navigation filter) or `ideal` (the exact state).
+        #[arg(long, default_value = "realistic", value_parser = parse_sensor_model)]
+        sensors: rotorpilot::sitl::SensorModel,
         /// MAVLink 2 signing key: a file of exactly 32 key bytes, or a passphrase (hashed with
         /// SHA-256 as MAVProxy does). With a key, only signed frames are obeyed and every frame
         /// sent is signed; a missing file means no key until SETUP_SIGNING stores one there.
@@ -114,6 +123,10 @@ pub(crate) enum Command {
         /// Write every tick to this ULog file (the full profile).
         #[arg(long)]
         log: Option<PathBuf>,
+        /// What the flight controller reads: `ideal` (the exact state) or `realistic` (IMU, GPS,
+        /// barometer and magnetometer through the navigation filter).
+        #[arg(long, default_value = "ideal", value_parser = parse_sensor_model)]
+        sensors: rotorpilot::sitl::SensorModel,
     },
     /// Fly a scenario file headless as fast as the CPU allows; write DIR/run.ulg (ULog, every
     /// tick) and DIR/summary.json and print the summary.
@@ -130,6 +143,14 @@ pub(crate) enum Command {
         /// the same at any speed.
         #[arg(long, default_value = "max")]
         speedup: runtime::Pace,
+        /// Read these sensors instead of the scenario's `[sensors] model`: `ideal` or
+        /// `realistic`.
+        #[arg(long, value_parser = parse_sensor_model)]
+        sensors: Option<rotorpilot::sitl::SensorModel>,
+        /// Fail a sensor at a simulated time, added to the scenario's (repeatable), e.g.
+        /// `--fail gps:off@20`; needs realistic sensors.
+        #[arg(long = "fail", value_name = "UNIT:TYPE@SECONDS")]
+        fail: Vec<rotorpilot::lockstep::ScheduledSensorFailure>,
     },
     /// Run the wrench estimator offline over a flight log (homework exercise 4) and print
     /// {"samples", "final", "mass_estimate"} as JSON.
@@ -298,4 +319,10 @@ impl DesignArgs {
             passband_rad_s: self.wp,
         }
     }
+}
+
+/// `--sensors ideal|realistic`.
+fn parse_sensor_model(text: &str) -> Result<rotorpilot::sitl::SensorModel, String> {
+    rotorpilot::sitl::SensorModel::from_name(text)
+        .ok_or_else(|| format!("\"{text}\": expected \"ideal\" or \"realistic\""))
 }

@@ -18,7 +18,7 @@ use crate::math::{euler_zyx, Vec3};
 use crate::navigation::ClimbProfile;
 use crate::runtime::ulog_file::UlogFile;
 use crate::scenario::summary::RunStats;
-use crate::sitl::SimPlant;
+use crate::sitl::{SensorModel, SimPlant};
 use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
 
 /// What to fly.
@@ -34,6 +34,8 @@ pub struct FlyOptions {
     pub dt_s: f64,
     /// Sensor-noise seed.
     pub seed: u64,
+    /// Which sensors the flight controller reads.
+    pub sensors: SensorModel,
     /// Control law.
     pub controller: ControllerKind,
     /// CSV log to write, if any.
@@ -50,6 +52,7 @@ impl Default for FlyOptions {
             climb_s: 4.0,
             dt_s: 1e-3,
             seed: 0,
+            sensors: SensorModel::State,
             controller: ControllerKind::Geometric,
             csv: None,
             ulog: None,
@@ -194,7 +197,7 @@ pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, Fly
 fn build(src: &AirframeSource, opts: &FlyOptions) -> Result<(Airframe, FlightCore, SimPlant), SetupError> {
     let airframe = Airframe::from_source(src)?;
     let core = FlightCore::for_airframe(&airframe, opts.controller, opts.dt_s)?;
-    Ok((airframe, core, SimPlant::from_source(src, opts.seed)?))
+    Ok((airframe, core, SimPlant::from_source(src, opts.seed)?.with_sensor_model(opts.sensors)))
 }
 
 fn check_options(o: &FlyOptions) -> Result<(), FlyError> {

@@ -15,8 +15,8 @@
 //!   and auto-disarm on simulated time.
 //! - [`control`]: vehicle state, setpoints and the geometric, hierarchical and passivity-based
 //!   controllers behind one interface (docs/control.md).
-//! - [`flight`]: what flies the plant: the flight controller (commander, flight core, parameters,
-//!   rotor-failure monitor, home; telemetry snapshot) or a bare flight core following setpoints;
+//! - [`flight`]: what flies the plant: the flight controller (commander, flight core, navigator,
+//!   parameters, rotor-failure monitor, home; telemetry snapshot) or a bare flight core following setpoints;
 //!   its `flight_core` is one control tick: estimator → controller → allocation → estimator.
 //! - [`lockstep`]: a pilot and the plant stepped together at a fixed step; the only place the
 //!   plant is stepped; observers and exit status of runs; scheduled rotor failures.
@@ -37,7 +37,8 @@
 //! - [`runtime`]: the autopilot process: paced tick thread and MAVLink UDP links (runtime layer).
 //! - [`ulog`]: flight logs in PX4's ULog format (encoder, topics, profiles, recorder).
 //! - [`suggest`]: "did you mean …?" for mistyped names.
-//! - [`sitl`]: the only seam between the flight controller and the plant.
+//! - [`sitl`]: the only seam between the flight controller and the plant; which sensors are read.
+//! - [`sensor_failure`]: sensor failures by MAVLink's unit and type names.
 //! - [`fly`]: `rotorpilot fly`: a take-off and hover at full speed (runtime layer: wall clock,
 //!   files).
 #![warn(missing_docs)]
@@ -61,6 +62,7 @@ pub mod report;
 pub mod rpy;
 pub mod runtime;
 pub mod scenario;
+pub mod sensor_failure;
 pub mod sim;
 pub mod sitl;
 pub mod suggest;

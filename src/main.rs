@@ -109,6 +109,8 @@ fn execute(command: Command) -> Result<String, String> {
             spacing,
             speedup,
             fail_rotor,
+            fail,
+            sensors,
             signing_key,
             home,
             sysid,
@@ -168,6 +170,8 @@ fn execute(command: Command) -> Result<String, String> {
                 spacing_m: spacing,
                 pace: speedup,
                 rotor_failures: fail_rotor,
+                sensors,
+                sensor_failures: fail,
                 signing_key,
             };
             if let Some(d) = duration {
@@ -192,6 +196,7 @@ fn execute(command: Command) -> Result<String, String> {
             controller,
             out,
             log,
+            sensors,
         } => {
             let src = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
             let opts = FlyOptions {
@@ -201,6 +206,7 @@ fn execute(command: Command) -> Result<String, String> {
                 controller,
                 csv: out,
                 ulog: log,
+                sensors,
                 ..Default::default()
             };
             let summary = fly(&src, &opts).map_err(|e| e.to_string())?;
@@ -211,8 +217,19 @@ fn execute(command: Command) -> Result<String, String> {
             out,
             csv,
             speedup,
+            sensors,
+            fail,
         } => {
-            let scn = Scenario::load(&scenario).map_err(|e| e.to_string())?;
+            let mut scn = Scenario::load(&scenario).map_err(|e| e.to_string())?;
+            if let Some(model) = sensors {
+                scn.sensors = model;
+            }
+            if !fail.is_empty() && scn.sensors != rotorpilot::sitl::SensorModel::Suite {
+                return Err("--fail: sensor failures need realistic sensors (--sensors realistic)".into());
+            }
+            for failure in fail {
+                scn.rotor_failures.schedule_sensor(failure);
+            }
             let summary = simulate_paced(&scn, out.as_deref(), speedup, csv).map_err(|e| e.to_string())?;
             serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
         }

@@ -6,13 +6,18 @@
 //! passes rotor commands and [`PlantChange`]s back. Nothing else in the flight controller names
 //! `firmware_sim`. The plant is stepped in one place only: [`crate::lockstep::Lockstep::step`].
 
-use firmware_sim::{rand_chacha_seed, ChaCha8Rng, ParamsError, Plant, PlantParams, RigidBodyState, StepStatus};
+use firmware_sim::{
+    rand_chacha_seed, ChaCha8Rng, GpsFix, ParamsError, Plant, PlantParams, RigidBodyState, SensorReadings, SensorSuite,
+    StepStatus,
+};
 use thiserror::Error;
 
 use crate::airframe::AirframeSource;
 use crate::control::VehicleState;
 use crate::math::{UnitQuat, Vec3};
+use crate::nav_filter::{BaroReading, GpsReading, ImuReading, MagReading};
 use crate::params::WindParams;
+use crate::sensor_failure::SensorFailure;
 
 /// The plant refused the airframe.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -22,13 +27,52 @@ pub struct SitlError(#[from] pub ParamsError);
 /// Plant step flags as the flight controller sees them.
 pub type PlantStatus = StepStatus;
 
-/// What the plant's sensors report at one tick: the sensed state and the accelerometer.
+/// Which sensors the flight controller reads (docs/model.md §6, §10).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SensorModel {
+    /// The state sensor: the exact state plus the airframe's `[plant.noise]` (none by default),
+    /// as the homework assumes. The navigation estimate is this reading.
+    #[default]
+    State,
+    /// The sensor suite: IMU, GPS, barometer and magnetometer with their noise, biases, latency
+    /// and failures; the navigation filter builds the estimate from them.
+    Suite,
+}
+
+impl SensorModel {
+    /// The name on the command line and in scenario files: `ideal` or `realistic`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::State => "ideal",
+            Self::Suite => "realistic",
+        }
+    }
+
+    /// The model named `name` (`ideal` or `realistic`).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "ideal" => Some(Self::State),
+            "realistic" => Some(Self::Suite),
+            _ => None,
+        }
+    }
+}
+
+/// What the plant's sensors report at one tick.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sensors {
-    /// Sensed state (position, velocity, attitude, body rates).
-    pub state: VehicleState,
-    /// Specific force (accelerometer), body FRD [m/s²].
+    /// The state sensor's reading ([`SensorModel::State`]); `None` with the sensor suite.
+    pub state: Option<VehicleState>,
+    /// Specific force (accelerometer), body FRD [m/s²]: the state sensor's, or the IMU's latest.
     pub accel_b: Vec3,
+    /// The IMU sample of this tick (sensor suite; `None` when both halves failed).
+    pub imu: Option<ImuReading>,
+    /// A GPS sample, when one arrived this tick.
+    pub gps: Option<GpsReading>,
+    /// A barometer sample, when one arrived this tick.
+    pub baro: Option<BaroReading>,
+    /// A magnetometer sample, when one arrived this tick.
+    pub mag: Option<MagReading>,
 }
 
 /// What the ESCs and the battery's current sensor report, read from the plant on demand (only
@@ -61,6 +105,8 @@ pub enum PlantChange {
         /// Stop (`true`) or restore.
         failed: bool,
     },
+    /// Fail (or restore) a sensor of the suite.
+    Sensor(SensorFailure),
     /// Set the mean wind's horizontal components and the turbulence (gusts and the vertical
     /// mean wind of the airframe file stay).
     Wind(WindParams),
@@ -73,12 +119,14 @@ pub enum PlantChange {
     },
 }
 
-/// The simulated vehicle with its own seeded RNG.
+/// The simulated vehicle with its own seeded RNG and its sensors.
 #[derive(Debug, Clone)]
 pub struct SimPlant {
     plant: Plant,
     rng: ChaCha8Rng,
     accel_b: Vec3,
+    model: SensorModel,
+    suite: SensorSuite,
 }
 
 /// Exact plant quantities for logs (never fed to the controller).
@@ -135,13 +183,27 @@ impl SimPlant {
     /// Builds the plant from an airframe text with sensor noise seeded by `seed`.
     pub fn from_source(src: &AirframeSource, seed: u64) -> Result<Self, SitlError> {
         let params = PlantParams::from_toml_str(&src.text, &src.origin)?;
+        let suite = SensorSuite::new(params.sensors, seed);
         let mut plant = Plant::new(params);
         plant.seed_wind(seed);
         Ok(Self {
             plant,
             rng: rand_chacha_seed(seed),
             accel_b: Vec3::zeros(),
+            model: SensorModel::State,
+            suite,
         })
+    }
+
+    /// The same plant read through `model`'s sensors.
+    pub fn with_sensor_model(mut self, model: SensorModel) -> Self {
+        self.model = model;
+        self
+    }
+
+    /// Which sensors the flight controller reads.
+    pub fn sensor_model(&self) -> SensorModel {
+        self.model
     }
 
     /// Start-up warnings of the plant configuration.
@@ -149,8 +211,14 @@ impl SimPlant {
         self.plant.params().warnings()
     }
 
-    /// Sensor sample as the controller's state.
-    pub fn sense(&mut self) -> VehicleState {
+    /// The state sensor's reading, `None` with the sensor suite (the flight controller then
+    /// knows only its estimate).
+    pub fn sense(&mut self) -> Option<VehicleState> {
+        (self.model == SensorModel::State).then(|| self.sense_state())
+    }
+
+    /// The state sensor: the exact state with the airframe's noise.
+    fn sense_state(&mut self) -> VehicleState {
         let s = self.plant.sense(&mut self.rng);
         self.accel_b = s.accel_b;
         VehicleState {
@@ -162,12 +230,63 @@ impl SimPlant {
         }
     }
 
-    /// One sensor reading for the flight controller ([`Self::sense`] and the accelerometer).
+    /// One tick's readings for the flight controller: the state sensor's, or the suite's
+    /// samples converted to the flight controller's types.
     pub fn read_sensors(&mut self) -> Sensors {
-        let state = self.sense();
+        match self.model {
+            SensorModel::State => {
+                let state = self.sense_state();
+                Sensors {
+                    state: Some(state),
+                    accel_b: self.accel_b,
+                    imu: None,
+                    gps: None,
+                    baro: None,
+                    mag: None,
+                }
+            }
+            SensorModel::Suite => {
+                let readings = self.suite.read(&self.plant.truth());
+                self.convert(&readings)
+            }
+        }
+    }
+
+    /// The suite's samples as the flight controller reads them.
+    fn convert(&mut self, r: &SensorReadings) -> Sensors {
+        let imu = r.imu.and_then(|s| {
+            Some(ImuReading {
+                t_s: s.t_s,
+                accel_b: s.accel_b?,
+                gyro_b: s.gyro_b?,
+            })
+        });
+        if let Some(a) = r.imu.and_then(|s| s.accel_b) {
+            self.accel_b = a;
+        }
         Sensors {
-            state,
+            state: None,
             accel_b: self.accel_b,
+            imu,
+            gps: r.gps.map(|g| GpsReading {
+                t_s: g.t_s,
+                pos_w: g.pos_w,
+                vel_w: g.vel_w,
+                h_acc_m: g.h_acc_m,
+                v_acc_m: g.v_acc_m,
+                speed_acc_m_s: g.speed_acc_m_s,
+                fix_3d: g.fix == GpsFix::Fix3d,
+                satellites: g.satellites,
+            }),
+            baro: r.baro.map(|b| BaroReading {
+                t_s: b.t_s,
+                pressure_pa: b.pressure_pa,
+                temperature_c: b.temperature_c,
+            }),
+            mag: r.mag.map(|m| MagReading {
+                t_s: m.t_s,
+                field_b: m.field_b,
+            }),
         }
     }
 
@@ -185,6 +304,13 @@ impl SimPlant {
                 }
             }
             PlantChange::ProximityEffects { ground, ceiling } => self.plant.set_proximity_effects(*ground, *ceiling),
+            PlantChange::Sensor(failure) => {
+                let unit = firmware_sim::SensorUnit::from_failure_unit(u32::from(failure.unit.failure_unit()));
+                let fault = firmware_sim::SensorFault::from_failure_type(u32::from(failure.kind.failure_type()));
+                if let (Some(unit), Some(fault)) = (unit, fault) {
+                    self.suite.set_fault(unit, fault);
+                }
+            }
             PlantChange::Wind(w) => {
                 let mut wind = self.plant.wind().clone();
                 wind.mean_w.x = w.north_m_s;

@@ -2,7 +2,7 @@
 //! data in SI units (NED world, FRD body), independent of MAVLink.
 
 use crate::airframe::MAX_ROTORS;
-use crate::commander::{Commander, FlightMode, LandedState, MissionState};
+use crate::commander::{Commander, FlightMode, LandedState, MissionState, NavValidity};
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::estimation::WrenchEstimate;
 use crate::math::{euler_zyx, Vec3};
@@ -37,6 +37,97 @@ impl BatterySnapshot {
             energy_j: 0.0,
         }
     }
+}
+
+/// Which sensors deliver data the navigation can use (SYS_STATUS health bits).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SensorHealth {
+    /// Gyroscope.
+    pub gyro: bool,
+    /// Accelerometer.
+    pub accel: bool,
+    /// Magnetometer.
+    pub mag: bool,
+    /// Barometer.
+    pub baro: bool,
+    /// GPS (with a position the filter takes).
+    pub gps: bool,
+}
+
+impl SensorHealth {
+    /// Every sensor healthy.
+    pub const ALL: Self = Self {
+        gyro: true,
+        accel: true,
+        mag: true,
+        baro: true,
+        gps: true,
+    };
+}
+
+/// The latest GPS reading (GPS_RAW_INT).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GpsSnapshot {
+    /// Position, local NED [m].
+    pub pos_w: Vec3,
+    /// Velocity, NED [m/s].
+    pub vel_w: Vec3,
+    /// Horizontal and vertical accuracy [m].
+    pub acc_m: (f64, f64),
+    /// Speed accuracy [m/s].
+    pub speed_acc_m_s: f64,
+    /// A 3D fix.
+    pub fix_3d: bool,
+    /// Satellites used.
+    pub satellites: u8,
+}
+
+/// The navigation filter's report (ESTIMATOR_STATUS, EKF_STATUS_REPORT).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilterSnapshot {
+    /// ESTIMATOR_STATUS_FLAGS bits (the same as EKF_STATUS_FLAGS).
+    pub flags: u16,
+    /// Test ratios ν² / (gate² S) [-]: velocity, horizontal position, vertical position,
+    /// heading, height.
+    pub test_ratios: [f64; 5],
+    /// Standard deviations: horizontal and vertical position [m].
+    pub pos_std_m: (f64, f64),
+    /// Standard deviation of the velocity (largest axis) [m/s].
+    pub vel_std_m_s: f64,
+    /// Standard deviation of the heading [rad].
+    pub heading_std_rad: f64,
+}
+
+/// What the navigation reports for the links.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NavSnapshot {
+    /// What the estimate can be flown on for.
+    pub validity: NavValidity,
+    /// Arming would pass every check now (SYS_STATUS pre-arm bit).
+    pub armable: bool,
+    /// Which sensors deliver usable data.
+    pub sensors: SensorHealth,
+    /// The latest GPS reading; `None` with the state sensor.
+    pub gps: Option<GpsSnapshot>,
+    /// The latest magnetometer reading, body FRD [gauss].
+    pub mag_b: Option<Vec3>,
+    /// The latest barometer reading: pressure [Pa], temperature [°C].
+    pub baro: Option<(f64, f64)>,
+    /// The filter's report; `None` with the state sensor.
+    pub filter: Option<FilterSnapshot>,
+}
+
+impl NavSnapshot {
+    /// The state sensor's report: everything valid and healthy, no raw readings.
+    pub const EXACT: Self = Self {
+        validity: NavValidity::EXACT,
+        armable: true,
+        sensors: SensorHealth::ALL,
+        gps: None,
+        mag_b: None,
+        baro: None,
+        filter: None,
+    };
 }
 
 /// Latest vehicle state for telemetry.
@@ -91,6 +182,8 @@ pub struct Snapshot {
     pub geofence_breached: bool,
     /// The orbit flown in orbit mode: centre, world NED [m], and radius [m], positive clockwise.
     pub orbit: Option<(Vec3, f64)>,
+    /// The navigation's health and raw readings.
+    pub nav: NavSnapshot,
 }
 
 impl Snapshot {
@@ -121,6 +214,7 @@ impl Snapshot {
             battery: BatterySnapshot::full(3),
             geofence_breached: false,
             orbit: None,
+            nav: NavSnapshot::EXACT,
         }
     }
 

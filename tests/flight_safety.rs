@@ -4,6 +4,7 @@
 //! steps, yaw rates and half-turns of heading in offboard.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use rotorpilot::sitl::SensorModel;
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::commander::{Event, FlightMode, LandedState, Outcome, Request};
 use rotorpilot::control::{ControllerKind, FlatSetpoint};
@@ -15,7 +16,7 @@ const DT: f64 = 1e-3;
 
 fn vehicle(kind: ControllerKind) -> Vehicle {
     let src = AirframeSource::resolve("quad_x").unwrap();
-    Vehicle::new(&src, kind, Home::default(), 0, DT).unwrap()
+    Vehicle::new(&src, kind, Home::default(), SensorModel::State, 0, DT).unwrap()
 }
 
 /// Steps `v` for `seconds`, handing every tick to `each`; the ticks' events.

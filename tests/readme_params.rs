@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use rotorpilot::sitl::SensorModel;
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::navigation::Home;
@@ -17,7 +18,7 @@ const END: &str = "<!-- params:end -->";
 /// The table of the autopilot's defaults, as `rotorpilot run` builds its vehicle.
 fn generated() -> String {
     let src = AirframeSource::resolve("quad_x").unwrap();
-    let vehicle = Vehicle::new(&src, ControllerKind::Geometric, Home::default(), 0, 1e-3).unwrap();
+    let vehicle = Vehicle::new(&src, ControllerKind::Geometric, Home::default(), SensorModel::State, 0, 1e-3).unwrap();
     markdown_table(vehicle.params())
 }
 

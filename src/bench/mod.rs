@@ -26,6 +26,7 @@ use crate::lockstep::SetupError;
 use crate::navigation::Home;
 use crate::runtime::vehicle::Vehicle;
 use crate::runtime::RuntimeError;
+use crate::sitl::SensorModel;
 
 /// The real-time factor a vehicle count must hold to count as real time.
 pub const REALTIME_FACTOR: f64 = 0.99;
@@ -194,7 +195,7 @@ pub fn run(options: &BenchOptions) -> Result<BenchReport, BenchError> {
 
 /// Ticks per second of one vehicle climbing and hovering, with no sockets and no pacing.
 fn headless_ticks_per_s(options: &BenchOptions, kind: ControllerKind) -> Result<f64, BenchError> {
-    let mut vehicle = Vehicle::new(&options.airframe, kind, Home::default(), 0, 1e-3)?;
+    let mut vehicle = Vehicle::new(&options.airframe, kind, Home::default(), SensorModel::State, 0, 1e-3)?;
     vehicle.apply(Request::Takeoff { height_m: Some(2.0) });
     vehicle.apply(Request::Arm { force: false });
     for _ in 0..2_000 {

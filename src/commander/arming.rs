@@ -16,6 +16,9 @@ impl Commander {
             return Outcome::Accepted;
         }
         if !force {
+            if let Some(refusal) = self.navigation_refusal(self.mode, true) {
+                return refusal;
+            }
             if self.arming_fence_breach(x).is_some() {
                 return Outcome::TemporarilyRejected("Arming denied: vehicle outside geofence".into());
             }

@@ -1,6 +1,7 @@
 //! What goes in and out of the commander: ground-station requests, their outcomes, the events
 //! it announces on its own, the landed state it reports and one tick's output.
 
+use crate::sensor_failure::SensorFailure;
 use crate::control::{AttitudeTarget, FlatSetpoint};
 use crate::math::Vec3;
 use crate::navigation::{Geofence, Mission, OrbitYaw, RallyPoints, Sticks};
@@ -89,6 +90,9 @@ pub enum Request {
         /// Stop (true) or restore (false).
         failed: bool,
     },
+    /// MAV_CMD_INJECT_FAILURE for a sensor (`SYS_FAILURE_EN` = 1): the vehicle applies it to
+    /// the simulated sensor suite; the navigation filter notices what the sensor then reports.
+    InjectSensorFailure(SensorFailure),
     /// DO_CHANGE_SPEED: horizontal speed of the AUTO modes [m/s] until changed again.
     ChangeSpeed(f64),
     /// DO_SET_HOME: the local NED point RTL returns to [m]; `None`: the current position.
@@ -177,7 +181,8 @@ impl Request {
             | Self::StartMission { .. }
             | Self::GcsLinkLost
             | Self::StreamInWallTime { .. }
-            | Self::InjectRotorFailure { .. } => true,
+            | Self::InjectRotorFailure { .. }
+            | Self::InjectSensorFailure(_) => true,
             Self::Takeoff { height_m } => opt(height_m),
             Self::OffboardSetpoint { setpoint, .. } => setpoint.is_finite(),
             Self::OffboardAttitude(t) => t.is_finite(),

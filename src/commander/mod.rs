@@ -21,6 +21,8 @@
 //! - `manual.rs`: the stick modes (POSCTL, ALTCTL, STABILIZED, ACRO), the sticks' loss
 //!   (`NAV_RCL_ACT`) and a pilot taking over with the sticks.
 //! - `reactions.rs`: failsafes, rotor failures and GCS link loss.
+//! - `navigation_checks.rs`: what the navigation estimate allows: mode requirements, pre-arm
+//!   refusals, the position-loss descent.
 //! - `failsafe.rs`, `battery.rs`, `mode.rs`: geofence/battery monitor, energy gauge, PX4 modes.
 //! - `actions.rs`: the failsafe parameters' actions (`NAV_DLL_ACT`, `COM_OBL_RC_ACT`,
 //!   `GF_ACTION`, `COM_LOW_BAT_ACT`) and `RTL_TYPE` as enums with PX4's codes.
@@ -42,6 +44,7 @@ mod messages;
 mod mission_run;
 mod mode;
 mod modes;
+mod navigation_checks;
 mod offboard;
 mod orbit;
 mod params;
@@ -62,6 +65,7 @@ pub use land_detector::{LandDetectorParams, LandStage};
 pub use messages::{CommanderTick, Event, LandedState, OrbitRequest, Outcome, Request, Stream};
 pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
+pub use navigation_checks::NavValidity;
 pub use params::{CommanderParams, ManualParams};
 
 use follow::Follow;
@@ -112,6 +116,10 @@ pub struct Commander {
     last_update_s: Option<f64>,
     /// Events of a request's reaction, announced at the start of the next tick.
     pending: Vec<Event>,
+    /// The validity of the latest navigation estimate.
+    nav: NavValidity,
+    /// Descending without a position (the position-loss failsafe) until disarmed.
+    blind_descent: bool,
 }
 
 impl Commander {
@@ -141,6 +149,8 @@ impl Commander {
             battery: BatteryGauge::default(),
             last_update_s: None,
             pending: Vec::new(),
+            nav: NavValidity::EXACT,
+            blind_descent: false,
         }
     }
 
@@ -241,6 +251,10 @@ impl Commander {
             Some(sp) => Command::Flat(sp),
             None => Command::Idle,
         });
+        let command = match command {
+            Command::Flat(sp) if self.blind_descent => Command::Flat(Self::without_horizontal(sp, x)),
+            command => command,
+        };
         let command = self.detect_landing(x, command, thrust_over_weight, t_s, &mut events);
         match command {
             Command::Flat(sp) => CommanderTick {

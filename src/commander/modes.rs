@@ -61,6 +61,12 @@ impl Commander {
         if let Some(refusal) = self.stick_mode_refusal(mode, t_s, false) {
             return refusal;
         }
+        if let Some(refusal) = self.navigation_refusal(mode, false) {
+            return refusal;
+        }
+        if mode != FlightMode::Land {
+            self.blind_descent = false;
+        }
         match mode {
             FlightMode::Mission if self.mission.mission.is_empty() => {
                 Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into())

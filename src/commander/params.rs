@@ -78,6 +78,9 @@ pub struct CommanderParams {
     pub battery: BatteryParams,
     /// Failure injection allowed (`SYS_FAILURE_EN`, 0).
     pub failure_injection: bool,
+    /// A position lost in POSCTL lands (descends) instead of falling back to ALTCTL with the
+    /// sticks (`COM_POSCTL_NAVL`: 0 altitude, 1 land; default 0). The AUTO modes always descend.
+    pub position_loss_lands: bool,
     /// Offboard-loss action (`COM_OBL_RC_ACT`: 0–2 hold position (no RC), 3 return, 4 land,
     /// 5 hold (AUTO.LOITER), 6 terminate, 7 disarm; default 0).
     pub offboard_loss_action: OffboardLossAction,
@@ -113,6 +116,7 @@ impl Default for CommanderParams {
             battery: BatteryParams::default(),
             failure_injection: false,
             offboard_loss_action: OffboardLossAction::Position,
+            position_loss_lands: false,
             manual: ManualParams::default(),
             follow: FollowParams::default(),
         }

@@ -82,7 +82,7 @@ impl Commander {
                 Outcome::Accepted
             }
             Request::GcsLinkLost => self.gcs_link_lost(x, t_s),
-            Request::InjectRotorFailure { .. } => {
+            Request::InjectRotorFailure { .. } | Request::InjectSensorFailure(_) => {
                 Outcome::Denied("Failure injection is applied by the vehicle, not the commander".into())
             }
         }

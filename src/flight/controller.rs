@@ -13,7 +13,7 @@
 //! ```
 
 use crate::airframe::Airframe;
-use crate::commander::{Commander, CommanderParams, Outcome, Request};
+use crate::commander::{Commander, CommanderParams, Event, Outcome, Request};
 use crate::control::{ControllerKind, VehicleState};
 use crate::estimation::{ChebyshevDesign, WrenchObserver};
 use crate::math::{Vec3, GRAVITY_M_S2};
@@ -22,6 +22,7 @@ use crate::params::{ParamError, ParamTable, VehicleSettings};
 use crate::sitl::{EscReport, PlantChange, Sensors};
 use crate::telemetry::Snapshot;
 
+use super::navigator::Navigator;
 use super::rotor_monitor::RotorMonitor;
 use super::{Control, CoreError, FlightCore, Pilot};
 
@@ -60,6 +61,7 @@ pub struct FlightController {
     commander: Commander,
     params: ParamTable,
     rotors: RotorMonitor,
+    nav: Navigator,
     home: Home,
     dt_s: f64,
     believed_mass_kg: f64,
@@ -102,6 +104,7 @@ impl FlightController {
             commander: Commander::new(commander),
             params: ParamTable::new(&settings),
             rotors,
+            nav: Navigator::default(),
             home,
             dt_s,
             believed_mass_kg: airframe.mass_kg,
@@ -130,6 +133,11 @@ impl FlightController {
     /// The commander (mode, arming, landed state, mission progress, battery).
     pub fn commander(&self) -> &Commander {
         &self.commander
+    }
+
+    /// What the flight controller knows of its state.
+    pub fn navigator(&self) -> &Navigator {
+        &self.nav
     }
 
     /// The flight core.
@@ -187,14 +195,36 @@ impl FlightController {
 
     /// Handles a ground-station request at simulated time `t_s` [s]: failure injection (when
     /// `SYS_FAILURE_EN` allows it) answers with the rotors the plant must stop or restore;
-    /// everything else goes to the commander with the state `sense` reads.
-    pub fn request(&mut self, request: Request, t_s: f64, sense: impl FnOnce() -> VehicleState) -> Reply<Outcome> {
-        if let Request::InjectRotorFailure { rotor, failed } = request {
-            if !self.commander.params.failure_injection {
-                return Reply::only(Outcome::Denied(
-                    "Failure injection disabled (SYS_FAILURE_EN = 0)".into(),
-                ));
+    /// everything else goes to the commander with the state `sense` reads (the state sensor),
+    /// or without one the navigator's latest estimate.
+    pub fn request(
+        &mut self,
+        request: Request,
+        t_s: f64,
+        sense: impl FnOnce() -> Option<VehicleState>,
+    ) -> Reply<Outcome> {
+        let injection = matches!(
+            request,
+            Request::InjectRotorFailure { .. } | Request::InjectSensorFailure(_)
+        );
+        if injection && !self.commander.params.failure_injection {
+            return Reply::only(Outcome::Denied(
+                "Failure injection disabled (SYS_FAILURE_EN = 0)".into(),
+            ));
+        }
+        if let Request::InjectSensorFailure(failure) = request {
+            if self.nav.status().is_none() {
+                return Reply::only(Outcome::Failed(format!(
+                    "Failure injection: {} needs realistic sensors",
+                    failure.unit.name()
+                )));
             }
+            return Reply {
+                answer: Outcome::Accepted,
+                plant: Some(PlantChange::Sensor(failure)),
+            };
+        }
+        if let Request::InjectRotorFailure { rotor, failed } = request {
             return match self.rotors.injection(rotor, failed) {
                 Ok(change) => Reply {
                     answer: Outcome::Accepted,
@@ -203,7 +233,9 @@ impl FlightController {
                 Err(why) => Reply::only(Outcome::Denied(why)),
             };
         }
-        let x = sense();
+        let x = sense()
+            .or(self.nav.latest())
+            .unwrap_or_else(|| VehicleState::at_rest(t_s, Vec3::zeros()));
         Reply::only(self.commander.request(request, &x, t_s))
     }
 }
@@ -213,10 +245,13 @@ impl Pilot for FlightController {
 
     /// One tick (module docs).
     fn control(&mut self, t_s: f64, sensors: &Sensors, esc: &EscReport<'_>) -> Control {
-        let x = sensors.state;
-        let mut failsafe_events = self
-            .rotors
-            .check(esc.failed_rotors(), t_s, &x, &mut self.core, &mut self.commander);
+        let x = self.nav.update(t_s, sensors);
+        let mut failsafe_events: Vec<Event> = self.nav.announcements().into_iter().map(Event::Failsafe).collect();
+        failsafe_events.extend(self.commander.check_navigation(self.nav.validity(), &x, t_s));
+        failsafe_events.extend(
+            self.rotors
+                .check(esc.failed_rotors(), t_s, &x, &mut self.core, &mut self.commander),
+        );
         failsafe_events.extend(self.commander.check_failsafes(&x, esc.power_w(), self.dt_s, t_s));
         let mut tick = self.commander.update(&x, self.thrust_over_weight, t_s);
         if !failsafe_events.is_empty() {
@@ -259,7 +294,7 @@ mod tests {
         FlightController::new(&af, ControllerKind::Geometric, Home::default(), 1e-3).unwrap()
     }
 
-    fn never_sensed() -> VehicleState {
+    fn never_sensed() -> Option<VehicleState> {
         panic!("failure injection must not sense the state")
     }
 
@@ -308,14 +343,14 @@ mod tests {
         let mut sensed = false;
         let reply = fc.request(Request::Arm { force: false }, 0.0, || {
             sensed = true;
-            VehicleState {
+            Some(VehicleState {
                 t_s: 0.0,
                 pos_w: Vec3::zeros(),
                 vel_w: Vec3::zeros(),
                 r_wb: crate::math::Mat3::identity(),
                 omega_b: Vec3::zeros(),
             }
-        });
+        })});
         assert!(sensed);
         assert_eq!(reply, Reply::only(Outcome::Accepted));
         assert!(fc.commander().armed());

@@ -8,6 +8,7 @@ use crate::navigation::trajectory::Trajectory;
 use crate::navigation::ClimbProfile;
 use crate::sitl::{EscReport, Sensors};
 
+use super::navigator::Navigator;
 use super::rotor_monitor::RotorMonitor;
 use super::{Control, FlightCore, Pilot};
 
@@ -46,13 +47,19 @@ pub struct SetpointFollower<S> {
     /// Where the setpoints come from.
     pub source: S,
     rotors: RotorMonitor,
+    nav: Navigator,
 }
 
 impl<S: SetpointSource> SetpointFollower<S> {
     /// `core` following `source`.
     pub fn new(core: FlightCore, source: S) -> Self {
         let rotors = RotorMonitor::new(core.allocator().rotor_count());
-        Self { core, source, rotors }
+        Self {
+            core,
+            source,
+            rotors,
+            nav: Navigator::default(),
+        }
     }
 }
 
@@ -64,10 +71,11 @@ impl<S: SetpointSource> Pilot for SetpointFollower<S> {
     fn control(&mut self, t_s: f64, sensors: &Sensors, esc: &EscReport<'_>) -> Control {
         self.rotors.reallocate(esc.failed_rotors(), &mut self.core);
         let setpoint = self.source.setpoint(t_s);
+        let state = self.nav.update(t_s, sensors);
         Control {
-            state: sensors.state,
+            state,
             rotors: self.core.allocator().rotor_count(),
-            step: Some(self.core.step(&sensors.state, &setpoint)),
+            step: Some(self.core.step(&state, &setpoint)),
             setpoint: Some(setpoint),
             events: Vec::new(),
         }

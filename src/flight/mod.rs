@@ -15,6 +15,8 @@
 //! - [`flight_core`]: one control tick: estimator → controller → allocation → estimator.
 //! - [`controller`]: the flight controller.
 //! - [`follower`]: the bare flight core and its setpoint sources.
+//! - [`navigator`]: the state the controllers fly on: the state sensor's, or the navigation
+//!   filter's estimate.
 //! - [`offboard_pilot`]: the flight controller in OFFBOARD along a setpoint source.
 //! - [`rotor_monitor`]: what the flight controller knows of failed rotors, and failure injection.
 //! - [`snapshot`]: the telemetry snapshot of a tick (the one place it is built).
@@ -22,6 +24,7 @@
 pub mod controller;
 pub mod flight_core;
 pub mod follower;
+pub mod navigator;
 pub mod offboard_pilot;
 pub mod rotor_monitor;
 pub mod snapshot;
@@ -35,6 +38,7 @@ use crate::sitl::{EscReport, Sensors};
 pub use controller::{FlightController, Reply, AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
 pub use flight_core::{vehicle_model, CoreError, CoreStep, FlightCore};
 pub use follower::{SetpointFollower, SetpointSource};
+pub use navigator::Navigator;
 pub use offboard_pilot::OffboardPilot;
 
 /// What one control tick commands.

@@ -45,6 +45,7 @@ impl FlightController {
                 consumed_mah: gauge.consumed_mah(&pack),
                 energy_j: gauge.used_j(),
             },
+            nav: self.navigator().snapshot(t_s, self.commander().navigation_armable()),
             ..Snapshot::initial(self.home())
         }
         .with_commander(commander)

@@ -6,7 +6,7 @@
 //! Tick k at t_k = k·dt (zero-order hold of the rotor commands over one step):
 //!
 //! ```text
-//! scheduled rotor failures due at t_k → plant        (FailureSchedule, `--fail-rotor`)
+//! scheduled failures due at t_k → plant              (FailureSchedule, `--fail-rotor`, `--fail`)
 //! sensors_k  = plant.read_sensors()                  sensed state, accelerometer
 //! control_k  = pilot.control(t_k, sensors_k, esc)    rotor speeds, controller step, events
 //!                                                    (esc: failed rotors, electrical power)
@@ -19,7 +19,7 @@
 //! [`Lockstep::run`] and say when it ends ([`Exit`]).
 
 pub mod observer;
-pub mod rotor_schedule;
+pub mod failure_schedule;
 pub mod view;
 
 use serde::Serialize;
@@ -33,7 +33,7 @@ use crate::params::ParamError;
 use crate::sitl::{PlantChange, PlantStatus, Sensors, SimPlant, SitlError};
 
 pub use observer::{Guard, Observer};
-pub use rotor_schedule::{FailureSchedule, ScheduledFailure};
+pub use failure_schedule::{FailureSchedule, ScheduledFailure, ScheduledSensorFailure};
 pub use view::{SnapshotReport, TickView};
 
 /// Why a flight cannot be set up: the flight controller's view of the airframe, its flight core
@@ -150,6 +150,11 @@ impl<P: Pilot> Lockstep<P> {
     /// Stops a rotor at a simulated time (`--fail-rotor`).
     pub fn schedule_rotor_failure(&mut self, failure: ScheduledFailure) -> Result<(), String> {
         self.failures.schedule(failure)
+    }
+
+    /// Fails a sensor at a simulated time (`--fail`).
+    pub fn schedule_sensor_failure(&mut self, failure: ScheduledSensorFailure) {
+        self.failures.schedule_sensor(failure);
     }
 
     /// Replaces the rotor failures to come with `schedule` (checked against the same airframe,

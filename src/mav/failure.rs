@@ -1,14 +1,16 @@
 //! MAV_CMD_INJECT_FAILURE (420) decoded as PX4 answers it: param1 the FAILURE_UNIT, param2 the
-//! FAILURE_TYPE, param3 the instance (0: all, PX4's `failure ... -i`). A motor switched off (1)
-//! or back on (0) is simulated ([`Request::InjectRotorFailure`], allowed by `SYS_FAILURE_EN`);
-//! every other unit MAVSDK's `FailureUnit` names is understood and answered as PX4 answers a unit
-//! its simulation does not model: COMMAND_ACK UNSUPPORTED, here with a STATUSTEXT naming the
-//! unit (sensor failures wait for the sensor models). Pure.
+//! FAILURE_TYPE, param3 the instance (0: all, PX4's `failure ... -i`). Simulated, and allowed by
+//! `SYS_FAILURE_EN`: a motor switched off (1) or back on (0) ([`Request::InjectRotorFailure`]),
+//! and every failure type of the gyro, accelerometer, magnetometer, barometer and GPS
+//! ([`Request::InjectSensorFailure`]; one instance each, 0 or 1). Every other unit MAVSDK's
+//! `FailureUnit` names is understood and answered as PX4 answers a unit its simulation does not
+//! model: COMMAND_ACK UNSUPPORTED, with a STATUSTEXT naming the unit. Pure.
 
 use mavlink::dialects::common::COMMAND_LONG_DATA;
 
 use super::translate::CommandDecision;
 use crate::commander::{Outcome, Request};
+use crate::sensor_failure::{FailureKind, SensorFailure, SensorUnit};
 
 /// FAILURE_UNIT SYSTEM_MOTOR.
 const MOTOR_UNIT: u8 = 101;
@@ -68,6 +70,20 @@ pub(super) fn inject_failure(cmd: &COMMAND_LONG_DATA) -> CommandDecision {
     let (Some(name), Some(kind_name)) = (unit_name(unit), type_name(kind)) else {
         return CommandDecision::Unsupported;
     };
+    let instance = if cmd.param3.is_nan() {
+        Some(0)
+    } else {
+        small_int(cmd.param3)
+    };
+    if let (Some(unit), Some(kind)) = (SensorUnit::from_failure_unit(unit), FailureKind::from_failure_type(kind)) {
+        return match instance {
+            Some(0 | 1) => CommandDecision::Execute(Request::InjectSensorFailure(SensorFailure { unit, kind })),
+            _ => CommandDecision::Refuse(Outcome::Denied(format!(
+                "Failure injection: no {name} {} (one instance)",
+                cmd.param3
+            ))),
+        };
+    }
     if unit != MOTOR_UNIT {
         return CommandDecision::NotSimulated(format!("Failure injection: {name} not simulated"));
     }
@@ -75,11 +91,6 @@ pub(super) fn inject_failure(cmd: &COMMAND_LONG_DATA) -> CommandDecision {
         TYPE_OK => false,
         TYPE_OFF => true,
         _ => return CommandDecision::NotSimulated(format!("Failure injection: motor {kind_name} not simulated")),
-    };
-    let instance = if cmd.param3.is_nan() {
-        Some(0)
-    } else {
-        small_int(cmd.param3)
     };
     match instance {
         Some(rotor) => CommandDecision::Execute(Request::InjectRotorFailure {
@@ -118,8 +129,9 @@ mod tests {
 
     #[test]
     fn every_other_unit_is_named_in_its_refusal() {
-        // MAVSDK's FailureUnit: SENSOR_GYRO 0 … SENSOR_AIRSPEED 8, SYSTEM_BATTERY 100 … 105.
-        for unit in (0..=8).chain(100..=105).filter(|u| *u != 101) {
+        // MAVSDK's FailureUnit: SENSOR_GYRO 0 … SENSOR_AIRSPEED 8, SYSTEM_BATTERY 100 … 105;
+        // the five simulated sensors (0–4) and the motors (101) are simulated.
+        for unit in (5..=8).chain(100..=105).filter(|u| *u != 101) {
             let CommandDecision::NotSimulated(why) = inject(f32::from(unit), 1.0, 0.0) else {
                 panic!("unit {unit} not refused as not simulated")
             };
@@ -128,13 +140,41 @@ mod tests {
             assert!(why.len() <= 50, "{why} fits one STATUSTEXT");
         }
         assert_eq!(
-            inject(4.0, 1.0, 0.0),
-            CommandDecision::NotSimulated("Failure injection: gps not simulated".into())
+            inject(5.0, 1.0, 0.0),
+            CommandDecision::NotSimulated("Failure injection: optical_flow not simulated".into())
         );
         assert_eq!(
             inject(101.0, 2.0, 0.0),
             CommandDecision::NotSimulated("Failure injection: motor stuck not simulated".into())
         );
+    }
+
+    #[test]
+    fn sensors_fail_in_every_way_one_instance_each() {
+        let gps_off = SensorFailure {
+            unit: SensorUnit::Gps,
+            kind: FailureKind::Off,
+        };
+        assert_eq!(
+            inject(4.0, 1.0, 0.0),
+            CommandDecision::Execute(Request::InjectSensorFailure(gps_off))
+        );
+        assert_eq!(
+            inject(4.0, 1.0, f32::NAN),
+            CommandDecision::Execute(Request::InjectSensorFailure(gps_off))
+        );
+        let baro_stuck = SensorFailure {
+            unit: SensorUnit::Baro,
+            kind: FailureKind::Stuck,
+        };
+        assert_eq!(
+            inject(3.0, 2.0, 1.0),
+            CommandDecision::Execute(Request::InjectSensorFailure(baro_stuck))
+        );
+        assert!(matches!(
+            inject(2.0, 1.0, 2.0),
+            CommandDecision::Refuse(Outcome::Denied(why)) if why == "Failure injection: no mag 2 (one instance)"
+        ));
     }
 
     #[test]

@@ -13,7 +13,8 @@
 //! - [`calibration`]: MAV_CMD_PREFLIGHT_CALIBRATION and its `[cal]` STATUSTEXT protocol.
 //! - [`logs`]: the flight logs (PX4's names, the store interface) and the log protocol.
 //! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
-//! - [`telemetry`] (with `status`): the streamed messages built from a snapshot.
+//! - [`telemetry`] (with `status` and `nav_status`): the streamed messages built from a snapshot;
+//!   `nav_status`: GPS_RAW_INT, ESTIMATOR_STATUS and the raw sensors from the navigation.
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.
 //! - [`ftp`]: MAVLink FTP (payload, in-memory file system, server); [`metadata`]: the component
 //!   metadata files it serves (general, parameters) and COMPONENT_METADATA.
@@ -42,6 +43,7 @@ pub mod metadata;
 pub mod mission_items;
 pub mod mission_xfer;
 pub mod modes;
+mod nav_status;
 pub mod offboard;
 pub mod orbit;
 pub mod params;

@@ -60,23 +60,33 @@ pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
     })
 }
 
-/// SYS_STATUS with the sensors MAVSDK's `health_all_ok()` checks present, enabled and healthy,
-/// the pre-arm check healthy (the emulator is armable at once, docs/mavlink.md §4), and the
-/// geofence present, enabled and healthy unless the vehicle is outside it. A clear geofence health bit reads as a
-/// breach (MAVProxy says "fence breach" when it sees one), so the bit is cleared on a real
-/// breach only.
+/// SYS_STATUS (docs/mavlink.md §4): the sensors MAVSDK's `health_all_ok()` checks (gyro,
+/// accelerometer, magnetometer, barometer, GPS) and the attitude estimate (AHRS) present and
+/// enabled, each healthy while the navigation takes usable data from it (the GPS while the
+/// filter has a horizontal position: MAVSDK's "global position ok"); the pre-arm check healthy
+/// while arming would pass (MAVSDK's "armable"); the geofence present, enabled and healthy unless
+/// the vehicle is outside it. A clear geofence health bit reads as a breach (MAVProxy says "fence
+/// breach" when it sees one), so the bit is cleared on a real breach only.
 pub(super) fn sys_status(s: &Snapshot) -> MavMessage {
     let b = &s.battery;
-    let sensors = MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO
-        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_ACCEL
-        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_MAG
-        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE
-        | MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_GPS
-        | MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK
-        | MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE;
-    let mut health = sensors;
-    if s.geofence_breached {
-        health.remove(MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE);
+    let nav = &s.nav;
+    let checks = [
+        (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO, nav.sensors.gyro),
+        (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_ACCEL, nav.sensors.accel),
+        (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_MAG, nav.sensors.mag),
+        (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE, nav.sensors.baro),
+        (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_GPS, nav.sensors.gps),
+        (MavSysStatusSensor::MAV_SYS_STATUS_AHRS, nav.validity.attitude),
+        (MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK, nav.armable),
+        (MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE, !s.geofence_breached),
+    ];
+    let mut sensors = MavSysStatusSensor::empty();
+    let mut health = MavSysStatusSensor::empty();
+    for (bit, healthy) in checks {
+        sensors |= bit;
+        if healthy {
+            health |= bit;
+        }
     }
     MavMessage::SYS_STATUS(SYS_STATUS_DATA {
         onboard_control_sensors_present: sensors,

@@ -35,6 +35,7 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         HighresImu => (0.0, 50.0),
         ExternalForce | ExternalTorque | MassEstimate => (10.0, 10.0),
         OrbitStatus => (5.0, 5.0),
+        EstimatorStatus => (0.5, 0.5),
         SystemTime => (0.0, 1.0),
         EventSequence => (
             1.0 / super::events::CURRENT_SEQUENCE_PERIOD_S,

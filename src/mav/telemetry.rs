@@ -63,6 +63,8 @@ pub enum Stream {
     OrbitStatus,
     /// CURRENT_EVENT_SEQUENCE (411): no events, sequence reset.
     EventSequence,
+    /// ESTIMATOR_STATUS (230): the navigation filter's flags, test ratios and accuracies.
+    EstimatorStatus,
     /// SYSTEM_TIME (2): Unix time and time since boot; the link builds it from its wall clock
     /// ([`system_time`]), so [`message`] has none.
     SystemTime,
@@ -70,7 +72,7 @@ pub enum Stream {
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 23] = [
+    pub const ALL: [Stream; 24] = [
         Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
@@ -94,6 +96,7 @@ impl Stream {
         Stream::OrbitStatus,
         Stream::SystemTime,
         Stream::EventSequence,
+        Stream::EstimatorStatus,
     ];
 
     /// MAVLink message id.
@@ -121,6 +124,7 @@ impl Stream {
             Stream::OrbitStatus => 360,
             Stream::SystemTime => 2,
             Stream::EventSequence => 411,
+            Stream::EstimatorStatus => 230,
         }
     }
 }
@@ -136,14 +140,6 @@ pub fn system_time(unix_us: u64, s: &Snapshot) -> MavMessage {
 /// Heading [cdeg, 0..35999].
 fn heading_cdeg(s: &Snapshot) -> u16 {
     (s.eta.z.to_degrees().rem_euclid(360.0) * 100.0).round() as u16 % 36000
-}
-
-/// Course over ground [cdeg], UINT16_MAX when not moving.
-fn course_cdeg(s: &Snapshot) -> u16 {
-    if s.vel_w.xy().norm() < 0.1 {
-        return u16::MAX;
-    }
-    (s.vel_w.y.atan2(s.vel_w.x).to_degrees().rem_euclid(360.0) * 100.0).round() as u16 % 36000
 }
 
 fn time_boot_ms(s: &Snapshot) -> u32 {
@@ -196,22 +192,8 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 repr_offset_q: [0.0; 4],
             })
         }
-        Stream::GpsRawInt => {
-            let [lat, lon, alt] = global_int(s, &s.pos_w);
-            MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
-                time_usec,
-                lat,
-                lon,
-                alt,
-                eph: 80,
-                epv: 120,
-                vel: (s.vel_w.xy().norm() * 100.0).round() as u16,
-                cog: course_cdeg(s),
-                fix_type: GpsFixType::GPS_FIX_TYPE_3D_FIX,
-                satellites_visible: 12,
-                ..Default::default()
-            })
-        }
+        Stream::GpsRawInt => super::nav_status::gps_raw_int(s),
+        Stream::EstimatorStatus => super::nav_status::estimator_status(s),
         Stream::VfrHud => MavMessage::VFR_HUD(VFR_HUD_DATA {
             airspeed: s.vel_w.norm() as f32,
             groundspeed: s.vel_w.xy().norm() as f32,
@@ -299,11 +281,8 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
             })
         }
         Stream::HighresImu => {
+            let (mag_b, pressure_hpa, temperature) = super::nav_status::mag_and_baro(s);
             let alt = s.home.to_global(&s.pos_w).2;
-            // Earth field about Zürich, rotated into the body (gauss); ISA pressure at altitude.
-            let mag_w = Vec3::new(0.21, 0.015, 0.43);
-            let mag_b = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z).inverse() * mag_w;
-            let pressure_hpa = 1013.25 * (1.0 - 2.25577e-5 * alt).powf(5.25588);
             MavMessage::HIGHRES_IMU(HIGHRES_IMU_DATA {
                 time_usec,
                 xacc: s.accel_b.x as f32,
@@ -317,7 +296,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 zmag: mag_b.z as f32,
                 abs_pressure: pressure_hpa as f32,
                 pressure_alt: alt as f32,
-                temperature: 20.0,
+                temperature: temperature as f32,
                 fields_updated: HighresImuUpdatedFlags::from_bits_truncate(0x1FFF),
                 ..Default::default()
             })

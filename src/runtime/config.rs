@@ -12,7 +12,8 @@ use crate::navigation::Home;
 
 use super::pacer::Pace;
 use super::signing_store::SigningFileError;
-use crate::lockstep::ScheduledFailure;
+use crate::lockstep::{ScheduledFailure, ScheduledSensorFailure};
+use crate::sitl::SensorModel;
 use crate::lockstep::SetupError;
 
 /// Everything `rotorpilot run` needs.
@@ -52,6 +53,10 @@ pub struct RunConfig {
     pub pace: Pace,
     /// Rotors that stop at a simulated time, on every vehicle (`--fail-rotor`).
     pub rotor_failures: Vec<ScheduledFailure>,
+    /// Which sensors the flight controllers read (`--sensors`).
+    pub sensors: SensorModel,
+    /// Sensors that fail at a simulated time, on every vehicle (`--fail`).
+    pub sensor_failures: Vec<ScheduledSensorFailure>,
     /// `--signing-key FILE`: the MAVLink 2 signing key of every vehicle (the file may not exist
     /// yet; SETUP_SIGNING then creates it), its timestamp kept in `FILE.timestamp`.
     pub signing_key: Option<std::path::PathBuf>,
@@ -78,6 +83,8 @@ impl RunConfig {
             count: 1,
             spacing_m: DEFAULT_SPACING_M,
             pace: Pace::Speedup(1.0),
+            sensors: SensorModel::Suite,
+            sensor_failures: Vec::new(),
             rotor_failures: Vec::new(),
             signing_key: None,
         }

@@ -107,6 +107,7 @@ fn setup_vehicle(
         &config.airframe,
         config.controller,
         home,
+        config.sensors,
         config.seed.wrapping_add(i as u64),
         config.dt_s,
     )?;
@@ -119,6 +120,9 @@ fn setup_vehicle(
         vehicle
             .schedule_rotor_failure(*failure)
             .map_err(RuntimeError::RotorFailure)?;
+    }
+    for failure in &config.sensor_failures {
+        vehicle.schedule_sensor_failure(*failure);
     }
     let mut logs: Box<dyn LogStore> = Box::new(MemLogStore::default());
     let log = match &config.log_dir {

@@ -7,10 +7,10 @@ use crate::airframe::{Airframe, AirframeSource};
 use crate::commander::{Event, Outcome, Request};
 use crate::control::ControllerKind;
 use crate::flight::FlightController;
-use crate::lockstep::{Lockstep, ScheduledFailure, SetupError, TickView};
+use crate::lockstep::{Lockstep, ScheduledFailure, ScheduledSensorFailure, SetupError, TickView};
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable};
-use crate::sitl::SimPlant;
+use crate::sitl::{SensorModel, SimPlant};
 use crate::telemetry::Snapshot;
 
 use super::flight_log::{LogSender, UlogTarget};
@@ -47,17 +47,19 @@ pub struct TickOutput {
 }
 
 impl Vehicle {
-    /// Vehicle of airframe `src` flown by `kind`, home `home`, sensor seed `seed`, step `dt_s` [s].
+    /// Vehicle of airframe `src` flown by `kind`, home `home`, reading `sensors` seeded by
+    /// `seed`, step `dt_s` [s].
     pub fn new(
         src: &AirframeSource,
         kind: ControllerKind,
         home: Home,
+        sensors: SensorModel,
         seed: u64,
         dt_s: f64,
     ) -> Result<Self, SetupError> {
         let airframe = Airframe::from_source(src)?;
         let controller = FlightController::new(&airframe, kind, home, dt_s)?;
-        let plant = SimPlant::from_source(src, seed)?;
+        let plant = SimPlant::from_source(src, seed)?.with_sensor_model(sensors);
         for w in plant.warnings() {
             tracing::warn!("{w}");
         }
@@ -116,6 +118,11 @@ impl Vehicle {
     /// Stops a rotor at a simulated time (`--fail-rotor`).
     pub fn schedule_rotor_failure(&mut self, failure: ScheduledFailure) -> Result<(), String> {
         self.lockstep.schedule_rotor_failure(failure)
+    }
+
+    /// Fails a sensor at a simulated time (`--fail`).
+    pub fn schedule_sensor_failure(&mut self, failure: ScheduledSensorFailure) {
+        self.lockstep.schedule_sensor_failure(failure)
     }
 
     /// One tick ([`Lockstep::step`]), logged when a log is set: a flight's file opens at arming

@@ -20,6 +20,13 @@
 //! [trajectory]
 //! kind = "hover"
 //! position = [0.0, 0.0, -1.0]
+//! [sensors]
+//! model = "ideal"                     # the exact state (default) | "realistic": IMU, GPS, baro,
+//!                                     # mag through the navigation filter
+//! [[sensor_failure]]                  # optional, repeatable; realistic sensors only
+//! sensor = "gps"                      # gyro | accel | mag | baro | gps
+//! failure = "off"                     # ok | off | stuck | garbage | wrong | slow | delayed | intermittent
+//! at = 20.0                           # [s] simulated time
 //! [[rotor_failure]]                   # optional, repeatable
 //! rotor = 2                           # 1-based
 //! at = 3.0                            # [s] simulated time
@@ -47,7 +54,8 @@ use crate::airframe::{Airframe, AirframeSource};
 use crate::control::{ControllerGains, ControllerKind, DesiredRateMode};
 use crate::estimation::{ChebyshevDesign, WrenchObserver};
 use crate::flight::{vehicle_model, CoreError, FlightController, FlightCore};
-use crate::lockstep::{FailureSchedule, ScheduledFailure};
+use crate::lockstep::{FailureSchedule, ScheduledFailure, ScheduledSensorFailure};
+use crate::sitl::SensorModel;
 use crate::math::{UnitQuat, Vec3};
 use crate::navigation::trajectory::Trajectory;
 use crate::navigation::Home;
@@ -121,8 +129,11 @@ pub struct Scenario {
     pub estimator: Option<EstimatorSettings>,
     /// Reference trajectory.
     pub trajectory: Trajectory,
-    /// Rotors that stop during the run (`[[rotor_failure]]`).
+    /// Rotors that stop and sensors that fail during the run (`[[rotor_failure]]`,
+    /// `[[sensor_failure]]`).
     pub rotor_failures: FailureSchedule,
+    /// Which sensors the flight controller reads (`[sensors] model`, ideal by default).
+    pub sensors: SensorModel,
     /// `[autopilot]`: the flight controller flies the trajectory in OFFBOARD, with these
     /// parameters set first (name, value); `None`: the bare control law follows it.
     pub autopilot: Option<Vec<(String, f64)>>,
@@ -191,6 +202,25 @@ impl Scenario {
                 .schedule(failure)
                 .map_err(|r| err(&format!("rotor_failure[{k}]"), r))?;
         }
+        let sensors = match &file.sensors {
+            Some(s) => SensorModel::from_name(&s.model).ok_or_else(|| {
+                err(
+                    "sensors.model",
+                    format!("unknown model \"{}\"; expected \"ideal\" or \"realistic\"", s.model),
+                )
+            })?,
+            None => SensorModel::State,
+        };
+        for (k, f) in file.sensor_failure.iter().flatten().enumerate() {
+            let field = format!("sensor_failure[{k}]");
+            if sensors != SensorModel::Suite {
+                return Err(err(&field, "sensor failures need [sensors] model = \"realistic\"".into()));
+            }
+            let failure = format!("{}:{}@{}", f.sensor, f.failure, f.at)
+                .parse::<ScheduledSensorFailure>()
+                .map_err(|r| err(&field, r.trim_start_matches("--fail ").to_string()))?;
+            rotor_failures.schedule_sensor(failure);
+        }
         let autopilot = match &file.autopilot {
             Some(a) => Some(autopilot_params(&file, a).map_err(|(f, r)| err(&f, r))?),
             None => None,
@@ -211,6 +241,7 @@ impl Scenario {
             estimator,
             trajectory,
             rotor_failures,
+            sensors,
             autopilot,
         };
         scenario.flight_controller().map_err(|(f, r)| err(&f, r))?;

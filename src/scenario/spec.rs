@@ -24,6 +24,10 @@ pub(crate) struct ScenarioFile {
     pub trajectory: TrajectorySpec,
     /// `[[rotor_failure]]` entries.
     pub rotor_failure: Option<Vec<RotorFailureSpec>>,
+    /// `[sensors]`: which sensors the flight controller reads.
+    pub sensors: Option<SensorsSpec>,
+    /// `[[sensor_failure]]` entries.
+    pub sensor_failure: Option<Vec<SensorFailureSpec>>,
     /// `[autopilot]`: fly with the flight controller in OFFBOARD.
     pub autopilot: Option<AutopilotSpec>,
 }
@@ -42,6 +46,26 @@ pub(crate) struct AutopilotSpec {
 pub(crate) struct RotorFailureSpec {
     /// 1-based rotor number.
     pub rotor: usize,
+    /// [s] simulated time
+    pub at: f64,
+}
+
+/// `[sensors]`: `model = "ideal"` (the state sensor, default) or `"realistic"` (the sensor
+/// suite and the navigation filter).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SensorsSpec {
+    pub model: String,
+}
+
+/// `[[sensor_failure]]`: a sensor of the suite fails (or recovers) at a simulated time.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SensorFailureSpec {
+    /// gyro, accel, mag, baro or gps.
+    pub sensor: String,
+    /// ok, off, stuck, garbage, wrong, slow, delayed or intermittent.
+    pub failure: String,
     /// [s] simulated time
     pub at: f64,
 }

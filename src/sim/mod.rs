@@ -122,7 +122,9 @@ pub fn simulate(scn: &Scenario, out_dir: Option<&Path>) -> Result<SimSummary, Si
 /// too when `csv`: the same ticks in the same order whatever the pace, so the files are
 /// bit-identical at any speed-up.
 pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace, csv: bool) -> Result<SimSummary, SimError> {
-    let mut plant = SimPlant::from_source(&scn.airframe_source, scn.seed).map_err(SetupError::from)?;
+    let mut plant = SimPlant::from_source(&scn.airframe_source, scn.seed)
+        .map_err(SetupError::from)?
+        .with_sensor_model(scn.sensors);
     for w in plant.warnings() {
         tracing::warn!("{w}");
     }

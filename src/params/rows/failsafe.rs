@@ -142,3 +142,14 @@ pub(super) static FAILSAFES: &[ParamDef] = &[
         action OffboardLossAction commander.offboard_loss_action
     ),
 ];
+
+/// What the loss of the position estimate does (appended after the wind).
+pub(super) static NAVIGATION_LOSS: &[ParamDef] = &[row!(
+    "COM_POSCTL_NAVL",
+    Int32,
+    [0.0, 1.0],
+    "",
+    Failsafe,
+    "Position lost in POSCTL: 0 Altitude mode (with sticks), 1 land; the AUTO modes and OFFBOARD always descend",
+    flag commander.position_loss_lands
+)];

@@ -102,7 +102,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 19] = [
+static GROUPS: [&[ParamDef]; 20] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -122,6 +122,7 @@ static GROUPS: [&[ParamDef]; 19] = [
     sticks::SHAPING,
     follow::FOLLOW,
     plant::WIND,
+    failsafe::NAVIGATION_LOSS,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

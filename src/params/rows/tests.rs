@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 110] = [
+const WIRE_ORDER: [&str; 111] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -115,6 +115,7 @@ const WIRE_ORDER: [&str; 110] = [
     "SIH_WIND_N",
     "SIH_WIND_E",
     "RP_WIND_TURB",
+    "COM_POSCTL_NAVL",
 ];
 
 fn settings() -> VehicleSettings {

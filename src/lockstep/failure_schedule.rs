@@ -1,7 +1,9 @@
-//! Rotors that stop at a simulated time (`--fail-rotor ROTOR@SECONDS`): a fault of the simulated
-//! hardware, so the lockstep applies it to the plant; the flight controller only notices it in
-//! the ESC report. Pure.
+//! Rotors that stop and sensors that fail at a simulated time (`--fail-rotor ROTOR@SECONDS`,
+//! `--fail UNIT:TYPE@SECONDS`, a scenario's `[[rotor_failure]]` and `[[sensor_failure]]`): faults
+//! of the simulated hardware, so the lockstep applies them to the plant; the flight controller
+//! only notices them in what its ESCs and sensors report. Pure.
 
+use crate::sensor_failure::SensorFailure;
 use crate::sitl::PlantChange;
 
 /// A rotor that stops at a simulated time.
@@ -29,11 +31,41 @@ impl std::str::FromStr for ScheduledFailure {
     }
 }
 
-/// The rotor failures still to come for a vehicle of a given rotor count.
+/// A sensor that fails (or recovers) at a simulated time.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ScheduledSensorFailure {
+    /// Which sensor and how.
+    pub failure: SensorFailure,
+    /// Simulated time it happens [s].
+    pub at_s: f64,
+}
+
+impl std::str::FromStr for ScheduledSensorFailure {
+    type Err = String;
+
+    /// `UNIT:TYPE@SECONDS`, e.g. `gps:off@20`: the GPS goes off 20 s after start.
+    fn from_str(text: &str) -> Result<Self, String> {
+        let bad = |why: String| format!("--fail {text}: {why}");
+        let (failure, at) = text
+            .split_once('@')
+            .ok_or_else(|| bad("expected UNIT:TYPE@SECONDS, e.g. gps:off@20".into()))?;
+        let failure: SensorFailure = failure.parse().map_err(bad)?;
+        let at_s: f64 = at
+            .trim()
+            .parse()
+            .ok()
+            .filter(|t: &f64| t.is_finite() && *t >= 0.0)
+            .ok_or_else(|| bad(format!("\"{at}\" is not a time >= 0 in seconds")))?;
+        Ok(Self { failure, at_s })
+    }
+}
+
+/// The rotor and sensor failures still to come for a vehicle of a given rotor count.
 #[derive(Debug, Clone, Default)]
 pub struct FailureSchedule {
     rotors: usize,
     scheduled: Vec<ScheduledFailure>,
+    sensors: Vec<ScheduledSensorFailure>,
 }
 
 impl FailureSchedule {
@@ -42,7 +74,13 @@ impl FailureSchedule {
         Self {
             rotors,
             scheduled: Vec::new(),
+            sensors: Vec::new(),
         }
+    }
+
+    /// Schedules a sensor failure.
+    pub fn schedule_sensor(&mut self, failure: ScheduledSensorFailure) {
+        self.sensors.push(failure);
     }
 
     /// Schedules `failure`; refused naming what is wrong.
@@ -65,7 +103,7 @@ impl FailureSchedule {
 
     /// Nothing left to fail.
     pub fn is_empty(&self) -> bool {
-        self.scheduled.is_empty()
+        self.scheduled.is_empty() && self.sensors.is_empty()
     }
 
     /// Removes the failures due at simulated time `t_s` [s] and hands each to `apply` as the
@@ -78,6 +116,13 @@ impl FailureSchedule {
                     rotors: f.rotor - 1..f.rotor,
                     failed: true,
                 });
+            }
+            !due
+        });
+        self.sensors.retain(|f| {
+            let due = f.at_s <= t_s;
+            if due {
+                apply(PlantChange::Sensor(f.failure));
             }
             !due
         });
@@ -123,6 +168,29 @@ mod tests {
         );
         assert!(!f.is_empty());
         f.take_due(3.0, |_| {});
+        assert!(f.is_empty());
+    }
+
+    #[test]
+    fn sensor_failures_parse_and_fall_due() {
+        let gps_off: ScheduledSensorFailure = "gps:off@20".parse().unwrap();
+        assert_eq!(gps_off.at_s, 20.0);
+        assert_eq!(gps_off.failure, "gps:off".parse().unwrap());
+        for (bad, why) in [
+            ("gps:off", "UNIT:TYPE@SECONDS"),
+            ("gps:off@-1", "not a time"),
+            ("sonar:off@1", "unknown sensor"),
+        ] {
+            let e = bad.parse::<ScheduledSensorFailure>().unwrap_err();
+            assert!(e.starts_with(&format!("--fail {bad}: ")) && e.contains(why), "{e}");
+        }
+        let mut f = FailureSchedule::new(4);
+        f.schedule_sensor(gps_off);
+        let mut changes = Vec::new();
+        f.take_due(19.9, |c| changes.push(c));
+        assert!(changes.is_empty() && !f.is_empty());
+        f.take_due(20.0, |c| changes.push(c));
+        assert_eq!(changes, vec![PlantChange::Sensor(gps_off.failure)]);
         assert!(f.is_empty());
     }
 }

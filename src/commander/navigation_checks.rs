@@ -1,0 +1,213 @@
+//! What the navigation estimate allows (PX4's mode requirements, pre-arm checks and
+//! position-loss failsafe, docs/mavlink.md §11.2): a mode that needs a position cannot be
+//! entered or armed in without a valid one, and a vehicle that loses its position in flight in
+//! such a mode descends level at the landing speed until it touches down ("descend"; PX4 shows
+//! it as AUTO.LAND), or with `COM_POSCTL_NAVL` = 0 and live sticks in POSCTL falls back to
+//! ALTCTL. The height and the attitude still come from the estimate. Pure.
+
+use super::{Commander, Event, FlightMode, Outcome};
+use crate::control::{FlatSetpoint, VehicleState};
+
+/// Whether the estimate can be flown on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NavValidity {
+    /// Roll, pitch and heading are known.
+    pub attitude: bool,
+    /// Horizontal position and velocity are known.
+    pub horizontal: bool,
+    /// Height and vertical velocity are known.
+    pub vertical: bool,
+}
+
+impl NavValidity {
+    /// Everything known (the state sensor).
+    pub const EXACT: Self = Self {
+        attitude: true,
+        horizontal: true,
+        vertical: true,
+    };
+}
+
+impl Default for NavValidity {
+    fn default() -> Self {
+        Self::EXACT
+    }
+}
+
+impl FlightMode {
+    /// True for the modes that hold or steer to a position: POSCTL, the AUTO modes, OFFBOARD,
+    /// orbit and follow-me.
+    pub fn needs_position(self) -> bool {
+        !matches!(
+            self,
+            Self::Manual | Self::Altitude | Self::Acro | Self::Stabilized | Self::Land
+        )
+    }
+
+    /// True for the modes that hold a height: every mode but MANUAL, ACRO and STABILIZED.
+    pub fn needs_height(self) -> bool {
+        !self.manual_thrust()
+    }
+}
+
+impl Commander {
+    /// The validity of the latest estimate.
+    pub fn navigation(&self) -> NavValidity {
+        self.nav
+    }
+
+    /// True when arming now would pass the navigation checks of the current mode (SYS_STATUS's
+    /// pre-arm bit).
+    pub fn navigation_armable(&self) -> bool {
+        self.navigation_refusal(self.mode, true).is_none()
+    }
+
+    /// True while the vehicle descends without a position (the position-loss failsafe).
+    pub fn descending_blind(&self) -> bool {
+        self.blind_descent
+    }
+
+    /// Each tick, before the other failsafes: the estimate's validity `v` with the vehicle in
+    /// (estimated) state `x` at `t_s` [s]; what the commander did about it.
+    pub fn check_navigation(&mut self, v: NavValidity, x: &VehicleState, t_s: f64) -> Vec<Event> {
+        let mut events = Vec::new();
+        if v.horizontal != self.nav.horizontal && self.armed {
+            let text = if v.horizontal {
+                "Position estimate valid again"
+            } else {
+                "Position estimate lost"
+            };
+            events.push(Event::Failsafe(text.into()));
+        }
+        self.nav = v;
+        if !self.armed {
+            self.blind_descent = false;
+            return events;
+        }
+        if v.horizontal || !self.in_air() || !self.mode.needs_position() || self.blind_descent {
+            return events;
+        }
+        let sticks = self.sticks_alive(t_s);
+        if self.mode == FlightMode::Position && sticks && !self.params.position_loss_lands && v.vertical {
+            self.enter(FlightMode::Altitude, x, t_s);
+            events.push(Event::Failsafe("No position estimate: switching to Altitude mode".into()));
+            events.push(Event::ModeChanged(FlightMode::Altitude));
+            return events;
+        }
+        self.blind_descent = true;
+        self.enter(FlightMode::Land, x, t_s);
+        events.push(Event::Failsafe("No position estimate: descending".into()));
+        events.push(Event::ModeChanged(FlightMode::Land));
+        events
+    }
+
+    /// Why `mode` cannot be flown (or armed in, `arming`) on the current estimate, if it cannot.
+    pub(super) fn navigation_refusal(&self, mode: FlightMode, arming: bool) -> Option<Outcome> {
+        let what = if arming {
+            "Arming denied".to_string()
+        } else {
+            format!("Mode {}", mode.name())
+        };
+        let v = self.nav;
+        let missing = if arming && !v.attitude {
+            "attitude estimate not aligned"
+        } else if mode.needs_position() && !v.horizontal {
+            "no valid position estimate"
+        } else if mode.needs_height() && !v.vertical {
+            "no valid height estimate"
+        } else {
+            return None;
+        };
+        Some(Outcome::TemporarilyRejected(format!("{what}: {missing}")))
+    }
+
+    /// A descent without a position holds no horizontal position or velocity: the setpoint
+    /// takes them from the estimate, so only height and heading are controlled and the
+    /// attitude stays level.
+    pub(super) fn without_horizontal(sp: FlatSetpoint, x: &VehicleState) -> FlatSetpoint {
+        let keep_z = |v: Option<crate::math::Vec3>, now: crate::math::Vec3| {
+            v.map(|v| crate::math::Vec3::new(now.x, now.y, v.z))
+        };
+        FlatSetpoint {
+            pos_w: keep_z(sp.pos_w, x.pos_w),
+            vel_w: keep_z(sp.vel_w, x.vel_w),
+            acc_w: keep_z(sp.acc_w, crate::math::Vec3::zeros()),
+            ..sp
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::script::Script;
+    use super::super::{CommanderParams, Request};
+    use super::*;
+
+    const NO_POSITION: NavValidity = NavValidity {
+        attitude: true,
+        horizontal: false,
+        vertical: true,
+    };
+
+    #[test]
+    fn arming_and_modes_wait_for_the_estimate() {
+        let mut s = Script::new(CommanderParams::default());
+        s.c.check_navigation(
+            NavValidity {
+                attitude: false,
+                ..NO_POSITION
+            },
+            &s.x.clone(),
+            0.0,
+        );
+        assert_eq!(
+            s.request(Request::Arm { force: false }),
+            Outcome::TemporarilyRejected("Arming denied: attitude estimate not aligned".into())
+        );
+        s.c.check_navigation(NO_POSITION, &s.x.clone(), 0.0);
+        assert_eq!(
+            s.request(Request::Arm { force: false }),
+            Outcome::TemporarilyRejected("Arming denied: no valid position estimate".into()),
+            "AUTO.LOITER holds a position"
+        );
+        assert_eq!(
+            s.request(Request::SetMode(FlightMode::Mission)),
+            Outcome::TemporarilyRejected("Mode AUTO.MISSION: no valid position estimate".into())
+        );
+        s.c.check_navigation(NavValidity::EXACT, &s.x.clone(), 0.0);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    }
+
+    #[test]
+    fn a_lost_position_in_flight_descends_level_to_the_ground_and_disarms() {
+        let mut s = Script::new(CommanderParams::default());
+        s.airborne(10.0);
+        let x = s.x;
+        let events = s.c.check_navigation(NO_POSITION, &x, s.t());
+        assert_eq!(
+            events,
+            vec![
+                Event::Failsafe("Position estimate lost".into()),
+                Event::Failsafe("No position estimate: descending".into()),
+                Event::ModeChanged(FlightMode::Land)
+            ]
+        );
+        assert!(s.c.descending_blind());
+        // The setpoints carry no horizontal correction: the estimate's own position and
+        // velocity, no horizontal acceleration.
+        s.x.pos_w.x += 3.0;
+        s.x.vel_w.y = 0.4;
+        s.step();
+        let sp = s.last.as_ref().and_then(|t| t.setpoint).expect("flying");
+        let (p, v, a) = (sp.pos_w.unwrap(), sp.vel_w.unwrap(), sp.acc_w.unwrap());
+        assert_eq!((p.x, v.y, a.x, a.y), (s.x.pos_w.x, 0.4, 0.0, 0.0));
+        assert!(v.z > 0.0, "descending");
+        assert_eq!(
+            s.request(Request::SetMode(FlightMode::ReturnToLaunch)),
+            Outcome::TemporarilyRejected("Mode AUTO.RTL: no valid position estimate".into())
+        );
+        s.x.vel_w.y = 0.0;
+        assert!(s.fly_until(60.0, |s| !s.c.armed()), "lands and disarms");
+        assert!(!s.c.descending_blind());
+    }
+}

@@ -1,0 +1,254 @@
+//! What the flight controller knows of its own state: the state sensor's reading as it is, or
+//! the navigation filter's estimate from the sensor suite (docs/navigation_filter.md). Pure: one
+//! [`Navigator::update`] per tick with that tick's readings.
+
+use crate::commander::NavValidity;
+use crate::control::VehicleState;
+use crate::math::{Mat3, Vec3};
+use crate::nav_filter::{
+    BaroReading, GpsReading, HeightSource, MagReading, NavFilter, NavParams, NavParamsError, NavStatus, SourceHealth,
+    SourceStatus,
+};
+use crate::telemetry::{FilterSnapshot, GpsSnapshot, NavSnapshot, SensorHealth};
+use crate::sitl::Sensors;
+
+/// An IMU that has been silent this long counts as failed [s].
+const IMU_TIMEOUT_S: f64 = 0.1;
+
+/// The latest raw readings, for telemetry.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct LatestReadings {
+    imu_s: Option<f64>,
+    gps: Option<GpsReading>,
+    mag: Option<MagReading>,
+    baro: Option<BaroReading>,
+}
+
+/// The state sensor passed through, or the navigation filter.
+#[derive(Debug, Clone)]
+pub struct Navigator {
+    filter: NavFilter,
+    /// The latest state flown on; `None` before the first tick.
+    latest: Option<VehicleState>,
+    /// The filter ran this flight (the sensor suite is read).
+    filtering: bool,
+    readings: LatestReadings,
+    /// What the last tick's announcements were about: (GPS, barometer, magnetometer) usable,
+    /// and the height source.
+    announced: Option<(bool, bool, bool, HeightSource)>,
+}
+
+impl Navigator {
+    /// A navigator whose filter, when the sensor suite is read, has `params`.
+    pub fn new(params: NavParams) -> Result<Self, NavParamsError> {
+        Ok(Self {
+            filter: NavFilter::new(params)?,
+            latest: None,
+            filtering: false,
+            readings: LatestReadings::default(),
+            announced: None,
+        })
+    }
+
+    /// The filter's settings.
+    pub fn params(&self) -> &NavParams {
+        self.filter.params()
+    }
+
+    /// Changes the filter's settings (the estimate carries on).
+    pub fn set_params(&mut self, params: NavParams) -> Result<(), NavParamsError> {
+        self.filter.set_params(params)
+    }
+
+    /// The state for tick `t_s` [s] from its readings: the state sensor's when there is one,
+    /// else the filter's estimate after predicting with the IMU sample and fusing whatever
+    /// arrived (GPS, barometer, magnetometer), in the local NED frame of the readings.
+    pub fn update(&mut self, t_s: f64, sensors: &Sensors) -> VehicleState {
+        if let Some(x) = sensors.state {
+            self.latest = Some(x);
+            return x;
+        }
+        self.filtering = true;
+        if let Some(imu) = &sensors.imu {
+            self.filter.predict(imu);
+            self.readings.imu_s = Some(imu.t_s);
+        }
+        if let Some(gps) = &sensors.gps {
+            self.filter.fuse_gps(gps);
+            self.readings.gps = Some(*gps);
+        }
+        if let Some(baro) = &sensors.baro {
+            self.filter.fuse_baro(baro);
+            self.readings.baro = Some(*baro);
+        }
+        if let Some(mag) = &sensors.mag {
+            self.filter.fuse_mag(mag);
+            self.readings.mag = Some(*mag);
+        }
+        let x = self.filter_state(t_s);
+        self.latest = Some(x);
+        x
+    }
+
+    /// The filter's estimate as a vehicle state at `t_s` [s], position in the readings' frame.
+    fn filter_state(&self, t_s: f64) -> VehicleState {
+        let e = self.filter.estimate();
+        let origin = self.filter.status().origin_w.unwrap_or_else(Vec3::zeros);
+        VehicleState {
+            t_s,
+            pos_w: e.pos_w + origin,
+            vel_w: e.vel_w,
+            r_wb: Mat3::from(e.q_wb.to_rotation_matrix()),
+            omega_b: e.omega_b,
+        }
+    }
+
+    /// What changed in the sensors the filter uses since the last call, as announcements (a
+    /// sensor lost or back, the height source switched); empty with the state sensor and before
+    /// the filter is aligned.
+    pub fn announcements(&mut self) -> Vec<String> {
+        let Some(status) = self.status().filter(|s| s.attitude_valid) else {
+            return Vec::new();
+        };
+        let usable = |s: &SourceStatus| matches!(s.health, SourceHealth::Fused | SourceHealth::Rejected);
+        let now = (
+            usable(&status.gps),
+            usable(&status.baro),
+            usable(&status.mag),
+            status.active_height,
+        );
+        let Some(before) = self.announced.replace(now) else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        let change = |was: bool, is: bool, lost: &str, back: &str, out: &mut Vec<String>| {
+            if was != is {
+                out.push(if is { back } else { lost }.to_string());
+            }
+        };
+        change(before.0, now.0, "GPS lost: dead reckoning", "GPS regained", &mut out);
+        change(before.1, now.1, "Barometer lost", "Barometer regained", &mut out);
+        change(
+            before.2,
+            now.2,
+            "Compass lost: heading held on the gyroscope",
+            "Compass regained",
+            &mut out,
+        );
+        if before.3 != now.3 {
+            out.push(match now.3 {
+                HeightSource::Gps => "Height source: GPS".to_string(),
+                HeightSource::Baro => "Height source: barometer".to_string(),
+            });
+        }
+        out
+    }
+
+    /// The latest state flown on, `None` before the first tick.
+    pub fn latest(&self) -> Option<VehicleState> {
+        self.latest
+    }
+
+    /// The filter's report, `None` while the state sensor is read.
+    pub fn status(&self) -> Option<NavStatus> {
+        self.filtering.then(|| self.filter.status())
+    }
+
+    /// What the estimate can be flown on for.
+    pub fn validity(&self) -> NavValidity {
+        match self.status() {
+            None => NavValidity::EXACT,
+            Some(s) => NavValidity {
+                attitude: s.attitude_valid && s.yaw_aligned,
+                horizontal: s.horizontal_position_valid && s.velocity_valid,
+                vertical: s.vertical_position_valid,
+            },
+        }
+    }
+}
+
+impl Navigator {
+    /// What the links report of the navigation at `t_s` [s]; `armable` is the commander's
+    /// verdict on arming now.
+    pub fn snapshot(&self, t_s: f64, armable: bool) -> NavSnapshot {
+        let Some(status) = self.status() else {
+            return NavSnapshot {
+                armable,
+                ..NavSnapshot::EXACT
+            };
+        };
+        let validity = self.validity();
+        let fused = |s: &SourceStatus| s.health == SourceHealth::Fused;
+        let imu = self.readings.imu_s.is_some_and(|t| t_s - t <= IMU_TIMEOUT_S);
+        let e = self.filter.estimate();
+        let mut flags = 0u16;
+        for (bit, on) in [
+            (ESTIMATOR_ATTITUDE, status.attitude_valid),
+            (ESTIMATOR_VELOCITY_HORIZ, status.velocity_valid),
+            (ESTIMATOR_VELOCITY_VERT, status.velocity_valid || status.vertical_position_valid),
+            (ESTIMATOR_POS_HORIZ_REL, validity.horizontal),
+            (ESTIMATOR_POS_HORIZ_ABS, validity.horizontal && status.origin_w.is_some()),
+            (ESTIMATOR_POS_VERT_ABS, validity.vertical),
+            (ESTIMATOR_POS_VERT_AGL, validity.vertical),
+            (ESTIMATOR_CONST_POS_MODE, status.position_hold),
+            (ESTIMATOR_PRED_POS_HORIZ_REL, validity.horizontal),
+            (ESTIMATOR_PRED_POS_HORIZ_ABS, validity.horizontal && status.origin_w.is_some()),
+            (ESTIMATOR_GPS_GLITCH, status.gps.health == SourceHealth::Rejected),
+        ] {
+            if on {
+                flags |= bit;
+            }
+        }
+        let r = status.test_ratios;
+        NavSnapshot {
+            validity,
+            armable,
+            sensors: SensorHealth {
+                gyro: imu,
+                accel: imu,
+                mag: fused(&status.mag),
+                baro: fused(&status.baro),
+                gps: fused(&status.gps) && validity.horizontal,
+            },
+            gps: self.readings.gps.map(|g| GpsSnapshot {
+                pos_w: g.pos_w,
+                vel_w: g.vel_w,
+                acc_m: (g.h_acc_m, g.v_acc_m),
+                speed_acc_m_s: g.speed_acc_m_s,
+                fix_3d: g.fix_3d,
+                satellites: g.satellites,
+            }),
+            mag_b: self.readings.mag.map(|m| m.field_b),
+            baro: self.readings.baro.map(|b| (b.pressure_pa, b.temperature_c)),
+            filter: Some(FilterSnapshot {
+                flags,
+                test_ratios: [
+                    r.gps_velocity,
+                    r.gps_horizontal,
+                    r.gps_height.max(r.baro_height),
+                    r.heading,
+                    match status.active_height {
+                        HeightSource::Baro => r.baro_height,
+                        HeightSource::Gps => r.gps_height,
+                    },
+                ],
+                pos_std_m: (e.pos_std_w.xy().norm(), e.pos_std_w.z),
+                vel_std_m_s: e.vel_std_w.max(),
+                heading_std_rad: e.att_std_w.z,
+            }),
+        }
+    }
+}
+
+/// ESTIMATOR_STATUS_FLAGS (MAVLink common).
+const ESTIMATOR_ATTITUDE: u16 = 1;
+const ESTIMATOR_VELOCITY_HORIZ: u16 = 2;
+const ESTIMATOR_VELOCITY_VERT: u16 = 4;
+const ESTIMATOR_POS_HORIZ_REL: u16 = 8;
+const ESTIMATOR_POS_HORIZ_ABS: u16 = 16;
+const ESTIMATOR_POS_VERT_ABS: u16 = 32;
+const ESTIMATOR_POS_VERT_AGL: u16 = 64;
+const ESTIMATOR_CONST_POS_MODE: u16 = 128;
+const ESTIMATOR_PRED_POS_HORIZ_REL: u16 = 256;
+const ESTIMATOR_PRED_POS_HORIZ_ABS: u16 = 512;
+const ESTIMATOR_GPS_GLITCH: u16 = 1024;

@@ -1,0 +1,100 @@
+//! What the navigation tells ground stations (docs/mavlink.md §4): GPS_RAW_INT from the GPS
+//! reading, ESTIMATOR_STATUS from the navigation filter, and the magnetometer and barometer of
+//! HIGHRES_IMU. With the state sensor (no sensor suite) GPS_RAW_INT reports the estimate as a
+//! perfect 3D fix and ESTIMATOR_STATUS every estimate good. Pure.
+
+use mavlink::dialects::common::{EstimatorStatusFlags, GpsFixType, MavMessage, ESTIMATOR_STATUS_DATA, GPS_RAW_INT_DATA};
+
+use crate::math::Vec3;
+use crate::telemetry::Snapshot;
+
+/// GPS_RAW_INT: the latest GPS reading (position as latitude, longitude and altitude AMSL about
+/// home, accuracies, speed and course, fix and satellites); without a GPS, the estimate.
+pub(super) fn gps_raw_int(s: &Snapshot) -> MavMessage {
+    let time_usec = (s.t_s * 1e6) as u64;
+    let (pos_w, vel_w, (h_acc, v_acc), speed_acc, fix, sats) = match s.nav.gps {
+        Some(g) => (
+            g.pos_w,
+            g.vel_w,
+            g.acc_m,
+            g.speed_acc_m_s,
+            if g.fix_3d {
+                GpsFixType::GPS_FIX_TYPE_3D_FIX
+            } else {
+                GpsFixType::GPS_FIX_TYPE_NO_FIX
+            },
+            g.satellites,
+        ),
+        None => (s.pos_w, s.vel_w, (0.8, 1.2), 0.2, GpsFixType::GPS_FIX_TYPE_3D_FIX, 12),
+    };
+    let (lat, lon, alt) = s.home.to_global(&pos_w);
+    let mm = |m: f64| (m * 1000.0).round().clamp(0.0, f64::from(u32::MAX)) as u32;
+    MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
+        time_usec,
+        lat: (lat * 1e7).round() as i32,
+        lon: (lon * 1e7).round() as i32,
+        alt: (alt * 1000.0).round() as i32,
+        eph: (h_acc * 100.0).round().clamp(0.0, 65_534.0) as u16,
+        epv: (v_acc * 100.0).round().clamp(0.0, 65_534.0) as u16,
+        vel: (vel_w.xy().norm() * 100.0).round().clamp(0.0, 65_534.0) as u16,
+        cog: course_cdeg(&vel_w),
+        fix_type: fix,
+        satellites_visible: sats,
+        h_acc: mm(h_acc),
+        v_acc: mm(v_acc),
+        vel_acc: mm(speed_acc),
+        ..Default::default()
+    })
+}
+
+/// Course over ground [cdeg], UINT16_MAX when not moving.
+fn course_cdeg(vel_w: &Vec3) -> u16 {
+    if vel_w.xy().norm() < 0.1 {
+        return u16::MAX;
+    }
+    (vel_w.y.atan2(vel_w.x).to_degrees().rem_euclid(360.0) * 100.0).round() as u16 % 36000
+}
+
+/// ESTIMATOR_STATUS: the filter's validity flags, test ratios and accuracies (PX4's message);
+/// with the state sensor every estimate good and every ratio 0.
+pub(super) fn estimator_status(s: &Snapshot) -> MavMessage {
+    let time_usec = (s.t_s * 1e6) as u64;
+    let Some(f) = s.nav.filter else {
+        return MavMessage::ESTIMATOR_STATUS(ESTIMATOR_STATUS_DATA {
+            time_usec,
+            flags: EstimatorStatusFlags::from_bits_truncate(0x3FF & !0x80),
+            ..Default::default()
+        });
+    };
+    let [vel, pos_h, pos_v, mag, _height] = f.test_ratios.map(|r| r as f32);
+    MavMessage::ESTIMATOR_STATUS(ESTIMATOR_STATUS_DATA {
+        time_usec,
+        vel_ratio: vel,
+        pos_horiz_ratio: pos_h,
+        pos_vert_ratio: pos_v,
+        mag_ratio: mag,
+        hagl_ratio: 0.0,
+        tas_ratio: 0.0,
+        pos_horiz_accuracy: f.pos_std_m.0 as f32,
+        pos_vert_accuracy: f.pos_std_m.1 as f32,
+        flags: EstimatorStatusFlags::from_bits_truncate(f.flags),
+    })
+}
+
+/// The magnetometer [gauss] and barometer (pressure [hPa], temperature [°C]) of HIGHRES_IMU: the
+/// readings, or without the sensor suite a fixed Earth field about Zürich rotated into the body
+/// and the ISA pressure at the estimated altitude.
+pub(super) fn mag_and_baro(s: &Snapshot) -> (Vec3, f64, f64) {
+    let mag_b = s.nav.mag_b.unwrap_or_else(|| {
+        let mag_w = Vec3::new(0.21, 0.015, 0.43);
+        crate::math::UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z).inverse() * mag_w
+    });
+    let (pressure_hpa, temperature_c) = match s.nav.baro {
+        Some((pa, c)) => (pa / 100.0, c),
+        None => {
+            let alt = s.home.to_global(&s.pos_w).2;
+            (1013.25 * (1.0 - 2.25577e-5 * alt).powf(5.25588), 20.0)
+        }
+    };
+    (mag_b, pressure_hpa, temperature_c)
+}
