@@ -25,6 +25,8 @@
 //! - [`montecarlo`]: `rotorpilot montecarlo`: random initial states and wrenches in an envelope,
 //!   convergence rate per law (sampling, runs and statistics pure; threads in its runner).
 //! - [`mav`]: MAVLink codec (datagram ↔ frames, hand-built ACK for unknown commands).
+//! - [`nav_filter`]: the navigation filter: an error-state EKF (PX4 EKF2's structure) fusing IMU,
+//!   delayed GNSS, barometer and magnetometer readings (docs/navigation_filter.md).
 //! - [`navigation`]: setpoint generators (take-off climb; hover, quintic, waypoint and circle
 //!   trajectories with a `[trajectory]` TOML spec).
 //! - [`params`]: the parameter table (PX4 and RP_ names), each parameter declared once as a row,
@@ -56,6 +58,7 @@ pub mod lockstep;
 pub mod math;
 pub mod mav;
 pub mod montecarlo;
+pub mod nav_filter;
 pub mod navigation;
 pub mod params;
 pub mod report;

@@ -26,7 +26,7 @@ hits=$(code "$step" --include='*.rs' src tests benches | grep -vE '^src/(sitl|lo
 n=$(code "$step" src | grep -c '^src/lockstep/mod\.rs:' || true)
 [ "$n" -eq 1 ] || complain "src/lockstep/mod.rs must step the plant exactly once (Lockstep::step), found $n" ""
 
-pure="src/math.rs src/ulog src/rpy.rs src/flight src/lockstep src/sitl.rs src/commander src/mav src/params src/telemetry.rs src/scenario src/airframe src/allocation src/control src/estimation src/navigation src/report src/montecarlo/envelope.rs src/montecarlo/authority.rs src/montecarlo/trial.rs src/montecarlo/judging.rs src/montecarlo/stats.rs src/montecarlo/report.rs firmware-sim/src"
+pure="src/math.rs src/ulog src/rpy.rs src/flight src/lockstep src/sitl.rs src/commander src/mav src/params src/telemetry.rs src/scenario src/airframe src/allocation src/control src/estimation src/nav_filter src/navigation src/report src/montecarlo/envelope.rs src/montecarlo/authority.rs src/montecarlo/trial.rs src/montecarlo/judging.rs src/montecarlo/stats.rs src/montecarlo/report.rs firmware-sim/src"
 for path in $pure; do
     [ -e "$path" ] || complain "pure-module list names a missing path" "$path"
 done

@@ -1,0 +1,218 @@
+//! Navigation filter: an error-state extended Kalman filter with PX4 EKF2's structure
+//! (docs/navigation_filter.md): a nominal state integrated at every IMU sample, a 16-state
+//! error covariance predicted at `predict_period_s` from accumulated increments, and sequential
+//! scalar fusion of GNSS position and velocity (delayed), barometric height and magnetic
+//! heading, each behind an innovation gate. Pure: readings (time included) in, values out; no
+//! heap use after [`NavFilter::new`].
+//!
+//! # Layout
+//!
+//! - `params`: [`NavParams`] (PX4's `EKF2_*` values in SI units) and [`HeightSource`].
+//! - `readings`: the FC-side sensor readings [`ImuReading`], [`GpsReading`], [`BaroReading`],
+//!   [`MagReading`].
+//! - `state`: nominal state, error-state layout (`ERR_*`), injection.
+//! - `predict`: nominal integration per IMU sample, increments, covariance prediction timing.
+//! - `covariance`: Φ, Q, the gated sequential scalar update, variance limits, resets.
+//! - `delay_buffer`: the fixed-size state history for delayed measurements.
+//! - `alignment`: roll and pitch from the accelerometer, yaw from the magnetometer, initial P.
+//! - `fuse_gps`, `fuse_baro`, `fuse_mag`: the measurement models and their fusion.
+//! - `height`: which height source is active, fall-back and return.
+//! - `aiding`: dead reckoning, validity, the position-hold pseudo-measurement.
+//! - `fusion`, `status`, `estimate`: what the filter returns.
+//! - `isa`: ISA pressure altitude.
+
+mod aiding;
+mod alignment;
+mod covariance;
+mod delay_buffer;
+mod estimate;
+mod fuse_baro;
+mod fuse_gps;
+mod fuse_mag;
+mod fusion;
+mod height;
+pub mod isa;
+mod params;
+mod predict;
+mod readings;
+mod state;
+mod status;
+
+#[cfg(test)]
+mod tests;
+
+pub use aiding::DEAD_RECKONING_AFTER_S;
+pub use estimate::NavEstimate;
+pub use fusion::{Fusion, GpsFusion, Outcome, SkipReason};
+pub use params::{HeightSource, NavParams, NavParamsError, MAX_DELAY_S};
+pub use readings::{BaroReading, GpsReading, ImuReading, MagReading};
+pub use state::{
+    Covariance, ErrorVector, ERR_ACCEL_BIAS, ERR_ATT, ERR_BARO_OFFSET, ERR_GYRO_BIAS, ERR_POS, ERR_VEL, STATE_DIM,
+};
+pub use status::{Innovations, NavStatus, ResetCounters, SourceHealth, SourceStatus, TestRatios};
+
+use crate::math::Vec3;
+
+use aiding::Aiding;
+use alignment::Aligner;
+use covariance::Increments;
+use delay_buffer::DelayBuffer;
+use height::HeightSelection;
+use state::{part, Nominal};
+use status::SourceTrack;
+
+/// The navigation filter (docs/navigation_filter.md).
+#[derive(Debug, Clone)]
+pub struct NavFilter {
+    params: NavParams,
+    x: Nominal,
+    p: Covariance,
+    /// Time of the latest IMU sample [s].
+    t_s: f64,
+    last_imu: Option<ImuReading>,
+    omega_b: Vec3,
+    increments: Increments,
+    buffer: DelayBuffer,
+    aligner: Aligner,
+    aligned: bool,
+    yaw_aligned: bool,
+    /// tan of the field's inclination, taken when the yaw is set from the magnetometer.
+    mag_tan_inclination: Option<f64>,
+    origin_w: Option<Vec3>,
+    baro_origin_m: Option<f64>,
+    height: HeightSelection,
+    aiding: Aiding,
+    gps: SourceTrack,
+    baro: SourceTrack,
+    mag: SourceTrack,
+    ratios: TestRatios,
+    innovations: Innovations,
+    resets: ResetCounters,
+    imu_dropped: u32,
+}
+
+impl NavFilter {
+    /// A filter waiting for its alignment at rest (docs/navigation_filter.md §11); the only
+    /// allocation is the state history.
+    pub fn new(params: NavParams) -> Result<Self, NavParamsError> {
+        params.validate()?;
+        Ok(Self {
+            params,
+            x: Nominal::default(),
+            p: Covariance::zeros(),
+            t_s: 0.0,
+            last_imu: None,
+            omega_b: Vec3::zeros(),
+            increments: Increments::default(),
+            buffer: DelayBuffer::new(),
+            aligner: Aligner::default(),
+            aligned: false,
+            yaw_aligned: false,
+            mag_tan_inclination: None,
+            origin_w: None,
+            baro_origin_m: None,
+            height: HeightSelection::new(params.height_ref),
+            aiding: Aiding::default(),
+            gps: SourceTrack::default(),
+            baro: SourceTrack::default(),
+            mag: SourceTrack::default(),
+            ratios: TestRatios::default(),
+            innovations: Innovations::default(),
+            resets: ResetCounters::default(),
+            imu_dropped: 0,
+        })
+    }
+
+    /// Replaces the parameters, keeping the state; a new height reference becomes the active
+    /// height source (docs/navigation_filter.md §9).
+    pub fn set_params(&mut self, params: NavParams) -> Result<(), NavParamsError> {
+        params.validate()?;
+        let new_ref = params.height_ref != self.params.height_ref;
+        self.params = params;
+        if new_ref {
+            self.height.reference = params.height_ref;
+            if self.height.active != params.height_ref {
+                self.switch_height_source(params.height_ref);
+            }
+        }
+        Ok(())
+    }
+
+    /// The parameters in use.
+    pub fn params(&self) -> &NavParams {
+        &self.params
+    }
+
+    /// The current navigation solution (docs/navigation_filter.md §1, eqs. (1.1)–(1.2)).
+    pub fn estimate(&self) -> NavEstimate {
+        let std = |i: usize| Vec3::new(self.p[(i, i)], self.p[(i + 1, i + 1)], self.p[(i + 2, i + 2)]).map(f64::sqrt);
+        NavEstimate {
+            t_s: self.t_s,
+            pos_w: self.x.pos_w,
+            vel_w: self.x.vel_w,
+            q_wb: self.x.q_wb,
+            omega_b: self.omega_b,
+            accel_bias_b: self.x.accel_bias_b,
+            gyro_bias_b: self.x.gyro_bias_b,
+            baro_offset_m: self.x.baro_offset_m,
+            pos_std_w: std(ERR_POS),
+            vel_std_w: std(ERR_VEL),
+            att_std_w: std(ERR_ATT),
+        }
+    }
+
+    /// The filter's report on itself (docs/navigation_filter.md §12–§13).
+    pub fn status(&self) -> NavStatus {
+        let now = self.t_s;
+        let timeout = self.params.sensor_timeout_s;
+        let since_aiding = self.aiding.last_aiding_s.map(|t| (now - t).max(0.0));
+        let aided = self.aligned && since_aiding.is_some_and(|s| s <= self.params.noaid_timeout_s);
+        NavStatus {
+            t_s: now,
+            attitude_valid: self.aligned,
+            yaw_aligned: self.yaw_aligned,
+            horizontal_position_valid: aided && self.origin_w.is_some(),
+            vertical_position_valid: self.aligned && self.height_fused_recently(),
+            velocity_valid: aided,
+            dead_reckoning: self.aligned && since_aiding.is_some_and(|s| s > DEAD_RECKONING_AFTER_S),
+            position_hold: self.aligned && self.aiding.hold_pos_w.is_some(),
+            time_since_aiding_s: since_aiding,
+            height_ref: self.height.reference,
+            active_height: self.height.active,
+            gps: self.gps.status(now, timeout),
+            baro: self.baro.status(now, timeout),
+            mag: self.mag.status(now, timeout),
+            test_ratios: self.ratios,
+            innovations: self.innovations,
+            resets: self.resets,
+            origin_w: self.origin_w,
+            baro_origin_m: self.baro_origin_m,
+            imu_dropped: self.imu_dropped,
+        }
+    }
+
+    /// The error-state covariance P, ordered as the `ERR_*` indices
+    /// (docs/navigation_filter.md §1, eq. (1.2)).
+    pub fn covariance(&self) -> &Covariance {
+        &self.p
+    }
+
+    /// Oldest time a future measurement can refer to: now minus the longest configured delay,
+    /// with a margin of two IMU periods [s] (docs/navigation_filter.md §7, eq. (7.3)).
+    fn history_start_s(&self) -> f64 {
+        let p = &self.params;
+        self.t_s - p.gps_delay_s.max(p.baro_delay_s).max(p.mag_delay_s) - 0.002
+    }
+
+    /// Injects an error estimate into the nominal state and the state history
+    /// (docs/navigation_filter.md §5, eq. (5.7); docs/navigation_filter.md §7, eq. (7.3)).
+    fn apply(&mut self, dx: &ErrorVector) {
+        self.x.inject(dx);
+        self.buffer.correct(
+            self.history_start_s(),
+            &part(dx, ERR_POS),
+            &part(dx, ERR_VEL),
+            &part(dx, ERR_ATT),
+        );
+    }
+}
