@@ -120,12 +120,12 @@ pub struct FlightSummary {
 /// Flies a take-off to `altitude_m` and a hover with the chosen controller.
 pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, FlyError> {
     check_options(opts)?;
-    let (airframe, core, mut plant) = build(src, opts)?;
+    let (airframe, core, plant) = build(src, opts)?;
     let rotors = core.allocator().rotor_count();
     for w in plant.warnings() {
         tracing::warn!("{w}");
     }
-    let start = plant.sense();
+    let start = plant.true_state();
     let yaw = euler_zyx(&start.r_wb).z;
     let climb = ClimbProfile {
         start_w: start.pos_w,
@@ -149,7 +149,7 @@ pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, Fly
         }
         None => None,
     };
-    let mut lockstep = Lockstep::new(SetpointFollower::new(core, climb), plant, opts.dt_s);
+    let mut lockstep = Lockstep::new(SetpointFollower::new(core, climb).starting_at(&start), plant, opts.dt_s);
     let mut observer = (RunStats::default(), log, ulog);
 
     let ticks = (opts.duration_s / opts.dt_s).round() as u64;
@@ -197,7 +197,11 @@ pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, Fly
 fn build(src: &AirframeSource, opts: &FlyOptions) -> Result<(Airframe, FlightCore, SimPlant), SetupError> {
     let airframe = Airframe::from_source(src)?;
     let core = FlightCore::for_airframe(&airframe, opts.controller, opts.dt_s)?;
-    Ok((airframe, core, SimPlant::from_source(src, opts.seed)?.with_sensor_model(opts.sensors)))
+    Ok((
+        airframe,
+        core,
+        SimPlant::from_source(src, opts.seed)?.with_sensor_model(opts.sensors),
+    ))
 }
 
 fn check_options(o: &FlyOptions) -> Result<(), FlyError> {

@@ -365,6 +365,19 @@ impl SimPlant {
         }
     }
 
+    /// The exact state now, as a vehicle state: where a headless run starts its navigation
+    /// filter (never a controller input).
+    pub fn true_state(&self) -> VehicleState {
+        let t = self.plant.truth();
+        VehicleState {
+            t_s: t.t_s,
+            pos_w: t.body.pos_w,
+            vel_w: t.body.vel_w,
+            r_wb: t.body.q_wb.to_rotation_matrix().into_inner(),
+            omega_b: t.body.omega_b,
+        }
+    }
+
     /// True mass of the simulated vehicle [kg] (for reports, never for the controller).
     pub fn true_mass_kg(&self) -> f64 {
         self.plant.params().mass_kg

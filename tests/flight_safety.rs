@@ -4,13 +4,13 @@
 //! steps, yaw rates and half-turns of heading in offboard.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use rotorpilot::sitl::SensorModel;
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::commander::{Event, FlightMode, LandedState, Outcome, Request};
 use rotorpilot::control::{ControllerKind, FlatSetpoint};
 use rotorpilot::math::{wrap_pi, Vec3};
 use rotorpilot::navigation::{Home, Mission, MissionItem};
 use rotorpilot::runtime::vehicle::{TickOutput, Vehicle};
+use rotorpilot::sitl::SensorModel;
 
 const DT: f64 = 1e-3;
 

@@ -116,13 +116,13 @@ fn accel_and_mag_calibration_fail_with_the_reason_and_armed_vehicles_refuse() {
 }
 
 #[test]
-fn a_gps_failure_is_refused_by_name_and_a_motor_failure_reaches_the_vehicle() {
+fn an_optical_flow_failure_is_refused_by_name_and_gps_and_motor_failures_reach_the_vehicle() {
     let mut b = Bench::new();
-    // MAVSDK's failure.inject(SENSOR_GPS, OFF, instance=0).
+    // An optical-flow sensor is not simulated: UNSUPPORTED, with the reason.
     b.send(
         Api,
         SDK,
-        long(MavCmd::MAV_CMD_INJECT_FAILURE, [4.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+        long(MavCmd::MAV_CMD_INJECT_FAILURE, [5.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
     );
     let out = b.out();
     assert_eq!(acks(&out), vec![MavResult::MAV_RESULT_UNSUPPORTED]);
@@ -130,10 +130,24 @@ fn a_gps_failure_is_refused_by_name_and_a_motor_failure_reaches_the_vehicle() {
         texts(&out),
         vec![(
             MavSeverity::MAV_SEVERITY_WARNING,
-            "Failure injection: gps not simulated".to_string()
+            "Failure injection: optical_flow not simulated".to_string()
         )]
     );
     assert!(b.asks().is_empty());
+
+    // MAVSDK's failure.inject(SENSOR_GPS, OFF, instance=0): for the vehicle to answer.
+    b.send(
+        Api,
+        SDK,
+        long(MavCmd::MAV_CMD_INJECT_FAILURE, [4.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+    );
+    assert!(acks(&b.out()).is_empty(), "the vehicle answers");
+    let asks = b.asks();
+    let gps_off = "gps:off".parse().unwrap();
+    assert!(
+        matches!(&asks[..], [ask] if ask.request == VehicleRequest::Commander(Request::InjectSensorFailure(gps_off))),
+        "{asks:?}"
+    );
 
     // SYSTEM_MOTOR OFF, motor 1: for the vehicle to answer.
     b.send(

@@ -3,13 +3,13 @@
 //! (commander + flight core + plant), without sockets.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use rotorpilot::sitl::SensorModel;
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
 use rotorpilot::control::ControllerKind;
 use rotorpilot::lockstep::ScheduledFailure;
 use rotorpilot::navigation::Home;
 use rotorpilot::runtime::vehicle::Vehicle;
+use rotorpilot::sitl::SensorModel;
 
 struct Flight {
     events: Vec<Event>,
@@ -23,7 +23,15 @@ struct Flight {
 /// Takes off to 3 m, loses `rotor` at 6 s, runs until `seconds`.
 fn fly(preset: &str, rotor: usize, seconds: f64) -> Flight {
     let src = AirframeSource::resolve(preset).unwrap();
-    let mut v = Vehicle::new(&src, ControllerKind::Geometric, Home::default(), SensorModel::State, 0, 1e-3).unwrap();
+    let mut v = Vehicle::new(
+        &src,
+        ControllerKind::Geometric,
+        Home::default(),
+        SensorModel::State,
+        0,
+        1e-3,
+    )
+    .unwrap();
     v.schedule_rotor_failure(ScheduledFailure { rotor, at_s: 6.0 }).unwrap();
     assert_eq!(v.apply(Request::Takeoff { height_m: Some(3.0) }), Outcome::Accepted);
     assert_eq!(v.apply(Request::Arm { force: false }), Outcome::Accepted);
@@ -97,7 +105,15 @@ fn a_quadrotor_reports_gives_up_yaw_and_comes_down() {
 #[test]
 fn injection_needs_sys_failure_en() {
     let src = AirframeSource::resolve("hexa_x").unwrap();
-    let mut v = Vehicle::new(&src, ControllerKind::Geometric, Home::default(), SensorModel::State, 0, 1e-3).unwrap();
+    let mut v = Vehicle::new(
+        &src,
+        ControllerKind::Geometric,
+        Home::default(),
+        SensorModel::State,
+        0,
+        1e-3,
+    )
+    .unwrap();
     let inject = Request::InjectRotorFailure { rotor: 1, failed: true };
     assert!(matches!(v.apply(inject.clone()), Outcome::Denied(why) if why.contains("SYS_FAILURE_EN")));
     v.set_param("SYS_FAILURE_EN", 1.0).unwrap();

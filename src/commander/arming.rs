@@ -60,6 +60,7 @@ impl Commander {
     /// Motors off (explicit disarm, auto-disarm on the ground, or a termination).
     pub(super) fn disarm(&mut self) {
         self.armed = false;
+        self.blind_descent = false;
         self.guidance = Guidance::Idle;
         self.climbing_out = false;
         if matches!(

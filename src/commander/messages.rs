@@ -1,10 +1,10 @@
 //! What goes in and out of the commander: ground-station requests, their outcomes, the events
 //! it announces on its own, the landed state it reports and one tick's output.
 
-use crate::sensor_failure::SensorFailure;
 use crate::control::{AttitudeTarget, FlatSetpoint};
 use crate::math::Vec3;
 use crate::navigation::{Geofence, Mission, OrbitYaw, RallyPoints, Sticks};
+use crate::sensor_failure::SensorFailure;
 
 use super::FlightMode;
 

@@ -90,7 +90,9 @@ impl Commander {
         let sticks = self.sticks_alive(t_s);
         if self.mode == FlightMode::Position && sticks && !self.params.position_loss_lands && v.vertical {
             self.enter(FlightMode::Altitude, x, t_s);
-            events.push(Event::Failsafe("No position estimate: switching to Altitude mode".into()));
+            events.push(Event::Failsafe(
+                "No position estimate: switching to Altitude mode".into(),
+            ));
             events.push(Event::ModeChanged(FlightMode::Altitude));
             return events;
         }
@@ -125,9 +127,8 @@ impl Commander {
     /// takes them from the estimate, so only height and heading are controlled and the
     /// attitude stays level.
     pub(super) fn without_horizontal(sp: FlatSetpoint, x: &VehicleState) -> FlatSetpoint {
-        let keep_z = |v: Option<crate::math::Vec3>, now: crate::math::Vec3| {
-            v.map(|v| crate::math::Vec3::new(now.x, now.y, v.z))
-        };
+        let keep_z =
+            |v: Option<crate::math::Vec3>, now: crate::math::Vec3| v.map(|v| crate::math::Vec3::new(now.x, now.y, v.z));
         FlatSetpoint {
             pos_w: keep_z(sp.pos_w, x.pos_w),
             vel_w: keep_z(sp.vel_w, x.vel_w),
@@ -201,7 +202,9 @@ mod tests {
         let sp = s.last.as_ref().and_then(|t| t.setpoint).expect("flying");
         let (p, v, a) = (sp.pos_w.unwrap(), sp.vel_w.unwrap(), sp.acc_w.unwrap());
         assert_eq!((p.x, v.y, a.x, a.y), (s.x.pos_w.x, 0.4, 0.0, 0.0));
-        assert!(v.z > 0.0, "descending");
+        s.fly(1.0);
+        let sp = s.last.as_ref().and_then(|t| t.setpoint).expect("flying");
+        assert!(sp.vel_w.is_some_and(|v| v.z > 0.3), "descending: {sp:?}");
         assert_eq!(
             s.request(Request::SetMode(FlightMode::ReturnToLaunch)),
             Outcome::TemporarilyRejected("Mode AUTO.RTL: no valid position estimate".into())

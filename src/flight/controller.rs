@@ -135,6 +135,12 @@ impl FlightController {
         &self.commander
     }
 
+    /// Starts the navigation filter aligned at `x` (an `[autopilot]` scenario that starts in
+    /// the air; docs/navigation_filter.md §11) instead of aligning at rest.
+    pub fn start_navigation_at(&mut self, x: &VehicleState) {
+        self.nav.start_at(x);
+    }
+
     /// What the flight controller knows of its state.
     pub fn navigator(&self) -> &Navigator {
         &self.nav
@@ -349,8 +355,8 @@ mod tests {
                 vel_w: Vec3::zeros(),
                 r_wb: crate::math::Mat3::identity(),
                 omega_b: Vec3::zeros(),
-            }
-        })});
+            })
+        });
         assert!(sensed);
         assert_eq!(reply, Reply::only(Outcome::Accepted));
         assert!(fc.commander().armed());

@@ -3,7 +3,7 @@
 //! Carlo runs (a fixed hover) fly. Rotors that fail (a scenario's `[[rotor_failure]]`) are
 //! allocated around as the flight controller does. Pure.
 
-use crate::control::FlatSetpoint;
+use crate::control::{FlatSetpoint, VehicleState};
 use crate::navigation::trajectory::Trajectory;
 use crate::navigation::ClimbProfile;
 use crate::sitl::{EscReport, Sensors};
@@ -60,6 +60,13 @@ impl<S: SetpointSource> SetpointFollower<S> {
             rotors,
             nav: Navigator::default(),
         }
+    }
+
+    /// The same follower with its navigation filter started at `x` (the plant's state when a
+    /// headless run starts; docs/navigation_filter.md §11) instead of aligning at rest.
+    pub fn starting_at(mut self, x: &VehicleState) -> Self {
+        self.nav.start_at(x);
+        self
     }
 }
 

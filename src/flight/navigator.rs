@@ -9,8 +9,8 @@ use crate::nav_filter::{
     BaroReading, GpsReading, HeightSource, MagReading, NavFilter, NavParams, NavParamsError, NavStatus, SourceHealth,
     SourceStatus,
 };
-use crate::telemetry::{FilterSnapshot, GpsSnapshot, NavSnapshot, SensorHealth};
 use crate::sitl::Sensors;
+use crate::telemetry::{FilterSnapshot, GpsSnapshot, NavSnapshot, SensorHealth};
 
 /// An IMU that has been silent this long counts as failed [s].
 const IMU_TIMEOUT_S: f64 = 0.1;
@@ -38,16 +38,34 @@ pub struct Navigator {
     announced: Option<(bool, bool, bool, HeightSource)>,
 }
 
+/// A navigator with PX4's default filter settings.
+impl Default for Navigator {
+    fn default() -> Self {
+        Self::with_filter(NavFilter::default())
+    }
+}
+
 impl Navigator {
-    /// A navigator whose filter, when the sensor suite is read, has `params`.
-    pub fn new(params: NavParams) -> Result<Self, NavParamsError> {
-        Ok(Self {
-            filter: NavFilter::new(params)?,
+    fn with_filter(filter: NavFilter) -> Self {
+        Self {
+            filter,
             latest: None,
             filtering: false,
             readings: LatestReadings::default(),
             announced: None,
-        })
+        }
+    }
+
+    /// Starts the filter aligned at the vehicle's known state `x` (a headless run that starts
+    /// in the air; docs/navigation_filter.md §11), instead of aligning at rest.
+    pub fn start_at(&mut self, x: &VehicleState) {
+        let q_wb = crate::math::UnitQuat::from_matrix(&x.r_wb);
+        self.filter.align_at(x.t_s, x.pos_w, x.vel_w, q_wb);
+    }
+
+    /// A navigator whose filter, when the sensor suite is read, has `params`.
+    pub fn new(params: NavParams) -> Result<Self, NavParamsError> {
+        Ok(Self::with_filter(NavFilter::new(params)?))
     }
 
     /// The filter's settings.
@@ -90,16 +108,17 @@ impl Navigator {
         x
     }
 
-    /// The filter's estimate as a vehicle state at `t_s` [s], position in the readings' frame.
+    /// The filter's output (docs/navigation_filter.md §16) as a vehicle state at `t_s` [s],
+    /// position in the readings' frame.
     fn filter_state(&self, t_s: f64) -> VehicleState {
-        let e = self.filter.estimate();
-        let origin = self.filter.status().origin_w.unwrap_or_else(Vec3::zeros);
+        let out = self.filter.output();
+        let origin = self.filter.origin_w().unwrap_or_else(Vec3::zeros);
         VehicleState {
             t_s,
-            pos_w: e.pos_w + origin,
-            vel_w: e.vel_w,
-            r_wb: Mat3::from(e.q_wb.to_rotation_matrix()),
-            omega_b: e.omega_b,
+            pos_w: out.pos_w + origin,
+            vel_w: out.vel_w,
+            r_wb: Mat3::from(out.q_wb.to_rotation_matrix()),
+            omega_b: out.omega_b,
         }
     }
 
@@ -185,14 +204,23 @@ impl Navigator {
         for (bit, on) in [
             (ESTIMATOR_ATTITUDE, status.attitude_valid),
             (ESTIMATOR_VELOCITY_HORIZ, status.velocity_valid),
-            (ESTIMATOR_VELOCITY_VERT, status.velocity_valid || status.vertical_position_valid),
+            (
+                ESTIMATOR_VELOCITY_VERT,
+                status.velocity_valid || status.vertical_position_valid,
+            ),
             (ESTIMATOR_POS_HORIZ_REL, validity.horizontal),
-            (ESTIMATOR_POS_HORIZ_ABS, validity.horizontal && status.origin_w.is_some()),
+            (
+                ESTIMATOR_POS_HORIZ_ABS,
+                validity.horizontal && status.origin_w.is_some(),
+            ),
             (ESTIMATOR_POS_VERT_ABS, validity.vertical),
             (ESTIMATOR_POS_VERT_AGL, validity.vertical),
             (ESTIMATOR_CONST_POS_MODE, status.position_hold),
             (ESTIMATOR_PRED_POS_HORIZ_REL, validity.horizontal),
-            (ESTIMATOR_PRED_POS_HORIZ_ABS, validity.horizontal && status.origin_w.is_some()),
+            (
+                ESTIMATOR_PRED_POS_HORIZ_ABS,
+                validity.horizontal && status.origin_w.is_some(),
+            ),
             (ESTIMATOR_GPS_GLITCH, status.gps.health == SourceHealth::Rejected),
         ] {
             if on {

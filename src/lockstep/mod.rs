@@ -18,8 +18,8 @@
 //! (`tests/architecture-rules.sh` checks it). Observers ([`Observer`]) see every tick of
 //! [`Lockstep::run`] and say when it ends ([`Exit`]).
 
-pub mod observer;
 pub mod failure_schedule;
+pub mod observer;
 pub mod view;
 
 use serde::Serialize;
@@ -32,8 +32,8 @@ use crate::math::Vec3;
 use crate::params::ParamError;
 use crate::sitl::{PlantChange, PlantStatus, Sensors, SimPlant, SitlError};
 
-pub use observer::{Guard, Observer};
 pub use failure_schedule::{FailureSchedule, ScheduledFailure, ScheduledSensorFailure};
+pub use observer::{Guard, Observer};
 pub use view::{SnapshotReport, TickView};
 
 /// Why a flight cannot be set up: the flight controller's view of the airframe, its flight core
@@ -324,7 +324,7 @@ mod tests {
         let s = tick.report;
         assert!(!s.armed);
         assert_eq!((s.t_s, s.rotor_count), (0.0, 4));
-        assert_eq!(s.pos_w, tick.sensors.state.pos_w);
+        assert_eq!(s.pos_w, tick.control.state.pos_w);
         assert_eq!(&s.rotor_speeds[..4], l.plant().motor_speeds());
     }
 }

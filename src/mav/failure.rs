@@ -75,7 +75,10 @@ pub(super) fn inject_failure(cmd: &COMMAND_LONG_DATA) -> CommandDecision {
     } else {
         small_int(cmd.param3)
     };
-    if let (Some(unit), Some(kind)) = (SensorUnit::from_failure_unit(unit), FailureKind::from_failure_type(kind)) {
+    if let (Some(unit), Some(kind)) = (
+        SensorUnit::from_failure_unit(unit),
+        FailureKind::from_failure_type(kind),
+    ) {
         return match instance {
             Some(0 | 1) => CommandDecision::Execute(Request::InjectSensorFailure(SensorFailure { unit, kind })),
             _ => CommandDecision::Refuse(Outcome::Denied(format!(

@@ -3,7 +3,9 @@
 //! HIGHRES_IMU. With the state sensor (no sensor suite) GPS_RAW_INT reports the estimate as a
 //! perfect 3D fix and ESTIMATOR_STATUS every estimate good. Pure.
 
-use mavlink::dialects::common::{EstimatorStatusFlags, GpsFixType, MavMessage, ESTIMATOR_STATUS_DATA, GPS_RAW_INT_DATA};
+use mavlink::dialects::common::{
+    EstimatorStatusFlags, GpsFixType, MavMessage, ESTIMATOR_STATUS_DATA, GPS_RAW_INT_DATA,
+};
 
 use crate::math::Vec3;
 use crate::telemetry::Snapshot;

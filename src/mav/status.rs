@@ -74,7 +74,10 @@ pub(super) fn sys_status(s: &Snapshot) -> MavMessage {
         (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO, nav.sensors.gyro),
         (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_ACCEL, nav.sensors.accel),
         (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_MAG, nav.sensors.mag),
-        (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE, nav.sensors.baro),
+        (
+            MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE,
+            nav.sensors.baro,
+        ),
         (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_GPS, nav.sensors.gps),
         (MavSysStatusSensor::MAV_SYS_STATUS_AHRS, nav.validity.attitude),
         (MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK, nav.armable),

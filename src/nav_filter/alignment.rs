@@ -201,6 +201,43 @@ impl NavFilter {
         self.height.active_since_s = self.t_s;
     }
 
+    /// Starts the filter aligned at a known state instead of aligning at rest: position `pos_w`
+    /// [m] and velocity `vel_w` [m/s] in the GPS readings' NED frame, attitude `q_wb`, at
+    /// `t_s` [s], biases unknown (zero, with their initial uncertainty) — a vehicle whose filter
+    /// converged before a headless run starts it in the air (docs/navigation_filter.md §11).
+    /// The first barometer sample then sets the origin's barometric altitude, as after an
+    /// alignment, and the GPS fixes are fused from the first one (the known state counts as
+    /// aided at `t_s`).
+    pub fn align_at(&mut self, t_s: f64, pos_w: Vec3, vel_w: Vec3, q_wb: UnitQuat) {
+        self.t_s = t_s;
+        self.x = Nominal {
+            pos_w,
+            vel_w,
+            q_wb,
+            ..Nominal::default()
+        };
+        self.omega_b = Vec3::zeros();
+        self.p = initial_covariance(&self.params, self.height.active, &q_wb, 1.0);
+        self.yaw_aligned = true;
+        self.mag_tan_inclination = None;
+        self.origin_w = Some(Vec3::zeros());
+        self.baro_origin_m = None;
+        // The known state counts as an aiding: the first fixes are fused into it, not reset to.
+        self.aiding.last_aiding_s = Some(t_s);
+        self.aiding.last_pos_s = Some(t_s);
+        self.aiding.last_vel_s = Some(t_s);
+        self.buffer.clear();
+        self.buffer.push(Snapshot {
+            t_s,
+            pos_w,
+            vel_w,
+            q_wb,
+        });
+        self.increments = Default::default();
+        self.aligned = true;
+        self.height.active_since_s = t_s;
+    }
+
     /// Yaw row of P after setting the yaw from a heading with Jacobian `h`: the yaw error is the
     /// tilt error seen through the field's inclination plus the heading noise,
     /// `δθ_z = −h_xy·δθ_xy + n` (docs/navigation_filter.md §11, eq. (11.4)).

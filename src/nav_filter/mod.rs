@@ -32,6 +32,7 @@ mod fuse_mag;
 mod fusion;
 mod height;
 pub mod isa;
+mod output;
 mod params;
 mod predict;
 mod readings;
@@ -44,6 +45,7 @@ mod tests;
 pub use aiding::DEAD_RECKONING_AFTER_S;
 pub use estimate::NavEstimate;
 pub use fusion::{Fusion, GpsFusion, Outcome, SkipReason};
+pub use output::NavOutput;
 pub use params::{HeightSource, NavParams, NavParamsError, MAX_DELAY_S};
 pub use readings::{BaroReading, GpsReading, ImuReading, MagReading};
 pub use state::{
@@ -58,6 +60,7 @@ use alignment::Aligner;
 use covariance::Increments;
 use delay_buffer::DelayBuffer;
 use height::HeightSelection;
+use output::OutputLag;
 use state::{part, Nominal};
 use status::SourceTrack;
 
@@ -89,6 +92,15 @@ pub struct NavFilter {
     innovations: Innovations,
     resets: ResetCounters,
     imu_dropped: u32,
+    /// The corrections not yet blended into the output (docs/navigation_filter.md §16).
+    output_lag: OutputLag,
+}
+
+/// A filter with PX4's defaults ([`NavParams::default`], valid by construction: tested).
+impl Default for NavFilter {
+    fn default() -> Self {
+        Self::unchecked(NavParams::default())
+    }
 }
 
 impl NavFilter {
@@ -96,7 +108,12 @@ impl NavFilter {
     /// allocation is the state history.
     pub fn new(params: NavParams) -> Result<Self, NavParamsError> {
         params.validate()?;
-        Ok(Self {
+        Ok(Self::unchecked(params))
+    }
+
+    /// [`Self::new`] for parameters known to be valid.
+    fn unchecked(params: NavParams) -> Self {
+        Self {
             params,
             x: Nominal::default(),
             p: Covariance::zeros(),
@@ -120,7 +137,8 @@ impl NavFilter {
             innovations: Innovations::default(),
             resets: ResetCounters::default(),
             imu_dropped: 0,
-        })
+            output_lag: OutputLag::default(),
+        }
     }
 
     /// Replaces the parameters, keeping the state; a new height reference becomes the active
@@ -159,6 +177,24 @@ impl NavFilter {
             vel_std_w: std(ERR_VEL),
             att_std_w: std(ERR_ATT),
         }
+    }
+
+    /// The output the controllers fly on: the nominal state with the corrections blended in
+    /// over `output_tau_s` (docs/navigation_filter.md §16, eqs. (16.1)–(16.2)).
+    pub fn output(&self) -> NavOutput {
+        let (pos_w, vel_w, q_wb) = self.output_lag.apply(&self.x);
+        NavOutput {
+            t_s: self.t_s,
+            pos_w,
+            vel_w,
+            q_wb,
+            omega_b: self.omega_b,
+        }
+    }
+
+    /// The filter's origin in the GNSS readings' NED frame [m], once the first fix set it.
+    pub fn origin_w(&self) -> Option<Vec3> {
+        self.origin_w
     }
 
     /// The filter's report on itself (docs/navigation_filter.md §12–§13).
@@ -208,6 +244,8 @@ impl NavFilter {
     /// (docs/navigation_filter.md §5, eq. (5.7); docs/navigation_filter.md §7, eq. (7.3)).
     fn apply(&mut self, dx: &ErrorVector) {
         self.x.inject(dx);
+        self.output_lag
+            .corrected(&part(dx, ERR_POS), &part(dx, ERR_VEL), &part(dx, ERR_ATT));
         self.buffer.correct(
             self.history_start_s(),
             &part(dx, ERR_POS),

@@ -93,6 +93,9 @@ pub struct NavParams {
     pub sensor_timeout_s: f64,
     /// Averaging window of the alignment at rest [s] (rotorpilot's own).
     pub align_time_s: f64,
+    /// Time constant over which corrections reach the output the controllers fly on [s]
+    /// (`EKF2_TAU_VEL` and `EKF2_TAU_POS`, 0.25) (docs/navigation_filter.md §16).
+    pub output_tau_s: f64,
 }
 
 impl Default for NavParams {
@@ -128,6 +131,7 @@ impl Default for NavParams {
             noaid_noise_m: 10.0,
             sensor_timeout_s: 1.0,
             align_time_s: 1.0,
+            output_tau_s: 0.25,
         }
     }
 }
@@ -157,7 +161,7 @@ impl NavParams {
     /// Checks every field against its range (docs/navigation_filter.md §4, §7).
     pub fn validate(&self) -> Result<(), NavParamsError> {
         let big = 1e6;
-        let checks: [(&'static str, f64, f64, f64); 29] = [
+        let checks: [(&'static str, f64, f64, f64); 30] = [
             ("predict_period_s", self.predict_period_s, 1e-3, 0.02),
             ("accel_noise_m_s2", self.accel_noise_m_s2, 1e-6, 10.0),
             ("gyro_noise_rad_s", self.gyro_noise_rad_s, 1e-7, 1.0),
@@ -192,6 +196,7 @@ impl NavParams {
             ("noaid_noise_m", self.noaid_noise_m, 0.1, 1000.0),
             ("sensor_timeout_s", self.sensor_timeout_s, 0.01, 600.0),
             ("align_time_s", self.align_time_s, 0.01, 60.0),
+            ("output_tau_s", self.output_tau_s, 0.01, 10.0),
         ];
         for (name, value, min, max) in checks {
             if !(value.is_finite() && value >= min && value <= max) {

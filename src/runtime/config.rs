@@ -12,9 +12,9 @@ use crate::navigation::Home;
 
 use super::pacer::Pace;
 use super::signing_store::SigningFileError;
+use crate::lockstep::SetupError;
 use crate::lockstep::{ScheduledFailure, ScheduledSensorFailure};
 use crate::sitl::SensorModel;
-use crate::lockstep::SetupError;
 
 /// Everything `rotorpilot run` needs.
 #[derive(Debug, Clone)]

@@ -55,10 +55,10 @@ use crate::control::{ControllerGains, ControllerKind, DesiredRateMode};
 use crate::estimation::{ChebyshevDesign, WrenchObserver};
 use crate::flight::{vehicle_model, CoreError, FlightController, FlightCore};
 use crate::lockstep::{FailureSchedule, ScheduledFailure, ScheduledSensorFailure};
-use crate::sitl::SensorModel;
 use crate::math::{UnitQuat, Vec3};
 use crate::navigation::trajectory::Trajectory;
 use crate::navigation::Home;
+use crate::sitl::SensorModel;
 
 pub use merge::merge_tables;
 
@@ -214,7 +214,10 @@ impl Scenario {
         for (k, f) in file.sensor_failure.iter().flatten().enumerate() {
             let field = format!("sensor_failure[{k}]");
             if sensors != SensorModel::Suite {
-                return Err(err(&field, "sensor failures need [sensors] model = \"realistic\"".into()));
+                return Err(err(
+                    &field,
+                    "sensor failures need [sensors] model = \"realistic\"".into(),
+                ));
             }
             let failure = format!("{}:{}@{}", f.sensor, f.failure, f.at)
                 .parse::<ScheduledSensorFailure>()

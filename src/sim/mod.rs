@@ -138,10 +138,13 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace, csv: b
     let trajectory = scn.trajectory.clone();
     let Some(fc) = autopilot else {
         let core = scn.flight_core().map_err(SetupError::from)?;
-        let mut lockstep = Lockstep::new(SetpointFollower::new(core, trajectory), plant, scn.dt_s);
+        let follower = SetpointFollower::new(core, trajectory).starting_at(&plant.true_state());
+        let mut lockstep = Lockstep::new(follower, plant, scn.dt_s);
         let order = scn.estimator.as_ref().map_or(0, |s| s.gains.len());
         return fly(&mut lockstep, scn, order, out_dir.map(|dir| (dir, csv)), pace);
     };
+    let mut fc = fc;
+    fc.start_navigation_at(&plant.true_state());
     let order = fc.params().settings().estimator.map_or(0, |d| d.order);
     let mut lockstep = Lockstep::new(OffboardPilot::new(fc, trajectory), plant, scn.dt_s);
     let summary = fly(&mut lockstep, scn, order, out_dir.map(|dir| (dir, csv)), pace)?;

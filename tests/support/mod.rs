@@ -15,6 +15,7 @@ use rotorpilot::bench::autopilot::InProcess;
 use rotorpilot::bench::client::{BenchClient, COMMAND_ATTEMPTS};
 use rotorpilot::control::ControllerKind;
 use rotorpilot::runtime::RunConfig;
+use rotorpilot::sitl::SensorModel;
 
 /// A running autopilot (one vehicle of `rotorpilot run`) and the GCS socket its telemetry goes to.
 pub struct Autopilot {
@@ -34,6 +35,8 @@ impl Autopilot {
             gcs: gcs.local_addr().unwrap(),
             bind_api: "127.0.0.1:0".parse().unwrap(),
             api: "127.0.0.1:9".parse().unwrap(),
+            // The protocol tests fly on the exact state; the navigation has its own tests.
+            sensors: SensorModel::State,
             ..RunConfig::single(
                 AirframeSource::resolve(airframe).unwrap(),
                 ControllerKind::Geometric,
