@@ -35,14 +35,15 @@ pub struct NavOutput {
 
 impl OutputLag {
     /// A correction `δp`, `δv`, `δθ` was injected into the nominal state: the output keeps
-    /// where it was (eq. (16.1)).
+    /// where it was (docs/navigation_filter.md §16, eq. (16.1)).
     pub fn corrected(&mut self, dpos_w: &Vec3, dvel_w: &Vec3, datt_w: &Vec3) {
         self.pos_w -= dpos_w;
         self.vel_w -= dvel_w;
         self.att_w -= datt_w;
     }
 
-    /// One IMU interval `dt_s` [s]: the lag decays as e^{−dt/τ} (eq. (16.2)).
+    /// One IMU interval `dt_s` [s]: the lag decays as e^{−dt/τ} (docs/navigation_filter.md §16,
+    /// eq. (16.2)).
     pub fn decay(&mut self, dt_s: f64, tau_s: f64) {
         let k = (-dt_s / tau_s).exp();
         self.pos_w *= k;
