@@ -42,8 +42,8 @@ impl OutputLag {
         self.att_w -= datt_w;
     }
 
-    /// One IMU interval `dt_s` [s]: the lag decays as e^{−dt/τ} (docs/navigation_filter.md §16,
-    /// eq. (16.2)).
+    /// One IMU interval `dt_s` [s]: the lag decays as e^{−dt/τ}
+    /// (docs/navigation_filter.md §16, eq. (16.2)).
     pub fn decay(&mut self, dt_s: f64, tau_s: f64) {
         let k = (-dt_s / tau_s).exp();
         self.pos_w *= k;
