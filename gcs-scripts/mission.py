@@ -66,6 +66,7 @@ def load(path, skip_home):
 
 def fly(conn, items, home, timeout, stall_s=60.0):
     """AUTO.MISSION, arm, report MISSION_ITEM_REACHED until disarmed (or COMPLETE without a landing)."""
+    gcs.wait_armable(conn)
     gcs.set_mode(conn, gcs.AUTO_MISSION)
     gcs.arm(conn)
     print("flying", flush=True)

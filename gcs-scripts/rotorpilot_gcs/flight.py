@@ -8,8 +8,10 @@ from .modes import Mode, parse_mode
 from .params import param_get
 from .telemetry import (
     IN_AIR,
+    READY_TIMEOUT_S,
     home_position,
     is_armed,
+    wait_armable,
     wait_armed,
     wait_disarmed,
     wait_heartbeat,
@@ -31,7 +33,10 @@ def set_mode(conn: Connection, mode: Mode | int, sub: int | None = None, timeout
 
 
 def arm(conn: Connection, timeout: float | None = None, *, force: bool = False) -> Message:
-    """COMPONENT_ARM_DISARM 1 (`force`: skip the arming checks); returns the armed HEARTBEAT."""
+    """COMPONENT_ARM_DISARM 1 once the vehicle is ready to arm (`wait_armable`; `force`: at once,
+    the arming checks skipped); returns the armed HEARTBEAT."""
+    if not force:
+        wait_armable(conn, max(READY_TIMEOUT_S, timeout or 0.0))
     command(conn, mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 1, FORCE if force else 0, timeout=timeout)
     return wait_armed(conn, timeout)
 
@@ -45,10 +50,12 @@ def disarm(conn: Connection, timeout: float | None = None, *, force: bool = Fals
 
 def takeoff(conn: Connection, height: float | None = None, timeout: float | None = None,
             climb_timeout: float | None = None) -> float:
-    """NAV_TAKEOFF to `height` [m] above home (None: the autopilot's MIS_TAKEOFF_ALT), arm if
+    """Once the vehicle is ready to arm (`wait_armable`), NAV_TAKEOFF to `height` [m] above home
+    (None: the autopilot's MIS_TAKEOFF_ALT), arm if
     disarmed, and wait until the take-off is complete (landed state IN_AIR, within
     `climb_timeout` [s], default 15 s + 2 s per metre). p7 is AMSL: home altitude + height.
     Returns the height."""
+    wait_armable(conn, max(READY_TIMEOUT_S, timeout or 0.0))
     if height is None:
         p7 = NAN
         height = float(param_get(conn, "MIS_TAKEOFF_ALT", timeout))

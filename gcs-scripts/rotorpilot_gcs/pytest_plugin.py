@@ -65,7 +65,7 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line(
         "markers", f"{MARKER}(**options): options of the autopilot fixture's `rotorpilot run` (airframe, "
-        "controller, speedup, params, log, log_profile, count, args, duration, timeout)")
+        "controller, speedup, params, log, log_profile, count, sensors, args, duration, timeout)")
 
 
 @pytest.hookimpl(hookwrapper=True)
@@ -111,15 +111,17 @@ def _dirname(name: str) -> str:
 def autopilot_factory(request: pytest.FixtureRequest, rotorpilot_bin: Path,
                       tmp_path_factory: pytest.TempPathFactory) -> Iterator[Callable[..., Autopilot]]:
     """``autopilot_factory(**options)``: starts ``rotorpilot run`` with the options of
-    `Autopilot.start`; stopped after the test, run directory kept if the test fails."""
+    `Autopilot.start` over those of the test's ``@pytest.mark.rotorpilot(...)`` markers; stopped
+    after the test, run directory kept if the test fails."""
     runs: list[_Run] = request.node.stash.setdefault(_RUNS, [])
+    defaults = _marker_options(request)
 
     def start(**options: Any) -> Autopilot:
         if "workdir" in options or "binary" in options:
             raise TypeError("the fixture chooses workdir and binary (see --rotorpilot-bin)")
         run = _Run(tmp_path_factory.mktemp(_dirname(request.node.name)))
         runs.append(run)
-        run.autopilot = Autopilot.start(rotorpilot_bin, workdir=run.workdir, **options)
+        run.autopilot = Autopilot.start(rotorpilot_bin, workdir=run.workdir, **{**defaults, **options})
         return run.autopilot
 
     yield start
@@ -134,10 +136,20 @@ def autopilot_factory(request: pytest.FixtureRequest, rotorpilot_bin: Path,
 @pytest.fixture
 def autopilot(request: pytest.FixtureRequest, autopilot_factory: Callable[..., Autopilot]) -> Autopilot:
     """A started, connected ``rotorpilot run`` for this test, with the options of its
-    ``@pytest.mark.rotorpilot(...)`` marker."""
+    ``@pytest.mark.rotorpilot(...)`` marker, ready to arm (its navigation filter aligned and on
+    GPS: SYS_STATUS's pre-arm check) unless ``connect=False``."""
+    ap = autopilot_factory()
+    if _marker_options(request).get("connect", True):
+        ap.wait_armable()
+    return ap
+
+
+def _marker_options(request: pytest.FixtureRequest) -> dict[str, Any]:
+    """The options of the test's ``@pytest.mark.rotorpilot(...)`` markers (test, class, module;
+    the closest wins per option)."""
     options: dict[str, Any] = {}
     for marker in reversed(list(request.node.iter_markers(MARKER))):
         if marker.args:
             raise TypeError(f"@pytest.mark.{MARKER} takes keyword options only, not {marker.args!r}")
         options.update(marker.kwargs)
-    return autopilot_factory(**options)
+    return options

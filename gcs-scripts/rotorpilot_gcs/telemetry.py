@@ -25,6 +25,26 @@ def wait_heartbeat(conn: Connection, predicate: Callable[[Message], Any] | None 
                 and (predicate is None or predicate(m)), timeout, what)
 
 
+#: How long a vehicle may take to be ready to arm after start [s]: the navigation filter aligns
+#: at rest (1 s of simulated time) and takes the first GPS fixes; slow speed-ups stretch it.
+READY_TIMEOUT_S = 30.0
+
+
+def is_armable(sys_status: Message) -> bool:
+    """Whether a SYS_STATUS says arming would pass the checks (the pre-arm bit healthy, MAVSDK's
+    `is_armable`)."""
+    bit = mavlink.MAV_SYS_STATUS_PREARM_CHECK
+    return bool(sys_status.onboard_control_sensors_present & bit
+                and sys_status.onboard_control_sensors_health & bit)
+
+
+def wait_armable(conn: Connection, timeout: float | None = None) -> Message:
+    """The first SYS_STATUS saying the vehicle is ready to arm: its navigation estimate is
+    aligned and has a position (PX4's pre-arm checks; QGroundControl shows "Ready To Fly")."""
+    return wait(conn, "SYS_STATUS", is_armable, READY_TIMEOUT_S if timeout is None else timeout,
+                "ready to arm (SYS_STATUS pre-arm check)")
+
+
 def wait_armed(conn: Connection, timeout: float | None = None) -> Message:
     """The first armed HEARTBEAT."""
     return wait_heartbeat(conn, is_armed, timeout, "an armed heartbeat")

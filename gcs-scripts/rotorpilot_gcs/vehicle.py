@@ -70,6 +70,10 @@ class Vehicle:
         """`flight.set_mode`: DO_SET_MODE; the HEARTBEAT showing `mode`."""
         return flight.set_mode(self.conn, mode, timeout=timeout)
 
+    def wait_armable(self, timeout: float | None = None) -> Message:
+        """`telemetry.wait_armable`: the first SYS_STATUS saying the vehicle is ready to arm."""
+        return telemetry.wait_armable(self.conn, timeout)
+
     def arm(self, timeout: float | None = None, *, force: bool = False) -> Message:
         """`flight.arm`; the armed HEARTBEAT."""
         return flight.arm(self.conn, timeout, force=force)

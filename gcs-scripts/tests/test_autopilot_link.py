@@ -10,6 +10,10 @@ import pytest
 import rotorpilot_gcs as gcs
 from rotorpilot_gcs import custom_mode, float_bits_to_int, int32_bits, mavlink
 
+# The link's behaviours with tight tolerances: flown on the exact state (the navigation filter and
+# sensor failures have their own tests, test_navigation.py).
+pytestmark = pytest.mark.rotorpilot(sensors="ideal")
+
 ACCEPTED, TEMPORARILY_REJECTED = mavlink.MAV_RESULT_ACCEPTED, mavlink.MAV_RESULT_TEMPORARILY_REJECTED
 DENIED, UNSUPPORTED, FAILED = mavlink.MAV_RESULT_DENIED, mavlink.MAV_RESULT_UNSUPPORTED, mavlink.MAV_RESULT_FAILED
 NAN = float("nan")
@@ -61,6 +65,7 @@ def test_command_rules(autopilot):
 
 def test_takeoff_hold_land_and_auto_disarm(autopilot):
     assert autopilot.command_ack(22).result == ACCEPTED, "NAV_TAKEOFF while disarmed (PX4)"
+    autopilot.wait_armable()
     assert autopilot.command_ack(400, 1.0).result == ACCEPTED
     armed = autopilot.wait_armed(2)
     assert armed.system_status == mavlink.MAV_STATE_ACTIVE
@@ -113,6 +118,7 @@ def test_duplicates_and_command_int(autopilot):
     # COMMAND_INT NAV_TAKEOFF with z AMSL 493 m = 5 m above home.
     autopilot.conn.mav.command_int_send(1, 1, 0, 22, 0, 0, NAN, 0, 0, NAN, 2147483647, 2147483647, 493.0)
     assert autopilot.wait("COMMAND_ACK", lambda m: m.command == 22, 2).result == ACCEPTED
+    autopilot.wait_armable()
     assert autopilot.command_ack(400, 1.0).result == ACCEPTED
     autopilot.wait("LOCAL_POSITION_NED", lambda m: abs(m.z + 5.0) < 0.05, 12, what="5 m above home")
 
@@ -154,6 +160,7 @@ def test_parameter_protocol(autopilot):
 
     # The new take-off altitude is used.
     assert autopilot.command_ack(22).result == ACCEPTED
+    autopilot.wait_armable()
     assert autopilot.command_ack(400, 1.0).result == ACCEPTED
     autopilot.wait("LOCAL_POSITION_NED", lambda m: abs(m.z + 4.0) < 0.05, 12, what="4 m above home")
 
@@ -202,6 +209,7 @@ def test_offboard_square_and_setpoint_loss(autopilot):
 
 def test_offboard_body_frame_velocity(autopilot):
     autopilot.command_ack(22)
+    autopilot.wait_armable()
     autopilot.command_ack(400, 1.0)
     autopilot.wait_in_air(10)
     start = autopilot.wait("LOCAL_POSITION_NED", timeout=2)
@@ -261,6 +269,7 @@ def test_mission_upload_download_fly_and_return(autopilot):
 
     autopilot.param_set("RTL_RETURN_ALT", 5.0)
     assert autopilot.command_ack(176, 1, 4, 4).result == ACCEPTED
+    autopilot.wait_armable()
     assert autopilot.command_ack(400, 1.0).result == ACCEPTED
     reached, checked = follow_mission(autopilot, [(5, 0), (5, 5), (0, 5), (0, 0)], 1, 6, 60)
     assert reached == [0, 1, 2, 3, 4, 5]
@@ -366,6 +375,7 @@ def test_gcs_link_loss_returns_to_launch(autopilot):
         autopilot.param_set(name, value)
     gcs.send_heartbeat(autopilot.conn)  # one GCS heartbeat, then silence
     assert autopilot.command_ack(22).result == ACCEPTED
+    autopilot.wait_armable()
     assert autopilot.command_ack(400, 1.0).result == ACCEPTED
     lost = autopilot.wait("STATUSTEXT", lambda m: "link lost" in m.text, 9)
     assert "returning" in lost.text
@@ -456,6 +466,7 @@ def test_battery_failsafe_announces_and_changes_mode(autopilot):
     full = autopilot.wait("BATTERY_STATUS", timeout=3)
     assert full.battery_remaining == 100 and full.voltages[:3] == [4200] * 3 and full.voltages[3] == 65535
     assert autopilot.command_ack(22).result == ACCEPTED
+    autopilot.wait_armable()
     assert autopilot.command_ack(400, 1.0).result == ACCEPTED
     texts, modes = [], []
     deadline = time.monotonic() + 25

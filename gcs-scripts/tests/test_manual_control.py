@@ -7,6 +7,10 @@ import threading
 import time
 
 from rotorpilot_gcs import mavlink
+import pytest
+
+# The sticks' effect with tight tolerances: flown on the exact state.
+pytestmark = pytest.mark.rotorpilot(sensors="ideal")
 
 ACCEPTED = mavlink.MAV_RESULT_ACCEPTED
 
@@ -40,6 +44,7 @@ def test_posctl_takes_off_flies_holds_and_lands_on_the_sticks(autopilot):
     try:
         time.sleep(0.3)
         assert ap.command_ack(176, 1, 3, 0).result == ACCEPTED, "POSCTL with sticks"
+        ap.wait_armable()
         assert ap.command_ack(400, 1.0).result == ACCEPTED
         stick.sticks = (0, 0, 1000, 0)
         ap.wait_in_air(10)

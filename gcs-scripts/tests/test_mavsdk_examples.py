@@ -33,6 +33,7 @@ SUBSET = [
     ("all_params", "1"),
     ("ftp_list_dir", "1"),
     ("shell", "1"),
+    ("failure_injection", "3"),
 ]
 # PX4's HEARTBEAT custom_mode of POSCTL, POSCTL.ORBIT, AUTO.RTL, AUTO.FOLLOW_TARGET, AUTO.LAND.
 POSCTL, ORBIT, RTL, FOLLOW_TARGET, LAND = 196608, 16973824, 84148224, 134479872, 100925440
@@ -75,6 +76,10 @@ def test_mavsdk_examples_fly_safely_unchanged(rotorpilot_bin):
     orbit = verdicts["do_orbit"]
     assert ORBIT in orbit["airborne_modes"] and RTL in orbit["airborne_modes"], orbit
     assert 9.0 < orbit["max_height_m"] < 11.5 and 9.0 < orbit["orbit_radius_m"][0] <= orbit["orbit_radius_m"][1] < 11.0
+    # GPS off at 20 m: dead reckoning, then the level descent without position, touch-down, disarm.
+    failure = verdicts["failure_injection"]
+    assert LAND in failure["modes"] and failure["landed_states"][-1] == "ON_GROUND" and not failure["final_armed"]
+    assert failure["touchdown_m_s"] < 1.0, failure
     # Follow-me: in AUTO.FOLLOW_TARGET, never below 1 m for a target below home, then landing.
     follow = verdicts["follow_me_example"]
     assert FOLLOW_TARGET in follow["airborne_modes"] and LAND in follow["modes"], follow

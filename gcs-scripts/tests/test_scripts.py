@@ -14,6 +14,10 @@ import pytest
 
 import rotorpilot_gcs as gcs
 
+# The scripts' printed positions with centimetre tolerances: flown on the exact state;
+# test_takeoff_land_on_realistic_sensors flies one on the default, realistic sensors.
+pytestmark = pytest.mark.rotorpilot(sensors="ideal")
+
 SCRIPTS = pathlib.Path(__file__).resolve().parents[1]
 EXAMPLE_PLAN = SCRIPTS / "tests" / "third_party" / "mavsdk_examples" / "example-mission.plan"
 ALL_SCRIPTS = ["takeoff_land.py", "offboard_square.py", "mission.py", "set_controller.py", "log_telemetry.py",
@@ -67,6 +71,18 @@ def test_takeoff_land(autopilot):
     north, east, up = floats_after(r.stdout, "landed and disarmed:")
     # Positions are the centre of mass: on the ground it sits at quad_x's gear height, 0.1 m.
     assert abs(north) < 0.1 and abs(east) < 0.1 and abs(up - 0.1) < 0.05
+
+
+@pytest.mark.rotorpilot(sensors="realistic")
+def test_takeoff_land_on_realistic_sensors(autopilot):
+    """The default `run`: the script flies on the navigation filter's estimate (GPS-grade
+    positions), takes off, holds and lands where it started."""
+    r = script(autopilot, "takeoff_land.py", "--height", "2", "--hold", "1")
+    assert r.returncode == 0, r.stdout + r.stderr
+    north, east, up = floats_after(r.stdout, "took off to 2 m:")
+    assert math.hypot(north, east) < 0.5 and abs(up - 2.0) < 0.3
+    north, east, up = floats_after(r.stdout, "landed and disarmed:")
+    assert math.hypot(north, east) < 0.8 and abs(up - 0.1) < 0.5
 
 
 def test_offboard_square_reaches_every_corner(autopilot):

@@ -125,6 +125,7 @@ def test_replayed_and_stale_frames_are_rejected(autopilot_factory, tmp_path):
 def test_setup_signing_sets_stores_and_clears_the_key(autopilot_factory, tmp_path):
     path = tmp_path / "new.key"
     ap = autopilot_factory(args=["--signing-key", path])
+    ap.wait_armable()
     assert ap.command_ack(400, 1.0).result == ACCEPTED, "unsigned commands work without a key"
     ap.conn.mav.setup_signing_send(1, 1, KEY, now_timestamp())
     refused = ap.wait("STATUSTEXT", lambda m: "SETUP_SIGNING" in m.text, 2)

@@ -8,6 +8,10 @@ import time
 
 import rotorpilot_gcs as gcs
 from rotorpilot_gcs import mavlink
+import pytest
+
+# Speed and scale: flown on the exact state.
+pytestmark = pytest.mark.rotorpilot(sensors="ideal")
 
 SCRIPTS = pathlib.Path(__file__).resolve().parents[1]
 ACCEPTED = mavlink.MAV_RESULT_ACCEPTED

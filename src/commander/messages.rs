@@ -235,6 +235,14 @@ pub enum Event {
     OffboardLost,
     /// A geofence or battery failsafe triggered (the announcement).
     Failsafe(String),
+    /// The navigation's sensors changed: a sensor lost (`warning`) or back, the height source
+    /// switched (the announcement).
+    Navigation {
+        /// The announcement.
+        text: String,
+        /// A loss (warning) rather than news (information).
+        warning: bool,
+    },
     /// Mission item `seq` reached (MISSION_ITEM_REACHED).
     MissionItemReached(u16),
     /// The current mission item changed (MISSION_CURRENT at once).
@@ -243,10 +251,11 @@ pub enum Event {
 
 impl Event {
     /// The severity of its announcement (MAVLink / syslog levels): critical (2) for a failsafe,
-    /// information (6) for the rest.
+    /// warning (4) for a lost sensor, information (6) for the rest.
     pub fn severity(&self) -> u8 {
         match self {
             Self::Failsafe(_) => 2,
+            Self::Navigation { warning: true, .. } => 4,
             _ => 6,
         }
     }
@@ -259,7 +268,7 @@ impl Event {
             Self::Landed => "Landing detected".to_string(),
             Self::Airborne => "Takeoff detected".to_string(),
             Self::OffboardLost => "Offboard lost".to_string(),
-            Self::Failsafe(text) => text.clone(),
+            Self::Failsafe(text) | Self::Navigation { text, .. } => text.clone(),
             Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
             Self::MissionCurrent(seq) => format!("Mission item {seq}"),
         }

@@ -98,6 +98,9 @@ impl Commander {
         if !(h.is_finite() && h > 0.0 && h <= MAX_TAKEOFF_M) {
             return Outcome::Denied(format!("Takeoff refused: height {h} m"));
         }
+        if let Some(refusal) = self.navigation_refusal(FlightMode::Takeoff, false) {
+            return refusal;
+        }
         self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
         self.enter(FlightMode::Takeoff, x, t_s);
         Outcome::Accepted
@@ -135,6 +138,9 @@ impl Commander {
         );
         if !target.iter().all(|v| v.is_finite()) {
             return Outcome::Denied("Reposition refused: bad target".into());
+        }
+        if let Some(refusal) = self.navigation_refusal(FlightMode::Loiter, false) {
+            return refusal;
         }
         self.enter(FlightMode::Loiter, x, t_s);
         let yaw = yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z);

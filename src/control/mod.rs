@@ -16,6 +16,7 @@ pub mod filters;
 mod gains;
 pub mod geometric;
 pub mod hierarchical;
+pub mod low_pass;
 mod output;
 pub mod passivity;
 pub mod reference;

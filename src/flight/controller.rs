@@ -67,7 +67,8 @@ pub struct FlightController {
     believed_mass_kg: f64,
     believed_inertia_kg_m2: Vec3,
     rotor_max_rad_s: f64,
-    /// Collective thrust of the last tick over the believed weight [-] (land detector input).
+    /// Collective thrust the controller asked for at the last tick over the believed weight [-]
+    /// (land detector input).
     thrust_over_weight: f64,
 }
 
@@ -186,6 +187,11 @@ impl FlightController {
         if s.estimator != before.estimator {
             self.install_observer(s.estimator);
         }
+        if s.nav != before.nav {
+            if let Err(e) = self.nav.set_params(s.nav) {
+                tracing::warn!("{e}");
+            }
+        }
         let plant = match s.wind {
             wind if wind != before.wind => PlantChange::Wind(wind),
             _ => PlantChange::ProximityEffects {
@@ -252,7 +258,12 @@ impl Pilot for FlightController {
     /// One tick (module docs).
     fn control(&mut self, t_s: f64, sensors: &Sensors, esc: &EscReport<'_>) -> Control {
         let x = self.nav.update(t_s, sensors);
-        let mut failsafe_events: Vec<Event> = self.nav.announcements().into_iter().map(Event::Failsafe).collect();
+        let mut failsafe_events: Vec<Event> = self
+            .nav
+            .announcements()
+            .into_iter()
+            .map(|(text, warning)| Event::Navigation { text, warning })
+            .collect();
         failsafe_events.extend(self.commander.check_navigation(self.nav.validity(), &x, t_s));
         failsafe_events.extend(
             self.rotors
@@ -268,8 +279,11 @@ impl Pilot for FlightController {
             (None, Some(target)) => Some(self.core.step_attitude(&x, &target)),
             (None, None) => None,
         };
+        // The collective thrust the controller asks for, as PX4's land detector reads its thrust
+        // setpoint: on the ground, torques against an attitude the contact holds can keep the
+        // applied thrust up while the controller asks for none.
         self.thrust_over_weight = step.map_or(0.0, |s| {
-            s.allocation.applied.thrust_n / (self.believed_mass_kg * GRAVITY_M_S2)
+            s.control.wrench.thrust_n / (self.believed_mass_kg * GRAVITY_M_S2)
         });
         Control {
             state: x,

@@ -3,6 +3,7 @@
 //! [`Navigator::update`] per tick with that tick's readings.
 
 use crate::commander::NavValidity;
+use crate::control::low_pass::LowPass3;
 use crate::control::VehicleState;
 use crate::math::{Mat3, Vec3};
 use crate::nav_filter::{
@@ -14,6 +15,14 @@ use crate::telemetry::{FilterSnapshot, GpsSnapshot, NavSnapshot, SensorHealth};
 
 /// An IMU that has been silent this long counts as failed [s].
 const IMU_TIMEOUT_S: f64 = 0.1;
+/// Cut-off of the body rates the controllers read [Hz] (PX4's `IMU_GYRO_CUTOFF`, 40 Hz)
+/// (docs/navigation_filter.md §17).
+pub const GYRO_CUTOFF_HZ: f64 = 40.0;
+/// Cut-off of the velocity the controllers read [Hz]: filtering the integrated acceleration as
+/// PX4 filters the acceleration (`IMU_ACCEL_CUTOFF`, 30 Hz) (docs/navigation_filter.md §17).
+pub const ACCEL_CUTOFF_HZ: f64 = 30.0;
+/// Tick the output filters are designed for [s].
+const TICK_S: f64 = 1e-3;
 
 /// The latest raw readings, for telemetry.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -33,9 +42,32 @@ pub struct Navigator {
     /// The filter ran this flight (the sensor suite is read).
     filtering: bool,
     readings: LatestReadings,
-    /// What the last tick's announcements were about: (GPS, barometer, magnetometer) usable,
-    /// and the height source.
-    announced: Option<(bool, bool, bool, HeightSource)>,
+    /// The low-passes of the rates and the velocity the controllers fly on (filter only).
+    gyro_lpf: LowPass3,
+    vel_lpf: LowPass3,
+    /// What has been announced of the GPS, barometer and magnetometer, and the height source.
+    announced: Announced,
+}
+
+/// Where a sensor stands in the announcements.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+enum SensorNews {
+    /// Not usable yet: its first data is no news.
+    #[default]
+    NeverUsable,
+    /// Usable.
+    Usable,
+    /// Announced lost.
+    Lost,
+}
+
+/// The announcements' memory.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Announced {
+    /// GPS, barometer, magnetometer.
+    sources: [SensorNews; 3],
+    /// The height source last seen.
+    height: Option<HeightSource>,
 }
 
 /// A navigator with PX4's default filter settings.
@@ -52,7 +84,9 @@ impl Navigator {
             latest: None,
             filtering: false,
             readings: LatestReadings::default(),
-            announced: None,
+            gyro_lpf: LowPass3::new(GYRO_CUTOFF_HZ, TICK_S),
+            vel_lpf: LowPass3::new(ACCEL_CUTOFF_HZ, TICK_S),
+            announced: Announced::default(),
         }
     }
 
@@ -80,7 +114,8 @@ impl Navigator {
 
     /// The state for tick `t_s` [s] from its readings: the state sensor's when there is one,
     /// else the filter's estimate after predicting with the IMU sample and fusing whatever
-    /// arrived (GPS, barometer, magnetometer), in the local NED frame of the readings.
+    /// arrived (GPS, barometer, magnetometer), in the local NED frame of the readings; the rates
+    /// and the velocity low-passed as PX4's controllers read them (docs/navigation_filter.md §17).
     pub fn update(&mut self, t_s: f64, sensors: &Sensors) -> VehicleState {
         if let Some(x) = sensors.state {
             self.latest = Some(x);
@@ -103,7 +138,9 @@ impl Navigator {
             self.filter.fuse_mag(mag);
             self.readings.mag = Some(*mag);
         }
-        let x = self.filter_state(t_s);
+        let mut x = self.filter_state(t_s);
+        x.omega_b = self.gyro_lpf.update(x.omega_b);
+        x.vel_w = self.vel_lpf.update(x.vel_w);
         self.latest = Some(x);
         x
     }
@@ -123,42 +160,43 @@ impl Navigator {
     }
 
     /// What changed in the sensors the filter uses since the last call, as announcements (a
-    /// sensor lost or back, the height source switched); empty with the state sensor and before
-    /// the filter is aligned.
-    pub fn announcements(&mut self) -> Vec<String> {
+    /// sensor lost, or back after a loss; the height source switched), each with whether it is
+    /// a warning; empty with the state sensor and before the filter is aligned.
+    pub fn announcements(&mut self) -> Vec<(String, bool)> {
         let Some(status) = self.status().filter(|s| s.attitude_valid) else {
             return Vec::new();
         };
         let usable = |s: &SourceStatus| matches!(s.health, SourceHealth::Fused | SourceHealth::Rejected);
-        let now = (
-            usable(&status.gps),
-            usable(&status.baro),
-            usable(&status.mag),
-            status.active_height,
-        );
-        let Some(before) = self.announced.replace(now) else {
-            return Vec::new();
-        };
         let mut out = Vec::new();
-        let change = |was: bool, is: bool, lost: &str, back: &str, out: &mut Vec<String>| {
-            if was != is {
-                out.push(if is { back } else { lost }.to_string());
+        let sources = [
+            (usable(&status.gps), "GPS lost: dead reckoning", "GPS regained"),
+            (usable(&status.baro), "Barometer lost", "Barometer regained"),
+            (
+                usable(&status.mag),
+                "Compass lost: heading held on the gyroscope",
+                "Compass regained",
+            ),
+        ];
+        for (track, (now, lost, back)) in self.announced.sources.iter_mut().zip(sources) {
+            match (*track, now) {
+                (SensorNews::Usable, false) => {
+                    *track = SensorNews::Lost;
+                    out.push((lost.to_string(), true));
+                }
+                (SensorNews::Lost, true) => {
+                    *track = SensorNews::Usable;
+                    out.push((back.to_string(), false));
+                }
+                (SensorNews::NeverUsable, true) => *track = SensorNews::Usable,
+                _ => {}
             }
-        };
-        change(before.0, now.0, "GPS lost: dead reckoning", "GPS regained", &mut out);
-        change(before.1, now.1, "Barometer lost", "Barometer regained", &mut out);
-        change(
-            before.2,
-            now.2,
-            "Compass lost: heading held on the gyroscope",
-            "Compass regained",
-            &mut out,
-        );
-        if before.3 != now.3 {
-            out.push(match now.3 {
-                HeightSource::Gps => "Height source: GPS".to_string(),
-                HeightSource::Baro => "Height source: barometer".to_string(),
-            });
+        }
+        if self.announced.height.replace(status.active_height).is_some_and(|h| h != status.active_height) {
+            let text = match status.active_height {
+                HeightSource::Gps => "Height source: GPS",
+                HeightSource::Baro => "Height source: barometer",
+            };
+            out.push((text.to_string(), false));
         }
         out
     }

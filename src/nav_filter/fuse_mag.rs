@@ -56,6 +56,11 @@ impl NavFilter {
             return Fusion::skipped(SkipReason::NotAligned);
         }
         self.flush_covariance();
+        if self.yaw_aligned && self.mag_tan_inclination.is_none() {
+            // Started at a known attitude (`align_at`): the first sample gives the field's
+            // inclination and is fused, not reset to (one noisy sample is a poor heading).
+            self.mag_tan_inclination = tan_inclination(&self.x.q_wb, &mag.field_b);
+        }
         let (true, Some(tan_incl)) = (self.yaw_aligned, self.mag_tan_inclination) else {
             return if self.reset_yaw_to_mag(&mag.field_b) {
                 Fusion {

@@ -76,7 +76,9 @@ pub struct NavParams {
     pub heading_noise_rad: f64,
     /// Magnetic heading innovation gate [SD] (`EKF2_MAG_GATE` 3).
     pub mag_gate_sd: f64,
-    /// Magnetic declination, east of true north positive [rad] (`EKF2_MAG_DECL`, 3°).
+    /// Magnetic declination, east of true north positive [rad] (`EKF2_MAG_DECL`): 3.27°, the
+    /// value at PX4's default home (PX4 looks it up in its World Magnetic Model table at the
+    /// home position; the simulated field at the default home has this declination).
     pub mag_declination_rad: f64,
     /// Height reference (`EKF2_HGT_REF`, GNSS).
     pub height_ref: HeightSource,
@@ -124,7 +126,7 @@ impl Default for NavParams {
             mag_delay_s: 0.0,
             heading_noise_rad: 0.3,
             mag_gate_sd: 3.0,
-            mag_declination_rad: 3.0_f64.to_radians(),
+            mag_declination_rad: 3.27_f64.to_radians(),
             height_ref: HeightSource::Gps,
             height_timeout_s: 5.0,
             noaid_timeout_s: 5.0,
@@ -225,7 +227,7 @@ mod tests {
             (p.gps_delay_s, p.noaid_timeout_s, p.predict_period_s),
             (0.110, 5.0, 0.01)
         );
-        assert!((p.mag_declination_rad.to_degrees() - 3.0).abs() < 1e-12);
+        assert!((p.mag_declination_rad.to_degrees() - 3.27).abs() < 1e-12);
     }
 
     #[test]

@@ -45,6 +45,8 @@ pub enum Scope {
     Estimator,
     /// The simulated vehicle.
     Plant,
+    /// The navigation filter (EKF2_*).
+    NavFilter,
 }
 
 impl fmt::Display for Scope {
@@ -59,6 +61,7 @@ impl fmt::Display for Scope {
             Self::Controller => "controller",
             Self::Estimator => "estimator",
             Self::Plant => "plant",
+            Self::NavFilter => "navigation filter",
         })
     }
 }

@@ -4,6 +4,7 @@
 use crate::commander::CommanderParams;
 use crate::control::{ControllerGains, ControllerKind};
 use crate::estimation::ChebyshevDesign;
+use crate::nav_filter::NavParams;
 
 /// The settings the table describes, as the flight software uses them.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,6 +23,8 @@ pub struct VehicleSettings {
     pub ground_effect: bool,
     /// The plant's ceiling effect switched on.
     pub ceiling_effect: bool,
+    /// The navigation filter's settings (EKF2_*).
+    pub nav: NavParams,
     /// The simulated wind the parameters set (the airframe's or scenario's wind blows until one
     /// of them changes).
     pub wind: WindParams,
@@ -52,6 +55,7 @@ impl VehicleSettings {
             ground_effect: true,
             ceiling_effect: true,
             wind: WindParams::default(),
+            nav: NavParams::default(),
         }
     }
 
@@ -67,6 +71,7 @@ impl VehicleSettings {
                 f.battery_low, f.battery_critical, f.battery_emergency
             ));
         }
+        self.nav.validate().map_err(|e| e.to_string())?;
         if let Some(design) = self.estimator {
             design.gains(ts_s).map_err(|e| e.to_string())?;
         }

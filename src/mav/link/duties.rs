@@ -6,7 +6,7 @@ use std::hash::Hash;
 
 use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
 
-use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO};
+use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
 use crate::commander::{Event, LinkLossAction, Request, Stream};
 use crate::mav::identity::heartbeat;
 use crate::mav::signing::unix_us_from_timestamp;
@@ -24,6 +24,7 @@ pub(super) fn announcement(snapshot: &Snapshot, event: &Event) -> MavMessage {
         Event::MissionItemReached(seq) => MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: *seq }),
         Event::MissionCurrent(seq) => mission_current(snapshot, *seq),
         Event::Failsafe(text) => status_text(CRITICAL, text),
+        Event::Navigation { text, warning: true } => status_text(WARNING, text),
         other => status_text(INFO, &other.describe()),
     }
 }

@@ -12,6 +12,7 @@
 //! - `plant.rs`: the plant's ground and ceiling effect, and the simulated wind.
 //! - `sticks.rs`: the stick modes: sources, stick loss, take-over, stick shaping.
 //! - `follow.rs`: follow-me.
+//! - `navigation_filter.rs`: the navigation filter (EKF2_*).
 
 /// Declares one [`ParamDef`](super::ParamDef): name, wire type, `[min, max]`, unit, scope
 /// ([`Scope`](super::Scope) variant), description, then how it reads and writes the settings:
@@ -96,13 +97,14 @@ mod failsafe;
 mod flight;
 mod follow;
 mod gains;
+mod navigation_filter;
 mod plant;
 mod sticks;
 
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 20] = [
+static GROUPS: [&[ParamDef]; 21] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -123,6 +125,7 @@ static GROUPS: [&[ParamDef]; 20] = [
     follow::FOLLOW,
     plant::WIND,
     failsafe::NAVIGATION_LOSS,
+    navigation_filter::NAV_FILTER,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 111] = [
+const WIRE_ORDER: [&str; 126] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -116,6 +116,21 @@ const WIRE_ORDER: [&str; 111] = [
     "SIH_WIND_E",
     "RP_WIND_TURB",
     "COM_POSCTL_NAVL",
+    "EKF2_HGT_REF",
+    "EKF2_GPS_DELAY",
+    "EKF2_NOAID_TOUT",
+    "EKF2_MAG_DECL",
+    "EKF2_GPS_P_GATE",
+    "EKF2_GPS_V_GATE",
+    "EKF2_BARO_GATE",
+    "EKF2_MAG_GATE",
+    "EKF2_GPS_P_NOISE",
+    "EKF2_GPS_V_NOISE",
+    "EKF2_BARO_NOISE",
+    "EKF2_HEAD_NOISE",
+    "EKF2_ACC_NOISE",
+    "EKF2_GYR_NOISE",
+    "EKF2_TAU_VEL",
 ];
 
 fn settings() -> VehicleSettings {
