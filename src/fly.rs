@@ -149,7 +149,11 @@ pub fn fly(src: &AirframeSource, opts: &FlyOptions) -> Result<FlightSummary, Fly
         }
         None => None,
     };
-    let mut lockstep = Lockstep::new(SetpointFollower::new(core, climb).starting_at(&start), plant, opts.dt_s);
+    let mut follower = SetpointFollower::new(core, climb);
+    if opts.sensors == SensorModel::Suite {
+        follower = follower.starting_at(&start);
+    }
+    let mut lockstep = Lockstep::new(follower, plant, opts.dt_s);
     let mut observer = (RunStats::default(), log, ulog);
 
     let ticks = (opts.duration_s / opts.dt_s).round() as u64;

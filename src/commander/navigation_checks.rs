@@ -7,6 +7,7 @@
 
 use super::{Commander, Event, FlightMode, Outcome};
 use crate::control::{FlatSetpoint, VehicleState};
+use crate::math::Vec3;
 
 /// Whether the estimate can be flown on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,6 +55,12 @@ impl Commander {
     /// The validity of the latest estimate.
     pub fn navigation(&self) -> NavValidity {
         self.nav
+    }
+
+    /// Takes the estimate's validity `v` before the first tick (a flight controller that will
+    /// fly on its navigation filter starts unaligned), without reacting to it.
+    pub fn set_navigation(&mut self, v: NavValidity) {
+        self.nav = v;
     }
 
     /// True when arming now would pass the navigation checks of the current mode (SYS_STATUS's
@@ -123,16 +130,16 @@ impl Commander {
         Some(Outcome::TemporarilyRejected(format!("{what}: {missing}")))
     }
 
-    /// A descent without a position holds no horizontal position or velocity: the setpoint
-    /// takes them from the estimate, so only height and heading are controlled and the
-    /// attitude stays level.
+    /// A descent without a position holds no horizontal position: the setpoint takes it from
+    /// the estimate, and asks for zero horizontal velocity and acceleration, so the controller
+    /// damps the dead-reckoned velocity (good for seconds, drifting slowly) and keeps the
+    /// attitude near level while height and heading are controlled.
     pub(super) fn without_horizontal(sp: FlatSetpoint, x: &VehicleState) -> FlatSetpoint {
-        let keep_z =
-            |v: Option<crate::math::Vec3>, now: crate::math::Vec3| v.map(|v| crate::math::Vec3::new(now.x, now.y, v.z));
+        let with_xy = |v: Option<Vec3>, xy: Vec3| v.map(|v| Vec3::new(xy.x, xy.y, v.z));
         FlatSetpoint {
-            pos_w: keep_z(sp.pos_w, x.pos_w),
-            vel_w: keep_z(sp.vel_w, x.vel_w),
-            acc_w: keep_z(sp.acc_w, crate::math::Vec3::zeros()),
+            pos_w: with_xy(sp.pos_w, x.pos_w),
+            vel_w: with_xy(sp.vel_w, Vec3::zeros()),
+            acc_w: with_xy(sp.acc_w, Vec3::zeros()),
             ..sp
         }
     }
@@ -194,14 +201,14 @@ mod tests {
             ]
         );
         assert!(s.c.descending_blind());
-        // The setpoints carry no horizontal correction: the estimate's own position and
-        // velocity, no horizontal acceleration.
+        // The setpoints carry no horizontal position (the estimate's own) and ask for zero
+        // horizontal velocity and acceleration.
         s.x.pos_w.x += 3.0;
         s.x.vel_w.y = 0.4;
         s.step();
         let sp = s.last.as_ref().and_then(|t| t.setpoint).expect("flying");
         let (p, v, a) = (sp.pos_w.unwrap(), sp.vel_w.unwrap(), sp.acc_w.unwrap());
-        assert_eq!((p.x, v.y, a.x, a.y), (s.x.pos_w.x, 0.4, 0.0, 0.0));
+        assert_eq!((p.x, v.y, a.x, a.y), (s.x.pos_w.x, 0.0, 0.0, 0.0));
         s.fly(1.0);
         let sp = s.last.as_ref().and_then(|t| t.setpoint).expect("flying");
         assert!(sp.vel_w.is_some_and(|v| v.z > 0.3), "descending: {sp:?}");

@@ -1,6 +1,7 @@
 //! First-order low-pass of a 3-vector, as PX4 filters the rates and accelerations its
-//! controllers read (`IMU_GYRO_CUTOFF`, `IMU_ACCEL_CUTOFF`) (docs/navigation_filter.md §17,
-//! eq. (17.1)): `y_k = y_{k−1} + α (x_k − y_{k−1})`, `α = 1 − e^{−2π f_c Ts}`, the exact
+//! controllers read (`IMU_GYRO_CUTOFF`, `IMU_ACCEL_CUTOFF`)
+//! (docs/navigation_filter.md §17, eq. (17.1)):
+//! `y_k = y_{k−1} + α (x_k − y_{k−1})`, `α = 1 − e^{−2π f_c Ts}`, the exact
 //! discretisation of `1 / (s / (2π f_c) + 1)` for a signal held over each step; started at the
 //! first sample.
 

@@ -140,6 +140,14 @@ impl FlightController {
     /// the air; docs/navigation_filter.md §11) instead of aligning at rest.
     pub fn start_navigation_at(&mut self, x: &VehicleState) {
         self.nav.start_at(x);
+        self.commander.set_navigation(self.nav.validity());
+    }
+
+    /// Flies on the navigation filter fed by the sensor suite (`SensorModel::Suite`): nothing
+    /// may arm before the filter is aligned, from the very first request.
+    pub fn expect_sensor_suite(&mut self) {
+        self.nav.expect_sensor_suite();
+        self.commander.set_navigation(self.nav.validity());
     }
 
     /// What the flight controller knows of its state.

@@ -90,11 +90,18 @@ impl Navigator {
         }
     }
 
+    /// Announces that the sensor suite, not the state sensor, will be read: the validity is the
+    /// filter's from now on (nothing is valid before its alignment).
+    pub fn expect_sensor_suite(&mut self) {
+        self.filtering = true;
+    }
+
     /// Starts the filter aligned at the vehicle's known state `x` (a headless run that starts
     /// in the air; docs/navigation_filter.md §11), instead of aligning at rest.
     pub fn start_at(&mut self, x: &VehicleState) {
         let q_wb = crate::math::UnitQuat::from_matrix(&x.r_wb);
         self.filter.align_at(x.t_s, x.pos_w, x.vel_w, q_wb);
+        self.filtering = true;
     }
 
     /// A navigator whose filter, when the sensor suite is read, has `params`.
@@ -191,7 +198,12 @@ impl Navigator {
                 _ => {}
             }
         }
-        if self.announced.height.replace(status.active_height).is_some_and(|h| h != status.active_height) {
+        if self
+            .announced
+            .height
+            .replace(status.active_height)
+            .is_some_and(|h| h != status.active_height)
+        {
             let text = match status.active_height {
                 HeightSource::Gps => "Height source: GPS",
                 HeightSource::Baro => "Height source: barometer",

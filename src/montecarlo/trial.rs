@@ -15,7 +15,7 @@ use crate::estimation::{ChebyshevDesign, DesignError, ObserverError, WrenchObser
 use crate::flight::{FlightCore, SetpointFollower};
 use crate::lockstep::{FailureSchedule, Guard, Lockstep, ScheduledFailure, SetupError};
 use crate::math::Vec3;
-use crate::sitl::SimPlant;
+use crate::sitl::{SensorModel, SimPlant};
 
 use super::envelope::Draw;
 use super::judging::Judge;
@@ -232,11 +232,11 @@ pub fn fly(setup: &TrialSetup, kind: ControllerKind, draw: &Draw) -> Result<Tria
     let r_eq = equilibrium_attitude(plant.true_mass_kg(), &draw.force_w, yaw_sp);
     let judge = Judge::new(setup.criterion, r_eq, &plant.truth());
     let setpoint = FlatSetpoint::hold(Vec3::zeros(), yaw_sp);
-    let mut lockstep = Lockstep::new(
-        SetpointFollower::new(core, setpoint).starting_at(&plant.true_state()),
-        plant,
-        setup.dt_s,
-    );
+    let mut follower = SetpointFollower::new(core, setpoint);
+    if plant.sensor_model() == SensorModel::Suite {
+        follower = follower.starting_at(&plant.true_state());
+    }
+    let mut lockstep = Lockstep::new(follower, plant, setup.dt_s);
     lockstep.set_rotor_failures(setup.rotor_failures.clone());
     let mut observer = (judge, Guard { fly_away_m: FLY_AWAY_M });
     let end = lockstep.run(setup.ticks(), &mut observer);

@@ -30,16 +30,34 @@ pub(super) struct Aligner {
     mag_count: u32,
     baro_sum_m: f64,
     baro_count: u32,
+    /// Low-passed specific force and rate the rest test reads (single samples are too noisy).
+    rest_accel_b: Option<Vec3>,
+    rest_gyro_b: Vec3,
 }
 
+/// Weight of a new sample in the low-passed values the rest test reads [-]: a time constant of
+/// 50 samples (50 ms at 1 kHz), so a noisy IMU at rest stays at rest.
+const REST_FILTER_GAIN: f64 = 0.02;
+
 impl Aligner {
-    /// Adds one IMU sample; a sample not at rest restarts the window. True once the window
-    /// spans `window_s` [s] (docs/navigation_filter.md §11).
+    /// Adds one IMU sample; when the low-passed specific force and rate say the vehicle moves,
+    /// the window restarts. True once the window spans `window_s` [s]
+    /// (docs/navigation_filter.md §11).
     pub fn add_imu(&mut self, imu: &ImuReading, window_s: f64) -> bool {
-        let at_rest = (imu.accel_b.norm() - GRAVITY_M_S2).abs() <= REST_ACCEL_TOL_M_S2
-            && imu.gyro_b.norm() <= REST_GYRO_TOL_RAD_S;
+        let accel = match self.rest_accel_b {
+            Some(a) => a + REST_FILTER_GAIN * (imu.accel_b - a),
+            None => imu.accel_b,
+        };
+        let gyro = self.rest_gyro_b + REST_FILTER_GAIN * (imu.gyro_b - self.rest_gyro_b);
+        self.rest_accel_b = Some(accel);
+        self.rest_gyro_b = gyro;
+        let at_rest = (accel.norm() - GRAVITY_M_S2).abs() <= REST_ACCEL_TOL_M_S2 && gyro.norm() <= REST_GYRO_TOL_RAD_S;
         if !at_rest {
-            *self = Self::default();
+            *self = Self {
+                rest_accel_b: Some(accel),
+                rest_gyro_b: gyro,
+                ..Self::default()
+            };
             return false;
         }
         let start = *self.start_s.get_or_insert(imu.t_s);
@@ -226,6 +244,7 @@ impl NavFilter {
         self.aiding.last_aiding_s = Some(t_s);
         self.aiding.last_pos_s = Some(t_s);
         self.aiding.last_vel_s = Some(t_s);
+        self.height.mark_fused(self.height.active, t_s);
         self.buffer.clear();
         self.buffer.push(Snapshot {
             t_s,
@@ -334,22 +353,34 @@ mod tests {
     }
 
     #[test]
-    fn motion_restarts_the_window() {
+    fn motion_restarts_the_window_and_a_noisy_sample_does_not() {
         let mut a = Aligner::default();
         let rest = |t: f64| ImuReading {
             t_s: t,
             accel_b: Vec3::new(0.0, 0.0, -GRAVITY_M_S2),
             gyro_b: Vec3::zeros(),
         };
+        let turning = |t: f64| ImuReading {
+            gyro_b: Vec3::new(1.0, 0.0, 0.0),
+            ..rest(t)
+        };
         assert!(!a.add_imu(&rest(0.0), 0.5));
-        assert!(!a.add_imu(
-            &ImuReading {
-                gyro_b: Vec3::new(1.0, 0.0, 0.0),
-                ..rest(0.3)
-            },
-            0.5
-        ));
-        assert!(!a.add_imu(&rest(0.6), 0.5));
-        assert!(a.add_imu(&rest(1.1), 0.5));
+        // One sample far off (an IMU's noise) keeps the window...
+        assert!(!a.add_imu(&turning(0.1), 0.5));
+        assert!(a.add_imu(&rest(0.5), 0.5), "0.5 s at rest");
+        // ...a turn of 0.1 s restarts it.
+        let mut a = Aligner::default();
+        assert!(!a.add_imu(&rest(0.0), 0.5));
+        for k in 0..100 {
+            assert!(!a.add_imu(&turning(0.2 + 1e-3 * f64::from(k)), 0.5));
+        }
+        for k in 0..200 {
+            assert!(
+                !a.add_imu(&rest(0.3 + 1e-3 * f64::from(k)), 0.5),
+                "settling after the turn"
+            );
+        }
+        assert!(!a.add_imu(&rest(0.6), 0.5), "the window restarted with the turn");
+        assert!(a.add_imu(&rest(1.2), 0.5));
     }
 }

@@ -10,7 +10,7 @@ use crate::flight::FlightController;
 use crate::lockstep::{Lockstep, ScheduledFailure, ScheduledSensorFailure, SetupError, TickView};
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable};
-use crate::sitl::{SensorModel, SimPlant};
+use crate::sitl::{PlantTruth, SensorModel, SimPlant};
 use crate::telemetry::Snapshot;
 
 use super::flight_log::{LogSender, UlogTarget};
@@ -58,7 +58,10 @@ impl Vehicle {
         dt_s: f64,
     ) -> Result<Self, SetupError> {
         let airframe = Airframe::from_source(src)?;
-        let controller = FlightController::new(&airframe, kind, home, dt_s)?;
+        let mut controller = FlightController::new(&airframe, kind, home, dt_s)?;
+        if sensors == SensorModel::Suite {
+            controller.expect_sensor_suite();
+        }
         let plant = SimPlant::from_source(src, seed)?.with_sensor_model(sensors);
         for w in plant.warnings() {
             tracing::warn!("{w}");
@@ -113,6 +116,11 @@ impl Vehicle {
     /// ([`Lockstep::request`]).
     pub fn apply(&mut self, request: Request) -> Outcome {
         self.lockstep.request(request)
+    }
+
+    /// The plant's exact state (for tests and benchmarks; never the flight controller's input).
+    pub fn truth(&self) -> PlantTruth {
+        self.lockstep.plant().truth()
     }
 
     /// Stops a rotor at a simulated time (`--fail-rotor`).

@@ -22,7 +22,7 @@ use crate::runtime::ulog_stream::log_params;
 use crate::scenario::estimate_stats::{EstimateStats, EstimateTracking, SETTLE_TIME_CONSTANTS};
 use crate::scenario::summary::{RunStats, TickRecord, TrackingSummary};
 use crate::scenario::Scenario;
-use crate::sitl::SimPlant;
+use crate::sitl::{SensorModel, SimPlant};
 
 use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
 use run_csv::RunCsv;
@@ -138,13 +138,18 @@ pub fn simulate_paced(scn: &Scenario, out_dir: Option<&Path>, pace: Pace, csv: b
     let trajectory = scn.trajectory.clone();
     let Some(fc) = autopilot else {
         let core = scn.flight_core().map_err(SetupError::from)?;
-        let follower = SetpointFollower::new(core, trajectory).starting_at(&plant.true_state());
+        let mut follower = SetpointFollower::new(core, trajectory);
+        if plant.sensor_model() == SensorModel::Suite {
+            follower = follower.starting_at(&plant.true_state());
+        }
         let mut lockstep = Lockstep::new(follower, plant, scn.dt_s);
         let order = scn.estimator.as_ref().map_or(0, |s| s.gains.len());
         return fly(&mut lockstep, scn, order, out_dir.map(|dir| (dir, csv)), pace);
     };
     let mut fc = fc;
-    fc.start_navigation_at(&plant.true_state());
+    if plant.sensor_model() == SensorModel::Suite {
+        fc.start_navigation_at(&plant.true_state());
+    }
     let order = fc.params().settings().estimator.map_or(0, |d| d.order);
     let mut lockstep = Lockstep::new(OffboardPilot::new(fc, trajectory), plant, scn.dt_s);
     let summary = fly(&mut lockstep, scn, order, out_dir.map(|dir| (dir, csv)), pace)?;

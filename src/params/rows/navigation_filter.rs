@@ -18,7 +18,11 @@ pub(super) static NAV_FILTER: &[ParamDef] = &[
             HeightSource::Gps => 1.0,
         },
         |s, v| {
-            s.nav.height_ref = if v == 0.0 { HeightSource::Baro } else { HeightSource::Gps };
+            s.nav.height_ref = if v == 0.0 {
+                HeightSource::Baro
+            } else {
+                HeightSource::Gps
+            };
             Ok(())
         }
     ),

@@ -1,0 +1,187 @@
+//! Flying on the navigation filter's estimate with the sensor suite, and PX4's reactions to
+//! sensor failures in closed loop (docs/mavlink.md §11.2): the GPS lost in flight means a
+//! level descent without position to a gentle touch-down; a lost barometer or magnetometer
+//! changes nothing but the height source or the heading aid. Through the runtime vehicle
+//! (commander + navigator + flight core + plant + sensors), without sockets.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use rotorpilot::airframe::AirframeSource;
+use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
+use rotorpilot::control::ControllerKind;
+use rotorpilot::lockstep::ScheduledSensorFailure;
+use rotorpilot::navigation::Home;
+use rotorpilot::runtime::vehicle::Vehicle;
+use rotorpilot::sitl::SensorModel;
+
+const DT_S: f64 = 1e-3;
+
+struct Flight {
+    vehicle: Vehicle,
+    events: Vec<String>,
+    modes: Vec<FlightMode>,
+    /// Largest true distance from the take-off point, horizontally [m].
+    max_drift_m: f64,
+    /// Largest true descent speed within 0.3 m of the ground [m/s].
+    touchdown_m_s: f64,
+    /// Largest true height [m] above the start.
+    max_height_m: f64,
+    /// Largest |estimate − truth| of the position [m].
+    max_nav_error_m: f64,
+}
+
+impl Flight {
+    /// quad_x on realistic sensors, seed `seed`, waiting until it may arm.
+    fn ready(seed: u64) -> Self {
+        let src = AirframeSource::resolve("quad_x").unwrap();
+        let vehicle = Vehicle::new(
+            &src,
+            ControllerKind::Geometric,
+            Home::default(),
+            SensorModel::Suite,
+            seed,
+            DT_S,
+        )
+        .unwrap();
+        let mut f = Self {
+            vehicle,
+            events: Vec::new(),
+            modes: Vec::new(),
+            max_drift_m: 0.0,
+            touchdown_m_s: 0.0,
+            max_height_m: 0.0,
+            max_nav_error_m: 0.0,
+        };
+        assert_eq!(
+            f.vehicle.apply(Request::Arm { force: false }),
+            Outcome::TemporarilyRejected("Arming denied: attitude estimate not aligned".into()),
+            "no arming before the filter is aligned"
+        );
+        assert!(f.run_until(10.0, |s| s.nav.armable), "ready to arm within 10 s");
+        f
+    }
+
+    fn step(&mut self) -> rotorpilot::telemetry::Snapshot {
+        let out = self.vehicle.step();
+        let s = out.snapshot;
+        self.events.extend(out.events.iter().map(Event::describe));
+        if self.modes.last() != Some(&s.mode) {
+            self.modes.push(s.mode);
+        }
+        let t = self.vehicle.truth();
+        let height = -t.pos_w.z - 0.1;
+        self.max_height_m = self.max_height_m.max(height);
+        self.max_drift_m = self.max_drift_m.max(t.pos_w.xy().norm());
+        if s.armed && height < 0.3 {
+            self.touchdown_m_s = self.touchdown_m_s.max(t.vel_w.z);
+        }
+        if s.armed {
+            self.max_nav_error_m = self.max_nav_error_m.max((s.pos_w - t.pos_w).norm());
+        }
+        s
+    }
+
+    /// Steps until `done` or `max_s` [s] more of simulated time; whether `done` came.
+    fn run_until(&mut self, max_s: f64, mut done: impl FnMut(&rotorpilot::telemetry::Snapshot) -> bool) -> bool {
+        for _ in 0..(max_s / DT_S) as usize {
+            if done(&self.step()) {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Takes off to `height_m` and holds.
+    fn airborne(&mut self, height_m: f64) {
+        let takeoff = Request::Takeoff {
+            height_m: Some(height_m),
+        };
+        assert_eq!(self.vehicle.apply(takeoff), Outcome::Accepted);
+        assert_eq!(self.vehicle.apply(Request::Arm { force: false }), Outcome::Accepted);
+        assert!(
+            self.run_until(30.0, |s| s.mode == FlightMode::Loiter && s.armed),
+            "took off"
+        );
+        self.run_until(3.0, |_| false);
+    }
+
+    fn fail_now(&mut self, failure: &str) {
+        let at_s = self.vehicle.time_s();
+        let failure: ScheduledSensorFailure = format!("{failure}@{at_s}").parse().unwrap();
+        self.vehicle.schedule_sensor_failure(failure);
+    }
+}
+
+#[test]
+fn on_realistic_sensors_it_takes_off_holds_and_lands_on_its_estimate() {
+    let mut f = Flight::ready(3);
+    f.airborne(5.0);
+    assert_eq!(f.vehicle.apply(Request::Land), Outcome::Accepted);
+    assert!(f.run_until(30.0, |s| !s.armed), "landed and disarmed: {:?}", f.events);
+    assert!(
+        f.max_nav_error_m < 2.5,
+        "estimate within the GPS error: {}",
+        f.max_nav_error_m
+    );
+    assert!(f.max_drift_m < 2.0, "held its place: {} m", f.max_drift_m);
+    assert!(f.touchdown_m_s < 1.0, "gentle touch-down: {} m/s", f.touchdown_m_s);
+}
+
+#[test]
+fn gps_lost_in_flight_descends_level_without_position_and_lands_gently() {
+    let mut f = Flight::ready(4);
+    f.airborne(10.0);
+    let drift_before = f.max_drift_m;
+    f.fail_now("gps:off");
+    // Dead reckoning first: the position stays valid for EKF2_NOAID_TOUT (5 s).
+    assert!(!f.run_until(4.0, |s| s.mode != FlightMode::Loiter), "{:?}", f.events);
+    assert!(
+        f.run_until(3.0, |s| s.mode == FlightMode::Land),
+        "position-loss failsafe: {:?}",
+        f.events
+    );
+    assert!(
+        f.events.iter().any(|e| e == "GPS lost: dead reckoning"),
+        "{:?}",
+        f.events
+    );
+    assert!(
+        f.events.iter().any(|e| e == "No position estimate: descending"),
+        "{:?}",
+        f.events
+    );
+    assert_eq!(
+        f.vehicle.apply(Request::SetMode(FlightMode::Loiter)),
+        Outcome::TemporarilyRejected("Mode AUTO.LOITER: no valid position estimate".into())
+    );
+    assert!(
+        f.run_until(60.0, |s| !s.armed),
+        "touched down and disarmed: {:?}",
+        f.events
+    );
+    assert!(f.touchdown_m_s < 1.0, "gentle touch-down: {} m/s", f.touchdown_m_s);
+    assert!(
+        f.max_drift_m < drift_before + 5.0,
+        "no fly-away: {} m from the start (was {drift_before})",
+        f.max_drift_m
+    );
+}
+
+#[test]
+fn baro_or_compass_lost_in_flight_changes_nothing_but_the_aid() {
+    for (failure, announced) in [
+        ("baro:off", "Barometer lost"),
+        ("mag:off", "Compass lost: heading held on the gyroscope"),
+    ] {
+        let mut f = Flight::ready(5);
+        f.airborne(5.0);
+        f.fail_now(failure);
+        f.run_until(20.0, |_| false);
+        assert!(f.events.iter().any(|e| e == announced), "{failure}: {:?}", f.events);
+        assert_eq!(f.modes.last(), Some(&FlightMode::Loiter), "{failure}: still holding");
+        let t = f.vehicle.truth();
+        assert!((-t.pos_w.z - 5.1).abs() < 1.0, "{failure}: height held: {}", -t.pos_w.z);
+        assert!(t.pos_w.xy().norm() < 2.0, "{failure}: place held");
+        assert_eq!(f.vehicle.apply(Request::Land), Outcome::Accepted);
+        assert!(f.run_until(30.0, |s| !s.armed), "{failure}: lands");
+    }
+}
