@@ -146,8 +146,12 @@ pub struct BenchReport {
     pub cores: usize,
     /// CPU model (from /proc/cpuinfo, when readable).
     pub cpu: Option<String>,
-    /// Headless ticks per second of one flying vehicle, per control law (estimator on).
+    /// Headless ticks per second of one flying vehicle, per control law (estimator on), on the
+    /// exact state.
     pub headless_ticks_per_s: BTreeMap<&'static str, f64>,
+    /// The same for the geometric law on realistic sensors: the sensor suite and the
+    /// navigation filter run every tick.
+    pub headless_ticks_per_s_realistic: f64,
     /// Real-time factor of one flying vehicle at `--speedup max`, links up.
     pub speedup_max_factor: f64,
     /// Largest vehicle count that held real time (0 if none did).
@@ -170,8 +174,9 @@ pub fn run(options: &BenchOptions) -> Result<BenchReport, BenchError> {
         ControllerKind::Hierarchical,
         ControllerKind::Passivity,
     ] {
-        headless.insert(kind.name(), headless_ticks_per_s(options, kind)?);
+        headless.insert(kind.name(), headless_ticks_per_s(options, kind, SensorModel::State)?);
     }
+    let headless_ticks_per_s_realistic = headless_ticks_per_s(options, ControllerKind::Geometric, SensorModel::Suite)?;
     let speedup_max_factor = runs::speedup_max_factor(options)?;
     let trials = runs::realtime_trials(options)?;
     let largest_realtime_count = trials
@@ -184,6 +189,7 @@ pub fn run(options: &BenchOptions) -> Result<BenchReport, BenchError> {
         cores: std::thread::available_parallelism().map_or(1, usize::from),
         cpu: cpu_model(),
         headless_ticks_per_s: headless,
+        headless_ticks_per_s_realistic,
         speedup_max_factor,
         largest_realtime_count,
         trials,
@@ -193,9 +199,15 @@ pub fn run(options: &BenchOptions) -> Result<BenchReport, BenchError> {
     })
 }
 
-/// Ticks per second of one vehicle climbing and hovering, with no sockets and no pacing.
-fn headless_ticks_per_s(options: &BenchOptions, kind: ControllerKind) -> Result<f64, BenchError> {
-    let mut vehicle = Vehicle::new(&options.airframe, kind, Home::default(), SensorModel::State, 0, 1e-3)?;
+/// Ticks per second of one vehicle climbing and hovering on `sensors`, with no sockets and no
+/// pacing (with the sensor suite, once the filter is aligned and the vehicle may arm).
+fn headless_ticks_per_s(options: &BenchOptions, kind: ControllerKind, sensors: SensorModel) -> Result<f64, BenchError> {
+    let mut vehicle = Vehicle::new(&options.airframe, kind, Home::default(), sensors, 0, 1e-3)?;
+    for _ in 0..10_000 {
+        if vehicle.step().snapshot.nav.armable {
+            break;
+        }
+    }
     vehicle.apply(Request::Takeoff { height_m: Some(2.0) });
     vehicle.apply(Request::Arm { force: false });
     for _ in 0..2_000 {
@@ -252,6 +264,11 @@ impl BenchReport {
                 rate / 1000.0
             );
         }
+        let rate = self.headless_ticks_per_s_realistic;
+        out += &format!(
+            "headless ticks/s (geometric, realistic sensors and navigation filter): {rate:.0} ({:.0}x real time)\n",
+            rate / 1000.0
+        );
         out += &format!(
             "real-time factor at --speedup max (1 vehicle, links up): {:.0}\n",
             self.speedup_max_factor
@@ -300,7 +317,7 @@ mod tests {
     #[test]
     fn headless_rate_is_measured_on_a_flying_vehicle() {
         let options = BenchOptions::quick(AirframeSource::resolve("quad_x").unwrap());
-        let rate = headless_ticks_per_s(&options, ControllerKind::Geometric).unwrap();
+        let rate = headless_ticks_per_s(&options, ControllerKind::Geometric, SensorModel::State).unwrap();
         assert!(rate.is_finite() && rate > 0.0);
     }
 }

@@ -1,0 +1,101 @@
+"""Flying on the navigation filter's estimate with the sensor suite (the default `rotorpilot run`),
+and PX4's reactions to sensor failures injected as MAVSDK and QGroundControl inject them
+(MAV_CMD_INJECT_FAILURE behind SYS_FAILURE_EN): a GPS lost during a mission ends in a level
+descent without position and a gentle touch-down (judged on the logged truth); a lost barometer
+or compass lets the mission fly on. MAVSDK's own failure_injection.py is flown unchanged in
+test_mavsdk_examples.py."""
+import math
+
+import pytest
+from pyulog import ULog
+
+import rotorpilot_gcs as gcs
+from rotorpilot_gcs import mavlink
+
+pytestmark = pytest.mark.rotorpilot(speedup=4, log=True, params={"SYS_FAILURE_EN": 1, "MPC_XY_CRUISE": 4})
+
+INJECT_FAILURE = 420
+# FAILURE_UNIT and FAILURE_TYPE (MAVSDK's FailureUnit / FailureType).
+GPS, BARO, MAG = 4, 3, 2
+OFF = 1
+
+
+def mission(autopilot, legs_m=(20, 20), alt=10.0):
+    """Take-off to `alt`, a square of `legs_m` north then east and back, then RTL."""
+    lat, lon, _ = autopilot.home_position()
+    north, east = legs_m
+    corners = [(north, 0), (north, east), (0, east), (0, 0)]
+    points = [gcs.offset_to_global(lat, lon, n, e) for n, e in corners]
+    autopilot.upload_mission([gcs.nav_takeoff(*gcs.offset_to_global(lat, lon, 0, 0), alt)]
+                             + [gcs.nav_waypoint(*p, alt) for p in points] + [gcs.nav_return_to_launch()])
+    autopilot.set_mode("AUTO.MISSION")
+    autopilot.arm()
+
+
+def inject(autopilot, unit, kind=OFF):
+    ack = autopilot.command(INJECT_FAILURE, unit, kind, 0)
+    assert ack.result == mavlink.MAV_RESULT_ACCEPTED
+
+
+def texts_until(autopilot, done, timeout):
+    """STATUSTEXTs until `done(message)` holds for one of them or `timeout` [s] passes."""
+    seen = []
+    for _ in range(int(timeout * 20)):
+        m = autopilot.recv(0.05)
+        if m is not None and m.get_type() == "STATUSTEXT":
+            seen.append(m.text)
+            if done(m.text):
+                break
+    return seen
+
+
+def flight_truth(autopilot):
+    """The true path of the (only) flight: (t [s], north, east, down [m], down speed [m/s])."""
+    [path] = autopilot.flight_logs()
+    d = {x.name: x.data for x in ULog(str(path), ["vehicle_local_position_groundtruth"]).data_list}
+    g = d["vehicle_local_position_groundtruth"]
+    return list(zip(g["timestamp"] / 1e6, g["x"], g["y"], g["z"], g["vz"]))
+
+
+def test_gps_lost_in_a_mission_descends_level_and_lands_gently(autopilot):
+    mission(autopilot)
+    autopilot.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 1, timeout=60)  # the first corner
+    inject(autopilot, GPS)
+    # Dead reckoning along the mission for EKF2_NOAID_TOUT (5 s), then the descent.
+    texts = texts_until(autopilot, lambda t: t == "No position estimate: descending", 30)
+    assert "GPS lost: dead reckoning" in texts and texts[-1] == "No position estimate: descending", texts
+    autopilot.wait_mode("AUTO.LAND", 5)
+    descent_s = autopilot.local_position().time_boot_ms / 1e3
+    autopilot.wait_disarmed(timeout=90)
+    truth = flight_truth(autopilot)
+    ground = max(p[3] for p in truth)
+    touchdown = max(p[4] for p in truth if ground - p[3] < 0.3 and p[0] > truth[0][0] + 5)
+    assert touchdown < 1.0, f"touched down at {touchdown:.2f} m/s"
+    start = min(truth, key=lambda p: abs(p[0] - descent_s))
+    final = truth[-1]
+    drift = math.hypot(final[1] - start[1], final[2] - start[2])
+    # Cruising at 4 m/s when the descent began, it stops on its dead-reckoned velocity (which
+    # drifts: the filter holds its position only by a pseudo-measurement by then).
+    assert drift < 20.0, f"landed {drift:.1f} m from where the descent began"
+
+
+@pytest.mark.parametrize("unit,announced", [(BARO, "Barometer lost"),
+                                            (MAG, "Compass lost: heading held on the gyroscope")])
+def test_baro_or_compass_lost_in_a_mission_flies_on(autopilot, unit, announced):
+    mission(autopilot)
+    autopilot.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 1, timeout=60)
+    inject(autopilot, unit)
+    texts = texts_until(autopilot, lambda t: t == announced, 10)
+    assert announced in texts, texts
+    # The mission carries on to its last corner, returns and lands.
+    autopilot.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 4, timeout=90)
+    autopilot.wait_mode("AUTO.RTL", 10)
+    autopilot.wait_disarmed(timeout=90)
+    final = flight_truth(autopilot)[-1]
+    assert math.hypot(final[1], final[2]) < 3.0, "landed at home"
+
+
+def test_sensor_failure_injection_needs_sys_failure_en(autopilot_factory):
+    ap = autopilot_factory(params={"SYS_FAILURE_EN": 0})
+    ack = ap.command_ack(INJECT_FAILURE, GPS, OFF, 0)
+    assert ack.result == mavlink.MAV_RESULT_DENIED
