@@ -137,8 +137,8 @@ class Autopilot(Vehicle):
 
         `airframe` (preset name or TOML path), `controller` (geometric, hierarchical, passivity),
         `speedup` (simulated seconds per wall second, or ``"max"``), `count` (vehicles in the
-        process, sysid counting up), `sensors` (``"realistic"``, the default: IMU, GPS, barometer
-        and magnetometer through the navigation filter; ``"ideal"``: the exact state) and
+        process, sysid counting up), `sensors` (``"ideal"``, the default: the exact state;
+        ``"realistic"``: IMU, GPS, barometer and magnetometer through the navigation filter) and
         `log_profile` are its options of the same name;
         `params` sets parameters at start (``{"MPC_XY_VEL_MAX": 5}``, through ``--params``);
         `log` writes ``--log`` into the run directory's ``log/`` (True) or into the given

@@ -1,4 +1,4 @@
-"""Flying on the navigation filter's estimate with the sensor suite (the default `rotorpilot run`),
+"""Flying on the navigation filter's estimate with the sensor suite (`rotorpilot run --sensors realistic`),
 and PX4's reactions to sensor failures injected as MAVSDK and QGroundControl inject them
 (MAV_CMD_INJECT_FAILURE behind SYS_FAILURE_EN): a GPS lost during a mission ends in a level
 descent without position and a gentle touch-down (judged on the logged truth); a lost barometer
@@ -12,7 +12,8 @@ from pyulog import ULog
 import rotorpilot_gcs as gcs
 from rotorpilot_gcs import mavlink
 
-pytestmark = pytest.mark.rotorpilot(speedup=4, log=True, params={"SYS_FAILURE_EN": 1, "MPC_XY_CRUISE": 4})
+pytestmark = pytest.mark.rotorpilot(sensors="realistic", speedup=4, log=True,
+                                    params={"SYS_FAILURE_EN": 1, "MPC_XY_CRUISE": 4})
 
 INJECT_FAILURE = 420
 # FAILURE_UNIT and FAILURE_TYPE (MAVSDK's FailureUnit / FailureType).

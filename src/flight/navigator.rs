@@ -173,7 +173,9 @@ impl Navigator {
         let Some(status) = self.status().filter(|s| s.attitude_valid) else {
             return Vec::new();
         };
-        let usable = |s: &SourceStatus| matches!(s.health, SourceHealth::Fused | SourceHealth::Rejected);
+        // Lost means silent for the sensor time-out (or never heard): a sample skipped or
+        // rejected now and then is no news.
+        let usable = |s: &SourceStatus| !matches!(s.health, SourceHealth::TimedOut | SourceHealth::NoData);
         let mut out = Vec::new();
         let sources = [
             (usable(&status.gps), "GPS lost: dead reckoning", "GPS regained"),

@@ -43,18 +43,7 @@ pub fn unit_name(unit: u8) -> Option<&'static str> {
 
 /// The name of FAILURE_TYPE `kind`, `None` for a number the enum does not define.
 fn type_name(kind: u8) -> Option<&'static str> {
-    [
-        "ok",
-        "off",
-        "stuck",
-        "garbage",
-        "wrong",
-        "slow",
-        "delayed",
-        "intermittent",
-    ]
-    .get(usize::from(kind))
-    .copied()
+    FailureKind::from_failure_type(kind).map(FailureKind::name)
 }
 
 /// An integer parameter in `0..=255`, `None` when NaN, fractional or out of range.

@@ -83,7 +83,7 @@ impl RunConfig {
             count: 1,
             spacing_m: DEFAULT_SPACING_M,
             pace: Pace::Speedup(1.0),
-            sensors: SensorModel::Suite,
+            sensors: SensorModel::State,
             sensor_failures: Vec::new(),
             rotor_failures: Vec::new(),
             signing_key: None,
