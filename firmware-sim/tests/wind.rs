@@ -1,4 +1,5 @@
 //! The plant feels the wind through its drag (docs/model.md §5.1–§5.3).
+#![allow(clippy::expect_used)] // a broken test set-up should fail the test
 
 use firmware_sim::{Plant, PlantParams, DEFAULT_DT_S};
 use nalgebra::Vector3;
