@@ -11,7 +11,7 @@ use rotorpilot::commander::Request;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::navigation::Home;
 use rotorpilot::runtime::vehicle::Vehicle;
-use rotorpilot::sitl::SimPlant;
+use rotorpilot::sitl::{SensorModel, SimPlant};
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
@@ -37,7 +37,7 @@ fuzz_target!(|data: &[u8]| {
     };
     assert!(fc.rotors.len() >= rotorpilot::airframe::MIN_ROTORS);
     for kind in [ControllerKind::Geometric, ControllerKind::Passivity] {
-        let Ok(mut vehicle) = Vehicle::new(&src, kind, Home::default(), 0, 1e-3) else {
+        let Ok(mut vehicle) = Vehicle::new(&src, kind, Home::default(), SensorModel::State, 0, 1e-3) else {
             continue;
         };
         vehicle.apply(Request::Arm { force: true });
