@@ -66,7 +66,7 @@ impl Commander {
     /// True when arming now would pass the navigation checks of the current mode (SYS_STATUS's
     /// pre-arm bit).
     pub fn navigation_armable(&self) -> bool {
-        self.navigation_refusal(self.mode, true).is_none()
+        self.navigation_missing(self.mode, true).is_none()
     }
 
     /// True while the vehicle descends without a position (the position-loss failsafe).
@@ -112,22 +112,27 @@ impl Commander {
 
     /// Why `mode` cannot be flown (or armed in, `arming`) on the current estimate, if it cannot.
     pub(super) fn navigation_refusal(&self, mode: FlightMode, arming: bool) -> Option<Outcome> {
+        let missing = self.navigation_missing(mode, arming)?;
         let what = if arming {
             "Arming denied".to_string()
         } else {
             format!("Mode {}", mode.name())
         };
-        let v = self.nav;
-        let missing = if arming && !v.attitude {
-            "attitude estimate not aligned"
-        } else if mode.needs_position() && !v.horizontal {
-            "no valid position estimate"
-        } else if mode.needs_height() && !v.vertical {
-            "no valid height estimate"
-        } else {
-            return None;
-        };
         Some(Outcome::TemporarilyRejected(format!("{what}: {missing}")))
+    }
+
+    /// What the current estimate lacks for `mode` (or for arming in it), if anything.
+    fn navigation_missing(&self, mode: FlightMode, arming: bool) -> Option<&'static str> {
+        let v = self.nav;
+        if arming && !v.attitude {
+            Some("attitude estimate not aligned")
+        } else if mode.needs_position() && !v.horizontal {
+            Some("no valid position estimate")
+        } else if mode.needs_height() && !v.vertical {
+            Some("no valid height estimate")
+        } else {
+            None
+        }
     }
 
     /// A descent without a position holds no horizontal position: the setpoint takes it from

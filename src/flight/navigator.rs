@@ -39,8 +39,9 @@ pub struct Navigator {
     filter: NavFilter,
     /// The latest state flown on; `None` before the first tick.
     latest: Option<VehicleState>,
-    /// The filter ran this flight (the sensor suite is read).
-    filtering: bool,
+    /// The filter's report as of the last reading, once the sensor suite is read (`None` while
+    /// the state sensor is): taken once per tick for everything that asks.
+    status: Option<NavStatus>,
     readings: LatestReadings,
     /// The low-passes of the rates and the velocity the controllers fly on (filter only).
     gyro_lpf: LowPass3,
@@ -82,7 +83,7 @@ impl Navigator {
         Self {
             filter,
             latest: None,
-            filtering: false,
+            status: None,
             readings: LatestReadings::default(),
             gyro_lpf: LowPass3::new(GYRO_CUTOFF_HZ, TICK_S),
             vel_lpf: LowPass3::new(ACCEL_CUTOFF_HZ, TICK_S),
@@ -93,7 +94,7 @@ impl Navigator {
     /// Announces that the sensor suite, not the state sensor, will be read: the validity is the
     /// filter's from now on (nothing is valid before its alignment).
     pub fn expect_sensor_suite(&mut self) {
-        self.filtering = true;
+        self.status = Some(self.filter.status());
     }
 
     /// Starts the filter aligned at the vehicle's known state `x` (a headless run that starts
@@ -101,7 +102,7 @@ impl Navigator {
     pub fn start_at(&mut self, x: &VehicleState) {
         let q_wb = crate::math::UnitQuat::from_matrix(&x.r_wb);
         self.filter.align_at(x.t_s, x.pos_w, x.vel_w, q_wb);
-        self.filtering = true;
+        self.status = Some(self.filter.status());
     }
 
     /// A navigator whose filter, when the sensor suite is read, has `params`.
@@ -128,7 +129,6 @@ impl Navigator {
             self.latest = Some(x);
             return x;
         }
-        self.filtering = true;
         if let Some(imu) = &sensors.imu {
             self.filter.predict(imu);
             self.readings.imu_s = Some(imu.t_s);
@@ -145,6 +145,7 @@ impl Navigator {
             self.filter.fuse_mag(mag);
             self.readings.mag = Some(*mag);
         }
+        self.status = Some(self.filter.status());
         let mut x = self.filter_state(t_s);
         x.omega_b = self.gyro_lpf.update(x.omega_b);
         x.vel_w = self.vel_lpf.update(x.vel_w);
@@ -222,7 +223,7 @@ impl Navigator {
 
     /// The filter's report, `None` while the state sensor is read.
     pub fn status(&self) -> Option<NavStatus> {
-        self.filtering.then(|| self.filter.status())
+        self.status
     }
 
     /// What the estimate can be flown on for.
