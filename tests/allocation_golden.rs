@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, Vector3};
 use rand_chacha::rand_core::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rotorpilot::airframe::{Airframe, AirframeSource};
-use rotorpilot::allocation::{closed_form_ring_inverse, Allocation, Allocator, Wrench};
+use rotorpilot::allocation::{closed_form_ring_inverse, Airmode, Allocation, Allocator, Wrench};
 
 fn airframe(name: &str) -> Airframe {
     Airframe::from_source(&AirframeSource::resolve(name).unwrap()).unwrap()
@@ -156,6 +156,49 @@ fn roll_near_full_thrust_shifts_the_collective_and_keeps_roll() {
         out.applied
     );
     assert!(out.applied.torque_b.z.abs() < 0.5, "yaw given up first");
+}
+
+/// Low collective with a large roll torque: with air mode the collective rises to keep the
+/// roll; without it (PX4's default, the flight controller's) the collective stays at the
+/// request and the roll is scaled down, so a vehicle asked for little thrust never lifts off
+/// to make a torque (docs/allocation.md §4, eq. (4.3)).
+#[test]
+fn without_air_mode_the_collective_never_rises_to_make_room_for_roll() {
+    let af = airframe("hexa_x");
+    let with_air = Allocator::new(&af).unwrap();
+    let without_air = with_air.clone().with_airmode(Airmode::Disabled);
+    let weight_n = 1.5 * 9.81;
+    for thrust_n in [0.0, 0.2 * weight_n, 0.5 * weight_n] {
+        let w = Wrench {
+            thrust_n,
+            torque_b: Vector3::new(1.5, -1.0, 0.2),
+        };
+        let raised = with_air.allocate(&w);
+        assert_eq!(raised.saturation.roll_pitch_scale, 1.0, "{thrust_n} N: roll kept");
+        assert!(
+            raised.applied.thrust_n > thrust_n + 1.0,
+            "{thrust_n} N: collective raised"
+        );
+        let kept = without_air.allocate(&w);
+        assert!(
+            kept.applied.thrust_n <= thrust_n + 1e-9,
+            "{thrust_n} N: collective {} N",
+            kept.applied.thrust_n
+        );
+        let s = kept.saturation.roll_pitch_scale;
+        assert!(s < 1.0, "{thrust_n} N: roll scaled ({s})");
+        let t = kept.applied.torque_b;
+        assert!(
+            (t.x - s * 1.5).abs() < 1e-6 && (t.y + s * 1.0).abs() < 1e-6,
+            "direction kept"
+        );
+    }
+    // A wrench that fits is allocated the same either way.
+    let hover = Wrench {
+        thrust_n: weight_n,
+        torque_b: Vector3::new(0.1, -0.1, 0.01),
+    };
+    assert_eq!(with_air.allocate(&hover), without_air.allocate(&hover));
 }
 
 #[test]

@@ -39,6 +39,11 @@ pub struct TruthState {
     pub body: RigidBodyState,
     /// Acceleration in world NED over the last step [m/s²].
     pub accel_w: Vector3<f64>,
+    /// Mean body rate over the last step, body FRD [rad/s]: the rotation from the previous
+    /// attitude to the current one over the step length (docs/model.md §10.2, eq. (10.6)), what a
+    /// rate-integrating gyroscope measures; it includes the levelling of a landing, which the
+    /// body rate `body.omega_b` (zeroed by the contact) does not.
+    pub mean_omega_b: Vector3<f64>,
     /// Resting on the ground.
     pub on_ground: bool,
     /// Touching the ceiling.
@@ -78,6 +83,7 @@ pub struct Plant {
     factor: Vec<f64>,
     elapsed_ns: u64,
     accel_w: Vector3<f64>,
+    mean_omega_b: Vector3<f64>,
     on_ground: bool,
     at_ceiling: bool,
     external_force_w: Vector3<f64>,
@@ -125,6 +131,7 @@ impl Plant {
             params,
             elapsed_ns: 0,
             accel_w: Vector3::zeros(),
+            mean_omega_b: Vector3::zeros(),
             on_ground,
             at_ceiling: false,
             external_force_w: Vector3::zeros(),
@@ -169,6 +176,7 @@ impl Plant {
             t_s: self.time_s(),
             body: self.body,
             accel_w: self.accel_w,
+            mean_omega_b: self.mean_omega_b,
             on_ground: self.on_ground,
             at_ceiling: self.at_ceiling,
             external_force_w: self.external_force_w,
@@ -278,6 +286,7 @@ impl Plant {
         let top_z = self.top_hub_z(&next);
         self.at_ceiling = self.contact.resolve_ceiling(&mut next, top_z);
         self.accel_w = (next.vel_w - self.body.vel_w) / dt_s;
+        self.mean_omega_b = (self.body.q_wb.inverse() * next.q_wb).scaled_axis() / dt_s;
         self.body = next;
         status.on_ground = self.on_ground;
         status.at_ceiling = self.at_ceiling;

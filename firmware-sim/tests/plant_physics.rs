@@ -1,5 +1,5 @@
 //! Plant behaviour: free fall, hover equilibrium, torque-to-rate signs, angular momentum,
-//! determinism, ground effect in the loop, contact.
+//! determinism, ground effect in the loop, contact, the mean rate a gyroscope integrates.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a failed set-up step should panic in a test
 
 use firmware_sim::rigid_body::RigidBodyState;
@@ -111,6 +111,30 @@ fn torque_free_tumble_keeps_world_angular_momentum() {
         "{}",
         (h(&b) - h0).norm() / h0.norm()
     );
+}
+
+/// The mean rate of each step, integrated step by step, gives back the attitude: through a
+/// tumble, and through the levelling of a landing, which the body rate (zeroed by the contact)
+/// never shows (docs/model.md §10.2, eq. (10.6)).
+#[test]
+fn the_mean_rate_of_each_step_integrates_to_the_attitude_even_through_a_landing() {
+    let p = params(QUAD_X);
+    let mut plant = Plant::new(p);
+    let mut s = airborne(-0.5);
+    s.q_wb = UnitQuaternion::from_euler_angles(0.05, -0.03, 1.0);
+    s.omega_b = Vector3::new(0.4, -0.3, 0.2);
+    plant.set_body_state(s);
+    let mut q = s.q_wb;
+    let mut landed = false;
+    for _ in 0..1000 {
+        plant.step(&[0.0; 4], DEFAULT_DT_S);
+        let t = plant.truth();
+        q *= UnitQuaternion::from_scaled_axis(t.mean_omega_b * DEFAULT_DT_S);
+        landed |= t.on_ground;
+        assert!(q.angle_to(&t.body.q_wb) < 1e-9, "integrated attitude left the truth");
+    }
+    assert!(landed, "the drop ended on the ground");
+    assert_eq!(plant.truth().mean_omega_b, Vector3::zeros(), "at rest, no rate");
 }
 
 fn noisy_run(seed: u64) -> Vec<(f64, f64)> {

@@ -31,7 +31,7 @@ impl Allocator {
         }
         let (lo, hi) = self.squared_speed_bounds();
         if let Ok(a) = min_norm_inverse(&g) {
-            let full = Self::from_parts(g.clone(), a, lo, hi);
+            let full = Self::from_parts(g.clone(), a, lo, hi).with_airmode(self.airmode());
             if full.holds_roll_and_pitch() {
                 return Ok((full, FailedRotors::FullControl));
             }
@@ -40,7 +40,10 @@ impl Allocator {
         let a3 = min_norm_inverse(&g3)?;
         let mut a = DMatrix::zeros(g.ncols(), 4);
         a.columns_mut(0, 3).copy_from(&a3);
-        Ok((Self::from_parts(g, a, lo, hi), FailedRotors::YawUncontrolled))
+        Ok((
+            Self::from_parts(g, a, lo, hi).with_airmode(self.airmode()),
+            FailedRotors::YawUncontrolled,
+        ))
     }
 }
 

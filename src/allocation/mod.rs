@@ -11,7 +11,7 @@ mod saturation;
 pub use effectiveness::effectiveness_matrix;
 pub use failure::FailedRotors;
 pub use inverse::{closed_form_ring_inverse, min_norm_inverse, MAX_CONDITION};
-pub use saturation::Saturation;
+pub use saturation::{Airmode, Saturation};
 
 use nalgebra::DMatrix;
 use saturation::{RotorArray, SpeedBox};
@@ -105,6 +105,7 @@ pub struct Allocator {
     a_cols: [RotorArray; 4],
     bounds: SpeedBox,
     thrust_max_n: f64,
+    airmode: Airmode,
 }
 
 impl Allocator {
@@ -149,7 +150,19 @@ impl Allocator {
             g_rows,
             a_cols,
             bounds: SpeedBox { n, lo, hi },
+            airmode: Airmode::default(),
         }
+    }
+
+    /// The same allocator with saturation policy `airmode` (docs/allocation.md §4).
+    pub fn with_airmode(mut self, airmode: Airmode) -> Self {
+        self.airmode = airmode;
+        self
+    }
+
+    /// The saturation policy in force.
+    pub fn airmode(&self) -> Airmode {
+        self.airmode
     }
 
     /// G_q (4 × n), rows [u_T, τx, τy, τz].
@@ -192,9 +205,23 @@ impl Allocator {
         let mut omega_sq = [0.0; MAX_ROTORS];
         let request = w.as_array();
         let saturation = if request.iter().all(|x| x.is_finite()) {
-            saturation::allocate(&self.a_cols, self.bounds, self.thrust_max_n, request, &mut omega_sq)
+            saturation::allocate(
+                &self.a_cols,
+                self.bounds,
+                self.thrust_max_n,
+                self.airmode,
+                request,
+                &mut omega_sq,
+            )
         } else {
-            saturation::allocate(&self.a_cols, self.bounds, self.thrust_max_n, [0.0; 4], &mut omega_sq);
+            saturation::allocate(
+                &self.a_cols,
+                self.bounds,
+                self.thrust_max_n,
+                self.airmode,
+                [0.0; 4],
+                &mut omega_sq,
+            );
             Saturation {
                 yaw_scale: 0.0,
                 thrust_shift_n: 0.0,

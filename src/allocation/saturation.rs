@@ -4,7 +4,8 @@
 //! Every `ω_i²` is affine in any one scalar of the wrench, so each step intersects n intervals:
 //! 1. clamp u_T to `[0, u_T,max]`;
 //! 2. largest yaw scale `k_z ∈ [0, 1]` that fits: if any fits, done;
-//! 3. otherwise drop yaw and shift the collective to the feasible u_T closest to the request;
+//! 3. otherwise drop yaw and shift the collective to the feasible u_T closest to the request
+//!    (with air mode off never above `max(u_T, u_idle)`);
 //! 4. if no collective fits, scale roll/pitch by the largest `s ∈ [0, 1]` that lets one fit
 //!    (bisection on step 3);
 //! 5. recover as much yaw as the remaining margin allows;
@@ -38,6 +39,20 @@ impl Saturation {
     pub fn is_saturated(&self) -> bool {
         self.yaw_scale < 1.0 || self.roll_pitch_scale < 1.0 || self.thrust_shift_n != 0.0
     }
+}
+
+/// Whether the saturation policy may raise the collective above the request to make room for
+/// roll and pitch torque (PX4's `MC_AIRMODE`) (docs/allocation.md §4, eq. (4.3)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Airmode {
+    /// The collective is never raised above the request (or above idle when the request is
+    /// below it): roll and pitch are scaled down instead. A vehicle asked for no thrust never
+    /// lifts off to make a torque. PX4's default (`MC_AIRMODE` = 0).
+    Disabled,
+    /// The collective moves to whatever value fits full roll and pitch, up as well as down
+    /// (`MC_AIRMODE` = 1): full attitude authority at zero thrust request.
+    #[default]
+    RollPitch,
 }
 
 /// Fixed-size vector of per-rotor values.
@@ -101,6 +116,7 @@ pub(crate) fn allocate(
     a: &[RotorArray; 4],
     bounds: SpeedBox,
     thrust_max_n: f64,
+    airmode: Airmode,
     w: [f64; 4],
     out: &mut RotorArray,
 ) -> Saturation {
@@ -121,10 +137,20 @@ pub(crate) fn allocate(
             // 3. Yaw dropped: shift the collective.
             // A collective that fits must also be one the motors can give, [0, u_max]: after a
             // rotor failure a rotor may have (almost) no thrust column, so no collective lifts it.
+            // Without air mode it must also not exceed the request, or idle (4.3).
+            let ceiling_n = match airmode {
+                Airmode::RollPitch => thrust_max_n,
+                Airmode::Disabled => {
+                    let idle_n = bounds
+                        .interval(&[0.0; MAX_ROTORS], col_t)
+                        .map_or(thrust_max_n, |(lo, _)| lo.max(0.0));
+                    u.max(idle_n).min(thrust_max_n)
+                }
+            };
             let fit_collective = |s: f64| {
                 bounds
                     .interval(&combine(n, &[(&roll_pitch, s)]), col_t)
-                    .filter(|(lo, hi)| *hi >= 0.0 && *lo <= thrust_max_n)
+                    .filter(|(lo, hi)| *hi >= 0.0 && *lo <= ceiling_n)
             };
             let (lo, hi) = match fit_collective(1.0) {
                 Some(range) => range,

@@ -1,14 +1,16 @@
 //! What the land detector's verdict changes (PX4's land detector and auto-disarm):
 //! - on the ground, a setpoint that does not ask to climb idles the motors;
-//! - pushed against the ground (ground contact, maybe landed), the thrust is cut with a
-//!   touch-down reference below the vehicle, so "maybe landed" can follow;
+//! - pushed against the ground (ground contact, maybe landed), the thrust is cut and the
+//!   attitude the vehicle has is held, as PX4's position controller does while landing: no
+//!   torque fights the ground over an attitude error of the estimate, and "maybe landed" can
+//!   follow;
 //! - a lift-off with nothing to fly (idle in a hold mode, lifted by a gust) holds position;
 //! - auto-disarm (`COM_DISARM_LAND` after a touch-down, `COM_DISARM_PRFLT` when never airborne
 //!   since arming) happens only while the detector says landed, so no path stops the motors in
 //!   the air except a termination.
 
 use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
-use crate::math::{euler_zyx, Vec3};
+use crate::math::{euler_zyx, UnitQuat, Vec3};
 use crate::navigation::Guidance;
 
 use super::land_detector::{LandInput, LandTransition};
@@ -18,8 +20,6 @@ use super::{Commander, Event};
 const SETPOINT_MARGIN_M: f64 = 0.05;
 /// A vertical speed setpoint beyond this asks to descend or climb [m/s].
 const SETPOINT_SPEED_M_S: f64 = 0.1;
-/// How far below the vehicle the touch-down reference sits [m] (the landing guidance's lead).
-const TOUCH_DOWN_LEAD_M: f64 = 0.5;
 /// An attitude target with thrust below this fraction of the weight asks to descend [-].
 const DESCENT_THRUST_OF_WEIGHT: f64 = 0.9;
 
@@ -104,9 +104,7 @@ impl Commander {
             };
         }
         match command {
-            Command::Flat(sp) if self.detector.touching_down() => {
-                Command::Flat(touch_down(x, &sp, self.params.land_speed_m_s))
-            }
+            Command::Flat(_) if self.detector.touching_down() => Command::Attitude(touch_down(x)),
             _ => command,
         }
     }
@@ -124,14 +122,16 @@ impl Commander {
     }
 }
 
-/// The reference that cuts the thrust of a vehicle in `x` pushed against the ground: below it,
-/// descending at `speed_m_s` [m/s] (`MPC_LAND_SPEED`), level at the setpoint's heading.
-fn touch_down(x: &VehicleState, sp: &FlatSetpoint, speed_m_s: f64) -> FlatSetpoint {
-    let below = x.pos_w + Vec3::new(0.0, 0.0, TOUCH_DOWN_LEAD_M);
-    FlatSetpoint {
-        vel_w: Some(Vec3::new(0.0, 0.0, speed_m_s)),
-        yaw_rate_rad_s: Some(0.0),
-        ..FlatSetpoint::hold(below, sp.yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z))
+/// The target of a vehicle in `x` pushed against the ground: no thrust, the attitude it has,
+/// no rotation (PX4 cuts the thrust setpoint in ground contact and maybe landed, yaw setpoint at
+/// the current yaw). The estimated attitude, not the level one, so that an error of the estimate
+/// (a few degrees of tilt from an unobservable accelerometer bias) commands no torque against
+/// the landing gear.
+fn touch_down(x: &VehicleState) -> AttitudeTarget {
+    AttitudeTarget {
+        q_wb: Some(UnitQuat::from_matrix(&x.r_wb)),
+        omega_b: Some(Vec3::zeros()),
+        thrust_fraction: 0.0,
     }
 }
 
@@ -225,11 +225,13 @@ mod tests {
     }
 
     #[test]
-    fn touch_down_reference_is_below_and_descending() {
-        let x = at(-0.1);
-        let sp = touch_down(&x, &FlatSetpoint::hold(Vec3::new(3.0, 0.0, 0.0), 1.0), 0.7);
-        assert_eq!(sp.pos_w, Some(Vec3::new(0.0, 0.0, 0.4)));
-        assert_eq!(sp.yaw_rad, Some(1.0));
-        assert!(asks_descent(&sp, &x));
+    fn touch_down_cuts_the_thrust_and_holds_the_attitude_the_vehicle_has() {
+        let mut x = at(-0.1);
+        let tilted = UnitQuat::from_euler_angles(0.05, -0.03, 1.0);
+        x.r_wb = tilted.to_rotation_matrix().into_inner();
+        let target = touch_down(&x);
+        assert_eq!(target.thrust_fraction, 0.0);
+        assert_eq!(target.omega_b, Some(Vec3::zeros()));
+        assert!(target.q_wb.is_some_and(|q| q.angle_to(&tilted) < 1e-12));
     }
 }

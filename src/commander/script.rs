@@ -2,7 +2,8 @@
 //! position setpoint exactly (as the MAVLink fuzz target's vehicle does), rests on flat ground
 //! at z = [`GROUND_Z_M`] (NED, the gear height) and is pressed onto it (thrust over weight
 //! [`PRESSED_THRUST`]) when the setpoint asks to go below; thrust over weight is 1 in the air and
-//! 0 with the motors off, when the vehicle drops to the ground. Each step is [`DT_S`] of
+//! 0 with the motors off or an attitude target without thrust (the touch-down cut), when the
+//! vehicle drops to the ground; an attitude target with thrust holds the vehicle where it is. Each step is [`DT_S`] of
 //! simulated time: failsafes (with a set electrical power), then the commander's tick, as the
 //! runtime does.
 
@@ -77,8 +78,8 @@ impl Script {
                 let target = sp.pos_w.unwrap_or(old + vel * DT_S);
                 (Some(target), vel, sp.yaw_rad)
             }
-            (None, Some(_)) => (Some(old), Vec3::zeros(), None),
-            (None, None) => (None, Vec3::zeros(), None),
+            (None, Some(a)) if a.thrust_fraction > 0.0 => (Some(old), Vec3::zeros(), None),
+            (None, _) => (None, Vec3::zeros(), None),
         };
         match target {
             Some(p) if p.z > GROUND_Z_M => {

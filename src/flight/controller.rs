@@ -13,6 +13,7 @@
 //! ```
 
 use crate::airframe::Airframe;
+use crate::allocation::Airmode;
 use crate::commander::{Commander, CommanderParams, Event, Outcome, Request};
 use crate::control::{ControllerKind, VehicleState};
 use crate::estimation::{ChebyshevDesign, WrenchObserver};
@@ -92,6 +93,7 @@ impl FlightController {
         commander: CommanderParams,
     ) -> Result<Self, CoreError> {
         let mut core = FlightCore::for_airframe(airframe, kind, dt_s)?;
+        core.set_airmode(Airmode::Disabled);
         let mut gains = *core.controller.gains();
         gains.limits.tilt_max_rad = AUTOPILOT_TILT_MAX_DEG.to_radians();
         core.controller.set_gains(gains).map_err(CoreError::from)?;

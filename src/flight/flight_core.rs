@@ -12,7 +12,7 @@
 use thiserror::Error;
 
 use crate::airframe::Airframe;
-use crate::allocation::{Allocation, AllocationError, Allocator, FailedRotors};
+use crate::allocation::{Airmode, Allocation, AllocationError, Allocator, FailedRotors};
 use crate::control::{
     AttitudeTarget, ControlInput, ControlOutput, Controller, ControllerError, ControllerGains, ControllerKind,
     FlatSetpoint, VehicleModel, VehicleState,
@@ -97,6 +97,13 @@ impl FlightCore {
     /// The allocator.
     pub fn allocator(&self) -> &Allocator {
         &self.allocator
+    }
+
+    /// Sets the allocation's saturation policy, for the nominal allocator and the one in force
+    /// (docs/allocation.md §4).
+    pub fn set_airmode(&mut self, airmode: Airmode) {
+        self.nominal = self.nominal.clone().with_airmode(airmode);
+        self.allocator = self.allocator.clone().with_airmode(airmode);
     }
 
     /// Allocates around the rotors marked in `failed` from now on (all `false`: the nominal

@@ -16,6 +16,7 @@ pub(crate) fn truth_at(t_s: f64) -> TruthState {
             omega_b: Vector3::zeros(),
         },
         accel_w: Vector3::zeros(),
+        mean_omega_b: Vector3::zeros(),
         on_ground: false,
         at_ceiling: false,
         external_force_w: Vector3::zeros(),
