@@ -65,9 +65,10 @@ pub(crate) enum Command {
         /// every vehicle (repeatable), e.g. `--fail gps:off@30`.
         #[arg(long = "fail", value_name = "UNIT:TYPE@SECONDS")]
         fail: Vec<rotorpilot::lockstep::ScheduledSensorFailure>,
-        /// What the flight controller reads: `ideal` (the exact state) or `realistic` (IMU, GPS,
-        /// barometer and magnetometer through the navigation filter).
-        #[arg(long, default_value = "ideal", value_parser = parse_sensor_model)]
+        /// What the flight controller reads: `realistic` (IMU, GPS, barometer and magnetometer
+        /// through the navigation filter, as PX4 SITL) or `ideal` (the exact state, armable at
+        /// once).
+        #[arg(long, default_value = "realistic", value_parser = parse_sensor_model)]
         sensors: rotorpilot::sitl::SensorModel,
         /// MAVLink 2 signing key: a file of exactly 32 key bytes, or a passphrase (hashed with
         /// SHA-256 as MAVProxy does). With a key, only signed frames are obeyed and every frame

@@ -40,7 +40,7 @@ pub struct TruthState {
     /// Acceleration in world NED over the last step [m/s²].
     pub accel_w: Vector3<f64>,
     /// Mean body rate over the last step, body FRD [rad/s]: the rotation from the previous
-    /// attitude to the current one over the step length (docs/model.md §10.2, eq. (10.6)), what a
+    /// attitude to the current one over the step length (docs/model.md §10.2, eq. (10.3)), what a
     /// rate-integrating gyroscope measures; it includes the levelling of a landing, which the
     /// body rate `body.omega_b` (zeroed by the contact) does not.
     pub mean_omega_b: Vector3<f64>,

@@ -115,7 +115,7 @@ fn torque_free_tumble_keeps_world_angular_momentum() {
 
 /// The mean rate of each step, integrated step by step, gives back the attitude: through a
 /// tumble, and through the levelling of a landing, which the body rate (zeroed by the contact)
-/// never shows (docs/model.md §10.2, eq. (10.6)).
+/// never shows (docs/model.md §10.2, eq. (10.3)).
 #[test]
 fn the_mean_rate_of_each_step_integrates_to_the_attitude_even_through_a_landing() {
     let p = params(QUAD_X);

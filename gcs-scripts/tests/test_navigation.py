@@ -100,3 +100,23 @@ def test_sensor_failure_injection_needs_sys_failure_en(autopilot_factory):
     ap = autopilot_factory(params={"SYS_FAILURE_EN": 0})
     ack = ap.command_ack(INJECT_FAILURE, GPS, OFF, 0)
     assert ack.result == mavlink.MAV_RESULT_DENIED
+
+
+def test_ekf_status_report_on_request_as_ardupilot_ground_stations_read_it(autopilot):
+    """EKF_STATUS_REPORT (ArduPilot's dialect) is off by default, as in PX4; asked for, it carries
+    the filter's flags and the square roots of its test ratios, decoded by pymavlink's default
+    ardupilotmega dialect as MAVProxy and QGroundControl decode it."""
+    ekf = 193
+    assert autopilot.command(mavlink.MAV_CMD_GET_MESSAGE_INTERVAL, ekf).result == mavlink.MAV_RESULT_ACCEPTED
+    interval = autopilot.wait("MESSAGE_INTERVAL", lambda m: m.message_id == ekf, timeout=5)
+    assert interval.interval_us == -1, "off until asked for"
+    report = autopilot.request_message(ekf, "EKF_STATUS_REPORT")
+    good = (mavlink.EKF_ATTITUDE | mavlink.EKF_VELOCITY_HORIZ | mavlink.EKF_VELOCITY_VERT
+            | mavlink.EKF_POS_HORIZ_ABS | mavlink.EKF_POS_VERT_ABS)
+    assert report.flags & good == good, hex(report.flags)
+    assert not report.flags & mavlink.EKF_UNINITIALIZED
+    for name in ("velocity_variance", "pos_horiz_variance", "pos_vert_variance", "compass_variance"):
+        assert 0.0 <= getattr(report, name) < 0.8, (name, report)
+    assert autopilot.command(mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, ekf, 200_000).result == mavlink.MAV_RESULT_ACCEPTED
+    reports = [m for m in (autopilot.recv(0.05) for _ in range(60)) if m is not None and m.get_type() == "EKF_STATUS_REPORT"]
+    assert len(reports) >= 5, "streamed at the interval set"

@@ -14,7 +14,8 @@
 //! - [`logs`]: the flight logs (PX4's names, the store interface) and the log protocol.
 //! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
 //! - [`telemetry`] (with `status` and `nav_status`): the streamed messages built from a snapshot;
-//!   `nav_status`: GPS_RAW_INT, ESTIMATOR_STATUS and the raw sensors from the navigation.
+//!   `nav_status`: GPS_RAW_INT, ESTIMATOR_STATUS and the raw sensors from the navigation;
+//!   [`foreign`]: messages of other dialects encoded by hand (EKF_STATUS_REPORT).
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.
 //! - [`ftp`]: MAVLink FTP (payload, in-memory file system, server); [`metadata`]: the component
 //!   metadata files it serves (general, parameters) and COMPONENT_METADATA.
@@ -33,6 +34,7 @@ pub mod crc32;
 pub mod duplicates;
 pub mod events;
 pub mod failure;
+pub mod foreign;
 pub mod ftp;
 pub mod gcs;
 pub mod identity;

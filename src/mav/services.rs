@@ -38,15 +38,9 @@ pub(super) fn one_shot(id: f32, param2: f32) -> Option<OneShot> {
         435 if param2.is_nan() || (0.0..=255.0).contains(&param2.round()) => {
             OneShot::AvailableModes(if param2.is_nan() { 0 } else { param2.round() as u8 })
         }
-        436 => OneShot::Stream(Stream::CurrentMode),
-        2 => OneShot::Stream(Stream::SystemTime),
-        1 => OneShot::Stream(Stream::SysStatus),
-        30 => OneShot::Stream(Stream::Attitude),
-        32 => OneShot::Stream(Stream::LocalPosition),
-        33 => OneShot::Stream(Stream::GlobalPosition),
-        242 => OneShot::Stream(Stream::HomePosition),
-        245 => OneShot::Stream(Stream::ExtendedSysState),
-        _ => return None,
+        // Any streamed message (CURRENT_MODE, SYSTEM_TIME, HOME_POSITION, …), as PX4 answers
+        // REQUEST_MESSAGE for its streams.
+        other => OneShot::Stream(*Stream::ALL.iter().find(|s| s.message_id() == other)?),
     })
 }
 

@@ -36,6 +36,8 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         ExternalForce | ExternalTorque | MassEstimate => (10.0, 10.0),
         OrbitStatus => (5.0, 5.0),
         EstimatorStatus => (0.5, 0.5),
+        // ArduPilot's message: off unless asked for (REQUEST_DATA_STREAM, SET_MESSAGE_INTERVAL).
+        EkfStatusReport => (0.0, 0.0),
         SystemTime => (0.0, 1.0),
         EventSequence => (
             1.0 / super::events::CURRENT_SEQUENCE_PERIOD_S,
@@ -119,7 +121,7 @@ impl StreamTable {
             6 => &[GlobalPosition, LocalPosition],
             10 => &[Attitude],
             11 => &[VfrHud],
-            12 => &[BatteryStatus],
+            12 => &[BatteryStatus, EkfStatusReport],
             _ => &[],
         };
         for e in self.entries.iter_mut().filter(|e| group.contains(&e.stream)) {

@@ -8,6 +8,7 @@ use mavlink::dialects::common::{
     NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA, SYSTEM_TIME_DATA, VFR_HUD_DATA,
 };
 
+use super::foreign::ForeignMessage;
 use crate::commander::LandedState;
 use crate::math::{UnitQuat, Vec3};
 use crate::telemetry::Snapshot;
@@ -64,6 +65,9 @@ pub enum Stream {
     EventSequence,
     /// ESTIMATOR_STATUS (230): the navigation filter's flags, test ratios and accuracies.
     EstimatorStatus,
+    /// EKF_STATUS_REPORT (193, `ardupilotmega`): the same filter report as ArduPilot sends it,
+    /// for ground stations that read that one ([`super::foreign`]); [`message`] has none.
+    EkfStatusReport,
     /// SYSTEM_TIME (2): Unix time and time since boot; the link builds it from its wall clock
     /// ([`system_time`]), so [`message`] has none.
     SystemTime,
@@ -71,7 +75,7 @@ pub enum Stream {
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 24] = [
+    pub const ALL: [Stream; 25] = [
         Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
@@ -96,6 +100,7 @@ impl Stream {
         Stream::SystemTime,
         Stream::EventSequence,
         Stream::EstimatorStatus,
+        Stream::EkfStatusReport,
     ];
 
     /// MAVLink message id.
@@ -124,6 +129,7 @@ impl Stream {
             Stream::SystemTime => 2,
             Stream::EventSequence => 411,
             Stream::EstimatorStatus => 230,
+            Stream::EkfStatusReport => super::foreign::EKF_STATUS_REPORT_ID,
         }
     }
 }
@@ -160,6 +166,17 @@ fn global_int(s: &Snapshot, pos_w: &Vec3) -> [i32; 3] {
     ]
 }
 
+/// What a stream sends: a message of the common dialect, or one of another dialect encoded by
+/// hand.
+#[derive(Debug, Clone, PartialEq)]
+#[allow(clippy::large_enum_variant)] // built, sent and dropped at once: boxing would allocate per message
+pub enum Outgoing {
+    /// A common-dialect message.
+    Message(MavMessage),
+    /// A message the crate's dialect does not know (docs/mavlink.md §13.5).
+    Foreign(ForeignMessage),
+}
+
 /// The message of `stream` for snapshot `s`; `None` when there is nothing to report (no estimate).
 pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
     let time_usec = (s.t_s * 1e6) as u64;
@@ -175,7 +192,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
     Some(match stream {
         Stream::CurrentMode => super::modes::current_mode(s.mode),
         Stream::OrbitStatus => return super::orbit::orbit_execution_status(s),
-        Stream::SystemTime => return None,
+        Stream::SystemTime | Stream::EkfStatusReport => return None,
         Stream::EventSequence => super::events::current_event_sequence(),
         Stream::AttitudeQuaternion => {
             let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);

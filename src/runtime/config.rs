@@ -64,7 +64,8 @@ pub struct RunConfig {
 
 impl RunConfig {
     /// One vehicle at `system_id` with PX4 SITL's defaults for everything else: real time, the
-    /// given addresses, home at PX4's default, seed 0, 1 kHz.
+    /// given addresses, home at PX4's default, seed 0, 1 kHz; on the exact state (the command
+    /// line's `run` chooses realistic sensors unless told `--sensors ideal`).
     pub fn single(airframe: AirframeSource, controller: ControllerKind, system_id: u8) -> Self {
         Self {
             airframe,

@@ -14,7 +14,7 @@ use crate::mav::calibration;
 use crate::mav::duplicates::{CommandKey, Seen};
 use crate::mav::modes::{available_modes, protocol_version};
 use crate::mav::services::autopilot_version;
-use crate::mav::telemetry::status_text;
+use crate::mav::telemetry::{status_text, Outgoing};
 use crate::mav::translate::{command_ack, result_of, CommandDecision, OneShot};
 
 /// What an ACK reports.
@@ -92,19 +92,22 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             },
             CommandDecision::Refuse(outcome) => self.answer(now, asker, AckOf::Outcome(&outcome)),
             CommandDecision::Reply(one_shot) => {
+                let common = |m: MavMessage| vec![Outgoing::Message(m)];
                 let msgs = match one_shot {
-                    OneShot::AutopilotVersion => Some(vec![autopilot_version(&self.identity)]),
-                    OneShot::ProtocolVersion => Some(vec![protocol_version()]),
-                    OneShot::ComponentMetadata => Some(vec![self.component_metadata(now)]),
-                    OneShot::ComponentInformation => Some(vec![self.component_information(now)]),
-                    OneShot::AvailableModes(index) => available_modes(index),
+                    OneShot::AutopilotVersion => Some(common(autopilot_version(&self.identity))),
+                    OneShot::ProtocolVersion => Some(common(protocol_version())),
+                    OneShot::ComponentMetadata => Some(common(self.component_metadata(now))),
+                    OneShot::ComponentInformation => Some(common(self.component_information(now))),
+                    OneShot::AvailableModes(index) => {
+                        available_modes(index).map(|ms| ms.into_iter().map(Outgoing::Message).collect())
+                    }
                     OneShot::Stream(stream) => self.stream_message(now, stream).map(|m| vec![m]),
                 };
                 match msgs {
                     Some(msgs) => {
                         self.answer(now, asker, accepted);
                         for msg in msgs {
-                            self.send(now, link, from, &msg);
+                            self.send_outgoing(now, link, from, &msg);
                         }
                     }
                     // PX4 denies a request it sent nothing for (a mode index beyond the last).

@@ -8,9 +8,10 @@ use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
 
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
 use crate::commander::{Event, LinkLossAction, Request, Stream};
+use crate::mav::foreign::ekf_status_report;
 use crate::mav::identity::heartbeat;
 use crate::mav::signing::unix_us_from_timestamp;
-use crate::mav::telemetry::{message, mission_current, status_text, system_time, Stream as TelemetryStream};
+use crate::mav::telemetry::{message, mission_current, status_text, system_time, Outgoing, Stream as TelemetryStream};
 use crate::telemetry::Snapshot;
 
 /// How often the link looks at what is due (wall time) [s].
@@ -52,9 +53,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             // Rates count simulated time; each stream goes out at most once per duty pass,
             // which caps it at 200 Hz of wall time when simulated time runs fast.
             for stream in self.ports[k].streams.due(now.sim_s) {
-                if let Some(msg) = self.stream_message(now, stream) {
+                if let Some(out) = self.stream_message(now, stream) {
                     for to in &targets {
-                        self.send(now, link, *to, &msg);
+                        self.send_outgoing(now, link, *to, &out);
                     }
                 }
             }
@@ -63,13 +64,14 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// `stream`'s message now (streamed or asked for): from the snapshot, except SYSTEM_TIME,
     /// which comes from the wall clock the signing clock counts; `None` when there is none.
-    pub(super) fn stream_message(&self, now: Now, stream: TelemetryStream) -> Option<MavMessage> {
+    pub(super) fn stream_message(&self, now: Now, stream: TelemetryStream) -> Option<Outgoing> {
         match stream {
-            TelemetryStream::SystemTime => Some(system_time(
+            TelemetryStream::SystemTime => Some(Outgoing::Message(system_time(
                 unix_us_from_timestamp(self.signing_now(now)),
                 &self.snapshot,
-            )),
-            _ => message(stream, &self.snapshot),
+            ))),
+            TelemetryStream::EkfStatusReport => Some(Outgoing::Foreign(ekf_status_report(&self.snapshot))),
+            _ => message(stream, &self.snapshot).map(Outgoing::Message),
         }
     }
 

@@ -49,6 +49,7 @@ use super::logs::{LogStore, MemLogStore};
 use super::plan_store::PlanStore;
 use super::signing::{Signing, SigningKey};
 use super::streams::LinkKind;
+use super::telemetry::Outgoing;
 use super::translate::Identity;
 use files::Files;
 pub use logs::{LOG_MESSAGES_AT_ONCE, LOG_MESSAGE_PERIOD_S};
@@ -410,6 +411,15 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             });
         }
         self.send_unlogged(now, link, to, msg);
+    }
+
+    /// Queues a stream's `out` to `to` on `link`: a common message as [`Self::send`] does, a
+    /// foreign one framed by hand (docs/mavlink.md §13.5).
+    fn send_outgoing(&mut self, now: Now, link: LinkKind, to: A, out: &Outgoing) {
+        match out {
+            Outgoing::Message(msg) => self.send(now, link, to, msg),
+            Outgoing::Foreign(m) => self.send_frame(now, link, to, |header| m.frame(header)),
+        }
     }
 
     /// [`Self::send`] without noting a STATUSTEXT for the flight log.
