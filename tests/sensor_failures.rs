@@ -216,7 +216,7 @@ fn gps_lost_in_flight_descends_level_without_position_and_lands_gently() {
 fn baro_or_compass_lost_in_flight_changes_nothing_but_the_aid() {
     for (failure, announced) in [
         ("baro:off", "Barometer lost"),
-        ("mag:off", "Compass lost: heading held on the gyroscope"),
+        ("mag:off", "Compass lost: heading from gyro and GPS"),
     ] {
         let mut f = Flight::ready(5);
         f.airborne(5.0);

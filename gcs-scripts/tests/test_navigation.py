@@ -81,7 +81,7 @@ def test_gps_lost_in_a_mission_descends_level_and_lands_gently(autopilot):
 
 
 @pytest.mark.parametrize("unit,announced", [(BARO, "Barometer lost"),
-                                            (MAG, "Compass lost: heading held on the gyroscope")])
+                                            (MAG, "Compass lost: heading from gyro and GPS")])
 def test_baro_or_compass_lost_in_a_mission_flies_on(autopilot, unit, announced):
     mission(autopilot)
     autopilot.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 1, timeout=60)

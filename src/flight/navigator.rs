@@ -183,7 +183,7 @@ impl Navigator {
             (usable(&status.baro), "Barometer lost", "Barometer regained"),
             (
                 usable(&status.mag),
-                "Compass lost: heading held on the gyroscope",
+                "Compass lost: heading from gyro and GPS",
                 "Compass regained",
             ),
         ];

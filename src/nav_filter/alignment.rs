@@ -291,7 +291,18 @@ impl NavFilter {
         else {
             return false;
         };
-        let dtheta_w = Vec3::new(0.0, 0.0, crate::math::wrap_pi(new_yaw - yaw));
+        self.turn_yaw(crate::math::wrap_pi(new_yaw - yaw));
+        self.mag_tan_inclination = Some(tan_incl);
+        self.yaw_covariance_from_heading(&heading_jacobian(self.params.mag_declination_rad, tan_incl));
+        self.yaw_aligned = true;
+        true
+    }
+
+    /// Turns the attitude (and its history) by `dyaw` [rad] about the vertical, the tilt error's
+    /// covariance turning with it, and counts a yaw reset; the caller sets the yaw's variance
+    /// (docs/navigation_filter.md §11, eq. (11.4)).
+    pub(super) fn turn_yaw(&mut self, dyaw: f64) {
+        let dtheta_w = Vec3::new(0.0, 0.0, dyaw);
         self.x.q_wb = super::state::rotate_world(&self.x.q_wb, &dtheta_w);
         self.buffer
             .correct(self.history_start_s(), &Vec3::zeros(), &Vec3::zeros(), &dtheta_w);
@@ -300,11 +311,7 @@ impl NavFilter {
         let mut g = Covariance::identity();
         g.fixed_view_mut::<3, 3>(ERR_ATT, ERR_ATT).copy_from(&rz);
         self.p = g * self.p * g.transpose();
-        self.mag_tan_inclination = Some(tan_incl);
-        self.yaw_covariance_from_heading(&heading_jacobian(self.params.mag_declination_rad, tan_incl));
-        self.yaw_aligned = true;
         self.resets.yaw = self.resets.yaw.saturating_add(1);
-        true
     }
 }
 

@@ -85,6 +85,7 @@ impl NavFilter {
             f
         };
         self.innovations.gps_vel_w = nu_vel;
+        self.aid_heading_from_gps(&gps.vel_w, var_vel);
         if velocity.accepted() {
             self.aiding.last_vel_s = Some(now);
             self.aiding.last_aiding_s = Some(now);

@@ -78,16 +78,21 @@ impl NavFilter {
         let Some(innovation) = heading_innovation(&past.q_wb, &mag.field_b, decl) else {
             return Fusion::skipped(SkipReason::Geometry);
         };
+        let variance = self.params.heading_noise_rad.powi(2);
+        self.fuse_heading(innovation, &heading_jacobian(decl, tan_incl), variance)
+    }
+
+    /// Fuses a heading innovation `innovation` [rad] with attitude Jacobian `h_att` and noise
+    /// variance `variance` [rad²] behind the magnetometer's gate, correcting only the yaw and the
+    /// gyro bias about the vertical (docs/navigation_filter.md §10, eq. (10.4)).
+    fn fuse_heading(&mut self, innovation: f64, h_att: &Vec3, variance: f64) -> Fusion {
         let mut h = ErrorVector::zeros();
-        h.fixed_rows_mut::<3>(ERR_ATT)
-            .copy_from(&heading_jacobian(decl, tan_incl));
+        h.fixed_rows_mut::<3>(ERR_ATT).copy_from(h_att);
         let obs = Scalar {
             h,
             innovation,
-            variance: self.params.heading_noise_rad.powi(2),
+            variance,
         };
-        // Gain only on the yaw and the gyro bias about the vertical d = Rᵀ e3
-        // (docs/navigation_filter.md §10, eq. (10.4)).
         let d = self.x.q_wb.inverse_transform_vector(&Vec3::z());
         let update = fuse_shaped(&mut self.p, &obs, self.params.mag_gate_sd, |k| {
             let yaw = k[ERR_ATT + 2];

@@ -20,6 +20,8 @@
 //! - `aiding`: dead reckoning, validity, the position-hold pseudo-measurement.
 //! - `fusion`, `status`, `estimate`: what the filter returns.
 //! - `isa`: ISA pressure altitude.
+//! - `yaw_estimator`, `heading_aid`: the heading from GNSS velocity (a Gaussian sum of heading
+//!   hypotheses) and its fusion while the magnetometer is lost.
 
 mod aiding;
 mod alignment;
@@ -30,6 +32,7 @@ mod fuse_baro;
 mod fuse_gps;
 mod fuse_mag;
 mod fusion;
+mod heading_aid;
 mod height;
 pub mod isa;
 mod output;
@@ -38,6 +41,7 @@ mod predict;
 mod readings;
 mod state;
 mod status;
+mod yaw_estimator;
 
 #[cfg(test)]
 mod tests;
@@ -59,10 +63,12 @@ use aiding::Aiding;
 use alignment::Aligner;
 use covariance::Increments;
 use delay_buffer::DelayBuffer;
+use heading_aid::HeadingAidIncrements;
 use height::HeightSelection;
 use output::OutputLag;
 use state::{part, Nominal};
 use status::SourceTrack;
+use yaw_estimator::YawEstimator;
 
 /// The navigation filter (docs/navigation_filter.md).
 #[derive(Debug, Clone)]
@@ -94,6 +100,10 @@ pub struct NavFilter {
     imu_dropped: u32,
     /// The corrections not yet blended into the output (docs/navigation_filter.md §16).
     output_lag: OutputLag,
+    /// The heading from GNSS velocity (docs/navigation_filter.md §18).
+    yaw_gsf: YawEstimator,
+    /// IMU increments since the last GNSS fix, for `yaw_gsf`.
+    heading_aid: HeadingAidIncrements,
 }
 
 /// A filter with PX4's defaults ([`NavParams::default`], valid by construction: tested).
@@ -138,6 +148,8 @@ impl NavFilter {
             resets: ResetCounters::default(),
             imu_dropped: 0,
             output_lag: OutputLag::default(),
+            yaw_gsf: YawEstimator::default(),
+            heading_aid: HeadingAidIncrements::default(),
         }
     }
 

@@ -68,6 +68,7 @@ impl NavFilter {
             return;
         }
         integrate(&mut self.x, &prev, imu, dt, &mut self.increments);
+        self.accumulate_heading_aid(imu, dt);
         self.output_lag.decay(dt, self.params.output_tau_s);
         self.buffer.push(Snapshot {
             t_s: imu.t_s,

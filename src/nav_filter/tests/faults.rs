@@ -137,6 +137,52 @@ fn without_the_magnetometer_yaw_is_held_and_the_mag_times_out() {
     );
 }
 
+/// Moving, the GNSS velocity gives the heading (docs/navigation_filter.md §18): without the
+/// magnetometer, a right yaw is left to the gyroscope, and a yaw turned 45° off (as a disturbed
+/// magnetometer may leave it) is reset to the yaw estimator's heading at the next GNSS fix.
+#[test]
+fn without_the_magnetometer_a_wrong_yaw_is_reset_to_the_heading_from_gps_velocity() {
+    let (mut truth, mut filter) = setup(Motion::curves(), |p| p, 13);
+    let kick_s = 90.05;
+    let faults = Faults {
+        mag_off: Some((40.0, 1e9)),
+        yaw_kick: Some((kick_s, 45f64.to_radians())),
+        ..Faults::default()
+    };
+    let (mut resets_before_kick, mut worst_before, mut worst_after) = (None, 0.0_f64, 0.0_f64);
+    let mut recovered_at = None;
+    run(&mut truth, &mut filter, &faults, 180.0, |s| {
+        let t = s.truth.t_s;
+        let yaw_err = errors(s.filter, &s.truth).2.z.abs();
+        let resets = s.filter.status().resets.yaw;
+        if (40.0..kick_s).contains(&t) {
+            worst_before = worst_before.max(yaw_err);
+            resets_before_kick.get_or_insert(resets);
+            assert_eq!(Some(resets), resets_before_kick, "no reset of a right yaw at {t:.2} s");
+        } else if t > kick_s && recovered_at.is_none() && Some(resets) > resets_before_kick {
+            recovered_at = Some(t);
+        } else if recovered_at.is_some() {
+            worst_after = worst_after.max(yaw_err);
+        }
+    });
+    assert!(
+        worst_before.to_degrees() < 5.0,
+        "gyro-held: {:.2}°",
+        worst_before.to_degrees()
+    );
+    let recovered_at = recovered_at.expect("the yaw was reset to the heading from GPS velocity");
+    assert!(
+        recovered_at - kick_s < 0.2,
+        "reset {:.2} s after the kick",
+        recovered_at - kick_s
+    );
+    assert!(
+        worst_after.to_degrees() < 5.0,
+        "held after: {:.2}°",
+        worst_after.to_degrees()
+    );
+}
+
 #[test]
 fn without_gps_horizontal_position_turns_invalid_after_noaid_timeout() {
     let (mut truth, mut filter) = setup(Motion::curves(), |p| p, 14);

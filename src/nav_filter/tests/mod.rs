@@ -23,6 +23,8 @@ pub struct Faults {
     pub baro_offset: Option<(f64, f64)>,
     /// No magnetometer in [start, end) [s].
     pub mag_off: Option<(f64, f64)>,
+    /// The estimated yaw turned by an angle [rad] at a time [s] (a heading gone wrong).
+    pub yaw_kick: Option<(f64, f64)>,
 }
 
 /// What the observer sees after each IMU sample.
@@ -48,6 +50,9 @@ pub fn run(truth: &mut Truth, filter: &mut NavFilter, faults: &Faults, t_end_s: 
         let t = k as f64 * IMU_DT_S;
         let imu = truth.imu(t);
         filter.predict(&imu);
+        if let Some((_, angle)) = faults.yaw_kick.filter(|(at_s, _)| (t - at_s).abs() < 0.5 * IMU_DT_S) {
+            filter.x.q_wb = crate::nav_filter::state::rotate_world(&filter.x.q_wb, &Vec3::new(0.0, 0.0, angle));
+        }
         let mut gps = None;
         if k % 100 == 0 && !inside(faults.gps_off, t) {
             let mut reading = truth.gps(t);
