@@ -70,8 +70,12 @@ class Qgc:
 
     def __init__(self, autopilot):
         """A link to `autopilot`'s GCS port (the plugin's `Autopilot`)."""
+        # pymavlink's dialect is process-wide: this link keeps the `common` parser it is built
+        # with, and every link made after it gets the previous dialect back.
+        previous = mavutil.current_dialect
         self.mav = mavutil.mavlink_connection(autopilot.gcs, dialect="common", source_system=QGC[0],
                                               source_component=QGC[1])
+        mavutil.set_dialect(previous)
         self.last_heartbeat = 0.0
         self.ftp_seq = 0
 
