@@ -287,9 +287,9 @@ def fly_inside(example, spec, log_dir, work_dir, speedup, timeout_s):
 
 def judge(tlog, target=None):
     """What the vehicle did, from the tlog: heights, modes, disarms in the air, answers."""
-    from pymavlink import mavutil
+    from rotorpilot_gcs import connection_with_dialect
 
-    log = mavutil.mavlink_connection(str(tlog), dialect="common")
+    log = connection_with_dialect(str(tlog), "common")
     height, armed, landed, mode, where = 0.0, False, None, None, None
     summary = {"max_height_m": 0.0, "disarms_in_air": [], "landed_states": [], "touchdown_m_s": 0.0,
                "modes": [], "airborne_modes": [], "counts": {}, "statustexts": [], "command_acks": [],

@@ -19,7 +19,7 @@ setpoint stream (20 Hz, `set_setpoint`) go out, and each STATUSTEXT is printed a
 The pytest plugin (``rotorpilot_gcs.pytest_plugin``) provides the fixtures ``autopilot``,
 ``autopilot_factory``, ``rotorpilot_bin`` and ``rotorpilot``.
 """
-from ._mav import mavlink, mavutil
+from ._mav import connection_with_dialect, mavlink, mavutil
 from .cli import add_common_args, parser, script_main
 from .commands import ACK_TIMEOUT_S, NAN, command, command_ack, request_message
 from .errors import AutopilotStartError, CommandError, GcsError, LinkTimeout, MissionError, ParamError, UsageError
@@ -112,7 +112,7 @@ __all__ = [
     "Message", "MissionError", "MissionItem", "Mode", "NAN", "OFFBOARD", "ONE_SHOT", "ON_GROUND", "POSCTL",
     "POSITION_MASK", "PX4_MODES", "ParamError", "QgcPlan", "RALLY", "RESEND_S", "SETPOINT_RATE_HZ", "TAKEOFF",
     "UsageError", "Vehicle", "add_common_args", "arm", "as_float32", "clear_mission", "command", "command_ack",
-    "command_name", "connect", "custom_mode", "deg_e7_per_metre", "disarm", "download_mission", "enum_name",
+    "command_name", "connect", "connection_with_dialect", "custom_mode", "deg_e7_per_metre", "disarm", "download_mission", "enum_name",
     "checkout_binary", "find_binary", "float_bits_to_int", "format_position", "free_port", "global_to_offset", "home_position",
     "int32_bits", "is_armable", "is_armed", "item_from_message", "keep", "land", "latest", "link_state", "load_plan",
     "load_qgc_plan", "load_wpl", "local_position", "mavlink", "mavutil", "mode_name", "mode_of", "nav_land",

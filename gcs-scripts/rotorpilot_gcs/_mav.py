@@ -15,4 +15,18 @@ if mavutil.mavlink.WIRE_PROTOCOL_VERSION != "2.0":
 #: The generated MAVLink 2 dialect module (message classes, enums and ``MAV_*`` constants).
 mavlink = mavutil.mavlink
 
-__all__ = ["mavlink", "mavutil"]
+
+def connection_with_dialect(device: str, dialect: str, **options):
+    """``mavutil.mavlink_connection(device, dialect=dialect, **options)`` without changing the
+    dialect of the links made after it: pymavlink's dialect is process-wide, and the link keeps
+    the parser it was built with, so the previous dialect is put back at once (a link with
+    QGroundControl's ``common`` would otherwise leave every later link unable to read another
+    dialect's messages, ArduPilot's EKF_STATUS_REPORT for one)."""
+    previous = mavutil.current_dialect
+    try:
+        return mavutil.mavlink_connection(device, dialect=dialect, **options)
+    finally:
+        mavutil.set_dialect(previous)
+
+
+__all__ = ["connection_with_dialect", "mavlink", "mavutil"]

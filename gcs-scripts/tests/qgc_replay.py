@@ -11,7 +11,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from rotorpilot_gcs import mavutil
+from rotorpilot_gcs import connection_with_dialect
 
 QGC = (255, 190)  # QGroundControl's system and component ids
 TRIES, ACK_TIMEOUT_S = 3, 3.0
@@ -70,12 +70,8 @@ class Qgc:
 
     def __init__(self, autopilot):
         """A link to `autopilot`'s GCS port (the plugin's `Autopilot`)."""
-        # pymavlink's dialect is process-wide: this link keeps the `common` parser it is built
-        # with, and every link made after it gets the previous dialect back.
-        previous = mavutil.current_dialect
-        self.mav = mavutil.mavlink_connection(autopilot.gcs, dialect="common", source_system=QGC[0],
-                                              source_component=QGC[1])
-        mavutil.set_dialect(previous)
+        self.mav = connection_with_dialect(autopilot.gcs, "common", source_system=QGC[0],
+                                           source_component=QGC[1])
         self.last_heartbeat = 0.0
         self.ftp_seq = 0
 

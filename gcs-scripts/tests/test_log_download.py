@@ -34,7 +34,7 @@ from netns import can_unshare
 from pymavlink.mavftp import MAVFTP, MAVFTPSettings
 from qgc_replay import ACK, BIN, Qgc, qgc_download, qgc_list
 
-from rotorpilot_gcs import mavutil
+from rotorpilot_gcs import connection_with_dialect
 
 # The logs placed before start: name under DIR/log → size [bytes], and their UTC times.
 LOGS = {"2026-01-01/10_00_00.ulg": 20001, "2026-01-02/11_30_00.ulg": 3}
@@ -147,8 +147,7 @@ def test_pymavlink_mavftp_gets_a_log(autopilot_factory, tmp_path):
     placed = place_logs(tmp_path)
     vehicle = autopilot_factory(log=tmp_path)
     try:
-        master = mavutil.mavlink_connection(vehicle.gcs, dialect="common",
-                                            source_system=254, source_component=190)
+        master = connection_with_dialect(vehicle.gcs, "common", source_system=254, source_component=190)
         # pymavlink's defaults but a shorter wait for silence after each operation (3.7 s).
         settings = MAVFTPSettings([("debug", int, 0), ("pkt_loss_tx", int, 0), ("pkt_loss_rx", int, 0),
                                    ("max_backlog", int, 5), ("burst_read_size", int, 80),
