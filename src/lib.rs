@@ -39,6 +39,8 @@
 //! - [`runtime`]: the autopilot process: paced tick thread and MAVLink UDP links (runtime layer).
 //! - [`ulog`]: flight logs in PX4's ULog format (encoder, topics, profiles, recorder).
 //! - [`suggest`]: "did you mean …?" for mistyped names.
+//! - [`sweep`]: sweep files: a base scenario, axes over its fields (grid, random, Latin
+//!   hypercube) and seeds, listed as runs (docs/sweep.md).
 //! - [`sitl`]: the only seam between the flight controller and the plant; which sensors are read.
 //! - [`sensor_failure`]: sensor failures by MAVLink's unit and type names.
 //! - [`fly`]: `rotorpilot fly`: a take-off and hover at full speed (runtime layer: wall clock,
@@ -69,5 +71,6 @@ pub mod sensor_failure;
 pub mod sim;
 pub mod sitl;
 pub mod suggest;
+pub mod sweep;
 pub mod telemetry;
 pub mod ulog;
