@@ -287,7 +287,7 @@ def fly_inside(example, spec, log_dir, work_dir, speedup, timeout_s):
 
 def judge(tlog, target=None):
     """What the vehicle did, from the tlog: heights, modes, disarms in the air, answers."""
-    from rotorpilot_gcs import connection_with_dialect
+    from rotorpilot_gcs import connection_with_dialect, mavutil
 
     log = connection_with_dialect(str(tlog), "common")
     height, armed, landed, mode, where = 0.0, False, None, None, None
