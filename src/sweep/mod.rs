@@ -1,15 +1,17 @@
 //! Sweeps: a base scenario, axes over any of its fields, a design that combines them, and seeds
-//! (docs/sweep.md). This module reads and checks a sweep file and lists its runs; running them
-//! belongs to the runtime layer. Pure.
+//! (docs/sweep.md). This module reads and checks a sweep file, lists its runs and names their
+//! metrics; running them belongs to the runtime layer. Pure.
 //!
 //! # Layout
 //!
 //! - `spec`: the raw TOML schema of a sweep file.
 //! - [`design`]: grid, random and Latin-hypercube points of the axes.
 //! - [`field`]: scenario fields by dotted path, set in the base scenario's table.
+//! - [`metrics`]: a run's summary flattened into named scalars, and the ones a sweep keeps.
 
 pub mod design;
 pub mod field;
+pub mod metrics;
 mod spec;
 
 use std::path::{Path, PathBuf};

@@ -1,0 +1,140 @@
+//! A run's metrics: its `summary.json` flattened into named scalars (docs/sweep.md §3), nested
+//! objects joined by dots and array elements indexed (`estimate.tracking.rms_force_error_n[2]`),
+//! and the subset a sweep keeps. Pure.
+
+use serde_json::Value;
+
+use super::SweepError;
+use crate::suggest::did_you_mean;
+
+/// One scalar of a summary.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Metric {
+    /// A number.
+    Float(f64),
+    /// A whole number.
+    Int(i64),
+    /// A flag.
+    Bool(bool),
+    /// A name (exit status, controller…).
+    Text(String),
+}
+
+/// Every scalar of `summary` by its flattened name, the keys of each object in name order;
+/// `null` values (an estimate that is off) are left out.
+pub fn flatten(summary: &Value) -> Vec<(String, Metric)> {
+    let mut out = Vec::new();
+    walk(summary, String::new(), &mut out);
+    out
+}
+
+fn walk(v: &Value, name: String, out: &mut Vec<(String, Metric)>) {
+    match v {
+        Value::Object(map) => {
+            for (k, child) in map {
+                let child_name = if name.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{name}.{k}")
+                };
+                walk(child, child_name, out);
+            }
+        }
+        Value::Array(items) => {
+            for (i, child) in items.iter().enumerate() {
+                walk(child, format!("{name}[{i}]"), out);
+            }
+        }
+        Value::Number(n) => {
+            let m = n
+                .as_i64()
+                .map_or_else(|| Metric::Float(n.as_f64().unwrap_or(f64::NAN)), Metric::Int);
+            out.push((name, m));
+        }
+        Value::Bool(b) => out.push((name, Metric::Bool(*b))),
+        Value::String(s) => out.push((name, Metric::Text(s.clone()))),
+        Value::Null => {}
+    }
+}
+
+/// The metrics of `all` a sweep keeps: every one, or those named in `wanted`, where a name
+/// also keeps the elements and fields under it (`final_position_error_m` keeps its three
+/// elements). A name that matches nothing is an error with the closest one.
+pub fn select(all: Vec<(String, Metric)>, wanted: Option<&[String]>) -> Result<Vec<(String, Metric)>, SweepError> {
+    let Some(wanted) = wanted else { return Ok(all) };
+    let under = |name: &str, w: &str| {
+        name == w
+            || name
+                .strip_prefix(w)
+                .is_some_and(|rest| rest.starts_with('.') || rest.starts_with('['))
+    };
+    for w in wanted {
+        if !all.iter().any(|(name, _)| under(name, w)) {
+            return Err(SweepError::Invalid(format!(
+                "metric `{w}` is not in the run's summary{}",
+                did_you_mean(w, all.iter().map(|(n, _)| n.as_str()))
+            )));
+        }
+    }
+    Ok(all
+        .into_iter()
+        .filter(|(name, _)| wanted.iter().any(|w| under(name, w)))
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary() -> Value {
+        serde_json::json!({
+            "exit": "complete",
+            "ticks": 5000,
+            "final_position_error_m": [0.1, -0.2, 0.0],
+            "max_tilt_deg": 12.5,
+            "compensation": true,
+            "estimate": {"order": 2, "tracking": {"rms_force_error_n": [0.02, 0.04, 0.01]}},
+            "events": []
+        })
+    }
+
+    #[test]
+    fn a_summary_flattens_to_named_scalars() {
+        let all = flatten(&summary());
+        let names: Vec<&str> = all.iter().map(|(n, _)| n.as_str()).collect();
+        assert!(names.contains(&"final_position_error_m[1]"));
+        assert!(names.contains(&"estimate.tracking.rms_force_error_n[2]"));
+        assert!(all.contains(&("exit".into(), Metric::Text("complete".into()))));
+        assert!(all.contains(&("ticks".into(), Metric::Int(5000))));
+        assert!(all.contains(&("compensation".into(), Metric::Bool(true))));
+        assert!(all.contains(&("max_tilt_deg".into(), Metric::Float(12.5))));
+        assert!(flatten(&serde_json::json!({"estimate": null})).is_empty());
+    }
+
+    #[test]
+    fn a_selection_keeps_what_is_under_each_name_and_refuses_unknown_ones() {
+        let wanted = ["final_position_error_m".to_string(), "exit".to_string()];
+        let kept = select(flatten(&summary()), Some(&wanted)).unwrap();
+        let names: Vec<&str> = kept.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "exit",
+                "final_position_error_m[0]",
+                "final_position_error_m[1]",
+                "final_position_error_m[2]"
+            ]
+        );
+        let err = select(flatten(&summary()), Some(&["max_tilt_dg".to_string()])).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("metric `max_tilt_dg` is not in the run's summary"),
+            "{err}"
+        );
+        assert!(err.to_string().contains("did you mean max_tilt_deg?"), "{err}");
+        assert_eq!(
+            select(flatten(&summary()), None).unwrap().len(),
+            flatten(&summary()).len()
+        );
+    }
+}
