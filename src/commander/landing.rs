@@ -1,9 +1,12 @@
 //! What the land detector's verdict changes (PX4's land detector and auto-disarm):
 //! - on the ground, a setpoint that does not ask to climb idles the motors;
-//! - pushed against the ground (ground contact, maybe landed), the thrust is cut and the
-//!   attitude the vehicle has is held, as PX4's position controller does while landing: no
-//!   torque fights the ground over an attitude error of the estimate, and "maybe landed" can
-//!   follow;
+//! - pushed against the ground (ground contact, maybe landed) while descending to land (a
+//!   vertical speed setpoint of at least [`LANDING_DESCENT_SHARE`] of `MPC_LAND_SPEED`, PX4's
+//!   "in descend"), the thrust is cut and the attitude the vehicle has is held, as PX4's
+//!   position controller does while landing: no torque fights the ground over an attitude error
+//!   of the estimate, and "maybe landed" can follow; any other setpoint that pushes down (a
+//!   position on the ground) becomes a descent at the landing speed below the vehicle, which
+//!   in the air only descends gently and on the ground lowers the thrust;
 //! - a lift-off with nothing to fly (idle in a hold mode, lifted by a gust) holds position;
 //! - auto-disarm (`COM_DISARM_LAND` after a touch-down, `COM_DISARM_PRFLT` when never airborne
 //!   since arming) happens only while the detector says landed, so no path stops the motors in
@@ -20,6 +23,9 @@ use super::{Commander, Event};
 const SETPOINT_MARGIN_M: f64 = 0.05;
 /// A vertical speed setpoint beyond this asks to descend or climb [m/s].
 const SETPOINT_SPEED_M_S: f64 = 0.1;
+/// A vertical speed setpoint of at least this share of `MPC_LAND_SPEED` is a descent to land
+/// (PX4's land detector: 90 %) [-].
+pub const LANDING_DESCENT_SHARE: f64 = 0.9;
 /// An attitude target with thrust below this fraction of the weight asks to descend [-].
 const DESCENT_THRUST_OF_WEIGHT: f64 = 0.9;
 
@@ -39,6 +45,12 @@ pub(super) fn asks_descent(sp: &FlatSetpoint, x: &VehicleState) -> bool {
     sp.vel_w.is_some_and(|v| v.z > SETPOINT_SPEED_M_S)
         || sp.pos_w.is_some_and(|p| p.z > x.pos_w.z + SETPOINT_MARGIN_M)
         || (sp.pos_w.is_none() && sp.vel_w.is_none() && sp.acc_w.is_some_and(|a| a.z > SETPOINT_SPEED_M_S))
+}
+
+/// The setpoint descends to land: a vertical speed of at least [`LANDING_DESCENT_SHARE`] of
+/// `land_speed_m_s` [m/s].
+fn descends_to_land(sp: &FlatSetpoint, land_speed_m_s: f64) -> bool {
+    sp.vel_w.is_some_and(|v| v.z >= LANDING_DESCENT_SHARE * land_speed_m_s)
 }
 
 /// The setpoint asks the vehicle in `x` to go up.
@@ -104,7 +116,14 @@ impl Commander {
             };
         }
         match command {
-            Command::Flat(_) if self.detector.touching_down() => Command::Attitude(touch_down(x)),
+            Command::Flat(sp) if self.detector.touching_down() => {
+                let land_speed = self.params.land_speed_m_s;
+                if descends_to_land(&sp, land_speed) {
+                    Command::Attitude(touch_down(x))
+                } else {
+                    Command::Flat(descend_below(x, &sp, land_speed))
+                }
+            }
             _ => command,
         }
     }
@@ -122,7 +141,22 @@ impl Commander {
     }
 }
 
-/// The target of a vehicle in `x` pushed against the ground: no thrust, the attitude it has,
+/// How far below the vehicle the descent reference sits [m] (the landing guidance's lead).
+const DESCENT_LEAD_M: f64 = 0.5;
+
+/// The reference of a vehicle in `x` pushed against the ground by a setpoint that is no landing
+/// descent: below it, descending at `speed_m_s` [m/s] (`MPC_LAND_SPEED`), level at the
+/// setpoint's heading.
+fn descend_below(x: &VehicleState, sp: &FlatSetpoint, speed_m_s: f64) -> FlatSetpoint {
+    let below = x.pos_w + Vec3::new(0.0, 0.0, DESCENT_LEAD_M);
+    FlatSetpoint {
+        vel_w: Some(Vec3::new(0.0, 0.0, speed_m_s)),
+        yaw_rate_rad_s: Some(0.0),
+        ..FlatSetpoint::hold(below, sp.yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z))
+    }
+}
+
+/// The target of a vehicle in `x` pushed against the ground by a landing descent: no thrust, the attitude it has,
 /// no rotation (PX4 cuts the thrust setpoint in ground contact and maybe landed, yaw setpoint at
 /// the current yaw). The estimated attitude, not the level one, so that an error of the estimate
 /// (a few degrees of tilt from an unobservable accelerometer bias) commands no torque against
@@ -222,6 +256,18 @@ mod tests {
         ));
         c.request(Request::Land, &lifted, 40.0);
         assert_eq!(c.landed_state(), LandedState::Landing);
+    }
+
+    #[test]
+    fn a_setpoint_that_is_no_landing_descent_becomes_a_gentle_descent_below() {
+        let x = at(-0.1);
+        let on_ground = FlatSetpoint::hold(Vec3::new(3.0, 0.0, 0.0), 1.0);
+        assert!(!descends_to_land(&on_ground, 0.7));
+        let sp = descend_below(&x, &on_ground, 0.7);
+        assert_eq!(sp.pos_w, Some(Vec3::new(0.0, 0.0, 0.4)));
+        assert_eq!(sp.vel_w, Some(Vec3::new(0.0, 0.0, 0.7)));
+        assert_eq!(sp.yaw_rad, Some(1.0));
+        assert!(asks_descent(&sp, &x) && descends_to_land(&sp, 0.7));
     }
 
     #[test]
