@@ -92,6 +92,12 @@ fn estimators(c: &mut Criterion) {
     }
 }
 
+/// `plant` hovering level and still at `pos_w` [m], its motors at hover speed.
+fn hovering(mut plant: SimPlant, pos_w: Vec3) -> SimPlant {
+    plant.set_initial_state(Some(pos_w), Vec3::zeros(), UnitQuat::identity(), Vec3::zeros(), true);
+    plant
+}
+
 fn full_tick(c: &mut Criterion) {
     let af = airframe();
     let src = AirframeSource::resolve("fsr_quad").unwrap();
@@ -99,15 +105,8 @@ fn full_tick(c: &mut Criterion) {
         let mut core = FlightCore::for_airframe(&af, kind, 1e-3).unwrap();
         core.set_observer(Some(observer(7)));
         core.controller.set_compensation(true);
-        let mut plant = SimPlant::from_source(&src, 0).unwrap();
         let hover_pos = Vec3::new(0.0, 0.0, -1.0);
-        plant.set_initial_state(
-            Some(hover_pos),
-            Vec3::zeros(),
-            UnitQuat::identity(),
-            Vec3::zeros(),
-            true,
-        );
+        let plant = hovering(SimPlant::from_source(&src, 0).unwrap(), hover_pos);
         let sp = FlatSetpoint::hold(hover_pos, 0.0);
         let mut lockstep = Lockstep::new(SetpointFollower::new(core, sp), plant, 1e-3);
         c.bench_function(&format!("full_tick_{}_r7", kind.name()), |b| {
@@ -124,16 +123,12 @@ fn full_tick_realistic(c: &mut Criterion) {
     let af = Airframe::from_source(&src).unwrap();
     let mut core = FlightCore::for_airframe(&af, ControllerKind::Geometric, 1e-3).unwrap();
     core.set_observer(Some(observer(7)));
-    let mut plant = SimPlant::from_source(&src, 0)
-        .unwrap()
-        .with_sensor_model(SensorModel::Suite);
     let hover_pos = Vec3::new(0.0, 0.0, -2.0);
-    plant.set_initial_state(
-        Some(hover_pos),
-        Vec3::zeros(),
-        UnitQuat::identity(),
-        Vec3::zeros(),
-        true,
+    let plant = hovering(
+        SimPlant::from_source(&src, 0)
+            .unwrap()
+            .with_sensor_model(SensorModel::Suite),
+        hover_pos,
     );
     let follower = SetpointFollower::new(core, FlatSetpoint::hold(hover_pos, 0.0)).starting_at(&plant.true_state());
     let mut lockstep = Lockstep::new(follower, plant, 1e-3);

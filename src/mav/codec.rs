@@ -114,15 +114,28 @@ pub fn encode_v2(header: MavHeader, message: &MavMessage, buf: &mut Vec<u8>) {
 /// (at most 255 bytes; longer is cut), with the CRC the dialect expects for that id: what a
 /// sender that got the fields wrong but the framing right would send (fuzzing, flood tests).
 pub fn frame_v2(header: MavHeader, message_id: u32, payload: &[u8], buf: &mut Vec<u8>) {
+    let raw = frame_payload(header, message_id, MavMessage::extra_crc(message_id), payload);
+    buf.extend_from_slice(raw.raw_bytes());
+}
+
+/// One unsigned MAVLink 2 frame of message `message_id` from `header` carrying `payload` as is
+/// (at most 255 bytes; longer is cut) with CRC extra `crc_extra`: a frame built by hand, for a
+/// payload the crate's encoder cannot make (docs/mavlink.md §13.5).
+pub fn frame_payload(header: MavHeader, message_id: u32, crc_extra: u8, payload: &[u8]) -> MAVLinkV2MessageRaw {
     let payload = &payload[..payload.len().min(255)];
-    let start = buf.len();
-    buf.push(mavlink::MAV_STX_V2);
-    buf.push(payload.len() as u8);
-    buf.extend_from_slice(&[0, 0, header.sequence, header.system_id as u8, header.component_id]);
-    buf.extend_from_slice(&message_id.to_le_bytes()[..3]);
-    buf.extend_from_slice(payload);
-    let crc = mavlink::calculate_crc(&buf[start + 1..], MavMessage::extra_crc(message_id));
-    buf.extend_from_slice(&crc.to_le_bytes());
+    let len = payload.len();
+    let mut raw = MAVLinkV2MessageRaw::new();
+    let b = raw.as_mut_slice();
+    b[0] = mavlink::MAV_STX_V2;
+    b[1] = len as u8;
+    b[2..5].copy_from_slice(&[0, 0, header.sequence]);
+    b[5] = header.system_id as u8;
+    b[6] = header.component_id;
+    b[7..V2_HEADER_LEN].copy_from_slice(&message_id.to_le_bytes()[..3]);
+    b[V2_HEADER_LEN..V2_HEADER_LEN + len].copy_from_slice(payload);
+    let crc = mavlink::calculate_crc(&b[1..V2_HEADER_LEN + len], crc_extra);
+    b[V2_HEADER_LEN + len..V2_HEADER_LEN + len + 2].copy_from_slice(&crc.to_le_bytes());
+    raw
 }
 
 /// A MAVLink 2 COMMAND_ACK with `MAV_RESULT_UNSUPPORTED` for a command id the dialect may not

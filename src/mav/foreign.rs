@@ -5,6 +5,7 @@
 
 use mavlink::{MAVLinkV2MessageRaw, MavHeader};
 
+use super::codec::frame_payload;
 use crate::telemetry::Snapshot;
 
 /// EKF_STATUS_REPORT's message id (`ardupilotmega`).
@@ -13,8 +14,6 @@ pub const EKF_STATUS_REPORT_ID: u32 = 193;
 const EKF_STATUS_REPORT_CRC_EXTRA: u8 = 71;
 /// Longest payload a foreign message here carries [bytes].
 const MAX_PAYLOAD: usize = 32;
-/// STX and the 9 header bytes of a MAVLink 2 frame.
-const V2_HEADER_LEN: usize = 10;
 
 /// A message the common dialect does not know: id, CRC extra and wire payload.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,22 +38,7 @@ impl ForeignMessage {
 
     /// One unsigned MAVLink 2 frame of this message from `header`.
     pub fn frame(&self, header: MavHeader) -> MAVLinkV2MessageRaw {
-        let payload = self.payload();
-        let len = payload.len();
-        let mut raw = MAVLinkV2MessageRaw::new();
-        let b = raw.as_mut_slice();
-        b[0] = mavlink::MAV_STX_V2;
-        b[1] = len as u8;
-        b[2] = 0;
-        b[3] = 0;
-        b[4] = header.sequence;
-        b[5] = header.system_id as u8;
-        b[6] = header.component_id;
-        b[7..V2_HEADER_LEN].copy_from_slice(&self.id.to_le_bytes()[..3]);
-        b[V2_HEADER_LEN..V2_HEADER_LEN + len].copy_from_slice(payload);
-        let crc = mavlink::calculate_crc(&b[1..V2_HEADER_LEN + len], self.crc_extra);
-        b[V2_HEADER_LEN + len..V2_HEADER_LEN + len + 2].copy_from_slice(&crc.to_le_bytes());
-        raw
+        frame_payload(header, self.id, self.crc_extra, self.payload())
     }
 }
 

@@ -22,6 +22,7 @@ use serde::Serialize;
 use thiserror::Error;
 
 use crate::math::{e3, UnitQuat, Vec3};
+use crate::sweep::design::unit;
 
 /// An envelope that cannot be sampled.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -116,11 +117,6 @@ impl Draw {
     pub fn tilt_rad(&self) -> f64 {
         (self.q_wb * e3()).z.clamp(-1.0, 1.0).acos()
     }
-}
-
-/// A number uniform in [0, 1) from the top 53 bits of one `u64`.
-fn unit(rng: &mut ChaCha8Rng) -> f64 {
-    (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 
 /// A number uniform in [lo, hi).

@@ -12,7 +12,6 @@ use nalgebra::Vector2;
 use crate::math::{wrap_pi, Vec3};
 
 use super::covariance::uncorrelate;
-use super::readings::ImuReading;
 use super::state::ERR_ATT;
 use super::NavFilter;
 
@@ -33,21 +32,22 @@ pub(super) struct HeadingAidIncrements {
     dt_s: f64,
 }
 
-impl NavFilter {
-    /// Adds one IMU interval of `dt_s` [s] ending at `imu` to the yaw estimator's increments.
-    pub(super) fn accumulate_heading_aid(&mut self, imu: &ImuReading, dt_s: f64) {
-        let q = self.x.q_wb;
-        let inc = &mut self.heading_aid;
-        inc.dvel_w += q * (imu.accel_b - self.x.accel_bias_b) * dt_s;
-        inc.dyaw += (q * (imu.gyro_b - self.x.gyro_bias_b)).z * dt_s;
-        inc.dt_s += dt_s;
+impl HeadingAidIncrements {
+    /// Adds one IMU interval of `dt_s` [s] with specific force `f_w` [m/s²], world NED, and rate
+    /// `yaw_rate` [rad/s] about the vertical.
+    pub(super) fn add(&mut self, f_w: &Vec3, yaw_rate: f64, dt_s: f64) {
+        self.dvel_w += f_w * dt_s;
+        self.dyaw += yaw_rate * dt_s;
+        self.dt_s += dt_s;
     }
+}
 
+impl NavFilter {
     /// A GNSS velocity `vel_w` [m/s] of variance `vel_var` [m²/s²] arrived: the yaw estimator
     /// predicts over the increments, rotated into the level frame by the estimated yaw (18.6), and
     /// fuses it; while the magnetometer is lost a yaw far from its converged heading is reset to
-    /// it (18.7). Whether the yaw was reset.
-    pub(super) fn aid_heading_from_gps(&mut self, vel_w: &Vec3, vel_var: f64) -> bool {
+    /// it (18.7).
+    pub(super) fn aid_heading_from_gps(&mut self, vel_w: &Vec3, vel_var: f64) {
         let inc = std::mem::take(&mut self.heading_aid);
         let (_, _, yaw) = self.x.q_wb.euler_angles();
         let (s, c) = yaw.sin_cos();
@@ -62,7 +62,7 @@ impl NavFilter {
             .last_fused_s
             .is_none_or(|t| self.t_s - t > self.params.sensor_timeout_s);
         let Some((gsf_yaw, gsf_var)) = self.yaw_gsf.yaw() else {
-            return false;
+            return;
         };
         let disagreement = wrap_pi(gsf_yaw - yaw);
         let yaw_var = self.p[(ERR_ATT + 2, ERR_ATT + 2)];
@@ -75,6 +75,5 @@ impl NavFilter {
             self.turn_yaw(disagreement);
             uncorrelate(&mut self.p, ERR_ATT + 2, gsf_var);
         }
-        reset
     }
 }

@@ -1,7 +1,7 @@
 //! Prediction: the nominal state integrated at every IMU sample, the increments accumulated,
 //! and the covariance predicted once per `predict_period_s` (docs/navigation_filter.md §2, §4).
 
-use crate::math::{e3, UnitQuat, GRAVITY_M_S2};
+use crate::math::{e3, UnitQuat, Vec3, GRAVITY_M_S2};
 
 use super::covariance::{self, Increments, ProcessNoise};
 use super::delay_buffer::Snapshot;
@@ -15,8 +15,16 @@ use super::NavFilter;
 pub(super) const MAX_IMU_DT_S: f64 = 0.1;
 
 /// One IMU interval of the nominal kinematics, trapezoidal in the rates and the specific force,
-/// accumulating the increments (docs/navigation_filter.md §2, eqs. (2.2)–(2.3)).
-pub(super) fn integrate(x: &mut Nominal, prev: &ImuReading, cur: &ImuReading, dt: f64, inc: &mut Increments) {
+/// accumulating the increments (docs/navigation_filter.md §2, eqs. (2.2)–(2.3)); returns the
+/// interval's specific force, world NED [m/s²], and its rate about the vertical [rad/s] (the yaw
+/// estimator's inputs, docs/navigation_filter.md §18, eq. (18.6)).
+pub(super) fn integrate(
+    x: &mut Nominal,
+    prev: &ImuReading,
+    cur: &ImuReading,
+    dt: f64,
+    inc: &mut Increments,
+) -> (Vec3, f64) {
     let r0 = x.q_wb.to_rotation_matrix().into_inner();
     let omega_b = 0.5 * (prev.gyro_b + cur.gyro_b) - x.gyro_bias_b;
     let mut q = x.q_wb * UnitQuat::from_scaled_axis(omega_b * dt);
@@ -30,6 +38,7 @@ pub(super) fn integrate(x: &mut Nominal, prev: &ImuReading, cur: &ImuReading, dt
     inc.dt_s += dt;
     inc.dvel_w += f_w * dt;
     inc.rot_dt += 0.5 * (r0 + r1) * dt;
+    (f_w, (r1 * omega_b).z)
 }
 
 impl NavFilter {
@@ -67,8 +76,8 @@ impl NavFilter {
             self.imu_dropped = self.imu_dropped.saturating_add(1);
             return;
         }
-        integrate(&mut self.x, &prev, imu, dt, &mut self.increments);
-        self.accumulate_heading_aid(imu, dt);
+        let (f_w, yaw_rate) = integrate(&mut self.x, &prev, imu, dt, &mut self.increments);
+        self.heading_aid.add(&f_w, yaw_rate, dt);
         self.output_lag.decay(dt, self.params.output_tau_s);
         self.buffer.push(Snapshot {
             t_s: imu.t_s,

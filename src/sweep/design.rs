@@ -74,8 +74,8 @@ fn number(x: f64, integer: bool) -> toml::Value {
     }
 }
 
-/// A uniform number in [0, 1) from 53 random bits.
-fn unit(rng: &mut ChaCha8Rng) -> f64 {
+/// A number uniform in [0, 1) from the top 53 bits of one `u64` (the Monte Carlo draws too).
+pub(crate) fn unit(rng: &mut ChaCha8Rng) -> f64 {
     (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 
@@ -120,20 +120,30 @@ pub fn points(axes: &[Axis], design: Design) -> Result<Vec<Point>, SweepError> {
     }
 }
 
+/// Whether `axes` can be combined by `design`: a grid takes only listed values.
+pub fn check(axes: &[Axis], design: Design) -> Result<(), SweepError> {
+    match (
+        design,
+        axes.iter().find(|a| matches!(a.values, AxisValues::Uniform { .. })),
+    ) {
+        (Design::Grid, Some(axis)) => Err(SweepError::Invalid(format!(
+            "axis `{}`: `uniform` needs a random or latin_hypercube design; a grid takes `values` or `range`",
+            axis.field
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// The full grid of list axes, the last one varying fastest (2.1).
 fn grid(axes: &[Axis]) -> Result<Vec<Point>, SweepError> {
-    let mut lists = Vec::with_capacity(axes.len());
-    for axis in axes {
-        match &axis.values {
-            AxisValues::List(values) => lists.push(values),
-            AxisValues::Uniform { .. } => {
-                return Err(SweepError::Invalid(format!(
-                    "axis `{}`: `uniform` needs a random or latin_hypercube design; a grid takes `values` or `range`",
-                    axis.field
-                )))
-            }
-        }
-    }
+    check(axes, Design::Grid)?;
+    let lists: Vec<&Vec<toml::Value>> = axes
+        .iter()
+        .filter_map(|a| match &a.values {
+            AxisValues::List(values) => Some(values),
+            AxisValues::Uniform { .. } => None,
+        })
+        .collect();
     let mut out: Vec<Point> = vec![Vec::new()];
     for values in lists {
         out = out

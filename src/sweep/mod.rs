@@ -126,8 +126,7 @@ impl Sweep {
             seeds,
             metrics: file.metrics,
         };
-        // Refuse a grid without a point rather than run nothing.
-        design::points(&sweep.axes, sweep.design).map_err(|e| SweepError::Invalid(format!("{origin}: {e}")))?;
+        design::check(&sweep.axes, sweep.design).map_err(|e| SweepError::Invalid(format!("{origin}: {e}")))?;
         Ok(sweep)
     }
 
