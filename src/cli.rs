@@ -211,6 +211,10 @@ pub(crate) enum Command {
     /// convergence rate, non-finite values, faults, panics and convergence times.
     #[command(allow_negative_numbers = true)]
     Montecarlo(MonteCarloArgs),
+    /// Fly every run of a sweep file (a base scenario, axes over its fields, seeds) on every
+    /// core; write DIR/results.parquet (one row per run: swept values, seed, status, metrics)
+    /// and DIR/sweep.json (docs/sweep.md).
+    Sweep(SweepArgs),
     /// Design wrench-estimator gains from an analog Chebyshev type-I low-pass (docs/estimator.md §3).
     #[command(allow_negative_numbers = true)]
     Gains {
@@ -293,6 +297,42 @@ pub(crate) struct MonteCarloArgs {
     /// Worker threads [default: one per core].
     #[arg(long)]
     pub(crate) threads: Option<usize>,
+}
+
+/// `rotorpilot sweep` options.
+#[derive(Debug, Args)]
+pub(crate) struct SweepArgs {
+    /// Sweep file (TOML).
+    pub(crate) sweep: PathBuf,
+    /// Output directory (created if missing).
+    #[arg(long, required_unless_present = "plan")]
+    pub(crate) out: Option<PathBuf>,
+    /// Worker threads [default: one per core].
+    #[arg(long)]
+    pub(crate) jobs: Option<usize>,
+    /// Fly only runs A to B−1 of the whole sweep (`A..B`, 0-based): one shard of a campaign.
+    #[arg(long, value_name = "A..B", value_parser = parse_run_range)]
+    pub(crate) runs: Option<std::ops::Range<usize>>,
+    /// Print the sweep's manifest (run count, axes, the files it reads) as JSON; fly nothing.
+    #[arg(long, conflicts_with_all = ["out", "runs", "jobs"])]
+    pub(crate) plan: bool,
+}
+
+/// `A..B` with A < B.
+fn parse_run_range(text: &str) -> Result<std::ops::Range<usize>, String> {
+    let (a, b) = text
+        .split_once("..")
+        .ok_or_else(|| format!("\"{text}\": expected A..B"))?;
+    let number = |s: &str| {
+        s.trim()
+            .parse::<usize>()
+            .map_err(|e| format!("\"{text}\": {s:?} is not a run index ({e})"))
+    };
+    let (a, b) = (number(a)?, number(b)?);
+    if a >= b {
+        return Err(format!("\"{text}\": the range is empty (A must be below B)"));
+    }
+    Ok(a..b)
 }
 
 /// A Chebyshev estimator design on the command line (docs/estimator.md §3).

@@ -41,6 +41,8 @@
 //! - [`suggest`]: "did you mean …?" for mistyped names.
 //! - [`sweep`]: sweep files: a base scenario, axes over its fields (grid, random, Latin
 //!   hypercube) and seeds, listed as runs (docs/sweep.md).
+//! - [`sweep_run`]: `rotorpilot sweep`: a sweep's runs on worker threads into
+//!   `results.parquet` and `sweep.json`; its engine also runs `montecarlo`.
 //! - [`sitl`]: the only seam between the flight controller and the plant; which sensors are read.
 //! - [`sensor_failure`]: sensor failures by MAVLink's unit and type names.
 //! - [`fly`]: `rotorpilot fly`: a take-off and hover at full speed (runtime layer: wall clock,
@@ -72,5 +74,6 @@ pub mod sim;
 pub mod sitl;
 pub mod suggest;
 pub mod sweep;
+pub mod sweep_run;
 pub mod telemetry;
 pub mod ulog;

@@ -21,7 +21,7 @@ use rotorpilot::sim::simulate_paced;
 
 mod cli;
 
-use cli::{Cli, Command, DesignArgs, MonteCarloArgs};
+use cli::{Cli, Command, DesignArgs, MonteCarloArgs, SweepArgs};
 
 /// The comma-separated numbers `text` of `option`; an error names the option and `expected`.
 fn parse_numbers(option: &str, text: &str, expected: &str) -> Result<Vec<f64>, String> {
@@ -288,6 +288,7 @@ fn execute(command: Command) -> Result<String, String> {
             }
         }
         Command::Montecarlo(args) => montecarlo(&args),
+        Command::Sweep(args) => sweep(&args),
         Command::Gains { design, json } => {
             let report = GainsReport::new(&design.design(), design.ts).map_err(|e| e.to_string())?;
             if json {
@@ -297,6 +298,44 @@ fn execute(command: Command) -> Result<String, String> {
             }
         }
     }
+}
+
+/// `rotorpilot sweep`: the plan, or the runs flown into `--out`, as JSON.
+fn sweep(a: &SweepArgs) -> Result<String, String> {
+    use rotorpilot::sweep_run::LoadedSweep;
+    let loaded = LoadedSweep::load(&a.sweep).map_err(|e| e.to_string())?;
+    let plan = loaded.plan();
+    let Some(out) = &a.out else {
+        return serde_json::to_string_pretty(&plan).map_err(|e| e.to_string());
+    };
+    let range = a.runs.clone().unwrap_or(0..loaded.runs.len());
+    if range.end > loaded.runs.len() {
+        return Err(format!(
+            "--runs {}..{}: the sweep has {} runs",
+            range.start,
+            range.end,
+            loaded.runs.len()
+        ));
+    }
+    let jobs = match a.jobs {
+        Some(0) => return Err("--jobs must be at least 1".into()),
+        Some(n) => n,
+        None => std::thread::available_parallelism().map_or(1, usize::from),
+    };
+    let manifest = loaded.fly_range(range, jobs, out).map_err(|e| e.to_string())?;
+    let results = manifest.results.as_ref().ok_or("no results")?;
+    let summary = serde_json::json!({
+        "runs": results.range[1] - results.range[0],
+        "ok": results.ok,
+        "failed": results.refused + results.failed + results.panicked,
+        "refused": results.refused,
+        "panicked": results.panicked,
+        "wall_time_s": results.wall_time_s,
+        "runs_per_s": results.runs_per_s,
+        "jobs": results.jobs,
+        "results": out.join("results.parquet").display().to_string(),
+    });
+    serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())
 }
 
 /// `rotorpilot estimate`: reads the log, runs the estimator, writes OUT.csv, returns the JSON.

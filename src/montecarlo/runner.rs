@@ -1,35 +1,13 @@
-//! Runs of one control law spread over worker threads (runtime layer). Each run is guarded by
-//! `catch_unwind`, so a panic is counted instead of ending the campaign; results are stored by
-//! run index, so the thread count never changes a report.
-
-use std::panic::{catch_unwind, AssertUnwindSafe};
+//! Runs of one control law spread over worker threads by the engine sweeps use
+//! ([`crate::sweep_run::engine`]): a panicking run is counted instead of ending the campaign,
+//! and results are stored by run index, so the thread count never changes a report.
 
 use crate::control::ControllerKind;
+use crate::sweep_run::engine::map_guarded;
 
 use super::envelope::Draw;
 use super::stats::RunResult;
 use super::trial::{fly, TrialError, TrialOutcome, TrialSetup};
-
-/// The text of a panic payload.
-fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "non-text panic payload".into())
-}
-
-/// One guarded run.
-fn guarded<F>(run: &F, draw: &Draw) -> Result<RunResult, TrialError>
-where
-    F: Fn(&Draw) -> Result<TrialOutcome, TrialError>,
-{
-    match catch_unwind(AssertUnwindSafe(|| run(draw))) {
-        Ok(Ok(outcome)) => Ok(RunResult::Flew(outcome)),
-        Ok(Err(e)) => Err(e),
-        Err(payload) => Ok(RunResult::Panicked(panic_message(payload.as_ref()))),
-    }
-}
 
 /// Flies `kind` from every draw on `threads` worker threads (at least one).
 pub fn fly_all(
@@ -42,46 +20,14 @@ pub fn fly_all(
 }
 
 /// Calls `run` on every draw on `threads` worker threads (at least one), each call guarded by
-/// `catch_unwind`; worker w takes draws w, w + threads, … so slow regions of the envelope are
-/// shared out. The first setup error ends the campaign.
+/// `catch_unwind`. The first setup error ends the campaign.
 pub fn run_guarded<F>(draws: &[Draw], threads: usize, run: F) -> Result<Vec<RunResult>, TrialError>
 where
     F: Fn(&Draw) -> Result<TrialOutcome, TrialError> + Sync,
 {
-    let threads = threads.clamp(1, draws.len().max(1));
-    let run = &run;
-    let per_worker: Vec<Result<Vec<(usize, RunResult)>, TrialError>> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads)
-            .map(|w| {
-                scope.spawn(move || {
-                    (w..draws.len())
-                        .step_by(threads)
-                        .map(|i| guarded(run, &draws[i]).map(|r| (i, r)))
-                        .collect::<Result<Vec<_>, _>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| {
-                h.join().unwrap_or_else(|payload| {
-                    Err(TrialError::Worker(format!(
-                        "panicked outside a run: {}",
-                        panic_message(payload.as_ref())
-                    )))
-                })
-            })
-            .collect()
-    });
-    let mut slots: Vec<Option<RunResult>> = vec![None; draws.len()];
-    for worker in per_worker {
-        for (i, r) in worker? {
-            slots[i] = Some(r);
-        }
-    }
-    Ok(slots
+    Ok(map_guarded(draws, threads, &|_| {}, run)?
         .into_iter()
-        .map(|r| r.unwrap_or_else(|| RunResult::Panicked("run lost".into())))
+        .map(|r| r.map_or_else(RunResult::Panicked, RunResult::Flew))
         .collect())
 }
 

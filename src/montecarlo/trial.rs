@@ -53,9 +53,6 @@ pub enum TrialError {
     /// A rotor failure names no rotor of the airframe or a negative time.
     #[error("--fail-rotor: {0}")]
     RotorFailure(String),
-    /// A worker thread failed outside a guarded run.
-    #[error("worker thread: {0}")]
-    Worker(String),
 }
 
 /// What every run of a campaign shares.

@@ -10,6 +10,13 @@ use crate::math::Vec3;
 /// settle time = this / ω_p (docs/estimator.md §3).
 pub const SETTLE_TIME_CONSTANTS: f64 = 5.0;
 
+/// Share of the true force's norm the force estimate must stay within to count as converged
+/// [-] (docs/sweep.md §3, eq. (3.3)).
+pub const CONVERGED_SHARE: f64 = 0.05;
+
+/// Smallest band of convergence, for a true force near zero [N] (docs/sweep.md §3, eq. (3.3)).
+pub const CONVERGED_FLOOR_N: f64 = 0.05;
+
 /// Running sums of the estimate's errors after the settle time.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct EstimateStats {
@@ -19,6 +26,8 @@ pub struct EstimateStats {
     sum_sq_torque: Vec3,
     sum_true: Vec3,
     sum_sq_true: Vec3,
+    converged_since_s: Option<f64>,
+    overshoot_share: f64,
 }
 
 /// `estimate.tracking` of `summary.json`.
@@ -49,6 +58,16 @@ impl EstimateStats {
     /// [N], the unmodelled weight included) and torque `torque_b` (body FRD [N·m]).
     pub fn add(&mut self, t_s: f64, estimate: Option<&WrenchEstimate>, force_w: Vec3, torque_b: Vec3) {
         let Some(e) = estimate else { return };
+        let truth = force_w.norm();
+        let band_n = (CONVERGED_SHARE * truth).max(CONVERGED_FLOOR_N);
+        self.converged_since_s = match self.converged_since_s {
+            _ if (e.force_w - force_w).norm() > band_n => None,
+            None => Some(t_s),
+            since => since,
+        };
+        if truth > CONVERGED_FLOOR_N {
+            self.overshoot_share = self.overshoot_share.max((e.force_w.norm() - truth) / truth);
+        }
         if t_s < self.from_s {
             return;
         }
@@ -57,6 +76,18 @@ impl EstimateStats {
         self.sum_sq_torque += (e.torque_b - torque_b).map(|x| x * x);
         self.sum_true += force_w;
         self.sum_sq_true += force_w.map(|x| x * x);
+    }
+
+    /// Time from which the force estimate stayed within the band of eq. (3.3) of docs/sweep.md
+    /// §3 to the end; `None` when it ended outside [s].
+    pub fn convergence_time_s(&self) -> Option<f64> {
+        self.converged_since_s
+    }
+
+    /// Largest excess of ‖f̂_e‖ over ‖f_e‖, in percent of ‖f_e‖ (docs/sweep.md §3, eq. (3.4)),
+    /// over the ticks where ‖f_e‖ exceeded the band's floor [%].
+    pub fn force_overshoot_pct(&self) -> f64 {
+        100.0 * self.overshoot_share
     }
 
     /// The figures, `None` when no tick counted.
@@ -100,5 +131,18 @@ mod tests {
         assert_eq!(t.rms_force_error_n, [1.0, 0.0, 0.0]);
         assert_eq!(t.true_force_sd_n, [1.0, 0.0, 0.0]);
         assert!(EstimateStats::starting_at(9.0).summary().is_none());
+    }
+
+    #[test]
+    fn convergence_and_overshoot_of_a_step() {
+        let mut s = EstimateStats::starting_at(0.0);
+        let truth = Vec3::new(2.0, 0.0, 0.0);
+        for (k, fx) in [0.0, 1.5, 2.4, 1.95, 2.08, 2.02].into_iter().enumerate() {
+            s.add(k as f64, Some(&estimate(fx)), truth, Vec3::zeros());
+        }
+        assert_eq!(s.convergence_time_s(), Some(3.0), "within 0.1 N from t = 3 s");
+        assert!((s.force_overshoot_pct() - 20.0).abs() < 1e-9);
+        s.add(6.0, Some(&estimate(1.0)), truth, Vec3::zeros());
+        assert_eq!(s.convergence_time_s(), None, "it left the band");
     }
 }

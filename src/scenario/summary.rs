@@ -40,7 +40,12 @@ pub struct RunStats {
     saturated_ticks: u64,
     fault_ticks: u64,
     last: Option<TickRecord>,
+    settled_since_s: Option<f64>,
 }
+
+/// Half-width of the band the position error must stay in to count as settled [m]
+/// (docs/sweep.md §3, eq. (3.2)).
+pub const SETTLE_BAND_M: f64 = 0.05;
 
 /// Final and RMS tracking figures.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -65,6 +70,9 @@ pub struct TrackingSummary {
     pub rms_attitude_error_rad: [f64; 3],
     /// Largest tilt [deg].
     pub max_tilt_deg: f64,
+    /// Time from which the position error stayed within [`SETTLE_BAND_M`] to the end; `None`
+    /// when it ended outside (docs/sweep.md §3, eq. (3.2)) [s].
+    pub settling_time_s: Option<f64>,
     /// Time with the allocation saturated [s].
     pub saturated_time_s: f64,
     /// Ticks on which the controller held its last output.
@@ -87,6 +95,11 @@ impl RunStats {
         self.saturated_ticks += u64::from(r.saturated);
         self.fault_ticks += u64::from(r.controller_fault);
         self.last = Some(*r);
+        self.settled_since_s = match self.settled_since_s {
+            _ if e.norm() > SETTLE_BAND_M => None,
+            None => Some(r.t_s),
+            since => since,
+        };
     }
 
     /// Figures over the ticks added so far, with step `dt_s` [s].
@@ -117,6 +130,7 @@ impl RunStats {
             rms_velocity_error_m_s: rms(&self.sum_sq_vel),
             rms_attitude_error_rad: rms(&self.sum_sq_att),
             max_tilt_deg: self.max_tilt_rad.to_degrees(),
+            settling_time_s: self.settled_since_s,
             saturated_time_s: self.saturated_ticks as f64 * dt_s,
             controller_fault_ticks: self.fault_ticks,
             final_thrust_n: last.thrust_n,
@@ -152,5 +166,26 @@ mod tests {
         assert_eq!(sum.final_position_error_m, [-1.0, 0.0, 0.0]);
         assert_eq!(sum.saturated_time_s, 0.5);
         assert!((sum.max_tilt_deg - 0.3f64.to_degrees()).abs() < 1e-12);
+        assert_eq!(sum.settling_time_s, None, "it ended 1 m off");
+    }
+
+    #[test]
+    fn the_settling_time_is_when_the_error_last_entered_the_band() {
+        let mut s = RunStats::default();
+        for (k, x) in [0.5, 0.01, 0.2, 0.04, 0.0, 0.03].into_iter().enumerate() {
+            s.add(&TickRecord {
+                t_s: k as f64,
+                pos_w: Vec3::new(x, 0.0, 0.0),
+                ref_w: Vec3::zeros(),
+                vel_error_w: Vec3::zeros(),
+                att_error: Vec3::zeros(),
+                tilt_rad: 0.0,
+                thrust_n: 10.0,
+                torque_b: Vec3::zeros(),
+                saturated: false,
+                controller_fault: false,
+            });
+        }
+        assert_eq!(s.summary(1.0).settling_time_s, Some(3.0));
     }
 }

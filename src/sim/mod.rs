@@ -67,6 +67,11 @@ pub struct EstimateSummary {
     pub mass_kg: f64,
     /// RMS errors against the truth once settled.
     pub tracking: Option<EstimateTracking>,
+    /// Time from which ‖f̂_e − f_e‖ stayed within 5 % of ‖f_e‖ (at least 0.05 N) to the end;
+    /// `None` when it never settled (docs/sweep.md §3, eq. (3.3)) [s].
+    pub convergence_time_s: Option<f64>,
+    /// Largest excess of ‖f̂_e‖ over ‖f_e‖ (docs/sweep.md §3, eq. (3.4)) [%].
+    pub force_overshoot_pct: f64,
 }
 
 /// `summary.json`.
@@ -285,6 +290,8 @@ where
             torque_n_m: e.torque_b.into(),
             mass_kg: e.mass_kg,
             tracking: estimate_stats.summary(),
+            convergence_time_s: estimate_stats.convergence_time_s(),
+            force_overshoot_pct: estimate_stats.force_overshoot_pct(),
         }),
         events,
         wall_time_s,

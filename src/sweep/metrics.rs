@@ -7,9 +7,9 @@ use serde_json::Value;
 use super::SweepError;
 use crate::suggest::did_you_mean;
 
-/// One scalar of a summary.
+/// One scalar of a summary, or one value of an axis.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Metric {
+pub enum Scalar {
     /// A number.
     Float(f64),
     /// A whole number.
@@ -22,13 +22,13 @@ pub enum Metric {
 
 /// Every scalar of `summary` by its flattened name, the keys of each object in name order;
 /// `null` values (an estimate that is off) are left out.
-pub fn flatten(summary: &Value) -> Vec<(String, Metric)> {
+pub fn flatten(summary: &Value) -> Vec<(String, Scalar)> {
     let mut out = Vec::new();
     walk(summary, String::new(), &mut out);
     out
 }
 
-fn walk(v: &Value, name: String, out: &mut Vec<(String, Metric)>) {
+fn walk(v: &Value, name: String, out: &mut Vec<(String, Scalar)>) {
     match v {
         Value::Object(map) => {
             for (k, child) in map {
@@ -48,38 +48,49 @@ fn walk(v: &Value, name: String, out: &mut Vec<(String, Metric)>) {
         Value::Number(n) => {
             let m = n
                 .as_i64()
-                .map_or_else(|| Metric::Float(n.as_f64().unwrap_or(f64::NAN)), Metric::Int);
+                .map_or_else(|| Scalar::Float(n.as_f64().unwrap_or(f64::NAN)), Scalar::Int);
             out.push((name, m));
         }
-        Value::Bool(b) => out.push((name, Metric::Bool(*b))),
-        Value::String(s) => out.push((name, Metric::Text(s.clone()))),
+        Value::Bool(b) => out.push((name, Scalar::Bool(*b))),
+        Value::String(s) => out.push((name, Scalar::Text(s.clone()))),
         Value::Null => {}
     }
 }
 
-/// The metrics of `all` a sweep keeps: every one, or those named in `wanted`, where a name
-/// also keeps the elements and fields under it (`final_position_error_m` keeps its three
-/// elements). A name that matches nothing is an error with the closest one.
-pub fn select(all: Vec<(String, Metric)>, wanted: Option<&[String]>) -> Result<Vec<(String, Metric)>, SweepError> {
-    let Some(wanted) = wanted else { return Ok(all) };
-    let under = |name: &str, w: &str| {
-        name == w
-            || name
-                .strip_prefix(w)
-                .is_some_and(|rest| rest.starts_with('.') || rest.starts_with('['))
-    };
-    for w in wanted {
-        if !all.iter().any(|(name, _)| under(name, w)) {
+/// Whether the metric `name` is kept by the selection `wanted`: it is a wanted name or lies under
+/// one (`final_position_error_m[1]` under `final_position_error_m`, `estimate.order` under
+/// `estimate`).
+fn is_under(name: &str, wanted: &str) -> bool {
+    name == wanted
+        || name
+            .strip_prefix(wanted)
+            .is_some_and(|rest| rest.starts_with('.') || rest.starts_with('['))
+}
+
+/// The metrics of `all` kept by `wanted` (every one when `None`), without checking that each
+/// wanted name matched: a run with its estimator off simply has no `estimate` metrics.
+pub fn keep(all: Vec<(String, Scalar)>, wanted: Option<&[String]>) -> Vec<(String, Scalar)> {
+    match wanted {
+        None => all,
+        Some(wanted) => all
+            .into_iter()
+            .filter(|(name, _)| wanted.iter().any(|w| is_under(name, w)))
+            .collect(),
+    }
+}
+
+/// [`keep`], refusing a wanted name that matches nothing in `all` with the closest one: the
+/// check of a sweep's metrics list against the first run that flies.
+pub fn select(all: Vec<(String, Scalar)>, wanted: Option<&[String]>) -> Result<Vec<(String, Scalar)>, SweepError> {
+    for w in wanted.unwrap_or_default() {
+        if !all.iter().any(|(name, _)| is_under(name, w)) {
             return Err(SweepError::Invalid(format!(
                 "metric `{w}` is not in the run's summary{}",
                 did_you_mean(w, all.iter().map(|(n, _)| n.as_str()))
             )));
         }
     }
-    Ok(all
-        .into_iter()
-        .filter(|(name, _)| wanted.iter().any(|w| under(name, w)))
-        .collect())
+    Ok(keep(all, wanted))
 }
 
 #[cfg(test)]
@@ -104,10 +115,10 @@ mod tests {
         let names: Vec<&str> = all.iter().map(|(n, _)| n.as_str()).collect();
         assert!(names.contains(&"final_position_error_m[1]"));
         assert!(names.contains(&"estimate.tracking.rms_force_error_n[2]"));
-        assert!(all.contains(&("exit".into(), Metric::Text("complete".into()))));
-        assert!(all.contains(&("ticks".into(), Metric::Int(5000))));
-        assert!(all.contains(&("compensation".into(), Metric::Bool(true))));
-        assert!(all.contains(&("max_tilt_deg".into(), Metric::Float(12.5))));
+        assert!(all.contains(&("exit".into(), Scalar::Text("complete".into()))));
+        assert!(all.contains(&("ticks".into(), Scalar::Int(5000))));
+        assert!(all.contains(&("compensation".into(), Scalar::Bool(true))));
+        assert!(all.contains(&("max_tilt_deg".into(), Scalar::Float(12.5))));
         assert!(flatten(&serde_json::json!({"estimate": null})).is_empty());
     }
 

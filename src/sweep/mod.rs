@@ -8,10 +8,12 @@
 //! - [`design`]: grid, random and Latin-hypercube points of the axes.
 //! - [`field`]: scenario fields by dotted path, set in the base scenario's table.
 //! - [`metrics`]: a run's summary flattened into named scalars, and the ones a sweep keeps.
+//! - [`results`]: the rows of the runs as typed columns in a fixed order.
 
 pub mod design;
 pub mod field;
 pub mod metrics;
+pub mod results;
 mod spec;
 
 use std::path::{Path, PathBuf};
