@@ -297,6 +297,10 @@ pub(crate) struct MonteCarloArgs {
     /// Worker threads [default: one per core].
     #[arg(long)]
     pub(crate) threads: Option<usize>,
+    /// Also write every run as DIR/results.parquet (the layout of `sweep`, docs/sweep.md §5)
+    /// and the report as DIR/report.json.
+    #[arg(long)]
+    pub(crate) out: Option<PathBuf>,
 }
 
 /// `rotorpilot sweep` options.

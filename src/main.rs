@@ -430,7 +430,23 @@ fn montecarlo(a: &MonteCarloArgs) -> Result<String, String> {
         campaign.threads = n;
     }
     let wall = std::time::Instant::now();
-    let report = montecarlo::run(&campaign).map_err(|e| e.to_string())?;
+    let montecarlo::Flown {
+        report,
+        envelope,
+        draws,
+        results,
+    } = montecarlo::fly(&campaign).map_err(|e| e.to_string())?;
+    if let Some(dir) = &a.out {
+        use rotorpilot::montecarlo::rows;
+        use rotorpilot::sweep::results::columns;
+        std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
+        let axes = rows::axes(&campaign.controllers, &envelope);
+        let rows = rows::rows(&campaign.controllers, campaign.seed, &draws, &results);
+        rotorpilot::sweep_run::parquet::write(&dir.join("results.parquet"), &columns(&axes, &rows))?;
+        let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+        let path = dir.join("report.json");
+        std::fs::write(&path, text + "\n").map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
     if a.json {
         serde_json::to_string(&report).map_err(|e| e.to_string())
     } else {

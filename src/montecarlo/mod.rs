@@ -10,6 +10,7 @@ pub mod authority;
 pub mod envelope;
 pub mod judging;
 pub mod report;
+pub mod rows;
 pub mod runner;
 pub mod stats;
 pub mod trial;
@@ -145,8 +146,26 @@ impl Campaign {
     }
 }
 
+/// A flown campaign: its report, and every run (for `--out`, [`rows`]).
+#[derive(Debug, Clone)]
+pub struct Flown {
+    /// The report.
+    pub report: Report,
+    /// The envelope the draws came from.
+    pub envelope: Envelope,
+    /// The draws, the same for every law.
+    pub draws: Vec<Draw>,
+    /// Per law (in `Campaign::controllers` order), the result of every draw.
+    pub results: Vec<Vec<RunResult>>,
+}
+
 /// Runs the campaign: the same draws for every law.
 pub fn run(c: &Campaign) -> Result<Report, MonteCarloError> {
+    fly(c).map(|f| f.report)
+}
+
+/// Runs the campaign and keeps every run.
+pub fn fly(c: &Campaign) -> Result<Flown, MonteCarloError> {
     if c.runs == 0 {
         return Err(MonteCarloError::Empty("--runs must be at least 1".into()));
     }
@@ -168,11 +187,13 @@ pub fn run(c: &Campaign) -> Result<Report, MonteCarloError> {
     }
     let draws = draws(&env, c.seed, c.runs);
     let mut controllers = Vec::with_capacity(c.controllers.len());
+    let mut all = Vec::with_capacity(c.controllers.len());
     for &kind in &c.controllers {
         let results = runner::fly_all(&setup, kind, &draws, c.threads)?;
         controllers.push(stats::summarize(kind.name(), &env, c.heading, &draws, &results));
+        all.push(results);
     }
-    Ok(Report {
+    let report = Report {
         airframe: setup.airframe.name.clone(),
         runs: c.runs,
         seed: c.seed,
@@ -185,5 +206,11 @@ pub fn run(c: &Campaign) -> Result<Report, MonteCarloError> {
         heading: c.heading,
         rotor_failures: c.rotor_failures.clone(),
         controllers,
+    };
+    Ok(Flown {
+        report,
+        envelope: env,
+        draws,
+        results: all,
     })
 }

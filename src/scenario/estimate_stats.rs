@@ -78,8 +78,8 @@ impl EstimateStats {
         self.sum_sq_true += force_w.map(|x| x * x);
     }
 
-    /// Time from which the force estimate stayed within the band of eq. (3.3) of docs/sweep.md
-    /// §3 to the end; `None` when it ended outside [s].
+    /// Time from which the force estimate stayed within its band to the end; `None` when it
+    /// ended outside (docs/sweep.md §3, eq. (3.3)) [s].
     pub fn convergence_time_s(&self) -> Option<f64> {
         self.converged_since_s
     }

@@ -25,8 +25,11 @@ pub enum AxisValues {
 /// One swept scenario field.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Axis {
-    /// Dotted path of the field (`estimator.order`, `initial.position[2]`).
+    /// Dotted path of the field (`estimator.order`, `initial.position[2]`); it names the
+    /// axis's column.
     pub field: String,
+    /// Further fields that take the same value.
+    pub also: Vec<String>,
     /// Its values.
     pub values: AxisValues,
 }
@@ -167,6 +170,7 @@ mod tests {
     fn list(field: &str, values: &[i64]) -> Axis {
         Axis {
             field: field.into(),
+            also: Vec::new(),
             values: AxisValues::List(values.iter().map(|v| toml::Value::Integer(*v)).collect()),
         }
     }
@@ -174,6 +178,7 @@ mod tests {
     fn uniform(field: &str, lo: f64, hi: f64) -> Axis {
         Axis {
             field: field.into(),
+            also: Vec::new(),
             values: AxisValues::Uniform { lo, hi, integer: false },
         }
     }

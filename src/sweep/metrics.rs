@@ -21,14 +21,14 @@ pub enum Scalar {
 }
 
 /// Every scalar of `summary` by its flattened name, the keys of each object in name order;
-/// `null` values (an estimate that is off) are left out.
-pub fn flatten(summary: &Value) -> Vec<(String, Scalar)> {
+/// a `null` (an estimate that is off, a time never reached) is `None`.
+pub fn flatten(summary: &Value) -> Vec<(String, Option<Scalar>)> {
     let mut out = Vec::new();
     walk(summary, String::new(), &mut out);
     out
 }
 
-fn walk(v: &Value, name: String, out: &mut Vec<(String, Scalar)>) {
+fn walk(v: &Value, name: String, out: &mut Vec<(String, Option<Scalar>)>) {
     match v {
         Value::Object(map) => {
             for (k, child) in map {
@@ -49,11 +49,11 @@ fn walk(v: &Value, name: String, out: &mut Vec<(String, Scalar)>) {
             let m = n
                 .as_i64()
                 .map_or_else(|| Scalar::Float(n.as_f64().unwrap_or(f64::NAN)), Scalar::Int);
-            out.push((name, m));
+            out.push((name, Some(m)));
         }
-        Value::Bool(b) => out.push((name, Scalar::Bool(*b))),
-        Value::String(s) => out.push((name, Scalar::Text(s.clone()))),
-        Value::Null => {}
+        Value::Bool(b) => out.push((name, Some(Scalar::Bool(*b)))),
+        Value::String(s) => out.push((name, Some(Scalar::Text(s.clone())))),
+        Value::Null => out.push((name, None)),
     }
 }
 
@@ -67,23 +67,26 @@ fn is_under(name: &str, wanted: &str) -> bool {
             .is_some_and(|rest| rest.starts_with('.') || rest.starts_with('['))
 }
 
-/// The metrics of `all` kept by `wanted` (every one when `None`), without checking that each
-/// wanted name matched: a run with its estimator off simply has no `estimate` metrics.
-pub fn keep(all: Vec<(String, Scalar)>, wanted: Option<&[String]>) -> Vec<(String, Scalar)> {
-    match wanted {
-        None => all,
-        Some(wanted) => all
-            .into_iter()
-            .filter(|(name, _)| wanted.iter().any(|w| is_under(name, w)))
-            .collect(),
-    }
+/// The present metrics of `all` kept by `wanted` (every one when `None`), without checking that
+/// each wanted name matched: a run with its estimator off simply has no `estimate` metrics.
+pub fn keep(all: Vec<(String, Option<Scalar>)>, wanted: Option<&[String]>) -> Vec<(String, Scalar)> {
+    all.into_iter()
+        .filter(|(name, _)| wanted.is_none_or(|wanted| wanted.iter().any(|w| is_under(name, w))))
+        .filter_map(|(name, value)| Some((name, value?)))
+        .collect()
 }
 
-/// [`keep`], refusing a wanted name that matches nothing in `all` with the closest one: the
-/// check of a sweep's metrics list against the first run that flies.
-pub fn select(all: Vec<(String, Scalar)>, wanted: Option<&[String]>) -> Result<Vec<(String, Scalar)>, SweepError> {
+/// [`keep`], refusing a wanted name that names no field of `all` with the closest one: the
+/// check of a sweep's metrics list against the first run that flies. A name under a `null`
+/// (`estimate.mass_kg` of a run with the estimator off) is a field.
+pub fn select(
+    all: Vec<(String, Option<Scalar>)>,
+    wanted: Option<&[String]>,
+) -> Result<Vec<(String, Scalar)>, SweepError> {
     for w in wanted.unwrap_or_default() {
-        if !all.iter().any(|(name, _)| is_under(name, w)) {
+        let known =
+            |(name, value): &(String, Option<Scalar>)| is_under(name, w) || (value.is_none() && is_under(w, name));
+        if !all.iter().any(known) {
             return Err(SweepError::Invalid(format!(
                 "metric `{w}` is not in the run's summary{}",
                 did_you_mean(w, all.iter().map(|(n, _)| n.as_str()))
@@ -115,11 +118,14 @@ mod tests {
         let names: Vec<&str> = all.iter().map(|(n, _)| n.as_str()).collect();
         assert!(names.contains(&"final_position_error_m[1]"));
         assert!(names.contains(&"estimate.tracking.rms_force_error_n[2]"));
-        assert!(all.contains(&("exit".into(), Scalar::Text("complete".into()))));
-        assert!(all.contains(&("ticks".into(), Scalar::Int(5000))));
-        assert!(all.contains(&("compensation".into(), Scalar::Bool(true))));
-        assert!(all.contains(&("max_tilt_deg".into(), Scalar::Float(12.5))));
-        assert!(flatten(&serde_json::json!({"estimate": null})).is_empty());
+        assert!(all.contains(&("exit".into(), Some(Scalar::Text("complete".into())))));
+        assert!(all.contains(&("ticks".into(), Some(Scalar::Int(5000)))));
+        assert!(all.contains(&("compensation".into(), Some(Scalar::Bool(true)))));
+        assert!(all.contains(&("max_tilt_deg".into(), Some(Scalar::Float(12.5)))));
+        assert_eq!(
+            flatten(&serde_json::json!({"estimate": null})),
+            [("estimate".to_string(), None)]
+        );
     }
 
     #[test]
@@ -146,6 +152,18 @@ mod tests {
         assert_eq!(
             select(flatten(&summary()), None).unwrap().len(),
             flatten(&summary()).len()
+        );
+        let off = flatten(&serde_json::json!({"exit": "complete", "estimate": null, "settling_time_s": null}));
+        let wanted = [
+            "estimate.mass_kg".to_string(),
+            "settling_time_s".to_string(),
+            "exit".to_string(),
+        ];
+        let kept = select(off, Some(&wanted)).unwrap();
+        assert_eq!(
+            kept,
+            [("exit".to_string(), Scalar::Text("complete".into()))],
+            "nulls are known, not kept"
         );
     }
 }

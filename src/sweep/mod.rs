@@ -94,11 +94,17 @@ impl Sweep {
         for (i, a) in file.axis.iter().enumerate() {
             let axis = checked_axis(a)
                 .map_err(|why| SweepError::Invalid(format!("{origin}: axis {} (`{}`): {why}", i + 1, a.field)))?;
-            if axes.iter().any(|b| b.field == axis.field) {
-                return Err(SweepError::Invalid(format!(
-                    "{origin}: field `{}` swept twice",
-                    axis.field
-                )));
+            let fields = |a: &Axis| {
+                std::iter::once(a.field.clone())
+                    .chain(a.also.clone())
+                    .collect::<Vec<_>>()
+            };
+            let swept: Vec<String> = axes.iter().flat_map(fields).collect();
+            let mine = fields(&axis);
+            for (k, f) in mine.iter().enumerate() {
+                if swept.contains(f) || mine[..k].contains(f) {
+                    return Err(SweepError::Invalid(format!("{origin}: field `{f}` swept twice")));
+                }
             }
             axes.push(axis);
         }
@@ -153,7 +159,9 @@ impl Sweep {
     pub fn scenario_table(&self, base: &toml::Table, run: &Run) -> Result<toml::Table, SweepError> {
         let mut table = base.clone();
         for (axis, value) in self.axes.iter().zip(&run.values) {
-            field::set(&mut table, &axis.field, value.clone())?;
+            for f in std::iter::once(&axis.field).chain(&axis.also) {
+                field::set(&mut table, f, value.clone())?;
+            }
         }
         let seed = i64::try_from(run.seed)
             .map_err(|_| SweepError::Invalid(format!("seed {} beyond TOML's integers", run.seed)))?;
@@ -164,7 +172,9 @@ impl Sweep {
 
 /// An axis from its spec: exactly one of `values`, `range` (with `steps`) or `uniform`.
 fn checked_axis(a: &spec::AxisSpec) -> Result<Axis, String> {
-    field::check(&a.field).map_err(|e| e.to_string())?;
+    for f in std::iter::once(&a.field).chain(&a.also) {
+        field::check(f).map_err(|e| e.to_string())?;
+    }
     let bounds = |[lo, hi]: [f64; 2], name: &str| {
         if lo.is_finite() && hi.is_finite() && lo <= hi {
             Ok((lo, hi))
@@ -200,6 +210,7 @@ fn checked_axis(a: &spec::AxisSpec) -> Result<Axis, String> {
     }
     Ok(Axis {
         field: a.field.clone(),
+        also: a.also.clone(),
         values,
     })
 }

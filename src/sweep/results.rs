@@ -81,13 +81,12 @@ const FIXED: [&str; 5] = ["run", "point", "seed", "status", "error"];
 
 /// The table of `rows` (in their order) for a sweep over `axes`.
 pub fn columns(axes: &[Axis], rows: &[RunRow]) -> Vec<Column> {
+    // Indices and seeds as 64-bit integers: a seed above 2^63 − 1 (montecarlo's `--seed`) is
+    // stored as its two's complement, as a u64's bits read as an i64.
     let int = |name: &str, f: &dyn Fn(&RunRow) -> u64| Column {
         name: name.into(),
         kind: ColumnKind::Int,
-        cells: rows
-            .iter()
-            .map(|r| Some(Scalar::Int(i64::try_from(f(r)).unwrap_or(i64::MAX))))
-            .collect(),
+        cells: rows.iter().map(|r| Some(Scalar::Int(f(r) as i64))).collect(),
     };
     let text = |name: &str, f: &dyn Fn(&RunRow) -> Option<String>| Column {
         name: name.into(),
@@ -224,6 +223,7 @@ mod tests {
     fn axes() -> Vec<Axis> {
         vec![Axis {
             field: "estimator.order".into(),
+            also: Vec::new(),
             values: AxisValues::List(vec![toml::Value::Integer(1), toml::Value::Float(2.5)]),
         }]
     }
@@ -288,6 +288,7 @@ mod tests {
         );
         let uniform = Axis {
             field: "initial.position[2]".into(),
+            also: Vec::new(),
             values: AxisValues::Uniform {
                 lo: 0.0,
                 hi: 1.0,

@@ -47,6 +47,9 @@ pub(crate) struct AxisSpec {
     /// Dotted path of the scenario field, with `[k]` for an array element:
     /// `estimator.order`, `initial.position[2]`.
     pub field: String,
+    /// Further fields set to the same value (`kv[1]`, `kv[2]` with `kv[0]`).
+    #[serde(default)]
+    pub also: Vec<String>,
     /// Explicit values (any TOML values).
     pub values: Option<Vec<toml::Value>>,
     /// `[lo, hi]` in `steps` evenly spaced values, ends included (grid).

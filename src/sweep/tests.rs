@@ -87,3 +87,20 @@ fn bad_sweeps_name_the_field_or_the_line() {
         "{e}"
     );
 }
+
+#[test]
+fn linked_fields_take_the_axis_value_and_cannot_be_swept_twice() {
+    let text = "scenario = \"x.toml\"\n[[axis]]\nfield = \"g.kv[0]\"\nalso = [\"g.kv[1]\", \"g.kv[2]\"]\nvalues = [4.0, 8.0]\n";
+    let s = sweep(text).unwrap();
+    let base: toml::Table = toml::from_str("[g]\nkv = [1.0, 1.0, 1.0]\n").unwrap();
+    let runs = s.runs().unwrap();
+    let t = s.scenario_table(&base, &runs[1]).unwrap();
+    assert_eq!(t["g"]["kv"], toml::Value::Array(vec![toml::Value::Float(8.0); 3]));
+    let twice = format!("{text}[[axis]]\nfield = \"g.kv[2]\"\nvalues = [1.0]\n");
+    assert!(sweep(&twice)
+        .unwrap_err()
+        .to_string()
+        .contains("field `g.kv[2]` swept twice"));
+    let itself = "scenario = \"x.toml\"\n[[axis]]\nfield = \"a\"\nalso = [\"a\"]\nvalues = [1]\n";
+    assert!(sweep(itself).unwrap_err().to_string().contains("field `a` swept twice"));
+}

@@ -60,8 +60,11 @@ pub struct DesignInfo {
 /// One axis as swept.
 #[derive(Debug, Clone, Serialize)]
 pub struct AxisInfo {
-    /// The scenario field.
+    /// The scenario field (the column's name).
     pub field: String,
+    /// Further fields set to the same value.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub also: Vec<String>,
     /// Its values (a list or a range).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub values: Option<Vec<toml::Value>>,
@@ -152,12 +155,14 @@ impl Manifest {
             .map(|a| match &a.values {
                 AxisValues::List(v) => AxisInfo {
                     field: a.field.clone(),
+                    also: a.also.clone(),
                     values: Some(v.clone()),
                     uniform: None,
                     integer: false,
                 },
                 AxisValues::Uniform { lo, hi, integer } => AxisInfo {
                     field: a.field.clone(),
+                    also: a.also.clone(),
                     values: None,
                     uniform: Some([*lo, *hi]),
                     integer: *integer,

@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 
 use crate::scenario::Scenario;
 use crate::sim::simulate;
-use crate::sweep::metrics::{flatten, keep, select};
+use crate::sweep::metrics::{flatten, keep, select, Scalar};
 use crate::sweep::results::{columns, RunRow, Status};
 use crate::sweep::{Run, Sweep, SweepError};
 use manifest::{Machine, Manifest, ResultsInfo};
@@ -101,8 +101,12 @@ impl LoadedSweep {
         )
     }
 
-    /// Flies run `index` into its row, every metric of its summary kept.
-    fn fly(&self, index: usize) -> RunRow {
+    /// Flies run `index` into its row, the metrics of its summary kept by `choose` (which may
+    /// refuse the sweep's metrics list).
+    fn fly<C>(&self, index: usize, choose: C) -> Result<RunRow, SweepError>
+    where
+        C: Fn(Vec<(String, Option<Scalar>)>, Option<&[String]>) -> Result<Vec<(String, Scalar)>, SweepError>,
+    {
         let run = &self.runs[index];
         let mut row = RunRow {
             run: index,
@@ -136,7 +140,7 @@ impl LoadedSweep {
             Ok(s) => s,
             Err(why) => {
                 refused(&mut row, why);
-                return row;
+                return Ok(row);
             }
         };
         let summary = simulate(&scenario, None)
@@ -144,16 +148,17 @@ impl LoadedSweep {
             .and_then(|s| serde_json::to_value(&s).map_err(|e| e.to_string()));
         match summary {
             Ok(summary) => {
-                row.metrics = flatten(&summary);
-                row.metrics
-                    .retain(|(name, _)| !WALL_CLOCK_FIELDS.contains(&name.as_str()));
+                let mut all = flatten(&summary);
+                all.retain(|(name, _)| !WALL_CLOCK_FIELDS.contains(&name.as_str()));
+                row.metrics = choose(all, self.sweep.metrics.as_deref())
+                    .map_err(|e| SweepError::Invalid(format!("{}: {e}", self.path.display())))?;
             }
             Err(why) => {
                 row.status = Status::Failed;
                 row.error = Some(why);
             }
         }
-        row
+        Ok(row)
     }
 
     /// Flies the runs in `range` on `jobs` threads and writes `out/results.parquet` and
@@ -165,19 +170,14 @@ impl LoadedSweep {
             message: e,
         };
         std::fs::create_dir_all(out).map_err(|e| io(out, e.to_string()))?;
-        let wanted = self.sweep.metrics.as_deref();
         let started = Instant::now();
         let total = range.len();
         let mut rows: Vec<RunRow> = Vec::with_capacity(total);
         let mut next = range.start;
         while next < range.end {
-            let mut row = self.fly(next);
+            let row = self.fly(next, select)?;
             next += 1;
             let flew = row.status == Status::Ok;
-            if flew {
-                row.metrics = select(std::mem::take(&mut row.metrics), wanted)
-                    .map_err(|e| SweepError::Invalid(format!("{}: {e}", self.path.display())))?;
-            }
             rows.push(row);
             if flew {
                 break;
@@ -195,11 +195,8 @@ impl LoadedSweep {
         };
         let rest: Vec<usize> = (next..range.end).collect();
         let flown = engine::map_guarded(&rest, jobs, &progress, |&i| {
-            let mut row = self.fly(i);
-            row.metrics = keep(std::mem::take(&mut row.metrics), wanted);
-            Ok::<_, std::convert::Infallible>(row)
-        })
-        .unwrap_or_else(|never| match never {});
+            self.fly(i, |all, wanted| Ok(keep(all, wanted)))
+        })?;
         for (&i, result) in rest.iter().zip(flown) {
             rows.push(result.unwrap_or_else(|panic| {
                 let run = &self.runs[i];
