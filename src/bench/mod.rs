@@ -7,12 +7,14 @@
 //!   default telemetry read by one ground-station socket, and the memory per vehicle;
 //! - the time from spawning `rotorpilot run` to its first HEARTBEAT;
 //! - the COMMAND_ACK round trip over loopback (p50/p99) of commands that pass the tick thread;
-//! - what the ULog flight log costs `fly` and `sim` (speed with / without, bytes per second).
+//! - what the ULog flight log costs `fly` and `sim` (speed with / without, bytes per second);
+//! - how a sweep's runs per second scale from one worker to one per core.
 
 pub mod autopilot;
 pub mod client;
 mod logging;
 mod runs;
+mod sweep_scaling;
 
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -52,6 +54,10 @@ pub struct BenchOptions {
     pub log_pairs: usize,
     /// Simulated time of each of those runs [s].
     pub log_sim_s: f64,
+    /// One-worker/all-core pairs of sweep passes timed.
+    pub sweep_pairs: usize,
+    /// Simulated time of each run of the benchmark's sweep [s].
+    pub sweep_sim_s: f64,
 }
 
 impl BenchOptions {
@@ -67,6 +73,8 @@ impl BenchOptions {
             acks: 1000,
             log_pairs: 7,
             log_sim_s: 40.0,
+            sweep_pairs: 5,
+            sweep_sim_s: 10.0,
         }
     }
 
@@ -82,6 +90,8 @@ impl BenchOptions {
             acks: 50,
             log_pairs: 1,
             log_sim_s: 2.0,
+            sweep_pairs: 1,
+            sweep_sim_s: 0.5,
         }
     }
 }
@@ -164,6 +174,8 @@ pub struct BenchReport {
     pub command_ack: Latency,
     /// What the full-profile ULog costs `fly` and `sim`.
     pub logging: logging::LoggingCost,
+    /// A sweep's runs per second on one worker and on every core.
+    pub sweep: sweep_scaling::SweepScaling,
 }
 
 /// Runs every benchmark.
@@ -196,6 +208,7 @@ pub fn run(options: &BenchOptions) -> Result<BenchReport, BenchError> {
         first_heartbeat_ms: runs::first_heartbeat_ms(options)?,
         command_ack: runs::command_ack_latency(options)?,
         logging: logging::logging_cost(options)?,
+        sweep: sweep_scaling::sweep_scaling(options)?,
     })
 }
 
@@ -297,6 +310,11 @@ impl BenchReport {
                 c.bytes_per_sim_s / 1e3
             );
         }
+        let s = &self.sweep;
+        out += &format!(
+            "sweep ({} runs of Ex. 4's designs): {:.1} runs/s on 1 worker, {:.1} runs/s on {} workers ({:.2}x)\n",
+            s.runs, s.runs_per_s_one, s.runs_per_s_all, s.jobs, s.scaling
+        );
         out
     }
 }
