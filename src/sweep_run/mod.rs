@@ -92,13 +92,15 @@ impl LoadedSweep {
     /// The manifest without results (`--plan`).
     pub fn plan(&self) -> Manifest {
         let points = self.runs.last().map_or(0, |r| r.point + 1);
-        Manifest::plan(
+        let mut plan = Manifest::plan(
             &self.sweep,
             absolute(&self.path),
             self.runs.len(),
             points,
             self.inputs.clone(),
-        )
+        );
+        plan.scenario = absolute(&self.sweep.scenario);
+        plan
     }
 
     /// Flies run `index` into its row, the metrics of its summary kept by `choose` (which may
