@@ -187,10 +187,7 @@ def main(argv=None):
                 raise PlotError(f"metric {metric!r} is not numeric ({table.schema.field(metric).type})")
         out = args.out or args.dir / "sweep.png"
         plot(table, x, metrics, hue, out)
-    except PlotError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    except OSError as e:
+    except (PlotError, OSError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     print(out)

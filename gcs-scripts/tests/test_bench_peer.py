@@ -2,7 +2,6 @@
 
 No timing thresholds: the machine is shared, so the speed ratio is reported, never asserted.
 """
-import importlib.util
 import json
 import math
 import os
@@ -13,6 +12,7 @@ import sys
 
 import numpy as np
 import pytest
+from script_module import load_script
 
 SCRIPT = pathlib.Path(__file__).resolve().parents[1] / "bench_peer.py"
 # Short flight: 1.5 s, of which 0.5 s spinning up from hover, on a 1 m circle at 1 m/s.
@@ -27,14 +27,6 @@ def run_script(*args, env=None):
     """Runs bench_peer.py with this Python; returns the CompletedProcess."""
     return subprocess.run([sys.executable, str(SCRIPT), *args], capture_output=True, text=True, timeout=120,
                           check=False, env=env)
-
-
-def load_module():
-    """bench_peer.py imported as a module."""
-    spec = importlib.util.spec_from_file_location("bench_peer", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def reference_ned(t_s):
@@ -139,7 +131,7 @@ def test_text_ratio_from_printed_figures_at_100_hz(rotorpilot_bin):
 
 
 def test_circle_derivatives_are_consistent():
-    bench = load_module()
+    bench = load_script("bench_peer")
     task = bench.Task(DURATION_S, RADIUS_M, SPEED_M_S, RAMP_S)
     h = 1e-5
     chain = ("x", "x_dot", "x_ddot", "x_dddot", "x_ddddot")

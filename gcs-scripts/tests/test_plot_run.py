@@ -1,6 +1,5 @@
 """plot_run.py on synthetic run.csv files (no rotorpilot binary needed) and on what rotorpilot writes:
 every shipped scenario's run.ulg and run.csv, and the flight logs of `run --log`."""
-import importlib.util
 import json
 import pathlib
 import subprocess
@@ -8,6 +7,7 @@ import sys
 
 import numpy as np
 import pytest
+from script_module import load_script
 
 SCRIPT = pathlib.Path(__file__).resolve().parents[1] / "plot_run.py"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -179,9 +179,7 @@ def test_header_only_exits_2(tmp_path):
 
 
 def test_decimation_keeps_extremes_and_bounds_points():
-    spec = importlib.util.spec_from_file_location("plot_run", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = load_script("plot_run")
     y = np.sin(np.linspace(0, 50, 1_000_001))
     y[123_457] = 9.0
     y[777_777] = -9.0

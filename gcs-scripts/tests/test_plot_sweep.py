@@ -1,23 +1,15 @@
 """plot_sweep.py on a small results.parquet written here (no binary): a PNG, the default panels
 and hue, runs that went wrong marked, unknown columns refused with status 2."""
-import importlib.util
 import pathlib
 import subprocess
 import sys
 
 import pyarrow as pa
 import pyarrow.parquet as pq
+from script_module import load_script
 
 SCRIPT = pathlib.Path(__file__).resolve().parents[1] / "plot_sweep.py"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
-
-
-def load_script():
-    """plot_sweep.py as a module (it is a script, not part of the package)."""
-    spec = importlib.util.spec_from_file_location("plot_sweep", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def write_results(directory):
@@ -67,7 +59,7 @@ def test_it_writes_a_png(tmp_path):
 
 
 def test_defaults_and_marks(tmp_path):
-    module = load_script()
+    module = load_script("plot_sweep")
     rows = write_results(tmp_path)
     table = module.load(tmp_path)
     assert module.axes_of(table) == ["estimator.order", "dt_s"]
