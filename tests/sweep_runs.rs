@@ -219,19 +219,37 @@ fn the_command_plans_flies_a_range_and_refuses_bad_files_naming_the_field_and_li
 
     std::fs::write(
         &bad,
-        "scenario = \"hover.toml\"\n[[axis]]\nfield = \"estimator.odrer\"\nvalues = [1]\n",
+        "scenario = \"hover.toml\"\n[[axis]]\nfield = \"estimator.wp\"\nvalues = [2.0]\n\
+         [[axis]]\nfield = \"estimator.odrer\"\nvalues = [1]\n",
+    )
+    .unwrap();
+    let refused = run(&[bad.to_str().unwrap(), "--plan"]);
+    assert_eq!(
+        refused.status.code(),
+        Some(2),
+        "a field the scenario does not have stops the sweep"
+    );
+    let msg = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        msg.contains("axis 2 (`estimator.odrer`)")
+            && msg.contains("unknown field `odrer`, expected one of `enabled`, `order`"),
+        "{msg}"
+    );
+
+    // A free-form table (controller gains) is checked when a run is built: a refused row.
+    std::fs::write(
+        &bad,
+        "scenario = \"hover.toml\"\n[[axis]]\nfield = \"controller.gains.hierarchical.kq\"\nvalues = [1.0]\n",
     )
     .unwrap();
     let flown = run(&[bad.to_str().unwrap(), "--out", dir.join("bad").to_str().unwrap()]);
-    assert!(
-        flown.status.success(),
-        "a field the scenario refuses makes refused rows"
-    );
+    assert!(flown.status.success(), "{}", String::from_utf8_lossy(&flown.stderr));
     let row = &rows(&dir.join("bad/results.parquet"))[0];
+    assert_eq!(cell(row, "status"), &Field::Str("refused".into()));
     let Field::Str(why) = cell(row, "error") else {
         panic!("no reason")
     };
-    assert!(why.contains("odrer"), "{why}");
+    assert!(why.contains("kq"), "{why}");
 
     std::fs::write(&bad, "scenario = \"hover.toml\"\nmetrics = [\"max_tilt_dg\"]\n").unwrap();
     let refused = run(&[bad.to_str().unwrap(), "--out", dir.join("bad2").to_str().unwrap()]);

@@ -155,6 +155,20 @@ impl Scenario {
         Self::from_toml_str(&text, &origin, &stem, path.parent().unwrap_or(Path::new(".")))
     }
 
+    /// Checks that `text` has a scenario file's fields and value types only (unknown fields
+    /// refused with the closest name, the line given), without checking values or reading the
+    /// airframe: what a sweep checks of each axis before flying (docs/sweep.md §4).
+    pub fn check_fields(text: &str, origin: &str) -> Result<(), ScenarioError> {
+        toml::from_str::<spec::ScenarioFile>(text).map(|_| ()).map_err(|e| {
+            let (field, reason) = crate::suggest::toml_error(text, &e);
+            ScenarioError {
+                origin: origin.to_string(),
+                field,
+                reason,
+            }
+        })
+    }
+
     /// Parses scenario `text`; `origin` names it in errors, `default_name` is used when the
     /// file has no `name`, `base_dir` resolves a relative airframe path.
     pub fn from_toml_str(text: &str, origin: &str, default_name: &str, base_dir: &Path) -> Result<Self, ScenarioError> {

@@ -82,6 +82,14 @@ pub(crate) fn unit(rng: &mut ChaCha8Rng) -> f64 {
     (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 
+/// The first value an axis takes: its first listed value, or the low end of its interval.
+pub fn first_value(values: &AxisValues) -> toml::Value {
+    match values {
+        AxisValues::List(v) => v.first().cloned().unwrap_or(toml::Value::Boolean(false)),
+        AxisValues::Uniform { lo, integer, .. } => number(*lo, *integer),
+    }
+}
+
 /// The value of `axis` at quantile `u` ∈ [0, 1).
 fn at_quantile(axis: &Axis, u: f64) -> toml::Value {
     match &axis.values {
