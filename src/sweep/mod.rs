@@ -170,6 +170,33 @@ impl Sweep {
     }
 }
 
+impl Sweep {
+    /// Refuses an axis whose fields the scenario file does not have: each axis's fields set to
+    /// its first value in `base` (the base scenario's table) must give a scenario file's schema
+    /// (`origin` names the sweep file in errors). Values are not checked (a run may be refused
+    /// for its values, an unstable estimator design, say); free-form tables (airframe overrides,
+    /// controller gains) are checked only when a run is built.
+    pub fn check_axis_fields(&self, base: &toml::Table, origin: &str) -> Result<(), SweepError> {
+        for (i, axis) in self.axes.iter().enumerate() {
+            let mut table = base.clone();
+            let first = design::first_value(&axis.values);
+            for f in std::iter::once(&axis.field).chain(&axis.also) {
+                field::set(&mut table, f, first.clone())?;
+            }
+            let refused = |why: String| {
+                SweepError::Invalid(format!(
+                    "{origin}: axis {} (`{}`): the scenario refuses it: {why}",
+                    i + 1,
+                    axis.field
+                ))
+            };
+            let text = toml::to_string(&table).map_err(|e| refused(e.to_string()))?;
+            crate::scenario::Scenario::check_fields(&text, "").map_err(|e| refused(e.reason))?;
+        }
+        Ok(())
+    }
+}
+
 /// An axis from its spec: exactly one of `values`, `range` (with `steps`) or `uniform`.
 fn checked_axis(a: &spec::AxisSpec) -> Result<Axis, String> {
     for f in std::iter::once(&a.field).chain(&a.also) {

@@ -104,3 +104,25 @@ fn linked_fields_take_the_axis_value_and_cannot_be_swept_twice() {
     let itself = "scenario = \"x.toml\"\n[[axis]]\nfield = \"a\"\nalso = [\"a\"]\nvalues = [1]\n";
     assert!(sweep(itself).unwrap_err().to_string().contains("field `a` swept twice"));
 }
+
+#[test]
+fn an_axis_over_a_field_the_scenario_does_not_have_is_refused() {
+    let base: toml::Table = toml::from_str(include_str!("../../scenarios/ex4_estimator.toml")).unwrap();
+    let ok = sweep("scenario = \"x.toml\"\n[[axis]]\nfield = \"estimator.wp\"\nvalues = [2.0, 99.0]\n").unwrap();
+    assert_eq!(
+        ok.check_axis_fields(&base, "s.toml"),
+        Ok(()),
+        "values are not judged here"
+    );
+    let typo = sweep("scenario = \"x.toml\"\n[[axis]]\nfield = \"estimator.odrer\"\nvalues = [1]\n").unwrap();
+    let e = typo.check_axis_fields(&base, "s.toml").unwrap_err().to_string();
+    assert!(
+        e.starts_with("s.toml: axis 1 (`estimator.odrer`)") && e.contains("unknown field `odrer`"),
+        "{e}"
+    );
+    let typed = sweep("scenario = \"x.toml\"\n[[axis]]\nfield = \"duration\"\nvalues = [\"long\"]\n").unwrap();
+    assert!(
+        typed.check_axis_fields(&base, "s.toml").is_err(),
+        "a value of the wrong type"
+    );
+}

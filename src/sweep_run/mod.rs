@@ -22,7 +22,7 @@ use crate::scenario::Scenario;
 use crate::sim::simulate;
 use crate::sweep::metrics::{flatten, keep, select, Scalar};
 use crate::sweep::results::{columns, RunRow, Status};
-use crate::sweep::{design, field, Run, Sweep, SweepError};
+use crate::sweep::{Run, Sweep, SweepError};
 use manifest::{Machine, Manifest, ResultsInfo};
 
 /// Summary fields that measure the machine, not the run: never metrics, so a run's row depends
@@ -51,31 +51,6 @@ fn absolute(p: &Path) -> String {
         .to_string()
 }
 
-/// Refuses an axis whose fields the scenario file does not have: each axis's fields set to its
-/// first value in `base` must give a scenario file's schema. Values are not checked (a run may
-/// be refused for its values, an unstable estimator design, say); free-form tables (airframe
-/// overrides, controller gains) are checked only when a run is built.
-fn check_axis_fields(sweep: &Sweep, base: &toml::Table, path: &Path) -> Result<(), SweepError> {
-    for (i, axis) in sweep.axes.iter().enumerate() {
-        let mut table = base.clone();
-        let first = design::first_value(&axis.values);
-        for f in std::iter::once(&axis.field).chain(&axis.also) {
-            field::set(&mut table, f, first.clone())?;
-        }
-        let refused = |why: String| {
-            SweepError::Invalid(format!(
-                "{}: axis {} (`{}`): the scenario refuses it: {why}",
-                path.display(),
-                i + 1,
-                axis.field
-            ))
-        };
-        let text = toml::to_string(&table).map_err(|e| refused(e.to_string()))?;
-        Scenario::check_fields(&text, "").map_err(|e| refused(e.reason))?;
-    }
-    Ok(())
-}
-
 impl LoadedSweep {
     /// Reads and checks the sweep at `path` and its base scenario, and lists the runs.
     pub fn load(path: &Path) -> Result<Self, SweepError> {
@@ -100,7 +75,7 @@ impl LoadedSweep {
         {
             inputs.push(absolute(&base_dir.join(airframe)));
         }
-        check_axis_fields(&sweep, &base, path)?;
+        sweep.check_axis_fields(&base, &path.display().to_string())?;
         let runs = sweep.runs()?;
         Ok(Self {
             base_name: scenario
