@@ -103,13 +103,16 @@ def check_column(table, name, what):
 
 
 def plot(table, x, metrics, hue, out):
-    """Draws one panel per metric against `x`, coloured by `hue` (None: one colour), to `out`."""
+    """Draws one panel per metric against `x`, coloured by `hue` (None: one colour), to `out`.
+    Against an axis each colour's mean per x value is a line; against a metric (a trade-off, such
+    as convergence time against overshoot) the runs are dots only."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     xs, labels = positions(table.column(x).to_pylist())
+    mean_lines = x in axes_of(table)
     groups = table.column(hue).to_pylist() if hue else [None] * table.num_rows
     order = list(dict.fromkeys(groups))
     bad = bad_rows(table)
@@ -123,7 +126,10 @@ def plot(table, x, metrics, hue, out):
             good = [(xv, yv) for xv, yv, g, b in zip(xs, ys, groups, bad)
                     if g == group and not b and math.isfinite(yv) and math.isfinite(xv)]
             name = f"{hue} = {group}" if hue else None
-            if good:
+            if good and not mean_lines:
+                ax.plot([p[0] for p in good], [p[1] for p in good], "o", color=colour, alpha=0.6, markersize=4,
+                        label=name)
+            elif good:
                 ax.plot([p[0] for p in good], [p[1] for p in good], "o", color=colour, alpha=0.5, markersize=4)
                 means = {}
                 for xv, yv in good:
@@ -162,7 +168,8 @@ def main(argv=None):
     """Runs the command line; the exit status."""
     parser = argparse.ArgumentParser(description="Plot a sweep's metrics against one of its axes.")
     parser.add_argument("dir", type=pathlib.Path, help="directory holding results.parquet")
-    parser.add_argument("--x", help="the axis along x (default: the first axis)")
+    parser.add_argument("--x", help="the column along x: an axis (default: the first), or a metric for a "
+                                    "trade-off (dots only, no mean lines)")
     parser.add_argument("--y", action="append",
                         help="a metric to plot (repeatable; default: those of DEFAULT_METRICS present)")
     parser.add_argument("--hue",

@@ -56,6 +56,33 @@ def test_it_writes_a_png(tmp_path):
                "--out", other)
     assert proc.returncode == 0, proc.stderr
     assert other.read_bytes()[:8] == PNG_MAGIC
+    trade = tmp_path / "figs" / "trade.png"
+    proc = run(tmp_path / "sweep", "--x", "final_position_error_norm_m", "--y", "estimate.convergence_time_s",
+               "--hue", "estimator.order", "--out", trade)
+    assert proc.returncode == 0, proc.stderr
+    assert trade.read_bytes()[:8] == PNG_MAGIC
+
+
+def test_a_trade_off_against_a_metric_draws_dots_only(monkeypatch, tmp_path):
+    module = load_script("plot_sweep")
+    table = pa.Table.from_pylist([
+        {"run": i, "point": i, "seed": 0, "estimator.order": i % 2 + 1, "status": "ok", "error": None,
+         "exit": "complete", "overshoot": float(i), "time": 10.0 - i} for i in range(6)])
+    drawn = []
+    import matplotlib.axes
+
+    original = matplotlib.axes.Axes.plot
+
+    def spy(self, *args, **kwargs):
+        drawn.append(args[2] if len(args) > 2 else None)
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.axes.Axes, "plot", spy)
+    module.plot(table, "overshoot", ["time"], "estimator.order", tmp_path / "a.png")
+    assert "-" not in drawn and drawn.count("o") == 2, drawn
+    drawn.clear()
+    module.plot(table, "estimator.order", ["time"], None, tmp_path / "b.png")
+    assert "-" in drawn, "against an axis the mean is a line"
 
 
 def test_defaults_and_marks(tmp_path):
