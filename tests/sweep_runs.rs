@@ -314,3 +314,43 @@ fn a_monte_carlo_campaign_writes_its_runs_in_the_sweep_layout_whatever_the_threa
     assert_eq!(cell(&rows[13], "seed"), &Field::Long(4));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_shipped_studies_load_and_the_gain_study_flies() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/sweeps");
+    let ex4 = LoadedSweep::load(&root.join("ex4_estimator_design.toml")).unwrap();
+    assert_eq!(ex4.runs.len(), 13 * 3 * 3);
+    let tests: [(i64, f64, f64); 6] = [
+        (1, 3.0, 2.0),
+        (1, 3.0, 20.0),
+        (1, 20.0, 20.0),
+        (7, 3.0, 2.0),
+        (7, 1.0, 5.0),
+        (13, 1.0, 5.0),
+    ];
+    for (order, ripple, wp) in tests {
+        let point = [
+            toml::Value::Integer(order),
+            toml::Value::Float(ripple),
+            toml::Value::Float(wp),
+        ];
+        assert!(
+            ex4.runs.iter().any(|r| r.values == point),
+            "the homework's test {point:?} is a point"
+        );
+    }
+    let ex5 = LoadedSweep::load(&root.join("ex5_gains.toml")).unwrap();
+    assert_eq!(ex5.runs.len(), 64);
+    let dir = std::env::temp_dir().join(format!("rotorpilot-sweep-ex5-{}", std::process::id()));
+    let flown = ex5.fly_range(0..64, 2, &dir).unwrap();
+    let results = flown.results.unwrap();
+    assert_eq!(results.ok, 64, "every drawn gain set builds and flies");
+    for row in rows(&dir.join("results.parquet")) {
+        assert_eq!(
+            cell(&row, "exit"),
+            &Field::Str("complete".into()),
+            "no gain set flies away"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
