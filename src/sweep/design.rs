@@ -34,6 +34,13 @@ pub struct Axis {
     pub values: AxisValues,
 }
 
+impl Axis {
+    /// Every field the axis sets: its own, then those of `also`.
+    pub fn fields(&self) -> impl Iterator<Item = &String> {
+        std::iter::once(&self.field).chain(&self.also)
+    }
+}
+
 /// How the axes combine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Design {

@@ -94,13 +94,8 @@ impl Sweep {
         for (i, a) in file.axis.iter().enumerate() {
             let axis = checked_axis(a)
                 .map_err(|why| SweepError::Invalid(format!("{origin}: axis {} (`{}`): {why}", i + 1, a.field)))?;
-            let fields = |a: &Axis| {
-                std::iter::once(a.field.clone())
-                    .chain(a.also.clone())
-                    .collect::<Vec<_>>()
-            };
-            let swept: Vec<String> = axes.iter().flat_map(fields).collect();
-            let mine = fields(&axis);
+            let swept: Vec<&String> = axes.iter().flat_map(Axis::fields).collect();
+            let mine: Vec<&String> = axis.fields().collect();
             for (k, f) in mine.iter().enumerate() {
                 if swept.contains(f) || mine[..k].contains(f) {
                     return Err(SweepError::Invalid(format!("{origin}: field `{f}` swept twice")));
@@ -159,7 +154,7 @@ impl Sweep {
     pub fn scenario_table(&self, base: &toml::Table, run: &Run) -> Result<toml::Table, SweepError> {
         let mut table = base.clone();
         for (axis, value) in self.axes.iter().zip(&run.values) {
-            for f in std::iter::once(&axis.field).chain(&axis.also) {
+            for f in axis.fields() {
                 field::set(&mut table, f, value.clone())?;
             }
         }
@@ -180,7 +175,7 @@ impl Sweep {
         for (i, axis) in self.axes.iter().enumerate() {
             let mut table = base.clone();
             let first = design::first_value(&axis.values);
-            for f in std::iter::once(&axis.field).chain(&axis.also) {
+            for f in axis.fields() {
                 field::set(&mut table, f, first.clone())?;
             }
             let refused = |why: String| {

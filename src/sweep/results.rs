@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 
 use super::metrics::Scalar;
-use super::{Axis, AxisValues, Point};
+use super::{Axis, AxisValues, Point, Run};
 
 /// How a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,6 +50,21 @@ pub struct RunRow {
     pub error: Option<String>,
     /// The metrics kept.
     pub metrics: Vec<(String, Scalar)>,
+}
+
+impl RunRow {
+    /// The row of run `index` of a sweep, `run`, with `status` and `error` and no metrics yet.
+    pub fn of(index: usize, run: &Run, status: Status, error: Option<String>) -> Self {
+        Self {
+            run: index,
+            point: run.point,
+            seed: run.seed,
+            values: run.values.clone(),
+            status,
+            error,
+            metrics: Vec::new(),
+        }
+    }
 }
 
 /// The type of a column.

@@ -130,8 +130,10 @@ impl Machine {
 }
 
 impl Manifest {
-    /// The plan of `sweep` (`runs` in all, over `points` points) reading `inputs`.
-    pub fn plan(sweep: &Sweep, sweep_path: String, runs: usize, points: usize, inputs: Vec<String>) -> Self {
+    /// The plan of `sweep`, whose sweep and scenario files are `[sweep, scenario]` (`runs` in
+    /// all, over `points` points), reading `inputs`.
+    pub fn plan(sweep: &Sweep, files: [String; 2], runs: usize, points: usize, inputs: Vec<String>) -> Self {
+        let [sweep_path, scenario] = files;
         let design = match sweep.design {
             Design::Grid => DesignInfo {
                 kind: "grid",
@@ -172,7 +174,7 @@ impl Manifest {
         Self {
             version: env!("CARGO_PKG_VERSION"),
             sweep: sweep_path,
-            scenario: sweep.scenario.display().to_string(),
+            scenario,
             runs,
             points,
             seeds: SeedRange {

@@ -94,15 +94,8 @@ impl LoadedSweep {
     /// The manifest without results (`--plan`).
     pub fn plan(&self) -> Manifest {
         let points = self.runs.last().map_or(0, |r| r.point + 1);
-        let mut plan = Manifest::plan(
-            &self.sweep,
-            absolute(&self.path),
-            self.runs.len(),
-            points,
-            self.inputs.clone(),
-        );
-        plan.scenario = absolute(&self.sweep.scenario);
-        plan
+        let files = [absolute(&self.path), absolute(&self.sweep.scenario)];
+        Manifest::plan(&self.sweep, files, self.runs.len(), points, self.inputs.clone())
     }
 
     /// Flies run `index` into its row, the metrics of its summary kept by `choose` (which may
@@ -112,19 +105,6 @@ impl LoadedSweep {
         C: Fn(Vec<(String, Option<Scalar>)>, Option<&[String]>) -> Result<Vec<(String, Scalar)>, SweepError>,
     {
         let run = &self.runs[index];
-        let mut row = RunRow {
-            run: index,
-            point: run.point,
-            seed: run.seed,
-            values: run.values.clone(),
-            status: Status::Ok,
-            error: None,
-            metrics: Vec::new(),
-        };
-        let refused = |row: &mut RunRow, why: String| {
-            row.status = Status::Refused;
-            row.error = Some(why);
-        };
         let scenario = self
             .sweep
             .scenario_table(&self.base, run)
@@ -142,26 +122,20 @@ impl LoadedSweep {
             });
         let scenario = match scenario {
             Ok(s) => s,
-            Err(why) => {
-                refused(&mut row, why);
-                return Ok(row);
-            }
+            Err(why) => return Ok(RunRow::of(index, run, Status::Refused, Some(why))),
         };
         let summary = simulate(&scenario, None)
             .map_err(|e| e.to_string())
             .and_then(|s| serde_json::to_value(&s).map_err(|e| e.to_string()));
-        match summary {
-            Ok(summary) => {
-                let mut all = flatten(&summary);
-                all.retain(|(name, _)| !WALL_CLOCK_FIELDS.contains(&name.as_str()));
-                row.metrics = choose(all, self.sweep.metrics.as_deref())
-                    .map_err(|e| SweepError::Invalid(format!("{}: {e}", self.path.display())))?;
-            }
-            Err(why) => {
-                row.status = Status::Failed;
-                row.error = Some(why);
-            }
-        }
+        let summary = match summary {
+            Ok(summary) => summary,
+            Err(why) => return Ok(RunRow::of(index, run, Status::Failed, Some(why))),
+        };
+        let mut all = flatten(&summary);
+        all.retain(|(name, _)| !WALL_CLOCK_FIELDS.contains(&name.as_str()));
+        let mut row = RunRow::of(index, run, Status::Ok, None);
+        row.metrics = choose(all, self.sweep.metrics.as_deref())
+            .map_err(|e| SweepError::Invalid(format!("{}: {e}", self.path.display())))?;
         Ok(row)
     }
 
@@ -202,18 +176,7 @@ impl LoadedSweep {
             self.fly(i, |all, wanted| Ok(keep(all, wanted)))
         })?;
         for (&i, result) in rest.iter().zip(flown) {
-            rows.push(result.unwrap_or_else(|panic| {
-                let run = &self.runs[i];
-                RunRow {
-                    run: i,
-                    point: run.point,
-                    seed: run.seed,
-                    values: run.values.clone(),
-                    status: Status::Panicked,
-                    error: Some(panic),
-                    metrics: Vec::new(),
-                }
-            }));
+            rows.push(result.unwrap_or_else(|panic| RunRow::of(i, &self.runs[i], Status::Panicked, Some(panic))));
         }
         let wall_time_s = started.elapsed().as_secs_f64();
         let results_path = out.join("results.parquet");

@@ -37,36 +37,27 @@ pub fn write(path: &Path, columns: &[Column]) -> Result<(), String> {
             return Err(format!("{}: the schema lost column {}", path.display(), column.name));
         };
         let levels: Vec<i16> = column.cells.iter().map(|c| i16::from(c.is_some())).collect();
-        let present = column.cells.iter().flatten();
         match column.kind {
             ColumnKind::Int => {
-                let values: Vec<i64> = present
-                    .filter_map(|s| if let Scalar::Int(i) = s { Some(*i) } else { None })
-                    .collect();
+                let values = present(column, |s| if let Scalar::Int(i) = s { Some(*i) } else { None });
                 out.typed::<Int64Type>().write_batch(&values, Some(&levels), None)
             }
             ColumnKind::Float => {
-                let values: Vec<f64> = present
-                    .filter_map(|s| if let Scalar::Float(x) = s { Some(*x) } else { None })
-                    .collect();
+                let values = present(column, |s| if let Scalar::Float(x) = s { Some(*x) } else { None });
                 out.typed::<DoubleType>().write_batch(&values, Some(&levels), None)
             }
             ColumnKind::Bool => {
-                let values: Vec<bool> = present
-                    .filter_map(|s| if let Scalar::Bool(b) = s { Some(*b) } else { None })
-                    .collect();
+                let values = present(column, |s| if let Scalar::Bool(b) = s { Some(*b) } else { None });
                 out.typed::<BoolType>().write_batch(&values, Some(&levels), None)
             }
             ColumnKind::Text => {
-                let values: Vec<ByteArray> = present
-                    .filter_map(|s| {
-                        if let Scalar::Text(t) = s {
-                            Some(ByteArray::from(t.as_str()))
-                        } else {
-                            None
-                        }
-                    })
-                    .collect();
+                let values = present(column, |s| {
+                    if let Scalar::Text(t) = s {
+                        Some(ByteArray::from(t.as_str()))
+                    } else {
+                        None
+                    }
+                });
                 out.typed::<ByteArrayType>().write_batch(&values, Some(&levels), None)
             }
         }
@@ -76,6 +67,11 @@ pub fn write(path: &Path, columns: &[Column]) -> Result<(), String> {
     group.close().map_err(fail)?;
     writer.close().map_err(fail)?;
     Ok(())
+}
+
+/// The present cells of `column` as `pick` reads them (the column's kind: every cell matches).
+fn present<T>(column: &Column, pick: impl Fn(&Scalar) -> Option<T>) -> Vec<T> {
+    column.cells.iter().flatten().filter_map(pick).collect()
 }
 
 /// The Parquet field of a column.
