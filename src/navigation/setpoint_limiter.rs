@@ -7,11 +7,19 @@
 //! position set:   v_d = v_stop(p_sp − p) + (v_ff − ê (ê · v_ff))   (feed-forward across only)
 //!                 v_stop(e) = ê · (K_p |e| near p_sp, else √(2 a_max (|e| − a_max/2K_p²)))
 //! velocity only:  v_d = v_sp
-//! v_d clamped to MPC_XY_VEL_MAX, MPC_Z_VEL_MAX_UP / _DN;  v ← v + clamp(v_d − v, a_max dt)
-//! p ← p + dt (v_old + v)/2;   acceleration feed-forward (v − v_old)/dt
+//! v_d clamped to MPC_XY_VEL_MAX, MPC_Z_VEL_MAX_UP / _DN
+//! a = clamp(K (v_d − v), a_max);   v ← v + a dt;   p ← p + dt (v_old + v)/2
+//! acceleration feed-forward a;   K = 1/dt toward a position, K_v for a velocity alone
 //! heading set:    ψ ← ψ + clamp(wrap(ψ_sp − ψ), MPC_YAWRAUTO_MAX dt)   (the short way)
-//! rate only:      ψ ← wrap(ψ + clamp(ψ̇_sp, MC_YAWRATE_MAX) dt)
+//! rate only:      ψ ← ψ_v + clamp(wrap(ψ + clamp(ψ̇_sp, MC_YAWRATE_MAX) dt − ψ_v), ±Δψ_lead)
 //! ```
+//! A velocity demand alone is approached at most at the acceleration limit and, close to it,
+//! exponentially with time constant 1/K_v: the acceleration is continuous in the demand, so a
+//! demand that jitters (a body-frame velocity turned by a noisy heading estimate) cannot become
+//! acceleration spikes of jitter/dt. Under a rate-only heading command the reference never leads
+//! the vehicle's heading ψ_v by more than Δψ_lead: a vehicle that cannot turn for a while (its
+//! rotors saturated) resumes the commanded rate instead of spinning to catch up, as PX4 flies a
+//! yaw rate as a feed-forward on its current heading.
 //! An acceleration-only setpoint passes unchanged (the controllers' tilt limit bounds it).
 //! Along the line to a commanded position the speed is the one from which the reference can
 //! still stop there, so a velocity feed-forward cannot carry the vehicle past the point (PX4
@@ -25,6 +33,11 @@ use super::MotionLimits;
 /// Gain from position error to the velocity demand [1/s] (PX4 `MPC_XY_P` 0.95 feeds a velocity
 /// loop with its own lag; here the reference itself must arrive, within 0.1 m of a 3 m step in 3 s).
 const POSITION_GAIN_PER_S: f64 = 2.0;
+/// K_v: gain from the velocity reference's error to its acceleration [1/s] (a time constant of
+/// 0.2 s below the acceleration limit: a 1 cm/s jitter of the demand asks 5 cm/s²).
+const VELOCITY_GAIN_PER_S: f64 = 5.0;
+/// Δψ_lead: the most a rate-only heading reference leads the vehicle's heading [rad].
+const MAX_HEADING_LEAD_RAD: f64 = 0.35;
 
 /// The reference an offboard setpoint stream is flown through.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -47,7 +60,7 @@ impl SetpointLimiter {
     /// The setpoint to fly this tick for the raw (world-frame) setpoint `raw`, stepping the
     /// reference by `dt_s` [s] within `lim`.
     pub fn step(&mut self, raw: &FlatSetpoint, x: &VehicleState, lim: &MotionLimits, dt_s: f64) -> FlatSetpoint {
-        let (yaw_rad, yaw_rate) = self.step_heading(raw, lim, dt_s);
+        let (yaw_rad, yaw_rate) = self.step_heading(raw, euler_zyx(&x.r_wb).z, lim, dt_s);
         let demand = match (raw.pos_w, raw.vel_w) {
             (Some(p), ff) => Some(toward(p - self.pos_w, ff.unwrap_or_default(), lim)),
             (None, Some(v)) => Some(v),
@@ -68,10 +81,17 @@ impl SetpointLimiter {
                 ..heading
             };
         };
-        let dv = limit_change(lim.clamp_velocity(demand) - self.vel_w, lim, dt_s);
+        // The stopping profile toward a position is the reference's own smooth function: followed
+        // exactly (within the limits), or the reference would lag it past the point.
+        let gain = if raw.pos_w.is_some() {
+            1.0 / dt_s
+        } else {
+            VELOCITY_GAIN_PER_S
+        };
+        let ramp = limit_acceleration(gain * (lim.clamp_velocity(demand) - self.vel_w), lim);
         let old = self.vel_w;
-        self.vel_w += dv;
-        let acc = dv / dt_s + raw.acc_w.unwrap_or_default();
+        self.vel_w += ramp * dt_s;
+        let acc = ramp + raw.acc_w.unwrap_or_default();
         if raw.pos_w.is_some() {
             self.pos_w += 0.5 * dt_s * (old + self.vel_w);
         } else {
@@ -85,18 +105,24 @@ impl SetpointLimiter {
         }
     }
 
-    /// Heading and heading rate of this tick.
-    fn step_heading(&mut self, raw: &FlatSetpoint, lim: &MotionLimits, dt_s: f64) -> (f64, f64) {
-        let rate = match (raw.yaw_rad, raw.yaw_rate_rad_s) {
+    /// Heading and heading rate of this tick, the vehicle heading `yaw_rad` [rad].
+    fn step_heading(&mut self, raw: &FlatSetpoint, yaw_rad: f64, lim: &MotionLimits, dt_s: f64) -> (f64, f64) {
+        match (raw.yaw_rad, raw.yaw_rate_rad_s) {
             (Some(target), _) => {
                 let max = lim.yaw_rate_auto_rad_s * dt_s;
-                wrap_pi(target - self.yaw_rad).clamp(-max, max) / dt_s
+                let rate = wrap_pi(target - self.yaw_rad).clamp(-max, max) / dt_s;
+                self.yaw_rad = wrap_pi(self.yaw_rad + rate * dt_s);
+                (self.yaw_rad, rate)
             }
-            (None, Some(r)) => r.clamp(-lim.yaw_rate_max_rad_s, lim.yaw_rate_max_rad_s),
-            (None, None) => 0.0,
-        };
-        self.yaw_rad = wrap_pi(self.yaw_rad + rate * dt_s);
-        (self.yaw_rad, rate)
+            (None, Some(r)) => {
+                let rate = r.clamp(-lim.yaw_rate_max_rad_s, lim.yaw_rate_max_rad_s);
+                let lead =
+                    wrap_pi(self.yaw_rad + rate * dt_s - yaw_rad).clamp(-MAX_HEADING_LEAD_RAD, MAX_HEADING_LEAD_RAD);
+                self.yaw_rad = wrap_pi(yaw_rad + lead);
+                (self.yaw_rad, rate)
+            }
+            (None, None) => (self.yaw_rad, 0.0),
+        }
     }
 }
 
@@ -135,13 +161,14 @@ fn stopping_speed(e: f64, a: f64) -> f64 {
     }
 }
 
-/// A velocity change `dv` [m/s] limited to one tick of the acceleration limits.
-fn limit_change(dv: Vec3, lim: &MotionLimits, dt_s: f64) -> Vec3 {
-    let max_xy = lim.acc_horizontal_m_s2 * dt_s;
-    let xy = dv.xy().norm();
+/// An acceleration `a` [m/s²] within the acceleration limits (horizontal by its norm, up and
+/// down on their own).
+fn limit_acceleration(a: Vec3, lim: &MotionLimits) -> Vec3 {
+    let max_xy = lim.acc_horizontal_m_s2;
+    let xy = a.xy().norm();
     let s = if xy > max_xy { max_xy / xy } else { 1.0 };
-    let z = dv.z.clamp(-lim.acc_up_m_s2 * dt_s, lim.acc_down_m_s2 * dt_s);
-    Vec3::new(dv.x * s, dv.y * s, z)
+    let z = a.z.clamp(-lim.acc_up_m_s2, lim.acc_down_m_s2);
+    Vec3::new(a.x * s, a.y * s, z)
 }
 
 #[cfg(test)]
@@ -161,13 +188,23 @@ mod tests {
         }
     }
 
+    /// The vehicle at `p` with heading `yaw` [rad], at rest.
+    fn heading(p: Vec3, yaw: f64) -> VehicleState {
+        VehicleState {
+            r_wb: crate::math::UnitQuat::from_euler_angles(0.0, 0.0, yaw)
+                .to_rotation_matrix()
+                .into_inner(),
+            ..still(p)
+        }
+    }
+
     /// Runs the reference alone (a vehicle that tracks it perfectly) for `seconds`; the
     /// reference setpoints.
     fn fly(l: &mut SetpointLimiter, raw: FlatSetpoint, seconds: f64) -> Vec<FlatSetpoint> {
         let lim = MotionLimits::default();
         (0..(seconds / DT) as usize)
             .map(|_| {
-                let x = still(l.pos_w);
+                let x = heading(l.pos_w, l.yaw_rad);
                 l.step(&raw, &x, &lim, DT)
             })
             .collect()
@@ -211,17 +248,13 @@ mod tests {
             ..Default::default()
         };
         let sps = fly(&mut l, down, 5.0);
-        assert_eq!(sps.last().unwrap().vel_w, Some(Vec3::new(0.0, 0.0, 1.5)));
+        assert!((sps.last().unwrap().vel_w.unwrap() - Vec3::new(0.0, 0.0, 1.5)).norm() < 1e-6);
         assert_eq!(sps.last().unwrap().pos_w, None);
     }
 
     #[test]
     fn heading_turns_the_short_way_at_the_auto_rate() {
-        let mut x = still(Vec3::zeros());
-        x.r_wb = crate::math::UnitQuat::from_euler_angles(0.0, 0.0, 170f64.to_radians())
-            .to_rotation_matrix()
-            .into_inner();
-        let mut l = SetpointLimiter::at(&x);
+        let mut l = SetpointLimiter::at(&heading(Vec3::zeros(), 170f64.to_radians()));
         // To −170°: 20° through ±180°, not 340° back.
         let raw = FlatSetpoint {
             vel_w: Some(Vec3::new(0.0, 0.0, 0.0)),
@@ -245,5 +278,50 @@ mod tests {
         let sps = fly(&mut l, raw, 1.0);
         assert!((sps.last().unwrap().yaw_rad.unwrap() - 60f64.to_radians()).abs() < 1e-3);
         assert!(sps.iter().all(|s| s.yaw_rate_rad_s == Some(60f64.to_radians())));
+    }
+
+    #[test]
+    fn a_jittering_velocity_demand_asks_no_acceleration_spikes() {
+        // 5 m/s forward turned by a heading estimate with 0.2° of noise (±8.7 mm/s across).
+        let mut l = SetpointLimiter::at(&still(Vec3::zeros()));
+        let lim = MotionLimits::default();
+        let mut peak_after_ramp: f64 = 0.0;
+        for k in 0..10_000 {
+            let noise = if k % 2 == 0 { 0.2f64 } else { -0.2 }.to_radians();
+            let raw = FlatSetpoint {
+                vel_w: Some(Vec3::new(5.0 * noise.cos(), 5.0 * noise.sin(), 0.0)),
+                yaw_rad: Some(0.0),
+                ..Default::default()
+            };
+            let sp = l.step(&raw, &still(l.pos_w), &lim, DT);
+            let a = sp.acc_w.unwrap().norm();
+            assert!(a <= lim.acc_horizontal_m_s2 + 1e-9, "{a}");
+            if k > 5_000 {
+                peak_after_ramp = peak_after_ramp.max(a);
+            }
+        }
+        assert!((l.vel_w.x - 5.0).abs() < 1e-3, "{}", l.vel_w);
+        assert!(peak_after_ramp < 0.1, "jitter became {peak_after_ramp} m/s²");
+    }
+
+    #[test]
+    fn a_heading_that_cannot_turn_holds_the_rate_reference_close_and_resumes_the_rate() {
+        let mut l = SetpointLimiter::at(&still(Vec3::zeros()));
+        let lim = MotionLimits::default();
+        let raw = FlatSetpoint {
+            vel_w: Some(Vec3::zeros()),
+            yaw_rate_rad_s: Some(30f64.to_radians()),
+            ..Default::default()
+        };
+        // Stuck at 0 for 5 s: the reference stays within the lead, at the commanded rate.
+        for _ in 0..5_000 {
+            let sp = l.step(&raw, &heading(Vec3::zeros(), 0.0), &lim, DT);
+            assert!(sp.yaw_rad.unwrap().abs() <= MAX_HEADING_LEAD_RAD + 1e-12);
+            assert_eq!(sp.yaw_rate_rad_s, Some(30f64.to_radians()));
+        }
+        // Free again: it turns on at the commanded rate from the lead it had.
+        let sps = fly(&mut l, raw, 1.0);
+        let turned = wrap_pi(sps.last().unwrap().yaw_rad.unwrap() - MAX_HEADING_LEAD_RAD);
+        assert!((turned - 30f64.to_radians()).abs() < 1e-3, "{}", turned.to_degrees());
     }
 }
