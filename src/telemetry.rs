@@ -39,29 +39,72 @@ impl BatterySnapshot {
     }
 }
 
-/// Which sensors deliver data the navigation can use (SYS_STATUS health bits).
+/// What SYS_STATUS says of one sensor (PX4's health report): whether it is present and whether
+/// it is healthy; it counts as enabled when present or unhealthy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SensorState {
+    /// Present (the GPS: while the navigation uses its position).
+    pub present: bool,
+    /// Healthy: it delivered within the last second and the navigation takes its data.
+    pub healthy: bool,
+}
+
+impl SensorState {
+    /// Present and healthy.
+    pub const OK: Self = Self {
+        present: true,
+        healthy: true,
+    };
+}
+
+/// The sensors SYS_STATUS reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SensorHealth {
     /// Gyroscope.
-    pub gyro: bool,
+    pub gyro: SensorState,
     /// Accelerometer.
-    pub accel: bool,
+    pub accel: SensorState,
+    /// Magnetometer.
+    pub mag: SensorState,
+    /// Barometer.
+    pub baro: SensorState,
+    /// GPS.
+    pub gps: SensorState,
+}
+
+impl SensorHealth {
+    /// Every sensor present and healthy.
+    pub const ALL: Self = Self {
+        gyro: SensorState::OK,
+        accel: SensorState::OK,
+        mag: SensorState::OK,
+        baro: SensorState::OK,
+        gps: SensorState::OK,
+    };
+}
+
+/// Which raw readings are new since a 50 Hz message would last have been sent (HIGHRES_IMU's
+/// `fields_updated`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FreshReadings {
+    /// Accelerometer and gyroscope.
+    pub imu: bool,
     /// Magnetometer.
     pub mag: bool,
     /// Barometer.
     pub baro: bool,
-    /// GPS (with a position the filter takes).
-    pub gps: bool,
+    /// The barometer delivered within the last second (SCALED_PRESSURE stops otherwise, as PX4
+    /// sends it only on a new reading).
+    pub baro_alive: bool,
 }
 
-impl SensorHealth {
-    /// Every sensor healthy.
+impl FreshReadings {
+    /// Everything new (the state sensor: computed every tick).
     pub const ALL: Self = Self {
-        gyro: true,
-        accel: true,
+        imu: true,
         mag: true,
         baro: true,
-        gps: true,
+        baro_alive: true,
     };
 }
 
@@ -80,6 +123,8 @@ pub struct GpsSnapshot {
     pub fix_3d: bool,
     /// Satellites used.
     pub satellites: u8,
+    /// No reading for more than a second: the receiver is silent (GPS_RAW_INT then says so).
+    pub silent: bool,
 }
 
 /// The navigation filter's report (ESTIMATOR_STATUS, EKF_STATUS_REPORT).
@@ -107,12 +152,16 @@ pub struct NavSnapshot {
     pub armable: bool,
     /// Which sensors deliver usable data.
     pub sensors: SensorHealth,
-    /// The latest GPS reading; `None` with the state sensor.
+    /// Which raw readings are new.
+    pub fresh: FreshReadings,
+    /// The latest GPS reading; `None` with the state sensor, or before the first one.
     pub gps: Option<GpsSnapshot>,
     /// The latest magnetometer reading, body FRD [gauss].
     pub mag_b: Option<Vec3>,
     /// The latest barometer reading: pressure [Pa], temperature [°C].
     pub baro: Option<(f64, f64)>,
+    /// The sensor suite is read (`false`: the state sensor, whose raw readings are computed).
+    pub suite: bool,
     /// The filter's report; `None` with the state sensor.
     pub filter: Option<FilterSnapshot>,
 }
@@ -123,9 +172,11 @@ impl NavSnapshot {
         validity: NavValidity::EXACT,
         armable: true,
         sensors: SensorHealth::ALL,
+        fresh: FreshReadings::ALL,
         gps: None,
         mag_b: None,
         baro: None,
+        suite: false,
         filter: None,
     };
 }

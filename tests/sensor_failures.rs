@@ -37,7 +37,19 @@ impl Flight {
 
     /// Airframe preset `frame` on realistic sensors, seed `seed`, waiting until it may arm.
     fn ready_on(frame: &str, seed: u64) -> Self {
-        let src = AirframeSource::resolve(frame).unwrap();
+        Self::ready_with(AirframeSource::resolve(frame).unwrap(), seed)
+    }
+
+    /// Airframe preset `frame` on a real vehicle's sensors (`[plant.sensors] base = "hardware"`:
+    /// IMU biases, a wandering GPS error), seed `seed`, waiting until it may arm.
+    fn ready_on_hardware(frame: &str, seed: u64) -> Self {
+        let mut src = AirframeSource::resolve(frame).unwrap();
+        src.text.push_str("\n[plant.sensors]\nbase = \"hardware\"\n");
+        Self::ready_with(src, seed)
+    }
+
+    /// The airframe `src` on the sensor suite, seed `seed`, waiting until it may arm.
+    fn ready_with(src: AirframeSource, seed: u64) -> Self {
         let vehicle = Vehicle::new(
             &src,
             ControllerKind::Geometric,
@@ -131,14 +143,14 @@ fn on_realistic_sensors_it_takes_off_holds_and_lands_on_its_estimate() {
     assert!(f.touchdown_m_s < 1.0, "gentle touch-down: {} m/s", f.touchdown_m_s);
 }
 
-/// Seed 7 draws an accelerometer turn-on bias of 0.6 m/s² (3 σ): the estimate is tilted by about
+/// On a real vehicle's sensors, seed 7 draws an accelerometer turn-on bias of 0.6 m/s² (3 σ): the estimate is tilted by about
 /// 3.5° from the start and stays so through a straight climb and descent. Pushed against the
 /// ground, the vehicle must not fight that tilt: PX4 cuts the thrust in ground contact, and the
 /// allocation without air mode never raises the collective to make a torque. It lands within
 /// the land detector's time, disarms, and never leaves the ground again.
 #[test]
 fn a_landing_from_altitude_on_a_tilted_estimate_touches_down_once_and_disarms() {
-    let mut f = Flight::ready_on("hexa_x", 7);
+    let mut f = Flight::ready_on_hardware("hexa_x", 7);
     f.airborne(30.0);
     assert_eq!(f.vehicle.apply(Request::Land), Outcome::Accepted);
     let mut touched_at_s = None;

@@ -1,6 +1,7 @@
 //! Raw TOML schema of `[plant.sensors]`: the sensor suite's settings (docs/model.md §10.7).
 //!
-//! Every field is optional and overrides `SensorSuiteConfig::typical()`; unknown fields are
+//! Every field is optional and overrides the set `base` names (`SensorSuiteConfig::typical()`,
+//! PX4 SITL's, by default; `"hardware"`: `SensorSuiteConfig::hardware()`); unknown fields are
 //! refused. Units are SI, angles in degrees; validation is in `sensor_params.rs`.
 
 use serde::Deserialize;
@@ -9,6 +10,7 @@ use serde::Deserialize;
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct FileSensors {
+    pub base: Option<String>,
     pub imu: Option<FileImu>,
     pub gps: Option<FileGps>,
     pub baro: Option<FileBaro>,

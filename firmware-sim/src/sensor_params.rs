@@ -1,6 +1,7 @@
 //! `[plant.sensors]` validated into a [`SensorSuiteConfig`] (docs/model.md §10.7).
 //!
-//! Each field overrides the corresponding value of [`SensorSuiteConfig::typical`]; a bad value is
+//! Each field overrides the corresponding value of the base set (`base`: `"sitl"`, the default,
+//! [`SensorSuiteConfig::typical`]; `"hardware"`, [`SensorSuiteConfig::hardware`]); a bad value is
 //! refused with its dotted path, e.g. `plant.sensors.gps.latency`.
 
 use crate::file_sensors::{FileBaro, FileGps, FileImu, FileMag, FileSensors};
@@ -15,18 +16,28 @@ const MAX_SATELLITES: i64 = 50;
 /// Origin altitudes the ISA troposphere model covers [m].
 const ORIGIN_ALT_RANGE_M: (f64, f64) = (-500.0, 11_000.0);
 
-/// The suite configuration of `[plant.sensors]`, or typical values where it says nothing.
+/// The suite configuration of `[plant.sensors]`, or the base set's values where it says nothing.
 pub(crate) fn sensor_suite_config(
     check: &Checker,
     file: Option<&FileSensors>,
 ) -> Result<SensorSuiteConfig, ParamsError> {
     let default = FileSensors::default();
     let f = file.unwrap_or(&default);
+    let base = match f.base.as_deref() {
+        None | Some("sitl") => SensorSuiteConfig::typical(),
+        Some("hardware") => SensorSuiteConfig::hardware(),
+        Some(other) => {
+            return Err(check.error(
+                "plant.sensors.base",
+                format!("unknown set {other:?}: \"sitl\" (PX4 SITL's sensors, the default) or \"hardware\""),
+            ))
+        }
+    };
     Ok(SensorSuiteConfig {
-        imu: imu(check, f.imu.as_ref())?,
-        gps: gps(check, f.gps.as_ref())?,
-        baro: baro(check, f.baro.as_ref())?,
-        mag: mag(check, f.mag.as_ref())?,
+        imu: imu(check, f.imu.as_ref(), base.imu)?,
+        gps: gps(check, f.gps.as_ref(), base.gps)?,
+        baro: baro(check, f.baro.as_ref(), base.baro)?,
+        mag: mag(check, f.mag.as_ref(), base.mag)?,
     })
 }
 
@@ -56,8 +67,7 @@ fn within(check: &Checker, v: Option<f64>, default: f64, field: &str, lo: f64, h
     }
 }
 
-fn imu(check: &Checker, f: Option<&FileImu>) -> Result<ImuConfig, ParamsError> {
-    let d = ImuConfig::typical();
+fn imu(check: &Checker, f: Option<&FileImu>, d: ImuConfig) -> Result<ImuConfig, ParamsError> {
     let Some(f) = f else { return Ok(d) };
     let sd = |v, default, field| value(check, v, default, field, non_negative);
     Ok(ImuConfig {
@@ -74,8 +84,7 @@ fn imu(check: &Checker, f: Option<&FileImu>) -> Result<ImuConfig, ParamsError> {
     })
 }
 
-fn gps(check: &Checker, f: Option<&FileGps>) -> Result<GpsConfig, ParamsError> {
-    let d = GpsConfig::typical();
+fn gps(check: &Checker, f: Option<&FileGps>, d: GpsConfig) -> Result<GpsConfig, ParamsError> {
     let Some(f) = f else { return Ok(d) };
     let sd = |v, default, field| value(check, v, default, field, non_negative);
     let satellites = match f.satellites {
@@ -104,8 +113,7 @@ fn gps(check: &Checker, f: Option<&FileGps>) -> Result<GpsConfig, ParamsError> {
     })
 }
 
-fn baro(check: &Checker, f: Option<&FileBaro>) -> Result<BaroConfig, ParamsError> {
-    let d = BaroConfig::typical();
+fn baro(check: &Checker, f: Option<&FileBaro>, d: BaroConfig) -> Result<BaroConfig, ParamsError> {
     let Some(f) = f else { return Ok(d) };
     let (lo, hi) = ORIGIN_ALT_RANGE_M;
     Ok(BaroConfig {
@@ -116,8 +124,7 @@ fn baro(check: &Checker, f: Option<&FileBaro>) -> Result<BaroConfig, ParamsError
     })
 }
 
-fn mag(check: &Checker, f: Option<&FileMag>) -> Result<MagConfig, ParamsError> {
-    let d = MagConfig::typical();
+fn mag(check: &Checker, f: Option<&FileMag>, d: MagConfig) -> Result<MagConfig, ParamsError> {
     let Some(f) = f else { return Ok(d) };
     let angle = |v: Option<f64>, default_rad: f64, field: &str, limit: f64| match v {
         Some(_) => within(check, v, 0.0, field, -limit, limit).map(f64::to_radians),
@@ -160,6 +167,27 @@ mod tests {
     fn no_sensors_table_gives_the_typical_suite() {
         assert_eq!(parse("").unwrap().sensors, SensorSuiteConfig::typical());
         assert_eq!(parse("[plant.sensors]").unwrap().sensors, SensorSuiteConfig::typical());
+    }
+
+    #[test]
+    fn the_hardware_base_takes_a_real_receivers_errors_and_fields_still_override_it() {
+        let p = parse("[plant.sensors]\nbase = \"hardware\"\n[plant.sensors.gps]\nlatency = 0.2\n")
+            .unwrap()
+            .sensors;
+        let h = SensorSuiteConfig::hardware();
+        assert_eq!(p.gps.latency_s, 0.2);
+        assert_eq!(
+            (p.gps.v_wander_m, p.baro.drift_m_sqrt_s),
+            (h.gps.v_wander_m, h.baro.drift_m_sqrt_s)
+        );
+        assert_ne!(h.gps.v_wander_m, SensorSuiteConfig::typical().gps.v_wander_m);
+        assert_eq!(
+            parse("[plant.sensors]\nbase = \"sitl\"").unwrap().sensors,
+            SensorSuiteConfig::typical()
+        );
+        let (field, reason) = refused("[plant.sensors]\nbase = \"rtk\"");
+        assert_eq!(field, "plant.sensors.base");
+        assert!(reason.contains("\"rtk\"") && reason.contains("hardware"), "{reason}");
     }
 
     #[test]

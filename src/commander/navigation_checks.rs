@@ -18,6 +18,9 @@ pub struct NavValidity {
     pub horizontal: bool,
     /// Height and vertical velocity are known.
     pub vertical: bool,
+    /// What is not consistent enough to arm on (the estimator's pre-flight checks, PX4's
+    /// "Preflight Fail" texts), `None` when nothing.
+    pub unstable: Option<&'static str>,
 }
 
 impl NavValidity {
@@ -26,6 +29,7 @@ impl NavValidity {
         attitude: true,
         horizontal: true,
         vertical: true,
+        unstable: None,
     };
 }
 
@@ -126,6 +130,8 @@ impl Commander {
         let v = self.nav;
         if arming && !v.attitude {
             Some("attitude estimate not aligned")
+        } else if let (true, Some(why)) = (arming, v.unstable) {
+            Some(why)
         } else if mode.needs_position() && !v.horizontal {
             Some("no valid position estimate")
         } else if mode.needs_height() && !v.vertical {
@@ -160,6 +166,7 @@ mod tests {
         attitude: true,
         horizontal: false,
         vertical: true,
+        unstable: None,
     };
 
     #[test]
@@ -186,6 +193,21 @@ mod tests {
         assert_eq!(
             s.request(Request::SetMode(FlightMode::Mission)),
             Outcome::TemporarilyRejected("Mode AUTO.MISSION: no valid position estimate".into())
+        );
+        let unstable = NavValidity {
+            unstable: Some("height estimate not stable"),
+            ..NavValidity::EXACT
+        };
+        s.c.check_navigation(unstable, &s.x.clone(), 0.0);
+        assert_eq!(
+            s.request(Request::Arm { force: false }),
+            Outcome::TemporarilyRejected("Arming denied: height estimate not stable".into()),
+            "the pre-flight checks hold arming back"
+        );
+        assert_eq!(
+            s.request(Request::SetMode(FlightMode::Position)),
+            Outcome::Accepted,
+            "not modes"
         );
         s.c.check_navigation(NavValidity::EXACT, &s.x.clone(), 0.0);
         assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);

@@ -281,6 +281,9 @@ impl Pilot for FlightController {
         );
         failsafe_events.extend(self.commander.check_failsafes(&x, esc.power_w(), self.dt_s, t_s));
         let mut tick = self.commander.update(&x, self.thrust_over_weight, t_s);
+        if self.commander.armed() {
+            self.nav.armed();
+        }
         if !failsafe_events.is_empty() {
             tick.events.splice(0..0, failsafe_events);
         }

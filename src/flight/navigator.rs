@@ -5,16 +5,19 @@
 use crate::commander::NavValidity;
 use crate::control::low_pass::LowPass3;
 use crate::control::VehicleState;
-use crate::math::{Mat3, Vec3};
+use crate::math::Mat3;
 use crate::nav_filter::{
-    BaroReading, GpsReading, HeightSource, MagReading, NavFilter, NavParams, NavParamsError, NavStatus, SourceHealth,
-    SourceStatus,
+    BaroReading, GpsReading, HeightSource, MagReading, NavFilter, NavParams, NavParamsError, NavStatus,
+    PreflightFailure, SourceHealth, SourceStatus,
 };
 use crate::sitl::Sensors;
-use crate::telemetry::{FilterSnapshot, GpsSnapshot, NavSnapshot, SensorHealth};
+use crate::telemetry::{FilterSnapshot, FreshReadings, GpsSnapshot, NavSnapshot, SensorHealth, SensorState};
 
-/// An IMU that has been silent this long counts as failed [s].
-const IMU_TIMEOUT_S: f64 = 0.1;
+/// A sensor silent this long is reported unhealthy, and a silent GPS as lost (PX4's health
+/// checks and GPS_RAW_INT) [s].
+const SENSOR_SILENT_S: f64 = 1.0;
+/// A reading this recent is new for a 50 Hz message (HIGHRES_IMU's `fields_updated`) [s].
+const FRESH_S: f64 = 0.02;
 /// Cut-off of the body rates the controllers read [Hz] (PX4's `IMU_GYRO_CUTOFF`, 40 Hz)
 /// (docs/navigation_filter.md §17).
 pub const GYRO_CUTOFF_HZ: f64 = 40.0;
@@ -122,7 +125,7 @@ impl Navigator {
 
     /// The state for tick `t_s` [s] from its readings: the state sensor's when there is one,
     /// else the filter's estimate after predicting with the IMU sample and fusing whatever
-    /// arrived (GPS, barometer, magnetometer), in the local NED frame of the readings; the rates
+    /// arrived (GPS, barometer, magnetometer), in the filter's frame; the rates
     /// and the velocity low-passed as PX4's controllers read them (docs/navigation_filter.md §17).
     pub fn update(&mut self, t_s: f64, sensors: &Sensors) -> VehicleState {
         if let Some(x) = sensors.state {
@@ -154,13 +157,14 @@ impl Navigator {
     }
 
     /// The filter's output (docs/navigation_filter.md §16) as a vehicle state at `t_s` [s],
-    /// position in the readings' frame.
+    /// position in the filter's own frame: its origin is where the vehicle stood when the filter
+    /// aligned (z = 0 there, as PX4's local frame), and the GPS readings' offset from it is
+    /// [`NavFilter::origin_w`] (the receiver's error at the first fix included).
     fn filter_state(&self, t_s: f64) -> VehicleState {
         let out = self.filter.output();
-        let origin = self.filter.origin_w().unwrap_or_else(Vec3::zeros);
         VehicleState {
             t_s,
-            pos_w: out.pos_w + origin,
+            pos_w: out.pos_w,
             vel_w: out.vel_w,
             r_wb: Mat3::from(out.q_wb.to_rotation_matrix()),
             omega_b: out.omega_b,
@@ -216,6 +220,12 @@ impl Navigator {
         out
     }
 
+    /// Tells the filter the vehicle is armed: it may leave the height it rested at, so the GNSS
+    /// height datum stops averaging (docs/navigation_filter.md §6, eq. (6.5)).
+    pub fn armed(&mut self) {
+        self.filter.freeze_height_datum();
+    }
+
     /// The latest state flown on, `None` before the first tick.
     pub fn latest(&self) -> Option<VehicleState> {
         self.latest
@@ -234,6 +244,7 @@ impl Navigator {
                 attitude: s.attitude_valid && s.yaw_aligned,
                 horizontal: s.horizontal_position_valid && s.velocity_valid,
                 vertical: s.vertical_position_valid,
+                unstable: s.preflight.map(PreflightFailure::text),
             },
         }
     }
@@ -251,7 +262,16 @@ impl Navigator {
         };
         let validity = self.validity();
         let fused = |s: &SourceStatus| s.health == SourceHealth::Fused;
-        let imu = self.readings.imu_s.is_some_and(|t| t_s - t <= IMU_TIMEOUT_S);
+        let age = |t: Option<f64>| t.map_or(f64::INFINITY, |t| t_s - t);
+        let (imu_age, gps_age) = (age(self.readings.imu_s), age(self.readings.gps.map(|g| g.t_s)));
+        let (mag_age, baro_age) = (
+            age(self.readings.mag.map(|m| m.t_s)),
+            age(self.readings.baro.map(|b| b.t_s)),
+        );
+        let imu = SensorState {
+            present: true,
+            healthy: imu_age <= SENSOR_SILENT_S,
+        };
         let e = self.filter.estimate();
         let mut flags = 0u16;
         for (bit, on) in [
@@ -287,9 +307,25 @@ impl Navigator {
             sensors: SensorHealth {
                 gyro: imu,
                 accel: imu,
-                mag: fused(&status.mag),
-                baro: fused(&status.baro),
-                gps: fused(&status.gps) && validity.horizontal,
+                mag: SensorState {
+                    present: true,
+                    healthy: mag_age <= SENSOR_SILENT_S && fused(&status.mag),
+                },
+                baro: SensorState {
+                    present: true,
+                    healthy: baro_age <= SENSOR_SILENT_S && fused(&status.baro),
+                },
+                // Present while the filter takes its position, as PX4 reports it.
+                gps: SensorState {
+                    present: fused(&status.gps) && validity.horizontal,
+                    healthy: gps_age <= SENSOR_SILENT_S && fused(&status.gps) && validity.horizontal,
+                },
+            },
+            fresh: FreshReadings {
+                imu: imu_age <= FRESH_S,
+                mag: mag_age <= FRESH_S,
+                baro: baro_age <= FRESH_S,
+                baro_alive: baro_age <= SENSOR_SILENT_S,
             },
             gps: self.readings.gps.map(|g| GpsSnapshot {
                 pos_w: g.pos_w,
@@ -298,9 +334,11 @@ impl Navigator {
                 speed_acc_m_s: g.speed_acc_m_s,
                 fix_3d: g.fix_3d,
                 satellites: g.satellites,
+                silent: gps_age > SENSOR_SILENT_S,
             }),
             mag_b: self.readings.mag.map(|m| m.field_b),
             baro: self.readings.baro.map(|b| (b.pressure_pa, b.temperature_c)),
+            suite: true,
             filter: Some(FilterSnapshot {
                 flags,
                 test_ratios: [

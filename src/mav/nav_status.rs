@@ -1,19 +1,34 @@
 //! What the navigation tells ground stations (docs/mavlink.md §4): GPS_RAW_INT from the GPS
-//! reading, ESTIMATOR_STATUS from the navigation filter, and the magnetometer and barometer of
-//! HIGHRES_IMU. With the state sensor (no sensor suite) GPS_RAW_INT reports the estimate as a
+//! reading, ESTIMATOR_STATUS from the navigation filter, HIGHRES_IMU and SCALED_PRESSURE from the
+//! raw sensors. With the state sensor (no sensor suite) GPS_RAW_INT reports the estimate as a
 //! perfect 3D fix and ESTIMATOR_STATUS every estimate good. Pure.
 
 use mavlink::dialects::common::{
-    EstimatorStatusFlags, GpsFixType, MavMessage, ESTIMATOR_STATUS_DATA, GPS_RAW_INT_DATA,
+    EstimatorStatusFlags, GpsFixType, HighresImuUpdatedFlags, MavMessage, ESTIMATOR_STATUS_DATA, GPS_RAW_INT_DATA,
+    HIGHRES_IMU_DATA, SCALED_PRESSURE_DATA,
 };
 
 use crate::math::Vec3;
 use crate::telemetry::Snapshot;
 
 /// GPS_RAW_INT: the latest GPS reading (position as latitude, longitude and altitude AMSL about
-/// home, accuracies, speed and course, fix and satellites); without a GPS, the estimate.
+/// home, the same altitude above the ellipsoid as PX4 SITL reports it, accuracies, speed and
+/// course, fix and satellites); without a GPS, the estimate. A receiver silent for a second is
+/// reported as PX4 does: no fix, accuracies, speed and course unknown (65535), satellites 255.
 pub(super) fn gps_raw_int(s: &Snapshot) -> MavMessage {
     let time_usec = (s.t_s * 1e6) as u64;
+    if s.nav.gps.is_some_and(|g| g.silent) {
+        return MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
+            time_usec,
+            fix_type: GpsFixType::GPS_FIX_TYPE_NO_GPS,
+            eph: u16::MAX,
+            epv: u16::MAX,
+            vel: u16::MAX,
+            cog: u16::MAX,
+            satellites_visible: u8::MAX,
+            ..Default::default()
+        });
+    }
     let (pos_w, vel_w, (h_acc, v_acc), speed_acc, fix, sats) = match s.nav.gps {
         Some(g) => (
             g.pos_w,
@@ -42,6 +57,7 @@ pub(super) fn gps_raw_int(s: &Snapshot) -> MavMessage {
         cog: course_cdeg(&vel_w),
         fix_type: fix,
         satellites_visible: sats,
+        alt_ellipsoid: (alt * 1000.0).round() as i32,
         h_acc: mm(h_acc),
         v_acc: mm(v_acc),
         vel_acc: mm(speed_acc),
@@ -99,4 +115,59 @@ pub(super) fn mag_and_baro(s: &Snapshot) -> (Vec3, f64, f64) {
         }
     };
     (mag_b, pressure_hpa, temperature_c)
+}
+
+/// HIGHRES_IMU: the accelerometer (specific force), the gyroscope, the magnetometer and the
+/// barometer, with the fields that are new marked.
+pub(super) fn highres_imu(s: &Snapshot) -> MavMessage {
+    let time_usec = (s.t_s * 1e6) as u64;
+    let (mag_b, pressure_hpa, temperature) = mag_and_baro(s);
+    let alt = s.home.to_global(&s.pos_w).2;
+    MavMessage::HIGHRES_IMU(HIGHRES_IMU_DATA {
+        time_usec,
+        xacc: s.accel_b.x as f32,
+        yacc: s.accel_b.y as f32,
+        zacc: s.accel_b.z as f32,
+        xgyro: s.omega_b.x as f32,
+        ygyro: s.omega_b.y as f32,
+        zgyro: s.omega_b.z as f32,
+        xmag: mag_b.x as f32,
+        ymag: mag_b.y as f32,
+        zmag: mag_b.z as f32,
+        abs_pressure: pressure_hpa as f32,
+        pressure_alt: alt as f32,
+        temperature: temperature as f32,
+        fields_updated: highres_imu_updated(s),
+        ..Default::default()
+    })
+}
+
+/// HIGHRES_IMU's `fields_updated`, as PX4 sets it: accelerometer and gyroscope (bits 0–5) with
+/// every new IMU sample, magnetometer (6–8) and barometer (9, 11, 12: pressure, pressure
+/// altitude, temperature) only when they delivered since the last message; no differential
+/// pressure (bit 10) without an airspeed sensor.
+fn highres_imu_updated(s: &Snapshot) -> HighresImuUpdatedFlags {
+    let fresh = s.nav.fresh;
+    let mut bits = 0u16;
+    for (on, mask) in [(fresh.imu, 0x003F), (fresh.mag, 0x01C0), (fresh.baro, 0x1A00)] {
+        if on {
+            bits |= mask;
+        }
+    }
+    HighresImuUpdatedFlags::from_bits_truncate(bits)
+}
+
+/// SCALED_PRESSURE: the barometer's pressure [hPa] and temperature [cdegC]; none while it is
+/// silent (PX4 sends it on each new reading).
+pub(super) fn scaled_pressure(s: &Snapshot) -> Option<MavMessage> {
+    if !s.nav.fresh.baro_alive {
+        return None;
+    }
+    let (_, pressure_hpa, temperature_c) = mag_and_baro(s);
+    Some(MavMessage::SCALED_PRESSURE(SCALED_PRESSURE_DATA {
+        time_boot_ms: super::telemetry::time_boot_ms(s),
+        press_abs: pressure_hpa as f32,
+        temperature: (temperature_c * 100.0).round() as i16,
+        ..Default::default()
+    }))
 }

@@ -7,7 +7,7 @@ use mavlink::dialects::common::{
 };
 
 use crate::commander::{FlightMode, MissionState};
-use crate::telemetry::{BatterySnapshot, Snapshot};
+use crate::telemetry::{BatterySnapshot, SensorState, Snapshot};
 
 /// Pack voltage [mV].
 fn millivolts(b: &BatterySnapshot) -> u16 {
@@ -61,15 +61,17 @@ pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
 }
 
 /// SYS_STATUS (docs/mavlink.md §4): the sensors MAVSDK's `health_all_ok()` checks (gyro,
-/// accelerometer, magnetometer, barometer, GPS) and the attitude estimate (AHRS) present and
-/// enabled, each healthy while the navigation takes usable data from it (the GPS while the
-/// filter has a horizontal position: MAVSDK's "global position ok"); the pre-arm check healthy
+/// accelerometer, magnetometer, barometer, GPS) as PX4's health report fills them: present,
+/// enabled when present or unhealthy, healthy while the sensor delivered within the last second
+/// and the navigation takes its data (the GPS present only while the filter uses its position:
+/// MAVSDK's "global position ok"); the attitude estimate (AHRS); the pre-arm check healthy
 /// while arming would pass (MAVSDK's "armable"); the geofence present, enabled and healthy unless
 /// the vehicle is outside it. A clear geofence health bit reads as a breach (MAVProxy says "fence
 /// breach" when it sees one), so the bit is cleared on a real breach only.
 pub(super) fn sys_status(s: &Snapshot) -> MavMessage {
     let b = &s.battery;
     let nav = &s.nav;
+    let always = |healthy: bool| SensorState { present: true, healthy };
     let checks = [
         (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO, nav.sensors.gyro),
         (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_ACCEL, nav.sensors.accel),
@@ -79,21 +81,32 @@ pub(super) fn sys_status(s: &Snapshot) -> MavMessage {
             nav.sensors.baro,
         ),
         (MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_GPS, nav.sensors.gps),
-        (MavSysStatusSensor::MAV_SYS_STATUS_AHRS, nav.validity.attitude),
-        (MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK, nav.armable),
-        (MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE, !s.geofence_breached),
+        (MavSysStatusSensor::MAV_SYS_STATUS_AHRS, always(nav.validity.attitude)),
+        (MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK, always(nav.armable)),
+        (
+            MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE,
+            always(!s.geofence_breached),
+        ),
     ];
-    let mut sensors = MavSysStatusSensor::empty();
-    let mut health = MavSysStatusSensor::empty();
-    for (bit, healthy) in checks {
-        sensors |= bit;
-        if healthy {
+    let (mut present, mut enabled, mut health) = (
+        MavSysStatusSensor::empty(),
+        MavSysStatusSensor::empty(),
+        MavSysStatusSensor::empty(),
+    );
+    for (bit, state) in checks {
+        if state.present {
+            present |= bit;
+        }
+        if state.present || !state.healthy {
+            enabled |= bit;
+        }
+        if state.healthy {
             health |= bit;
         }
     }
     MavMessage::SYS_STATUS(SYS_STATUS_DATA {
-        onboard_control_sensors_present: sensors,
-        onboard_control_sensors_enabled: sensors,
+        onboard_control_sensors_present: present,
+        onboard_control_sensors_enabled: enabled,
         onboard_control_sensors_health: health,
         voltage_battery: millivolts(b),
         current_battery: (b.current_a * 100.0).round().clamp(0.0, f64::from(i16::MAX)) as i16,

@@ -36,6 +36,7 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         ExternalForce | ExternalTorque | MassEstimate => (10.0, 10.0),
         OrbitStatus => (5.0, 5.0),
         EstimatorStatus => (0.5, 0.5),
+        ScaledPressure => (1.0, 1.0),
         // ArduPilot's message: off unless asked for (REQUEST_DATA_STREAM, SET_MESSAGE_INTERVAL).
         EkfStatusReport => (0.0, 0.0),
         SystemTime => (0.0, 1.0),
@@ -116,7 +117,7 @@ impl StreamTable {
         use Stream::*;
         let group: &[Stream] = match stream_id {
             0 => &Stream::ALL,
-            1 => &[HighresImu],
+            1 => &[HighresImu, ScaledPressure],
             2 => &[SysStatus, ExtendedSysState, GpsRawInt, MissionCurrent],
             6 => &[GlobalPosition, LocalPosition],
             10 => &[Attitude],

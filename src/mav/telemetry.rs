@@ -2,10 +2,10 @@
 //! messages (battery, SYS_STATUS, MISSION_CURRENT, STATUSTEXT) are in `status.rs`. Pure.
 
 use mavlink::dialects::common::{
-    HighresImuUpdatedFlags, MavFrame, MavLandedState, MavMessage, MavVtolState, PositionTargetTypemask,
-    ACTUATOR_OUTPUT_STATUS_DATA, ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA, DEBUG_VECT_DATA,
-    EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA, HIGHRES_IMU_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA,
-    NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA, SYSTEM_TIME_DATA, VFR_HUD_DATA,
+    MavFrame, MavLandedState, MavMessage, MavVtolState, PositionTargetTypemask, ACTUATOR_OUTPUT_STATUS_DATA,
+    ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA, DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA,
+    GLOBAL_POSITION_INT_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, NAMED_VALUE_FLOAT_DATA,
+    POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA, SYSTEM_TIME_DATA, VFR_HUD_DATA,
 };
 
 use super::foreign::ForeignMessage;
@@ -65,6 +65,8 @@ pub enum Stream {
     EventSequence,
     /// ESTIMATOR_STATUS (230): the navigation filter's flags, test ratios and accuracies.
     EstimatorStatus,
+    /// SCALED_PRESSURE (29): the barometer's pressure and temperature; none while it is silent.
+    ScaledPressure,
     /// EKF_STATUS_REPORT (193, `ardupilotmega`): the same filter report as ArduPilot sends it,
     /// for ground stations that read that one ([`super::foreign`]); [`message`] has none.
     EkfStatusReport,
@@ -75,7 +77,7 @@ pub enum Stream {
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 25] = [
+    pub const ALL: [Stream; 26] = [
         Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
@@ -100,6 +102,7 @@ impl Stream {
         Stream::SystemTime,
         Stream::EventSequence,
         Stream::EstimatorStatus,
+        Stream::ScaledPressure,
         Stream::EkfStatusReport,
     ];
 
@@ -129,6 +132,7 @@ impl Stream {
             Stream::SystemTime => 2,
             Stream::EventSequence => 411,
             Stream::EstimatorStatus => 230,
+            Stream::ScaledPressure => 29,
             Stream::EkfStatusReport => super::foreign::EKF_STATUS_REPORT_ID,
         }
     }
@@ -147,7 +151,7 @@ fn heading_cdeg(s: &Snapshot) -> u16 {
     (s.eta.z.to_degrees().rem_euclid(360.0) * 100.0).round() as u16 % 36000
 }
 
-fn time_boot_ms(s: &Snapshot) -> u32 {
+pub(super) fn time_boot_ms(s: &Snapshot) -> u32 {
     (s.t_s * 1000.0) as u32
 }
 
@@ -210,6 +214,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         }
         Stream::GpsRawInt => super::nav_status::gps_raw_int(s),
         Stream::EstimatorStatus => super::nav_status::estimator_status(s),
+        Stream::ScaledPressure => return super::nav_status::scaled_pressure(s),
         Stream::VfrHud => MavMessage::VFR_HUD(VFR_HUD_DATA {
             airspeed: s.vel_w.norm() as f32,
             groundspeed: s.vel_w.xy().norm() as f32,
@@ -296,27 +301,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 actuator,
             })
         }
-        Stream::HighresImu => {
-            let (mag_b, pressure_hpa, temperature) = super::nav_status::mag_and_baro(s);
-            let alt = s.home.to_global(&s.pos_w).2;
-            MavMessage::HIGHRES_IMU(HIGHRES_IMU_DATA {
-                time_usec,
-                xacc: s.accel_b.x as f32,
-                yacc: s.accel_b.y as f32,
-                zacc: s.accel_b.z as f32,
-                xgyro: s.omega_b.x as f32,
-                ygyro: s.omega_b.y as f32,
-                zgyro: s.omega_b.z as f32,
-                xmag: mag_b.x as f32,
-                ymag: mag_b.y as f32,
-                zmag: mag_b.z as f32,
-                abs_pressure: pressure_hpa as f32,
-                pressure_alt: alt as f32,
-                temperature: temperature as f32,
-                fields_updated: HighresImuUpdatedFlags::from_bits_truncate(0x1FFF),
-                ..Default::default()
-            })
-        }
+        Stream::HighresImu => super::nav_status::highres_imu(s),
         Stream::ExternalForce => vector("EXT_F", s.estimate?.force_w),
         Stream::ExternalTorque => vector("EXT_T", s.estimate?.torque_b),
         Stream::MassEstimate => MavMessage::NAMED_VALUE_FLOAT(NAMED_VALUE_FLOAT_DATA {
@@ -366,7 +351,8 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 lat,
                 lon,
                 alt,
-                relative_alt: (-s.pos_w.z * 1000.0).round() as i32,
+                // Above home, as PX4 reports it.
+                relative_alt: ((s.home_w.z - s.pos_w.z) * 1000.0).round() as i32,
                 vx: (s.vel_w.x * 100.0).round() as i16,
                 vy: (s.vel_w.y * 100.0).round() as i16,
                 vz: (s.vel_w.z * 100.0).round() as i16,

@@ -129,6 +129,23 @@ const ALIGN_GYRO_BIAS_FLOOR_RAD_S: f64 = 0.002;
 /// Tilt uncertainty beyond the accelerometer bias and noise (vibration, slight motion) (1σ)
 /// [rad] (docs/navigation_filter.md §11, eq. (11.3)).
 const ALIGN_TILT_FLOOR_RAD: f64 = 1e-3;
+/// Uncertainty of the accelerometer bias along gravity left after the alignment, beyond the
+/// averaged noise: local gravity's departure from the standard value, vibration (1σ) [m/s²]
+/// (docs/navigation_filter.md §11, eq. (11.6)).
+const ALIGN_VERTICAL_BIAS_FLOOR_M_S2: f64 = 0.01;
+
+/// The accelerometer bias along gravity that the mean specific force `f_b` [m/s²] of a vehicle
+/// at rest shows: its magnitude departs from g only by the bias component along the vertical,
+/// `b = (g − ‖f̄‖) d`, `d = −f̄/‖f̄‖` the body's down (docs/navigation_filter.md §11, eq. (11.6)).
+/// The horizontal components tilt the estimate instead and stay unknown.
+pub(super) fn vertical_accel_bias(f_b: &Vec3) -> Vec3 {
+    let norm = f_b.norm();
+    if norm > 0.0 {
+        -f_b / norm * (GRAVITY_M_S2 - norm)
+    } else {
+        Vec3::zeros()
+    }
+}
 
 /// Initial covariance after an alignment of `window_s` [s] at attitude `q_wb`: the tilt error is
 /// the accelerometer bias seen through gravity, so the two are fully correlated; the gyro bias
@@ -151,6 +168,8 @@ pub(super) fn initial_covariance(
     let gyro_bias = (p.gyro_noise_rad_s.powi(2) * averaged + ALIGN_GYRO_BIAS_FLOOR_RAD_S.powi(2))
         .min(p.gyro_bias_init_rad_s.powi(2));
     let tilt_noise = p.accel_noise_m_s2.powi(2) * averaged / GRAVITY_M_S2.powi(2) + ALIGN_TILT_FLOOR_RAD.powi(2);
+    let vertical_bias = (p.accel_noise_m_s2.powi(2) * averaged + ALIGN_VERTICAL_BIAS_FLOOR_M_S2.powi(2))
+        .min(p.accel_bias_init_m_s2.powi(2));
     let diagonal = [
         (ERR_POS, [pos, pos, height]),
         (ERR_VEL, [vel, vel, 2.25 * vel]),
@@ -168,15 +187,19 @@ pub(super) fn initial_covariance(
     m.set_row(0, &(r.row(1) / GRAVITY_M_S2));
     m.set_row(1, &(-r.row(0) / GRAVITY_M_S2));
     let var_ba = p.accel_bias_init_m_s2.powi(2);
-    let tilt_from_bias = m * m.transpose() * var_ba;
-    let cross = m * var_ba;
+    // P_ba = var_ba (I − d dᵀ) + var_v d dᵀ: the bias along the body's down d was measured
+    // (docs/navigation_filter.md §11, eq. (11.6)); M d = 0, so the tilt rows see only the horizontal part.
+    let d = r.row(2).transpose();
+    let p_ba = var_ba * (Mat3::identity() - d * d.transpose()) + vertical_bias * d * d.transpose();
+    let tilt_from_bias = m * p_ba * m.transpose();
+    let cross = m * p_ba;
     for i in 0..3 {
         for j in 0..3 {
             cov[(ERR_ATT + i, ERR_ATT + j)] += tilt_from_bias[(i, j)];
             cov[(ERR_ATT + i, ERR_ACCEL_BIAS + j)] = cross[(i, j)];
             cov[(ERR_ACCEL_BIAS + j, ERR_ATT + i)] = cross[(i, j)];
+            cov[(ERR_ACCEL_BIAS + i, ERR_ACCEL_BIAS + j)] = p_ba[(i, j)];
         }
-        cov[(ERR_ACCEL_BIAS + i, ERR_ACCEL_BIAS + i)] = var_ba;
     }
     if active_height == HeightSource::Gps {
         cov[(ERR_BARO_OFFSET, ERR_BARO_OFFSET)] = p.baro_noise_m * p.baro_noise_m;
@@ -185,9 +208,10 @@ pub(super) fn initial_covariance(
 }
 
 impl NavFilter {
-    /// Ends the alignment: attitude from the window's means, gyro bias from the mean rate,
-    /// state at the origin and at rest, initial covariance, barometric altitude of the origin
-    /// (docs/navigation_filter.md §11, eqs. (11.1)–(11.3)).
+    /// Ends the alignment: attitude from the window's means, gyro bias from the mean rate, the
+    /// accelerometer bias along gravity from the mean specific force's magnitude, state at the
+    /// origin and at rest, initial covariance, barometric altitude of the origin
+    /// (docs/navigation_filter.md §11, eqs. (11.1)–(11.3), (11.6)).
     pub(super) fn finish_alignment(&mut self) {
         let (roll, pitch) = tilt_from_accel(&self.aligner.mean_accel_b());
         let decl = self.params.mag_declination_rad;
@@ -197,6 +221,7 @@ impl NavFilter {
         self.x = Nominal {
             q_wb,
             gyro_bias_b: self.aligner.mean_gyro_b(),
+            accel_bias_b: vertical_accel_bias(&self.aligner.mean_accel_b()),
             ..Nominal::default()
         };
         self.omega_b = Vec3::zeros();
@@ -357,6 +382,28 @@ mod tests {
             assert_eq!(cov[(ERR_ATT + 2, ERR_ACCEL_BIAS + j)], 0.0);
         }
         assert!((cov[(ERR_ATT, ERR_ATT)].sqrt() - 0.2 / GRAVITY_M_S2).abs() < 2e-3);
+    }
+
+    #[test]
+    fn the_bias_along_gravity_is_read_from_the_specific_forces_magnitude() {
+        let q = UnitQuat::from_euler_angles(0.1, -0.05, 1.0);
+        let f_true = q.inverse() * Vec3::new(0.0, 0.0, -GRAVITY_M_S2);
+        let bias = Vec3::new(0.15, -0.1, 0.2);
+        let f = f_true + bias;
+        let b = vertical_accel_bias(&f);
+        let down = q.inverse() * Vec3::z();
+        // The part along the body's down is recovered (to second order in the bias), along the
+        // measured down; what is left is horizontal.
+        assert!((b.dot(&down) - bias.dot(&down)).abs() < 5e-3, "{b} vs {bias}");
+        assert!(b.cross(&f).norm() < 1e-12);
+        let p = NavParams::default();
+        let cov = initial_covariance(&p, HeightSource::Gps, &q, 1.0);
+        assert!(cov.symmetric_eigenvalues().min() > -1e-15);
+        let p_ba = cov.fixed_view::<3, 3>(ERR_ACCEL_BIAS, ERR_ACCEL_BIAS);
+        assert!(
+            (down.transpose() * p_ba * down)[(0, 0)].sqrt() < 0.05,
+            "measured along gravity"
+        );
     }
 
     #[test]

@@ -48,6 +48,12 @@ impl NavFilter {
         };
         self.innovations.baro_height_m = innovation;
         self.innovations.baro_height_var = innovation_variance(&self.p, &obs);
+        self.preflight.baro_height(
+            self.t_s,
+            innovation,
+            self.innovations.baro_height_var,
+            self.params.baro_gate_sd,
+        );
         let f = if self.height.active == HeightSource::Baro {
             self.fuse_active_height(HeightSource::Baro, &obs, self.params.baro_gate_sd)
         } else {

@@ -56,7 +56,9 @@ impl NavFilter {
         let Some(past) = self.buffer.at(t_meas) else {
             return GpsFusion::all(Fusion::skipped(SkipReason::Stale));
         };
-        let origin = *self.origin_w.get_or_insert(gps.pos_w - past.pos_w);
+        let origin = self.origin_w.get_or_insert(gps.pos_w - past.pos_w);
+        origin.z = self.datum.observe(gps.pos_w.z, past.pos_w.z, past.vel_w.norm());
+        let origin = *origin;
         let z_w = gps.pos_w - origin;
         let p = self.params;
         let var_h = p.gps_pos_noise_m.max(gps.h_acc_m).powi(2);
@@ -82,6 +84,8 @@ impl NavFilter {
             let group = [0, 1, 2].map(|i| Scalar::of_state(ERR_VEL + i, nu_vel[i], var_vel));
             let f = self.fuse_gated(&group, p.gps_vel_gate_sd, |s, v| s.innovations.gps_vel_var = v);
             self.ratios.gps_velocity = f.test_ratio;
+            let var = self.innovations.gps_vel_var;
+            self.preflight.velocity(now, &nu_vel, &var, p.gps_vel_gate_sd);
             f
         };
         self.innovations.gps_vel_w = nu_vel;
@@ -113,6 +117,9 @@ impl NavFilter {
                 s.innovations.gps_pos_var.y = v.y;
             });
             self.ratios.gps_horizontal = f.test_ratio;
+            let var = self.innovations.gps_pos_var;
+            self.preflight
+                .position(now, (nu_pos.x, nu_pos.y), (var.x, var.y), p.gps_pos_gate_sd);
             f
         };
         if horizontal.accepted() {
@@ -127,6 +134,7 @@ impl NavFilter {
         let obs = Scalar::of_state(ERR_POS + 2, nu_z, var_v);
         let s = innovation_variance(&self.p, &obs);
         self.innovations.gps_pos_var.z = s;
+        self.preflight.gps_height(now, nu_z, s, p.gps_pos_gate_sd);
         let vertical = if self.height.active == HeightSource::Gps {
             self.fuse_active_height(HeightSource::Gps, &obs, p.gps_pos_gate_sd)
         } else {

@@ -103,6 +103,12 @@ impl NavFilter {
         });
         self.innovations.heading_rad = innovation;
         self.innovations.heading_var = update.innovation_variance[0];
+        self.preflight.heading(
+            self.t_s,
+            innovation,
+            self.innovations.heading_var,
+            self.params.mag_gate_sd,
+        );
         self.ratios.heading = update.test_ratio;
         let outcome = match update.dx {
             Some(dx) => {

@@ -16,9 +16,11 @@
 //! - `delay_buffer`: the fixed-size state history for delayed measurements.
 //! - `alignment`: roll and pitch from the accelerometer, yaw from the magnetometer, initial P.
 //! - `fuse_gps`, `fuse_baro`, `fuse_mag`: the measurement models and their fusion.
+//! - `datum`: the GNSS height datum, averaged until the first arming.
 //! - `height`: which height source is active, fall-back and return.
 //! - `aiding`: dead reckoning, validity, the position-hold pseudo-measurement.
 //! - `fusion`, `status`, `estimate`: what the filter returns.
+//! - `preflight`: the pre-flight checks on the low-passed innovations.
 //! - `isa`: ISA pressure altitude.
 //! - `yaw_estimator`, `heading_aid`: the heading from GNSS velocity (a Gaussian sum of heading
 //!   hypotheses) and its fusion while the magnetometer is lost.
@@ -26,6 +28,7 @@
 mod aiding;
 mod alignment;
 mod covariance;
+mod datum;
 mod delay_buffer;
 mod estimate;
 mod fuse_baro;
@@ -38,6 +41,7 @@ pub mod isa;
 mod output;
 mod params;
 mod predict;
+mod preflight;
 mod readings;
 mod state;
 mod status;
@@ -51,6 +55,7 @@ pub use estimate::NavEstimate;
 pub use fusion::{Fusion, GpsFusion, Outcome, SkipReason};
 pub use output::NavOutput;
 pub use params::{HeightSource, NavParams, NavParamsError, MAX_DELAY_S};
+pub use preflight::PreflightFailure;
 pub use readings::{BaroReading, GpsReading, ImuReading, MagReading};
 pub use state::{
     Covariance, ErrorVector, ERR_ACCEL_BIAS, ERR_ATT, ERR_BARO_OFFSET, ERR_GYRO_BIAS, ERR_POS, ERR_VEL, STATE_DIM,
@@ -62,10 +67,12 @@ use crate::math::Vec3;
 use aiding::Aiding;
 use alignment::Aligner;
 use covariance::Increments;
+use datum::GnssDatum;
 use delay_buffer::DelayBuffer;
 use heading_aid::HeadingAidIncrements;
 use height::HeightSelection;
 use output::OutputLag;
+use preflight::PreflightChecks;
 use state::{part, Nominal};
 use status::SourceTrack;
 use yaw_estimator::YawEstimator;
@@ -88,6 +95,8 @@ pub struct NavFilter {
     /// tan of the field's inclination, taken when the yaw is set from the magnetometer.
     mag_tan_inclination: Option<f64>,
     origin_w: Option<Vec3>,
+    /// The vertical part of `origin_w` (docs/navigation_filter.md §6, eq. (6.5)).
+    datum: GnssDatum,
     baro_origin_m: Option<f64>,
     height: HeightSelection,
     aiding: Aiding,
@@ -96,6 +105,8 @@ pub struct NavFilter {
     mag: SourceTrack,
     ratios: TestRatios,
     innovations: Innovations,
+    /// The low-passed innovations the pre-flight checks read (docs/navigation_filter.md §19).
+    preflight: PreflightChecks,
     resets: ResetCounters,
     imu_dropped: u32,
     /// The corrections not yet blended into the output (docs/navigation_filter.md §16).
@@ -137,6 +148,7 @@ impl NavFilter {
             yaw_aligned: false,
             mag_tan_inclination: None,
             origin_w: None,
+            datum: GnssDatum::default(),
             baro_origin_m: None,
             height: HeightSelection::new(params.height_ref),
             aiding: Aiding::default(),
@@ -145,6 +157,7 @@ impl NavFilter {
             mag: SourceTrack::default(),
             ratios: TestRatios::default(),
             innovations: Innovations::default(),
+            preflight: PreflightChecks::default(),
             resets: ResetCounters::default(),
             imu_dropped: 0,
             output_lag: OutputLag::default(),
@@ -209,6 +222,12 @@ impl NavFilter {
         self.origin_w
     }
 
+    /// Freezes the GNSS height datum: the vehicle armed and may leave the height it rested at
+    /// (docs/navigation_filter.md §6, eq. (6.5)).
+    pub fn freeze_height_datum(&mut self) {
+        self.datum.freeze();
+    }
+
     /// The filter's report on itself (docs/navigation_filter.md §12–§13).
     pub fn status(&self) -> NavStatus {
         let now = self.t_s;
@@ -232,6 +251,11 @@ impl NavFilter {
             mag: self.mag.status(now, timeout),
             test_ratios: self.ratios,
             innovations: self.innovations,
+            preflight: if self.aligned {
+                self.preflight.failure(now, self.yaw_aligned)
+            } else {
+                Some(PreflightFailure::Heading)
+            },
             resets: self.resets,
             origin_w: self.origin_w,
             baro_origin_m: self.baro_origin_m,

@@ -222,6 +222,9 @@ pub struct NavStatus {
     pub test_ratios: TestRatios,
     /// Latest innovations.
     pub innovations: Innovations,
+    /// The first pre-flight check that fails, `None` when the estimate is consistent enough to
+    /// arm on (docs/navigation_filter.md §19).
+    pub preflight: Option<super::PreflightFailure>,
     /// Resets and height-source changes.
     pub resets: ResetCounters,
     /// The filter's origin in the GNSS readings' NED frame [m], set at the first good fix.

@@ -4,7 +4,8 @@
 //!
 //! Each tick, with reference position p, velocity v and heading ψ:
 //! ```text
-//! position set:   v_d = v_stop(p_sp − p) + (v_ff − ê (ê · v_ff))   (feed-forward across only)
+//! position set:   v_d = v_stop(p_sp − p) + c,  c = v_ff − ê (ê · v_ff) limited to |v_stop|
+//!                 (feed-forward across only, and only as fast as the reference can stop)
 //!                 v_stop(e) = ê · (K_p |e| near p_sp, else √(2 a_max (|e| − a_max/2K_p²)))
 //! velocity only:  v_d = v_sp
 //! v_d clamped to MPC_XY_VEL_MAX, MPC_Z_VEL_MAX_UP / _DN
@@ -135,7 +136,19 @@ fn toward(e_w: Vec3, ff_w: Vec3, lim: &MotionLimits) -> Vec3 {
     let v_xy = if d_xy > 1e-9 {
         let dir = e_xy / d_xy;
         let ff = ff_w.xy();
-        dir * stopping_speed(d_xy, lim.acc_horizontal_m_s2) + (ff - dir * ff.dot(&dir))
+        let stop = stopping_speed(d_xy, lim.acc_horizontal_m_s2);
+        // Across the line, the feed-forward no faster than the reference could still stop from:
+        // close to the point the line's direction is ill-defined, and an unlimited cross term
+        // would turn the feed-forward into a demand at right angles to wherever the last
+        // millimetres point (a limit cycle around the point).
+        let across = ff - dir * ff.dot(&dir);
+        let across_speed = across.norm();
+        let across = if across_speed > stop {
+            across * (stop / across_speed)
+        } else {
+            across
+        };
+        dir * stop + across
     } else {
         nalgebra::Vector2::zeros()
     };
@@ -323,5 +336,27 @@ mod tests {
         let sps = fly(&mut l, raw, 1.0);
         let turned = wrap_pi(sps.last().unwrap().yaw_rad.unwrap() - MAX_HEADING_LEAD_RAD);
         assert!((turned - 30f64.to_radians()).abs() < 1e-3, "{}", turned.to_degrees());
+    }
+
+    #[test]
+    fn a_feed_forward_does_not_circle_a_point_reached_off_its_line() {
+        // The reference starts a millimetre beside the line to the point: as it arrives, the
+        // line's direction turns sideways, and the feed-forward must not follow it.
+        let mut l = SetpointLimiter::at(&still(Vec3::new(0.0, 1e-3, -10.0)));
+        let raw = FlatSetpoint {
+            pos_w: Some(Vec3::new(50.0, 0.0, -10.0)),
+            vel_w: Some(Vec3::new(1.0, 0.0, 0.0)),
+            yaw_rad: Some(0.0),
+            ..Default::default()
+        };
+        let sps = fly(&mut l, raw, 30.0);
+        let late = &sps[15_000..];
+        let worst_y = late.iter().map(|s| s.pos_w.unwrap().y.abs()).fold(0.0, f64::max);
+        let worst_a = late.iter().map(|s| s.acc_w.unwrap().norm()).fold(0.0, f64::max);
+        assert!(
+            worst_y < 2e-3 && worst_a < 0.05,
+            "circling: {worst_y} m across, {worst_a} m/s²"
+        );
+        assert!((sps.last().unwrap().pos_w.unwrap() - Vec3::new(50.0, 0.0, -10.0)).norm() < 0.01);
     }
 }

@@ -61,16 +61,25 @@ pub struct BaroConfig {
 }
 
 impl BaroConfig {
-    /// 50 Hz at PX4's default home, 488 m above sea level. Noise 0.5 m: above PX4 SITL's 1 Pa
-    /// (≈ 0.085 m), which has no propeller wash, and below EKF2_BARO_NOISE = 3.5 m, the
-    /// estimator's deliberately cautious figure. Drift 0.03 m/√s, about 0.7 m over ten minutes
-    /// (a project choice: PX4 SITL's drift is off by default).
+    /// PX4 SITL's simulated barometer (`sensor_baro_sim`), the default: 50 Hz at PX4's default
+    /// home, 488 m above sea level, white noise of 1 Pa (≈ 0.085 m there), no drift.
     pub fn typical() -> Self {
         Self {
             rate_hz: 50.0,
             origin_alt_m: 488.0,
+            noise_m: 0.085,
+            drift_m_sqrt_s: 0.0,
+        }
+    }
+
+    /// A barometer under propeller wash on a real vehicle: noise 0.5 m (below EKF2_BARO_NOISE =
+    /// 3.5 m, the estimator's deliberately cautious figure) and a drift of 0.03 m/√s, about
+    /// 0.7 m over ten minutes. Rate and origin as typical.
+    pub fn hardware() -> Self {
+        Self {
             noise_m: 0.5,
             drift_m_sqrt_s: 0.03,
+            ..Self::typical()
         }
     }
 

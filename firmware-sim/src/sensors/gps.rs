@@ -58,26 +58,43 @@ pub struct GpsConfig {
 }
 
 impl GpsConfig {
-    /// A u-blox-class receiver on a small PX4 quadrotor. 10 Hz; latency 110 ms
-    /// (EKF2_GPS_DELAY). Horizontal errors: white 0.3 m and wandering 0.4 m, together
-    /// 0.5 m = EKF2_GPS_P_NOISE; vertical ones 1.5 times larger (the factor of PX4's SITL GPS
-    /// model); wander correlation time 60 s (PX4's Gazebo GPS plugin). Velocity noise 0.1 m/s,
-    /// between PX4 SITL's ≈ 0.02 m/s and EKF2_GPS_V_NOISE = 0.3 m/s. 10 satellites
-    /// (SIM_GPS_USED); reported accuracies eph 0.9 m, epv 1.78 m, speed 0.4 m/s as PX4 SITL.
+    /// PX4 SITL's simulated receiver (`sensor_gps_sim`), the default: a position error that is a
+    /// first-order Gauss–Markov process of 0.025 m per horizontal axis and 0.037 m vertically
+    /// (1.5 ×) with a 0.46 s correlation time (PX4's 0.76 per 8 Hz step), no white part;
+    /// velocity noise 0.024 m/s (its 0.02 m/s Markov process's stationary figure). 10 Hz;
+    /// latency 110 ms (EKF2_GPS_DELAY). 10 satellites (SIM_GPS_USED); reported accuracies eph
+    /// 0.9 m, epv 1.78 m, speed 0.4 m/s, as PX4 SITL reports them.
     pub fn typical() -> Self {
         Self {
             rate_hz: 10.0,
             latency_s: 0.11,
+            h_noise_m: 0.0,
+            v_noise_m: 0.0,
+            h_wander_m: 0.025,
+            v_wander_m: 0.037,
+            wander_tau_s: 0.46,
+            vel_noise_m_s: 0.024,
+            satellites: 10,
+            h_acc_m: 0.9,
+            v_acc_m: 1.78,
+            speed_acc_m_s: 0.4,
+        }
+    }
+
+    /// A u-blox-class receiver on a real vehicle: white 0.3 m and wandering 0.4 m horizontally
+    /// (together 0.5 m = EKF2_GPS_P_NOISE), vertical ones 1.5 times larger, the wander's
+    /// correlation time 60 s (PX4's Gazebo GPS plugin), velocity noise 0.1 m/s (between PX4
+    /// SITL's ≈ 0.02 m/s and EKF2_GPS_V_NOISE = 0.3 m/s). A height on it wanders by about half a
+    /// metre a minute, as on a real vehicle. Rate, latency and reported figures as typical.
+    pub fn hardware() -> Self {
+        Self {
             h_noise_m: 0.3,
             v_noise_m: 0.45,
             h_wander_m: 0.4,
             v_wander_m: 0.6,
             wander_tau_s: 60.0,
             vel_noise_m_s: 0.1,
-            satellites: 10,
-            h_acc_m: 0.9,
-            v_acc_m: 1.78,
-            speed_acc_m_s: 0.4,
+            ..Self::typical()
         }
     }
 

@@ -47,20 +47,34 @@ pub struct ImuConfig {
 }
 
 impl ImuConfig {
-    /// A small PX4 quadrotor's IMU in flight. White noise: PX4's EKF2 defaults EKF2_ACC_NOISE =
+    /// PX4 SITL's IMU, the default: white noise at PX4's EKF2 defaults EKF2_ACC_NOISE =
     /// 0.35 m/s² and EKF2_GYR_NOISE = 0.015 rad/s (PX4's SIH simulator uses 0.1 m/s² and
-    /// 0.01 rad/s at rest, 0.5–1.7 m/s² and 0.03–0.14 rad/s with motors running). Bias walk and
-    /// turn-on bias: the ADIS16448 defaults of PX4's Gazebo IMU plugin (random walk 0.006 m/s²/√s
-    /// and 4 °/h/√s ≈ 3.88e-5 rad/s/√s; turn-on 20 mg ≈ 0.196 m/s² and 0.5 °/s ≈ 0.0087 rad/s),
-    /// consistent with EKF2_ABIAS_INIT = 0.2 m/s².
+    /// 0.01 rad/s at rest, 0.5–1.7 m/s² and 0.03–0.14 rad/s with motors running), and no bias,
+    /// as SIH has none.
     pub fn typical() -> Self {
         Self {
             accel_noise_m_s2: 0.35,
+            accel_bias_walk_m_s2_sqrt_s: 0.0,
+            accel_turn_on_bias_m_s2: 0.0,
+            gyro_noise_rad_s: 0.015,
+            gyro_bias_walk_rad_s_sqrt_s: 0.0,
+            gyro_turn_on_bias_rad_s: 0.0,
+        }
+    }
+
+    /// A real IMU: the noise of `typical`, with the bias walk and turn-on bias of the ADIS16448
+    /// defaults of PX4's Gazebo IMU plugin (random walk 0.006 m/s²/√s and 4 °/h/√s ≈
+    /// 3.88e-5 rad/s/√s; turn-on 20 mg ≈ 0.196 m/s² and 0.5 °/s ≈ 0.0087 rad/s), consistent
+    /// with EKF2_ABIAS_INIT = 0.2 m/s². The estimate starts tilted by the horizontal turn-on
+    /// bias (up to 3.5° at 3 σ) and its height wanders by about 0.1 m while the GNSS heights
+    /// learn the walk.
+    pub fn hardware() -> Self {
+        Self {
             accel_bias_walk_m_s2_sqrt_s: 0.006,
             accel_turn_on_bias_m_s2: 0.196,
-            gyro_noise_rad_s: 0.015,
             gyro_bias_walk_rad_s_sqrt_s: 3.8785e-5,
             gyro_turn_on_bias_rad_s: 0.0087,
+            ..Self::typical()
         }
     }
 

@@ -41,13 +41,26 @@ pub struct SensorSuiteConfig {
 }
 
 impl SensorSuiteConfig {
-    /// A small PX4 quadrotor's sensors (each model's `typical()` says where its values come from).
+    /// A small PX4 quadrotor's sensors as PX4 SITL simulates them (each model's `typical()`
+    /// says where its values come from): the default.
     pub fn typical() -> Self {
         Self {
             imu: ImuConfig::typical(),
             gps: GpsConfig::typical(),
             baro: BaroConfig::typical(),
             mag: MagConfig::typical(),
+        }
+    }
+
+    /// The same vehicle's real sensors: IMU biases, a receiver's wandering GPS error and a
+    /// barometer under propeller wash ([`ImuConfig::hardware`], [`GpsConfig::hardware`],
+    /// [`BaroConfig::hardware`]).
+    pub fn hardware() -> Self {
+        Self {
+            imu: ImuConfig::hardware(),
+            gps: GpsConfig::hardware(),
+            baro: BaroConfig::hardware(),
+            ..Self::typical()
         }
     }
 
