@@ -181,6 +181,22 @@ impl NavSnapshot {
     };
 }
 
+/// The simulator's truth of the vehicle (simulation only: HIL_STATE_QUATERNION, which PX4 SITL
+/// streams from its simulator on request and MAVSDK reads as "ground truth").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroundTruth {
+    /// True position, world NED about the start [m].
+    pub pos_w: Vec3,
+    /// True velocity, world NED [m/s].
+    pub vel_w: Vec3,
+    /// True attitude, body FRD → world NED.
+    pub q_wb: crate::math::UnitQuat,
+    /// True body rates, FRD [rad/s].
+    pub omega_b: Vec3,
+    /// True acceleration, world NED [m/s²].
+    pub accel_w: Vec3,
+}
+
 /// Latest vehicle state for telemetry.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Snapshot {
@@ -235,6 +251,8 @@ pub struct Snapshot {
     pub orbit: Option<(Vec3, f64)>,
     /// The navigation's health and raw readings.
     pub nav: NavSnapshot,
+    /// The simulator's truth, when the runtime that steps the plant adds it.
+    pub truth: Option<GroundTruth>,
 }
 
 impl Snapshot {
@@ -266,6 +284,7 @@ impl Snapshot {
             geofence_breached: false,
             orbit: None,
             nav: NavSnapshot::EXACT,
+            truth: None,
         }
     }
 

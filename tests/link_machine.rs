@@ -10,7 +10,7 @@ use mavlink::dialects::common::*;
 use mavlink::Message;
 use rotorpilot::commander::{FlightMode, Outcome, Request};
 use rotorpilot::mav::codec::frame_message;
-use rotorpilot::mav::gcs::gcs_header;
+use rotorpilot::mav::gcs::{command_long, gcs_header};
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
 use rotorpilot::mav::signing::{Signing, SigningKey};
 use rotorpilot::mav::streams::LinkKind;
@@ -186,7 +186,7 @@ fn a_hash_check_param_set_stops_the_list_as_a_cached_ground_station_asks() {
 }
 
 #[test]
-fn a_parameter_set_waits_for_the_vehicle_and_is_echoed_to_every_peer() {
+fn a_parameter_set_waits_for_the_vehicle_is_echoed_to_every_peer_and_announced_on_every_link() {
     let mut b = Bench::new();
     b.send(Gcs, OTHER, gcs_heartbeat());
     b.send(Gcs, QGC, param_set("MIS_TAKEOFF_ALT", 5.0));
@@ -214,6 +214,18 @@ fn a_parameter_set_waits_for_the_vehicle_and_is_echoed_to_every_peer() {
     to.sort_unstable();
     assert_eq!(to, vec![QGC, OTHER]);
     assert!(matches!(&echoes[0].2, MavMessage::PARAM_VALUE(p) if p.param_value == 5.0));
+    // 5 ms later, as PX4 does, the change goes to every peer of every link unasked (MAVSDK's
+    // Failure plugin learns SYS_FAILURE_EN that way), once.
+    let at = b.now.wall_s;
+    b.at(at + 0.004, b.now.sim_s);
+    assert!(named(&b.out(), "PARAM_VALUE").is_empty(), "not before 5 ms");
+    b.at(at + 0.006, b.now.sim_s);
+    let out = b.out();
+    let mut to: Vec<(LinkKind, u16)> = named(&out, "PARAM_VALUE").iter().map(|e| (e.0, e.1)).collect();
+    to.sort_unstable_by_key(|t| (t.0 == Api, t.1));
+    assert_eq!(to, vec![(Gcs, QGC), (Gcs, OTHER), (Api, SDK)]);
+    b.at(at + 1.0, b.now.sim_s);
+    assert!(named(&b.out(), "PARAM_VALUE").is_empty(), "announced once");
     // A read afterwards gives the new value: the link keeps the vehicle's table.
     b.send(
         Gcs,
@@ -344,4 +356,41 @@ fn stream_rates_count_simulated_time() {
         .map(|wall_s| (wall_s, wall_s * 0.5));
     let count = b.count_sent("ATTITUDE", Gcs, times);
     assert!((7..=9).contains(&count), "{count} ATTITUDE in 0.5 simulated seconds");
+}
+
+#[test]
+fn ground_truth_streams_on_request_as_px4_sitl_serves_it() {
+    use rotorpilot::math::{UnitQuat, Vec3};
+    use rotorpilot::telemetry::GroundTruth;
+    let mut b = Bench::new();
+    b.state.truth = Some(GroundTruth {
+        pos_w: Vec3::new(10.0, 0.0, -5.0),
+        vel_w: Vec3::new(1.0, 0.0, 0.0),
+        q_wb: UnitQuat::identity(),
+        omega_b: Vec3::zeros(),
+        accel_w: Vec3::zeros(),
+    });
+    // Off by default.
+    let times = (1..=100).map(|k| (f64::from(k) * 0.01, f64::from(k) * 0.01));
+    assert_eq!(b.count_sent("HIL_STATE_QUATERNION", Api, times), 0);
+    // MAVSDK's set_rate_ground_truth(15): SET_MESSAGE_INTERVAL 115 at 66 667 µs.
+    let params = [115.0, 66_667.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    b.send(
+        Api,
+        SDK,
+        MavMessage::COMMAND_LONG(command_long((1, 1), MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, params)),
+    );
+    assert_eq!(acks(&b.out()), vec![MavResult::MAV_RESULT_ACCEPTED]);
+    let times = (101..=200).map(|k| (f64::from(k) * 0.01, f64::from(k) * 0.01));
+    let count = b.count_sent("HIL_STATE_QUATERNION", Api, times);
+    assert!((14..=16).contains(&count), "{count} in a second");
+    b.at(2.1, 2.1);
+    let out = b.out();
+    let truth = named(&out, "HIL_STATE_QUATERNION");
+    let Some((_, _, MavMessage::HIL_STATE_QUATERNION(t))) = truth.first() else {
+        panic!("no ground truth: {out:?}")
+    };
+    let home = Home::default();
+    assert!((f64::from(t.lat) / 1e7 - home.lat_deg - (10.0 / 6_371_000f64).to_degrees()).abs() < 2e-7);
+    assert_eq!((t.alt, t.vx), (((home.alt_amsl_m + 5.0) * 1000.0).round() as i32, 100));
 }

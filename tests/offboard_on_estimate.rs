@@ -97,3 +97,50 @@ fn a_yaw_rate_is_flown_through_every_heading_forward_and_sideways() {
         assert!(peak < 60.0, "seed {seed}: a spike of {peak:.0}°/s");
     }
 }
+
+/// MAVSDK's `offboard_position_ned.py` ends on a position at the take-off height: the vehicle
+/// touches down there, the land detector sees it land, and it disarms (`COM_DISARM_LAND`), with
+/// the ground station shown a height of zero.
+#[test]
+fn an_offboard_position_back_at_the_take_off_height_touches_down_lands_and_disarms() {
+    let src = AirframeSource::resolve("quad_x").unwrap();
+    let mut v = Vehicle::new(
+        &src,
+        ControllerKind::Geometric,
+        Home::default(),
+        SensorModel::Suite,
+        4,
+        DT_S,
+    )
+    .unwrap();
+    for _ in 0..(10.0 / DT_S) as usize {
+        v.step();
+    }
+    let at = |p: Vec3| Request::OffboardSetpoint {
+        setpoint: FlatSetpoint::hold(p, 0.0),
+        body_frame: false,
+    };
+    assert_eq!(v.apply(Request::Arm { force: false }), Outcome::Accepted);
+    assert_eq!(v.apply(at(Vec3::zeros())), Outcome::Accepted);
+    assert_eq!(v.apply(Request::SetMode(FlightMode::Offboard)), Outcome::Accepted);
+    let mut disarmed_at = None;
+    let mut max_height: f64 = 0.0;
+    for (target, seconds) in [(Vec3::new(0.0, 0.0, -5.0), 10.0), (Vec3::new(5.0, 0.0, 0.0), 15.0)] {
+        for k in 0..(seconds / DT_S) as usize {
+            if k % 50 == 0 {
+                v.apply(at(target));
+            }
+            let s = v.step().snapshot;
+            max_height = max_height.max(-s.pos_w.z);
+            if !s.armed && disarmed_at.is_none() {
+                disarmed_at = Some((s.t_s, s.pos_w));
+            }
+        }
+    }
+    assert!(max_height > 4.5, "flew up to 5 m: {max_height}");
+    let (t, p) = disarmed_at.expect("landed and disarmed");
+    assert!(
+        p.z.abs() < 0.1 && (p.xy() - Vec3::new(5.0, 0.0, 0.0).xy()).norm() < 0.5,
+        "at {p:?}, {t} s"
+    );
+}

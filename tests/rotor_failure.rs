@@ -115,6 +115,7 @@ fn injection_needs_sys_failure_en() {
     )
     .unwrap();
     let inject = Request::InjectRotorFailure { rotor: 1, failed: true };
+    v.set_param("SYS_FAILURE_EN", 0.0).unwrap();
     assert!(matches!(v.apply(inject.clone()), Outcome::Denied(why) if why.contains("SYS_FAILURE_EN")));
     v.set_param("SYS_FAILURE_EN", 1.0).unwrap();
     assert_eq!(v.apply(inject), Outcome::Accepted);

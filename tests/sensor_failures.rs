@@ -243,3 +243,46 @@ fn baro_or_compass_lost_in_flight_changes_nothing_but_the_aid() {
         assert!(f.run_until(30.0, |s| !s.armed), "{failure}: lands");
     }
 }
+
+/// PX4's "Continue on baro stuck during mission (baro height mode)": with the barometer as the
+/// height reference, a barometer stuck at 10 m (or reading 100 m too high) must not fly the
+/// vehicle into the ground. A stuck one is withheld by the stale check; a wrong one fails its gate
+/// and is at fault: the filter flies on GNSS heights (a height reset that the position loop's
+/// reach turns into a descent at the speed limit, not a free fall), the return climbs, comes home
+/// and lands gently, and the barometer never becomes the height source again.
+#[test]
+fn a_stuck_or_wrong_barometer_in_baro_height_mode_is_excluded_and_the_return_lands_gently() {
+    for fault in ["stuck", "wrong"] {
+        let mut f = Flight::ready(6);
+        f.vehicle.set_param("EKF2_HGT_REF", 0.0).unwrap();
+        f.airborne(10.0);
+        f.fail_now(&format!("baro:{fault}"));
+        f.events.clear();
+        f.run_until(2.0, |_| false);
+        assert_eq!(f.vehicle.apply(Request::ReturnToLaunch), Outcome::Accepted);
+        let disarmed = f.run_until(240.0, |s| !s.armed);
+        assert!(disarmed, "{fault}: landed and disarmed: {:?}", f.events);
+        assert!(
+            f.max_height_m > 50.0,
+            "{fault}: the return climbed: {} m",
+            f.max_height_m
+        );
+        assert!(
+            f.touchdown_m_s < 1.0,
+            "{fault}: gentle touch-down: {} m/s",
+            f.touchdown_m_s
+        );
+        assert!(
+            f.events.iter().any(|e| e == "Height source: GPS")
+                && !f.events.iter().any(|e| e == "Height source: barometer"),
+            "{fault}: {:?}",
+            f.events
+        );
+        let s = f.step();
+        let truth = f.vehicle.truth();
+        assert!(
+            (s.pos_w.z - truth.pos_w.z).abs() < 1.0,
+            "{fault}: on the ground, estimate and truth agree"
+        );
+    }
+}

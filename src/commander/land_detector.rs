@@ -133,6 +133,16 @@ impl LandDetector {
         self.landed_at_s.filter(|_| self.landed())
     }
 
+    /// The ground's z, local NED [m], once known (where the vehicle last rested).
+    pub fn ground_z_m(&self) -> Option<f64> {
+        self.ground_z_m
+    }
+
+    /// `x` is close enough to the ground for ground contact.
+    pub fn near_ground(&self, x: &VehicleState) -> bool {
+        self.height_m(x) < GROUND_CONTACT_HEIGHT_M
+    }
+
     /// Height of `x` above the ground under it [m] (0 before the ground is known).
     pub fn height_m(&self, x: &VehicleState) -> f64 {
         self.ground_z_m.map_or(0.0, |g| g - x.pos_w.z)

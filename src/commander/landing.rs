@@ -47,6 +47,16 @@ pub(super) fn asks_descent(sp: &FlatSetpoint, x: &VehicleState) -> bool {
         || (sp.pos_w.is_none() && sp.vel_w.is_none() && sp.acc_w.is_some_and(|a| a.z > SETPOINT_SPEED_M_S))
 }
 
+/// The setpoint is a position on the ground whose z is `ground_z_m` [m] (or below it): the vehicle
+/// at it rests on its landing gear, so it asks to stay down (an offboard position back at the
+/// take-off height touches down and lands, as the ground station expects).
+fn on_the_ground(sp: &FlatSetpoint, ground_z_m: Option<f64>) -> bool {
+    match (sp.pos_w, ground_z_m) {
+        (Some(p), Some(g)) => p.z > g - SETPOINT_MARGIN_M && !sp.vel_w.is_some_and(|v| v.z < -SETPOINT_SPEED_M_S),
+        _ => false,
+    }
+}
+
 /// The setpoint descends to land: a vertical speed of at least [`LANDING_DESCENT_SHARE`] of
 /// `land_speed_m_s` [m/s].
 fn descends_to_land(sp: &FlatSetpoint, land_speed_m_s: f64) -> bool {
@@ -72,7 +82,7 @@ impl Commander {
         events: &mut Vec<Event>,
     ) -> Command {
         let descent_commanded = match &command {
-            Command::Flat(sp) => asks_descent(sp, x),
+            Command::Flat(sp) => asks_descent(sp, x) || on_the_ground(sp, self.detector.ground_z_m()),
             Command::Attitude(_) => thrust_over_weight < DESCENT_THRUST_OF_WEIGHT,
             Command::Idle => true,
         };
@@ -115,14 +125,23 @@ impl Commander {
                 _ => Command::Idle,
             };
         }
+        let land_speed = self.params.land_speed_m_s;
         match command {
             Command::Flat(sp) if self.detector.touching_down() => {
-                let land_speed = self.params.land_speed_m_s;
                 if descends_to_land(&sp, land_speed) {
                     Command::Attitude(touch_down(x))
                 } else {
                     Command::Flat(descend_below(x, &sp, land_speed))
                 }
+            }
+            // The last metre to a position on the ground: a gentle descent that the ground stops,
+            // rather than a hover on the landing gear that a touch-down would drop from.
+            Command::Flat(sp)
+                if on_the_ground(&sp, self.detector.ground_z_m())
+                    && self.detector.near_ground(x)
+                    && !descends_to_land(&sp, land_speed) =>
+            {
+                Command::Flat(descend_below(x, &sp, land_speed))
             }
             _ => command,
         }

@@ -76,7 +76,7 @@ pub struct CommanderParams {
     pub failsafe: FailsafeParams,
     /// The battery pack.
     pub battery: BatteryParams,
-    /// Failure injection allowed (`SYS_FAILURE_EN`, 0).
+    /// Failure injection allowed (`SYS_FAILURE_EN`; 1, PX4 SITL's boot value: the firmware's is 0).
     pub failure_injection: bool,
     /// A position lost in POSCTL lands (descends) instead of falling back to ALTCTL with the
     /// sticks (`COM_POSCTL_NAVL`: 0 altitude, 1 land; default 0). The AUTO modes always descend.
@@ -114,7 +114,7 @@ impl Default for CommanderParams {
             land_detector: LandDetectorParams::default(),
             failsafe: FailsafeParams::default(),
             battery: BatteryParams::default(),
-            failure_injection: false,
+            failure_injection: true,
             offboard_loss_action: OffboardLossAction::Position,
             position_loss_lands: false,
             manual: ManualParams::default(),

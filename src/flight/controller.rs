@@ -287,6 +287,12 @@ impl Pilot for FlightController {
         if !failsafe_events.is_empty() {
             tick.events.splice(0..0, failsafe_events);
         }
+        // The position loop's reach (PX4's P gains over the velocity limits): a reference the
+        // vehicle was left far behind, or an estimate that jumped, is flown at the speed limits.
+        if let Some(sp) = tick.setpoint.as_mut() {
+            let motion = &self.commander.params.motion;
+            sp.pos_w = sp.pos_w.map(|p| motion.within_reach(p, x.pos_w));
+        }
         let step = match (tick.setpoint, tick.attitude) {
             (Some(sp), _) => Some(self.core.step(&x, &sp)),
             (None, Some(target)) => Some(self.core.step_attitude(&x, &target)),
@@ -335,6 +341,7 @@ mod tests {
     fn replies_say_what_the_plant_must_change() {
         let mut fc = controller();
         let inject = |rotor| Request::InjectRotorFailure { rotor, failed: true };
+        assert!(fc.set_param("SYS_FAILURE_EN", 0.0).answer.is_ok());
         let denied = fc.request(inject(2), 0.0, never_sensed);
         assert!(matches!(&denied.answer, Outcome::Denied(why) if why.contains("SYS_FAILURE_EN")));
         assert_eq!(denied.plant, None);

@@ -20,6 +20,7 @@
 //! - [`offboard_pilot`]: the flight controller in OFFBOARD along a setpoint source.
 //! - [`rotor_monitor`]: what the flight controller knows of failed rotors, and failure injection.
 //! - [`snapshot`]: the telemetry snapshot of a tick (the one place it is built).
+//! - `stale_check`: a sensor whose readings repeat exactly is stuck (PX4's data validator).
 
 pub mod controller;
 pub mod flight_core;
@@ -28,6 +29,7 @@ pub mod navigator;
 pub mod offboard_pilot;
 pub mod rotor_monitor;
 pub mod snapshot;
+mod stale_check;
 
 use crate::allocation::RotorSpeeds;
 use crate::commander::Event;

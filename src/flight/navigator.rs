@@ -11,6 +11,8 @@ use crate::nav_filter::{
     PreflightFailure, SourceHealth, SourceStatus,
 };
 use crate::sitl::Sensors;
+
+use super::stale_check::StaleCheck;
 use crate::telemetry::{FilterSnapshot, FreshReadings, GpsSnapshot, NavSnapshot, SensorHealth, SensorState};
 
 /// A sensor silent this long is reported unhealthy, and a silent GPS as lost (PX4's health
@@ -51,6 +53,10 @@ pub struct Navigator {
     vel_lpf: LowPass3,
     /// What has been announced of the GPS, barometer and magnetometer, and the height source.
     announced: Announced,
+    /// The stale checks of the barometer (pressure, temperature) and magnetometer (field):
+    /// a stuck sensor is not handed to the filter.
+    baro_stale: StaleCheck<2>,
+    mag_stale: StaleCheck<3>,
 }
 
 /// Where a sensor stands in the announcements.
@@ -91,6 +97,8 @@ impl Navigator {
             gyro_lpf: LowPass3::new(GYRO_CUTOFF_HZ, TICK_S),
             vel_lpf: LowPass3::new(ACCEL_CUTOFF_HZ, TICK_S),
             announced: Announced::default(),
+            baro_stale: StaleCheck::default(),
+            mag_stale: StaleCheck::default(),
         }
     }
 
@@ -141,11 +149,16 @@ impl Navigator {
             self.readings.gps = Some(*gps);
         }
         if let Some(baro) = &sensors.baro {
-            self.filter.fuse_baro(baro);
+            if self.baro_stale.accept([baro.pressure_pa, baro.temperature_c]) {
+                self.filter.fuse_baro(baro);
+            }
             self.readings.baro = Some(*baro);
         }
         if let Some(mag) = &sensors.mag {
-            self.filter.fuse_mag(mag);
+            let m = mag.field_b;
+            if self.mag_stale.accept([m.x, m.y, m.z]) {
+                self.filter.fuse_mag(mag);
+            }
             self.readings.mag = Some(*mag);
         }
         self.status = Some(self.filter.status());

@@ -302,6 +302,7 @@ mod tests {
     fn failure_injection_is_gated_by_the_flight_controller_and_carried_out_on_the_plant() {
         let mut l = autopilot("hexa_x");
         let inject = Request::InjectRotorFailure { rotor: 1, failed: true };
+        l.set_param("SYS_FAILURE_EN", 0.0).unwrap();
         assert!(matches!(l.request(inject.clone()), Outcome::Denied(_)));
         assert!(!l.plant().failed_rotors()[0]);
         l.set_param("SYS_FAILURE_EN", 1.0).unwrap();

@@ -5,7 +5,7 @@
 
 use mavlink::dialects::common::{
     EstimatorStatusFlags, GpsFixType, HighresImuUpdatedFlags, MavMessage, ESTIMATOR_STATUS_DATA, GPS_RAW_INT_DATA,
-    HIGHRES_IMU_DATA, SCALED_PRESSURE_DATA,
+    HIGHRES_IMU_DATA, HIL_STATE_QUATERNION_DATA, SCALED_PRESSURE_DATA,
 };
 
 use crate::math::Vec3;
@@ -169,5 +169,35 @@ pub(super) fn scaled_pressure(s: &Snapshot) -> Option<MavMessage> {
         press_abs: pressure_hpa as f32,
         temperature: (temperature_c * 100.0).round() as i16,
         ..Default::default()
+    }))
+}
+
+/// HIL_STATE_QUATERNION: the simulator's truth (simulation only), filled as PX4 SITL fills it
+/// (position as latitude, longitude [degE7] and altitude AMSL [mm] about the start, velocity
+/// [cm/s], attitude and body rates, acceleration in whole m/s² where MAVLink says mG, no
+/// airspeeds, no time stamp); none without a truth.
+pub(super) fn ground_truth(s: &Snapshot) -> Option<MavMessage> {
+    let t = s.truth?;
+    let (lat, lon, alt) = s.home.to_global(&t.pos_w);
+    let cm_s = |v: f64| (v * 100.0).round().clamp(f64::from(i16::MIN), f64::from(i16::MAX)) as i16;
+    let acc_b = t.q_wb.inverse() * t.accel_w;
+    let whole = |v: f64| v.trunc().clamp(f64::from(i16::MIN), f64::from(i16::MAX)) as i16;
+    Some(MavMessage::HIL_STATE_QUATERNION(HIL_STATE_QUATERNION_DATA {
+        time_usec: 0,
+        attitude_quaternion: [t.q_wb.w as f32, t.q_wb.i as f32, t.q_wb.j as f32, t.q_wb.k as f32],
+        rollspeed: t.omega_b.x as f32,
+        pitchspeed: t.omega_b.y as f32,
+        yawspeed: t.omega_b.z as f32,
+        lat: (lat * 1e7).round() as i32,
+        lon: (lon * 1e7).round() as i32,
+        alt: (alt * 1000.0).round() as i32,
+        vx: cm_s(t.vel_w.x),
+        vy: cm_s(t.vel_w.y),
+        vz: cm_s(t.vel_w.z),
+        ind_airspeed: 0,
+        true_airspeed: 0,
+        xacc: whole(acc_b.x),
+        yacc: whole(acc_b.y),
+        zacc: whole(acc_b.z),
     }))
 }

@@ -37,6 +37,8 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
         OrbitStatus => (5.0, 5.0),
         EstimatorStatus => (0.5, 0.5),
         ScaledPressure => (1.0, 1.0),
+        // The simulator's truth: off unless asked for (MAVSDK's set_rate_ground_truth).
+        GroundTruth => (0.0, 0.0),
         // ArduPilot's message: off unless asked for (REQUEST_DATA_STREAM, SET_MESSAGE_INTERVAL).
         EkfStatusReport => (0.0, 0.0),
         SystemTime => (0.0, 1.0),

@@ -67,6 +67,9 @@ pub enum Stream {
     EstimatorStatus,
     /// SCALED_PRESSURE (29): the barometer's pressure and temperature; none while it is silent.
     ScaledPressure,
+    /// HIL_STATE_QUATERNION (115): the simulator's truth (simulation only), off unless asked for,
+    /// as PX4 SITL streams it for MAVSDK's ground truth.
+    GroundTruth,
     /// EKF_STATUS_REPORT (193, `ardupilotmega`): the same filter report as ArduPilot sends it,
     /// for ground stations that read that one ([`super::foreign`]); [`message`] has none.
     EkfStatusReport,
@@ -77,7 +80,7 @@ pub enum Stream {
 
 impl Stream {
     /// Every stream.
-    pub const ALL: [Stream; 26] = [
+    pub const ALL: [Stream; 27] = [
         Stream::HighresImu,
         Stream::SysStatus,
         Stream::ExtendedSysState,
@@ -103,6 +106,7 @@ impl Stream {
         Stream::EventSequence,
         Stream::EstimatorStatus,
         Stream::ScaledPressure,
+        Stream::GroundTruth,
         Stream::EkfStatusReport,
     ];
 
@@ -133,6 +137,7 @@ impl Stream {
             Stream::EventSequence => 411,
             Stream::EstimatorStatus => 230,
             Stream::ScaledPressure => 29,
+            Stream::GroundTruth => 115,
             Stream::EkfStatusReport => super::foreign::EKF_STATUS_REPORT_ID,
         }
     }
@@ -215,6 +220,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         Stream::GpsRawInt => super::nav_status::gps_raw_int(s),
         Stream::EstimatorStatus => super::nav_status::estimator_status(s),
         Stream::ScaledPressure => return super::nav_status::scaled_pressure(s),
+        Stream::GroundTruth => return super::nav_status::ground_truth(s),
         Stream::VfrHud => MavMessage::VFR_HUD(VFR_HUD_DATA {
             airspeed: s.vel_w.norm() as f32,
             groundspeed: s.vel_w.xy().norm() as f32,

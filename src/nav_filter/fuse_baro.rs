@@ -31,6 +31,9 @@ impl NavFilter {
             self.aligner.add_baro(altitude_m);
             return Fusion::skipped(SkipReason::NotAligned);
         }
+        if self.height.baro_fault {
+            return Fusion::skipped(SkipReason::Fault);
+        }
         self.flush_covariance();
         let Some(past) = self.buffer.at(baro.t_s - self.params.baro_delay_s) else {
             return Fusion::skipped(SkipReason::Stale);

@@ -16,6 +16,9 @@ pub enum SkipReason {
     Inactive,
     /// The geometry makes the measurement useless (horizontal magnetic field too weak).
     Geometry,
+    /// The source failed its gate for `height_timeout_s` while it kept delivering, and is not
+    /// fused again (docs/navigation_filter.md §9).
+    Fault,
 }
 
 /// Result of one measurement, or of one part of a GNSS fix.

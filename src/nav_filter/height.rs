@@ -1,6 +1,7 @@
 //! Which height source is fused: the reference (`EKF2_HGT_REF`) while it works, the other one
 //! after a time-out, back to the reference once it has passed its gate for a while; height
-//! resets when a source takes over (docs/navigation_filter.md §9).
+//! resets when a source takes over; a barometer that failed its gate while it kept delivering is
+//! at fault and never fused again (docs/navigation_filter.md §9).
 
 use crate::math::Vec3;
 
@@ -25,6 +26,9 @@ pub(super) struct HeightSelection {
     pub reference_passing_since_s: Option<f64>,
     /// Last time each source was fused as height (barometer, GNSS) [s].
     last_fused_s: [Option<f64>; 2],
+    /// The barometer failed its gate as the active source for `height_timeout_s` while it kept
+    /// delivering: stuck or wrong, it is not fused again (PX4's `baro_fault`).
+    pub baro_fault: bool,
 }
 
 fn slot(s: HeightSource) -> usize {
@@ -44,6 +48,7 @@ impl HeightSelection {
             reset_pending: false,
             reference_passing_since_s: None,
             last_fused_s: [None; 2],
+            baro_fault: false,
         }
     }
 
@@ -97,6 +102,10 @@ impl NavFilter {
         if self.t_s - last > timeout {
             let other = h.active.other();
             if self.height_source_available(other) {
+                // A barometer that kept delivering while it failed its gate is at fault.
+                if h.active == HeightSource::Baro && self.height_source_available(HeightSource::Baro) {
+                    self.height.baro_fault = true;
+                }
                 self.switch_height_source(other);
             } else {
                 self.height.reset_pending = true;
@@ -104,6 +113,7 @@ impl NavFilter {
         } else if h.active != h.reference
             && h.reference_passing_since_s.is_some_and(|s| self.t_s - s >= timeout)
             && self.height_source_available(h.reference)
+            && !(h.reference == HeightSource::Baro && h.baro_fault)
         {
             self.switch_height_source(h.reference);
         }

@@ -3,6 +3,11 @@
 
 use crate::math::Vec3;
 
+/// PX4's horizontal position gain `MPC_XY_P` [1/s]: a position error becomes a velocity demand.
+const POSITION_GAIN_XY_PER_S: f64 = 0.95;
+/// PX4's vertical position gain `MPC_Z_P` [1/s].
+const POSITION_GAIN_Z_PER_S: f64 = 1.0;
+
 /// Peak speed over mean speed of a quintic rest-to-rest move: max ṡ = 15/8 [-].
 const QUINTIC_PEAK_SPEED: f64 = 1.875;
 /// Peak acceleration of a quintic over distance / duration²: max s̈ = 10/√3 [-].
@@ -82,6 +87,27 @@ impl MotionLimits {
         };
         Vec3::new(v.x * s, v.y * s, v.z.clamp(-self.up_m_s, self.down_m_s))
     }
+
+    /// The position setpoint `p_sp_w` [m] moved to within the reach of the vehicle at `p_w` [m]
+    /// that PX4's position loop allows: its P gains (`MPC_XY_P`, `MPC_Z_P`) turn at most the
+    /// velocity limits' worth of error into a velocity demand, so the error is at most
+    /// `MPC_XY_VEL_MAX / MPC_XY_P` across, `MPC_Z_VEL_MAX_UP / MPC_Z_P` above and
+    /// `MPC_Z_VEL_MAX_DN / MPC_Z_P` below. A reference that left the vehicle behind (the estimate
+    /// jumped at a height reset, a failure held it back) is then flown at the speed limits
+    /// instead of as one large step, which asked a free fall.
+    pub fn within_reach(&self, p_sp_w: Vec3, p_w: Vec3) -> Vec3 {
+        let e = p_sp_w - p_w;
+        let e = self.clamp_velocity(Vec3::new(
+            e.x * POSITION_GAIN_XY_PER_S,
+            e.y * POSITION_GAIN_XY_PER_S,
+            e.z * POSITION_GAIN_Z_PER_S,
+        ));
+        p_w + Vec3::new(
+            e.x / POSITION_GAIN_XY_PER_S,
+            e.y / POSITION_GAIN_XY_PER_S,
+            e.z / POSITION_GAIN_Z_PER_S,
+        )
+    }
 }
 
 #[cfg(test)]
@@ -100,6 +126,26 @@ mod tests {
         // A half turn in place at 45 °/s: 1.875 × 4 s.
         let t = l.quintic_duration_s(Vec3::zeros(), std::f64::consts::PI);
         assert!((t - 7.5).abs() < 1e-9, "{t}");
+    }
+
+    #[test]
+    fn a_setpoint_far_from_the_vehicle_is_pulled_within_the_position_loops_reach() {
+        let l = MotionLimits::default();
+        let p = Vec3::new(0.0, 0.0, -60.0);
+        // 22 m below after a height reset: 1.5 m below (MPC_Z_VEL_MAX_DN / MPC_Z_P).
+        assert_eq!(
+            l.within_reach(Vec3::new(0.0, 0.0, -38.0), p),
+            Vec3::new(0.0, 0.0, -58.5)
+        );
+        assert_eq!(
+            l.within_reach(Vec3::new(0.0, 0.0, -70.0), p),
+            Vec3::new(0.0, 0.0, -63.0)
+        );
+        let far = l.within_reach(Vec3::new(100.0, 0.0, -60.0), p);
+        assert!((far.x - 12.0 / 0.95).abs() < 1e-12);
+        // Close setpoints are untouched.
+        let near = Vec3::new(1.0, -2.0, -59.0);
+        assert!((l.within_reach(near, p) - near).norm() < 1e-12);
     }
 
     #[test]

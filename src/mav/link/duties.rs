@@ -34,6 +34,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// Everything due by `now`.
     pub fn handle_timeout(&mut self, now: Now) {
         self.stream_param_lists(now);
+        self.announce_changed_params(now);
         self.stream_ftp_bursts(now);
         self.stream_logs(now);
         if now.wall_s < self.next_duty_s {

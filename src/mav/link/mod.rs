@@ -216,6 +216,8 @@ pub struct LinkMachine<A> {
     pending: HashMap<Token, Pending<A>>,
     next_token: Token,
     param_lists: Vec<ParamList<A>>,
+    /// Parameters changed and not yet announced on every link.
+    changed_params: params::ChangedParams,
     /// The files served over MAVLink FTP and the FTP server of each link.
     files: Files<A>,
     /// The MAVLink shells of the clients that use one.
@@ -271,6 +273,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             pending: HashMap::new(),
             next_token: 0,
             param_lists: Vec::new(),
+            changed_params: params::ChangedParams::default(),
             files,
             consoles: Vec::new(),
             keys_in_store: VecDeque::new(),
@@ -361,6 +364,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .map(|l| l.next_s)
             .fold(self.next_duty_s, f64::min)
             .min(self.files.next_due_s().unwrap_or(f64::INFINITY))
+            .min(self.changed_params.due_s.unwrap_or(f64::INFINITY))
     }
 
     /// The signing timestamp to persist [10 µs since 2015].

@@ -4,7 +4,9 @@
 //! name (`_HASH_CHECK` included), and PARAM_SET: the
 //! vehicle applies it at its next tick, then every peer of the link gets the resulting
 //! PARAM_VALUE (the unchanged value when refused, with a STATUSTEXT saying why) and an
-//! unknown name gets PARAM_ERROR.
+//! unknown name gets PARAM_ERROR. As PX4 does, a changed parameter is sent again 5 ms later to
+//! every peer of every link, so that every ground station and every client plugin that did not
+//! ask (MAVSDK's Failure plugin follows `SYS_FAILURE_EN` that way) learns the new value.
 
 use std::hash::Hash;
 
@@ -17,6 +19,38 @@ use crate::params::ParamError;
 
 /// Wall time between two PARAM_VALUEs of a list [s].
 pub const PARAM_LIST_PERIOD_S: f64 = 1e-3;
+/// Wall time from a change to its PARAM_VALUE on every link [s] (PX4's 5 ms).
+pub const PARAM_CHANGE_DELAY_S: f64 = 5e-3;
+
+/// Parameters changed since their last announcement to every link.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(super) struct ChangedParams {
+    /// Indices of the changed parameters, each once.
+    indices: Vec<usize>,
+    /// Wall time the announcement is due [s], while there is one to make.
+    pub due_s: Option<f64>,
+}
+
+impl ChangedParams {
+    /// Parameter `index` changed at `now_s` [s].
+    pub fn changed(&mut self, index: usize, now_s: f64) {
+        if !self.indices.contains(&index) {
+            self.indices.push(index);
+        }
+        self.due_s.get_or_insert(now_s + PARAM_CHANGE_DELAY_S);
+    }
+
+    /// The indices to announce at `now_s` [s], if due.
+    pub fn take_due(&mut self, now_s: f64) -> Vec<usize> {
+        match self.due_s {
+            Some(due) if due <= now_s => {
+                self.due_s = None;
+                std::mem::take(&mut self.indices)
+            }
+            _ => Vec::new(),
+        }
+    }
+}
 
 /// A PARAM_REQUEST_LIST being answered.
 #[derive(Debug, Clone, PartialEq)]
@@ -54,6 +88,15 @@ pub(super) struct ParamSet<A> {
 }
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
+    /// The changed parameters' PARAM_VALUEs to every peer of every link, once due.
+    pub(super) fn announce_changed_params(&mut self, now: Now) {
+        for index in self.changed_params.take_due(now.wall_s) {
+            if let Some(msg) = param_value(&self.params, index) {
+                self.broadcast(now, &msg);
+            }
+        }
+    }
+
     /// The PARAM_VALUEs of every list that are due by `now`.
     pub(super) fn stream_param_lists(&mut self, now: Now) {
         let mut lists = std::mem::take(&mut self.param_lists);
@@ -129,6 +172,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         };
         match result {
             Some(Ok(index)) => {
+                self.changed_params.changed(index, now.wall_s);
                 if let Some(msg) = param_value(&self.params, index) {
                     let mut targets = self.port(link).map(|p| p.targets(now.wall_s)).unwrap_or_default();
                     if !targets.contains(&to) {

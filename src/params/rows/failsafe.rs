@@ -129,7 +129,7 @@ pub(super) static FAILSAFES: &[ParamDef] = &[
         [0.0, 1.0],
         "",
         Commander,
-        "1 allows MAV_CMD_INJECT_FAILURE (PX4's switch)",
+        "1 allows MAV_CMD_INJECT_FAILURE (PX4's switch; 1 as PX4 SITL boots, the firmware's default is 0)",
         flag commander.failure_injection
     ),
     row!(
