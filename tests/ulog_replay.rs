@@ -1,5 +1,6 @@
 //! A scenario's ULog read back by `estimate`'s reader gives the samples of its run.csv (to single
-//! precision), and the offline estimator recovers homework Ex. 4's wrench and mass from it.
+//! precision), and the offline estimator recovers homework Ex. 4's wrench and mass from it; the
+//! full profile writes at most 300 KB per simulated second.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::Path;
@@ -23,7 +24,10 @@ fn the_ulog_holds_the_run_csv_samples_and_the_estimator_recovers_ex4() {
     simulate_paced(&scn, Some(&out), Pace::Max, true).unwrap();
     let from_ulog = parse_ulog(&std::fs::read(out.join("run.ulg")).unwrap(), "run.ulg", 1e-3).unwrap();
     let from_csv = parse_log(&std::fs::read_to_string(out.join("run.csv")).unwrap(), "run.csv", 1e-3).unwrap();
+    let bytes_per_s = std::fs::metadata(out.join("run.ulg")).unwrap().len() as f64 / 12.0;
     std::fs::remove_dir_all(&out).ok();
+    // The full profile with the estimator on (every topic logged): the budget.
+    assert!(bytes_per_s <= 300e3, "{:.0} KB per simulated second", bytes_per_s / 1e3);
     assert_eq!(from_ulog.len(), 12_000);
     assert_eq!(from_ulog.len(), from_csv.len());
     for (u, c) in from_ulog.iter().zip(&from_csv) {

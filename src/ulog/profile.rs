@@ -1,8 +1,9 @@
 //! How often each topic is logged: the default profile of `rotorpilot run` (rates near PX4's
-//! default logger profile, the estimator's inputs together at 50 Hz) and the full profile of `sim` and `fly --log` (every 1 kHz tick for
-//! the state, the control and the estimate; the rest at PX4's rates or faster). Topics that
-//! change seldom (status, land detector, the true wrench) are also logged whenever they change.
-//! Pure.
+//! default logger profile, the estimator's inputs together at 50 Hz) and the full profile of `sim`
+//! and `fly --log` (every 1 kHz tick for the state the controllers fly on, the control and the
+//! estimate; the rest at PX4's rates or faster, the plant's true state at 100 Hz as PX4 SITL logs
+//! its `*_groundtruth` topics). Topics that change seldom (status, land detector, the true wrench)
+//! are also logged whenever they change. Pure.
 
 use std::str::FromStr;
 
@@ -44,10 +45,12 @@ impl Profile {
         use Topic::*;
         let ms = match (self, topic) {
             (Self::Full, VehicleAttitude | VehicleAngularVelocity | VehicleLocalPosition) => 0,
+            // PX4 SITL logs the true attitude and rates at 100 Hz; the truth at every tick would
+            // be a third of the file (on the exact state, a copy of the topics above).
             (
                 Self::Full,
                 VehicleAttitudeGroundtruth | VehicleAngularVelocityGroundtruth | VehicleLocalPositionGroundtruth,
-            ) => 0,
+            ) => 10,
             (Self::Full, ControllerErrors | AllocationStatus | ExternalWrenchEstimate) => 0,
             (Self::Full, VehicleThrustSetpoint | VehicleTorqueSetpoint | VehicleAttitudeSetpoint) => 10,
             (Self::Full, VehicleLocalPositionSetpoint | SensorCombined | ActuatorMotors) => 10,
@@ -102,6 +105,17 @@ mod tests {
         ] {
             assert_eq!(Profile::Full.interval_us(t), 0);
             assert!(Profile::Default.interval_us(t) >= 20_000);
+        }
+    }
+
+    #[test]
+    fn the_full_profile_logs_the_truth_at_100_hz() {
+        for t in [
+            Topic::VehicleAttitudeGroundtruth,
+            Topic::VehicleAngularVelocityGroundtruth,
+            Topic::VehicleLocalPositionGroundtruth,
+        ] {
+            assert_eq!(Profile::Full.interval_us(t), 10_000);
         }
     }
 

@@ -81,6 +81,11 @@ fn the_full_profile_records_the_state_every_tick_and_the_rest_at_its_rate() {
     assert_eq!(count(&msgs, b'D', Topic::VehicleLocalPosition), 1000);
     assert_eq!(count(&msgs, b'D', Topic::SensorCombined), 100);
     assert_eq!(
+        count(&msgs, b'D', Topic::VehicleAttitudeGroundtruth),
+        100,
+        "the truth at 100 Hz"
+    );
+    assert_eq!(
         count(&msgs, b'A', Topic::VehicleAttitude),
         1,
         "one subscription per topic"
