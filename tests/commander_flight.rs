@@ -110,7 +110,7 @@ fn mission_takeoff_waypoints_and_land() {
     let wp = |x, y, z, hold_s| MissionItem::Waypoint {
         pos_w: Vec3::new(x, y, z),
         hold_s,
-        accept_m: 0.3,
+        accept_m: Some(0.3),
         yaw_rad: None,
     };
     let mission = Mission {
@@ -160,7 +160,7 @@ fn mission_ending_in_return_to_launch() {
             MissionItem::Waypoint {
                 pos_w: Vec3::new(5.0, 0.0, -3.0),
                 hold_s: 0.0,
-                accept_m: 0.5,
+                accept_m: Some(0.5),
                 yaw_rad: None,
             },
             MissionItem::ReturnToLaunch,

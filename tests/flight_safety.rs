@@ -69,7 +69,7 @@ fn a_mission_without_takeoff_climbs_first_and_stays_armed_in_the_air() {
             MissionItem::Waypoint {
                 pos_w: Vec3::new(30.0, 0.0, -25.0),
                 hold_s: 0.0,
-                accept_m: 1.0,
+                accept_m: Some(1.0),
                 yaw_rad: None,
             },
             MissionItem::Land {

@@ -66,7 +66,7 @@ pub use messages::{CommanderTick, Event, LandedState, OrbitRequest, Outcome, Req
 pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
 pub use navigation_checks::NavValidity;
-pub use params::{CommanderParams, ManualParams};
+pub use params::{CommanderParams, ManualParams, MissionParams};
 
 use follow::Follow;
 use land_detector::LandDetector;

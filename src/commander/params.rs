@@ -93,6 +93,31 @@ pub struct CommanderParams {
     pub manual: ManualParams,
     /// Follow-me.
     pub follow: FollowParams,
+    /// Mission waypoints.
+    pub mission: MissionParams,
+}
+
+/// How mission waypoints are reached and flown through (PX4's navigator and AUTO trajectory).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MissionParams {
+    /// Horizontal acceptance radius of a waypoint that gives none [m] (`NAV_ACC_RAD`; 2 m as
+    /// PX4 SITL's multicopter defaults set it).
+    pub accept_m: f64,
+    /// Vertical acceptance radius [m] (`NAV_MC_ALT_RAD`, 0.8).
+    pub alt_accept_m: f64,
+    /// Share of the horizontal acceleration a waypoint flown through turns with [-]
+    /// (`MPC_XY_TRAJ_P`, 0.5).
+    pub corner_gain: f64,
+}
+
+impl Default for MissionParams {
+    fn default() -> Self {
+        Self {
+            accept_m: 2.0,
+            alt_accept_m: 0.8,
+            corner_gain: 0.5,
+        }
+    }
 }
 
 impl Default for CommanderParams {
@@ -119,6 +144,7 @@ impl Default for CommanderParams {
             position_loss_lands: false,
             manual: ManualParams::default(),
             follow: FollowParams::default(),
+            mission: MissionParams::default(),
         }
     }
 }

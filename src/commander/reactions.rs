@@ -166,7 +166,7 @@ mod tests {
         let leg = MissionItem::Waypoint {
             pos_w: Vec3::new(30.0, 0.0, -3.0),
             hold_s: 0.0,
-            accept_m: 0.5,
+            accept_m: Some(0.5),
             yaw_rad: None,
         };
         let mission = Mission { items: vec![leg] };

@@ -252,7 +252,7 @@ mod tests {
         let wp = |north_m| MissionItem::Waypoint {
             pos_w: Vec3::new(north_m, 0.0, -4.0),
             hold_s: 0.0,
-            accept_m: 0.5,
+            accept_m: Some(0.5),
             yaw_rad: None,
         };
         let mission = Mission {

@@ -4,7 +4,6 @@
 use mavlink::dialects::common::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
 
 use crate::math::Vec3;
-use crate::navigation::mission::DEFAULT_ACCEPT_RADIUS_M;
 use crate::navigation::{Home, Mission, MissionItem};
 
 /// Why a mission was refused: the item and the result.
@@ -86,7 +85,7 @@ fn parse_item(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<MissionItem, 
             MissionItem::Waypoint {
                 pos_w: position(item, home)?,
                 hold_s: non_negative(item.param1, MAV_MISSION_INVALID_PARAM1)?,
-                accept_m: if accept > 0.0 { accept } else { DEFAULT_ACCEPT_RADIUS_M },
+                accept_m: (accept > 0.0).then_some(accept),
                 yaw_rad: item.param4.is_finite().then(|| f64::from(item.param4).to_radians()),
             }
         }
@@ -177,7 +176,11 @@ mod tests {
         };
         // 900e-7 deg of latitude ≈ 10.0 m north.
         assert!((pos_w.x - 10.0).abs() < 0.01 && pos_w.y.abs() < 0.01 && (pos_w.z + 10.0).abs() < 1e-6);
-        assert_eq!((hold_s, accept_m, yaw_rad), (2.0, DEFAULT_ACCEPT_RADIUS_M, None));
+        assert_eq!(
+            (hold_s, accept_m, yaw_rad),
+            (2.0, None, None),
+            "no radius: NAV_ACC_RAD applies"
+        );
     }
 
     #[test]

@@ -7,7 +7,7 @@ use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::Vec3;
 
 use super::trajectory::Quintic;
-use super::{DescentProfile, MotionLimits, Orbit};
+use super::{DescentProfile, MotionLimits, Orbit, Track};
 
 /// How far the landing reference may run ahead of the vehicle below it [m]; keeps the position
 /// error (and so the thrust reduction) bounded once the ground stops the descent.
@@ -48,6 +48,8 @@ pub enum Guidance {
     },
     /// Fly a circle (orbit mode).
     Orbit(Orbit),
+    /// Fly mission waypoints, through those that allow it (docs/mavlink.md §7.1).
+    Track(Track),
 }
 
 impl Guidance {
@@ -76,13 +78,18 @@ impl Guidance {
         }
     }
 
-    /// Setpoint at simulated time `t_s` [s] for the vehicle in state `x`; `None` for motors off.
-    pub fn setpoint(&self, t_s: f64, x: &VehicleState) -> Option<FlatSetpoint> {
+    /// Setpoint at simulated time `t_s` [s] for the vehicle in state `x` (a track steps its
+    /// reference to `t_s`); `None` for motors off.
+    pub fn setpoint(&mut self, t_s: f64, x: &VehicleState) -> Option<FlatSetpoint> {
+        if let Self::Track(track) = self {
+            return Some(track.step(t_s));
+        }
         match *self {
             Self::Idle => None,
             Self::Hold { pos_w, yaw_rad } => Some(FlatSetpoint::hold(pos_w, yaw_rad)),
             Self::Path { path, start_s } => Some(path.sample(t_s - start_s).setpoint()),
             Self::Orbit(orbit) => Some(orbit.setpoint(t_s)),
+            Self::Track(_) => None,
             Self::Descend {
                 xy_w,
                 yaw_rad,
@@ -105,6 +112,7 @@ impl Guidance {
     pub fn finished(&self, t_s: f64) -> bool {
         match self {
             Self::Path { path, start_s } => t_s - start_s >= path.duration_s,
+            Self::Track(track) => track.arrived(),
             _ => true,
         }
     }
@@ -137,7 +145,7 @@ mod tests {
     };
 
     /// Peak (horizontal, up, down) speeds of `g` over 30 s from `start_s` [m/s].
-    fn peaks(g: &Guidance, start_s: f64) -> (f64, f64, f64) {
+    fn peaks(g: &mut Guidance, start_s: f64) -> (f64, f64, f64) {
         let mut peak = (0.0_f64, 0.0_f64, 0.0_f64);
         for k in 0..3000 {
             let v = g.setpoint(start_s + k as f64 * 0.01, &at(0.0)).unwrap().vel_w.unwrap();
@@ -148,8 +156,8 @@ mod tests {
 
     #[test]
     fn path_respects_the_speed_limit_and_ends_at_rest() {
-        let g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 0.0, -5.0), 0.0, 0.0, &LIMITS, 10.0);
-        let (_, peak, _) = peaks(&g, 10.0);
+        let mut g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 0.0, -5.0), 0.0, 0.0, &LIMITS, 10.0);
+        let (_, peak, _) = peaks(&mut g, 10.0);
         assert!(peak <= 2.0 + 1e-9 && peak > 1.9, "{peak}");
         assert!(g.finished(14.7) && !g.finished(14.6));
         assert_eq!(
@@ -161,19 +169,19 @@ mod tests {
     #[test]
     fn each_component_keeps_its_own_limit() {
         // 10 m north and 4 m down: the descent (1 m/s) sets the duration, not the cruise speed.
-        let g = Guidance::path(Vec3::zeros(), Vec3::new(10.0, 0.0, 4.0), 0.0, 0.0, &LIMITS, 0.0);
-        let (horizontal, up, down) = peaks(&g, 0.0);
+        let mut g = Guidance::path(Vec3::zeros(), Vec3::new(10.0, 0.0, 4.0), 0.0, 0.0, &LIMITS, 0.0);
+        let (horizontal, up, down) = peaks(&mut g, 0.0);
         assert!(down <= 1.0 + 1e-9 && down > 0.99, "{down}");
         assert!((horizontal - 2.5).abs() < 0.01 && up == 0.0, "{horizontal} {up}");
         // 20 m east and 1 m up: the horizontal limit binds.
-        let g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 20.0, -1.0), 0.0, 0.0, &LIMITS, 0.0);
-        let (horizontal, _, _) = peaks(&g, 0.0);
+        let mut g = Guidance::path(Vec3::zeros(), Vec3::new(0.0, 20.0, -1.0), 0.0, 0.0, &LIMITS, 0.0);
+        let (horizontal, _, _) = peaks(&mut g, 0.0);
         assert!(horizontal <= 5.0 + 1e-9 && horizontal > 4.99, "{horizontal}");
     }
 
     #[test]
     fn descent_leads_the_vehicle_by_at_most_half_a_metre() {
-        let g = Guidance::Descend {
+        let mut g = Guidance::Descend {
             xy_w: Vec3::new(1.0, 2.0, 0.0),
             yaw_rad: 0.0,
             z_start_m: -3.0,
@@ -183,6 +191,6 @@ mod tests {
         assert!((g.setpoint(1.0, &at(-3.0)).unwrap().pos_w.unwrap().z + 2.5).abs() < 1e-12);
         // The ground stopped the vehicle at z = −0.1: the reference stays 0.5 m below it.
         assert!((g.setpoint(100.0, &at(-0.1)).unwrap().pos_w.unwrap().z - 0.4).abs() < 1e-12);
-        assert_eq!(Guidance::Idle.setpoint(0.0, &at(0.0)), None);
+        assert_eq!(Guidance::Idle.clone().setpoint(0.0, &at(0.0)), None);
     }
 }

@@ -2,9 +2,6 @@
 
 use crate::math::Vec3;
 
-/// Default acceptance radius of a waypoint when the item gives none [m].
-pub const DEFAULT_ACCEPT_RADIUS_M: f64 = 0.5;
-
 /// One mission item.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum MissionItem {
@@ -13,14 +10,15 @@ pub enum MissionItem {
         /// Height above home [m].
         height_m: f64,
     },
-    /// NAV_WAYPOINT: fly to `pos_w` [m], hold `hold_s` [s] once within `accept_m` [m].
+    /// NAV_WAYPOINT: fly to `pos_w` [m], hold `hold_s` [s] once within `accept_m` [m]
+    /// (`None`: the item gives none, `NAV_ACC_RAD` applies); with no hold, flown through.
     Waypoint {
         /// Target, local NED [m].
         pos_w: Vec3,
         /// Hold time [s].
         hold_s: f64,
         /// Acceptance radius [m].
-        accept_m: f64,
+        accept_m: Option<f64>,
         /// Heading at the waypoint [rad]; `None` keeps the current one.
         yaw_rad: Option<f64>,
     },
@@ -61,7 +59,12 @@ impl MissionItem {
                 hold_s,
                 accept_m,
                 yaw_rad,
-            } => v(pos_w) && hold_s.is_finite() && accept_m.is_finite() && yaw_rad.is_none_or(f64::is_finite),
+            } => {
+                v(pos_w)
+                    && hold_s.is_finite()
+                    && accept_m.is_none_or(f64::is_finite)
+                    && yaw_rad.is_none_or(f64::is_finite)
+            }
             Self::LoiterTime { pos_w, seconds } => v(pos_w) && seconds.is_finite(),
             Self::Land { pos_w } => pos_w.as_ref().is_none_or(v),
             Self::ReturnToLaunch => true,
@@ -104,7 +107,7 @@ mod tests {
         let wp = |x: f64| MissionItem::Waypoint {
             pos_w: Vec3::new(x, 0.0, -2.0),
             hold_s: 0.0,
-            accept_m: 0.5,
+            accept_m: None,
             yaw_rad: None,
         };
         let mut m = Mission {

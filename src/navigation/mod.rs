@@ -16,6 +16,7 @@ pub mod rally;
 mod setpoint_limiter;
 mod stick_reference;
 mod sticks;
+mod track;
 pub mod trajectory;
 
 pub use climb::ClimbProfile;
@@ -31,4 +32,5 @@ pub use rally::RallyPoints;
 pub use setpoint_limiter::SetpointLimiter;
 pub use stick_reference::StickReference;
 pub use sticks::{StickError, StickShaping, Sticks};
+pub use track::{Leg, Track};
 pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};

@@ -164,7 +164,7 @@ fn toward(e_w: Vec3, ff_w: Vec3, lim: &MotionLimits) -> Vec3 {
 /// Speed [m/s] from which deceleration `a` [m/s²] stops on a point `e` [m] ahead, and that
 /// decays as K_p e close to it (the square-root controller: linear below e₀ = a/K_p², where both
 /// branches meet at a/K_p with the same slope, so the deceleration asked never exceeds `a`).
-fn stopping_speed(e: f64, a: f64) -> f64 {
+pub(super) fn stopping_speed(e: f64, a: f64) -> f64 {
     let k = POSITION_GAIN_PER_S;
     let e0 = a / (k * k);
     if e <= e0 {

@@ -206,3 +206,34 @@ pub(super) static RETURN: &[ParamDef] = &[row!(
     "Where AUTO.RTL flies to and lands: home or an uploaded rally point (one more than 2 m nearer than the alternative and, unless 5, over 10 m from home)",
     action RtlType commander.rtl_type
 )];
+
+/// Mission waypoints: acceptance radii and the corner speed (indices after the filter's).
+pub(super) static MISSION: &[ParamDef] = &[
+    row!(
+        "NAV_ACC_RAD",
+        Real32,
+        [0.05, 200.0],
+        "m",
+        Navigation,
+        "Horizontal acceptance radius of a mission waypoint that gives none (PX4 SITL multicopter: 2 m)",
+        value commander.mission.accept_m
+    ),
+    row!(
+        "NAV_MC_ALT_RAD",
+        Real32,
+        [0.05, 200.0],
+        "m",
+        Navigation,
+        "Vertical acceptance radius of a multicopter mission waypoint",
+        value commander.mission.alt_accept_m
+    ),
+    row!(
+        "MPC_XY_TRAJ_P",
+        Real32,
+        [0.1, 1.0],
+        "",
+        Navigation,
+        "Share of MPC_ACC_HOR a waypoint flown through may turn with: sets the speed at its corner",
+        value commander.mission.corner_gain
+    ),
+];

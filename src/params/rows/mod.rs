@@ -104,7 +104,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 21] = [
+static GROUPS: [&[ParamDef]; 22] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -126,6 +126,7 @@ static GROUPS: [&[ParamDef]; 21] = [
     plant::WIND,
     failsafe::NAVIGATION_LOSS,
     navigation_filter::NAV_FILTER,
+    flight::MISSION,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

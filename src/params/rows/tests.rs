@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 126] = [
+const WIRE_ORDER: [&str; 129] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -131,6 +131,9 @@ const WIRE_ORDER: [&str; 126] = [
     "EKF2_ACC_NOISE",
     "EKF2_GYR_NOISE",
     "EKF2_TAU_VEL",
+    "NAV_ACC_RAD",
+    "NAV_MC_ALT_RAD",
+    "MPC_XY_TRAJ_P",
 ];
 
 fn settings() -> VehicleSettings {
