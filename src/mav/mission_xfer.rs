@@ -179,14 +179,21 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         (Vec::new(), Some(Completed::Items(mission_type, items)))
     }
 
-    /// Answers the validated upload with `result` (the caller stores the plan when ACCEPTED).
-    pub fn finish(&mut self, result: MavMissionResult) -> Vec<(P, MavMessage)> {
+    /// Answers the validated upload with `result` and `opaque_id` (the caller stores the plan
+    /// when ACCEPTED and names its id, as PX4 does; 0 otherwise).
+    pub fn finish(&mut self, result: MavMissionResult, opaque_id: u32) -> Vec<(P, MavMessage)> {
         match std::mem::replace(&mut self.state, State::Idle) {
             State::Validating {
                 peer,
                 ids,
                 mission_type,
-            } => vec![(peer, mission_ack(ids, mission_type, result))],
+            } => {
+                let mut ack = mission_ack(ids, mission_type, result);
+                if let MavMessage::MISSION_ACK(a) = &mut ack {
+                    a.opaque_id = opaque_id;
+                }
+                vec![(peer, ack)]
+            }
             other => {
                 self.state = other;
                 Vec::new()
@@ -295,9 +302,9 @@ mod tests {
         assert!(
             matches!(out[0].1, MavMessage::MISSION_ACK(ref a) if a.mavtype == MavMissionResult::MAV_MISSION_DENIED)
         );
-        let out = x.finish(MavMissionResult::MAV_MISSION_ACCEPTED);
+        let out = x.finish(MavMissionResult::MAV_MISSION_ACCEPTED, 0xC0FF_EE00);
         assert!(
-            matches!(out[0], (7, MavMessage::MISSION_ACK(ref a)) if a.mavtype == MavMissionResult::MAV_MISSION_ACCEPTED && a.target_system == 255)
+            matches!(out[0], (7, MavMessage::MISSION_ACK(ref a)) if a.mavtype == MavMissionResult::MAV_MISSION_ACCEPTED && a.target_system == 255 && a.opaque_id == 0xC0FF_EE00)
         );
         assert!(!x.busy());
     }
@@ -359,7 +366,7 @@ mod tests {
         assert!(matches!(done, Some(Completed::Items(t, ref v)) if t == fence && v.len() == 2));
         let accepted = MavMissionResult::MAV_MISSION_ACCEPTED as u32;
         assert_eq!(
-            typed(&x.finish(MavMissionResult::MAV_MISSION_ACCEPTED)[0].1),
+            typed(&x.finish(MavMissionResult::MAV_MISSION_ACCEPTED, 1)[0].1),
             Some((fence, accepted))
         );
         // Clearing rally by count 0 is a rally clear.

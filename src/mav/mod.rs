@@ -24,7 +24,8 @@
 //! - [`modes`]: PROTOCOL_VERSION and the standard modes protocol (AVAILABLE_MODES, CURRENT_MODE).
 //! - [`params`]: PARAM_VALUE / PARAM_SET encoding and PX4's `_HASH_CHECK`; [`crc32`]: its CRC.
 //! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation;
-//!   [`plan_items`]: fence and rally items; [`plan_store`]: the stored plans and downloads.
+//!   [`plan_items`]: fence and rally items; [`plan_store`]: the stored plans, their ids and
+//!   downloads; [`mission_report`]: MISSION_CURRENT (plan ids, PX4's mission mode and state).
 //! - [`gcs`]: the ground-station side (its header, COMMAND_LONG, which ACK answers a command)
 //!   for the bench client, the tests and the fuzz target.
 
@@ -43,6 +44,7 @@ pub mod link;
 pub mod logs;
 pub mod metadata;
 pub mod mission_items;
+pub mod mission_report;
 pub mod mission_xfer;
 pub mod modes;
 mod nav_status;

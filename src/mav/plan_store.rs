@@ -1,19 +1,67 @@
 //! The stored plans of the mission protocol, one per MAV_MISSION_TYPE (mission, fence, rally),
-//! as uploaded, and the stateless downloads answered from them (docs/mavlink.md §7). A plan changes
-//! only when the vehicle took a validated upload of its type, or on a clear. Pure.
+//! as uploaded, with their ids, and the stateless downloads answered from them
+//! (docs/mavlink.md §7). A plan changes only when the vehicle took a validated upload of its
+//! type, or on a clear.
+//!
+//! A plan's id is PX4's (`MavlinkMissionManager::crc32_for_mission_item`): [`crc32_part`] chained
+//! from 0 over each item's packed 32-byte `CrcMissionItem_t` in upload order, 0 for no plan. It
+//! goes out as `opaque_id` in the upload's final MISSION_ACK and in MISSION_COUNT of a download,
+//! and as `mission_id` / `fence_id` / `rally_points_id` in MISSION_CURRENT. Pure.
 
 use mavlink::dialects::common::{
     MavMessage, MavMissionResult, MavMissionType, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA,
 };
 
+use super::crc32::crc32_part;
 use super::mission_xfer::{mission_ack, Ids};
 
-/// The plans a vehicle stores, by type.
+/// The plans a vehicle stores, by type, each with its id.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct PlanStore {
     mission: Vec<MISSION_ITEM_INT_DATA>,
     fence: Vec<MISSION_ITEM_INT_DATA>,
     rally: Vec<MISSION_ITEM_INT_DATA>,
+    ids: PlanIds,
+}
+
+/// The ids of the stored plans (0: none stored).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PlanIds {
+    /// The mission's.
+    pub mission: u32,
+    /// The fence's.
+    pub fence: u32,
+    /// The rally points'.
+    pub rally: u32,
+}
+
+/// PX4's `CrcMissionItem_t` of `item`, packed little-endian: frame (u8), command (u16),
+/// autocontinue (u8), then param1..4, x, y, z as 32-bit words. PX4 decodes a MISSION_ITEM_INT
+/// through the MISSION_ITEM layout, so x and y are the integers' bit patterns.
+fn crc_item(item: &MISSION_ITEM_INT_DATA) -> [u8; 32] {
+    let mut b = [0u8; 32];
+    b[0] = item.frame as u8;
+    b[1..3].copy_from_slice(&(item.command as u16).to_le_bytes());
+    b[3] = item.autocontinue;
+    let words = [
+        item.param1.to_bits(),
+        item.param2.to_bits(),
+        item.param3.to_bits(),
+        item.param4.to_bits(),
+        item.x as u32,
+        item.y as u32,
+        item.z.to_bits(),
+    ];
+    for (k, w) in words.iter().enumerate() {
+        b[4 + 4 * k..8 + 4 * k].copy_from_slice(&w.to_le_bytes());
+    }
+    b
+}
+
+/// The id PX4 gives a plan of `items`: [`crc32_part`] from 0 over each item's [`crc_item`]
+/// (0 for no items).
+pub fn plan_id(items: &[MISSION_ITEM_INT_DATA]) -> u32 {
+    items.iter().fold(0, |crc, item| crc32_part(&crc_item(item), crc))
 }
 
 /// The plan types a vehicle stores, in MAV_MISSION_TYPE order (what MAV_MISSION_TYPE_ALL names).
@@ -43,24 +91,41 @@ impl PlanStore {
         }
     }
 
-    /// Replaces plan `mission_type` (a type not stored is ignored).
+    /// Replaces plan `mission_type` and its id (a type not stored is ignored).
     pub fn set(&mut self, mission_type: MavMissionType, items: Vec<MISSION_ITEM_INT_DATA>) {
+        let id = plan_id(&items);
         match mission_type {
-            MavMissionType::MAV_MISSION_TYPE_MISSION => self.mission = items,
-            MavMissionType::MAV_MISSION_TYPE_FENCE => self.fence = items,
-            MavMissionType::MAV_MISSION_TYPE_RALLY => self.rally = items,
+            MavMissionType::MAV_MISSION_TYPE_MISSION => (self.mission, self.ids.mission) = (items, id),
+            MavMissionType::MAV_MISSION_TYPE_FENCE => (self.fence, self.ids.fence) = (items, id),
+            MavMissionType::MAV_MISSION_TYPE_RALLY => (self.rally, self.ids.rally) = (items, id),
             _ => {}
         }
     }
 
-    /// MISSION_COUNT of plan `mission_type` for a download, addressed to `ids`.
+    /// The id of plan `mission_type` (0 when none is stored or for a type not stored).
+    pub fn id(&self, mission_type: MavMissionType) -> u32 {
+        match mission_type {
+            MavMissionType::MAV_MISSION_TYPE_MISSION => self.ids.mission,
+            MavMissionType::MAV_MISSION_TYPE_FENCE => self.ids.fence,
+            MavMissionType::MAV_MISSION_TYPE_RALLY => self.ids.rally,
+            _ => 0,
+        }
+    }
+
+    /// The ids of the three plans.
+    pub fn ids(&self) -> PlanIds {
+        self.ids
+    }
+
+    /// MISSION_COUNT of plan `mission_type` for a download, addressed to `ids`, with the plan's
+    /// id as `opaque_id`.
     pub fn download_count(&self, ids: Ids, mission_type: MavMissionType) -> MavMessage {
         MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
             count: self.items(mission_type).len() as u16,
             target_system: ids.0,
             target_component: ids.1,
             mission_type,
-            opaque_id: 0,
+            opaque_id: self.id(mission_type),
         })
     }
 
@@ -105,6 +170,102 @@ mod tests {
             MavMessage::MISSION_ITEM_INT(i) => Some((i.mission_type, u32::from(i.seq))),
             _ => None,
         }
+    }
+
+    /// The CRC from its definition, bit by bit: reflected polynomial 0xEDB88320, from `crc`,
+    /// no inversion before or after.
+    fn crc_by_bits(data: &[u8], mut crc: u32) -> u32 {
+        for b in data {
+            crc ^= u32::from(*b);
+            for _ in 0..8 {
+                crc = if crc & 1 == 1 {
+                    (crc >> 1) ^ 0xEDB8_8320
+                } else {
+                    crc >> 1
+                };
+            }
+        }
+        crc
+    }
+
+    /// A waypoint 10 m up in MAV_FRAME_GLOBAL_RELATIVE_ALT (as QGroundControl sends it in
+    /// MISSION_ITEM_INT), then RETURN_TO_LAUNCH.
+    fn two_items() -> Vec<MISSION_ITEM_INT_DATA> {
+        let wp = MISSION_ITEM_INT_DATA {
+            frame: mavlink::dialects::common::MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+            command: MavCmd::MAV_CMD_NAV_WAYPOINT,
+            autocontinue: 1,
+            param2: 2.0,
+            param4: 90.0,
+            x: 473_977_418,
+            y: 85_455_939,
+            z: 10.0,
+            ..item(0, MavCmd::MAV_CMD_NAV_WAYPOINT)
+        };
+        let rtl = MISSION_ITEM_INT_DATA {
+            frame: mavlink::dialects::common::MavFrame::MAV_FRAME_MISSION,
+            autocontinue: 1,
+            ..item(1, MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH)
+        };
+        vec![wp, rtl]
+    }
+
+    #[test]
+    fn a_plan_id_is_px4s_crc_over_the_packed_items() {
+        let items = two_items();
+        // The packed struct written out field by field: frame 3, command 16, autocontinue 1,
+        // param1..4, x and y as their integers' bytes, z.
+        let mut wp = vec![3u8, 16, 0, 1];
+        for f in [0.0f32, 2.0, 0.0, 90.0] {
+            wp.extend(f.to_le_bytes());
+        }
+        wp.extend(473_977_418i32.to_le_bytes());
+        wp.extend(85_455_939i32.to_le_bytes());
+        wp.extend(10.0f32.to_le_bytes());
+        let mut rtl = vec![2u8, 20, 0, 1];
+        rtl.extend([0u8; 28]);
+        assert_eq!(wp.len(), 32);
+        let expected = crc_by_bits(&rtl, crc_by_bits(&wp, 0));
+        assert_eq!(plan_id(&items), expected);
+        // The same value from Python: `~zlib.crc32(wp + rtl, 0xFFFFFFFF) & 0xFFFFFFFF`.
+        assert_eq!(expected, 0xB3C5_B097);
+        assert_eq!(plan_id(&[]), 0, "no plan");
+        // What a MISSION_ITEM_INT does not carry into the struct leaves the id alone.
+        let mut moved = items.clone();
+        moved[0].seq = 9;
+        moved[0].current = 1;
+        moved[0].mission_type = MavMissionType::MAV_MISSION_TYPE_FENCE;
+        assert_eq!(plan_id(&moved), expected);
+        moved[0].y += 1;
+        assert_ne!(plan_id(&moved), expected);
+    }
+
+    #[test]
+    fn each_plan_keeps_its_id_and_a_download_names_it() {
+        let mut store = PlanStore::default();
+        assert_eq!(store.ids(), PlanIds::default());
+        store.set(RALLY, two_items());
+        let id = plan_id(&two_items());
+        assert_eq!(
+            store.ids(),
+            PlanIds {
+                rally: id,
+                ..PlanIds::default()
+            }
+        );
+        let MavMessage::MISSION_COUNT(c) = store.download_count(GCS, RALLY) else {
+            panic!()
+        };
+        assert_eq!((c.count, c.opaque_id), (2, id));
+        let MavMessage::MISSION_COUNT(c) = store.download_count(GCS, MISSION) else {
+            panic!()
+        };
+        assert_eq!((c.count, c.opaque_id), (0, 0));
+        store.set(RALLY, Vec::new());
+        assert_eq!(
+            (store.id(RALLY), store.id(MavMissionType::MAV_MISSION_TYPE_ALL)),
+            (0, 0)
+        );
     }
 
     #[test]

@@ -1,12 +1,11 @@
 //! Status messages from a [`Snapshot`]: BATTERY_STATUS, SYS_STATUS (sensor, pre-arm and
-//! geofence health), MISSION_CURRENT and STATUSTEXT. Pure.
+//! geofence health) and STATUSTEXT (MISSION_CURRENT, which needs the stored plans, is in
+//! `mission_report.rs`). Pure.
 
 use mavlink::dialects::common::{
-    MavMessage, MavSeverity, MavSysStatusSensor, BATTERY_STATUS_DATA, MISSION_CURRENT_DATA, STATUSTEXT_DATA,
-    SYS_STATUS_DATA,
+    MavMessage, MavSeverity, MavSysStatusSensor, BATTERY_STATUS_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA,
 };
 
-use crate::commander::{FlightMode, MissionState};
 use crate::telemetry::{BatterySnapshot, SensorState, Snapshot};
 
 /// Pack voltage [mV].
@@ -34,28 +33,6 @@ pub(super) fn battery_status(b: &BatterySnapshot) -> MavMessage {
         energy_consumed: (b.energy_j / 100.0).round().clamp(0.0, f64::from(i32::MAX)) as i32,
         temperature: i16::MAX,
         battery_remaining: percent(b),
-        ..Default::default()
-    })
-}
-
-/// MISSION_CURRENT for item `seq` (docs/mavlink.md §7): total UINT16_MAX without a mission,
-/// mission_mode 1 in AUTO.MISSION.
-pub fn mission_current(s: &Snapshot, seq: u16) -> MavMessage {
-    MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
-        seq,
-        total: if s.mission_total == 0 {
-            u16::MAX
-        } else {
-            s.mission_total
-        },
-        mission_state: match s.mission_state {
-            MissionState::NoMission => mavlink::dialects::common::MissionState::MISSION_STATE_NO_MISSION,
-            MissionState::NotStarted => mavlink::dialects::common::MissionState::MISSION_STATE_NOT_STARTED,
-            MissionState::Active => mavlink::dialects::common::MissionState::MISSION_STATE_ACTIVE,
-            MissionState::Paused => mavlink::dialects::common::MissionState::MISSION_STATE_PAUSED,
-            MissionState::Complete => mavlink::dialects::common::MissionState::MISSION_STATE_COMPLETE,
-        },
-        mission_mode: u8::from(s.mode == FlightMode::Mission),
         ..Default::default()
     })
 }

@@ -1,5 +1,6 @@
 //! Telemetry messages from a [`Snapshot`] (docs/mavlink.md §4–§5): the periodic streams. The status
-//! messages (battery, SYS_STATUS, MISSION_CURRENT, STATUSTEXT) are in `status.rs`. Pure.
+//! messages (battery, SYS_STATUS, STATUSTEXT) are in `status.rs`; MISSION_CURRENT, which names the
+//! stored plans, in `mission_report.rs`. Pure.
 
 use mavlink::dialects::common::{
     MavFrame, MavLandedState, MavMessage, MavVtolState, PositionTargetTypemask, ACTUATOR_OUTPUT_STATUS_DATA,
@@ -13,8 +14,8 @@ use crate::commander::LandedState;
 use crate::math::{UnitQuat, Vec3};
 use crate::telemetry::Snapshot;
 
+pub use super::status::status_text;
 use super::status::{battery_status, sys_status};
-pub use super::status::{mission_current, status_text};
 
 /// A periodic telemetry message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -201,7 +202,8 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
     Some(match stream {
         Stream::CurrentMode => super::modes::current_mode(s.mode),
         Stream::OrbitStatus => return super::orbit::orbit_execution_status(s),
-        Stream::SystemTime | Stream::EkfStatusReport => return None,
+        // Built by the link: the wall clock, a foreign dialect, the stored plans' ids.
+        Stream::SystemTime | Stream::EkfStatusReport | Stream::MissionCurrent => return None,
         Stream::EventSequence => super::events::current_event_sequence(),
         Stream::AttitudeQuaternion => {
             let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);
@@ -365,7 +367,6 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 hdg: heading_cdeg,
             })
         }
-        Stream::MissionCurrent => mission_current(s, s.mission_seq),
         Stream::HomePosition => {
             let [latitude, longitude, altitude] = global_int(s, &s.home_w);
             let [x, y, z] = f32x3(s.home_w);

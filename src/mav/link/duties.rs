@@ -11,26 +11,28 @@ use crate::commander::{Event, LinkLossAction, Request, Stream};
 use crate::mav::foreign::ekf_status_report;
 use crate::mav::identity::heartbeat;
 use crate::mav::signing::unix_us_from_timestamp;
-use crate::mav::telemetry::{message, mission_current, status_text, system_time, Outgoing, Stream as TelemetryStream};
-use crate::telemetry::Snapshot;
+use crate::mav::telemetry::{message, status_text, system_time, Outgoing, Stream as TelemetryStream};
 
 /// How often the link looks at what is due (wall time) [s].
 pub const DUTY_PERIOD_S: f64 = 0.005;
 /// Heartbeat period, in wall time and in simulated time [s].
 pub const HEARTBEAT_PERIOD_S: f64 = 1.0;
 
-/// The message announcing `event`.
-pub(super) fn announcement(snapshot: &Snapshot, event: &Event) -> MavMessage {
-    match event {
-        Event::MissionItemReached(seq) => MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: *seq }),
-        Event::MissionCurrent(seq) => mission_current(snapshot, *seq),
-        Event::Failsafe(text) => status_text(CRITICAL, text),
-        Event::Navigation { text, warning: true } => status_text(WARNING, text),
-        other => status_text(INFO, &other.describe()),
-    }
-}
-
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
+    /// The message announcing `event` (a reached item is remembered for MISSION_CURRENT).
+    pub(super) fn announcement(&mut self, event: &Event) -> MavMessage {
+        match event {
+            Event::MissionItemReached(seq) => {
+                self.report.handle_reached(*seq);
+                MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: *seq })
+            }
+            Event::MissionCurrent(seq) => self.report.mission_current(&self.snapshot, *seq, self.plans.ids()),
+            Event::Failsafe(text) => status_text(CRITICAL, text),
+            Event::Navigation { text, warning: true } => status_text(WARNING, text),
+            other => status_text(INFO, &other.describe()),
+        }
+    }
+
     /// Everything due by `now`.
     pub fn handle_timeout(&mut self, now: Now) {
         self.stream_param_lists(now);
@@ -72,6 +74,11 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 &self.snapshot,
             ))),
             TelemetryStream::EkfStatusReport => Some(Outgoing::Foreign(ekf_status_report(&self.snapshot))),
+            TelemetryStream::MissionCurrent => Some(Outgoing::Message(self.report.mission_current(
+                &self.snapshot,
+                self.snapshot.mission_seq,
+                self.plans.ids(),
+            ))),
             _ => message(stream, &self.snapshot).map(Outgoing::Message),
         }
     }

@@ -73,7 +73,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     Err(e) => {
                         let why = format!("{} item {} refused: {:?}", plan_name(mission_type), e.seq, e.result);
                         self.send(now, link, from, &status_text(WARNING, &why));
-                        self.finish_upload(now, link, e.result);
+                        self.finish_upload(now, link, e.result, 0);
                     }
                 }
             }
@@ -94,7 +94,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     }
 
     /// The vehicle's answer to a validated upload of plan `mission_type`: stored and ACCEPTED
-    /// once it took the plan, MISSION_ERROR when it could not be reached.
+    /// with the plan's id once it took the plan, MISSION_ERROR when it could not be reached.
     pub(super) fn mission_taken(
         &mut self,
         now: Now,
@@ -103,19 +103,22 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         items: Vec<MISSION_ITEM_INT_DATA>,
         reply: VehicleReply,
     ) {
-        let result = match reply {
-            VehicleReply::Busy => MavMissionResult::MAV_MISSION_ERROR,
+        let (result, id) = match reply {
+            VehicleReply::Busy => (MavMissionResult::MAV_MISSION_ERROR, 0),
             _ => {
                 self.plans.set(mission_type, items);
-                MavMissionResult::MAV_MISSION_ACCEPTED
+                (MavMissionResult::MAV_MISSION_ACCEPTED, self.plans.id(mission_type))
             }
         };
-        self.finish_upload(now, link, result);
+        self.finish_upload(now, link, result, id);
     }
 
-    /// The upload's MISSION_ACK with `result`.
-    fn finish_upload(&mut self, now: Now, link: LinkKind, result: MavMissionResult) {
-        let out = self.port(link).map(|p| p.transfer.finish(result)).unwrap_or_default();
+    /// The upload's MISSION_ACK with `result` and `opaque_id`.
+    fn finish_upload(&mut self, now: Now, link: LinkKind, result: MavMissionResult, opaque_id: u32) {
+        let out = self
+            .port(link)
+            .map(|p| p.transfer.finish(result, opaque_id))
+            .unwrap_or_default();
         self.send_all(now, link, out);
     }
 

@@ -46,6 +46,7 @@ use crate::telemetry::Snapshot;
 
 use super::codec::frame_message;
 use super::logs::{LogStore, MemLogStore};
+use super::mission_report::MissionReport;
 use super::plan_store::PlanStore;
 use super::signing::{Signing, SigningKey};
 use super::streams::LinkKind;
@@ -213,6 +214,8 @@ pub struct LinkMachine<A> {
     snapshot: Snapshot,
     /// The plans as uploaded, for downloads; each replaced only when the vehicle took an upload.
     plans: PlanStore,
+    /// What MISSION_CURRENT remembers (PX4's mission mode and state).
+    report: MissionReport,
     pending: HashMap<Token, Pending<A>>,
     next_token: Token,
     param_lists: Vec<ParamList<A>>,
@@ -270,6 +273,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             params: config.params,
             snapshot: config.snapshot,
             plans: PlanStore::default(),
+            report: MissionReport::default(),
             pending: HashMap::new(),
             next_token: 0,
             param_lists: Vec::new(),
@@ -290,12 +294,13 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// The vehicle's latest state (telemetry, home, armed state for SETUP_SIGNING).
     pub fn handle_state(&mut self, snapshot: Snapshot) {
+        self.report.handle_state(&snapshot, self.plans.ids());
         self.snapshot = snapshot;
     }
 
     /// A commander event, announced to every target of every link.
     pub fn handle_event(&mut self, now: Now, event: Event) {
-        let msg = duties::announcement(&self.snapshot, &event);
+        let msg = self.announcement(&event);
         self.broadcast(now, &msg);
     }
 
