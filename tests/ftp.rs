@@ -1,6 +1,7 @@
 //! MAVLink FTP and component metadata against the vehicle's MAVLink endpoint with virtual
 //! clocks, as QGroundControl and MAVSDK use them: list, open, read, burst-read, CRC, the
-//! scratch area, escapes and sessions; COMPONENT_METADATA pointing at files that download.
+//! scratch area, escapes and sessions; COMPONENT_METADATA pointing at `.xz` files that download
+//! and inflate.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
 mod link_bench;
@@ -96,6 +97,14 @@ fn download(b: &mut Bench, seq: &mut u16, path: &str) -> Vec<u8> {
     }
 }
 
+/// An `.xz` file inflated.
+fn unxz(xz: &[u8]) -> Vec<u8> {
+    use std::io::Read;
+    let mut out = Vec::new();
+    lzma_rust2::XzReader::new(xz, false).read_to_end(&mut out).unwrap();
+    out
+}
+
 fn request(id: f32) -> MavMessage {
     let params = [id, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     MavMessage::COMMAND_LONG(rotorpilot::mav::gcs::command_long(
@@ -125,7 +134,7 @@ fn qgc_finds_the_component_metadata_and_downloads_it_by_ftp() {
         panic!("{out:?}")
     };
     let uri = meta.uri.to_str().unwrap().to_string();
-    assert_eq!(uri, "mftp://etc/extras/component_general.json");
+    assert_eq!(uri, "mftp://etc/extras/component_general.json.xz");
     b.send(Gcs, QGC, request(395.0));
     let out = b.out();
     let [(_, _, MavMessage::COMPONENT_INFORMATION(info))] = &named(&out, "COMPONENT_INFORMATION")[..] else {
@@ -135,29 +144,34 @@ fn qgc_finds_the_component_metadata_and_downloads_it_by_ftp() {
 
     // QGC keeps the slash after the scheme: it asks for "/etc/...".
     let mut seq = 0;
-    let general = download(&mut b, &mut seq, &uri["mftp:/".len()..]);
+    let general_xz = download(&mut b, &mut seq, &uri["mftp:/".len()..]);
+    let general = unxz(&general_xz);
     assert_eq!(
         crc32_part(&general, 0),
         meta.file_crc,
-        "file_crc is PX4's CRC-32 of the file"
+        "file_crc is PX4's CRC-32 of the uncompressed file"
     );
     let doc: serde_json::Value = serde_json::from_slice(&general).unwrap();
     let types = &doc["metadataTypes"][0];
     assert_eq!(types["type"], 1);
     let param_uri = types["uri"].as_str().unwrap();
-    let params = download(&mut b, &mut seq, &param_uri["mftp:/".len()..]);
-    assert!(params.len() > 2000, "more than one burst frame: {}", params.len());
-    assert_eq!(types["fileCrc"].as_u64(), Some(u64::from(crc32_part(&params, 0))));
+    let params_xz = download(&mut b, &mut seq, &param_uri["mftp:/".len()..]);
+    assert!(params_xz.len() > 2000, "more than one burst frame: {}", params_xz.len());
+    assert_eq!(
+        types["fileCrc"].as_u64(),
+        Some(u64::from(crc32_part(&params_xz, 0))),
+        "fileCrc is the CRC of the served .xz file"
+    );
     let crc = one(
         &mut b,
         Opcode::CalcFileCRC32,
         seq,
         0,
         0,
-        b"/etc/extras/parameters.json\0",
+        b"/etc/extras/parameters.json.xz\0",
     );
-    assert_eq!(crc.data_u32(), Some(crc32_part(&params, 0)));
-    let doc: serde_json::Value = serde_json::from_slice(&params).unwrap();
+    assert_eq!(crc.data_u32(), Some(crc32_part(&params_xz, 0)));
+    let doc: serde_json::Value = serde_json::from_slice(&unxz(&params_xz)).unwrap();
     let names: Vec<&str> = doc["parameters"]
         .as_array()
         .unwrap()
@@ -173,8 +187,8 @@ fn qgc_finds_the_component_metadata_and_downloads_it_by_ftp() {
     assert_eq!(
         extras,
         vec![
-            format!("Fcomponent_general.json\t{}", general.len()),
-            format!("Fparameters.json\t{}", params.len())
+            format!("Fcomponent_general.json.xz\t{}", general_xz.len()),
+            format!("Fparameters.json.xz\t{}", params_xz.len())
         ]
     );
     assert_eq!(
@@ -192,7 +206,7 @@ fn the_scratch_area_takes_files_and_nothing_escapes() {
     let create = one(&mut b, Opcode::CreateFile, 2, 0, 0, b"/fs/microsd/mission/plan.txt\0");
     assert_eq!(create.opcode, ACK);
     // A second open while the first session is held: PX4 has one session per link.
-    let busy = one(&mut b, Opcode::OpenFileRO, 4, 0, 0, b"/etc/extras/parameters.json");
+    let busy = one(&mut b, Opcode::OpenFileRO, 4, 0, 0, b"/etc/extras/parameters.json.xz");
     assert_eq!(nak(&busy), Some(5));
     let text = b"waypoint 1\nwaypoint 2\n";
     let w = one(&mut b, Opcode::WriteFile, 6, create.session, 0, text);
@@ -245,8 +259,8 @@ fn the_scratch_area_takes_files_and_nothing_escapes() {
 
     // Escapes and writes outside the scratch area.
     for (k, path) in [
-        &b"/fs/microsd/../../etc/extras/parameters.json"[..],
-        b"../etc/extras/parameters.json",
+        &b"/fs/microsd/../../etc/extras/parameters.json.xz"[..],
+        b"../etc/extras/parameters.json.xz",
         b"/fs/microsd/log/../x",
     ]
     .into_iter()
@@ -262,7 +276,7 @@ fn the_scratch_area_takes_files_and_nothing_escapes() {
             40,
             0,
             0,
-            b"/etc/extras/parameters.json"
+            b"/etc/extras/parameters.json.xz"
         )),
         Some(9)
     );
@@ -273,7 +287,7 @@ fn the_scratch_area_takes_files_and_nothing_escapes() {
             42,
             0,
             0,
-            b"/etc/extras/parameters.json"
+            b"/etc/extras/parameters.json.xz"
         )),
         Some(9)
     );

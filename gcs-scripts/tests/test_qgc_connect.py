@@ -8,12 +8,15 @@ as QGC's command queue does: REQUEST_MESSAGE AUTOPILOT_VERSION (148), PROTOCOL_V
 AVAILABLE_MODES (435, index 1 then each next index until `number_modes`, as QGC's StandardModes
 asks), COMPONENT_METADATA (397), then the general metadata JSON and the parameter JSON it names
 downloaded over MAVLink FTP as QGC's FTPManager does (OpenFileRO, BurstReadFile, ReadFile for the
-gaps, TerminateSession; the CRC checked against COMPONENT_METADATA.file_crc and `fileCrc`);
+gaps, TerminateSession), both `.xz` files as PX4 serves them and inflated with Python's `lzma` as
+QGC inflates them (COMPONENT_METADATA.file_crc checked against the inflated general JSON, as PX4's
+`generate_crc.py` computes it, and `fileCrc` against the downloaded parameter `.xz`);
 PARAM_REQUEST_LIST (every PARAM_VALUE, `_HASH_CHECK` first); MISSION_REQUEST_LIST for the mission,
 the fence and the rally points (empty, then a `.plan`'s fence and rally points uploaded and
 downloaded back identical); and a MAVLink shell round trip over SERIAL_CONTROL (`ver all`)
 as QGC's MAVLink console sends it. Ports are ephemeral (port 0, read from the ready line)."""
 import json
+import lzma
 import pathlib
 import time
 
@@ -69,18 +72,22 @@ def test_qgc_initial_connect_sequence(qgc):
     assert names[50593792] == "Hold" and len(modes) == modes[0].number_modes >= 10, names
     assert qgc.request_message(435, len(modes) + 1)[0] == DENIED
 
-    # COMPONENT_METADATA, then both metadata files over MAVLink FTP, CRCs checked.
+    # COMPONENT_METADATA, then both metadata files over MAVLink FTP, `.xz` as PX4 serves them,
+    # CRCs checked.
     result, got = qgc.request_message(397)
     assert result == ACCEPTED
     meta = got["COMPONENT_METADATA"][0]
-    assert meta.uri.startswith("mftp://"), meta.uri
-    general_bytes = qgc.download(meta.uri[len("mftp:/"):])
+    assert meta.uri == "mftp://etc/extras/component_general.json.xz", meta.uri
+    general_bytes = lzma.decompress(qgc.download(meta.uri[len("mftp:/"):]), format=lzma.FORMAT_XZ)
     assert crc32_part(general_bytes) == meta.file_crc
     general = json.loads(general_bytes)
     assert general["version"] == 1
     [param_type] = [t for t in general["metadataTypes"] if t["type"] == 1]
-    param_bytes = qgc.download(param_type["uri"][len("mftp:/"):])
-    assert crc32_part(param_bytes) == param_type["fileCrc"]
+    assert param_type["uri"] == "mftp://etc/extras/parameters.json.xz", param_type
+    param_xz = qgc.download(param_type["uri"][len("mftp:/"):])
+    assert crc32_part(param_xz) == param_type["fileCrc"]
+    param_bytes = lzma.decompress(param_xz, format=lzma.FORMAT_XZ)
+    assert len(param_xz) * 4 < len(param_bytes), (len(param_xz), len(param_bytes))
     described = {p["name"]: p for p in json.loads(param_bytes)["parameters"]}
     assert described["MPC_XY_VEL_MAX"]["type"] == "Float" and described["MPC_XY_VEL_MAX"]["units"]
 

@@ -1,11 +1,16 @@
 //! Component metadata (the MAVLink component information protocol) as PX4 serves it: the
 //! general metadata file, whose MAVLink FTP URI and CRC COMPONENT_METADATA (397) and the older
-//! COMPONENT_INFORMATION (395) carry, lists the parameter metadata file (type 1) with its URI
-//! and CRC; QGroundControl downloads both over MAVLink FTP and shows every parameter with its
-//! description, unit, range, default and group. The parameter file is generated from the
-//! parameter rows (QGroundControl's `CompInfoParam` format, version 1). Files are plain JSON
-//! (QGroundControl inflates only `.xz` names). Every `fileCrc` / `file_crc` is the CRC-32 PX4's
-//! `generate_crc.py` computes: [`crc32_part`] from 0 over the uncompressed file. Pure.
+//! COMPONENT_INFORMATION (395) carry (only when asked for with REQUEST_MESSAGE, never streamed),
+//! lists the parameter metadata file (type 1) with its URI and CRC; QGroundControl downloads both
+//! over MAVLink FTP and shows every parameter with its description, unit, range, default and
+//! group. The parameter file is generated from the parameter rows (QGroundControl's
+//! `CompInfoParam` format, version 1).
+//!
+//! Both files are served `.xz`-compressed at PX4's paths (`/etc/extras/component_general.json.xz`,
+//! `/etc/extras/parameters.json.xz`; QGroundControl inflates a `.xz` name), compressed with
+//! PX4's lzma preset 9 (`generate_component_general.py`). The CRCs are PX4's: [`crc32_part`]
+//! from 0; COMPONENT_METADATA's `file_crc` over the uncompressed general JSON
+//! (`generate_crc.py`), the general file's `fileCrc` over the `.xz` file it names. Pure.
 
 #[allow(deprecated)]
 use mavlink::dialects::common::COMPONENT_INFORMATION_DATA;
@@ -17,9 +22,39 @@ use super::ftp::{PublishError, Vfs};
 use crate::params::{ParamTable, ParamType};
 
 /// Where the general metadata file is served.
-pub const GENERAL_PATH: &str = "/etc/extras/component_general.json";
+pub const GENERAL_PATH: &str = "/etc/extras/component_general.json.xz";
 /// Where the parameter metadata file is served.
-pub const PARAMETERS_PATH: &str = "/etc/extras/parameters.json";
+pub const PARAMETERS_PATH: &str = "/etc/extras/parameters.json.xz";
+/// PX4's xz preset for the metadata files.
+const XZ_PRESET: u32 = 9;
+
+/// Why the metadata files could not be published.
+#[derive(Debug, thiserror::Error)]
+pub enum MetadataError {
+    /// The file system refused the path.
+    #[error(transparent)]
+    Publish(#[from] PublishError),
+    /// The xz encoder failed.
+    #[error("xz compression failed: {0}")]
+    Compress(#[from] std::io::Error),
+}
+
+/// `data` as an `.xz` file: one LZMA2 block with a CRC-64 check (what Python's
+/// `lzma.open(..., preset=9)` writes), preset 9 with the dictionary cut to what `data` needs (at
+/// least 4 KiB), so neither end reserves preset 9's 64 MiB for a file of some kilobytes.
+pub fn xz(data: &[u8]) -> Result<Vec<u8>, MetadataError> {
+    use lzma_rust2::{XzOptions, XzWriter};
+    use std::io::Write;
+    let mut options = XzOptions::with_preset(XZ_PRESET);
+    let needed = u32::try_from(data.len())
+        .unwrap_or(u32::MAX)
+        .max(lzma_rust2::DICT_SIZE_MIN);
+    options.lzma_options.dict_size = options.lzma_options.dict_size.min(needed.next_power_of_two());
+    let mut writer = XzWriter::new(Vec::new(), options)?;
+    writer.write_all(data)?;
+    Ok(writer.finish()?)
+}
+
 /// COMP_METADATA_TYPE_PARAMETER.
 const TYPE_PARAMETER: u32 = 1;
 
@@ -85,24 +120,26 @@ pub fn parameter_json(table: &ParamTable) -> Vec<u8> {
         .into_bytes()
 }
 
-/// The general metadata JSON: version 1 and the parameter metadata type with its URI and CRC
-/// (PX4's `generate_component_general.py` layout).
-pub fn general_json(parameters: &[u8]) -> Vec<u8> {
+/// The general metadata JSON: version 1 and the parameter metadata type with its URI and the
+/// CRC of `parameters_xz`, the served parameter file (PX4's `generate_component_general.py`
+/// layout; keys sorted, as its `json.dump(sort_keys=True)` writes them).
+pub fn general_json(parameters_xz: &[u8]) -> Vec<u8> {
     let types = json!([{
         "type": TYPE_PARAMETER,
         "uri": uri(PARAMETERS_PATH),
-        "fileCrc": crc32_part(parameters, 0),
+        "fileCrc": crc32_part(parameters_xz, 0),
     }]);
     json!({ "version": 1, "metadataTypes": types }).to_string().into_bytes()
 }
 
-/// Publishes both files of `table` in `fs`; returns the general file's CRC.
-pub fn install(fs: &mut Vfs, table: &ParamTable) -> Result<u32, PublishError> {
-    let parameters = parameter_json(table);
-    let general = general_json(&parameters);
+/// Publishes both `.xz` files of `table` in `fs`; returns the CRC of the uncompressed general
+/// JSON (COMPONENT_METADATA's `file_crc`).
+pub fn install(fs: &mut Vfs, table: &ParamTable) -> Result<u32, MetadataError> {
+    let parameters_xz = xz(&parameter_json(table))?;
+    let general = general_json(&parameters_xz);
     let crc = crc32_part(&general, 0);
-    fs.publish(PARAMETERS_PATH, parameters)?;
-    fs.publish(GENERAL_PATH, general)?;
+    fs.publish(PARAMETERS_PATH, parameters_xz)?;
+    fs.publish(GENERAL_PATH, xz(&general)?)?;
     Ok(crc)
 }
 
@@ -180,27 +217,56 @@ mod tests {
         assert!(dll["values"].as_array().is_some_and(|v| v.len() >= 3), "{dll}");
     }
 
+    /// `xz` inflated again by the crate's own reader.
+    fn unxz(xz: &[u8]) -> Vec<u8> {
+        use std::io::Read;
+        let mut out = Vec::new();
+        lzma_rust2::XzReader::new(xz, false).read_to_end(&mut out).unwrap();
+        out
+    }
+
     #[test]
     fn the_general_file_points_at_the_parameters_with_their_crc() {
         let mut fs = Vfs::default();
         let crc = install(&mut fs, &table()).unwrap();
-        let general = fs.read(GENERAL_PATH).unwrap();
-        assert_eq!(crc, crc32_part(general, 0));
-        let doc: Value = serde_json::from_slice(general).unwrap();
+        let general_xz = fs.read(GENERAL_PATH).unwrap();
+        assert_eq!(&general_xz[..6], b"\xFD7zXZ\0", "an .xz file");
+        let general = unxz(general_xz);
+        assert_eq!(crc, crc32_part(&general, 0), "the CRC of the uncompressed JSON");
+        let doc: Value = serde_json::from_slice(&general).unwrap();
         assert_eq!(doc["version"], 1);
         let t = &doc["metadataTypes"][0];
         assert_eq!(
             (t["type"].as_u64(), t["uri"].as_str()),
-            (Some(1), Some("mftp://etc/extras/parameters.json"))
+            (Some(1), Some("mftp://etc/extras/parameters.json.xz"))
         );
-        let params = fs.read(PARAMETERS_PATH).unwrap();
-        assert_eq!(t["fileCrc"].as_u64(), Some(u64::from(crc32_part(params, 0))));
+        let params_xz = fs.read(PARAMETERS_PATH).unwrap();
+        assert_eq!(
+            t["fileCrc"].as_u64(),
+            Some(u64::from(crc32_part(params_xz, 0))),
+            "the CRC of the served file"
+        );
+        let params = unxz(params_xz);
+        assert_eq!(params, parameter_json(&table()));
+        assert!(
+            params_xz.len() * 4 < params.len(),
+            "compressed: {} of {}",
+            params_xz.len(),
+            params.len()
+        );
         let MavMessage::COMPONENT_METADATA(m) = component_metadata(crc, 5) else {
             panic!()
         };
         assert_eq!(
             (m.file_crc, m.uri.to_str().unwrap()),
-            (crc, "mftp://etc/extras/component_general.json")
+            (crc, "mftp://etc/extras/component_general.json.xz")
         );
+    }
+
+    #[test]
+    fn xz_round_trips_empty_and_larger_than_the_smallest_dictionary() {
+        assert_eq!(unxz(&xz(b"").unwrap()), b"");
+        let data: Vec<u8> = (0..20_000u32).flat_map(|k| (k * 7919 % 251).to_le_bytes()).collect();
+        assert_eq!(unxz(&xz(&data).unwrap()), data);
     }
 }

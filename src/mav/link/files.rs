@@ -46,7 +46,8 @@ impl<A> Files<A> {
     /// an FTP server and a log server per link of `links`.
     pub fn new(params: &ParamTable, links: &[LinkKind], logs: Box<dyn LogStore>) -> Self {
         let mut vfs = Vfs::default();
-        // The metadata paths are fixed and outside the scratch area: publishing cannot fail.
+        // The metadata paths are fixed and outside the scratch area, and the files are compressed
+        // in memory: installing them cannot fail.
         let general_crc = metadata::install(&mut vfs, params).unwrap_or_default();
         let ftp = links
             .iter()
