@@ -88,10 +88,16 @@ pub(crate) enum Command {
         /// Stop after this many wall-clock seconds (default: run until Ctrl-C / SIGTERM).
         #[arg(long)]
         duration: Option<f64>,
-        /// Write DIR/flight.tlog (MAVLink telemetry log) and a ULog flight log per arming,
-        /// DIR/log/YYYY-MM-DD/HH_MM_SS.ulg (PX4's naming, UTC), served to log downloads.
-        #[arg(long)]
+        /// Write DIR/flight.tlog (MAVLink telemetry log) and the ULog flight logs,
+        /// DIR/log/YYYY-MM-DD/HH_MM_SS.ulg (PX4's naming, UTC; by default one per arming, as
+        /// SDLOG_MODE says), served to log downloads [default: the flight logs only, in
+        /// $XDG_STATE_HOME/rotorpilot/instance-K or ~/.local/state/rotorpilot/instance-K, K the
+        /// PX4 instance: --port-base + the vehicle's index].
+        #[arg(long, value_name = "DIR", conflicts_with = "no_log")]
         log: Option<PathBuf>,
+        /// Write no logs at all and serve none (SDLOG_MODE -1 stops only the flight logs).
+        #[arg(long = "no-log")]
+        no_log: bool,
         /// Rates of the ULog topics: default (PX4-like, tens of Hz) or full (every 1 kHz tick).
         #[arg(long = "log-profile", default_value = "default")]
         log_profile: rotorpilot::ulog::Profile,
@@ -196,6 +202,10 @@ pub(crate) enum Command {
         /// A few seconds' smoke run with rough figures (small counts, short windows).
         #[arg(long)]
         quick: bool,
+        /// Only what the flight logs cost: the full profile in fly and sim, and run's default
+        /// profile at real time.
+        #[arg(long)]
+        logging: bool,
         /// Wall time of each real-time trial and of the max-speed run [s].
         #[arg(long)]
         window: Option<f64>,

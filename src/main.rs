@@ -15,6 +15,7 @@ use rotorpilot::math::Vec3;
 use rotorpilot::navigation::Home;
 use rotorpilot::params::parse_param_file;
 use rotorpilot::report::{estimate_csv, AllocReport, EstimateReport, GainsReport};
+use rotorpilot::runtime::log_place::{default_log_root, LogPlace};
 use rotorpilot::runtime::{self, RunConfig};
 use rotorpilot::scenario::Scenario;
 use rotorpilot::sim::simulate_paced;
@@ -43,6 +44,30 @@ fn parse_home(text: &str) -> Result<Home, String> {
         _ => Err(format!(
             "--home {text:?}: expected LAT,LON,ALT with |LAT| ≤ 90 and |LON| ≤ 180"
         )),
+    }
+}
+
+/// Where `run` keeps its logs: `--log DIR`, none with `--no-log`, else the per-user default
+/// for the vehicles of PX4 instances `port_base` on (none, with a warning, when neither
+/// XDG_STATE_HOME nor HOME says where that is).
+fn log_place(log: Option<std::path::PathBuf>, no_log: bool, port_base: u16) -> Option<LogPlace> {
+    if no_log {
+        return None;
+    }
+    if let Some(dir) = log {
+        return Some(LogPlace::Chosen(dir));
+    }
+    let xdg = std::env::var_os("XDG_STATE_HOME");
+    let home = std::env::var_os("HOME");
+    match default_log_root(xdg.as_deref(), home.as_deref()) {
+        Some(root) => Some(LogPlace::Default {
+            root,
+            first_instance: usize::from(port_base),
+        }),
+        None => {
+            tracing::warn!("no flight logs: neither XDG_STATE_HOME nor HOME is set (give --log DIR)");
+            None
+        }
     }
 }
 
@@ -117,6 +142,7 @@ fn execute(command: Command) -> Result<String, String> {
             seed,
             duration,
             log,
+            no_log,
             log_profile,
             params,
         } => {
@@ -163,7 +189,7 @@ fn execute(command: Command) -> Result<String, String> {
                 home: parse_home(&home)?,
                 seed,
                 dt_s: 1e-3,
-                log_dir: log,
+                log: log_place(log, no_log, port_base),
                 log_profile,
                 params,
                 count,
@@ -255,6 +281,7 @@ fn execute(command: Command) -> Result<String, String> {
             airframe,
             json,
             quick,
+            logging,
             window,
             max_count,
             first_count,
@@ -279,6 +306,14 @@ fn execute(command: Command) -> Result<String, String> {
                     return Err("--first-count must be at least 1".into());
                 }
                 options.first_count = n;
+            }
+            if logging {
+                let cost = rotorpilot::bench::logging_only(&options).map_err(|e| format!("bench: {e}"))?;
+                return if json {
+                    serde_json::to_string(&cost).map_err(|e| e.to_string())
+                } else {
+                    Ok(cost.to_text())
+                };
             }
             let report = rotorpilot::bench::run(&options).map_err(|e| format!("bench: {e}"))?;
             if json {

@@ -6,7 +6,8 @@ any number of them run side by side. Its GCS telemetry goes to a pymavlink socke
 process (`Autopilot.conn`); its API telemetry to a socket that only swallows it (MAVSDK connects
 itself with `Autopilot.api`). Everything it writes goes to its run directory: ``command.txt``,
 ``stdout.txt``, ``stderr.txt``, ``params.txt`` and, with ``log=True``, ``log/`` (``flight.tlog``
-and a ULog per arming).
+and a ULog per arming); by default it writes no log (``--no-log``), so nothing lands in the
+user's state directory where ``rotorpilot run`` keeps its flight logs unless told otherwise.
 """
 from __future__ import annotations
 
@@ -128,9 +129,9 @@ class Autopilot(Vehicle):
     @classmethod
     def start(cls, binary: str | os.PathLike[str] | None = None, *, airframe: str | os.PathLike[str] | None = None,
               controller: str | None = None, speedup: float | str | None = None,
-              params: Mapping[str, float] | None = None, log: bool | str | os.PathLike[str] = False,
+              params: Mapping[str, float] | None = None, log: bool | str | os.PathLike[str] | None = False,
               log_profile: str | None = None, count: int = 1, sensors: str = "ideal",
-              args: Sequence[str] = (),
+              args: Sequence[str] = (), env: Mapping[str, str] | None = None,
               duration: float | None = DEFAULT_DURATION_S, connect: bool = True, timeout: float = DEFAULT_TIMEOUT,
               workdir: str | os.PathLike[str] | None = None) -> Autopilot:
         """Starts ``rotorpilot run`` (`binary`: see `find_binary`) and waits for its ready line.
@@ -142,8 +143,13 @@ class Autopilot(Vehicle):
         the binary's own default: IMU, GPS, barometer and magnetometer through the navigation
         filter) and `log_profile` are its options of the same name;
         `params` sets parameters at start (``{"MPC_XY_VEL_MAX": 5}``, through ``--params``);
-        `log` writes ``--log`` into the run directory's ``log/`` (True) or into the given
-        directory; `args` are more options (``["--signing-key", path]``); `duration` stops it
+        `log`: False (the default here) passes ``--no-log``, so a scripted run leaves no log
+        behind; True writes ``--log`` into the run directory's ``log/``; a directory: ``--log``
+        there; None: the binary's own default, the flight logs in the per-user state directory
+        (``$XDG_STATE_HOME/rotorpilot/instance-K``), named by the ready line's ``log_dir``, which
+        becomes `log_dir`; `env` sets environment variables of the process over this one's
+        (``{"XDG_STATE_HOME": dir}`` moves that state directory);
+        `args` are more options (``["--signing-key", path]``); `duration` stops it
         after that many wall seconds (None: never). `connect` waits up to `timeout` [s] for the
         first heartbeat on `conn`. `workdir` is the run directory (default: a new temporary one).
         `AutopilotStartError` when it does not start (its stderr in the message)."""
@@ -166,7 +172,11 @@ class Autopilot(Vehicle):
             _params_file(run_dir / "params.txt", params)
             argv += ["--params", str(run_dir / "params.txt")]
         log_dir = None
-        if log is not False:
+        if "--log" in args or "--no-log" in args:
+            raise UsageError("give the log directory as log, not as --log or --no-log in args")
+        if log is False:
+            argv += ["--no-log"]
+        elif log is not None:
             log_dir = run_dir / "log" if log is True else pathlib.Path(log)
             argv += ["--log", str(log_dir)]
         if log_profile is not None:
@@ -187,8 +197,11 @@ class Autopilot(Vehicle):
                      "--api", f"127.0.0.1:{sinks[0].getsockname()[1]}", *map(str, args)]
             (run_dir / "command.txt").write_text(shlex.join(argv) + "\n")
             with open(run_dir / "stdout.txt", "wb") as out, open(run_dir / "stderr.txt", "wb") as err:
-                proc = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=out, stderr=err)
+                proc = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=out, stderr=err,
+                                        env=None if env is None else {**os.environ, **env})
             ready = cls._ready_line(proc, run_dir, argv)
+            if log is None and ready.get("log_dir"):
+                log_dir = pathlib.Path(ready["log_dir"])
             conn.target_system, conn.target_component = int(ready["sysid"]), mavlink.MAV_COMP_ID_AUTOPILOT1
             link.link_state(conn).timeout = timeout
             ap = cls(proc, ready, run_dir, conn, sinks, log_dir, argv)
@@ -287,8 +300,8 @@ class Autopilot(Vehicle):
         return self.stdout_path.read_text(errors="replace")
 
     def flight_logs(self) -> list[pathlib.Path]:
-        """The ULog flight logs of ``log=True`` (one per arming, oldest first; PX4's
-        ``log/YYYY-MM-DD/HH_MM_SS.ulg``)."""
+        """The ULog flight logs in `log_dir` (``log=True``, a directory, or the default place of
+        ``log=None``; one per arming, oldest first; PX4's ``log/YYYY-MM-DD/HH_MM_SS.ulg``)."""
         return sorted(self.log_dir.glob("log/*/*.ulg")) if self.log_dir is not None else []
 
     @property

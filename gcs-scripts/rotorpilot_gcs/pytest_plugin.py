@@ -12,12 +12,17 @@ installed). Fixtures:
 - ``rotorpilot``: ``rotorpilot(*args, timeout=120)`` runs the binary; the CompletedProcess.
 
 Every autopilot is stopped after its test. Its run directory (``command.txt``, ``stdout.txt``,
-``stderr.txt``, ``params.txt``, ``log/``) is deleted when the test passes and kept when it
+``stderr.txt``, ``params.txt``, ``log/``, ``state/``) is deleted when the test passes and kept when it
 fails: the failure report names it (section "rotorpilot run kept") with the end of its stderr.
 ``--rotorpilot-keep`` keeps every run directory. They live under pytest's ``--basetemp``.
+Nothing is written into the user's home: an autopilot writes no log unless asked (``log``), its
+per-user state directory (``log=None``: ``rotorpilot run``'s default place) is the run
+directory's ``state/``, and the binary that ``rotorpilot`` runs keeps its state under pytest's
+temporary directory too.
 """
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -65,7 +70,7 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line(
         "markers", f"{MARKER}(**options): options of the autopilot fixture's `rotorpilot run` (airframe, "
-        "controller, speedup, params, log, log_profile, count, sensors, args, duration, timeout)")
+        "controller, speedup, params, log, log_profile, count, sensors, args, env, duration, timeout)")
 
 
 @pytest.hookimpl(hookwrapper=True)
@@ -94,11 +99,15 @@ def rotorpilot_bin(pytestconfig: pytest.Config) -> Path:
 
 
 @pytest.fixture(scope="session")
-def rotorpilot(rotorpilot_bin: Path) -> Callable[..., subprocess.CompletedProcess[str]]:
-    """``rotorpilot(*args, timeout=120)`` runs the binary with `args`; the CompletedProcess (text)."""
+def rotorpilot(rotorpilot_bin: Path,
+               tmp_path_factory: pytest.TempPathFactory) -> Callable[..., subprocess.CompletedProcess[str]]:
+    """``rotorpilot(*args, timeout=120)`` runs the binary with `args`; the CompletedProcess (text).
+    Its per-user state directory (where ``run`` keeps its flight logs) is a temporary one."""
+    env = {**os.environ, "XDG_STATE_HOME": str(tmp_path_factory.mktemp("rotorpilot-state"))}
+
     def run(*args: Any, timeout: float = 120.0) -> subprocess.CompletedProcess[str]:
         return subprocess.run([str(rotorpilot_bin), *map(str, args)], capture_output=True, text=True,
-                              timeout=timeout, check=False)
+                              timeout=timeout, check=False, env=env)
 
     return run
 
@@ -121,7 +130,9 @@ def autopilot_factory(request: pytest.FixtureRequest, rotorpilot_bin: Path,
             raise TypeError("the fixture chooses workdir and binary (see --rotorpilot-bin)")
         run = _Run(tmp_path_factory.mktemp(_dirname(request.node.name)))
         runs.append(run)
-        run.autopilot = Autopilot.start(rotorpilot_bin, workdir=run.workdir, **{**defaults, **options})
+        merged = {**defaults, **options}
+        merged["env"] = {"XDG_STATE_HOME": str(run.workdir / "state"), **(merged.get("env") or {})}
+        run.autopilot = Autopilot.start(rotorpilot_bin, workdir=run.workdir, **merged)
         return run.autopilot
 
     yield start

@@ -16,8 +16,14 @@ bytes, not a multiple of LOG_DATA's 90) and `2026-01-02/11_30_00.ulg` (3 bytes).
 - pymavlink's MAVFTP client (`pymavlink.mavftp`, its `ftp get` with a callback): one log.
 - MAVSDK-Python's `logfile_download.py` example, unchanged, through `run_mavsdk_examples.py`
   (needs `unshare -n`, root: the example's ports are fixed).
+- A flight of `rotorpilot run` without `--log` (its per-user state directory is the fixture's
+  run directory's `state/`): the ULog of the flight appears in the default place the ready line
+  names, announced "[logger] ./log/…", without a tlog; QGC's log list and download, MAVProxy's
+  `log list` / `log download`, and MAVSDK-Python's log_files plugin (the calls of
+  `logfile_download.py`) find it and bring it back byte for byte.
 
 The vehicle binds port 0 (ports from its ready line), so the tests run side by side."""
+import asyncio
 import json
 import os
 import pathlib
@@ -34,7 +40,8 @@ from netns import can_unshare
 from pymavlink.mavftp import MAVFTP, MAVFTPSettings
 from qgc_replay import ACK, BIN, Qgc, qgc_download, qgc_list
 
-from rotorpilot_gcs import connection_with_dialect
+from rotorpilot_gcs import connection_with_dialect, free_port
+from rotorpilot_gcs.link import recent_text
 
 # The logs placed before start: name under DIR/log → size [bytes], and their UTC times.
 LOGS = {"2026-01-01/10_00_00.ulg": 20001, "2026-01-02/11_30_00.ulg": 3}
@@ -172,3 +179,82 @@ def test_mavsdk_logfile_download_example_brings_both_logs_back(rotorpilot_bin):
     verdict = json.loads(run.stdout.strip().splitlines()[-1])
     # The runner compares log-<date>.ulog with the placed logs byte for byte.
     assert verdict["verdict"] == "works" and verdict["exit"] == "0", verdict
+
+
+def flight_without_log(autopilot_factory):
+    """A take-off and landing of `rotorpilot run` without `--log`; (the vehicle, its flight log)."""
+    vehicle = autopilot_factory(log=None, speedup=4)
+    place = vehicle.workdir / "state" / "rotorpilot" / "instance-0"
+    assert vehicle.ready["log_dir"] == str(place) == vehicle.vehicles[0]["log_dir"]
+    assert vehicle.log_dir == place and not place.exists(), "nothing before a log begins"
+    vehicle.wait_armable()
+    since = time.monotonic()
+    vehicle.takeoff()
+    vehicle.land()
+    vehicle.wait_disarmed(timeout=60)
+    (path,) = vehicle.flight_logs()
+    name = path.relative_to(place).as_posix()
+    assert recent_text(vehicle.conn, since, "[logger]") == f"[logger] ./{name}"
+    assert not (place / "flight.tlog").exists(), "the tlog only with --log"
+    time.sleep(0.5)  # closed and flushed by the writer after the disarming
+    return vehicle, path
+
+
+@pytest.mark.filterwarnings("ignore:The 'mavsdk' package has been renamed:FutureWarning",
+                            "ignore:path is deprecated:DeprecationWarning")
+def test_a_flight_without_log_is_found_and_downloaded_by_qgc_mavproxy_and_mavsdk(autopilot_factory, tmp_path):
+    vehicle, path = flight_without_log(autopilot_factory)
+    flown = path.read_bytes()
+    assert flown.startswith(b"ULog")
+    qgc = Qgc(vehicle)
+    try:
+        entries = qgc_list(qgc)
+        assert [(e.id, e.num_logs, e.size) for e in entries.values()] == [(0, 1, len(flown))]
+        assert qgc_download(qgc, 0, len(flown), set()) == flown
+    finally:
+        qgc.close()
+
+    mavproxy = Typist([sys.executable, str(MAVPROXY), f"--master={vehicle.gcs}", "--default-modules=link,log",
+                       f"--state-basedir={tmp_path}"], tmp_path)
+    try:
+        mavproxy.wait_for(r"Detected vehicle 1:1")
+        mavproxy.type("log list")
+        mavproxy.wait_for(rf"Log 0\s+numLogs 1 lastLog 0 size {len(flown)} ")
+        mavproxy.type("log download 0 flight.ulg")
+        mavproxy.wait_for(rf"Finished downloading flight\.ulg \({len(flown)} bytes")
+        assert (tmp_path / "flight.ulg").read_bytes() == flown
+    finally:
+        mavproxy.close()
+
+    async def mavsdk_download():
+        from mavsdk import System
+
+        drone = System(port=free_port())
+        await drone.connect(system_address=vehicle.api)
+        try:
+            async for state in drone.core.connection_state():
+                if state.is_connected:
+                    break
+            entries = await drone.log_files.get_entries()
+            local = tmp_path / "mavsdk.ulg"
+            async for progress in drone.log_files.download_log_file(entries[0], str(local)):
+                if progress.progress >= 1.0:
+                    break
+            return [e.size_bytes for e in entries], local.read_bytes()
+        finally:
+            drone._stop_mavsdk_server()  # the mavsdk_server System.connect started
+
+    sizes, got = asyncio.run(asyncio.wait_for(mavsdk_download(), 90))
+    assert sizes == [len(flown)] and got == flown
+
+
+@pytest.mark.parametrize("mode, logs", [(-1, 0), (1, 1)])
+def test_sdlog_mode_chooses_what_a_flight_leaves(autopilot_factory, mode, logs):
+    # -1: nothing written; 1 (PX4 SITL's): one log from start through the flight to its disarming.
+    vehicle = autopilot_factory(log=None, speedup=4, params={"SDLOG_MODE": mode})
+    vehicle.wait_armable()
+    vehicle.arm()
+    vehicle.disarm()
+    time.sleep(0.5)
+    assert len(vehicle.flight_logs()) == logs
+    assert (vehicle.log_dir / "log").exists() == (logs > 0)

@@ -103,6 +103,8 @@ pub fn loopback_run(exe: &Path, gcs: SocketAddr, duration_s: u32) -> Command {
     command
         .args(["run", "--bind-gcs", "127.0.0.1:0", "--bind-api", "127.0.0.1:0"])
         .args(["--api", "127.0.0.1:9", "--gcs", &gcs.to_string()])
-        .args(["--duration", &duration_s.to_string()]);
+        .args(["--duration", &duration_s.to_string()])
+        // A benchmark or test leaves nothing in the user's log directory.
+        .arg("--no-log");
     command
 }

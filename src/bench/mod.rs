@@ -7,12 +7,16 @@
 //!   default telemetry read by one ground-station socket, and the memory per vehicle;
 //! - the time from spawning `rotorpilot run` to its first HEARTBEAT;
 //! - the COMMAND_ACK round trip over loopback (p50/p99) of commands that pass the tick thread;
-//! - what the ULog flight log costs `fly` and `sim` (speed with / without, bytes per second);
+//! - what the ULog flight log costs `fly` and `sim` (speed with / without, bytes per second),
+//!   and what `run`'s default-profile flight log adds to a tick at real time (alone:
+//!   [`logging_only`], `rotorpilot bench --logging`);
 //! - how a sweep's runs per second scale from one worker to one per core.
 
 pub mod autopilot;
 pub mod client;
 mod logging;
+
+pub use logging::LoggingCost;
 mod runs;
 mod sweep_scaling;
 
@@ -172,8 +176,8 @@ pub struct BenchReport {
     pub first_heartbeat_ms: f64,
     /// COMMAND_ACK round trip over loopback (DO_CHANGE_SPEED through the tick thread, 1×).
     pub command_ack: Latency,
-    /// What the full-profile ULog costs `fly` and `sim`.
-    pub logging: logging::LoggingCost,
+    /// What the full-profile ULog costs `fly` and `sim`, and the default profile `run`.
+    pub logging: LoggingCost,
     /// A sweep's runs per second on one worker and on every core.
     pub sweep: sweep_scaling::SweepScaling,
 }
@@ -210,6 +214,11 @@ pub fn run(options: &BenchOptions) -> Result<BenchReport, BenchError> {
         logging: logging::logging_cost(options)?,
         sweep: sweep_scaling::sweep_scaling(options)?,
     })
+}
+
+/// Only the logging figures ([`BenchReport::logging`]).
+pub fn logging_only(options: &BenchOptions) -> Result<LoggingCost, BenchError> {
+    logging::logging_cost(options)
 }
 
 /// Ticks per second of one vehicle climbing and hovering on `sensors`, with no sockets and no
@@ -301,15 +310,7 @@ impl BenchReport {
             "COMMAND_ACK round trip: p50 {:.3} ms, p99 {:.3} ms, max {:.3} ms ({} samples)\n",
             self.command_ack.p50_ms, self.command_ack.p99_ms, self.command_ack.max_ms, self.command_ack.samples
         );
-        for (name, c) in [("fly", &self.logging.fly), ("sim (Ex. 4)", &self.logging.sim)] {
-            out += &format!(
-                "{name} with the full-profile ULog: {:.0}x real time vs {:.0}x without ({:.0} % of the speed), {:.0} KB per simulated second\n",
-                c.logged_factor,
-                c.unlogged_factor,
-                100.0 * c.speed_ratio,
-                c.bytes_per_sim_s / 1e3
-            );
-        }
+        out += &self.logging.to_text();
         let s = &self.sweep;
         out += &format!(
             "sweep ({} runs of Ex. 4's designs): {:.1} runs/s on 1 worker, {:.1} runs/s on {} workers ({:.2}x)\n",

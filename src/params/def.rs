@@ -47,6 +47,8 @@ pub enum Scope {
     Plant,
     /// The navigation filter (EKF2_*).
     NavFilter,
+    /// The flight logs (SDLOG_*).
+    Logger,
 }
 
 impl fmt::Display for Scope {
@@ -62,6 +64,7 @@ impl fmt::Display for Scope {
             Self::Estimator => "estimator",
             Self::Plant => "plant",
             Self::NavFilter => "navigation filter",
+            Self::Logger => "logger",
         })
     }
 }

@@ -5,6 +5,7 @@ use crate::commander::CommanderParams;
 use crate::control::{ControllerGains, ControllerKind};
 use crate::estimation::ChebyshevDesign;
 use crate::nav_filter::NavParams;
+use crate::ulog::LogMode;
 
 /// The settings the table describes, as the flight software uses them.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,6 +29,8 @@ pub struct VehicleSettings {
     /// The simulated wind the parameters set (the airframe's or scenario's wind blows until one
     /// of them changes).
     pub wind: WindParams,
+    /// When `run` writes flight logs (`SDLOG_MODE`, read at start).
+    pub log_mode: LogMode,
 }
 
 /// The simulated wind as parameters set it (PX4 SIH's `SIH_WIND_N`/`SIH_WIND_E`, and the
@@ -44,7 +47,8 @@ pub struct WindParams {
 
 impl VehicleSettings {
     /// `controller` with `gains` and the wrench `estimator`; everything else at its default
-    /// (PX4's commander defaults, no compensation, ground and ceiling effect on).
+    /// (PX4's commander defaults, no compensation, ground and ceiling effect on, flight logs
+    /// from arming to disarming).
     pub fn new(controller: ControllerKind, gains: ControllerGains, estimator: Option<ChebyshevDesign>) -> Self {
         Self {
             commander: CommanderParams::default(),
@@ -56,6 +60,7 @@ impl VehicleSettings {
             ceiling_effect: true,
             wind: WindParams::default(),
             nav: NavParams::default(),
+            log_mode: LogMode::default(),
         }
     }
 

@@ -10,6 +10,7 @@ use crate::airframe::AirframeSource;
 use crate::control::ControllerKind;
 use crate::navigation::Home;
 
+use super::log_place::LogPlace;
 use super::pacer::Pace;
 use super::signing_store::SigningFileError;
 use crate::lockstep::SetupError;
@@ -39,8 +40,9 @@ pub struct RunConfig {
     pub seed: u64,
     /// Tick [s].
     pub dt_s: f64,
-    /// `--log DIR`: tlog and one ULog file per flight (per vehicle in `DIR/vehicle-SYSID` when there are several).
-    pub log_dir: Option<std::path::PathBuf>,
+    /// Where the logs go: `--log DIR` (tlog and flight logs) or the per-user default (flight
+    /// logs); `None`: no logs (`--no-log`). The flight logs are written as `SDLOG_MODE` says.
+    pub log: Option<LogPlace>,
     /// Rates of the flight logs' topics.
     pub log_profile: crate::ulog::Profile,
     /// Parameter values applied before start (`--params FILE`): (where, name, value).
@@ -65,7 +67,8 @@ pub struct RunConfig {
 impl RunConfig {
     /// One vehicle at `system_id` with PX4 SITL's defaults for everything else: real time, the
     /// given addresses, home at PX4's default, seed 0, 1 kHz; on the exact state (the command
-    /// line's `run` chooses realistic sensors unless told `--sensors ideal`).
+    /// line's `run` chooses realistic sensors unless told `--sensors ideal`); no logs (the
+    /// command line's `run` logs into the per-user directory unless told `--no-log`).
     pub fn single(airframe: AirframeSource, controller: ControllerKind, system_id: u8) -> Self {
         Self {
             airframe,
@@ -78,7 +81,7 @@ impl RunConfig {
             home: Home::default(),
             seed: 0,
             dt_s: 1e-3,
-            log_dir: None,
+            log: None,
             log_profile: crate::ulog::Profile::Default,
             params: Vec::new(),
             count: 1,
@@ -116,7 +119,7 @@ pub enum RuntimeError {
     #[error("--fail-rotor {0}")]
     RotorFailure(String),
     /// The log directory could not be written.
-    #[error("--log {dir}: {source}")]
+    #[error("log directory {dir}: {source}")]
     Log {
         /// Directory.
         dir: String,
@@ -154,6 +157,9 @@ pub struct VehicleReady {
     pub gcs: String,
     /// Remote API address.
     pub api: String,
+    /// The vehicle's log directory (flight logs in `log/YYYY-MM-DD/HH_MM_SS.ulg` below it,
+    /// `flight.tlog` with `--log`); null without logs.
+    pub log_dir: Option<String>,
 }
 
 /// The machine-readable start-up line (printed as JSON on stdout): the first vehicle's

@@ -5,7 +5,8 @@
 //! mavlogdump and MAVExplorer read) and ULog bytes for the file currently open. A sender that must
 //! not block (the autopilot) drops what a full queue cannot take and counts it; a run that must
 //! keep everything (`sim`, `fly`) waits instead. Files are flushed at least every
-//! [`FLUSH_PERIOD`].
+//! [`FLUSH_PERIOD`]. Each flight log begun is announced as PX4's logger announces it
+//! ("[logger] ./log/YYYY-MM-DD/HH_MM_SS.ulg") through the [`Announce`] it was given.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -15,6 +16,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use super::log_store::LogDir;
+use crate::mav::logs::logger_announcement;
 
 /// Longest time a record waits in a buffer before it reaches the file.
 pub const FLUSH_PERIOD: Duration = Duration::from_millis(100);
@@ -22,6 +24,9 @@ pub const FLUSH_PERIOD: Duration = Duration::from_millis(100);
 const QUEUE: usize = 4096;
 /// Emptied ULog buffers kept for reuse (a fresh one costs its page faults again).
 const SPARE_BUFFERS: usize = 4;
+
+/// Where the writer says that a flight log has begun (the text of an information STATUSTEXT).
+pub type Announce = Box<dyn Fn(String) + Send>;
 
 /// Emptied ULog buffers the writer hands back to the tick thread.
 type Spares = Arc<Mutex<Vec<Vec<u8>>>>;
@@ -183,8 +188,12 @@ impl LogWriter {
 }
 
 /// Starts the writer thread, with a tlog at `tlog` when given (created now) and the flight logs
-/// in `flights`.
-pub fn start(tlog: Option<PathBuf>, flights: Option<LogDir>) -> std::io::Result<(LogSender, LogWriter)> {
+/// in `flights`, each one begun said to `announce`.
+pub fn start(
+    tlog: Option<PathBuf>,
+    flights: Option<LogDir>,
+    announce: Option<Announce>,
+) -> std::io::Result<(LogSender, LogWriter)> {
     let tlog = match tlog {
         Some(path) => {
             if let Some(dir) = path.parent() {
@@ -199,7 +208,7 @@ pub fn start(tlog: Option<PathBuf>, flights: Option<LogDir>) -> std::io::Result<
     let returned = spares.clone();
     let handle = std::thread::Builder::new()
         .name("rotorpilot-log".into())
-        .spawn(move || write_loop(rx, tlog, flights, &returned))?;
+        .spawn(move || write_loop(rx, tlog, flights, announce, &returned))?;
     let sender = LogSender {
         tx,
         dropped: Arc::new(AtomicU64::new(0)),
@@ -236,6 +245,7 @@ fn write_loop(
     rx: Receiver<Record>,
     mut tlog: Option<(File, PathBuf)>,
     flights: Option<LogDir>,
+    announce: Option<Announce>,
     spares: &Spares,
 ) -> Result<(), LogWriteError> {
     let mut ulog: Current = None;
@@ -276,6 +286,10 @@ fn write_loop(
                 if let Some(dir) = &flights {
                     match dir.begin(at) {
                         Ok(new) => {
+                            tracing::info!("flight log {}", new.path.display());
+                            if let Some(say) = &announce {
+                                say(logger_announcement(new.utc_s));
+                            }
                             let file = std::io::BufWriter::with_capacity(1 << 18, new.file);
                             ulog = Some((file, new.path, Some(new.utc_s)));
                         }

@@ -76,9 +76,11 @@ pub struct LinkIo {
     pub snapshot: watch::Receiver<Snapshot>,
     /// Commander events.
     pub events: mpsc::Receiver<Event>,
+    /// The log writer's announcements ("[logger] ./log/…").
+    pub notices: mpsc::Receiver<String>,
     /// Becomes true at shutdown.
     pub shutdown: watch::Receiver<bool>,
-    /// The tlog of `--log DIR`, when logging.
+    /// The tlog of `--log DIR`, when there is one.
     pub log: Option<LogSender>,
     /// The `--signing-key` file, when there is one.
     pub store: Option<Arc<SigningStore>>,
@@ -134,6 +136,7 @@ pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
                 machine.handle_state(*io.snapshot.borrow());
                 machine.handle_event(io.now(), event);
             }
+            Some(text) = io.notices.recv() => machine.handle_notice(io.now(), &text),
             _ = tokio::time::sleep_until(deadline.into()) => {}
         }
         // Duties are checked against the wall clock after every input, not only when the

@@ -3,7 +3,8 @@
 //! [`LogStore`]: listed from the directory at each request, read at an offset with positioned
 //! reads (a log is never loaded whole), erased file by file. Files below `DIR/log` that do not
 //! follow the layout are not logs: never listed, served or erased. Logs present when the process
-//! starts are served too.
+//! starts are served too. A directory that does not exist yet holds no logs; the first log
+//! creates it ([`LogDir::at`], the per-user default of `run` without `--log`).
 //!
 //! The ULog writer calls [`LogDir::begin`] at arming (the file is created and marked as being
 //! written: listed with the size it has, never erased) and [`LogDir::end`] once it has written
@@ -65,13 +66,18 @@ impl LogDir {
     /// The log directory at `root` (`DIR/log`), created when missing.
     pub fn open(root: &Path) -> io::Result<Self> {
         std::fs::create_dir_all(root)?;
-        Ok(Self {
+        Ok(Self::at(root))
+    }
+
+    /// The log directory at `root` (`DIR/log`), created with its first log.
+    pub fn at(root: &Path) -> Self {
+        Self {
             shared: Arc::new(Shared {
                 root: root.to_path_buf(),
                 writing: Mutex::new(None),
             }),
             open: None,
-        })
+        }
     }
 
     /// The directory.
@@ -127,7 +133,12 @@ impl LogDir {
 impl LogStore for LogDir {
     fn list(&mut self) -> Result<Vec<LogFile>, LogStoreError> {
         let root = &self.shared.root;
-        let dates = std::fs::read_dir(root).map_err(|e| io_error(root, &e))?;
+        let dates = match std::fs::read_dir(root) {
+            Ok(dates) => dates,
+            // Not created yet: no log has begun.
+            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+            Err(e) => return Err(io_error(root, &e)),
+        };
         let mut logs = Vec::new();
         for date in dates.flatten() {
             // A date directory that vanished or cannot be read has no logs to show.

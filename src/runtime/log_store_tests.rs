@@ -101,3 +101,18 @@ fn a_log_being_written_is_listed_growing_and_never_erased() {
     assert!(writer.begin(UNIX_EPOCH - Duration::from_secs(1)).is_err());
     let _ = std::fs::remove_dir_all(dir("erase"));
 }
+
+#[test]
+fn a_directory_not_made_yet_has_no_logs_until_the_first_one_makes_it() {
+    let base = dir("lazy");
+    let root = base.join("instance-0").join("log");
+    let mut logs = LogDir::at(&root);
+    assert!(!base.exists(), "nothing is created before a log begins");
+    assert_eq!(logs.list().unwrap(), vec![]);
+    logs.erase().unwrap();
+    assert!(!base.exists(), "nor by an erase");
+    let new = logs.begin(at(u64::from(FIRST))).unwrap();
+    assert_eq!(new.path, root.join("2026-01-01/10_00_00.ulg"));
+    assert_eq!(logs.list().unwrap(), vec![LogFile { utc_s: FIRST, size: 0 }]);
+    let _ = std::fs::remove_dir_all(base);
+}

@@ -12,12 +12,14 @@
 //! - [`flight_log`]: the log writer thread (tlog and ULog files of `--log`, `sim`, `fly`).
 //! - [`ulog_file`]: one ULog file for a whole headless run (`sim`, `fly`).
 //! - [`ulog_stream`]: the tick thread's side of a ULog file.
-//! - [`log_store`]: the flight logs in `--log DIR/log/`, written one per arming, served over the
-//!   log protocol and FTP.
+//! - [`log_store`]: the flight logs in `DIR/log/`, written as `SDLOG_MODE` says, served over
+//!   the log protocol and FTP; [`log_place`]: where `DIR` is (`--log` or the per-user default)
+//!   and one vehicle's log set-up.
 
 mod config;
 pub mod flight_log;
 pub mod link;
+pub mod log_place;
 pub mod log_store;
 pub mod pacer;
 pub mod scheduler;
@@ -47,7 +49,6 @@ use crate::telemetry::Snapshot;
 pub use config::{Ready, RunConfig, RunReport, RuntimeError, VehicleReady, DEFAULT_SPACING_M};
 use flight_log::LogSender;
 use link::{LinkIo, LinkSockets, SigningStatus};
-use log_store::LogDir;
 pub use pacer::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
 use signing_keeper::{signing_keeper, SigningSetup};
@@ -59,6 +60,8 @@ use vehicle::Vehicle;
 const INBOX_CAPACITY: usize = 256;
 /// Bound of the event queue out of the tick thread (announcements only; dropped when full).
 const EVENT_CAPACITY: usize = 64;
+/// Bound of the log writer's announcements to the links (dropped when full).
+const NOTICE_CAPACITY: usize = 8;
 
 /// One vehicle's share of the process: its tick slot, its link machine and sockets, its log.
 struct VehicleSetup {
@@ -124,26 +127,17 @@ fn setup_vehicle(
     for failure in &config.sensor_failures {
         vehicle.schedule_sensor_failure(*failure);
     }
-    let mut logs: Box<dyn LogStore> = Box::new(MemLogStore::default());
-    let log = match &config.log_dir {
-        Some(dir) => {
-            let dir = if config.count > 1 {
-                dir.join(format!("vehicle-{sysid}"))
-            } else {
-                dir.clone()
-            };
-            let log_error = |source| RuntimeError::Log {
-                dir: dir.display().to_string(),
-                source,
-            };
-            let flights = LogDir::open(&dir.join("log")).map_err(log_error)?;
-            logs = Box::new(flights.clone());
-            let (sender, writer) =
-                flight_log::start(Some(dir.join("flight.tlog")), Some(flights)).map_err(log_error)?;
-            vehicle.set_log(sender.clone(), config.log_profile);
-            Some((sender, writer))
-        }
-        None => None,
+    let (notice_tx, notices) = mpsc::channel(NOTICE_CAPACITY);
+    let announce: flight_log::Announce = Box::new(move |text| {
+        let _ = notice_tx.try_send(text);
+    });
+    let place = config.log.as_ref();
+    let vehicle_log = place
+        .map(|p| log_place::open(p, (i, sysid, config.count), &mut vehicle, config.log_profile, announce))
+        .transpose()?;
+    let (log_dir, logs, log, tlog): (_, Box<dyn LogStore>, _, _) = match vehicle_log {
+        Some(v) => (Some(v.dir), Box::new(v.store), v.writer, v.tlog),
+        None => (None, Box::new(MemLogStore::default()), None, false),
     };
     let port = |addr| nth_port(addr, i).ok_or_else(|| too_many("ports end at 65535"));
     let (bind_gcs, bind_api, api) = (port(config.bind_gcs)?, port(config.bind_api)?, port(config.api)?);
@@ -156,6 +150,7 @@ fn setup_vehicle(
         api_bind,
         gcs: config.gcs.to_string(),
         api: api.to_string(),
+        log_dir: log_dir.map(|d| d.display().to_string()),
     };
     let (inbox_tx, inbox_rx) = mpsc::channel(INBOX_CAPACITY);
     let (snapshot_tx, snapshot_rx) = watch::channel(Snapshot::initial(home));
@@ -170,7 +165,7 @@ fn setup_vehicle(
         signing: Signing::new(signing.key.clone(), signing.timestamp),
         signing_epoch: signing_now(),
         key_store: signing.store.is_some(),
-        record_received: log.is_some(),
+        record_received: tlog,
         logs,
     });
     let io = LinkIo {
@@ -181,8 +176,9 @@ fn setup_vehicle(
         replies,
         snapshot: snapshot_rx,
         events: event_rx,
+        notices,
         shutdown: shutdown.clone(),
-        log: log.as_ref().map(|(s, _)| s.clone()),
+        log: log.as_ref().filter(|_| tlog).map(|(s, _)| s.clone()),
         store: signing.store.clone(),
         signing: Arc::new(SigningStatus::default()),
     };

@@ -32,7 +32,7 @@ impl UlogFile {
         }
         // Fail here, not in the writer thread, when the file cannot be created.
         std::fs::File::create(path)?;
-        let (sender, writer) = flight_log::start(None, None)?;
+        let (sender, writer) = flight_log::start(None, None, None)?;
         let mut stream = UlogStream::new(recorder, sender, true);
         stream.open(UlogTarget::File(path.to_path_buf()), t_s, info, params);
         Ok(Self { stream, writer })

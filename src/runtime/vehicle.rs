@@ -1,7 +1,8 @@
 //! One autopilot vehicle as the tick thread holds it: the flight controller and the plant in a
-//! [`Lockstep`], and the flight logs of `--log DIR` (one ULog file per arming, as PX4 logs from
-//! arming to disarming). A thin wrapper: every decision is made by [`FlightController`], every
-//! tick by [`Lockstep::step`].
+//! [`Lockstep`], and its ULog flight logs, opened and closed as `SDLOG_MODE` (read at the first
+//! tick, as PX4 reads it at boot) says: by default one file per arming, from arming to
+//! disarming. A thin wrapper: every decision is made by [`FlightController`], every tick by
+//! [`Lockstep::step`], when to log by [`LogSchedule`].
 
 use crate::airframe::{Airframe, AirframeSource};
 use crate::commander::{Event, Outcome, Request};
@@ -15,7 +16,7 @@ use crate::telemetry::{GroundTruth, Snapshot};
 
 use super::flight_log::{LogSender, UlogTarget};
 use super::ulog_stream::{log_params, param_value, UlogStream};
-use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
+use crate::ulog::{LogInfo, LogSchedule, Profile, Recorder, RecorderSetup};
 
 /// The autopilot's start-up estimator and tilt limit, where the fuzz targets name them.
 pub use crate::flight::{AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
@@ -31,10 +32,12 @@ pub struct Vehicle {
     log_info: LogInfo,
 }
 
-/// The ULog files of `--log DIR`, one per flight (the writer names them in `DIR/log/`).
+/// The ULog flight logs (the writer names them in its log directory's `log/`).
 #[derive(Debug)]
 struct FlightLogs {
     stream: UlogStream,
+    /// When a log is open; made at the first tick from `SDLOG_MODE`.
+    schedule: Option<LogSchedule>,
 }
 
 /// What one tick produced for the links.
@@ -76,8 +79,8 @@ impl Vehicle {
         })
     }
 
-    /// Writes a ULog file of every flight through `sender` (into its log directory), with
-    /// `profile`.
+    /// Writes ULog flight logs through `sender` (into its log directory), with `profile`, as
+    /// `SDLOG_MODE` says at the first tick.
     pub fn set_log(&mut self, sender: LogSender, profile: Profile) {
         let setup = RecorderSetup {
             profile,
@@ -85,6 +88,7 @@ impl Vehicle {
         };
         self.log = Some(FlightLogs {
             stream: UlogStream::new(Recorder::new(setup), sender, false),
+            schedule: None,
         });
     }
 
@@ -133,21 +137,26 @@ impl Vehicle {
         self.lockstep.schedule_sensor_failure(failure)
     }
 
-    /// One tick ([`Lockstep::step`]), logged when a log is set: a flight's file opens at arming
-    /// and closes at disarming.
+    /// One tick ([`Lockstep::step`]), logged when a log is set: a file opens when the
+    /// [`LogSchedule`] asks for one (by default at arming) and closes after the tick at which it
+    /// no longer does (by default the disarming tick).
     pub fn step(&mut self) -> TickOutput {
         let tick = self.lockstep.step();
         if let Some(log) = &mut self.log {
-            let armed = tick.report.armed;
-            if armed && !log.stream.is_open() {
+            let params = self.lockstep.pilot().params();
+            let schedule = log
+                .schedule
+                .get_or_insert_with(|| LogSchedule::new(params.current().log_mode));
+            let wanted = schedule.wants_log(tick.report.armed);
+            if wanted && !log.stream.is_open() {
                 let now = std::time::SystemTime::now();
                 let mut info = self.log_info.clone();
                 info.utc_s = now.duration_since(std::time::UNIX_EPOCH).ok().map(|d| d.as_secs());
-                let params = log_params(self.lockstep.pilot().params());
+                let params = log_params(params);
                 log.stream.open(UlogTarget::Flight(now), tick.t_s, &info, &params);
             }
             log.stream.record(&TickView::of(&tick, self.lockstep.plant()));
-            if !armed && log.stream.is_open() {
+            if !wanted && log.stream.is_open() {
                 log.stream.close();
             }
         }

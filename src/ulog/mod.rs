@@ -8,15 +8,18 @@
 //! - [`topics`]: the logged topics, their PX4 names and fields, and this project's own.
 //! - [`profile`]: how often each topic is logged (default and full profiles).
 //! - [`recorder`]: one flight log: definitions, then each tick's due records, strings, changes.
+//! - [`mode`]: when `run` writes a flight log (PX4's `SDLOG_MODE`).
 //!
 //! Reading a ULog back (`estimate`) is `estimation::ulog_log`'s, with px4-ulog's parser.
 
 pub mod encoder;
+pub mod mode;
 pub mod profile;
 pub mod recorder;
 pub mod topics;
 
 pub use encoder::ParamValue;
+pub use mode::{LogMode, LogSchedule};
 pub use profile::Profile;
 pub use recorder::{micros, LogInfo, Recorder, RecorderSetup};
 pub use topics::Topic;

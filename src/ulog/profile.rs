@@ -82,11 +82,13 @@ impl Profile {
     }
 
     /// Least time between two looks for a change of an on-change topic [µs]: every tick for
-    /// the status and the land detector, every 10 ms for the true wrench (a disturbance that
-    /// varies all the time is logged at 100 Hz, not at every tick).
-    pub fn change_interval_us(topic: Topic) -> u64 {
-        match topic {
-            Topic::ExternalWrenchTruth => 10_000,
+    /// the status and the land detector; for the true wrench every 10 ms in the full profile and
+    /// every 20 ms, on the estimate's grid, in the default one (a disturbance that varies all the
+    /// time, drag in a moving vehicle, is logged at 100 or 50 Hz, not at every tick).
+    pub fn change_interval_us(self, topic: Topic) -> u64 {
+        match (self, topic) {
+            (Self::Full, Topic::ExternalWrenchTruth) => 10_000,
+            (Self::Default, Topic::ExternalWrenchTruth) => 20_000,
             _ => 0,
         }
     }
@@ -117,6 +119,21 @@ mod tests {
         ] {
             assert_eq!(Profile::Full.interval_us(t), 10_000);
         }
+    }
+
+    #[test]
+    fn a_true_wrench_that_always_changes_is_logged_with_the_estimate_by_default() {
+        let truth = Topic::ExternalWrenchTruth;
+        assert_eq!(
+            Profile::Default.change_interval_us(truth),
+            Profile::Default.interval_us(Topic::ExternalWrenchEstimate)
+        );
+        assert_eq!(Profile::Full.change_interval_us(truth), 10_000);
+        assert_eq!(
+            Profile::Full.change_interval_us(Topic::VehicleStatus),
+            0,
+            "status: every tick"
+        );
     }
 
     #[test]

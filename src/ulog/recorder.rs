@@ -227,7 +227,7 @@ impl Recorder {
                 if !due && t_us < self.next_check_us[i] {
                     continue;
                 }
-                let every = Profile::change_interval_us(topic);
+                let every = self.setup.profile.change_interval_us(topic);
                 self.next_check_us[i] = grid_after(t_us, every);
                 // Compare the fields with the last record's before writing.
                 let mut fields = std::mem::take(&mut self.scratch);

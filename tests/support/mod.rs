@@ -14,13 +14,13 @@ use rotorpilot::airframe::AirframeSource;
 use rotorpilot::bench::autopilot::InProcess;
 use rotorpilot::bench::client::{BenchClient, COMMAND_ATTEMPTS};
 use rotorpilot::control::ControllerKind;
-use rotorpilot::runtime::RunConfig;
+use rotorpilot::runtime::{Ready, RunConfig};
 use rotorpilot::sitl::SensorModel;
 
 /// A running autopilot (one vehicle of `rotorpilot run`) and the GCS socket its telemetry goes to.
 pub struct Autopilot {
     /// The vehicle; declared first so that it stops (when dropped) before the GCS socket closes.
-    _vehicle: InProcess,
+    vehicle: InProcess,
     /// The GCS socket.
     pub gcs: BenchClient,
     /// The vehicle's GCS-link address.
@@ -29,8 +29,13 @@ pub struct Autopilot {
 
 impl Autopilot {
     pub fn start(sysid: u8, airframe: &str) -> Self {
+        Self::start_with(sysid, airframe, |_| {})
+    }
+
+    /// [`Self::start`] with the configuration changed by `adjust` first.
+    pub fn start_with(sysid: u8, airframe: &str, adjust: impl FnOnce(&mut RunConfig)) -> Self {
         let gcs = BenchClient::bind().unwrap();
-        let config = RunConfig {
+        let mut config = RunConfig {
             bind_gcs: "127.0.0.1:0".parse().unwrap(),
             gcs: gcs.local_addr().unwrap(),
             bind_api: "127.0.0.1:0".parse().unwrap(),
@@ -43,13 +48,19 @@ impl Autopilot {
                 sysid,
             )
         };
+        adjust(&mut config);
         let vehicle = InProcess::start(config).unwrap();
         let autopilot = vehicle.ready().first.gcs_bind.parse().unwrap();
         Self {
             gcs,
             autopilot,
-            _vehicle: vehicle,
+            vehicle,
         }
+    }
+
+    /// What the vehicle said when ready.
+    pub fn ready(&self) -> &Ready {
+        self.vehicle.ready()
     }
 
     pub fn send(&mut self, msg: &MavMessage) {

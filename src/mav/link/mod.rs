@@ -304,6 +304,12 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.broadcast(now, &msg);
     }
 
+    /// A notice of the runtime (the logger's "[logger] ./log/…" when a flight log begins),
+    /// announced as an information STATUSTEXT to every target of every link.
+    pub fn handle_notice(&mut self, now: Now, text: &str) {
+        self.broadcast(now, &super::telemetry::status_text(INFO, text));
+    }
+
     /// The vehicle's answer to the request `token` named.
     pub fn handle_reply(&mut self, now: Now, token: Token, reply: VehicleReply) {
         match self.pending.remove(&token) {

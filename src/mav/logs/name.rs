@@ -51,6 +51,13 @@ pub fn log_name(utc_s: u32) -> String {
     )
 }
 
+/// What PX4's logger says (an information STATUSTEXT) when the log of `utc_s` [s since 1970]
+/// begins: `[logger] ./log/YYYY-MM-DD/HH_MM_SS.ulg`, the path from the directory the vehicle
+/// keeps its logs in (PX4 SITL's is its working directory, the instance's `rootfs`).
+pub fn logger_announcement(utc_s: u32) -> String {
+    format!("[logger] ./log/{}", log_name(utc_s))
+}
+
 /// The date directory (`YYYY-MM-DD`) and file name (`HH_MM_SS.ulg`) of the log of `utc_s`.
 pub fn log_dir_and_file(utc_s: u32) -> (String, String) {
     let name = log_name(utc_s);
@@ -103,6 +110,13 @@ mod tests {
             log_dir_and_file(1_767_261_600),
             ("2026-01-01".to_string(), "10_00_00.ulg".to_string())
         );
+    }
+
+    #[test]
+    fn the_logger_announces_px4s_path_within_one_statustext() {
+        let text = logger_announcement(1_767_261_600);
+        assert_eq!(text, "[logger] ./log/2026-01-01/10_00_00.ulg");
+        assert!(text.len() <= 50, "STATUSTEXT holds 50 bytes");
     }
 
     #[test]

@@ -13,6 +13,7 @@
 //! - `sticks.rs`: the stick modes: sources, stick loss, take-over, stick shaping.
 //! - `follow.rs`: follow-me.
 //! - `navigation_filter.rs`: the navigation filter (EKF2_*).
+//! - `logger.rs`: the flight logs (SDLOG_MODE).
 
 /// Declares one [`ParamDef`](super::ParamDef): name, wire type, `[min, max]`, unit, scope
 /// ([`Scope`](super::Scope) variant), description, then how it reads and writes the settings:
@@ -97,6 +98,7 @@ mod failsafe;
 mod flight;
 mod follow;
 mod gains;
+mod logger;
 mod navigation_filter;
 mod plant;
 mod sticks;
@@ -104,7 +106,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 22] = [
+static GROUPS: [&[ParamDef]; 23] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -127,6 +129,7 @@ static GROUPS: [&[ParamDef]; 22] = [
     failsafe::NAVIGATION_LOSS,
     navigation_filter::NAV_FILTER,
     flight::MISSION,
+    logger::LOGGER,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely
