@@ -1,7 +1,7 @@
 //! The MAVLink shell against the vehicle's MAVLink endpoint, as QGroundControl's MAVLink console
-//! and MAVSDK's shell plugin use it: a line in SERIAL_CONTROL with RESPOND, the answer in
-//! REPLY frames of at most 70 bytes to the client, then the prompt; `param set` goes through
-//! the vehicle like a PARAM_SET.
+//! and MAVSDK's shell plugin use it: bytes in SERIAL_CONTROL with RESPOND, echoed as they arrive;
+//! a line's answer in REPLY frames of at most 70 bytes to the client, then PX4 SITL's prompt
+//! `pxh> `; `param set` goes through the vehicle like a PARAM_SET.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
 mod link_bench;
@@ -55,22 +55,32 @@ fn shell_out(b: &mut Bench) -> String {
 #[test]
 fn a_console_session_answers_each_line_then_prompts() {
     let mut b = Bench::new();
+    // Nothing before the first line (PX4's remote pxh prints its prompt after each line only).
     type_in(&mut b, "\n", true);
-    assert_eq!(shell_out(&mut b), "\nnsh> ");
+    assert_eq!(shell_out(&mut b), "\npxh> ");
     type_in(&mut b, "ver all\n", true);
     let ver = shell_out(&mut b);
     assert!(
-        ver.starts_with("ver all\n") && ver.contains("FW version") && ver.ends_with("nsh> "),
+        ver.starts_with("ver all\n") && ver.contains("FW version") && ver.ends_with("\npxh> "),
         "{ver}"
     );
     type_in(&mut b, "param sh", true);
-    assert_eq!(shell_out(&mut b), "", "nothing until the line ends");
+    assert_eq!(shell_out(&mut b), "param sh", "echoed as typed, run when the line ends");
     type_in(&mut b, "ow RP_GEO_K*\n", true);
     let show = shell_out(&mut b);
+    assert!(show.starts_with("ow RP_GEO_K*\n"), "{show}");
     assert!(show.contains("RP_GEO_KP_X") && show.contains("RP_GEO_KW_Z"), "{show}");
     assert!(show.len() > 70, "several frames");
     type_in(&mut b, "top\n", true);
-    assert_eq!(shell_out(&mut b), "top\nnsh: top: command not found\nnsh> ");
+    assert_eq!(
+        shell_out(&mut b),
+        "top\nInvalid command: top\ntype 'help' for a list of commands\npxh> "
+    );
+    type_in(&mut b, "help\n", true);
+    assert_eq!(
+        shell_out(&mut b),
+        "help\nBuiltin Commands:\n  commander\n  listener\n  param\n  ver\npxh> "
+    );
     type_in(&mut b, "commander status\n", true);
     assert!(shell_out(&mut b).contains("arming state: STANDBY"));
     type_in(&mut b, "listener vehicle_local_position\n", true);
@@ -117,7 +127,7 @@ fn param_set_waits_for_the_vehicle_and_says_what_changed() {
             _ => None,
         })
         .collect();
-    assert_eq!(text, "MIS_TAKEOFF_ALT: curr: 2.5000 -> new: 4.5000\nnsh> ");
+    assert_eq!(text, "MIS_TAKEOFF_ALT: curr: 2.5000 -> new: 4.5000\npxh> ");
     type_in(&mut b, "param show MIS_TAKEOFF_ALT\n", true);
     assert!(shell_out(&mut b).contains(": 4.5000"));
 

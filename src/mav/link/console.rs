@@ -1,8 +1,8 @@
-//! The MAVLink shell on the links: one line buffer per client (link and address), each line
-//! run by [`shell::run`] against the latest snapshot and parameter table, the answer sent back
-//! in SERIAL_CONTROL replies to the client's ids; `param set` goes to the vehicle as a
-//! PARAM_SET does and is answered (with the PARAM_VALUE to the link's peers) when the vehicle
-//! replies.
+//! The MAVLink shell on the links: one line buffer per client (link and address); what is typed
+//! is echoed at once, each line run by [`shell::run`] against the latest snapshot and parameter
+//! table, the answer and the prompt sent back in SERIAL_CONTROL replies to the client's ids;
+//! `param set` goes to the vehicle as a PARAM_SET does and is answered (with the PARAM_VALUE to
+//! the link's peers), then prompted, when the vehicle replies.
 
 use std::hash::Hash;
 
@@ -11,7 +11,7 @@ use mavlink::MavHeader;
 
 use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest};
 use crate::mav::params::param_value;
-use crate::mav::shell::{self, frames, param_set_text, Context, LineBuffer, Outcome, PROMPT};
+use crate::mav::shell::{self, frames, param_set_text, Context, LineBuffer, Outcome, Typed, PROMPT};
 use crate::params::ParamTable;
 
 /// One client's shell.
@@ -33,7 +33,8 @@ pub(super) struct ShellSet<A> {
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// SERIAL_CONTROL for the shell from `from`: without RESPOND the client is done (the shell
-    /// closes, as PX4's does); otherwise its bytes are typed and every complete line answered.
+    /// closes, as PX4's does); otherwise its bytes are typed (and echoed) and every complete line
+    /// answered.
     pub(super) fn shell(&mut self, now: Now, link: LinkKind, from: A, sender: &MavHeader, msg: &SERIAL_CONTROL_DATA) {
         let ids = (sender.system_id as u8, sender.component_id);
         let at = self.consoles.iter().position(|c| c.link == link && c.from == from);
@@ -52,16 +53,26 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             self.consoles.len() - 1
         });
         let count = usize::from(msg.count).min(msg.data.len());
-        let lines = self.consoles[k].input.push(&msg.data[..count]);
-        for line in lines {
+        let typed = self.consoles[k].input.push(&msg.data[..count]);
+        // The echo and the answers of one frame go out together.
+        let mut said = String::new();
+        for t in typed {
+            let line = match t {
+                Typed::Echo(echo) => {
+                    said += &echo;
+                    continue;
+                }
+                Typed::Line(line) => line,
+            };
             let ctx = Context {
                 params: &self.params,
                 snapshot: &self.snapshot,
             };
             match shell::run(&line, ctx) {
-                Outcome::Text(text) => self.type_out(now, link, from, ids, &format!("{line}\n{text}{PROMPT}")),
+                Outcome::Text(text) => said += &format!("\n{text}{PROMPT}"),
                 Outcome::SetParam { name, value } => {
-                    self.type_out(now, link, from, ids, &format!("{line}\n"));
+                    said.push('\n');
+                    self.type_out(now, link, from, ids, &std::mem::take(&mut said));
                     let token = self.expect(Pending::Shell(ShellSet {
                         link,
                         to: from,
@@ -75,6 +86,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 }
             }
         }
+        self.type_out(now, link, from, ids, &said);
     }
 
     /// The vehicle's answer to a shell's `param set`.

@@ -2,8 +2,8 @@
 //! commands print them: `help`; `ver all` (name, version, build string); `param show [NAME|PREFIX*]`;
 //! `param set NAME VALUE` (handed to the vehicle like a PARAM_SET, answered when it replies);
 //! `commander status` (arming, mode, landed state, failsafes); `listener TOPIC` for
-//! `vehicle_local_position`, `vehicle_attitude`, `battery_status`; anything else is
-//! "command not found", as nsh says it. Pure.
+//! `vehicle_local_position`, `vehicle_attitude`, `battery_status`; a `#` comment does nothing;
+//! anything else is an invalid command, in PX4 SITL's `pxh` words (`Pxh::process_line`). Pure.
 
 use crate::math::{UnitQuat, Vec3};
 use crate::params::{ParamTable, ParamType};
@@ -32,13 +32,8 @@ pub enum Outcome {
     },
 }
 
-const COMMANDS: [(&str, &str); 5] = [
-    ("commander", "status: arming state, mode, landed state, failsafes"),
-    ("help", "this list"),
-    ("listener", "vehicle_local_position | vehicle_attitude | battery_status"),
-    ("param", "show [NAME|PREFIX*] | set NAME VALUE"),
-    ("ver", "all: name, version and build"),
-];
+/// The builtin commands, sorted as `pxh`'s `help` lists them (`help` itself is not one).
+const COMMANDS: [&str; 4] = ["commander", "listener", "param", "ver"];
 
 /// The value of parameter `index` as PX4's `param` prints it: an integer, or 4 decimals.
 fn shown(params: &ParamTable, index: usize) -> String {
@@ -74,9 +69,9 @@ pub fn run(line: &str, ctx: Context) -> Outcome {
     let text = match words.as_slice() {
         [] => String::new(),
         ["help", ..] => {
-            let mut t = String::from("Builtin Apps:\n");
-            for (name, what) in COMMANDS {
-                t += &format!("  {name:<10} {what}\n");
+            let mut t = String::from("Builtin Commands:\n");
+            for name in COMMANDS {
+                t += &format!("  {name}\n");
             }
             t
         }
@@ -93,7 +88,8 @@ pub fn run(line: &str, ctx: Context) -> Outcome {
         ["commander", ..] => "usage: commander status\n".to_string(),
         ["listener", topic, ..] => listener(ctx.snapshot, topic),
         ["listener"] => "usage: listener <topic>\n".to_string(),
-        [command, ..] => format!("nsh: {command}: command not found\n"),
+        [comment, ..] if comment.starts_with('#') => String::new(),
+        [command, ..] => format!("Invalid command: {command}\ntype 'help' for a list of commands\n"),
     };
     Outcome::Text(text)
 }
