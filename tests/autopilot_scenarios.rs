@@ -42,7 +42,11 @@ fn a_small_battery_returns_then_lands_and_disarms() {
     };
     assert!(at("Takeoff detected") < at("Low battery: 15%"));
     assert!(at("Low battery") < at("Critical battery (7%): returning"));
-    assert_eq!(said[at("Critical battery") + 1], "Mode AUTO.RTL");
+    // COM_FAIL_ACT_T: the return waits 5 s in a hold; the emergency level, reached within it,
+    // makes the waiting action a landing, which starts when the hold ends.
+    assert_eq!(said[at("Critical battery") + 1], "Mode AUTO.LOITER");
+    assert!(at("Critical battery") < at("Emergency battery (5%): landing"));
+    assert_eq!(said[at("Emergency battery") + 1], "Mode AUTO.LAND");
     assert!(at("Emergency battery (5%): landing") < at("Landing detected"));
     assert!(at("Landing detected") < at("Disarmed: landed"));
     assert!(

@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 fn quad(extra: &str) -> Plant {
     let text = format!(
         "{}\n[plant.drag]\nquadratic = [0.02, 0.02, 0.04]\n[plant.initial]\nposition = [0.0, 0.0, -10.0]\n{extra}",
-        include_str!("../../airframes/quad_x.toml")
+        include_str!("../../airframes/fsr_quad.toml")
     );
     Plant::new(PlantParams::from_toml_str(&text, "windy").expect("valid airframe"))
 }
@@ -61,19 +61,19 @@ fn turbulence_is_seeded_and_calm_air_changes_nothing() {
 fn a_wind_on_an_airframe_without_drag_is_warned_about() {
     let text = format!(
         "{}\n[plant.wind]\nvelocity = [3.0, 0.0, 0.0]\n",
-        include_str!("../../airframes/quad_x.toml")
+        include_str!("../../airframes/fsr_quad.toml")
     );
     let params = PlantParams::from_toml_str(&text, "nodrag").expect("valid airframe");
     assert!(params.warnings().iter().any(|w| w.contains("wind exerts no force")));
     let bad = format!(
         "{}\n[plant.wind]\nvelocity = [3.0, 0.0]\n",
-        include_str!("../../airframes/quad_x.toml")
+        include_str!("../../airframes/fsr_quad.toml")
     );
     let err = PlantParams::from_toml_str(&bad, "bad").expect_err("two numbers");
     assert_eq!(err.field, "plant.wind.velocity");
     let bad = format!(
         "{}\n[[plant.wind.gust]]\nstart = 1.0\nvelocity = [1.0, 0.0, 0.0]\n",
-        include_str!("../../airframes/quad_x.toml")
+        include_str!("../../airframes/fsr_quad.toml")
     );
     let err = PlantParams::from_toml_str(&bad, "bad").expect_err("no duration");
     assert_eq!(err.field, "plant.wind.gust[0].duration");

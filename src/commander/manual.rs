@@ -8,13 +8,14 @@
 //! wall time, as for offboard). Their loss runs `NAV_RCL_ACT` in flight, once per loss, unless
 //! `COM_RCL_EXCEPT` exempts the mode; it applies when the sticks were live at arming or the mode
 //! is flown by them. A stick mode that cannot fly without sticks then holds position whatever
-//! the action. In the AUTO modes, a roll, pitch or yaw stick moved past `COM_RC_STICK_OV` takes
-//! over in POSCTL when `COM_RC_OVERRIDE` allows it (PX4 looks at stick movement; here at the
-//! deflection, so a throttle resting low never takes over).
+//! the action. In the AUTO modes, a stick moved faster than `COM_RC_STICK_OV` per second (its
+//! rate of change, low-passed over 0.1 s, as PX4's manual control judges it: a stick held
+//! deflected, or a throttle resting low, is not moving) takes over in POSCTL when
+//! `COM_RC_OVERRIDE` allows it.
 
 use crate::control::{AttitudeTarget, VehicleState};
 use crate::math::UnitQuat;
-use crate::navigation::{StickReference, Sticks};
+use crate::navigation::{StickMotion, StickReference, Sticks};
 
 use super::landing::Command;
 use super::{Commander, Event, FlightMode, LinkLossAction, Outcome};
@@ -42,6 +43,8 @@ pub(super) struct ManualInput {
     pub reference: Option<StickReference>,
     /// STABILIZED / MANUAL heading [rad] (`None` until the mode's first tick).
     pub heading_rad: Option<f64>,
+    /// Whether the pilot moves the sticks (stick take-over).
+    pub motion: StickMotion,
 }
 
 impl Commander {
@@ -128,6 +131,7 @@ impl Commander {
         if self.sticks_alive(t_s) {
             if std::mem::take(&mut self.manual.lost) {
                 events.push(Event::Failsafe("Manual control regained".into()));
+                self.cancel_delayed_failsafe(x, t_s, events);
             }
             self.take_over_by_sticks(x, t_s, events);
             return;
@@ -152,8 +156,8 @@ impl Commander {
         events.push(self.react_to_loss("Manual control", action, x, t_s));
     }
 
-    /// In an AUTO mode (and OFFBOARD), a roll, pitch or yaw stick past `COM_RC_STICK_OV` hands
-    /// the vehicle to the pilot in POSCTL, as `COM_RC_OVERRIDE` allows.
+    /// In an AUTO mode (and OFFBOARD), sticks moved faster than `COM_RC_STICK_OV` per second
+    /// hand the vehicle to the pilot in POSCTL, as `COM_RC_OVERRIDE` allows.
     fn take_over_by_sticks(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
         let p = &self.params.manual;
         let allowed = match self.mode {
@@ -161,9 +165,8 @@ impl Commander {
             mode if mode.flown_by_sticks() => false,
             _ => p.override_bits & OVERRIDE_AUTO != 0,
         };
-        let s = self.sticks(t_s);
-        let moved = [s.roll, s.pitch, s.yaw].iter().any(|v| v.abs() > p.override_threshold);
-        if allowed && moved && self.in_air() {
+        let moved = self.manual.motion.moving(p.override_threshold);
+        if allowed && moved && self.in_air() && !self.failsafe_delayed() {
             self.enter(FlightMode::Position, x, t_s);
             events.push(Event::Failsafe("Pilot took over using sticks".into()));
             events.push(Event::ModeChanged(FlightMode::Position));

@@ -120,12 +120,30 @@ fn stick_loss_runs_nav_rcl_act_once_and_the_return_of_the_sticks_is_announced() 
         vec![Event::Failsafe("Manual control lost: returning".into())],
         "NAV_RCL_ACT 2 by default"
     );
-    assert_eq!(s.c.mode(), FlightMode::ReturnToLaunch);
+    // COM_FAIL_ACT_T (5 s) in a hold first, then the return.
+    assert_eq!(s.c.mode(), FlightMode::Loiter);
     s.fly(1.0);
     assert_eq!(s.events.len(), 1, "once per loss");
+    s.fly(4.0);
+    assert_eq!(s.c.mode(), FlightMode::ReturnToLaunch);
+    assert_eq!(s.events[1], Event::ModeChanged(FlightMode::ReturnToLaunch));
     hold_sticks(&mut s, Sticks::CENTRED, 0.1);
-    assert_eq!(s.events[1], Event::Failsafe("Manual control regained".into()));
+    assert_eq!(s.events[2], Event::Failsafe("Manual control regained".into()));
     assert_eq!(s.c.mode(), FlightMode::ReturnToLaunch, "the pilot switches back");
+}
+
+#[test]
+fn sticks_back_within_com_fail_act_t_give_the_pilot_back_the_mode_and_no_return() {
+    let mut s = position_flight(4.0);
+    s.fly(2.0);
+    assert_eq!(s.c.mode(), FlightMode::Loiter, "lost: holding");
+    // A stick moved in the hold does not take over (PX4: mode switch only during the delay)...
+    hold_sticks(&mut s, Sticks::CENTRED, 0.1);
+    assert!(s.events.contains(&Event::Failsafe("Manual control regained".into())));
+    // ...but the cause is gone: back to POSCTL, and no return comes.
+    assert_eq!(s.c.mode(), FlightMode::Position);
+    hold_sticks(&mut s, Sticks::CENTRED, 6.0);
+    assert_eq!(s.c.mode(), FlightMode::Position, "{:?}", s.events);
 }
 
 #[test]

@@ -120,6 +120,8 @@ pub struct Commander {
     nav: NavValidity,
     /// Descending without a position (the position-loss failsafe) until disarmed.
     blind_descent: bool,
+    /// A failsafe's return or landing waiting out `COM_FAIL_ACT_T` in a hold.
+    delayed_failsafe: Option<reactions::DelayedFailsafe>,
 }
 
 impl Commander {
@@ -151,6 +153,7 @@ impl Commander {
             pending: Vec::new(),
             nav: NavValidity::EXACT,
             blind_descent: false,
+            delayed_failsafe: None,
         }
     }
 
@@ -221,6 +224,7 @@ impl Commander {
         if !self.armed {
             return CommanderTick::idle(events);
         }
+        self.run_delayed_failsafe(x, t_s, &mut events);
         let yaw = euler_zyx(&x.r_wb).z;
         let command = match self.mode {
             FlightMode::Takeoff => {

@@ -67,6 +67,8 @@ impl Commander {
         if mode != FlightMode::Land {
             self.blind_descent = false;
         }
+        // The pilot chose a mode: a failsafe waiting in its hold gives way (PX4).
+        self.delayed_failsafe = None;
         match mode {
             FlightMode::Mission if self.mission.mission.is_empty() => {
                 Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into())
@@ -124,6 +126,8 @@ impl Commander {
                 }
                 FlightMode::Land => self.descend(x, yaw, t_s),
                 FlightMode::Orbit if !on_ground => self.orbit_approach(x, t_s),
+                // PX4 never takes off for a return: landed, AUTO.RTL idles ("for safety reasons").
+                FlightMode::ReturnToLaunch if on_ground => Guidance::Idle,
                 FlightMode::ReturnToLaunch => {
                     self.rtl_phase = RtlPhase::Climb;
                     let z = x.pos_w.z.min(self.home_w.z - self.params.rtl_return_alt_m);

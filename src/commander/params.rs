@@ -23,7 +23,8 @@ pub struct ManualParams {
     /// Where moving the sticks takes over in POSCTL, a bit mask (`COM_RC_OVERRIDE`, 1):
     /// 1 the AUTO modes, 2 OFFBOARD.
     pub override_bits: u8,
-    /// Stick deflection that takes over [-] (`COM_RC_STICK_OV`, 30 %).
+    /// Stick movement that takes over: the rate of change of any stick [1/s]
+    /// (`COM_RC_STICK_OV`, 30 % of full travel per second).
     pub override_threshold: f64,
     /// How the sticks are read.
     pub shaping: StickShaping,
@@ -95,6 +96,9 @@ pub struct CommanderParams {
     pub follow: FollowParams,
     /// Mission waypoints.
     pub mission: MissionParams,
+    /// The hold before a failsafe's return or landing [s] (`COM_FAIL_ACT_T`, 5; 0 or less than
+    /// 0.1 s: none).
+    pub fail_action_delay_s: f64,
 }
 
 /// How mission waypoints are reached and flown through (PX4's navigator and AUTO trajectory).
@@ -145,6 +149,7 @@ impl Default for CommanderParams {
             manual: ManualParams::default(),
             follow: FollowParams::default(),
             mission: MissionParams::default(),
+            fail_action_delay_s: 5.0,
         }
     }
 }

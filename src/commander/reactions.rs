@@ -8,6 +8,20 @@ use crate::control::VehicleState;
 use super::{Commander, Event, FailsafeAction, FlightMode, LinkLossAction, Outcome};
 
 /// What a loss action did, for the announcement: `what` is the stream lost.
+/// Below this `COM_FAIL_ACT_T` there is no hold before a failsafe action [s] (PX4's 0.1 s).
+const MIN_FAIL_ACTION_DELAY_S: f64 = 0.1;
+
+/// A failsafe's return or landing waiting out `COM_FAIL_ACT_T` in a hold.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct DelayedFailsafe {
+    /// The mode the failsafe enters.
+    pub mode: FlightMode,
+    /// When [s].
+    pub due_s: f64,
+    /// The mode before the failsafe (where the pilot is given back if the cause goes away).
+    pub resume: FlightMode,
+}
+
 fn loss_text(what: &str, action: LinkLossAction) -> String {
     let did = match action {
         LinkLossAction::Hold => ": holding",
@@ -59,10 +73,7 @@ impl Commander {
             // running; a hold while in the hold mode stops what it was flying (a DO_REPOSITION).
             match mode {
                 _ if self.mode == FlightMode::Land => {}
-                Some(mode) if mode != self.mode => {
-                    self.enter(mode, x, t_s);
-                    events.push(Event::ModeChanged(mode));
-                }
+                Some(mode) if mode != self.mode => self.fail_to(mode, x, t_s, &mut events),
                 Some(FlightMode::Loiter) => self.enter(FlightMode::Loiter, x, t_s),
                 _ => {}
             }
@@ -112,14 +123,70 @@ impl Commander {
     /// Runs a loss `action` (hold, return, land, or 5/6 motors off; the caller has checked the
     /// vehicle flies) for the lost stream `what`; the announcement.
     pub(super) fn react_to_loss(&mut self, what: &str, action: LinkLossAction, x: &VehicleState, t_s: f64) -> Event {
+        let mut events = Vec::new();
         match action {
             LinkLossAction::Hold => self.enter(FlightMode::Loiter, x, t_s),
-            LinkLossAction::Return => self.enter(FlightMode::ReturnToLaunch, x, t_s),
-            LinkLossAction::Land => self.enter(FlightMode::Land, x, t_s),
+            LinkLossAction::Return => self.fail_to(FlightMode::ReturnToLaunch, x, t_s, &mut events),
+            LinkLossAction::Land => self.fail_to(FlightMode::Land, x, t_s, &mut events),
             LinkLossAction::Terminate | LinkLossAction::Disarm => self.disarm(),
             LinkLossAction::Disabled => {}
         }
         Event::Failsafe(loss_text(what, action))
+    }
+
+    /// A failsafe's `mode` (a return or a landing): after `COM_FAIL_ACT_T` in a hold (PX4's
+    /// delay, for the pilot to react: a mode chosen meanwhile, or the cause going away, cancels
+    /// it), at once without the delay, on the ground or already landing. The hold's mode change
+    /// is in `events`; the heartbeat shows it either way.
+    pub(super) fn fail_to(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
+        if let Some(d) = &mut self.delayed_failsafe {
+            // A later failsafe within the hold (an emergency battery after the critical one)
+            // takes over the waiting action, not the hold's end.
+            d.mode = mode;
+            return;
+        }
+        let delay = self.params.fail_action_delay_s;
+        if delay >= MIN_FAIL_ACTION_DELAY_S && self.in_air() && self.mode != FlightMode::Land {
+            let resume = self.mode;
+            self.enter(FlightMode::Loiter, x, t_s);
+            self.delayed_failsafe = Some(DelayedFailsafe {
+                mode,
+                due_s: t_s + delay,
+                resume,
+            });
+            events.push(Event::ModeChanged(FlightMode::Loiter));
+        } else {
+            self.enter(mode, x, t_s);
+            events.push(Event::ModeChanged(mode));
+        }
+    }
+
+    /// Carries out a delayed failsafe once its hold is over.
+    pub(super) fn run_delayed_failsafe(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
+        match self.delayed_failsafe {
+            Some(d) if t_s >= d.due_s => {
+                self.delayed_failsafe = None;
+                self.enter(d.mode, x, t_s);
+                events.push(Event::ModeChanged(d.mode));
+            }
+            _ => {}
+        }
+    }
+
+    /// The cause of a delayed failsafe went away (the sticks came back): back to the mode the
+    /// pilot had; true when there was one.
+    pub(super) fn cancel_delayed_failsafe(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) -> bool {
+        let Some(d) = self.delayed_failsafe.take() else {
+            return false;
+        };
+        self.enter(d.resume, x, t_s);
+        events.push(Event::ModeChanged(d.resume));
+        true
+    }
+
+    /// A failsafe waits in its hold (no stick take-over meanwhile, as PX4).
+    pub(super) fn failsafe_delayed(&self) -> bool {
+        self.delayed_failsafe.is_some()
     }
 }
 
@@ -264,6 +331,7 @@ mod tests {
         ] {
             let mut s = Script::new(CommanderParams {
                 link_loss_action: action,
+                fail_action_delay_s: 0.0,
                 ..Default::default()
             });
             assert_eq!(s.request(Request::GcsLinkLost), Outcome::Accepted);

@@ -47,6 +47,7 @@ impl Commander {
             }
             Request::ManualControl(sticks) => {
                 self.manual.latest = Some((sticks, t_s));
+                self.manual.motion.sample(sticks, t_s);
                 Outcome::Accepted
             }
             Request::SetMission(mission) => {

@@ -6,6 +6,7 @@ use crate::control::VehicleState;
 use crate::math::Vec3;
 
 use super::Commander;
+use crate::navigation::Guidance;
 
 /// Where a return is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -21,7 +22,8 @@ pub(super) enum RtlPhase {
 impl Commander {
     /// One AUTO.RTL tick: when a phase's path is flown, the next phase starts from here.
     pub(super) fn advance_rtl(&mut self, x: &VehicleState, yaw: f64, t_s: f64) {
-        if !self.guidance.finished(t_s) {
+        // Entered on the ground: nothing to return from (PX4 does not take off for a return).
+        if !self.guidance.finished(t_s) || self.guidance == Guidance::Idle {
             return;
         }
         match self.rtl_phase {
@@ -95,6 +97,20 @@ mod tests {
             s.x.pos_w
         );
         assert_eq!(s.events, vec![Event::Landed, Event::Disarmed("landed")]);
+    }
+
+    #[test]
+    fn a_return_asked_on_the_ground_does_not_take_off() {
+        let mut s = Script::new(params());
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        assert_eq!(s.request(Request::ReturnToLaunch), Outcome::Accepted);
+        s.fly(5.0);
+        assert!(
+            (s.x.pos_w.z - GROUND_Z_M).abs() < 1e-9,
+            "stayed on the ground: {:?}",
+            s.x.pos_w
+        );
+        assert!(s.until_disarmed(15.0), "auto-disarm without a take-off: {:?}", s.events);
     }
 
     #[test]

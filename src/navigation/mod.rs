@@ -31,6 +31,6 @@ pub use orbit::{Orbit, OrbitYaw, ORBIT_RADIUS_M};
 pub use rally::RallyPoints;
 pub use setpoint_limiter::SetpointLimiter;
 pub use stick_reference::StickReference;
-pub use sticks::{StickError, StickShaping, Sticks};
+pub use sticks::{StickError, StickMotion, StickShaping, Sticks};
 pub use track::{Leg, Track};
 pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};

@@ -195,6 +195,45 @@ fn expo(v: f64, e: f64) -> f64 {
     (1.0 - e) * v + e * v * v * v
 }
 
+/// Time constant of the low-passed stick rates [s] (PX4's `MovingDiff`, 0.1 s).
+const STICK_RATE_TAU_S: f64 = 0.1;
+
+/// Whether the sticks are being moved: each axis's rate of change, low-passed, as PX4's manual
+/// control input judges a pilot taking over (a stick held deflected is not moving). Pure.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StickMotion {
+    last: Option<(Sticks, f64)>,
+    /// Low-passed rates of roll, pitch, yaw and throttle [1/s].
+    rates: [f64; 4],
+}
+
+impl StickMotion {
+    /// Takes a stick sample arriving at `t_s` [s].
+    pub fn sample(&mut self, s: Sticks, t_s: f64) {
+        if let Some((last, t0)) = self.last {
+            let dt = t_s - t0;
+            if dt > 0.0 {
+                let alpha = dt / (dt + STICK_RATE_TAU_S);
+                let now = [s.roll, s.pitch, s.yaw, s.throttle];
+                let before = [last.roll, last.pitch, last.yaw, last.throttle];
+                for ((rate, v), v0) in self.rates.iter_mut().zip(now).zip(before) {
+                    let raw = (v - v0) / dt;
+                    if raw.is_finite() {
+                        *rate += alpha * (raw - *rate);
+                    }
+                }
+            }
+        }
+        self.last = Some((s, t_s));
+    }
+
+    /// True when any axis moves faster than `threshold_per_s` [1/s] (`COM_RC_STICK_OV` % per
+    /// second: 0.3/s by default).
+    pub fn moving(&self, threshold_per_s: f64) -> bool {
+        self.rates.iter().any(|r| r.abs() > threshold_per_s)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -265,5 +304,24 @@ mod tests {
         );
         let rates = k.acro_rates(&forward_right);
         assert!(rates.x > 0.0 && rates.y < 0.0 && rates.z == 0.0);
+    }
+
+    #[test]
+    fn sticks_are_moving_while_they_move_not_while_held_deflected() {
+        let mut m = StickMotion::default();
+        let at = |roll: f64| Sticks {
+            roll,
+            ..Sticks::CENTRED
+        };
+        // Held fully right for a second: not moving.
+        for k in 0..50 {
+            m.sample(at(1.0), f64::from(k) * 0.02);
+        }
+        assert!(!m.moving(0.3));
+        // Swept back to centre over half a second (2/s): moving.
+        for k in 0..25 {
+            m.sample(at(1.0 - f64::from(k + 1) * 0.04), 1.0 + f64::from(k) * 0.02);
+        }
+        assert!(m.moving(0.3));
     }
 }

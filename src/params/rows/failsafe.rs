@@ -153,3 +153,14 @@ pub(super) static NAVIGATION_LOSS: &[ParamDef] = &[row!(
     "Position lost in POSCTL: 0 Altitude mode (with sticks), 1 land; the AUTO modes and OFFBOARD always descend",
     flag commander.position_loss_lands
 )];
+
+/// The hold before a failsafe's return or landing (appended after the logger's).
+pub(super) static DELAY: &[ParamDef] = &[row!(
+    "COM_FAIL_ACT_T",
+    Real32,
+    [0.0, 25.0],
+    "s",
+    Failsafe,
+    "Hold before a failsafe's return or landing, for the pilot to react (0: none)",
+    value commander.fail_action_delay_s
+)];

@@ -106,7 +106,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 23] = [
+static GROUPS: [&[ParamDef]; 24] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -130,6 +130,7 @@ static GROUPS: [&[ParamDef]; 23] = [
     navigation_filter::NAV_FILTER,
     flight::MISSION,
     logger::LOGGER,
+    failsafe::DELAY,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

@@ -65,7 +65,7 @@ pub(super) static LOSS: &[ParamDef] = &[
         [5.0, 80.0],
         "%",
         Commander,
-        "Stick deflection that takes over (COM_RC_OVERRIDE)",
+        "Stick movement that takes over (COM_RC_OVERRIDE): % of full travel per second, low-passed over 0.1 s",
         |s| s.commander.manual.override_threshold * 100.0,
         |s, v| {
             s.commander.manual.override_threshold = v / 100.0;

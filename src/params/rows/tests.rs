@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 130] = [
+const WIRE_ORDER: [&str; 131] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -135,6 +135,7 @@ const WIRE_ORDER: [&str; 130] = [
     "NAV_MC_ALT_RAD",
     "MPC_XY_TRAJ_P",
     "SDLOG_MODE",
+    "COM_FAIL_ACT_T",
 ];
 
 fn settings() -> VehicleSettings {
