@@ -241,7 +241,7 @@ impl Commander {
             }
             FlightMode::Offboard => self.offboard_command(x, yaw, dt_s, t_s, &mut events),
             FlightMode::Orbit => {
-                self.advance_orbit(t_s);
+                self.advance_orbit(dt_s, t_s);
                 None
             }
             FlightMode::FollowTarget => self.follow_command(x, dt_s, t_s),

@@ -3,6 +3,9 @@
 //! DO_ORBIT while orbiting changes what it names and keeps the rest (MAVLink: NaN keeps the
 //! running orbit's radius, speed, heading rule and centre). Selected as a mode without a command,
 //! it circles with the vehicle on the circle, as PX4 does: 10 m radius at 1 m/s, centre south.
+//! The orbit goes on until another mode is chosen: DO_ORBIT's p4 (MAVLink's number of turns) is
+//! not read, as PX4 does not read it. With yaw behaviour 4 (RC_CONTROLLED) the yaw stick turns
+//! the heading on the circle at the stick modes' yaw rate; without sticks the heading holds.
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
@@ -71,6 +74,7 @@ impl Commander {
             acc_m_s2: lim.acc_horizontal_m_s2,
             yaw,
             initial_yaw_rad: euler_zyx(&x.r_wb).z,
+            stick_yaw_rate_rad_s: 0.0,
             start_angle_rad,
             start_s: 0.0,
         }
@@ -94,14 +98,23 @@ impl Commander {
         self.path_to(x, to_w, to_yaw, self.cruise_speed(), t_s)
     }
 
-    /// One orbit-mode tick: once the approach path has ended, the circle starts.
-    pub(super) fn advance_orbit(&mut self, t_s: f64) {
-        if let (Guidance::Path { .. }, Some(plan)) = (self.guidance, self.orbit) {
-            if self.guidance.finished(t_s) {
+    /// One orbit-mode tick, `dt_s` [s] after the last: once the approach path has ended, the
+    /// circle starts; on the circle an RC_CONTROLLED heading turns with the yaw stick.
+    pub(super) fn advance_orbit(&mut self, dt_s: f64, t_s: f64) {
+        match (self.guidance, self.orbit) {
+            (Guidance::Path { .. }, Some(plan)) if self.guidance.finished(t_s) => {
                 let orbit = Orbit { start_s: t_s, ..plan };
                 self.orbit = Some(orbit);
                 self.guidance = Guidance::Orbit(orbit);
             }
+            (Guidance::Orbit(orbit), _) if orbit.yaw == OrbitYaw::RcControlled => {
+                let sticks = self.manual.latest.filter(|_| self.sticks_alive(t_s));
+                let rate = sticks.map_or(0.0, |(s, _)| self.params.manual.shaping.yaw_rate(&s));
+                let orbit = orbit.steered(rate, dt_s);
+                self.orbit = Some(orbit);
+                self.guidance = Guidance::Orbit(orbit);
+            }
+            _ => {}
         }
     }
 }
@@ -172,6 +185,55 @@ mod tests {
         assert!(matches!(s.request(request(10.0, -1.0, (0.0, 0.0))), Outcome::Denied(_)));
         assert_eq!(s.request(Request::SetMode(FlightMode::Loiter)), Outcome::Accepted);
         assert_eq!(s.c.orbit_status(), None);
+    }
+
+    #[test]
+    fn rc_controlled_yaw_turns_with_the_yaw_stick_and_holds_without() {
+        use crate::navigation::Sticks;
+        let mut params = CommanderParams::default();
+        // PX4 never hands an orbit to the pilot (ORBIT is not an auto control mode); here the
+        // take-over is off so the stick only steers.
+        params.manual.override_bits = 0;
+        let shaping = params.manual.shaping;
+        let mut s = Script::new(params);
+        s.airborne(5.0);
+        let rc = Request::Orbit(OrbitRequest {
+            yaw: Some(OrbitYaw::RcControlled),
+            ..OrbitRequest::default()
+        });
+        assert_eq!(s.request(rc), Outcome::Accepted);
+        s.fly(15.0);
+        let yaw = |s: &Script| crate::math::euler_zyx(&s.x.r_wb).z;
+        let before = yaw(&s);
+        s.fly(3.0);
+        assert!((yaw(&s) - before).abs() < 1e-9, "no sticks: the heading holds");
+        let stick = |s: &mut Script, y: f64, seconds: f64| {
+            for _ in 0..(seconds / super::super::script::DT_S).round() as usize {
+                let sticks = Sticks {
+                    yaw: y,
+                    ..Sticks::CENTRED
+                };
+                assert_eq!(s.request(Request::ManualControl(sticks)), Outcome::Accepted);
+                s.step();
+            }
+        };
+        let rate = shaping.yaw_rate(&Sticks {
+            yaw: 0.5,
+            ..Sticks::CENTRED
+        });
+        assert!(rate > 0.1, "{rate}");
+        stick(&mut s, 0.5, 1.0);
+        let turned = crate::math::wrap_pi(yaw(&s) - before);
+        assert!(
+            (turned - rate).abs() < 0.05 * rate,
+            "{turned} rad for {rate} rad/s over 1 s"
+        );
+        assert_eq!(s.c.mode(), FlightMode::Orbit);
+        let after = yaw(&s);
+        stick(&mut s, 0.0, 2.0);
+        assert!((yaw(&s) - after).abs() < 1e-9, "centred: the new heading holds");
+        let (centre, _) = s.c.orbit_status().expect("still orbiting");
+        assert!(((s.x.pos_w - centre).norm() - 10.0).abs() < 1e-6, "on the circle");
     }
 
     #[test]

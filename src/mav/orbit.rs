@@ -1,9 +1,11 @@
 //! MAV_CMD_DO_ORBIT as PX4 reads it, and ORBIT_EXECUTION_STATUS (360) as PX4 reports it. Pure.
 //!
 //! DO_ORBIT: p1 radius [m] (positive clockwise), p2 tangential speed [m/s], p3 yaw behaviour
-//! (ORBIT_YAW_BEHAVIOUR), p5/p6 centre latitude/longitude [deg], p7 centre altitude AMSL [m]
-//! (PX4 reads it as AMSL whatever the COMMAND_INT frame); NaN keeps the running orbit's value
-//! (or the vehicle's position and height for the centre).
+//! (ORBIT_YAW_BEHAVIOUR 0–4; 5, UNCHANGED, keeps the running orbit's, or `MC_ORBIT_YAW_MOD`'s
+//! default when not orbiting yet), p5/p6 centre latitude/longitude [deg], p7 centre altitude AMSL
+//! [m] (PX4 reads it as AMSL whatever the COMMAND_INT frame); NaN keeps the running orbit's value
+//! (or the vehicle's position and height for the centre). p4, MAVLink's number of turns, is not
+//! read, as PX4 does not read it: the orbit goes on until another mode is chosen.
 
 use mavlink::dialects::common::{MavFrame, MavMessage, COMMAND_LONG_DATA, ORBIT_EXECUTION_STATUS_DATA};
 
@@ -18,7 +20,9 @@ use super::translate::CommandDecision;
 pub fn decode_orbit(cmd: &COMMAND_LONG_DATA, centre_deg: Option<(f64, f64)>, origin: &Home) -> CommandDecision {
     let given = |x: f32| (!x.is_nan()).then_some(f64::from(x));
     let yaw = match given(cmd.param3) {
+        // NaN, or ORBIT_YAW_BEHAVIOUR_UNCHANGED.
         None => None,
+        Some(5.0) => None,
         Some(code) => match OrbitYaw::from_code(code as u8).filter(|_| code.fract() == 0.0 && code >= 0.0) {
             Some(yaw) => Some(yaw),
             None => return refuse(format!("Orbit: yaw behaviour {code} is not an ORBIT_YAW_BEHAVIOUR")),
@@ -100,6 +104,15 @@ mod tests {
             panic!()
         };
         assert_eq!(r, OrbitRequest::default(), "NaN keeps everything");
+        // p4 (three turns) is ignored as PX4 ignores it; yaw behaviour 5 keeps the running one.
+        let CommandDecision::Execute(Request::Orbit(r)) = orbit([nan, nan, 5.0, 3.0, nan, nan, nan]) else {
+            panic!()
+        };
+        assert_eq!(r, OrbitRequest::default(), "UNCHANGED yaw, no turn count");
+        let CommandDecision::Execute(Request::Orbit(r)) = orbit([nan, nan, 4.0, 1.0, nan, nan, nan]) else {
+            panic!()
+        };
+        assert_eq!(r.yaw, Some(OrbitYaw::RcControlled));
         assert!(matches!(
             orbit([10.0, 1.0, 7.0, nan, nan, nan, nan]),
             CommandDecision::Refuse(_)

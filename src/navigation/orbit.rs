@@ -29,7 +29,8 @@ pub enum OrbitYaw {
     Uncontrolled,
     /// Along the circle, in the direction of flight (3).
     FrontTangent,
-    /// From the yaw stick (4); without sticks the initial heading.
+    /// From the yaw stick (4, PX4's RC_CONTROLLED): the heading turns at the rate the yaw stick
+    /// asks for ([`Orbit::steered`]); without sticks (or with the stick centred) it holds.
     RcControlled,
 }
 
@@ -62,8 +63,11 @@ pub struct Orbit {
     pub acc_m_s2: f64,
     /// Heading rule.
     pub yaw: OrbitYaw,
-    /// Heading when the orbit started [rad].
+    /// Heading when the orbit started [rad]; with [`OrbitYaw::RcControlled`] the heading the
+    /// yaw stick steered it to.
     pub initial_yaw_rad: f64,
+    /// Heading rate the yaw stick asks for [rad/s] ([`OrbitYaw::RcControlled`]; 0 otherwise).
+    pub stick_yaw_rate_rad_s: f64,
     /// Angle on the circle where it started, from north towards east [rad].
     pub start_angle_rad: f64,
     /// Simulated time it started [s].
@@ -91,6 +95,16 @@ impl Orbit {
         wrap_pi(self.start_angle_rad + self.sign() * s / self.radius_m)
     }
 
+    /// This orbit with its held heading turned for `dt_s` [s] at the yaw stick's `yaw_rate_rad_s`
+    /// [rad/s], the rate a [`OrbitYaw::RcControlled`] setpoint feeds forward.
+    pub fn steered(self, yaw_rate_rad_s: f64, dt_s: f64) -> Self {
+        Self {
+            initial_yaw_rad: wrap_pi(self.initial_yaw_rad + yaw_rate_rad_s * dt_s),
+            stick_yaw_rate_rad_s: yaw_rate_rad_s,
+            ..self
+        }
+    }
+
     /// The setpoint at simulated time `t_s` [s].
     pub fn setpoint(&self, t_s: f64) -> FlatSetpoint {
         let (s, v, dv) = self.arc(t_s);
@@ -102,7 +116,8 @@ impl Orbit {
         let (yaw, yaw_rate) = match self.yaw {
             OrbitYaw::FrontToCentre => (theta + std::f64::consts::PI, yaw_rate),
             OrbitYaw::FrontTangent => (theta + sigma * std::f64::consts::FRAC_PI_2, yaw_rate),
-            OrbitYaw::HoldInitial | OrbitYaw::Uncontrolled | OrbitYaw::RcControlled => (self.initial_yaw_rad, 0.0),
+            OrbitYaw::HoldInitial | OrbitYaw::Uncontrolled => (self.initial_yaw_rad, 0.0),
+            OrbitYaw::RcControlled => (self.initial_yaw_rad, self.stick_yaw_rate_rad_s),
         };
         FlatSetpoint {
             pos_w: Some(self.centre_w + self.radius_m * radial),
@@ -148,6 +163,7 @@ mod tests {
             acc_m_s2: 1.0,
             yaw,
             initial_yaw_rad: 0.3,
+            stick_yaw_rate_rad_s: 0.0,
             start_angle_rad: std::f64::consts::PI,
             start_s: 5.0,
         }
@@ -195,6 +211,26 @@ mod tests {
         let sp = o.setpoint(20.0);
         let v = sp.vel_w.unwrap_or_default();
         assert!(wrap_pi(v.y.atan2(v.x) - sp.yaw_rad.unwrap_or_default()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_yaw_stick_steers_an_rc_controlled_heading_and_it_holds_without() {
+        let o = orbit(true, OrbitYaw::RcControlled);
+        assert_eq!(o.setpoint(20.0).yaw_rad, Some(0.3), "no stick: the heading holds");
+        let mut steered = o;
+        for _ in 0..100 {
+            steered = steered.steered(0.5, 0.01);
+        }
+        let sp = steered.setpoint(20.0);
+        assert!((sp.yaw_rad.unwrap_or_default() - 0.8).abs() < 1e-9, "{sp:?}");
+        assert_eq!(sp.yaw_rate_rad_s, Some(0.5), "the stick's rate fed forward");
+        let held = steered.steered(0.0, 0.01).setpoint(20.0);
+        assert_eq!((held.yaw_rate_rad_s, held.pos_w), (Some(0.0), sp.pos_w));
+        assert!((held.yaw_rad.unwrap_or_default() - 0.8).abs() < 1e-9);
+        // The other behaviours ignore the stick.
+        let front = orbit(true, OrbitYaw::FrontToCentre);
+        assert_eq!(front.steered(0.5, 1.0).setpoint(20.0), front.setpoint(20.0));
+        assert_eq!(OrbitYaw::from_code(4), Some(OrbitYaw::RcControlled));
     }
 
     #[test]
