@@ -74,6 +74,8 @@ def test_run_log_writes_one_ulog_per_flight_with_params_messages_and_changes(tmp
     count = gcs.latest(ap.conn, "PARAM_VALUE").param_count
     ap.takeoff()
     ap.param_set("MPC_XY_VEL_MAX", 7.5)
+    # A hover long enough for the estimate to settle after the climb (whose body drag it saw).
+    ap.sleep(3.0)
     ap.land()
     ap.wait_disarmed(30)  # landed and disarmed
     ap.takeoff()
