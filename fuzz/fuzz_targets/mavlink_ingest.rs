@@ -26,6 +26,7 @@ use rotorpilot::telemetry::Snapshot;
 
 const DT_S: f64 = 1e-3; // the control step estimator designs are checked at [s]
 const GCS: u8 = 7;
+static METADATA: std::sync::OnceLock<Option<rotorpilot::mav::metadata::MetadataFiles>> = std::sync::OnceLock::new();
 
 fuzz_target!(|data: &[u8]| {
     let (datagram, key) = match data.split_first() {
@@ -70,13 +71,12 @@ impl Stub {
         let mut config = LinkConfig::new(Identity::autopilot(1, 4), links, params.clone(), snapshot);
         (config.signing, config.key_store, config.record_received) = (Signing::new(key, 1), true, true);
         config.logs = Box::new(MemLogStore::from_iter([(1_767_261_600, vec![7; 200])]));
-        let x = VehicleState::at_rest(0.0, Vec3::new(0.0, 0.0, -0.1));
-        let (machine, commander) = (LinkMachine::new(config), Commander::new(settings.commander));
+        let metadata = METADATA.get_or_init(|| rotorpilot::mav::metadata::MetadataFiles::new(&params).ok());
         Self {
-            machine,
-            commander,
+            machine: LinkMachine::with_metadata(config, metadata.clone()),
+            commander: Commander::new(settings.commander),
             params,
-            x,
+            x: VehicleState::at_rest(0.0, Vec3::new(0.0, 0.0, -0.1)),
         }
     }
 

@@ -132,15 +132,40 @@ pub fn general_json(parameters_xz: &[u8]) -> Vec<u8> {
     json!({ "version": 1, "metadataTypes": types }).to_string().into_bytes()
 }
 
+/// The metadata files of one parameter table, compressed and ready to publish: built once, a
+/// caller that starts many machines with one table (the fuzz target) publishes copies.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MetadataFiles {
+    parameters_xz: Vec<u8>,
+    general_xz: Vec<u8>,
+    general_crc: u32,
+}
+
+impl MetadataFiles {
+    /// Both `.xz` files of `table`, and the CRC of the uncompressed general JSON
+    /// (COMPONENT_METADATA's `file_crc`).
+    pub fn new(table: &ParamTable) -> Result<Self, MetadataError> {
+        let parameters_xz = xz(&parameter_json(table))?;
+        let general = general_json(&parameters_xz);
+        Ok(Self {
+            general_crc: crc32_part(&general, 0),
+            general_xz: xz(&general)?,
+            parameters_xz,
+        })
+    }
+
+    /// Publishes both files in `fs`; returns the general file's CRC.
+    pub fn publish(self, fs: &mut Vfs) -> Result<u32, MetadataError> {
+        fs.publish(PARAMETERS_PATH, self.parameters_xz)?;
+        fs.publish(GENERAL_PATH, self.general_xz)?;
+        Ok(self.general_crc)
+    }
+}
+
 /// Publishes both `.xz` files of `table` in `fs`; returns the CRC of the uncompressed general
 /// JSON (COMPONENT_METADATA's `file_crc`).
 pub fn install(fs: &mut Vfs, table: &ParamTable) -> Result<u32, MetadataError> {
-    let parameters_xz = xz(&parameter_json(table))?;
-    let general = general_json(&parameters_xz);
-    let crc = crc32_part(&general, 0);
-    fs.publish(PARAMETERS_PATH, parameters_xz)?;
-    fs.publish(GENERAL_PATH, xz(&general)?)?;
-    Ok(crc)
+    MetadataFiles::new(table)?.publish(fs)
 }
 
 /// COMPONENT_METADATA: the general file's URI and `general_crc`, at `time_boot_ms` [ms].

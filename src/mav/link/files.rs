@@ -13,7 +13,7 @@ use super::logs::LogLink;
 use super::{LinkKind, LinkMachine, Now};
 use crate::mav::ftp::{FtpServer, Payload, Storage, Vfs};
 use crate::mav::logs::LogStore;
-use crate::mav::metadata;
+use crate::mav::metadata::{self, MetadataFiles};
 use crate::params::ParamTable;
 
 /// Wall time between two frames of a burst read [s].
@@ -42,13 +42,18 @@ pub(super) struct Files<A> {
 }
 
 impl<A> Files<A> {
-    /// The file system with the component metadata of `params` and the flight logs of `logs`,
-    /// an FTP server and a log server per link of `links`.
-    pub fn new(params: &ParamTable, links: &[LinkKind], logs: Box<dyn LogStore>) -> Self {
+    /// The file system with the component metadata of `params` (`built` when the caller made
+    /// them already) and the flight logs of `logs`, an FTP server and a log server per link of
+    /// `links`.
+    pub fn new(params: &ParamTable, built: Option<MetadataFiles>, links: &[LinkKind], logs: Box<dyn LogStore>) -> Self {
         let mut vfs = Vfs::default();
         // The metadata paths are fixed and outside the scratch area, and the files are compressed
         // in memory: installing them cannot fail.
-        let general_crc = metadata::install(&mut vfs, params).unwrap_or_default();
+        let general_crc = match built {
+            Some(files) => files.publish(&mut vfs),
+            None => metadata::install(&mut vfs, params),
+        }
+        .unwrap_or_default();
         let ftp = links
             .iter()
             .map(|link| FtpLink {

@@ -46,6 +46,7 @@ use crate::telemetry::Snapshot;
 
 use super::codec::frame_message;
 use super::logs::{LogStore, MemLogStore};
+use super::metadata::MetadataFiles;
 use super::mission_report::MissionReport;
 use super::plan_store::PlanStore;
 use super::signing::{Signing, SigningKey};
@@ -255,6 +256,13 @@ pub struct Said {
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// A machine as `config` describes it; its first duties are due at once.
     pub fn new(config: LinkConfig<A>) -> Self {
+        Self::with_metadata(config, None)
+    }
+
+    /// [`LinkMachine::new`] with the component metadata files of `config.params` built by the
+    /// caller (`None`: built here), for a caller that starts many machines with one parameter
+    /// table: compressing them is the costly part of a start.
+    pub fn with_metadata(config: LinkConfig<A>, metadata: Option<MetadataFiles>) -> Self {
         let ports = config
             .links
             .iter()
@@ -262,7 +270,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .map(|(id, (kind, remote))| Port::new(*kind, *remote, id as u8))
             .collect();
         let kinds: Vec<LinkKind> = config.links.iter().map(|(kind, _)| *kind).collect();
-        let files = Files::new(&config.params, &kinds, config.logs);
+        let files = Files::new(&config.params, metadata, &kinds, config.logs);
         Self {
             identity: config.identity,
             ports,
