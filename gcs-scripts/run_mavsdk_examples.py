@@ -18,9 +18,19 @@ udpin://0.0.0.0:14540`), as their `System(mavsdk_server_address=..., port=50051)
 
 An example that downloads flight logs finds the ones `SPECS` names in the vehicle's `--log`
 directory (seeded random bytes, PX4's layout `log/YYYY-MM-DD/HH_MM_SS.ulg`) and must bring each
-back byte for byte. The flight log (`--log`) is then read back: the vehicle must never be disarmed more than 0.5 m
-above the ground, must end on the ground when the example lands, and must have done what the
-example asks (the per-example check in `SPECS`: modes in HEARTBEAT.custom_mode, heights, messages).
+back byte for byte. Every example flies on `rotorpilot run`'s default configuration (realistic
+sensors through the navigation filter, as PX4 SITL): a `SPECS` entry may ask for `--sensors ideal`
+only with the reason why (none does).
+
+The flight is judged on what a ground station saw: the telemetry in the vehicle's tlog
+(`--log DIR/flight.tlog`, `tlog_judge.py`), never the simulator's truth. Heights are
+LOCAL_POSITION_NED.z from the reading before arming (|z| ≤ 0.1 m on the ground then), with
+GLOBAL_POSITION_INT.relative_alt beside them; the vehicle must never be disarmed more than 0.5 m
+up, must rest within 0.2 m of 0 after every landing, must touch down gently, must end on the
+ground (and disarmed) when the example lands; an offboard example's yaw rate must follow each
+phase's setpoint (`phases`, from the example's source); after a GPS failure the telemetry must
+show the GPS lost; and the vehicle must have done what the example asks (the per-example check
+in `SPECS`: modes in HEARTBEAT.custom_mode, heights, messages). Each check reports the values seen.
 An example whose refusal is the PX4-like answer (a failure unit without a sensor model, a file
 PX4 SITL does not have either) is an "expected refusal": it must fail, and the vehicle must have
 answered as expected. A "pending" example needs a vehicle feature not merged yet.
@@ -29,10 +39,10 @@ exit 1 when any example fails.
 
 usage: run_mavsdk_examples.py [EXAMPLE ...] [--speedup X] [--timeout S] [--keep DIR]
        (no EXAMPLE: every example in tests/third_party/mavsdk_examples/; needs root for unshare -n)
+       run_mavsdk_examples.py --rejudge DIR    (the runs kept in DIR judged again, nothing flown)
 """
 import argparse
 import json
-import math
 import os
 import pathlib
 import random
@@ -45,24 +55,15 @@ import tempfile
 import threading
 import time
 
+import tlog_judge as judge
 from rotorpilot_gcs import checkout_binary, find_binary
+from tlog_judge import ACCEPTED, AUTO_LAND, AUTO_RTL, FOLLOW_TARGET, INJECT_FAILURE, OFFBOARD, ORBIT, POSCTL, Phase
 
 HERE = pathlib.Path(__file__).resolve().parent
 EXAMPLES = HERE / "tests" / "third_party" / "mavsdk_examples"
 ROOT = HERE.parent
 # An example still running this long after printing a traceback is stopped [s].
 RAISED_GRACE_S = 8.0
-# A disarm above this height [m] is a vehicle dropped from the sky.
-DISARM_HEIGHT_MAX_M = 0.5
-# PX4's custom_mode values (main mode << 16 | sub mode << 24) in HEARTBEAT.
-POSCTL, ORBIT, OFFBOARD = 196608, 16973824, 393216
-AUTO_LOITER, AUTO_RTL, AUTO_LAND, FOLLOW_TARGET = 50593792, 84148224, 100925440, 134479872
-# MAV_CMD ids and MAV_RESULT values read from COMMAND_ACK.
-INJECT_FAILURE, PREFLIGHT_CALIBRATION = 420, 241
-ACCEPTED, UNSUPPORTED, DENIED = 0, 3, 2
-# Messages pymavlink 2.4.49's generated dialects lack (they arrive as UNKNOWN_<id>).
-UNKNOWN_NAMES = {300: "PROTOCOL_VERSION", 360: "ORBIT_EXECUTION_STATUS", 397: "COMPONENT_METADATA",
-                 435: "AVAILABLE_MODES", 436: "CURRENT_MODE"}
 
 
 def binary():
@@ -78,26 +79,52 @@ def mavsdk_server():
     return pathlib.Path(importlib.util.find_spec("mavsdk").origin).parent / "bin" / "mavsdk_server"
 
 
-def horizontal_m(a, b):
-    """Distance [m] between two (lat, lon) [deg] points (equirectangular, fine over km)."""
-    k = math.pi / 180.0 * 6_371_000.0
-    return math.hypot((a[0] - b[0]) * k, (a[1] - b[1]) * k * math.cos(math.radians(a[0])))
-
-
-# What each example must do besides never disarming in the air. Keys: speedup (rotorpilot
-# --speedup), run_for (s; then Ctrl-C), stdin (typed lines), server (start mavsdk_server first),
-# expect ("works" | "expected refusal" | "pending"), why (the reason of a refusal or wait), sensors
-# (rotorpilot --sensors: "ideal", the default, or "realistic"), check
-# (the judged summary and the example's output → a list of problems).
+# What each example must do besides resting on the ground before arming and never disarming in
+# the air. Keys: speedup (rotorpilot --speedup, overriding the command line's), run_for (s; then
+# Ctrl-C), stdin (typed lines), server (start mavsdk_server first), expect ("works" | "expected
+# refusal" | "pending"), why (the reason of a refusal or wait), sensors and sensors_why
+# (rotorpilot --sensors and the reason: only an example that measures something other than the
+# flight a user sees may leave the default configuration), lands (ends on the ground), disarms
+# (and disarmed), touchdown_max_m_s (instead of TOUCHDOWN_MAX_M_S), phases (the offboard
+# setpoints of the example's source, whose yaw is judged), gps_loss (a GPS failure the telemetry
+# must show), check (the judged summary and the example's output → a list of problems).
 SPECS = {
     "firmware_version": {},
     "takeoff_and_land": {},
     "telemetry_takeoff_and_land": {"lands": True},
     "mission": {"lands": True},
-    "offboard_position_ned": {"lands": True, "disarms": True},
-    "offboard_velocity_ned": {},
-    "offboard_velocity_body": {},
-    "offboard_position_velocity_ned": {},
+    "offboard_position_ned": {
+        "lands": True, "disarms": True,
+        # It descends on a position setpoint at z = 0, capped at MPC_Z_VEL_MAX_DN (1.5 m/s), not
+        # a landing at MPC_LAND_SPEED.
+        "touchdown_max_m_s": 1.6,
+        "phases": [Phase("go 5 m up", {"x": 0, "y": 0, "z": -5, "yaw": 0}, 10),
+                   Phase("go 5 m north, face east", {"x": 5, "y": 0, "z": -5, "yaw": 90}, 10),
+                   Phase("go 10 m east", {"x": 5, "y": 10, "z": -5, "yaw": 90}, 15),
+                   Phase("go back north and down to 0, face south", {"x": 0, "y": 10, "z": 0, "yaw": 180}, 10)],
+    },
+    "offboard_velocity_ned": {
+        "phases": [Phase("go up 2 m/s", {"vx": 0, "vy": 0, "vz": -2, "yaw": 0}, 4),
+                   Phase("go north 2 m/s, face east", {"vx": 2, "vy": 0, "vz": 0, "yaw": 90}, 4),
+                   Phase("go south 2 m/s, face west", {"vx": -2, "vy": 0, "vz": 0, "yaw": 270}, 4),
+                   Phase("go west 2 m/s, face east", {"vx": 0, "vy": -2, "vz": 0, "yaw": 90}, 4),
+                   Phase("go east 2 m/s", {"vx": 0, "vy": 2, "vz": 0, "yaw": 90}, 4),
+                   Phase("turn to face south", {"vx": 0, "vy": 0, "vz": 0, "yaw": 180}, 2),
+                   Phase("go down 1 m/s, face north", {"vx": 0, "vy": 0, "vz": 1, "yaw": 0}, 4)],
+    },
+    "offboard_velocity_body": {
+        "phases": [Phase("turn clockwise and climb", {"vx": 0, "vy": 0, "vz": -1, "yaw_rate": 60}, 5),
+                   Phase("turn back anti-clockwise", {"vx": 0, "vy": 0, "vz": 0, "yaw_rate": -60}, 5),
+                   Phase("wait", {"vx": 0, "vy": 0, "vz": 0, "yaw_rate": 0}, 2),
+                   Phase("fly a circle", {"vx": 5, "vy": 0, "vz": 0, "yaw_rate": 30}, 15),
+                   Phase("wait", {"vx": 0, "vy": 0, "vz": 0, "yaw_rate": 0}, 5),
+                   Phase("fly a circle sideways", {"vx": 0, "vy": -5, "vz": 0, "yaw_rate": 30}, 15),
+                   Phase("wait", {"vx": 0, "vy": 0, "vz": 0, "yaw_rate": 0}, 8)],
+    },
+    "offboard_position_velocity_ned": {
+        "phases": [Phase("climb to 10 m at 1 m/s", {"x": 0, "y": 0, "z": -10, "vz": -1, "yaw": 0}, 10),
+                   Phase("go north at 1 m/s", {"x": 50, "y": 0, "z": -10, "vx": 1, "vz": 0, "yaw": 0}, 20)],
+    },
     "manual_control": {
         "run_for": 35,
         "check": lambda s, out: [p for p in [
@@ -120,7 +147,7 @@ SPECS = {
             None if FOLLOW_TARGET in s["airborne_modes"] else f"never in AUTO.FOLLOW_TARGET: {s['airborne_modes']}",
             None if s["counts"].get("FOLLOW_TARGET", 0) >= 3 else "fewer than 3 FOLLOW_TARGET received",
             # The example's target is 8 m below home with FLW_TGT_HT 8 m: PX4 holds 1 m above home
-            None if s["min_follow_height_m"] > 0.6 else f"followed down to {s['min_follow_height_m']} m",
+            None if s.get("min_follow_height_m", 0.0) > 0.6 else f"followed down to {s.get('min_follow_height_m')} m",
             None if AUTO_LAND in s["modes"] else "no landing at the end",
         ] if p],
     },
@@ -141,7 +168,8 @@ SPECS = {
         ] if p],
     },
     "mission_raw": {
-        "check": lambda s, out: [] if (0, 0) in s["mission_acks"] else [f"no MISSION_ACK ACCEPTED: {s['mission_acks']}"],
+        "check": lambda s, out: [] if (0, 0) in s["mission_acks"]
+        else [f"no MISSION_ACK ACCEPTED: {s['mission_acks']}"],
     },
     "mission_import": {
         "check": lambda s, out: [] if {(0, 0), (2, 0)} <= set(s["mission_acks"])
@@ -187,10 +215,10 @@ SPECS = {
     },
     "failure_injection": {
         # The GPS goes off at 20 m: the filter dead-reckons for EKF2_NOAID_TOUT (5 s), then the
-        # position is invalid and the vehicle descends level (shown as AUTO.LAND) and lands. At
-        # --speedup 3 or more the example's 20 s of waiting cover the descent (the test flies it at 5).
-        "lands": True,
-        "sensors": "realistic",
+        # position is invalid and the vehicle descends level (shown as AUTO.LAND), lands and
+        # disarms. The example waits 20 s after the failure, then exits: flown at --speedup 5 so
+        # that its wait covers the descent from 20 m.
+        "speedup": "5", "lands": True, "disarms": True, "gps_loss": True,
         "check": lambda s, out: [p for p in [
             None if (INJECT_FAILURE, ACCEPTED) in s["command_acks"] else f"GPS off not accepted: {s['command_acks']}",
             None if "GPS lost: dead reckoning" in s["statustexts"] else f"no GPS loss announced: {s['statustexts']}",
@@ -216,10 +244,12 @@ def fly_inside(example, spec, log_dir, work_dir, speedup, timeout_s):
     """In the namespace: starts the vehicle, runs the example; the example's exit code and output
     (code "running" when it was stopped with Ctrl-C while still running)."""
     subprocess.run(["ip", "link", "set", "lo", "up"], check=True)
-    vehicle = subprocess.Popen(
-        [str(binary()), "run", "--airframe", "quad_x", "--bind-gcs", "127.0.0.1:0", "--bind-api",
-         "127.0.0.1:0", "--log", str(log_dir), "--speedup", str(speedup), "--sensors", spec.get("sensors", "ideal")],
-        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    argv = [str(binary()), "run", "--airframe", "quad_x", "--bind-gcs", "127.0.0.1:0", "--bind-api", "127.0.0.1:0",
+            "--log", str(log_dir), "--speedup", str(speedup)]
+    if "sensors" in spec:  # the default configuration unless the example says why not
+        assert spec.get("sensors_why"), f"{example}: SPECS gives sensors without sensors_why"
+        argv += ["--sensors", spec["sensors"]]
+    vehicle = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     server = None
     try:
         ready = json.loads(vehicle.stdout.readline())
@@ -285,101 +315,19 @@ def fly_inside(example, spec, log_dir, work_dir, speedup, timeout_s):
     return code, output
 
 
-def judge(tlog, target=None):
-    """What the vehicle did, from the tlog: heights, modes, disarms in the air, answers."""
-    from rotorpilot_gcs import connection_with_dialect, mavutil
-
-    log = connection_with_dialect(str(tlog), "common")
-    height, armed, landed, mode, where = 0.0, False, None, None, None
-    summary = {"max_height_m": 0.0, "disarms_in_air": [], "landed_states": [], "touchdown_m_s": 0.0,
-               "modes": [], "airborne_modes": [], "counts": {}, "statustexts": [], "command_acks": [],
-               "mission_acks": [], "param_count": 0}
-    orbit_centre, radii = None, []
-    while True:
-        m = log.recv_match()
-        if m is None:
-            break
-        kind = m.get_type()
-        if kind.startswith("UNKNOWN_"):  # no header fields either: counted only
-            kind = UNKNOWN_NAMES.get(int(kind[8:]), kind)
-        summary["counts"][kind] = summary["counts"].get(kind, 0) + 1
-        if kind == "COMMAND_LONG" and m.command == 34:  # DO_ORBIT as COMMAND_LONG
-            orbit_centre = (m.param5, m.param6)
-        elif kind == "COMMAND_INT" and m.command == 34:
-            orbit_centre = (m.x / 1e7, m.y / 1e7)
-        if m.get_srcSystem() != 1 or m.get_srcComponent() != 1:
-            continue
-        if kind == "GLOBAL_POSITION_INT":
-            height = m.relative_alt / 1000.0 - 0.1
-            where = (m.lat / 1e7, m.lon / 1e7)
-            summary["max_height_m"] = round(max(summary["max_height_m"], height), 2)
-            if height < 0.3 and armed:
-                summary["touchdown_m_s"] = max(summary["touchdown_m_s"], m.vz / 100.0)
-            if target is not None:
-                summary.setdefault("start_target_m", round(horizontal_m(where, target), 1))
-                summary["final_target_m"] = round(horizontal_m(where, target), 1)
-            if mode == FOLLOW_TARGET and armed:
-                summary["min_follow_height_m"] = round(min(summary.get("min_follow_height_m", 99.0), height), 2)
-            if orbit_centre is not None and mode == ORBIT:
-                radii.append(horizontal_m(where, orbit_centre))
-        elif kind == "HEARTBEAT":
-            now_armed = bool(m.base_mode & mavutil.mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
-            if armed and not now_armed and height > DISARM_HEIGHT_MAX_M:
-                summary["disarms_in_air"].append(round(height, 2))
-            armed, mode = now_armed, m.custom_mode
-            if mode not in summary["modes"]:
-                summary["modes"].append(mode)
-            if armed and height > 1.0 and mode not in summary["airborne_modes"]:
-                summary["airborne_modes"].append(mode)
-        elif kind == "EXTENDED_SYS_STATE" and m.landed_state != landed:
-            landed = m.landed_state
-            summary["landed_states"].append(mavutil.mavlink.enums["MAV_LANDED_STATE"][landed].name[17:])
-        elif kind == "STATUSTEXT":
-            summary["statustexts"].append(m.text)
-        elif kind == "COMMAND_ACK":
-            summary["command_acks"].append((m.command, m.result))
-        elif kind == "PARAM_VALUE":
-            summary["param_count"] = m.param_count
-        elif kind == "MISSION_ACK":
-            summary["mission_acks"].append((m.mission_type, m.type))
-    # On the circle: the second half of the orbit (the first includes the approach).
-    on_circle = radii[len(radii) // 2:] or [0.0]
-    summary["orbit_radius_m"] = [round(min(on_circle), 2), round(max(on_circle), 2)]
-    summary["final_armed"] = armed
-    summary["final_height_m"] = round(height, 2)
-    return summary
-
-
-def true_disarm_heights(log_dir, placed, still_armed):
-    """The true height [m] above the ground at the end of each flight log the vehicle wrote (a
-    log ends at its disarm; `vehicle_local_position_groundtruth`, the ground being where the
-    vehicle rested), None without a log. The telemetry reports the navigation estimate, which may
-    be off by a metre after a sensor failure: whether a disarm came in the air is a question for
-    the truth."""
-    from pyulog import ULog
-
-    root = pathlib.Path(log_dir, "log")
-    logs = sorted(p for p in root.glob("*/*.ulg") if str(p.relative_to(root)) not in placed)
-    if still_armed:
-        logs = logs[:-1]  # the flight still under way when the vehicle stopped did not disarm
-    heights = []
-    for path in logs:
-        data = {d.name: d.data for d in ULog(str(path), ["vehicle_local_position_groundtruth"]).data_list}
-        truth = data.get("vehicle_local_position_groundtruth")
-        if truth is not None and len(truth["z"]):
-            heights.append(round(float(max(truth["z"]) - truth["z"][-1]), 2))
-    return heights or None
+def log_bytes(logs):
+    """The flight logs `logs` ({name under DIR/log: size}) as seeded pseudo-random bytes, by name."""
+    return {name: random.Random(name).randbytes(size) for name, size in logs.items()}
 
 
 def place_logs(log_dir, logs):
-    """Writes the flight logs `logs` ({name under DIR/log: size}) into the vehicle's `--log` DIR,
-    seeded pseudo-random bytes; their bytes by name."""
-    placed = {}
-    for name, size in logs.items():
+    """Writes the flight logs `logs` ({name under DIR/log: size}) into the vehicle's `--log` DIR;
+    their bytes by name."""
+    placed = log_bytes(logs)
+    for name, data in placed.items():
         path = pathlib.Path(log_dir, "log", name)
         path.parent.mkdir(parents=True, exist_ok=True)
-        placed[name] = random.Random(name).randbytes(size)
-        path.write_bytes(placed[name])
+        path.write_bytes(data)
     return placed
 
 
@@ -412,24 +360,33 @@ def fly(example, speedup, timeout_s, keep):
     lines = inner.stdout.splitlines()
     code = lines[0] if lines and lines[0].startswith("exit ") else f"exit runner {inner.returncode}"
     output = "\n".join(lines[1:]) + inner.stderr
-    verdict = {"example": example, "exit": code[5:], "expect": spec.get("expect", "works")}
-    tlog = log_dir / "flight.tlog"
-    summary = judge(tlog, spec.get("target")) if tlog.exists() else None
-    problems = [] if summary else ["no flight log"]
-    if summary:
+    verdict = judge_run(example, code[5:], output, log_dir, work_dir, placed)
+    if keep:
+        shutil.copytree(scratch, pathlib.Path(keep) / example, dirs_exist_ok=True)
+        pathlib.Path(keep, example, "output.txt").write_text(output)
+        pathlib.Path(keep, example, "exit.txt").write_text(verdict["exit"])
+    shutil.rmtree(scratch, ignore_errors=True)
+    return verdict
+
+
+def judge_run(example, code, output, log_dir, work_dir, placed):
+    """The verdict of one run from its exit `code`, its `output`, the vehicle's tlog in `log_dir`
+    and what the example left in `work_dir` (`placed`: the logs it had to download)."""
+    spec = SPECS.get(example, {})
+    verdict = {"example": example, "exit": code, "expect": spec.get("expect", "works")}
+    tlog = pathlib.Path(log_dir, "flight.tlog")
+    problems = [] if tlog.exists() else ["no flight log"]
+    if tlog.exists():
+        telemetry = judge.Telemetry(tlog)
+        summary = judge.summarize(telemetry, spec.get("target"))
         verdict.update({k: v for k, v in summary.items() if k not in ("counts", "statustexts", "command_acks")})
-        true_heights = true_disarm_heights(log_dir, placed, summary["final_armed"])
-        if true_heights is not None:
-            # Judged on the truth when the vehicle logged it (the estimate may be off).
-            summary["disarms_in_air"] = [h for h in true_heights if h > DISARM_HEIGHT_MAX_M]
-            verdict["disarms_in_air"] = summary["disarms_in_air"]
-        if summary["disarms_in_air"]:
-            problems.append(f"disarmed in the air at {summary['disarms_in_air']} m")
-        on_ground = summary["landed_states"][-1:] == ["ON_GROUND"] and summary["final_height_m"] < 0.3
-        if spec.get("lands") and not on_ground:
-            problems.append("did not end on the ground")
-        if spec.get("disarms") and summary["final_armed"]:
-            problems.append("did not disarm after landing")
+        checks = judge.ground_checks(summary, spec.get("lands", False), spec.get("disarms", False),
+                                     spec.get("touchdown_max_m_s", judge.TOUCHDOWN_MAX_M_S))
+        checks += judge.yaw_checks(telemetry, spec.get("phases", ()))
+        if spec.get("gps_loss"):
+            checks += judge.gps_loss_checks(telemetry)
+        verdict["checks"] = [c.as_dict() for c in checks]
+        problems += [f"{c.name}: {c.seen}" for c in checks if not c.ok]
         if "check" in spec:
             problems += spec["check"](summary, output)
         problems += downloads_differ(work_dir, placed)
@@ -454,11 +411,15 @@ def fly(example, speedup, timeout_s, keep):
             verdict["pending_output"] = output[-600:]
     verdict["ok"] = verdict["verdict"] != "FAIL"
     verdict["problems"] = problems
-    if keep:
-        shutil.copytree(scratch, pathlib.Path(keep) / example, dirs_exist_ok=True)
-        pathlib.Path(keep, example, "output.txt").write_text(output)
-    shutil.rmtree(scratch, ignore_errors=True)
     return verdict
+
+
+def rejudge(kept):
+    """Judges again the runs `--keep` copied to KEPT/EXAMPLE (after a change of the judge)."""
+    for run in sorted(p for p in pathlib.Path(kept).iterdir() if (p / "exit.txt").exists()):
+        placed = log_bytes(SPECS.get(run.name, {}).get("logs", {}))
+        yield judge_run(run.name, (run / "exit.txt").read_text(), (run / "output.txt").read_text(), run / "log",
+                        run / "examples", placed)
 
 
 def main():
@@ -467,6 +428,7 @@ def main():
     p.add_argument("--speedup", default="1", help="rotorpilot --speedup (default 1)")
     p.add_argument("--timeout", type=float, default=240.0, help="seconds per example (default 240)")
     p.add_argument("--keep", help="copy each flight's logs and output to KEEP/EXAMPLE")
+    p.add_argument("--rejudge", metavar="KEPT", help="judge the runs kept in KEPT again, flying nothing")
     p.add_argument("--inside", help=argparse.SUPPRESS)
     p.add_argument("--log-dir", help=argparse.SUPPRESS)
     p.add_argument("--work-dir", help=argparse.SUPPRESS)
@@ -476,6 +438,11 @@ def main():
                                   args.speedup, args.timeout)
         sys.stdout.write(f"exit {code}\n{output}")
         return 0
+    if args.rejudge:
+        verdicts = list(rejudge(args.rejudge))
+        for verdict in verdicts:
+            print(json.dumps(verdict, ensure_ascii=False), flush=True)
+        return 1 if any(not v["ok"] for v in verdicts) else 0
     names = args.examples or sorted(f.stem for f in EXAMPLES.glob("*.py"))
     unknown = [n for n in names if not (EXAMPLES / f"{n}.py").exists()]
     if unknown:
@@ -483,7 +450,7 @@ def main():
     failed = 0
     for name in names:
         verdict = fly(name, args.speedup, args.timeout, args.keep)
-        print(json.dumps(verdict), flush=True)
+        print(json.dumps(verdict, ensure_ascii=False), flush=True)
         failed += not verdict["ok"]
     return 1 if failed else 0
 

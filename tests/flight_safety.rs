@@ -249,7 +249,8 @@ fn a_half_turn_of_heading_keeps_the_velocity_and_turns_the_short_way() {
         let (mut turned, mut last, mut worst_north) = (0.0_f64, heading(&v.step()), f64::MIN);
         let mut north_after_1s = f64::MIN;
         let t0 = v.time_s();
-        stream(&mut v, &ned(-2.0, 0.0, 0.0, 270.0), 4.0, |o| {
+        // 180° at 45 °/s with 0.75 s ramps at 60 °/s² (MPC_YAWRAUTO_ACC): 4.75 s.
+        stream(&mut v, &ned(-2.0, 0.0, 0.0, 270.0), 5.0, |o| {
             turned += wrap_pi(heading(o) - last).abs();
             last = heading(o);
             worst_north = worst_north.max(o.snapshot.vel_w.x);

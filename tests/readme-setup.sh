@@ -13,7 +13,16 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+# The clone's build replaces target/release/rotorpilot with the committed sources' binary (cargo
+# uplifts it to the same path); this checkout's own binary, which the tests after this use, is put
+# back on exit.
+binary="$root/target/release/rotorpilot"
+restore() {
+    if [ -f "$scratch/rotorpilot.checkout" ]; then rm -f "$binary" && cp -p "$scratch/rotorpilot.checkout" "$binary"; fi
+    rm -rf "$scratch"
+}
+trap restore EXIT
+if [ -f "$binary" ]; then cp -p "$binary" "$scratch/rotorpilot.checkout"; fi
 block=$(awk '/<!-- setup -->/{want=1; next} want && /^```sh/{inside=1; want=0; next} inside && /^```/{inside=0; next} inside' README.md)
 [ -n "$block" ] || { echo "README: no set-up block after <!-- setup -->" >&2; exit 1; }
 line() { printf '%s\n' "$block" | grep -m1 -- "$1" | sed 's/[[:space:]]*#.*$//'; }

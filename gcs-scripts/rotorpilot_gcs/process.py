@@ -130,7 +130,7 @@ class Autopilot(Vehicle):
     def start(cls, binary: str | os.PathLike[str] | None = None, *, airframe: str | os.PathLike[str] | None = None,
               controller: str | None = None, speedup: float | str | None = None,
               params: Mapping[str, float] | None = None, log: bool | str | os.PathLike[str] | None = False,
-              log_profile: str | None = None, count: int = 1, sensors: str = "ideal",
+              log_profile: str | None = None, count: int = 1, sensors: str | None = None,
               args: Sequence[str] = (), env: Mapping[str, str] | None = None,
               duration: float | None = DEFAULT_DURATION_S, connect: bool = True, timeout: float = DEFAULT_TIMEOUT,
               workdir: str | os.PathLike[str] | None = None) -> Autopilot:
@@ -138,10 +138,11 @@ class Autopilot(Vehicle):
 
         `airframe` (preset name or TOML path), `controller` (geometric, hierarchical, passivity),
         `speedup` (simulated seconds per wall second, or ``"max"``), `count` (vehicles in the
-        process, sysid counting up), `sensors` (``"ideal"``, the default here, so that scripted
-        checks are exact and the vehicle is armable at once: the exact state; ``"realistic"``,
-        the binary's own default: IMU, GPS, barometer and magnetometer through the navigation
-        filter) and `log_profile` are its options of the same name;
+        process, sysid counting up), `sensors` (None, the default: the binary's own default,
+        realistic, as a ground station meets the vehicle: IMU, GPS, barometer and magnetometer
+        through the navigation filter; ``"ideal"``: the exact state, armable at once, for a check
+        of something other than what a ground station sees, such as a controller's precision) and
+        `log_profile` are its options of the same name;
         `params` sets parameters at start (``{"MPC_XY_VEL_MAX": 5}``, through ``--params``);
         `log`: False (the default here) passes ``--no-log``, so a scripted run leaves no log
         behind; True writes ``--log`` into the run directory's ``log/``; a directory: ``--log``
@@ -185,7 +186,8 @@ class Autopilot(Vehicle):
             argv += ["--count", str(count)]
         if "--sensors" in args:
             raise UsageError("give the sensor model as sensors, not as --sensors in args")
-        argv += ["--sensors", sensors]
+        if sensors is not None:
+            argv += ["--sensors", sensors]
         if duration is not None:
             argv += ["--duration", f"{duration:g}"]
         conn = mavutil.mavlink_connection("udpin:127.0.0.1:0", source_system=GCS_SYSTEM, source_component=GCS_COMPONENT)

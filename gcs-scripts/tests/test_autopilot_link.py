@@ -10,9 +10,12 @@ import pytest
 import rotorpilot_gcs as gcs
 from rotorpilot_gcs import custom_mode, float_bits_to_int, int32_bits, mavlink
 
-# The link's behaviours with tight tolerances: flown on the exact state (the navigation filter and
-# sensor failures have their own tests, test_navigation.py).
-pytestmark = pytest.mark.rotorpilot(sensors="ideal")
+# The link's behaviours run on `rotorpilot run`'s default configuration (realistic sensors and the
+# navigation filter), as a ground station meets the vehicle. A test that measures something else
+# than the link (a flight's centimetres, an estimator, the IMU's values) flies on the exact state,
+# marked EXACT_STATE with the reason (the navigation filter and sensor failures have their own
+# tests, test_navigation.py).
+EXACT_STATE = pytest.mark.rotorpilot(sensors="ideal")
 
 ACCEPTED, TEMPORARILY_REJECTED = mavlink.MAV_RESULT_ACCEPTED, mavlink.MAV_RESULT_TEMPORARILY_REJECTED
 DENIED, UNSUPPORTED, FAILED = mavlink.MAV_RESULT_DENIED, mavlink.MAV_RESULT_UNSUPPORTED, mavlink.MAV_RESULT_FAILED
@@ -63,6 +66,7 @@ def test_command_rules(autopilot):
     assert "Standard mode 3" in autopilot.wait("STATUSTEXT", timeout=2).text
 
 
+@EXACT_STATE  # the take-off's precision: 5 cm from the point above home (a realistic GPS wanders by dm)
 def test_takeoff_hold_land_and_auto_disarm(autopilot):
     assert autopilot.command_ack(22).result == ACCEPTED, "NAV_TAKEOFF while disarmed (PX4)"
     autopilot.wait_armable()
@@ -165,6 +169,7 @@ def test_parameter_protocol(autopilot):
     autopilot.wait("LOCAL_POSITION_NED", lambda m: abs(m.z + 4.0) < 0.05, 12, what="4 m above home")
 
 
+@EXACT_STATE  # bumpless to 5 cm: the controllers' precision, below the realistic GPS's wander
 def test_controller_and_estimator_switch_in_flight(autopilot):
     autopilot.takeoff()
     for name, value in [("RP_CTRL", 2), ("RP_EST_ORDER", 1), ("RP_COMP", 1), ("RP_CTRL", 1)]:
@@ -228,8 +233,9 @@ def test_offboard_body_frame_velocity(autopilot):
 
 def follow_mission(autopilot, waypoints, first_seq, count, timeout):
     """Collects MISSION_ITEM_REACHED until `count` items are reached; the first GLOBAL_POSITION_INT
-    after reaching waypoint item `first_seq + i` (GLOBAL_POSITION_INT streams at 5 Hz) must be
-    within 0.6 m of `waypoints[i]` (north, east) at 3 m. Returns (reached, checked)."""
+    after reaching waypoint item `first_seq + i` must be within 3 m of `waypoints[i]` (north, east)
+    at 3 m: a waypoint flown through counts as reached within NAV_ACC_RAD (2 m), as PX4's, and
+    GLOBAL_POSITION_INT streams at 5 Hz. Returns (reached, checked)."""
     reached, checked = [], []
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline and len(reached) < count:
@@ -241,7 +247,7 @@ def follow_mission(autopilot, waypoints, first_seq, count, timeout):
         elif (m.get_type() == "GLOBAL_POSITION_INT" and reached and 0 <= reached[-1] - first_seq < len(waypoints)
               and reached[-1] not in checked):
             lat, lon = at(*waypoints[reached[-1] - first_seq])
-            assert abs(m.lat - lat) < 0.6 * METRE_LAT and abs(m.lon - lon) < 0.6 * METRE_LON, m
+            assert abs(m.lat - lat) < 3.0 * METRE_LAT and abs(m.lon - lon) < 3.0 * METRE_LON, m
             assert abs(m.relative_alt - 3000) < 300
             checked.append(reached[-1])
     return reached, checked
@@ -252,6 +258,7 @@ def square_mission(points, alt=3.0):
     return [gcs.nav_waypoint(*at(x, y), alt) for x, y in points] + [gcs.nav_return_to_launch()]
 
 
+@EXACT_STATE  # the mission against the plan (landed within 0.2 m of home): the GPS's wander is as large
 def test_mission_upload_download_fly_and_return(autopilot):
     assert autopilot.command_ack(176, 1, 4, 4).result == TEMPORARILY_REJECTED, "no mission yet"
     square = [gcs.nav_takeoff(HOME_LAT, HOME_LON, 3.0)] + square_mission([(5, 0), (5, 5), (0, 5), (0, 0)])
@@ -280,6 +287,7 @@ def test_mission_upload_download_fly_and_return(autopilot):
     assert math.hypot(pos.x, pos.y) < 0.2 and abs(pos.z) < 0.2, "landed at home"
 
 
+@EXACT_STATE  # the wrench estimator's precision: mass within 0.5 %, force within 0.02 N
 def test_live_wrench_estimate(tmp_path, autopilot_factory):
     """The estimator's external force and mass estimate stream on DEBUG_VECT / NAMED_VALUE_FLOAT."""
     frame = tmp_path / "heavy.toml"
@@ -297,6 +305,7 @@ def test_live_wrench_estimate(tmp_path, autopilot_factory):
     assert abs(pos.z + 2.5) < 0.02, "compensation removes the sag of the unmodelled 0.2 kg"
 
 
+@EXACT_STATE  # besides the rates, GPS_RAW_INT at home to 1e-7°: only the exact state's GPS is
 def test_stream_rates_and_default_telemetry(autopilot):
     # Everything of PX4's GCS defaults arrives unasked.
     wanted = {"SYS_STATUS", "EXTENDED_SYS_STATE", "ATTITUDE", "LOCAL_POSITION_NED", "GLOBAL_POSITION_INT",
@@ -379,7 +388,8 @@ def test_gcs_link_loss_returns_to_launch(autopilot):
     assert autopilot.command_ack(400, 1.0).result == ACCEPTED
     lost = autopilot.wait("STATUSTEXT", lambda m: "link lost" in m.text, 9)
     assert "returning" in lost.text
-    autopilot.wait_mode("AUTO.RTL", 2)
+    autopilot.wait_mode("AUTO.LOITER", 2)  # COM_FAIL_ACT_T (5 s) in a hold first, as PX4
+    autopilot.wait_mode("AUTO.RTL", 7)
 
 
 def test_offboard_attitude_and_global_targets(autopilot):
@@ -423,6 +433,7 @@ def test_offboard_attitude_and_global_targets(autopilot):
     assert pos is not None and arrived(pos), pos
 
 
+@EXACT_STATE  # HIGHRES_IMU against gravity to 0.05 m/s²: the exact specific force, not a real IMU's
 def test_highres_imu_and_ground_effect_switch(autopilot):
     assert autopilot.command_ack(511, 105, 100000).result == ACCEPTED
     imu = autopilot.wait("HIGHRES_IMU", timeout=2)
@@ -433,6 +444,7 @@ def test_highres_imu_and_ground_effect_switch(autopilot):
         assert float_bits_to_int(echo.param_value) == value
 
 
+@EXACT_STATE  # the flight against the plan to 0.1 m and landed within 0.2 m of home: the GPS wanders more
 def test_full_flight_takeoff_offboard_square_mission_rtl_land(autopilot):
     """The issue's end-to-end flight: arm → take-off → offboard square → 4-waypoint mission →
     RTL → land → auto-disarm, positions checked against the plan."""
@@ -460,7 +472,9 @@ def test_full_flight_takeoff_offboard_square_mission_rtl_land(autopilot):
 
 def test_battery_failsafe_announces_and_changes_mode(autopilot):
     """A small pack: BATTERY_STATUS drains, the failsafes announce themselves (critical
-    STATUSTEXT) and the heartbeat shows AUTO.RTL, then AUTO.LAND."""
+    STATUSTEXT) and the heartbeat shows the COM_FAIL_ACT_T hold (AUTO.LOITER), then AUTO.LAND
+    (the emergency level comes within the critical level's hold: the waiting return becomes a
+    landing)."""
     autopilot.param_set("BAT1_CAPACITY", 300.0)
     autopilot.param_set("COM_LOW_BAT_ACT", 3)
     full = autopilot.wait("BATTERY_STATUS", timeout=3)
@@ -481,8 +495,8 @@ def test_battery_failsafe_announces_and_changes_mode(autopilot):
     assert [t for _, t in texts] == ["Low battery: 15% remaining", "Critical battery (7%): returning",
                                      "Emergency battery (5%): landing"], texts
     assert all(severity == mavlink.MAV_SEVERITY_CRITICAL for severity, _ in texts)
-    autopilot.wait_mode("AUTO.LAND", 3)
-    assert custom_mode("AUTO.RTL") in modes, "AUTO.RTL shown before AUTO.LAND"
+    autopilot.wait_mode("AUTO.LAND", 8)
+    assert custom_mode("AUTO.LOITER") in modes, "the hold shown before AUTO.LAND"
     low = autopilot.wait("BATTERY_STATUS", timeout=3)
     assert low.battery_remaining <= 5 and low.current_consumed > 280 and low.voltages[0] < 3550
 
@@ -491,6 +505,7 @@ def test_battery_failsafe_announces_and_changes_mode(autopilot):
 def test_motor_failure_injection_lands_the_octocopter(autopilot):
     """MAV_CMD_INJECT_FAILURE (motor 3 off) needs SYS_FAILURE_EN; the octocopter announces the
     failure, shows AUTO.LAND in its heartbeat, lands and disarms."""
+    autopilot.param_set("SYS_FAILURE_EN", 0)
     assert autopilot.command_ack(420, 101, 1, 3).result == DENIED, "SYS_FAILURE_EN = 0"
     autopilot.param_set("SYS_FAILURE_EN", 1)
     autopilot.takeoff()

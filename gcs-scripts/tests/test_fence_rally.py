@@ -61,7 +61,8 @@ def test_flying_out_of_an_inclusion_fence_runs_gf_action(autopilot):
     breach = autopilot.wait("STATUSTEXT", lambda m: m.text.startswith("Geofence breached"), 20)
     assert breach.text == "Geofence breached (outside inclusion zone 1)"
     assert breach.severity == mavlink.MAV_SEVERITY_CRITICAL
-    autopilot.wait_mode("AUTO.RTL", 3)  # GF_ACTION 3: return
+    autopilot.wait_mode("AUTO.LOITER", 3)  # GF_ACTION 3: return, after COM_FAIL_ACT_T (5 s) in a hold
+    autopilot.wait_mode("AUTO.RTL", 7)
     pos = autopilot.wait("LOCAL_POSITION_NED", timeout=2)
     assert 14.0 < pos.x < 20.0, f"turned back at the fence: {pos.x:.1f} m"
     with pytest.raises(gcs.LinkTimeout):

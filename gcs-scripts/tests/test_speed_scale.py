@@ -6,11 +6,13 @@ import subprocess
 import sys
 import time
 
-import rotorpilot_gcs as gcs
-from rotorpilot_gcs import mavlink
 import pytest
 
-# Speed and scale: flown on the exact state.
+import rotorpilot_gcs as gcs
+from rotorpilot_gcs import mavlink
+
+# Speed and scale, not what a ground station sees: flown on the exact state (timers in simulated
+# time, the same flight at 1x and 20x compared to the millimetre, the swarm's formation to 0.15 m).
 pytestmark = pytest.mark.rotorpilot(sensors="ideal")
 
 SCRIPTS = pathlib.Path(__file__).resolve().parents[1]

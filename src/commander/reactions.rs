@@ -136,8 +136,9 @@ impl Commander {
 
     /// A failsafe's `mode` (a return or a landing): after `COM_FAIL_ACT_T` in a hold (PX4's
     /// delay, for the pilot to react: a mode chosen meanwhile, or the cause going away, cancels
-    /// it), at once without the delay, on the ground or already landing. The hold's mode change
-    /// is in `events`; the heartbeat shows it either way.
+    /// it), at once without the delay, on the ground or already landing; a take-off under way
+    /// climbs on meanwhile. The hold's mode change is in `events`; the heartbeat shows it either
+    /// way.
     pub(super) fn fail_to(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
         if let Some(d) = &mut self.delayed_failsafe {
             // A later failsafe within the hold (an emergency battery after the critical one)
@@ -148,13 +149,16 @@ impl Commander {
         let delay = self.params.fail_action_delay_s;
         if delay >= MIN_FAIL_ACTION_DELAY_S && self.in_air() && self.mode != FlightMode::Land {
             let resume = self.mode;
-            self.enter(FlightMode::Loiter, x, t_s);
+            // A take-off under way climbs on (it ends in a hold of its own); any other mode holds.
+            if self.mode != FlightMode::Takeoff {
+                self.enter(FlightMode::Loiter, x, t_s);
+                events.push(Event::ModeChanged(FlightMode::Loiter));
+            }
             self.delayed_failsafe = Some(DelayedFailsafe {
                 mode,
                 due_s: t_s + delay,
                 resume,
             });
-            events.push(Event::ModeChanged(FlightMode::Loiter));
         } else {
             self.enter(mode, x, t_s);
             events.push(Event::ModeChanged(mode));
@@ -179,8 +183,10 @@ impl Commander {
         let Some(d) = self.delayed_failsafe.take() else {
             return false;
         };
-        self.enter(d.resume, x, t_s);
-        events.push(Event::ModeChanged(d.resume));
+        if self.mode == FlightMode::Loiter && !matches!(d.resume, FlightMode::Loiter | FlightMode::Takeoff) {
+            self.enter(d.resume, x, t_s);
+            events.push(Event::ModeChanged(d.resume));
+        }
         true
     }
 

@@ -13,8 +13,10 @@
 //!       − I_b ( S(ω_b) R_bᵀ R_{b,d} ω_{b,d} − R_bᵀ R_{b,d} ω̇_{b,d} )  [− τ̂_e^b]  (5.9)
 //! ```
 //!
-//! with `x_c = [cos ψ_d, sin ψ_d, 0]ᵀ`; ω_{b,d} and ω̇_{b,d} by [`DesiredRateMode`]
-//! (docs/control.md §5.3, eqs. (5.5)–(5.6)).
+//! with `x_c ∥ y_ψ × z_{b,d}`, `y_ψ = [−sin ψ_d, cos ψ_d, 0]ᵀ` (5.4a): the direction normal to
+//! z_{b,d} whose horizontal projection points along ψ_d, so the heading (ZYX yaw) of R_{b,d} is
+//! ψ_d at any tilt, as PX4 builds its attitude setpoint; ω_{b,d} and ω̇_{b,d} by
+//! [`DesiredRateMode`] (docs/control.md §5.3, eqs. (5.5)–(5.6)).
 
 use serde::{Deserialize, Serialize};
 
@@ -104,7 +106,9 @@ impl GeometricLaw {
             flags.thrust_direction_held = true;
             self.previous_z_d
         };
-        let x_c = Vec3::new(heading.yaw_rad.cos(), heading.yaw_rad.sin(), 0.0);
+        // (5.4a): x_c normal to z_d with its horizontal projection along ψ_d.
+        let y_psi = Vec3::new(-heading.yaw_rad.sin(), heading.yaw_rad.cos(), 0.0);
+        let x_c = y_psi.cross(&z_d);
         let y_raw = z_d.cross(&x_c);
         let y_d = if y_raw.norm() > CROSS_MIN {
             y_raw.normalize()

@@ -141,6 +141,7 @@ mod tests {
         acc_up_m_s2: 100.0,
         acc_down_m_s2: 100.0,
         yaw_rate_auto_rad_s: 1.0,
+        yaw_acc_auto_rad_s2: 1.0,
         yaw_rate_max_rad_s: 3.0,
     };
 

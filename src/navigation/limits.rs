@@ -30,6 +30,8 @@ pub struct MotionLimits {
     pub acc_down_m_s2: f64,
     /// Heading rate towards a commanded heading [rad/s] (`MPC_YAWRAUTO_MAX`, 45 °/s).
     pub yaw_rate_auto_rad_s: f64,
+    /// Heading acceleration of the same turns [rad/s²] (`MPC_YAWRAUTO_ACC`, 60 °/s²).
+    pub yaw_acc_auto_rad_s2: f64,
     /// Largest commanded heading rate [rad/s] (`MC_YAWRATE_MAX`, 200 °/s).
     pub yaw_rate_max_rad_s: f64,
 }
@@ -44,6 +46,7 @@ impl Default for MotionLimits {
             acc_up_m_s2: 4.0,
             acc_down_m_s2: 3.0,
             yaw_rate_auto_rad_s: 45f64.to_radians(),
+            yaw_acc_auto_rad_s2: 60f64.to_radians(),
             yaw_rate_max_rad_s: 200f64.to_radians(),
         }
     }

@@ -11,8 +11,10 @@
 //! v_d clamped to MPC_XY_VEL_MAX, MPC_Z_VEL_MAX_UP / _DN
 //! a = clamp(K (v_d − v), a_max);   v ← v + a dt;   p ← p + dt (v_old + v)/2
 //! acceleration feed-forward a;   K = 1/dt toward a position, K_v for a velocity alone
-//! heading set:    ψ ← ψ + clamp(wrap(ψ_sp − ψ), MPC_YAWRAUTO_MAX dt)   (the short way)
-//! rate only:      ψ ← ψ_v + clamp(wrap(ψ + clamp(ψ̇_sp, MC_YAWRATE_MAX) dt − ψ_v), ±Δψ_lead)
+//! heading set:    ψ turned the short way within MPC_YAWRAUTO_MAX and MPC_YAWRAUTO_ACC
+//!                 ([`HeadingReference::toward`])
+//! rate only:      ψ turned at clamp(ψ̇_sp, MC_YAWRATE_MAX) from the first tick
+//!                 ([`HeadingReference::at_rate`]), then ψ ← ψ_v + clamp(wrap(ψ − ψ_v), ±Δψ_lead)
 //! ```
 //! A velocity demand alone is approached at most at the acceleration limit and, close to it,
 //! exponentially with time constant 1/K_v: the acceleration is continuous in the demand, so a
@@ -29,6 +31,7 @@
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::{euler_zyx, wrap_pi, Vec3};
 
+use super::heading::{HeadingReference, HeadingStep};
 use super::MotionLimits;
 
 /// Gain from position error to the velocity demand [1/s] (PX4 `MPC_XY_P` 0.95 feeds a velocity
@@ -45,7 +48,7 @@ const MAX_HEADING_LEAD_RAD: f64 = 0.35;
 pub struct SetpointLimiter {
     pos_w: Vec3,
     vel_w: Vec3,
-    yaw_rad: f64,
+    heading: HeadingReference,
 }
 
 impl SetpointLimiter {
@@ -54,14 +57,14 @@ impl SetpointLimiter {
         Self {
             pos_w: x.pos_w,
             vel_w: x.vel_w,
-            yaw_rad: euler_zyx(&x.r_wb).z,
+            heading: HeadingReference::at(euler_zyx(&x.r_wb).z),
         }
     }
 
     /// The setpoint to fly this tick for the raw (world-frame) setpoint `raw`, stepping the
     /// reference by `dt_s` [s] within `lim`.
     pub fn step(&mut self, raw: &FlatSetpoint, x: &VehicleState, lim: &MotionLimits, dt_s: f64) -> FlatSetpoint {
-        let (yaw_rad, yaw_rate) = self.step_heading(raw, euler_zyx(&x.r_wb).z, lim, dt_s);
+        let (yaw_rad, yaw_rate, yaw_acc) = self.step_heading(raw, euler_zyx(&x.r_wb).z, lim, dt_s);
         let demand = match (raw.pos_w, raw.vel_w) {
             (Some(p), ff) => Some(toward(p - self.pos_w, ff.unwrap_or_default(), lim)),
             (None, Some(v)) => Some(v),
@@ -70,7 +73,7 @@ impl SetpointLimiter {
         let heading = FlatSetpoint {
             yaw_rad: Some(yaw_rad),
             yaw_rate_rad_s: Some(yaw_rate),
-            yaw_acc_rad_s2: None,
+            yaw_acc_rad_s2: Some(yaw_acc),
             ..FlatSetpoint::default()
         };
         let Some(demand) = demand else {
@@ -106,24 +109,26 @@ impl SetpointLimiter {
         }
     }
 
-    /// Heading and heading rate of this tick, the vehicle heading `yaw_rad` [rad].
-    fn step_heading(&mut self, raw: &FlatSetpoint, yaw_rad: f64, lim: &MotionLimits, dt_s: f64) -> (f64, f64) {
-        match (raw.yaw_rad, raw.yaw_rate_rad_s) {
-            (Some(target), _) => {
-                let max = lim.yaw_rate_auto_rad_s * dt_s;
-                let rate = wrap_pi(target - self.yaw_rad).clamp(-max, max) / dt_s;
-                self.yaw_rad = wrap_pi(self.yaw_rad + rate * dt_s);
-                (self.yaw_rad, rate)
-            }
+    /// Heading, heading rate and heading acceleration of this tick, the vehicle heading
+    /// `yaw_rad` [rad].
+    fn step_heading(&mut self, raw: &FlatSetpoint, yaw_rad: f64, lim: &MotionLimits, dt_s: f64) -> (f64, f64, f64) {
+        let acc = lim.yaw_acc_auto_rad_s2;
+        let step = match (raw.yaw_rad, raw.yaw_rate_rad_s) {
+            (Some(target), _) => self.heading.toward(target, lim.yaw_rate_auto_rad_s, acc, dt_s),
             (None, Some(r)) => {
-                let rate = r.clamp(-lim.yaw_rate_max_rad_s, lim.yaw_rate_max_rad_s);
-                let lead =
-                    wrap_pi(self.yaw_rad + rate * dt_s - yaw_rad).clamp(-MAX_HEADING_LEAD_RAD, MAX_HEADING_LEAD_RAD);
-                self.yaw_rad = wrap_pi(yaw_rad + lead);
-                (self.yaw_rad, rate)
+                // A commanded rate is flown at once (PX4 feeds an offboard yaw rate forward as
+                // it comes), within the lead.
+                let step = self.heading.at_rate(r, lim.yaw_rate_max_rad_s, f64::INFINITY, dt_s);
+                let lead = wrap_pi(step.yaw_rad - yaw_rad).clamp(-MAX_HEADING_LEAD_RAD, MAX_HEADING_LEAD_RAD);
+                self.heading.set_yaw(yaw_rad + lead);
+                HeadingStep {
+                    yaw_rad: self.heading.yaw_rad(),
+                    ..step
+                }
             }
-            (None, None) => (self.yaw_rad, 0.0),
-        }
+            (None, None) => self.heading.at_rate(0.0, lim.yaw_rate_max_rad_s, acc, dt_s),
+        };
+        (step.yaw_rad, step.rate_rad_s, step.acc_rad_s2)
     }
 }
 
@@ -217,7 +222,7 @@ mod tests {
         let lim = MotionLimits::default();
         (0..(seconds / DT) as usize)
             .map(|_| {
-                let x = heading(l.pos_w, l.yaw_rad);
+                let x = heading(l.pos_w, l.heading.yaw_rad());
                 l.step(&raw, &x, &lim, DT)
             })
             .collect()
@@ -274,9 +279,12 @@ mod tests {
             yaw_rad: Some(-170f64.to_radians()),
             ..Default::default()
         };
-        let sps = fly(&mut l, raw, 1.0);
+        let sps = fly(&mut l, raw, 2.0);
         let rates: Vec<f64> = sps.iter().map(|s| s.yaw_rate_rad_s.unwrap()).collect();
         assert!(rates.iter().all(|r| *r >= 0.0 && *r <= 45f64.to_radians() + 1e-9));
+        assert!(sps
+            .iter()
+            .all(|s| s.yaw_acc_rad_s2.unwrap().abs() <= 60f64.to_radians() + 1e-9));
         assert!((sps.last().unwrap().yaw_rad.unwrap() + 170f64.to_radians()).abs() < 1e-9);
     }
 

@@ -14,8 +14,9 @@
 //! and speed along û = (p_wp − p)/d that keep every component within its limit. Pure.
 
 use crate::control::FlatSetpoint;
-use crate::math::{wrap_pi, Vec3};
+use crate::math::Vec3;
 
+use super::heading::HeadingReference;
 use super::setpoint_limiter::stopping_speed;
 use super::MotionLimits;
 
@@ -41,7 +42,7 @@ pub struct Leg {
 pub struct Track {
     pos_w: Vec3,
     vel_w: Vec3,
-    yaw_rad: f64,
+    heading: HeadingReference,
     last_s: f64,
     limits: MotionLimits,
     /// The leg flown.
@@ -55,7 +56,7 @@ impl Track {
         Self {
             pos_w,
             vel_w,
-            yaw_rad,
+            heading: HeadingReference::at(yaw_rad),
             last_s: t_s,
             limits,
             leg,
@@ -116,16 +117,16 @@ impl Track {
         let old = self.vel_w;
         self.vel_w += acc * dt;
         self.pos_w += 0.5 * dt * (old + self.vel_w);
-        let max_turn = lim.yaw_rate_auto_rad_s * dt;
-        let turn = wrap_pi(self.leg.yaw_rad - self.yaw_rad).clamp(-max_turn, max_turn);
-        self.yaw_rad = wrap_pi(self.yaw_rad + turn);
+        let heading = self
+            .heading
+            .toward(self.leg.yaw_rad, lim.yaw_rate_auto_rad_s, lim.yaw_acc_auto_rad_s2, dt);
         FlatSetpoint {
             pos_w: Some(self.pos_w),
             vel_w: Some(self.vel_w),
             acc_w: Some(acc),
-            yaw_rad: Some(self.yaw_rad),
-            yaw_rate_rad_s: Some(if dt > 0.0 { turn / dt } else { 0.0 }),
-            yaw_acc_rad_s2: None,
+            yaw_rad: Some(heading.yaw_rad),
+            yaw_rate_rad_s: Some(heading.rate_rad_s),
+            yaw_acc_rad_s2: Some(heading.acc_rad_s2),
         }
     }
 }

@@ -237,3 +237,14 @@ pub(super) static MISSION: &[ParamDef] = &[
         value commander.mission.corner_gain
     ),
 ];
+
+/// The heading acceleration of AUTO turns and offboard yaw (appended after the failsafe delay).
+pub(super) static HEADING: &[ParamDef] = &[row!(
+    "MPC_YAWRAUTO_ACC",
+    Real32,
+    [5.0, 1000.0],
+    "deg/s^2",
+    Navigation,
+    "Heading acceleration towards a commanded heading (AUTO paths, offboard yaw); an offboard yaw rate is flown at once",
+    degrees commander.motion.yaw_acc_auto_rad_s2
+)];

@@ -106,7 +106,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 24] = [
+static GROUPS: [&[ParamDef]; 25] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -131,6 +131,7 @@ static GROUPS: [&[ParamDef]; 24] = [
     flight::MISSION,
     logger::LOGGER,
     failsafe::DELAY,
+    flight::HEADING,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 131] = [
+const WIRE_ORDER: [&str; 132] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -136,6 +136,7 @@ const WIRE_ORDER: [&str; 131] = [
     "MPC_XY_TRAJ_P",
     "SDLOG_MODE",
     "COM_FAIL_ACT_T",
+    "MPC_YAWRAUTO_ACC",
 ];
 
 fn settings() -> VehicleSettings {
