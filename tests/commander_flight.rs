@@ -45,8 +45,10 @@ fn takeoff_hold_land_and_auto_disarm() {
 
 #[test]
 fn return_to_launch_climbs_returns_and_lands() {
+    // No cone (RTL_CONE_ANG 0): right above home the return still climbs to RTL_RETURN_ALT.
     let params = CommanderParams {
         rtl_return_alt_m: 6.0,
+        rtl_cone_rad: 0.0,
         ..Default::default()
     };
     let mut sim = Sim::new("hexa_x", params);

@@ -255,6 +255,8 @@ fn a_stuck_or_wrong_barometer_in_baro_height_mode_is_excluded_and_the_return_lan
     for fault in ["stuck", "wrong"] {
         let mut f = Flight::ready(6);
         f.vehicle.set_param("EKF2_HGT_REF", 0.0).unwrap();
+        // No cone: the return climbs to RTL_RETURN_ALT from above home, on the faulty heights.
+        f.vehicle.set_param("RTL_CONE_ANG", 0.0).unwrap();
         f.airborne(10.0);
         f.fail_now(&format!("baro:{fault}"));
         f.events.clear();

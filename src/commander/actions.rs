@@ -215,8 +215,7 @@ action_enum! {
 
 action_enum! {
     /// Where AUTO.RTL returns to (`RTL_TYPE`, PX4's destination rule of `RTL::findRtlDestination`
-    /// without mission landings; the mission-path types 2 and 4 and the battery-aware 6 are not
-    /// modelled).
+    /// without mission landings; the mission-path types 2 and 4 are not modelled).
     RtlType, "RTL_TYPE", default HomeOrRally {
         /// Home or the closest rally point, whichever is closer.
         HomeOrRally = 0, "home or closest rally point";
@@ -226,6 +225,10 @@ action_enum! {
         Closest = 3, "closest of home and rally points";
         /// The closest rally point; without one, land where the return started.
         RallyOnly = 5, "closest rally point, else land here";
+        /// Home while the battery's time remaining reaches it, else the closest rally point
+        /// (PX4 2026). The battery gauge gives no time remaining (BATTERY_STATUS reports it
+        /// unknown), and then PX4 goes to the closest of home and rally points, as type 0.
+        PrioritizeHome = 6, "home if reachable, else closest rally point";
     }
 }
 
@@ -261,7 +264,7 @@ mod tests {
         for a in ManualLossAction::ALL {
             assert_eq!(i32::from(LinkLossAction::from(*a)), i32::from(*a), "same codes");
         }
-        round_trips(RtlType::ALL, &[-1, 2, 4, 6]);
+        round_trips(RtlType::ALL, &[-1, 2, 4, 7]);
         assert_eq!(LinkLossAction::ALL.len(), 6);
         assert_eq!(OffboardLossAction::ALL.len(), 8);
         assert_eq!(GeofenceAction::ALL.len(), 6);

@@ -2,16 +2,77 @@
 //! vehicle flies to the point [`FollowTarget::setpoint`] names, through the offboard limiter
 //! with `FLW_TGT_MAX_VEL` as the speed cap, facing the target. Without a report for
 //! [`TARGET_LOST_S`] it holds where it is (and follows again when reports resume).
+//!
+//! Live sticks adjust the follow as PX4's follow-target task lets them (they never take over
+//! here): the throttle the height, the pitch stick the distance and the roll stick the angle,
+//! each at its adjust speed (1.5 m/s, 2 m/s, 1.5 rad/s but never faster round the target than
+//! `FLW_TGT_MAX_VEL`) through the POSCTL deadzone and expo, and only while the vehicle is within
+//! half a second of that speed of the value it flies to, so the setting never runs away from it.
 
 use crate::control::VehicleState;
-use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{FollowTarget, Guidance, MotionLimits, SetpointLimiter};
+use crate::math::{euler_zyx, wrap_pi, Vec3};
+use crate::navigation::{FollowParams, FollowTarget, Guidance, MotionLimits, SetpointLimiter, StickShaping, Sticks};
 
 use super::landing::Command;
 use super::Commander;
 
 /// A target not reported for this long is lost [s].
 pub const TARGET_LOST_S: f64 = 3.0;
+
+/// Height change at full throttle [m/s] (PX4's follow-target task).
+const HEIGHT_ADJUST_M_S: f64 = 1.5;
+/// Distance change at full pitch stick [m/s].
+const DISTANCE_ADJUST_M_S: f64 = 2.0;
+/// Angle change at full roll stick [rad/s], at most `FLW_TGT_MAX_VEL` round the target.
+const ANGLE_ADJUST_RAD_S: f64 = 1.5;
+/// An adjustment applies while the vehicle is within this many seconds of its speed of the
+/// adjusted value [s].
+const ADJUST_WINDOW_S: f64 = 0.5;
+/// Bounds of the adjusted height and distance [m].
+const ADJUST_MIN_M: f64 = 1.0;
+/// ...
+const ADJUST_MAX_M: f64 = 100.0;
+
+/// What the sticks changed of the follow parameters since the mode was entered.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct FollowAdjust {
+    /// Added to `FLW_TGT_HT` [m].
+    height_m: f64,
+    /// Added to `FLW_TGT_DST` [m].
+    distance_m: f64,
+    /// Added to `FLW_TGT_FA` [rad].
+    angle_rad: f64,
+}
+
+impl FollowAdjust {
+    /// `p` with the adjustments.
+    fn applied(&self, p: &FollowParams) -> FollowParams {
+        FollowParams {
+            height_m: (p.height_m + self.height_m).clamp(ADJUST_MIN_M, ADJUST_MAX_M),
+            distance_m: (p.distance_m + self.distance_m).clamp(ADJUST_MIN_M, ADJUST_MAX_M),
+            angle_rad: wrap_pi(p.angle_rad + self.angle_rad),
+            ..*p
+        }
+    }
+
+    /// Moves the adjustments by the sticks over `dt_s` [s]; `flown` the parameters flown now,
+    /// `height_error_m`, `distance_error_m` and `angle_error_rad` how far the vehicle is from
+    /// them.
+    fn step(&mut self, s: &Sticks, shaping: &StickShaping, flown: &FollowParams, errors: [f64; 3], dt_s: f64) {
+        let (forward, right) = shaping.horizontal(s);
+        let [height_error_m, distance_error_m, angle_error_rad] = errors;
+        if height_error_m.abs() < HEIGHT_ADJUST_M_S * ADJUST_WINDOW_S {
+            self.height_m += HEIGHT_ADJUST_M_S * shaping.climb(s) * dt_s;
+        }
+        if distance_error_m.abs() < DISTANCE_ADJUST_M_S * ADJUST_WINDOW_S {
+            self.distance_m += DISTANCE_ADJUST_M_S * forward * dt_s;
+        }
+        if angle_error_rad.abs() < ANGLE_ADJUST_RAD_S * ADJUST_WINDOW_S {
+            let rate = ANGLE_ADJUST_RAD_S.min(flown.max_speed_m_s / flown.distance_m.max(ADJUST_MIN_M));
+            self.angle_rad = wrap_pi(self.angle_rad + rate * right * dt_s);
+        }
+    }
+}
 
 /// The target and the reference the mode flies.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -20,6 +81,8 @@ pub(super) struct Follow {
     pub target: Option<(FollowTarget, f64)>,
     /// The reference flown while following (`None` while holding).
     pub limiter: Option<SetpointLimiter>,
+    /// What the sticks changed.
+    pub adjust: FollowAdjust,
 }
 
 impl Commander {
@@ -49,7 +112,21 @@ impl Commander {
             }
             return None;
         };
-        let raw = target.setpoint(x.pos_w, self.home_w, &self.params.follow);
+        let flown = self.follow.adjust.applied(&self.params.follow);
+        let raw = target.setpoint(x.pos_w, self.home_w, &flown);
+        if self.sticks_alive(t_s) {
+            if let (Some((sticks, _)), Some(point)) = (self.manual.latest, raw.pos_w) {
+                let from_target = x.pos_w - target.pos_w;
+                let point_from_target = point - target.pos_w;
+                let errors = [
+                    point.z - x.pos_w.z,
+                    from_target.xy().norm() - flown.distance_m,
+                    wrap_pi(from_target.y.atan2(from_target.x) - point_from_target.y.atan2(point_from_target.x)),
+                ];
+                let shaping = self.params.manual.shaping;
+                self.follow.adjust.step(&sticks, &shaping, &flown, errors, dt_s);
+            }
+        }
         self.follow.target = Some((target, heard_s));
         let limits = MotionLimits {
             horizontal_m_s: self.params.follow.max_speed_m_s.min(self.params.motion.horizontal_m_s),
@@ -104,6 +181,81 @@ mod tests {
         s.fly(3.0);
         assert!((s.x.pos_w - lost_at).norm() < 1e-9, "lost: holds");
         assert_eq!(s.c.mode(), FlightMode::FollowTarget);
+    }
+
+    #[test]
+    fn the_sticks_adjust_height_distance_and_angle_and_never_take_over() {
+        use crate::navigation::Sticks;
+        let mut s = Script::new(CommanderParams::default());
+        s.airborne(5.0);
+        assert_eq!(s.request(Request::SetMode(FlightMode::FollowTarget)), Outcome::Accepted);
+        let target = Vec3::new(20.0, 0.0, 0.0);
+        let hold = |s: &mut Script, sticks: Sticks, seconds: f64| {
+            for _ in 0..(seconds / super::super::script::DT_S).round() as usize {
+                assert_eq!(s.request(Request::ManualControl(sticks)), Outcome::Accepted);
+                assert_eq!(
+                    s.request(Request::FollowTarget {
+                        pos_w: target,
+                        vel_w: Vec3::zeros()
+                    }),
+                    Outcome::Accepted
+                );
+                s.step();
+            }
+        };
+        hold(&mut s, Sticks::CENTRED, 15.0);
+        let settled = s.x.pos_w;
+        let (d0, h0) = ((settled - target).xy().norm(), -settled.z);
+        assert!(
+            (d0 - 8.0).abs() < 0.1 && (h0 - 8.0).abs() < 0.1,
+            "FLW_TGT_DST / _HT: {settled:?}"
+        );
+        let bearing = |p: Vec3| (p.y - target.y).atan2(p.x - target.x);
+        let a0 = bearing(settled);
+        // Throttle up 3 s, then centred: higher by about 1.5 m/s × 3 s.
+        hold(
+            &mut s,
+            Sticks {
+                throttle: 1.0,
+                ..Sticks::CENTRED
+            },
+            3.0,
+        );
+        hold(&mut s, Sticks::CENTRED, 5.0);
+        assert!(-s.x.pos_w.z - h0 > 3.0, "height {}", -s.x.pos_w.z);
+        // Pitch forward 3 s: farther by about 2 m/s × 3 s.
+        hold(
+            &mut s,
+            Sticks {
+                pitch: 1.0,
+                ..Sticks::CENTRED
+            },
+            3.0,
+        );
+        hold(&mut s, Sticks::CENTRED, 5.0);
+        let d1 = (s.x.pos_w - target).xy().norm();
+        assert!(d1 - d0 > 3.0 && d1 - d0 < 6.5, "distance {d1} from {d0}");
+        // Roll right 3 s: round the target clockwise, no faster than FLW_TGT_MAX_VEL allows.
+        hold(
+            &mut s,
+            Sticks {
+                roll: 1.0,
+                ..Sticks::CENTRED
+            },
+            3.0,
+        );
+        hold(&mut s, Sticks::CENTRED, 5.0);
+        let turned = crate::math::wrap_pi(bearing(s.x.pos_w) - a0);
+        let most = 3.0 * 5.0 / d1;
+        assert!(
+            turned > 0.5 * most && turned < most + 0.05,
+            "turned {turned} rad (at most {most})"
+        );
+        assert_eq!(
+            s.c.mode(),
+            FlightMode::FollowTarget,
+            "the sticks adjust, they never take over"
+        );
     }
 
     #[test]

@@ -162,8 +162,9 @@ impl Commander {
         let p = &self.params.manual;
         let allowed = match self.mode {
             FlightMode::Offboard => p.override_bits & OVERRIDE_OFFBOARD != 0,
-            // PX4's orbit is not an AUTO mode: its yaw stick steers (yaw behaviour 4).
-            FlightMode::Orbit => false,
+            // PX4's orbit is not an AUTO mode: its yaw stick steers (yaw behaviour 4); in
+            // follow-me the sticks adjust the follow.
+            FlightMode::Orbit | FlightMode::FollowTarget => false,
             mode if mode.flown_by_sticks() => false,
             _ => p.override_bits & OVERRIDE_AUTO != 0,
         };

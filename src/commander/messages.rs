@@ -67,6 +67,15 @@ pub enum Request {
         /// First item.
         first: usize,
     },
+    /// MISSION_SET_CURRENT / DO_SET_MISSION_CURRENT: the mission goes on at item `seq` (at once
+    /// when flying it, else when it starts; `None` keeps the current one); `reset` forgets the
+    /// DO_JUMPs taken.
+    SetMissionCurrent {
+        /// Item index; `None`: unchanged.
+        seq: Option<usize>,
+        /// Start the DO_JUMP counts over.
+        reset: bool,
+    },
     /// DO_REPOSITION: go to `pos_w` and hold there in AUTO.LOITER; unset coordinates keep the
     /// current ones, `yaw_rad` `None` keeps the heading, `speed_m_s` `None` the cruise speed.
     Reposition {
@@ -179,6 +188,7 @@ impl Request {
             | Self::Land
             | Self::ReturnToLaunch
             | Self::StartMission { .. }
+            | Self::SetMissionCurrent { .. }
             | Self::GcsLinkLost
             | Self::StreamInWallTime { .. }
             | Self::InjectRotorFailure { .. }

@@ -37,6 +37,8 @@ pub(super) struct MissionRun {
     pub state: MissionState,
     phase: Phase,
     speed_m_s: Option<f64>,
+    /// How often each item's DO_JUMP was taken (by item index).
+    jumps_taken: Vec<u32>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,6 +66,7 @@ impl Default for MissionRun {
             state: MissionState::NoMission,
             phase: Phase::Start,
             speed_m_s: None,
+            jumps_taken: Vec::new(),
         }
     }
 }
@@ -76,6 +79,7 @@ impl MissionRun {
         } else {
             MissionState::NotStarted
         };
+        self.jumps_taken = vec![0; mission.len()];
         self.mission = mission;
         self.seq = 0;
         self.phase = Phase::Start;
@@ -86,13 +90,60 @@ impl MissionRun {
     pub fn start(&mut self) {
         if self.state == MissionState::Complete {
             self.seq = 0;
+            self.jumps_taken.fill(0);
         }
         self.state = MissionState::Active;
         self.phase = Phase::Start;
     }
+
+    /// Goes on at item `seq` (`reset`: the DO_JUMP counts start over); false when there is no
+    /// such item.
+    pub fn set_current(&mut self, seq: usize, reset: bool) -> bool {
+        if seq >= self.mission.len() {
+            return false;
+        }
+        if reset {
+            self.jumps_taken.fill(0);
+        }
+        self.seq = seq;
+        self.phase = Phase::Start;
+        if self.state == MissionState::Complete {
+            self.state = MissionState::NotStarted;
+        }
+        true
+    }
+
+    /// DO_JUMP item `seq` reached: the item the mission goes on at, counting the jump when it is
+    /// taken (PX4: `repeat` times, then past it).
+    fn resolve_jump(&mut self, target: usize, repeat: Option<u32>) -> usize {
+        let taken = self.jumps_taken.get(self.seq).copied().unwrap_or(0);
+        if repeat.is_none_or(|r| taken < r) {
+            if let Some(t) = self.jumps_taken.get_mut(self.seq) {
+                *t = t.saturating_add(1);
+            }
+            target
+        } else {
+            self.seq + 1
+        }
+    }
 }
 
 impl Commander {
+    /// MISSION_SET_CURRENT / DO_SET_MISSION_CURRENT: the mission goes on at `seq` (flown from
+    /// there at once in AUTO.MISSION; a DO_JUMP there is resolved as if reached).
+    pub(super) fn set_mission_current(&mut self, seq: Option<usize>, reset: bool) -> super::Outcome {
+        let seq = seq.unwrap_or(self.mission.seq);
+        if self.mission.set_current(seq, reset) {
+            self.pending.push(Event::MissionCurrent(seq as u16));
+            super::Outcome::Accepted
+        } else {
+            super::Outcome::Denied(format!(
+                "Mission: no item {seq} (the mission has {})",
+                self.mission.mission.len()
+            ))
+        }
+    }
+
     /// One tick of AUTO.MISSION.
     pub(super) fn advance_mission(&mut self, x: &VehicleState, yaw: f64, t_s: f64, events: &mut Vec<Event>) {
         let Some(item) = self.mission.mission.items.get(self.mission.seq).copied() else {
@@ -166,6 +217,11 @@ impl Commander {
             (Phase::Start, MissionItem::ChangeSpeed { speed_m_s }) => {
                 self.mission.speed_m_s = Some(speed_m_s);
                 self.next_item(x, t_s, events);
+            }
+            (Phase::Start, MissionItem::Jump { target, repeat }) => {
+                // Resolved at once, never flown: the item it leads to starts next tick.
+                let next = self.mission.resolve_jump(target, repeat);
+                self.go_on_at(next, x, t_s, events);
             }
             (Phase::Start, MissionItem::Delay { seconds }) => {
                 self.guidance = Guidance::Hold {
@@ -260,7 +316,13 @@ impl Commander {
     /// Marks the current item reached and moves on; after the last one, loiter here.
     fn next_item(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
         self.reached(events);
-        self.mission.seq += 1;
+        self.go_on_at(self.mission.seq + 1, x, t_s, events);
+    }
+
+    /// The mission goes on at item `seq`; past the last one, it is complete and the vehicle
+    /// loiters here.
+    fn go_on_at(&mut self, seq: usize, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
+        self.mission.seq = seq;
         self.mission.phase = Phase::Start;
         if self.mission.seq >= self.mission.mission.len() {
             self.mission.seq = self.mission.mission.len().saturating_sub(1);
@@ -274,113 +336,5 @@ impl Commander {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::super::script::{Script, GROUND_Z_M};
-    use super::super::{CommanderParams, Event, Outcome, Request};
-    use super::*;
-
-    fn flown(items: Vec<MissionItem>) -> Script {
-        let mut s = Script::new(CommanderParams::default());
-        assert_eq!(s.request(Request::SetMission(Mission { items })), Outcome::Accepted);
-        assert_eq!(s.request(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
-        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
-        s
-    }
-
-    /// The mission events, in order.
-    fn mission_events(s: &Script) -> Vec<Event> {
-        s.events
-            .iter()
-            .filter(|e| matches!(e, Event::MissionItemReached(_) | Event::MissionCurrent(_)))
-            .cloned()
-            .collect()
-    }
-
-    #[test]
-    fn a_mission_takes_off_flies_its_items_in_order_and_lands_on_the_last() {
-        let mut s = flown(vec![
-            MissionItem::Takeoff { height_m: 5.0 },
-            MissionItem::Waypoint {
-                pos_w: Vec3::new(10.0, 0.0, -5.0),
-                hold_s: 1.0,
-                accept_m: Some(0.5),
-                yaw_rad: Some(0.5),
-            },
-            MissionItem::LoiterTime {
-                pos_w: Vec3::new(10.0, 10.0, -5.0),
-                seconds: 2.0,
-            },
-            MissionItem::Land {
-                pos_w: Some(Vec3::new(0.0, 10.0, 0.0)),
-            },
-        ]);
-        assert!(s.until_disarmed(120.0), "{:?}", s.events);
-        use Event::{MissionCurrent as Current, MissionItemReached as Reached};
-        assert_eq!(
-            mission_events(&s),
-            vec![
-                Reached(0),
-                Current(1),
-                Reached(1),
-                Current(2),
-                Reached(2),
-                Current(3),
-                Reached(3)
-            ]
-        );
-        assert_eq!(s.c.mission_progress(), (3, 4, MissionState::Complete));
-        assert!(
-            (s.x.pos_w - Vec3::new(0.0, 10.0, GROUND_Z_M)).norm() < 1e-6,
-            "{:?}",
-            s.x.pos_w
-        );
-        assert_eq!(s.events.last(), Some(&Event::Disarmed("landed")));
-    }
-
-    #[test]
-    fn a_mission_started_on_the_ground_climbs_first_and_loiters_after_the_last_item() {
-        let mut s = flown(vec![MissionItem::Waypoint {
-            pos_w: Vec3::new(8.0, 0.0, -4.0),
-            hold_s: 0.0,
-            accept_m: Some(0.5),
-            yaw_rad: None,
-        }]);
-        let mut straight_up = true;
-        assert!(s.fly_until(20.0, |s| {
-            straight_up &= s.x.pos_w.x.abs() < 1e-9;
-            s.x.pos_w.z < -4.0 + 1e-6
-        }));
-        assert!(straight_up, "climbs to the item's height before it travels");
-        assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
-        assert_eq!(
-            mission_events(&s),
-            vec![Event::MissionItemReached(0)],
-            "no MISSION_CURRENT past the last item"
-        );
-        assert!(s.events.contains(&Event::ModeChanged(FlightMode::Loiter)));
-        assert!((s.x.pos_w - Vec3::new(8.0, 0.0, -4.0)).norm() < 1e-2);
-        assert_eq!(s.c.mission_progress(), (0, 1, MissionState::Complete));
-    }
-
-    #[test]
-    fn a_return_item_ends_the_mission_in_auto_rtl_and_another_mode_pauses_it() {
-        let mut s = flown(vec![
-            MissionItem::Takeoff { height_m: 3.0 },
-            MissionItem::ChangeSpeed { speed_m_s: 2.0 },
-            MissionItem::Delay { seconds: 1.0 },
-            MissionItem::ReturnToLaunch,
-        ]);
-        assert!(s.fly_until(30.0, |s| s.c.mode() == FlightMode::ReturnToLaunch));
-        assert_eq!(s.c.mission_progress(), (3, 4, MissionState::Complete));
-        assert!(s.events.contains(&Event::ModeChanged(FlightMode::ReturnToLaunch)));
-        let mut s = flown(vec![MissionItem::Waypoint {
-            pos_w: Vec3::new(30.0, 0.0, -4.0),
-            hold_s: 0.0,
-            accept_m: Some(0.5),
-            yaw_rad: None,
-        }]);
-        s.fly(8.0);
-        assert_eq!(s.request(Request::SetMode(FlightMode::Loiter)), Outcome::Accepted);
-        assert_eq!(s.c.mission_progress().2, MissionState::Paused);
-    }
-}
+#[path = "mission_run_tests.rs"]
+mod tests;

@@ -7,6 +7,7 @@ use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::{DescentProfile, Guidance, MotionLimits};
 
+use super::follow::FollowAdjust;
 use super::mission_run::MissionState;
 use super::rtl::RtlPhase;
 use super::{Commander, Event, FlightMode, Outcome};
@@ -107,6 +108,7 @@ impl Commander {
             self.orbit = None;
         }
         self.follow.limiter = None;
+        self.follow.adjust = FollowAdjust::default();
         let yaw = euler_zyx(&x.r_wb).z;
         let on_ground = !self.in_air();
         let hold = Guidance::Hold {
@@ -130,7 +132,7 @@ impl Commander {
                 FlightMode::ReturnToLaunch if on_ground => Guidance::Idle,
                 FlightMode::ReturnToLaunch => {
                     self.rtl_phase = RtlPhase::Climb;
-                    let z = x.pos_w.z.min(self.home_w.z - self.params.rtl_return_alt_m);
+                    let z = -self.rtl_return_height(x);
                     self.path_to(x, Vec3::new(x.pos_w.x, x.pos_w.y, z), yaw, self.cruise_speed(), t_s)
                 }
                 FlightMode::Mission => {

@@ -60,6 +60,11 @@ pub struct CommanderParams {
     pub cruise_speed_m_s: f64,
     /// Return altitude above home [m] (`RTL_RETURN_ALT`, 60).
     pub rtl_return_alt_m: f64,
+    /// Half-angle of the cone above the destination that lowers the return altitude close to it
+    /// [rad] (`RTL_CONE_ANG`, 45°; 0: no cone).
+    pub rtl_cone_rad: f64,
+    /// Within this horizontal distance of the destination the cone applies [m] (`RTL_MIN_DIST`, 10).
+    pub rtl_min_dist_m: f64,
     /// Where a return goes: home or a rally point (`RTL_TYPE`, 0).
     pub rtl_type: RtlType,
     /// Disarm this long after landing [s] (`COM_DISARM_LAND`, 2.0; ≤ 0 never).
@@ -133,6 +138,8 @@ impl Default for CommanderParams {
             land_alt2_m: 5.0,
             cruise_speed_m_s: 5.0,
             rtl_return_alt_m: 60.0,
+            rtl_cone_rad: 45f64.to_radians(),
+            rtl_min_dist_m: 10.0,
             rtl_type: RtlType::HomeOrRally,
             disarm_land_s: 2.0,
             disarm_preflight_s: 10.0,

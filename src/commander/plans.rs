@@ -61,11 +61,11 @@ impl Commander {
     /// Where a return from `from_w` [m] goes (horizontally, local NED) under `RTL_TYPE`: home, or
     /// a rally point closer by more than 2 m and (while home is a choice) over 10 m from home;
     /// type 1 prefers any rally point to home; type 5 knows only rally points and, without
-    /// one, lands where it is.
+    /// one, lands where it is; type 6, without a battery time remaining, is type 0.
     pub(super) fn rtl_destination(&self, from_w: &Vec3) -> Vec3 {
         let home = self.home_w;
         let rally = match self.params.rtl_type {
-            RtlType::HomeOrRally | RtlType::Closest => {
+            RtlType::HomeOrRally | RtlType::Closest | RtlType::PrioritizeHome => {
                 let to_home = (from_w.xy() - home.xy()).norm();
                 self.rally.closest(from_w, to_home, Some(&home))
             }
@@ -214,6 +214,12 @@ mod tests {
         );
         assert_eq!(dest(&mut s, RtlType::HomeOrRally, near_home), Vec3::zeros());
         assert_eq!(dest(&mut s, RtlType::Closest, near_home), Vec3::zeros());
+        // No battery time remaining: type 6 chooses as type 0.
+        assert_eq!(dest(&mut s, RtlType::PrioritizeHome, near_home), Vec3::zeros());
+        assert_eq!(
+            dest(&mut s, RtlType::PrioritizeHome, near_rally),
+            Vec3::new(40.0, 0.0, -5.0)
+        );
         assert_eq!(dest(&mut s, RtlType::RallyFirst, near_home), Vec3::new(40.0, 0.0, -5.0));
         assert_eq!(
             dest(&mut s, RtlType::RallyOnly, near_home),

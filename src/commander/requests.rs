@@ -60,6 +60,7 @@ impl Commander {
             Request::SetGeofence(fence) => self.set_geofence(fence, x),
             Request::SetRallyPoints(rally) => self.set_rally_points(rally),
             Request::StartMission { first } => self.start_mission(first, x, t_s),
+            Request::SetMissionCurrent { seq, reset } => self.set_mission_current(seq, reset),
             Request::Reposition {
                 north_m,
                 east_m,

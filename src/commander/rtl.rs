@@ -1,6 +1,15 @@
-//! AUTO.RTL's phases: climb to `RTL_RETURN_ALT` above home (or stay higher), fly over the
-//! destination `RTL_TYPE` chooses (home or a rally point) at that height, then descend and land
-//! there.
+//! AUTO.RTL's phases: climb to the return altitude (or stay higher), fly over the destination
+//! `RTL_TYPE` chooses (home or a rally point) at that height, then descend and land there.
+//!
+//! The return altitude, as PX4's multicopter return computes it, with d the horizontal distance
+//! to the destination and h heights above it:
+//! ```text
+//! d ≤ NAV_ACC_RAD:  h = 2 d
+//! else:             h = RTL_RETURN_ALT, lowered to d / tan(RTL_CONE_ANG) when d ≤ RTL_MIN_DIST,
+//!                   and at least 2 NAV_ACC_RAD
+//! h_return = max(h_now, min(h, RTL_RETURN_ALT))     (RTL_CONE_ANG 0: max(h_now, RTL_RETURN_ALT))
+//! ```
+//! so a return asked right above home lands where it is instead of climbing 60 m first.
 
 use crate::control::VehicleState;
 use crate::math::Vec3;
@@ -20,6 +29,28 @@ pub(super) enum RtlPhase {
 }
 
 impl Commander {
+    /// The height [m] (up, local NED origin) a return from `x` climbs to: the cone rule above,
+    /// about the destination `RTL_TYPE` chooses.
+    pub(super) fn rtl_return_height(&self, x: &VehicleState) -> f64 {
+        let to = self.rtl_destination(&x.pos_w);
+        let (dest_up, now_up) = (-to.z, -x.pos_w.z);
+        let d = (x.pos_w.xy() - to.xy()).norm();
+        let (ret, accept) = (self.params.rtl_return_alt_m, self.params.mission.accept_m);
+        let cone = self.params.rtl_cone_rad;
+        let above = if cone <= 0.0 {
+            ret
+        } else if d <= accept {
+            2.0 * d
+        } else {
+            let mut h = ret;
+            if d <= self.params.rtl_min_dist_m {
+                h = h.min(d / cone.tan());
+            }
+            h.max(2.0 * accept).min(ret)
+        };
+        now_up.max(dest_up + above)
+    }
+
     /// One AUTO.RTL tick: when a phase's path is flown, the next phase starts from here.
     pub(super) fn advance_rtl(&mut self, x: &VehicleState, yaw: f64, t_s: f64) {
         // Entered on the ground: nothing to return from (PX4 does not take off for a return).
@@ -97,6 +128,29 @@ mod tests {
             s.x.pos_w
         );
         assert_eq!(s.events, vec![Event::Landed, Event::Disarmed("landed")]);
+    }
+
+    #[test]
+    fn close_to_home_the_cone_lowers_the_return_altitude() {
+        // RTL_RETURN_ALT 15, cone 45°, RTL_MIN_DIST 10, NAV_ACC_RAD 2; 3 m up.
+        for (north_m, expected_m) in [(0.0, 3.0), (1.5, 3.0), (8.0, 8.0), (30.0, 15.0)] {
+            let mut s = Script::new(params());
+            s.airborne(3.0);
+            if north_m > 0.0 {
+                reposition(&mut s, Some(north_m), None, None);
+            }
+            assert_eq!(s.request(Request::ReturnToLaunch), Outcome::Accepted);
+            let mut highest: f64 = 0.0;
+            assert!(s.fly_until(200.0, |s| {
+                highest = highest.max(-s.x.pos_w.z);
+                !s.c.armed()
+            }));
+            assert!(
+                (highest - expected_m).abs() < 1e-3,
+                "{north_m} m out: climbed to {highest} m"
+            );
+            assert!(s.x.pos_w.xy().norm() < 1e-3, "landed at home: {:?}", s.x.pos_w);
+        }
     }
 
     #[test]

@@ -197,6 +197,12 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
                 mission_type: m.mission_type,
             })
         }
+        MavMessage::MISSION_SET_CURRENT(m) if ours(m.target_system, m.target_component) => {
+            Action::Request(Request::SetMissionCurrent {
+                seq: Some(usize::from(m.seq)),
+                reset: false,
+            })
+        }
         MavMessage::HEARTBEAT(hb) if hb.mavtype == MavType::MAV_TYPE_GCS => Action::GcsHeartbeat,
         MavMessage::COMMAND_LONG(cmd) => Action::Command {
             command: cmd.clone(),

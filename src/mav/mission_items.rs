@@ -27,6 +27,18 @@ pub fn parse_mission(items: &[MISSION_ITEM_INT_DATA], home: &Home) -> Result<Mis
         }
         out.push(parse_item(item, home).map_err(|result| ItemError { seq: item.seq, result })?);
     }
+    // A DO_JUMP goes on at an item of this mission, never at itself.
+    let count = out.len();
+    for (i, item) in out.iter().enumerate() {
+        if let MissionItem::Jump { target, .. } = *item {
+            if target >= count || target == i {
+                return Err(ItemError {
+                    seq: i as u16,
+                    result: MavMissionResult::MAV_MISSION_INVALID_PARAM1,
+                });
+            }
+        }
+    }
     Ok(Mission { items: out })
 }
 
@@ -117,6 +129,20 @@ fn parse_item(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<MissionItem, 
             }
             MissionItem::Delay { seconds: f64::from(s) }
         }
+        MavCmd::MAV_CMD_DO_JUMP => {
+            let (target, repeat) = (item.param1, item.param2);
+            if !(target.is_finite() && target >= 0.0 && target.fract() == 0.0 && target < 65536.0) {
+                return Err(MAV_MISSION_INVALID_PARAM1);
+            }
+            // PX4 counts −1 (any negative) as for ever.
+            if !(repeat.is_finite() && repeat.fract() == 0.0 && repeat < 65536.0) {
+                return Err(MAV_MISSION_INVALID_PARAM2);
+            }
+            MissionItem::Jump {
+                target: target as usize,
+                repeat: (repeat >= 0.0).then_some(repeat as u32),
+            }
+        }
         _ => return Err(MAV_MISSION_UNSUPPORTED),
     })
 }
@@ -181,6 +207,43 @@ mod tests {
             (2.0, None, None),
             "no radius: NAV_ACC_RAD applies"
         );
+    }
+
+    #[test]
+    fn a_do_jump_parses_and_must_go_on_at_another_item_of_the_mission() {
+        let home = Home::default();
+        let rel = MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
+        let jump = |seq: u16, target: f32, repeat: f32| MISSION_ITEM_INT_DATA {
+            param1: target,
+            param2: repeat,
+            ..item(seq, MavCmd::MAV_CMD_DO_JUMP, MavFrame::MAV_FRAME_MISSION, 0, 0, 0.0)
+        };
+        let takeoff = item(0, MavCmd::MAV_CMD_NAV_TAKEOFF, rel, 0, 0, 5.0);
+        let m = parse_mission(&[takeoff.clone(), jump(1, 0.0, 2.0)], &home).unwrap();
+        assert_eq!(
+            m.items[1],
+            MissionItem::Jump {
+                target: 0,
+                repeat: Some(2)
+            }
+        );
+        let forever = parse_mission(&[takeoff.clone(), jump(1, 0.0, -1.0)], &home).unwrap();
+        assert_eq!(
+            forever.items[1],
+            MissionItem::Jump {
+                target: 0,
+                repeat: None
+            }
+        );
+        for (target, repeat, result) in [
+            (5.0, 1.0, MavMissionResult::MAV_MISSION_INVALID_PARAM1),
+            (1.0, 1.0, MavMissionResult::MAV_MISSION_INVALID_PARAM1),
+            (0.5, 1.0, MavMissionResult::MAV_MISSION_INVALID_PARAM1),
+            (0.0, f32::NAN, MavMissionResult::MAV_MISSION_INVALID_PARAM2),
+        ] {
+            let e = parse_mission(&[takeoff.clone(), jump(1, target, repeat)], &home).unwrap_err();
+            assert_eq!((e.seq, e.result), (1, result), "{target} {repeat}");
+        }
     }
 
     #[test]

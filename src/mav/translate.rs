@@ -196,6 +196,21 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             }
             CommandDecision::Execute(Request::StartMission { first: first as usize })
         }
+        MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT => {
+            // p1: the item (−1: unchanged); p2: 1 starts the mission's DO_JUMP counts over.
+            let seq = param(cmd.param1).unwrap_or(-1.0);
+            let reset = param(cmd.param2) == Some(1.0);
+            if seq == -1.0 && !reset {
+                return CommandDecision::Refuse(Outcome::Denied("Set mission current: nothing to change".into()));
+            }
+            if !(seq == -1.0 || (seq >= 0.0 && seq.fract() == 0.0 && seq < 65536.0)) {
+                return CommandDecision::Refuse(Outcome::Denied(format!("Set mission current: bad item {seq}")));
+            }
+            CommandDecision::Execute(Request::SetMissionCurrent {
+                seq: (seq >= 0.0).then_some(seq as usize),
+                reset,
+            })
+        }
         MavCmd::MAV_CMD_REQUEST_MESSAGE => match one_shot(cmd.param1, cmd.param2) {
             Some(m) => CommandDecision::Reply(m),
             None => CommandDecision::Refuse(Outcome::Denied(format!("Message {} not available", cmd.param1))),

@@ -46,6 +46,13 @@ pub enum MissionItem {
         /// Delay [s].
         seconds: f64,
     },
+    /// DO_JUMP: go on at item `target`, `repeat` times (`None`: for ever), then past this item.
+    Jump {
+        /// Index of the item the mission goes on at.
+        target: usize,
+        /// How often the jump is taken; `None` always.
+        repeat: Option<u32>,
+    },
 }
 
 impl MissionItem {
@@ -70,6 +77,7 @@ impl MissionItem {
             Self::ReturnToLaunch => true,
             Self::ChangeSpeed { speed_m_s } => speed_m_s.is_finite(),
             Self::Delay { seconds } => seconds.is_finite(),
+            Self::Jump { .. } => true,
         }
     }
 }

@@ -200,10 +200,10 @@ pub(super) static MOTION: &[ParamDef] = &[
 pub(super) static RETURN: &[ParamDef] = &[row!(
     "RTL_TYPE",
     Int32,
-    [0.0, 5.0],
+    [0.0, 6.0],
     "",
     Navigation,
-    "Where AUTO.RTL flies to and lands: home or an uploaded rally point (one more than 2 m nearer than the alternative and, unless 5, over 10 m from home)",
+    "Where AUTO.RTL flies to and lands: home or an uploaded rally point (one more than 2 m nearer than the alternative and, unless 5, over 10 m from home); 6 is 0 here, as PX4 without a battery time remaining",
     action RtlType commander.rtl_type
 )];
 
@@ -248,3 +248,29 @@ pub(super) static HEADING: &[ParamDef] = &[row!(
     "Heading acceleration towards a commanded heading (AUTO paths, offboard yaw); an offboard yaw rate is flown at once",
     degrees commander.motion.yaw_acc_auto_rad_s2
 )];
+
+/// The return altitude's cone (appended after the heading acceleration).
+pub(super) static RETURN_CONE: &[ParamDef] = &[
+    row!(
+        "RTL_CONE_ANG",
+        Int32,
+        [0.0, 90.0],
+        "deg",
+        Navigation,
+        "Half-angle of the cone above the return destination: close to it the return climbs no higher than the cone (0: always RTL_RETURN_ALT)",
+        |s| s.commander.rtl_cone_rad.to_degrees().round(),
+        |s, v| {
+            s.commander.rtl_cone_rad = v.to_radians();
+            Ok(())
+        }
+    ),
+    row!(
+        "RTL_MIN_DIST",
+        Real32,
+        [0.5, 100.0],
+        "m",
+        Navigation,
+        "Horizontal distance from the return destination within which the cone lowers the return altitude",
+        value commander.rtl_min_dist_m
+    ),
+];

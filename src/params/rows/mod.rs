@@ -106,7 +106,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 25] = [
+static GROUPS: [&[ParamDef]; 26] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -132,6 +132,7 @@ static GROUPS: [&[ParamDef]; 25] = [
     logger::LOGGER,
     failsafe::DELAY,
     flight::HEADING,
+    flight::RETURN_CONE,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

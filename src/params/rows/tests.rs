@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 132] = [
+const WIRE_ORDER: [&str; 134] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -137,6 +137,8 @@ const WIRE_ORDER: [&str; 132] = [
     "SDLOG_MODE",
     "COM_FAIL_ACT_T",
     "MPC_YAWRAUTO_ACC",
+    "RTL_CONE_ANG",
+    "RTL_MIN_DIST",
 ];
 
 fn settings() -> VehicleSettings {
