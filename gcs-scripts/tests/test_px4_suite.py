@@ -18,6 +18,8 @@ SUBSET = [
     "Land on GPS lost during mission (baro height mode)",
     "Land on GPS lost during mission (GPS height mode)",
     "Continue on mag lost during mission",
+    "Parameters download via MAVLink FTP",
+    "Parameters upload via MAVLink FTP",
 ]
 
 

@@ -3,7 +3,8 @@
 //! of an INT32 parameter is accepted when it is an exact integer; the table checks that). Also
 //! PX4's `_HASH_CHECK`: a PARAM_VALUE sent before a list, whose value is a CRC-32 over every
 //! parameter's name and 4 value bytes in index order, so QGroundControl can load its cached
-//! copy and stop the list (by a PARAM_SET of `_HASH_CHECK`). Pure.
+//! copy and stop the list (by a PARAM_SET of `_HASH_CHECK`). The same 4 value bytes and the
+//! airframe's defaults make the parameters of `@PARAM/param.pck` ([`packed_params`]). Pure.
 
 use mavlink::dialects::common::{
     MavMessage, MavParamError, MavParamType, PARAM_ERROR_DATA, PARAM_SET_DATA, PARAM_VALUE_DATA,
@@ -12,17 +13,43 @@ use mavlink::types::CharArray;
 use mavlink::MavHeader;
 
 use super::crc32::crc32_part;
+use super::ftp::{PackedParam, PackedValue};
 use crate::params::{ParamTable, ParamType};
+
+/// `value` of a parameter of type `kind` as the wire carries it: an INT32 as its integer, a
+/// REAL32 rounded to f32.
+pub fn wire_value(kind: ParamType, value: f64) -> PackedValue {
+    match kind {
+        ParamType::Int32 => PackedValue::Int32(value as i32),
+        ParamType::Real32 => PackedValue::Float(value as f32),
+    }
+}
+
+/// Every parameter of `table` in wire order with its value as PARAM_VALUE carries it and its
+/// default (the airframe's, [`ParamTable::default_value`]), for `@PARAM/param.pck`.
+pub fn packed_params(table: &ParamTable) -> Vec<PackedParam> {
+    (0..table.len())
+        .filter_map(|i| {
+            let (def, value) = table.get(i)?;
+            let default = table.default_value(i).unwrap_or(value);
+            Some(PackedParam {
+                name: def.name.to_string(),
+                value: wire_value(def.kind, value),
+                default: wire_value(def.kind, default),
+            })
+        })
+        .collect()
+}
 
 /// PARAM_VALUE for the parameter at `index`, or `None` past the end.
 pub fn param_value(table: &ParamTable, index: usize) -> Option<MavMessage> {
     let (def, value) = table.get(index)?;
-    let (param_value, param_type) = match def.kind {
-        ParamType::Int32 => (f32::from_bits(value as i32 as u32), MavParamType::MAV_PARAM_TYPE_INT32),
-        ParamType::Real32 => (value as f32, MavParamType::MAV_PARAM_TYPE_REAL32),
+    let param_type = match def.kind {
+        ParamType::Int32 => MavParamType::MAV_PARAM_TYPE_INT32,
+        ParamType::Real32 => MavParamType::MAV_PARAM_TYPE_REAL32,
     };
     Some(MavMessage::PARAM_VALUE(PARAM_VALUE_DATA {
-        param_value,
+        param_value: f32::from_bits(wire_value(def.kind, value).bits()),
         param_count: table.len() as u16,
         param_index: index as u16,
         param_id: param_id(def.name),
@@ -66,7 +93,8 @@ pub fn param_error_unknown(sender: &MavHeader, name: &str) -> MavMessage {
     })
 }
 
-/// Name and value of a PARAM_SET.
+/// Name and value of a PARAM_SET: an integer type's bytes as an int32, else the float (as a
+/// packed upload's values decode, [`PackedValue::as_f64`]).
 pub fn decode_param_set(set: &PARAM_SET_DATA) -> (String, f64) {
     let value = match set.param_type {
         MavParamType::MAV_PARAM_TYPE_INT32
@@ -74,10 +102,10 @@ pub fn decode_param_set(set: &PARAM_SET_DATA) -> (String, f64) {
         | MavParamType::MAV_PARAM_TYPE_INT16
         | MavParamType::MAV_PARAM_TYPE_UINT16
         | MavParamType::MAV_PARAM_TYPE_INT8
-        | MavParamType::MAV_PARAM_TYPE_UINT8 => f64::from(set.param_value.to_bits() as i32),
-        _ => f64::from(set.param_value),
+        | MavParamType::MAV_PARAM_TYPE_UINT8 => PackedValue::Int32(set.param_value.to_bits() as i32),
+        _ => PackedValue::Float(set.param_value),
     };
-    (name_of(&set.param_id), value)
+    (name_of(&set.param_id), value.as_f64())
 }
 
 /// The text of a 16-byte, NUL-padded `param_id`.
@@ -125,6 +153,33 @@ mod tests {
         };
         assert_eq!((name_of(&v.param_id).as_str(), v.param_value), ("MIS_TAKEOFF_ALT", 2.5));
         assert!(param_value(&t, t.len()).is_none());
+    }
+
+    #[test]
+    fn the_packed_parameters_carry_param_value_s_bytes_and_the_airframe_defaults() {
+        let mut t = table();
+        t.set("MIS_TAKEOFF_ALT", 3.0, 1e-3).unwrap();
+        let packed = packed_params(&t);
+        assert_eq!(packed.len(), t.len());
+        for (i, p) in packed.iter().enumerate() {
+            let Some(MavMessage::PARAM_VALUE(v)) = param_value(&t, i) else {
+                panic!("no value {i}");
+            };
+            assert_eq!(p.name, name_of(&v.param_id));
+            assert_eq!(p.value.bits(), v.param_value.to_bits(), "{}", p.name);
+            let int = v.param_type == MavParamType::MAV_PARAM_TYPE_INT32;
+            assert_eq!(matches!(p.value, PackedValue::Int32(_)), int, "{}", p.name);
+        }
+        let alt = &packed[t.index_of("MIS_TAKEOFF_ALT").unwrap()];
+        assert_eq!(
+            (alt.value, alt.default),
+            (PackedValue::Float(3.0), PackedValue::Float(2.5))
+        );
+        let ctrl = &packed[t.index_of("RP_CTRL").unwrap()];
+        assert_eq!(
+            (ctrl.value, ctrl.default),
+            (PackedValue::Int32(2), PackedValue::Int32(2))
+        );
     }
 
     #[test]

@@ -8,7 +8,15 @@
 //! answers nothing at once: [`FtpServer::burst_frame`] then yields the file from the offset,
 //! one data reply after another with consecutive sequence numbers, and a NAK EOF after the
 //! last byte. Pure: the caller passes the time and paces the burst.
+//!
+//! `@PARAM/param.pck` (`param_file.rs`) opens as PX4 opens it: for reading, a snapshot of the
+//! vehicle's parameters ([`Storage::params`]); for writing, an upload held in the session. The
+//! TerminateSession of an upload is not answered at once: the file, read, is handed out
+//! ([`FtpServer::take_upload`]) for the vehicle to apply, and the answer comes when it has
+//! ([`FtpServer::answer_upload`]); the same TerminateSession repeated meanwhile is ignored.
 
+use super::param_file::ParamFile;
+use super::param_pck::{is_param_path, parse_upload, PackedValue, PckError};
 use super::payload::{ErrorCode, Opcode, Payload, DATA_MAX, EINVAL};
 use super::storage::Storage;
 use super::vfs::Entry;
@@ -20,11 +28,43 @@ pub const SESSION_IDLE_S: f64 = 10.0;
 
 /// An open file.
 #[derive(Debug, Clone, PartialEq)]
-struct Session {
-    /// Normalised path.
-    path: String,
-    /// Opened for writing (CreateFile, OpenFileWO).
-    write: bool,
+enum Session {
+    /// A file of the storage.
+    File {
+        /// Normalised path.
+        path: String,
+        /// Opened for writing (CreateFile, OpenFileWO).
+        write: bool,
+    },
+    /// The packed parameters.
+    Params(ParamFile),
+}
+
+impl Session {
+    /// Size of the open file [bytes].
+    fn size(&self, fs: &mut Storage) -> Result<u64, ErrorCode> {
+        match self {
+            Self::File { path, .. } => fs.size(path),
+            Self::Params(file) => Ok(file.size() as u64),
+        }
+    }
+
+    /// Up to `max` bytes of the open file from `offset`; Eof at or past its end.
+    fn read(&self, fs: &mut Storage, offset: u32, max: usize) -> Result<Vec<u8>, ErrorCode> {
+        match self {
+            Self::File { path, .. } => fs.read_at(path, offset, max),
+            Self::Params(file) => file.read(offset, max),
+        }
+    }
+}
+
+/// A parameter upload whose TerminateSession waits for the vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamUpload {
+    /// The TerminateSession to answer ([`FtpServer::answer_upload`]).
+    pub request: Payload,
+    /// The parameters in file order, or why the file was refused.
+    pub parsed: Result<Vec<(String, PackedValue)>, PckError>,
 }
 
 /// A burst read in progress.
@@ -45,13 +85,21 @@ pub struct FtpServer {
     burst: Option<Burst>,
     /// Time of the last request or burst frame [s].
     last_activity_s: f64,
+    /// An upload read at its TerminateSession, until taken.
+    upload: Option<ParamUpload>,
+    /// Sequence number of the TerminateSession whose answer waits for the vehicle.
+    awaiting: Option<u16>,
 }
 
 impl FtpServer {
-    /// The reply to `req` at `now_s` [s] against `fs`; `None` when a burst started (its frames
-    /// come from [`burst_frame`](Self::burst_frame)).
+    /// The reply to `req` at `now_s` [s] against `fs`; `None` when none is due now: a burst
+    /// started (its frames come from [`burst_frame`](Self::burst_frame)), or an upload waits for
+    /// the vehicle ([`take_upload`](Self::take_upload)).
     pub fn handle(&mut self, fs: &mut Storage, req: &Payload, now_s: f64) -> Option<Payload> {
         self.last_activity_s = now_s;
+        if self.awaiting == Some(req.seq) && req.opcode == Opcode::TerminateSession as u8 {
+            return None;
+        }
         let result = if usize::from(req.size) > DATA_MAX {
             Err(ErrorCode::InvalidDataSize)
         } else {
@@ -72,6 +120,26 @@ impl FtpServer {
         Some(reply)
     }
 
+    /// The upload whose TerminateSession came last, read, once.
+    pub fn take_upload(&mut self) -> Option<ParamUpload> {
+        self.upload.take()
+    }
+
+    /// The answer to an upload's TerminateSession `request`: an ACK, or a NAK with the error;
+    /// remembered, so that the request repeated gets it again.
+    pub fn answer_upload(&mut self, request: &Payload, result: Result<(), ErrorCode>) -> Payload {
+        if self.awaiting == Some(request.seq) {
+            self.awaiting = None;
+        }
+        let reply = match result {
+            Ok(()) => request.ack(Vec::new()),
+            Err(error) => request.nak(error),
+        };
+        self.last_reply = None;
+        self.remember(&reply);
+        reply
+    }
+
     /// True while a burst has frames to send.
     pub fn bursting(&self) -> bool {
         self.burst.is_some()
@@ -85,7 +153,7 @@ impl FtpServer {
         frame.req_opcode = Opcode::BurstReadFile as u8;
         burst.seq = burst.seq.wrapping_add(1);
         let session = self.sessions.get(usize::from(burst.session)).and_then(Option::as_ref);
-        let error = match session.map(|s| fs.read_at(&s.path, burst.offset, DATA_MAX)) {
+        let error = match session.map(|s| s.read(fs, burst.offset, DATA_MAX)) {
             None => Some(ErrorCode::InvalidSession),
             Some(Err(e)) => Some(e),
             Some(Ok(bytes)) => {
@@ -132,15 +200,20 @@ impl FtpServer {
         let free = self.sessions.iter().position(Option::is_none);
         let id = free.ok_or(ErrorCode::NoSessionsAvailable)?;
         let raw = req.path().ok_or(ErrorCode::Fail)?;
-        let path = match write {
-            None => super::vfs::normalize(raw)?,
-            Some(truncate) => fs.vfs.open_write(raw, truncate)?,
+        let session = match write {
+            None if is_param_path(raw) => Session::Params(ParamFile::open_read(raw, &fs.params)?),
+            Some(_) if is_param_path(raw) => Session::Params(ParamFile::Upload(Vec::new())),
+            None => Session::File {
+                path: super::vfs::normalize(raw)?,
+                write: false,
+            },
+            Some(truncate) => Session::File {
+                path: fs.vfs.open_write(raw, truncate)?,
+                write: true,
+            },
         };
-        let size = u32::try_from(fs.size(&path)?).unwrap_or(u32::MAX);
-        self.sessions[id] = Some(Session {
-            path,
-            write: write.is_some(),
-        });
+        let size = u32::try_from(session.size(fs)?).unwrap_or(u32::MAX);
+        self.sessions[id] = Some(session);
         let mut reply = req.ack(size.to_le_bytes().to_vec());
         reply.session = id as u8;
         Ok(Some(reply))
@@ -157,9 +230,17 @@ impl FtpServer {
             Opcode::None => done(()),
             Opcode::TerminateSession => {
                 self.session(req.session)?;
-                self.sessions[usize::from(req.session)] = None;
+                let closed = self.sessions[usize::from(req.session)].take();
                 if self.burst.as_ref().is_some_and(|b| b.session == req.session) {
                     self.burst = None;
+                }
+                if let Some(Session::Params(ParamFile::Upload(bytes))) = closed {
+                    self.awaiting = Some(req.seq);
+                    self.upload = Some(ParamUpload {
+                        request: req.clone(),
+                        parsed: parse_upload(&bytes),
+                    });
+                    return Ok(None);
                 }
                 done(())
             }
@@ -173,8 +254,8 @@ impl FtpServer {
             Opcode::CreateFile => self.open(fs, req, Some(true)),
             Opcode::OpenFileWO => self.open(fs, req, Some(false)),
             Opcode::ReadFile => {
-                let path = &self.session(req.session)?.path;
-                Ok(Some(req.ack(fs.read_at(path, req.offset, usize::from(req.size))?)))
+                let session = self.session(req.session)?;
+                Ok(Some(req.ack(session.read(fs, req.offset, usize::from(req.size))?)))
             }
             Opcode::BurstReadFile => {
                 self.session(req.session)?;
@@ -186,11 +267,12 @@ impl FtpServer {
                 Ok(None)
             }
             Opcode::WriteFile => {
-                let session = self.session(req.session)?;
-                if !session.write {
-                    return Err(ErrorCode::FileProtected);
-                }
-                let written = fs.vfs.write(&session.path.clone(), req.offset as usize, &req.data)?;
+                self.session(req.session)?;
+                let written = match &mut self.sessions[usize::from(req.session)] {
+                    Some(Session::File { path, write: true }) => fs.vfs.write(path, req.offset as usize, &req.data)?,
+                    Some(Session::Params(file)) => file.write(req.offset, &req.data)?,
+                    _ => return Err(ErrorCode::FileProtected),
+                };
                 Ok(Some(req.ack((written as u32).to_le_bytes().to_vec())))
             }
             Opcode::RemoveFile => done(fs.vfs.remove_file(path()?)?),

@@ -1,6 +1,6 @@
 use super::*;
 use crate::mav::crc32::crc32_part;
-use crate::mav::ftp::payload::ENOSPC;
+use crate::mav::ftp::payload::{EINVAL, ENOSPC};
 use crate::mav::ftp::Vfs;
 
 fn fs() -> Storage {
@@ -201,4 +201,122 @@ fn idle_sessions_close_after_ten_seconds() {
     assert!(s.session(0).is_ok());
     s.expire(11.5);
     assert_eq!(s.session(0), Err(ErrorCode::InvalidSession));
+}
+
+fn with_params() -> Storage {
+    use crate::mav::ftp::{PackedParam, PackedValue};
+    let mut fs = fs();
+    fs.params = (0..40)
+        .map(|k| PackedParam {
+            name: format!("PARAM_{k:02}"),
+            value: PackedValue::Float(k as f32),
+            default: PackedValue::Float(0.0),
+        })
+        .collect();
+    fs
+}
+
+#[test]
+fn the_packed_parameters_download_as_they_were_at_the_open() {
+    use crate::mav::ftp::{decode, encode, PackedValue, Query, MAGIC_WITH_DEFAULTS};
+    let (mut fs, mut s) = (with_params(), FtpServer::default());
+    let path = b"@PARAM/param.pck?withdefaults=1\0";
+    let open = s.handle(&mut fs, &req(Opcode::OpenFileRO, 0, 0, 0, path), 0.0).unwrap();
+    let expected = encode(&fs.params, Query::of("?withdefaults=1"), DATA_MAX).unwrap();
+    assert_eq!(open.data_u32(), Some(expected.len() as u32));
+    // A parameter set during the download changes nothing already open.
+    fs.params[0].value = PackedValue::Float(99.0);
+    assert!(s
+        .handle(&mut fs, &req(Opcode::BurstReadFile, 2, 0, 0, &[]), 0.0)
+        .is_none());
+    let mut got = Vec::new();
+    while let Some(frame) = s.burst_frame(&mut fs, 0.0) {
+        if frame.opcode == Opcode::Nak as u8 {
+            assert_eq!(frame.data, vec![6]);
+            break;
+        }
+        got.extend(frame.data);
+    }
+    assert_eq!(got, expected);
+    let file = decode(&got).unwrap();
+    assert_eq!((file.magic, file.entries.len()), (MAGIC_WITH_DEFAULTS, 40));
+    let read = s
+        .handle(&mut fs, &req(Opcode::ReadFile, 10, 0, 6, &[0; 3]), 0.0)
+        .unwrap();
+    assert_eq!(read.data, expected[6..9]);
+    let w = s.handle(&mut fs, &req(Opcode::WriteFile, 12, 0, 0, b"x"), 0.0).unwrap();
+    assert_eq!(nak_code(&w), Some(9), "a download is read-only");
+    assert_eq!(
+        s.handle(&mut fs, &req(Opcode::TerminateSession, 14, 0, 0, &[]), 0.0)
+            .unwrap()
+            .opcode,
+        128
+    );
+    assert!(s.take_upload().is_none());
+    let bad = s.handle(
+        &mut fs,
+        &req(Opcode::OpenFileRO, 16, 0, 0, b"@PARAM/param.pck?start=40"),
+        0.0,
+    );
+    assert_eq!(bad.unwrap().data, vec![2, EINVAL], "a query past the last parameter");
+    let other = s.handle(&mut fs, &req(Opcode::OpenFileRO, 18, 0, 0, b"@PARAM/other"), 0.0);
+    assert_eq!(nak_code(&other.unwrap()), Some(10));
+}
+
+#[test]
+fn an_upload_is_handed_out_at_its_terminate_and_answered_later() {
+    use crate::mav::ftp::{PackedValue, PckError};
+    let (mut fs, mut s) = (with_params(), FtpServer::default());
+    let mut file = vec![0x1B, 0x67, 1, 0, 0, 0, 4, 7 << 4];
+    file.extend(b"PARAM_01");
+    file.extend(2.5f32.to_le_bytes());
+    file[4] = file.len() as u8;
+    let create = s.handle(&mut fs, &req(Opcode::CreateFile, 0, 0, 0, b"@PARAM/param.pck\0"), 0.0);
+    assert_eq!(create.unwrap().data_u32(), Some(0));
+    for (seq, at) in [(2, 0), (4, 5), (6, 5)] {
+        let w = s.handle(&mut fs, &req(Opcode::WriteFile, seq, 0, at, &file[at as usize..]), 0.0);
+        assert_eq!(
+            w.unwrap().data_u32(),
+            Some((file.len() - at as usize) as u32),
+            "chunk at {at}"
+        );
+    }
+    assert!(s.take_upload().is_none(), "nothing before the TerminateSession");
+    let terminate = req(Opcode::TerminateSession, 8, 0, 0, &[]);
+    assert_eq!(s.handle(&mut fs, &terminate, 0.0), None);
+    let upload = s.take_upload().unwrap();
+    assert_eq!(upload.request, terminate);
+    assert_eq!(upload.parsed, Ok(vec![("PARAM_01".into(), PackedValue::Float(2.5))]));
+    assert_eq!(
+        s.handle(&mut fs, &terminate, 0.1),
+        None,
+        "repeated while the vehicle applies it"
+    );
+    assert!(s.take_upload().is_none());
+    let ack = s.answer_upload(&terminate, Ok(()));
+    assert_eq!((ack.seq, ack.opcode, ack.req_opcode), (9, 128, 1));
+    assert_eq!(
+        s.handle(&mut fs, &terminate, 0.2),
+        Some(ack),
+        "the answer again, not a second apply"
+    );
+    assert_eq!(
+        s.answer_upload(&terminate, Err(ErrorCode::FailErrno(EINVAL))).data,
+        vec![2, EINVAL]
+    );
+
+    // A malformed file is handed out with its fault; a gap and a reset apply nothing.
+    s.handle(&mut fs, &req(Opcode::CreateFile, 20, 0, 0, b"/@PARAM/param.pck"), 0.0);
+    s.handle(&mut fs, &req(Opcode::WriteFile, 22, 0, 0, &file[..10]), 0.0);
+    let gap = s.handle(&mut fs, &req(Opcode::WriteFile, 24, 0, 11, &file[11..]), 0.0);
+    assert_eq!(gap.unwrap().data, vec![2, EINVAL]);
+    assert_eq!(
+        s.handle(&mut fs, &req(Opcode::TerminateSession, 26, 0, 0, &[]), 0.0),
+        None
+    );
+    assert_eq!(s.take_upload().unwrap().parsed, Err(PckError::Truncated(10)));
+    s.handle(&mut fs, &req(Opcode::CreateFile, 28, 0, 0, b"@PARAM/param.pck"), 0.0);
+    s.handle(&mut fs, &req(Opcode::WriteFile, 30, 0, 0, &file), 0.0);
+    s.handle(&mut fs, &req(Opcode::ResetSessions, 32, 0, 0, &[]), 0.0);
+    assert!(s.take_upload().is_none(), "a reset upload is dropped");
 }

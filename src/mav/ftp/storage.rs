@@ -1,8 +1,10 @@
 //! What MAVLink FTP reads from: the in-memory [`Vfs`] with the flight logs of a [`LogStore`]
 //! mounted at [`LOG_DIR`], where PX4 keeps them: `LOG_DIR/YYYY-MM-DD/HH_MM_SS.ulg`, one directory
 //! per date, each log read from the store at the offset asked (never whole). The logs are
-//! read-only for clients (the Vfs refuses writes there, FileProtected). Pure.
+//! read-only for clients (the Vfs refuses writes there, FileProtected). The vehicle's parameters
+//! are kept here too, for `@PARAM/param.pck` (`param_file.rs`). Pure.
 
+use super::param_pck::PackedParam;
 use super::payload::{ErrorCode, ENOTDIR};
 use super::vfs::{normalize, Entry, Vfs, LOG_DIR};
 use crate::mav::crc32::crc32_part;
@@ -18,6 +20,9 @@ pub struct Storage {
     pub vfs: Vfs,
     /// The flight logs.
     pub logs: Box<dyn LogStore>,
+    /// Every parameter of the vehicle in wire order (name, value, default), as the link last
+    /// learned them: what `@PARAM/param.pck` packs when it is opened.
+    pub params: Vec<PackedParam>,
 }
 
 impl Default for Storage {
@@ -51,7 +56,11 @@ fn store_error(e: LogStoreError) -> ErrorCode {
 impl Storage {
     /// `vfs` with the logs of `logs` mounted at [`LOG_DIR`].
     pub fn new(vfs: Vfs, logs: Box<dyn LogStore>) -> Self {
-        Self { vfs, logs }
+        Self {
+            vfs,
+            logs,
+            params: Vec::new(),
+        }
     }
 
     fn logs(&mut self) -> Result<Vec<LogFile>, ErrorCode> {

@@ -95,7 +95,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         let before: ParamTable = self.params.clone();
         let result = match reply {
             VehicleReply::Param { result, table } => {
-                self.params = *table;
+                self.take_table(*table);
                 result.map_err(|e| e.to_string())
             }
             _ => Err("vehicle busy, try again".to_string()),

@@ -3,6 +3,8 @@
 //! scratch files in memory, the flight logs from the log store), replies to the sender, and
 //! burst reads paced at one frame per [`FTP_BURST_PERIOD_S`] of wall time to the client that
 //! asked; COMPONENT_METADATA / COMPONENT_INFORMATION carry the general metadata file's CRC.
+//! `@PARAM/param.pck` packs the link's copy of the parameter table (refreshed at the first FTP
+//! request after it changed); an uploaded one goes to `param_upload.rs`.
 
 use std::hash::Hash;
 
@@ -10,10 +12,12 @@ use mavlink::dialects::common::MavMessage;
 use mavlink::MavHeader;
 
 use super::logs::LogLink;
+use super::param_upload::Uploads;
 use super::{LinkKind, LinkMachine, Now};
-use crate::mav::ftp::{FtpServer, Payload, Storage, Vfs};
+use crate::mav::ftp::{ErrorCode, FtpServer, Payload, Storage, Vfs};
 use crate::mav::logs::LogStore;
 use crate::mav::metadata::{self, MetadataFiles};
+use crate::mav::params::packed_params;
 use crate::params::ParamTable;
 
 /// Wall time between two frames of a burst read [s].
@@ -39,6 +43,10 @@ pub(super) struct Files<A> {
     pub(super) logs: Vec<LogLink<A>>,
     /// CRC-32 of the general metadata file.
     pub general_crc: u32,
+    /// The parameter table changed since [`Storage::params`] was packed from it.
+    pub(super) params_stale: bool,
+    /// The parameter files uploaded and being applied.
+    pub(super) uploads: Uploads<A>,
 }
 
 impl<A> Files<A> {
@@ -63,11 +71,15 @@ impl<A> Files<A> {
                 next_s: 0.0,
             })
             .collect();
+        let mut fs = Storage::new(vfs, logs);
+        fs.params = packed_params(params);
         Self {
-            fs: Storage::new(vfs, logs),
+            fs,
             links: ftp,
             logs: links.iter().map(|link| LogLink::new(*link)).collect(),
             general_crc,
+            params_stale: false,
+            uploads: Uploads::default(),
         }
     }
 
@@ -86,20 +98,48 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         &self.files.fs.vfs
     }
 
-    /// One FTP request from `from` on `link`: the reply to the sender, or a burst that starts.
+    /// One FTP request from `from` on `link`: the reply to the sender, a burst that starts, or
+    /// an uploaded parameter file for the vehicle.
     pub(super) fn ftp(&mut self, now: Now, link: LinkKind, from: A, sender: &MavHeader, payload: &[u8; 251]) {
         let ids = (sender.system_id as u8, sender.component_id);
-        let Files { fs, links, .. } = &mut self.files;
+        let Files {
+            fs,
+            links,
+            params_stale,
+            ..
+        } = &mut self.files;
         let Some(ftp) = links.iter_mut().find(|l| l.link == link) else {
             return;
         };
+        if std::mem::take(params_stale) {
+            fs.params = packed_params(&self.params);
+        }
         match ftp.server.handle(fs, &Payload::decode(payload), now.wall_s) {
             Some(reply) => self.send(now, link, from, &reply.message(ids)),
-            None => {
-                ftp.client = Some((from, ids));
-                ftp.next_s = now.wall_s;
-            }
+            None => match ftp.server.take_upload() {
+                Some(upload) => self.start_param_upload(now, (link, from, ids), upload),
+                None => {
+                    ftp.client = Some((from, ids));
+                    ftp.next_s = now.wall_s;
+                }
+            },
         }
+    }
+
+    /// The answer to the upload's TerminateSession `request` from `to` (address, MAVLink ids) on
+    /// `link`: an ACK, or a NAK with the error.
+    pub(super) fn answer_param_upload(
+        &mut self,
+        now: Now,
+        (link, to, ids): (LinkKind, A, (u8, u8)),
+        request: &Payload,
+        result: Result<(), ErrorCode>,
+    ) {
+        let Some(ftp) = self.files.links.iter_mut().find(|l| l.link == link) else {
+            return;
+        };
+        let reply = ftp.server.answer_upload(request, result);
+        self.send(now, link, to, &reply.message(ids));
     }
 
     /// The burst frames due by `now`, and idle sessions closed.

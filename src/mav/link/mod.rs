@@ -20,6 +20,7 @@
 //! - `params.rs`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ, PARAM_SET and its echo.
 //! - `mission.rs`: the mission protocol against the stored plans (mission, fence, rally).
 //! - `files.rs`: MAVLink FTP per link, burst pacing, component metadata.
+//! - `param_upload.rs`: an uploaded `@PARAM/param.pck` applied as PARAM_SETs.
 //! - `logs.rs`: the log protocol per link (list, download, erase of the log store's logs), paced.
 //! - `console.rs`: the MAVLink shell (SERIAL_CONTROL) per client.
 //! - `duties.rs`: what time brings: heartbeats, streams, link loss, retransmissions.
@@ -31,6 +32,7 @@ mod files;
 mod inbound;
 mod logs;
 mod mission;
+mod param_upload;
 mod params;
 mod port;
 
@@ -194,6 +196,8 @@ enum Pending<A> {
     Param(params::ParamSet<A>),
     /// A shell's `param set`.
     Shell(console::ShellSet<A>),
+    /// One parameter of a file uploaded over FTP.
+    Upload(param_upload::UploadSet),
     /// A validated upload's MISSION_ACK (mission, fence or rally plan).
     Mission {
         link: LinkKind,
@@ -330,6 +334,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             }
             Some(Pending::Param(set)) => self.param_set_done(now, set, reply),
             Some(Pending::Shell(set)) => self.shell_set_done(now, set, reply),
+            Some(Pending::Upload(set)) => self.upload_set_done(now, set, reply),
             Some(Pending::Mission {
                 link,
                 mission_type,

@@ -15,7 +15,7 @@ use mavlink::MavHeader;
 use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest, WARNING};
 use crate::mav::params::{hash_check, param_error_unknown, param_value, HASH_CHECK};
 use crate::mav::telemetry::status_text;
-use crate::params::ParamError;
+use crate::params::{ParamError, ParamTable};
 
 /// Wall time between two PARAM_VALUEs of a list [s].
 pub const PARAM_LIST_PERIOD_S: f64 = 1e-3;
@@ -88,6 +88,12 @@ pub(super) struct ParamSet<A> {
 }
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
+    /// The table as the vehicle answered it: the link's copy, which `@PARAM/param.pck` packs.
+    pub(super) fn take_table(&mut self, table: ParamTable) {
+        self.params = table;
+        self.files.params_stale = true;
+    }
+
     /// The changed parameters' PARAM_VALUEs to every peer of every link, once due.
     pub(super) fn announce_changed_params(&mut self, now: Now) {
         for index in self.changed_params.take_due(now.wall_s) {
@@ -165,7 +171,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         let ParamSet { link, to, header, name } = set;
         let result = match reply {
             VehicleReply::Param { result, table } => {
-                self.params = *table;
+                self.take_table(*table);
                 Some(result)
             }
             _ => None,
