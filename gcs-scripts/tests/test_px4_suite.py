@@ -20,6 +20,12 @@ SUBSET = [
     "Continue on mag lost during mission",
     "Parameters download via MAVLink FTP",
     "Parameters upload via MAVLink FTP",
+    "Offboard takeoff and land",
+    "Offboard position control",
+    "Continue on baro stuck during mission (baro height mode)",
+    "Follow target - Velocity streaming only",
+    "RTL_TYPE=6 time_remaining_s NaN with no rally points",
+    "Fly Multicopter Mission with external set-current onto a DO_JUMP item",
 ]
 
 
