@@ -57,7 +57,8 @@ import time
 
 import tlog_judge as judge
 from rotorpilot_gcs import checkout_binary, find_binary
-from tlog_judge import ACCEPTED, AUTO_LAND, AUTO_RTL, FOLLOW_TARGET, INJECT_FAILURE, OFFBOARD, ORBIT, POSCTL, Phase
+from tlog_judge import (ACCEPTED, AUTO_LAND, AUTO_RTL, FOLLOW_TARGET, GOTO, INJECT_FAILURE, OFFBOARD, ORBIT, POSCTL,
+                        Phase)
 
 HERE = pathlib.Path(__file__).resolve().parent
 EXAMPLES = HERE / "tests" / "third_party" / "mavsdk_examples"
@@ -153,7 +154,10 @@ SPECS = {
     },
     "goto": {
         "run_for": 70,
+        # goto_location switches to Hold, then sends DO_REPOSITION with the mode-change flag: PX4
+        # flies it in its Goto mode (AUTO sub mode 21) and stays there, holding at the target.
         "check": lambda s, out: [p for p in [
+            None if GOTO in s["airborne_modes"] else f"never airborne in Goto: {s['airborne_modes']}",
             None if 19.0 < s["final_height_m"] < 21.0 else f"final height {s['final_height_m']} m, not the 20 m asked",
             None if s["final_target_m"] < 3.0
             else f"not at the target: {s['start_target_m']} m → {s['final_target_m']} m",

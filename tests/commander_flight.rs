@@ -196,7 +196,8 @@ fn auto_paths_keep_mpc_xy_vel_max_and_mpc_z_vel_max_dn() {
     sim.request(Request::Takeoff { height_m: Some(6.0) });
     sim.request(Request::Arm { force: false });
     sim.run(8.0);
-    // A 10 m/s request is capped at MPC_XY_VEL_MAX; a straight descent keeps MPC_Z_VEL_MAX_DN.
+    // A 10 m/s request is capped at MPC_XY_VEL_MAX; a straight descent keeps MPC_Z_VEL_MAX_DN
+    // (flown in AUTO.LOITER: no mode change asked).
     let moves = [(Some(12.0), -6.0, 2.0, 0.0), (None, -2.0, 0.0, 0.8)];
     for (north_m, down_m, horizontal_limit, down_limit) in moves {
         let reposition = Request::Reposition {
@@ -205,6 +206,7 @@ fn auto_paths_keep_mpc_xy_vel_max_and_mpc_z_vel_max_dn() {
             down_m: Some(down_m),
             yaw_rad: None,
             speed_m_s: Some(10.0),
+            change_mode: false,
         };
         assert_eq!(sim.request(reposition), Outcome::Accepted);
         let (mut horizontal, mut down): (f64, f64) = (0.0, 0.0);
@@ -260,6 +262,7 @@ fn geofence_breach_returns_and_lands_at_home() {
         down_m: None,
         yaw_rad: None,
         speed_m_s: Some(2.0),
+        change_mode: true,
     };
     assert_eq!(sim.request(reposition), Outcome::Accepted);
     let mut farthest: f64 = 0.0;

@@ -17,6 +17,7 @@ PX4_MODES: dict[str, tuple[int, int]] = {
     "AUTO.RTL": (4, 5),
     "AUTO.LAND": (4, 6),
     "AUTO.FOLLOW_TARGET": (4, 8),
+    "GOTO": (4, 21),  # PX4's multicopter Goto (PX4_CUSTOM_SUB_MODE_GOTO), entered by DO_REPOSITION
     "OFFBOARD": (6, 0),
     "STABILIZED": (7, 0),
     "ACRO": (8, 0),

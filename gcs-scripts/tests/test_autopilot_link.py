@@ -350,11 +350,12 @@ def test_reposition_change_speed_and_set_home(autopilot):
     autopilot.takeoff()
     assert autopilot.command_ack(178, 1, 2.0).result == ACCEPTED
     assert autopilot.command_ack(178, 1, -3.0).result == DENIED
-    # MAVSDK's goto_location: COMMAND_INT DO_REPOSITION, frame GLOBAL_INT (AMSL), 6 m north, 4 m above home.
+    # MAVSDK's goto_location: COMMAND_INT DO_REPOSITION, frame GLOBAL_INT (AMSL), 6 m north, 4 m above home,
+    # with the mode-change flag (p2 = 1): flown in PX4's Goto mode (AUTO sub mode 21).
     lat = at(6, 0)[0]
     autopilot.conn.mav.command_int_send(1, 1, 5, 192, 0, 0, -1, 1, 0, NAN, lat, HOME_LON, 488.0 + 4.0)
     assert autopilot.wait("COMMAND_ACK", lambda m: m.command == 192, 2).result == ACCEPTED
-    autopilot.wait_mode("AUTO.LOITER", 2)
+    autopilot.wait_mode("GOTO", 2)
     autopilot.wait("LOCAL_POSITION_NED", lambda m: abs(m.x - 6) < 0.1 and abs(m.z + 4) < 0.1, 15,
                    what="the reposition target, held")
     # Home here; RTL now returns here (climbs to RTL_RETURN_ALT above it, then lands back).

@@ -1,8 +1,8 @@
 //! Arming and disarming. Arming is refused (unless forced) outside the geofence (while
 //! `GF_ACTION` is set), in AUTO.MISSION without a mission, in OFFBOARD without a live setpoint
-//! stream, in AUTO.LAND / AUTO.RTL, in the stick modes without sticks and with the throttle up
-//! where it sets the thrust; a disarm is refused
-//! in the air unless forced. Disarming leaves the modes that only make sense armed.
+//! stream, in AUTO.LAND / AUTO.RTL / orbit / follow-me / GOTO, in the stick modes without sticks
+//! and with the throttle up where it sets the thrust; a disarm is refused in the air unless
+//! forced. Disarming leaves the modes that only make sense armed.
 
 use crate::control::VehicleState;
 use crate::navigation::Guidance;
@@ -29,7 +29,11 @@ impl Commander {
                 FlightMode::Offboard if !self.offboard_alive(t_s) => {
                     return Outcome::TemporarilyRejected("Arming denied: no offboard setpoints".into())
                 }
-                FlightMode::Land | FlightMode::ReturnToLaunch | FlightMode::Orbit | FlightMode::FollowTarget => {
+                FlightMode::Land
+                | FlightMode::ReturnToLaunch
+                | FlightMode::Orbit
+                | FlightMode::FollowTarget
+                | FlightMode::Goto => {
                     return Outcome::TemporarilyRejected(format!("Arming denied: not in {}", self.mode.name()))
                 }
                 mode => {
@@ -65,7 +69,7 @@ impl Commander {
         self.climbing_out = false;
         if matches!(
             self.mode,
-            FlightMode::Takeoff | FlightMode::Land | FlightMode::ReturnToLaunch
+            FlightMode::Takeoff | FlightMode::Land | FlightMode::ReturnToLaunch | FlightMode::Goto
         ) {
             self.mode = FlightMode::Loiter;
         }

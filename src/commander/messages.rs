@@ -76,8 +76,12 @@ pub enum Request {
         /// Start the DO_JUMP counts over.
         reset: bool,
     },
-    /// DO_REPOSITION: go to `pos_w` and hold there in AUTO.LOITER; unset coordinates keep the
-    /// current ones, `yaw_rad` `None` keeps the heading, `speed_m_s` `None` the cruise speed.
+    /// DO_REPOSITION, as PX4's commander reads it: with `change_mode` (MAVLink's mode-change
+    /// flag) a horizontal target flies in GOTO (so does a height or heading alone while in GOTO),
+    /// anything else holds in AUTO.LOITER (all unset: hold here); without the flag the target is
+    /// flown in the mode already running, AUTO.LOITER or GOTO, and refused in any other. Unset
+    /// coordinates keep the current ones, `yaw_rad` `None` the heading (GOTO: towards its target),
+    /// `speed_m_s` `None` the cruise speed (GOTO: `MPC_XY_CRUISE`, forgetting DO_CHANGE_SPEED's).
     Reposition {
         /// Target north [m], `None` = current.
         north_m: Option<f64>,
@@ -89,6 +93,8 @@ pub enum Request {
         yaw_rad: Option<f64>,
         /// Ground speed [m/s].
         speed_m_s: Option<f64>,
+        /// MAV_DO_REPOSITION_FLAGS_CHANGE_MODE was set.
+        change_mode: bool,
     },
     /// MAV_CMD_INJECT_FAILURE for motors (`SYS_FAILURE_EN` = 1): rotor `rotor` (1-based; 0 =
     /// every rotor) stops (`failed`) or works again. The vehicle applies it to the plant; the
@@ -102,7 +108,8 @@ pub enum Request {
     /// MAV_CMD_INJECT_FAILURE for a sensor (`SYS_FAILURE_EN` = 1): the vehicle applies it to
     /// the simulated sensor suite; the navigation filter notices what the sensor then reports.
     InjectSensorFailure(SensorFailure),
-    /// DO_CHANGE_SPEED: horizontal speed of the AUTO modes [m/s] until changed again.
+    /// DO_CHANGE_SPEED: horizontal speed of the AUTO modes [m/s] until changed again (a GOTO
+    /// target forgets it); GOTO flies it at once, within `MPC_XY_CRUISE`.
     ChangeSpeed(f64),
     /// DO_SET_HOME: the local NED point RTL returns to [m]; `None`: the current position.
     SetHome(Option<Vec3>),
@@ -208,6 +215,7 @@ impl Request {
                 down_m,
                 yaw_rad,
                 speed_m_s,
+                ..
             } => [north_m, east_m, down_m, yaw_rad, speed_m_s].iter().all(|v| opt(v)),
             Self::ChangeSpeed(v) => v.is_finite(),
             Self::SetHome(p) => p.as_ref().is_none_or(|p| p.iter().all(|c| c.is_finite())),
@@ -325,6 +333,7 @@ mod tests {
             down_m: None,
             yaw_rad: None,
             speed_m_s: None,
+            change_mode: true,
         };
         assert!(reposition(None).is_finite());
         assert!(!reposition(Some(f64::NEG_INFINITY)).is_finite());

@@ -4,8 +4,10 @@
 //!
 //! # Layout
 //! - `mod.rs`: the [`Commander`] struct, its accessors and the tick ([`Commander::update`]).
-//! - `requests.rs`: [`Commander::request`] and the small requests (take-off, reposition, change
-//!   speed, set home, set / start mission, the offboard setpoint store).
+//! - `requests.rs`: [`Commander::request`] and the small requests (take-off, change speed, set
+//!   home, set / start mission, the offboard setpoint store).
+//! - `goto.rs`: DO_REPOSITION (the mode-change flag as PX4's commander reads it) and the GOTO
+//!   mode it flies in.
 //! - `arming.rs`: arm and disarm, and their refusals.
 //! - `modes.rs`: mode switches, each mode's guidance, paths and descents, take-off completion.
 //! - `rtl.rs`: AUTO.RTL's phases (climb, return, descend).
@@ -37,6 +39,7 @@ mod arming;
 mod battery;
 mod failsafe;
 mod follow;
+mod goto;
 pub mod land_detector;
 mod landing;
 mod manual;
@@ -245,6 +248,10 @@ impl Commander {
                 None
             }
             FlightMode::FollowTarget => self.follow_command(x, dt_s, t_s),
+            FlightMode::Goto => {
+                self.advance_goto();
+                None
+            }
             mode if mode.flown_by_sticks() => Some(self.stick_command(x, yaw, dt_s, t_s)),
             _ => None,
         };

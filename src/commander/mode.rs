@@ -32,6 +32,9 @@ pub enum FlightMode {
     Orbit,
     /// AUTO.FOLLOW_TARGET: follow the target FOLLOW_TARGET reports (follow-me).
     FollowTarget,
+    /// GOTO (AUTO sub mode 21, PX4's multicopter Goto): fly to a DO_REPOSITION target, then hold
+    /// there; entered only by DO_REPOSITION with the mode-change flag.
+    Goto,
 }
 
 /// Why a PX4 mode number cannot be flown.
@@ -39,6 +42,8 @@ pub enum FlightMode {
 pub enum ModeRefusal {
     /// Not a PX4 mode this emulator knows.
     Unknown,
+    /// A mode PX4 enters only on a command of its own, never by its number (Goto: DO_REPOSITION).
+    NotByNumber,
 }
 
 const MAIN_MANUAL: u8 = 1;
@@ -60,7 +65,8 @@ struct ModeRow {
     standard: Option<u8>,
     /// PX4's display name in its shell and logs.
     name: &'static str,
-    /// PX4's navigation state number (vehicle_status.nav_state); AUTO.READY has none.
+    /// PX4's navigation state number (vehicle_status.nav_state); AUTO.READY has none, nor has
+    /// GOTO here (PX4's number for it is not known to this emulator).
     nav_state: Option<u8>,
     /// The name a ground station shows (PX4's mode UI name, sent in AVAILABLE_MODES).
     ui_name: &'static str,
@@ -87,10 +93,10 @@ const fn row(
 
 /// Each mode in declaration order (indexed by `mode as usize`): PX4 main and sub mode, the
 /// MAV_STANDARD_MODE it answers to (position hold 1, safe recovery 5, mission 6, land 7,
-/// take-off 8, altitude hold 4, orbit 2; PX4 gives AUTO.LOITER, OFFBOARD and the manual-thrust
-/// modes none), PX4's display name, its navigation state and its UI name. The one table behind every
-/// mapping below.
-const MODES: [ModeRow; 14] = [
+/// take-off 8, altitude hold 4, orbit 2; PX4 gives AUTO.LOITER, OFFBOARD, the manual-thrust
+/// modes and GOTO none), PX4's display name, its navigation state and its UI name. The one table
+/// behind every mapping below.
+const MODES: [ModeRow; 15] = [
     row(
         FlightMode::Position,
         (MAIN_POSCTL, 0),
@@ -161,6 +167,8 @@ const MODES: [ModeRow; 14] = [
         Some(19),
         "Follow Me",
     ),
+    // px4_custom_mode.h names sub mode 21 PX4_CUSTOM_SUB_MODE_GOTO, without AUTO_.
+    row(FlightMode::Goto, (MAIN_AUTO, 21), None, "GOTO", None, "Goto"),
 ];
 
 impl FlightMode {
@@ -181,11 +189,16 @@ impl FlightMode {
     }
 
     /// The mode for PX4 numbers (DO_SET_MODE p2/p3): the row with both numbers; outside AUTO
-    /// (whose sub modes are modes of their own) an unknown sub mode means the main mode.
+    /// (whose sub modes are modes of their own) an unknown sub mode means the main mode. GOTO is
+    /// refused: PX4's DO_SET_MODE has no case for its sub mode, DO_REPOSITION enters it.
     pub fn from_px4(main: u8, sub: u8) -> Result<Self, ModeRefusal> {
         let exact = MODES.iter().find(|r| r.main == main && r.sub == sub);
         let main_only = || MODES.iter().find(|r| r.main == main && r.sub == 0 && main != MAIN_AUTO);
-        exact.or_else(main_only).map(|r| r.mode).ok_or(ModeRefusal::Unknown)
+        match exact.or_else(main_only).map(|r| r.mode) {
+            Some(Self::Goto) => Err(ModeRefusal::NotByNumber),
+            Some(mode) => Ok(mode),
+            None => Err(ModeRefusal::Unknown),
+        }
     }
 
     /// The mode for a packed `custom_mode` (SET_MODE message).
@@ -205,7 +218,7 @@ impl FlightMode {
         self.row().standard
     }
 
-    /// PX4's navigation state number (`vehicle_status.nav_state`); AUTO.READY has none.
+    /// PX4's navigation state number (`vehicle_status.nav_state`); AUTO.READY and GOTO have none.
     pub fn nav_state(self) -> Option<u8> {
         self.row().nav_state
     }
@@ -236,7 +249,7 @@ impl FlightMode {
 
     /// The modes a ground station can select, in PX4's navigation-state order (the order of
     /// AVAILABLE_MODES): manual, altitude, position, mission, hold, return, acro, offboard,
-    /// stabilized, take-off, land, follow-me, orbit.
+    /// stabilized, take-off, land, follow-me, orbit. Not GOTO, which no mode number selects.
     pub fn selectable() -> Vec<Self> {
         let mut modes: Vec<(u8, Self)> = MODES.iter().filter_map(|r| Some((r.nav_state?, r.mode))).collect();
         modes.sort_by_key(|(nav_state, _)| *nav_state);
@@ -270,6 +283,18 @@ mod tests {
             assert_eq!(mode.custom_mode(), cm, "{}", mode.name());
             assert_eq!(FlightMode::from_custom_mode(cm), Ok(mode));
         }
+        // GOTO shows in HEARTBEAT as 4/21 but no DO_SET_MODE or SET_MODE selects it.
+        assert_eq!(FlightMode::Goto.custom_mode(), 352_583_680);
+        assert_eq!(FlightMode::from_px4(4, 21), Err(ModeRefusal::NotByNumber));
+        assert_eq!(FlightMode::from_custom_mode(352_583_680), Err(ModeRefusal::NotByNumber));
+        assert_eq!(
+            (
+                FlightMode::Goto.name(),
+                FlightMode::Goto.ui_name(),
+                FlightMode::Goto.nav_state()
+            ),
+            ("GOTO", "Goto", None)
+        );
         assert_eq!(FlightMode::from_px4(4, 9), Err(ModeRefusal::Unknown));
         assert_eq!(FlightMode::from_px4(9, 0), Err(ModeRefusal::Unknown));
         assert_eq!(FlightMode::from_px4(4, 0), Err(ModeRefusal::Unknown));

@@ -56,7 +56,8 @@ impl Commander {
     }
 
     /// A requested mode switch: AUTO.MISSION needs a mission, OFFBOARD a live setpoint stream,
-    /// the stick modes but POSCTL live sticks;
+    /// the stick modes but POSCTL live sticks, orbit, follow-me and GOTO the air (GOTO chosen so,
+    /// without a target, holds where it is);
     /// AUTO.TAKEOFF without a target (or in the air) climbs to `MIS_TAKEOFF_ALT` from here.
     pub(super) fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
         if let Some(refusal) = self.stick_mode_refusal(mode, t_s, false) {
@@ -77,7 +78,7 @@ impl Commander {
             FlightMode::Offboard if !self.offboard_alive(t_s) => {
                 Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into())
             }
-            FlightMode::Orbit | FlightMode::FollowTarget if !self.in_air() => {
+            FlightMode::Orbit | FlightMode::FollowTarget | FlightMode::Goto if !self.in_air() => {
                 Outcome::TemporarilyRejected(format!("Mode {}: not in the air", mode.name()))
             }
             FlightMode::Takeoff if self.takeoff_target_w.is_none() || self.in_air() => {
@@ -207,6 +208,7 @@ mod tests {
                 down_m: None,
                 yaw_rad: None,
                 speed_m_s: None,
+                change_mode: true,
             }),
             Outcome::Accepted
         );

@@ -112,6 +112,7 @@ mod tests {
             down_m: None,
             yaw_rad: None,
             speed_m_s: None,
+            change_mode: true,
         }
     }
 

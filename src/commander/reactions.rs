@@ -265,10 +265,30 @@ mod tests {
             down_m: None,
             yaw_rad: None,
             speed_m_s: None,
+            change_mode: false,
         };
         assert_eq!(s.request(out), Outcome::Accepted);
         assert_eq!(s.c.mode(), FlightMode::Loiter);
         holds_after_breach(&mut s);
+    }
+
+    #[test]
+    fn a_geofence_hold_leaves_goto_for_the_hold() {
+        let mut s = fenced();
+        s.airborne(3.0);
+        let out = Request::Reposition {
+            north_m: Some(30.0),
+            east_m: Some(0.0),
+            down_m: None,
+            yaw_rad: None,
+            speed_m_s: None,
+            change_mode: true,
+        };
+        assert_eq!(s.request(out), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Goto);
+        holds_after_breach(&mut s);
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
+        assert!(s.events.contains(&Event::ModeChanged(FlightMode::Loiter)));
     }
 
     #[test]

@@ -1,11 +1,12 @@
 //! [`Commander::request`]: each ground-station request to the part of the commander that
-//! handles it, and the small requests handled here: take-off, reposition (DO_REPOSITION),
-//! change speed (DO_CHANGE_SPEED), set home (DO_SET_HOME), set and start the mission, and the
-//! offboard setpoint store (the geofence and rally points go to `plans.rs`).
+//! handles it, and the small requests handled here: take-off, change speed (DO_CHANGE_SPEED),
+//! set home (DO_SET_HOME), set and start the mission, and the offboard setpoint store (the
+//! geofence and rally points go to `plans.rs`, DO_REPOSITION to `goto.rs`).
 
 use crate::control::VehicleState;
-use crate::math::{euler_zyx, Vec3};
+use crate::math::Vec3;
 
+use super::goto::RepositionTarget;
 use super::mission_run::MissionState;
 use super::offboard::OffboardTarget;
 use super::{Commander, FlightMode, Outcome, Request, Stream};
@@ -67,7 +68,15 @@ impl Commander {
                 down_m,
                 yaw_rad,
                 speed_m_s,
-            } => self.reposition([north_m, east_m, down_m], yaw_rad, speed_m_s, x, t_s),
+                change_mode,
+            } => {
+                let target = RepositionTarget {
+                    ned_m: [north_m, east_m, down_m],
+                    yaw_rad,
+                    speed_m_s,
+                };
+                self.reposition(target, change_mode, x, t_s)
+            }
             Request::ChangeSpeed(v) => {
                 if !(v.is_finite() && v > 0.0 && v <= MAX_SPEED_M_S) {
                     return Outcome::Denied(format!("Change speed refused: {v} m/s"));
@@ -119,89 +128,14 @@ impl Commander {
         }
         self.set_mode(FlightMode::Mission, x, t_s)
     }
-
-    /// DO_REPOSITION to `ned_m` [m] (unset coordinates keep the current ones) at heading
-    /// `yaw_rad` [rad] and speed `speed_m_s` [m/s], then hold in AUTO.LOITER; only in the air.
-    fn reposition(
-        &mut self,
-        ned_m: [Option<f64>; 3],
-        yaw_rad: Option<f64>,
-        speed_m_s: Option<f64>,
-        x: &VehicleState,
-        t_s: f64,
-    ) -> Outcome {
-        if !self.in_air() {
-            return Outcome::TemporarilyRejected("Reposition refused: not flying".into());
-        }
-        let target = Vec3::new(
-            ned_m[0].unwrap_or(x.pos_w.x),
-            ned_m[1].unwrap_or(x.pos_w.y),
-            ned_m[2].unwrap_or(x.pos_w.z),
-        );
-        if !target.iter().all(|v| v.is_finite()) {
-            return Outcome::Denied("Reposition refused: bad target".into());
-        }
-        if let Some(refusal) = self.navigation_refusal(FlightMode::Loiter, false) {
-            return refusal;
-        }
-        self.enter(FlightMode::Loiter, x, t_s);
-        let yaw = yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z);
-        let speed = speed_m_s.filter(|v| *v > 0.0).unwrap_or(self.cruise_speed());
-        self.guidance = self.path_to(x, target, yaw, speed, t_s);
-        Outcome::Accepted
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::script::Script;
     use super::super::{CommanderParams, FlightMode, MissionState, Outcome, Request};
-    use crate::math::{euler_zyx, Vec3};
+    use crate::math::Vec3;
     use crate::navigation::{Mission, MissionItem};
-
-    fn to(north_m: f64, east_m: f64, down_m: Option<f64>, yaw_rad: Option<f64>) -> Request {
-        Request::Reposition {
-            north_m: Some(north_m),
-            east_m: Some(east_m),
-            down_m,
-            yaw_rad,
-            speed_m_s: None,
-        }
-    }
-
-    #[test]
-    fn reposition_is_refused_on_the_ground_and_flies_to_the_point_in_the_air() {
-        let mut s = Script::new(CommanderParams::default());
-        assert_eq!(
-            s.request(to(5.0, 0.0, None, None)),
-            Outcome::TemporarilyRejected("Reposition refused: not flying".into())
-        );
-        s.airborne(3.0);
-        assert_eq!(s.request(to(10.0, -5.0, Some(-6.0), Some(1.0))), Outcome::Accepted);
-        assert_eq!(s.c.mode(), FlightMode::Loiter);
-        s.fly(20.0);
-        assert!(
-            (s.x.pos_w - Vec3::new(10.0, -5.0, -6.0)).norm() < 1e-6,
-            "{:?}",
-            s.x.pos_w
-        );
-        assert!((euler_zyx(&s.x.r_wb).z - 1.0).abs() < 1e-6);
-        // Unset coordinates keep the current ones.
-        let north_only = Request::Reposition {
-            north_m: Some(0.0),
-            east_m: None,
-            down_m: None,
-            yaw_rad: None,
-            speed_m_s: None,
-        };
-        assert_eq!(s.request(north_only), Outcome::Accepted);
-        s.fly(20.0);
-        assert!(
-            (s.x.pos_w - Vec3::new(0.0, -5.0, -6.0)).norm() < 1e-6,
-            "{:?}",
-            s.x.pos_w
-        );
-    }
 
     #[test]
     fn change_speed_refuses_bad_speeds_and_sets_the_cruise_speed() {
@@ -211,7 +145,17 @@ mod tests {
         }
         assert_eq!(s.request(Request::ChangeSpeed(2.0)), Outcome::Accepted);
         s.airborne(3.0);
-        assert_eq!(s.request(to(30.0, 0.0, None, None)), Outcome::Accepted);
+        // Flown in AUTO.LOITER (no mode change asked), at DO_CHANGE_SPEED's speed.
+        let in_hold = Request::Reposition {
+            north_m: Some(30.0),
+            east_m: Some(0.0),
+            down_m: None,
+            yaw_rad: None,
+            speed_m_s: None,
+            change_mode: false,
+        };
+        assert_eq!(s.request(in_hold), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Loiter);
         let mut fastest: f64 = 0.0;
         assert!(s.fly_until(60.0, |s| {
             fastest = fastest.max(s.x.vel_w.xy().norm());

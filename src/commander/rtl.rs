@@ -94,6 +94,7 @@ mod tests {
             down_m,
             yaw_rad: None,
             speed_m_s: None,
+            change_mode: true,
         };
         assert_eq!(s.request(to), Outcome::Accepted);
         s.fly(20.0);

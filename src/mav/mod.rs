@@ -8,7 +8,7 @@
 //! - [`ingest`]: one inbound message → what the link does with it.
 //! - [`translate`], [`identity`]: commands → commander requests, ACKs, HEARTBEAT.
 //! - [`offboard`]: SET_POSITION_TARGET_* and SET_ATTITUDE_TARGET → setpoints.
-//! - [`orbit`]: MAV_CMD_DO_ORBIT and ORBIT_EXECUTION_STATUS.
+//! - [`orbit`]: MAV_CMD_DO_ORBIT and ORBIT_EXECUTION_STATUS; [`reposition`]: MAV_CMD_DO_REPOSITION.
 //! - [`failure`]: MAV_CMD_INJECT_FAILURE (motors simulated, other units refused by name).
 //! - [`calibration`]: MAV_CMD_PREFLIGHT_CALIBRATION and its `[cal]` STATUSTEXT protocol.
 //! - [`logs`]: the flight logs (PX4's names, the store interface) and the log protocol.
@@ -53,6 +53,7 @@ pub mod orbit;
 pub mod params;
 pub mod plan_items;
 pub mod plan_store;
+pub mod reposition;
 pub mod services;
 pub mod shell;
 pub mod signing;

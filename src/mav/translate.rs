@@ -4,7 +4,7 @@
 //! `target_component ∈ {1, 0}` and it does not come from our own ids. NaN parameters mean
 //! "not set". Results map to MAV_RESULT with the refusal reason kept for STATUSTEXT.
 
-use mavlink::dialects::common::{MavCmd, MavFrame, MavMessage, COMMAND_INT_DATA, COMMAND_LONG_DATA};
+use mavlink::dialects::common::{MavCmd, MavMessage, COMMAND_INT_DATA, COMMAND_LONG_DATA};
 use mavlink::MavHeader;
 
 use crate::commander::{FlightMode, ModeRefusal, Outcome, Request};
@@ -123,6 +123,10 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
                 Err(ModeRefusal::Unknown) => {
                     CommandDecision::Refuse(Outcome::Denied(format!("Unknown mode {main}/{sub}")))
                 }
+                // PX4's answer to its Goto sub mode: "Unsupported auto mode", TEMPORARILY_REJECTED.
+                Err(ModeRefusal::NotByNumber) => CommandDecision::Refuse(Outcome::TemporarilyRejected(format!(
+                    "Mode {main}/{sub} is entered by DO_REPOSITION only"
+                ))),
             }
         }
         MavCmd::MAV_CMD_DO_SET_STANDARD_MODE => match param(cmd.param1) {
@@ -143,31 +147,7 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             let centre = |x: f32| (!x.is_nan()).then_some(f64::from(x));
             super::orbit::decode_orbit(cmd, centre(cmd.param5).zip(centre(cmd.param6)), origin)
         }
-        MavCmd::MAV_CMD_DO_REPOSITION => {
-            // COMMAND_LONG form: p5/p6 latitude/longitude [deg], p7 AMSL [m] (NaN = keep).
-            let (lat, lon) = (param(cmd.param5), param(cmd.param6));
-            let alt = param(cmd.param7);
-            if !on_earth(
-                f64::from(lat.unwrap_or(0.0)),
-                f64::from(lon.unwrap_or(0.0)),
-                f64::from(alt.unwrap_or(0.0)),
-            ) {
-                return CommandDecision::Refuse(Outcome::Denied(format!(
-                    "Reposition: {:.2}, {:.2}, {:.0} m is not a place",
-                    cmd.param5, cmd.param6, cmd.param7
-                )));
-            }
-            let local = origin.to_local(
-                f64::from(lat.unwrap_or(0.0)),
-                f64::from(lon.unwrap_or(0.0)),
-                f64::from(param(cmd.param7).unwrap_or(0.0)),
-            );
-            reposition(
-                cmd,
-                lat.and(lon).map(|_| (local.x, local.y)),
-                param(cmd.param7).map(|_| local.z),
-            )
-        }
+        MavCmd::MAV_CMD_DO_REPOSITION => super::reposition::decode_long(cmd, origin),
         MavCmd::MAV_CMD_DO_CHANGE_SPEED => match param(cmd.param2) {
             Some(v) if v > 0.0 && v.is_finite() => CommandDecision::Execute(Request::ChangeSpeed(f64::from(v))),
             _ => CommandDecision::Refuse(Outcome::Denied(format!("Change speed: {} m/s", cmd.param2))),
@@ -243,17 +223,6 @@ pub fn decode_set_mode(id: &Identity, message: &MavMessage) -> Option<FlightMode
     }
 }
 
-/// DO_REPOSITION with a local target (`xy`, `down` in NED metres; `None` = keep current).
-fn reposition(cmd: &COMMAND_LONG_DATA, xy: Option<(f64, f64)>, down: Option<f64>) -> CommandDecision {
-    CommandDecision::Execute(Request::Reposition {
-        north_m: xy.map(|p| p.0),
-        east_m: xy.map(|p| p.1),
-        down_m: down,
-        yaw_rad: param(cmd.param4).map(f64::from),
-        speed_m_s: param(cmd.param1).filter(|v| *v > 0.0).map(f64::from),
-    })
-}
-
 /// A COMMAND_INT: positional commands use the exact degE7 x/y and the frame of z
 /// (docs/mavlink.md §3.2: GLOBAL(_INT) → z AMSL, GLOBAL_RELATIVE_ALT(_INT) → z above home; other frames
 /// UNSUPPORTED_MAV_FRAME); the rest decode as the equivalent COMMAND_LONG.
@@ -271,33 +240,11 @@ pub fn decode_command_int(id: &Identity, sender: &MavHeader, cmd: &COMMAND_INT_D
     if cmd.command != MavCmd::MAV_CMD_DO_REPOSITION {
         return decode_command(id, sender, &long, origin);
     }
-    let alt_amsl = |z: f32| match cmd.frame {
-        MavFrame::MAV_FRAME_GLOBAL | MavFrame::MAV_FRAME_GLOBAL_INT => Some(f64::from(z)),
-        MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT | MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT => {
-            Some(origin.alt_amsl_m + f64::from(z))
-        }
-        _ => None,
-    };
-    let Some(_) = alt_amsl(0.0) else {
-        return CommandDecision::Refuse(Outcome::Unsupported("Reposition: frame not supported".into()));
-    };
-    let given = cmd.x != i32::MAX && cmd.y != i32::MAX;
-    if given && !on_earth(f64::from(cmd.x) * 1e-7, f64::from(cmd.y) * 1e-7, 0.0) {
-        let (lat, lon) = (f64::from(cmd.x) * 1e-7, f64::from(cmd.y) * 1e-7);
-        return CommandDecision::Refuse(Outcome::Denied(format!(
-            "Reposition: {lat:.2}, {lon:.2} is not a place"
-        )));
-    }
-    let xy = given.then(|| {
-        let p = origin.to_local(f64::from(cmd.x) * 1e-7, f64::from(cmd.y) * 1e-7, origin.alt_amsl_m);
-        (p.x, p.y)
-    });
-    let down = param(cmd.z).and_then(alt_amsl).map(|amsl| origin.alt_amsl_m - amsl);
-    reposition(&long, xy, down)
+    super::reposition::decode_int(cmd, &long, origin)
 }
 
 /// Latitude [deg] in ±90, longitude [deg] in ±180 and altitude [m AMSL] in −1 km … 100 km.
-fn on_earth(lat_deg: f64, lon_deg: f64, alt_m: f64) -> bool {
+pub(super) fn on_earth(lat_deg: f64, lon_deg: f64, alt_m: f64) -> bool {
     lat_deg.abs() <= 90.0 && lon_deg.abs() <= 180.0 && (-1_000.0..=100_000.0).contains(&alt_m)
 }
 
@@ -405,6 +352,13 @@ mod tests {
             d(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 4.0, 12.0, 0.0, 0.0, 0.0, 0.0]),
             CommandDecision::Refuse(Outcome::Denied(_))
         ));
+        assert!(
+            matches!(
+                d(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 4.0, 21.0, 0.0, 0.0, 0.0, 0.0]),
+                CommandDecision::Refuse(Outcome::TemporarilyRejected(_))
+            ),
+            "Goto is entered by DO_REPOSITION only"
+        );
         assert_eq!(d(MavCmd::MAV_CMD_DO_SET_SERVO, [0.0; 7]), CommandDecision::Unsupported);
         assert_eq!(
             d(MavCmd::MAV_CMD_REQUEST_MESSAGE, [148.0, NAN, NAN, NAN, NAN, NAN, NAN]),
@@ -440,47 +394,5 @@ mod tests {
             decode_command(&id, &gcs_header(0), &long, &Home::default()),
             CommandDecision::Execute(Request::Takeoff { height_m: Some(5.0) })
         );
-    }
-
-    #[test]
-    #[allow(deprecated)]
-    fn reposition_uses_exact_coordinates_and_the_frame_of_z() {
-        let id = Identity::autopilot(1, 4);
-        let home = Home::default();
-        let north_5m =
-            (home.lat_deg * 1e7).round() as i32 + (5.0 / 6_371_000f64).to_degrees().mul_add(1e7, 0.0).round() as i32;
-        let cmd = COMMAND_INT_DATA {
-            command: MavCmd::MAV_CMD_DO_REPOSITION,
-            param1: -1.0,
-            param4: NAN,
-            x: north_5m,
-            y: (home.lon_deg * 1e7).round() as i32,
-            z: 4.0,
-            frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
-            target_system: 1,
-            target_component: 1,
-            ..Default::default()
-        };
-        let CommandDecision::Execute(Request::Reposition {
-            north_m,
-            east_m,
-            down_m,
-            yaw_rad,
-            speed_m_s,
-        }) = decode_command_int(&id, &gcs_header(0), &cmd, &home)
-        else {
-            panic!("not a reposition");
-        };
-        assert!((north_m.unwrap() - 5.0).abs() < 0.02 && east_m.unwrap().abs() < 0.02);
-        assert!((down_m.unwrap() + 4.0).abs() < 1e-9);
-        assert_eq!((yaw_rad, speed_m_s), (None, None));
-        let local = COMMAND_INT_DATA {
-            frame: MavFrame::MAV_FRAME_LOCAL_NED,
-            ..cmd
-        };
-        assert!(matches!(
-            decode_command_int(&id, &gcs_header(0), &local, &home),
-            CommandDecision::Refuse(Outcome::Unsupported(_))
-        ));
     }
 }

@@ -68,6 +68,21 @@ impl Track {
         self.pos_w
     }
 
+    /// The reference's velocity [m/s].
+    pub fn vel_w(&self) -> Vec3 {
+        self.vel_w
+    }
+
+    /// The limits kept.
+    pub fn limits(&self) -> MotionLimits {
+        self.limits
+    }
+
+    /// Keeps `limits` from the next step on; the reference keeps its motion.
+    pub fn set_limits(&mut self, limits: MotionLimits) {
+        self.limits = limits;
+    }
+
     /// The reference stands on its waypoint.
     pub fn arrived(&self) -> bool {
         (self.leg.target_w - self.pos_w).norm() < 1e-3 && self.vel_w.norm() < 1e-3

@@ -310,6 +310,7 @@ impl Recorder {
             Topic::VehicleStatus => {
                 let Some(snap) = v.snapshot else { return false };
                 let arming_state = if snap.armed { 2 } else { 1 };
+                // A mode without a known PX4 number (AUTO.READY, GOTO) is logged as AUTO_LOITER (4).
                 b.u8(arming_state).u8(snap.mode.nav_state().unwrap_or(4)).u8(2);
                 b.bool(snap.geofence_breached);
             }
