@@ -26,6 +26,8 @@ SUBSET = [
     "Follow target - Velocity streaming only",
     "RTL_TYPE=6 time_remaining_s NaN with no rally points",
     "Fly Multicopter Mission with external set-current onto a DO_JUMP item",
+    "Goto: reposition on a multicopter flies to and holds at the target",
+    "Goto: speed change while flying is applied",
 ]
 
 
@@ -33,7 +35,7 @@ SUBSET = [
 def test_px4_fast_subset_passes(rotorpilot_bin):
     env = dict(os.environ, ROTORPILOT_BIN=str(rotorpilot_bin))
     run = subprocess.run([sys.executable, str(RUNNER), *SUBSET, "--speedup", "10", "--jobs", "2", "--timeout", "240"],
-                         capture_output=True, text=True, env=env, timeout=900, check=False)
+                         capture_output=True, text=True, env=env, timeout=1200, check=False)
     verdicts = {v["case"]: v for v in (json.loads(line) for line in run.stdout.splitlines() if line.strip())}
     assert sorted(verdicts) == sorted(SUBSET), f"missing verdicts: {run.stdout}\n{run.stderr[-2000:]}"
     for name, verdict in verdicts.items():
