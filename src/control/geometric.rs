@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! A   = −K_p e_p − K_v ė_p − m g e3 + m p̈_{b,d}  [− f̂_e]                       (5.1)
-//! u_T = −Aᵀ R_b e3                                                                (5.2)
+//! u_T = −Aᵀ R_b e3  (at least 0.12 u_T,max while R_b e3 is over 60° from z_{b,d})   (5.2)
 //! z_{b,d} = −A / ‖A‖                                                              (5.3)
 //! R_{b,d} = [y_{b,d} × z_{b,d}, y_{b,d}, z_{b,d}],  y_{b,d} ∥ z_{b,d} × x_c          (5.4)
 //! e_R = ½ vee( R_{b,d}ᵀ R_b − R_bᵀ R_{b,d} )                                      (5.7)
@@ -30,6 +30,11 @@ use super::{ControlFlags, ControlOutput, TrackingErrors, VehicleState};
 
 /// Below this `‖z_{b,d} × x_c‖` the previous `y_{b,d}` is kept (heading undefined) [-].
 const CROSS_MIN: f64 = 1e-6;
+/// While the thrust axis is further than this from the desired one [rad]...
+const RECOVERY_TILT_ERROR_RAD: f64 = std::f64::consts::FRAC_PI_3;
+/// ...the thrust keeps at least this share of its maximum (PX4's `MPC_THR_MIN`, 0.12): the
+/// projection (5.2) would ask none, and rotors at rest give no torque to turn back with.
+const RECOVERY_THRUST_FRACTION: f64 = 0.12;
 
 /// How ω_{b,d} and ω̇_{b,d} are obtained (docs/control.md §5.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -95,10 +100,8 @@ impl GeometricLaw {
             a.y *= s;
             flags.tilt_limited = true;
         }
-        let raw_thrust = -a.dot(&(input.state.r_wb * e3()));
-        let thrust_n = raw_thrust.clamp(0.0, model.thrust_max_n);
-        flags.thrust_clamped = thrust_n != raw_thrust;
-
+        let body_z = input.state.r_wb * e3();
+        let raw_thrust = -a.dot(&body_z);
         let norm_a = a.norm();
         let z_d = if norm_a > limits.eps_a_n {
             -a / norm_a
@@ -106,6 +109,15 @@ impl GeometricLaw {
             flags.thrust_direction_held = true;
             self.previous_z_d
         };
+        // Recovery: a thrust axis far from the desired one keeps torque authority (see
+        // RECOVERY_THRUST_FRACTION); touch-downs and small errors are untouched.
+        let floor = if body_z.dot(&z_d) < RECOVERY_TILT_ERROR_RAD.cos() {
+            RECOVERY_THRUST_FRACTION * model.thrust_max_n
+        } else {
+            0.0
+        };
+        let thrust_n = raw_thrust.clamp(floor, model.thrust_max_n);
+        flags.thrust_clamped = thrust_n != raw_thrust;
         // (5.4a): x_c normal to z_d with its horizontal projection along ψ_d.
         let y_psi = Vec3::new(-heading.yaw_rad.sin(), heading.yaw_rad.cos(), 0.0);
         let x_c = y_psi.cross(&z_d);
@@ -304,6 +316,29 @@ mod tests {
             ..FlatSetpoint::hold(Vec3::zeros(), 0.0)
         };
         assert!((step(&mut simple, &x, &sp).errors.rate.z + rate).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_vehicle_rolled_far_from_its_desired_attitude_keeps_a_recovery_thrust() {
+        // Rolled 100°: the projection (5.2) asks no thrust, which would leave no torque.
+        let mut x = level(Vec3::zeros());
+        x.r_wb = UnitQuat::from_euler_angles(100f64.to_radians(), 0.0, 0.0).to_rotation_matrix().into_inner();
+        let out = step(
+            &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
+            &x,
+            &FlatSetpoint::hold(Vec3::zeros(), 0.0),
+        );
+        let model = VehicleModel::homework(60.0);
+        assert!((out.wrench.thrust_n - 0.12 * model.thrust_max_n).abs() < 1e-12);
+        assert!(out.flags.thrust_clamped);
+        // Rolled 30°: the projection as it is.
+        x.r_wb = UnitQuat::from_euler_angles(30f64.to_radians(), 0.0, 0.0).to_rotation_matrix().into_inner();
+        let out = step(
+            &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
+            &x,
+            &FlatSetpoint::hold(Vec3::zeros(), 0.0),
+        );
+        assert!((out.wrench.thrust_n - 1.5 * GRAVITY_M_S2 * 30f64.to_radians().cos()).abs() < 1e-9);
     }
 
     #[test]
