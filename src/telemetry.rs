@@ -238,6 +238,12 @@ pub struct Snapshot {
     pub thrust_fraction: f64,
     /// True rotor speeds [rad/s]; the first `rotor_count` are used.
     pub rotor_speeds: [f64; MAX_ROTORS],
+    /// The flight controller's motor outputs: the rotor speeds it commands [rad/s]; the first
+    /// `rotor_count` are used.
+    pub rotor_commands: [f64; MAX_ROTORS],
+    /// The motors the flight controller stops (bit i: rotor i + 1): every one while the motors
+    /// are off; in flight those failure injection switched off or the allocation left out.
+    pub rotors_stopped: u32,
     /// Number of rotors.
     pub rotor_count: usize,
     /// Highest rotor speed [rad/s].
@@ -278,6 +284,8 @@ impl Snapshot {
             eta_desired: None,
             thrust_fraction: 0.0,
             rotor_speeds: [0.0; MAX_ROTORS],
+            rotor_commands: [0.0; MAX_ROTORS],
+            rotors_stopped: u32::MAX,
             rotor_count: 0,
             rotor_max_rad_s: 1.0,
             battery: BatterySnapshot::full(3),

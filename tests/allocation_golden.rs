@@ -166,7 +166,7 @@ fn roll_near_full_thrust_shifts_the_collective_and_keeps_roll() {
 fn without_air_mode_the_collective_never_rises_to_make_room_for_roll() {
     let af = airframe("hexa_x");
     let with_air = Allocator::new(&af).unwrap();
-    let without_air = with_air.clone().with_airmode(Airmode::Disabled);
+    let without_air = with_air.clone().with_airmode(Airmode::DISABLED);
     let weight_n = 1.5 * 9.81;
     for thrust_n in [0.0, 0.2 * weight_n, 0.5 * weight_n] {
         let w = Wrench {
@@ -239,4 +239,53 @@ fn non_finite_wrench_never_reaches_the_motors() {
     });
     assert!(out.omega_sq().iter().all(|x| *x == 0.0));
     assert!(out.saturation.is_saturated());
+}
+
+/// PX4's `MC_AIRMODE_LIM`: the collective rises above the request by at most this share of the
+/// full collective to make room for roll and pitch (docs/allocation.md §4, eq. (4.3)).
+#[test]
+fn the_air_mode_limit_caps_how_far_the_collective_rises() {
+    let with_air = Allocator::new(&airframe("hexa_x")).unwrap();
+    let w = Wrench {
+        thrust_n: 0.0,
+        torque_b: Vector3::new(1.5, -1.0, 0.0),
+    };
+    let free = with_air.allocate(&w).applied.thrust_n;
+    let limit = 0.05;
+    let capped = with_air.clone().with_airmode(Airmode {
+        raise_limit: limit,
+        yaw: false,
+    });
+    let out = capped.allocate(&w);
+    assert!(free > limit * with_air.thrust_max_n() + 1.0, "unlimited: {free} N");
+    assert!(
+        (out.applied.thrust_n - limit * with_air.thrust_max_n()).abs() < 1e-6,
+        "raised by {} of {} N",
+        out.applied.thrust_n,
+        with_air.thrust_max_n()
+    );
+    assert!(out.saturation.roll_pitch_scale < 1.0, "roll and pitch scaled instead");
+}
+
+/// PX4's `MC_AIRMODE_YAW`: a yaw torque that does not fit at the requested collective moves the
+/// collective instead of being scaled down.
+#[test]
+fn yaw_air_mode_moves_the_collective_for_the_full_yaw() {
+    let af = airframe("quad_x");
+    let alloc = Allocator::new(&af).unwrap().with_airmode(Airmode::ROLL_PITCH);
+    let w = Wrench {
+        thrust_n: 0.05 * alloc.thrust_max_n(),
+        torque_b: Vector3::new(0.0, 0.0, 0.15),
+    };
+    let plain = alloc.allocate(&w);
+    assert!(plain.saturation.yaw_scale < 1.0, "{:?}", plain.saturation);
+    let yaw_air = alloc.clone().with_airmode(Airmode {
+        raise_limit: 1.0,
+        yaw: true,
+    });
+    let out = yaw_air.allocate(&w);
+    assert_eq!(out.saturation.yaw_scale, 1.0);
+    assert!((out.applied.torque_b.z - 0.15).abs() < 1e-9);
+    assert!(out.applied.thrust_n > w.thrust_n, "collective raised");
+    assert_eq!(Airmode::DISABLED.raise_limit, 0.0);
 }

@@ -57,8 +57,13 @@ fn a_small_battery_returns_then_lands_and_disarms() {
 }
 
 #[test]
-fn a_rotor_failure_makes_the_flight_controller_land() {
+fn a_rotor_failure_is_reported_and_com_act_fail_act_2_lands() {
+    // PX4's default (COM_ACT_FAIL_ACT 0): a warning, and the quadrotor flies on without yaw.
     let extra = "[[rotor_failure]]\nrotor = 1\nat = 6.0\n[autopilot]";
+    let s = simulate(&scenario(12.0, [0.0, 0.0, -3.0], extra).unwrap(), None).unwrap();
+    assert_eq!(events(&s), ["Takeoff detected", "Motor 1 failed, yaw lost"]);
+    let extra =
+        "[[rotor_failure]]\nrotor = 1\nat = 6.0\n[autopilot]\nparams = { COM_ACT_FAIL_ACT = 2, COM_FAIL_ACT_T = 0 }";
     let s = simulate(&scenario(25.0, [0.0, 0.0, -3.0], extra).unwrap(), None).unwrap();
     assert_eq!(
         events(&s),
@@ -70,8 +75,10 @@ fn a_rotor_failure_makes_the_flight_controller_land() {
             "Disarmed: landed"
         ]
     );
+    // FD_ACT_MOT_TOUT (0.1 s) passes before the allocation leaves the rotor out: the quadrotor
+    // tilts and drifts meanwhile.
     let p = s.tracking.final_position_m;
-    assert!(p[0].abs() < 0.1 && p[1].abs() < 0.1, "landed below the failure: {p:?}");
+    assert!(p[0].hypot(p[1]) < 3.0, "landed near the failure: {p:?}");
 }
 
 #[test]

@@ -2,9 +2,10 @@
 on the Typhoon H480 hexarotor (configs/sitl.json's [controlallocation] model), here on
 rotorpilot's hexa_x. With failure injection, motor-failure detection (FD_ACT_EN), airmode and
 CA_FAILURE_MODE 1: one motor off at 10 m, then the 20 m square mission within 5 m of its legs and
-4 m of altitude, then RTL home within 5 m; two motors off, mission, land; every motor off and back
-in turn; a motor off with COM_ACT_FAIL_ACT 3 (RTL by itself, home within 5 m); and a motor off at
-100 m with COM_ACT_FAIL_ACT 4 (flight termination: on the ground and disarmed within 2 s plus the
+4 m of altitude, then RTL home within 5 m; two opposite motors off (PX4's 1 and 2 on the Typhoon,
+1 and 4 on hexa_x), mission, land; every motor off and back in turn; a motor off with
+COM_ACT_FAIL_ACT 3 (RTL by itself, home within 5 m); and a motor off at 100 m with
+COM_ACT_FAIL_ACT 4 (flight termination: on the ground and disarmed within 2 s plus the
 free-fall time). PX4 waits the second after each injection and before arming on the host clock."""
 import asyncio
 import math
@@ -19,6 +20,8 @@ with warnings.catch_warnings():
     from mavsdk.failure import FailureType, FailureUnit
 
 ALTITUDE_M, ALTITUDE_TOLERANCE_M, HOVER_SPEED_M_S = 10.0, 4.0, 1.0
+#: hexa_x's motor i + 3 sits opposite motor i (PX4's Typhoon H480 numbers them in pairs, 1 and 2).
+HEXA_OPPOSITE = 3
 MOTOR = FailureUnit.SYSTEM_MOTOR
 
 
@@ -78,8 +81,10 @@ async def control_allocation_remove_two_motors(url: str = CONNECTION_URL) -> Non
     await _mission_ready(tester)
     await _hover(tester)
     tester.start_checking_altitude(ALTITUDE_TOLERANCE_M)
+    # PX4 removes "two motors opposite of one another on the hexa airframe", its motors 1 and 2;
+    # on hexa_x (motors numbered round the ring) the motor opposite motor 1 is motor 4.
     await _motor(tester, 1)
-    await _motor(tester, 2)
+    await _motor(tester, 1 + HEXA_OPPOSITE)
     await tester.execute_mission()
     tester.stop_checking_altitude()
     await tester.land()  # PX4: RTL would wait forever for its yaw with two motors out

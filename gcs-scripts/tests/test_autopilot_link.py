@@ -321,7 +321,7 @@ def test_stream_rates_and_default_telemetry(autopilot):
     gps = autopilot.conn.messages["GPS_RAW_INT"]
     assert gps.fix_type == 3 and gps.lat == 473977420
     actuators = autopilot.conn.messages["ACTUATOR_OUTPUT_STATUS"]
-    assert actuators.active == 4 and list(actuators.actuator) == [0.0] * 32, "disarmed: rotors stopped"
+    assert actuators.active == 4 and list(actuators.actuator) == [900.0] * 4 + [0.0] * 28, "disarmed: stopped (900 µs)"
     # LOCAL_POSITION_NED at 50 Hz instead of 1 Hz, then off.
     assert autopilot.command_ack(511, 32, 20000).result == ACCEPTED
     start, n = time.monotonic(), 0
@@ -503,19 +503,25 @@ def test_battery_failsafe_announces_and_changes_mode(autopilot):
 
 
 @pytest.mark.rotorpilot(airframe="octo")
-def test_motor_failure_injection_lands_the_octocopter(autopilot):
+def test_motor_failure_injection_with_com_act_fail_act_2_lands_the_octocopter(autopilot):
     """MAV_CMD_INJECT_FAILURE (motor 3 off) needs SYS_FAILURE_EN; the octocopter announces the
-    failure, shows AUTO.LAND in its heartbeat, lands and disarms."""
+    failure and shows motor 3 stopped (900 µs) in ACTUATOR_OUTPUT_STATUS, the others running;
+    COM_ACT_FAIL_ACT 2 (without the COM_FAIL_ACT_T hold) shows AUTO.LAND in its heartbeat, lands
+    where it was and disarms."""
     autopilot.param_set("SYS_FAILURE_EN", 0)
     assert autopilot.command_ack(420, 101, 1, 3).result == DENIED, "SYS_FAILURE_EN = 0"
     autopilot.param_set("SYS_FAILURE_EN", 1)
+    autopilot.param_set("COM_ACT_FAIL_ACT", 2)
+    autopilot.param_set("COM_FAIL_ACT_T", 0)
     autopilot.takeoff()
     assert autopilot.command_ack(420, 101, 1, 3).result == ACCEPTED
     text = autopilot.wait("STATUSTEXT", lambda m: m.text.startswith("Motor 3 failed"), 3)
     assert text.text == "Motor 3 failed: landing" and text.severity == mavlink.MAV_SEVERITY_CRITICAL
+    actuators = autopilot.wait("ACTUATOR_OUTPUT_STATUS", lambda m: m.actuator[2] <= 901, 3)
+    assert all(a >= 1000 for i, a in enumerate(actuators.actuator[:8]) if i != 2), list(actuators.actuator[:8])
     autopilot.wait_mode("AUTO.LAND", 3)
     autopilot.wait("STATUSTEXT", lambda m: "Disarmed" in m.text, 20)
     actuators = autopilot.wait("ACTUATOR_OUTPUT_STATUS", timeout=3)
-    assert actuators.actuator[2] == 0.0
+    assert list(actuators.actuator[:8]) == [900.0] * 8, "disarmed: every motor stopped"
     pos = autopilot.wait("LOCAL_POSITION_NED", timeout=2)
     assert math.hypot(pos.x, pos.y) < 0.5, "landed where it was"

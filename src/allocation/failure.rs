@@ -48,6 +48,35 @@ impl Allocator {
 }
 
 impl Allocator {
+    /// The rotor (0-based) mounted opposite rotor `i` across the centre of mass: the same thrust
+    /// column with the roll and pitch arms reversed (on `hexa_x` rotor i+3, on `octo` rotor
+    /// i+4); `None` when there is none (an odd or asymmetric frame, or `i` out of range).
+    pub fn opposite_rotor(&self, i: usize) -> Option<usize> {
+        let g = &self.g;
+        if i >= g.ncols() {
+            return None;
+        }
+        let arm = g[(1, i)].hypot(g[(2, i)]);
+        let tol = 1e-6 * arm.max(g[(0, i)].abs());
+        (0..g.ncols()).find(|&j| {
+            j != i
+                && (g[(0, j)] - g[(0, i)]).abs() <= tol
+                && (g[(1, j)] + g[(1, i)]).abs() <= tol
+                && (g[(2, j)] + g[(2, i)]).abs() <= tol
+        })
+    }
+
+    /// [`Self::opposite_rotor`] when it turns the other way from rotor `i`: leaving both out
+    /// keeps as many rotors turning each way as before (a hexacopter with alternating spins).
+    /// `None` where the opposite rotor turns the same way (a quadrotor, an octocopter), whose
+    /// removal would unbalance the yaw torque instead.
+    pub fn counter_rotating_opposite(&self, i: usize) -> Option<usize> {
+        self.opposite_rotor(i)
+            .filter(|&j| self.g[(3, i)] * self.g[(3, j)] < 0.0)
+    }
+}
+
+impl Allocator {
     /// True when a mid collective with ±5 % of the full roll and pitch torque, each sign, is
     /// allocated exactly: the allocation can hover and stabilise. A PNPNPN hexacopter that lost
     /// a rotor cannot (it must idle the opposite rotor to balance yaw, and then the min-norm
@@ -137,6 +166,39 @@ mod tests {
         assert!((out.applied.thrust_n - 12.0).abs() < 1e-6 && (out.applied.torque_b.x - 0.02).abs() < 1e-6);
         assert!((out.applied.torque_b.y - 0.01).abs() < 1e-6);
         assert!((out.applied.torque_b.z - 0.3).abs() > 0.1, "yaw is not controlled");
+    }
+
+    #[test]
+    fn opposite_rotors_sit_across_the_centre_of_mass() {
+        let hexa = allocator("hexa_x");
+        assert_eq!(
+            (0..6).map(|i| hexa.opposite_rotor(i)).collect::<Vec<_>>(),
+            [3, 4, 5, 0, 1, 2].map(Some)
+        );
+        assert_eq!(allocator("octo").opposite_rotor(1), Some(5));
+        assert_eq!(allocator("quad_x").opposite_rotor(0), Some(2));
+        assert_eq!(hexa.opposite_rotor(6), None);
+        assert_eq!(hexa.counter_rotating_opposite(0), Some(3));
+        assert_eq!(allocator("octo").counter_rotating_opposite(1), None, "same spin");
+        assert_eq!(allocator("quad_x").counter_rotating_opposite(0), None, "same spin");
+    }
+
+    #[test]
+    fn a_pnpnpn_hexacopter_without_a_rotor_and_its_opposite_hovers_without_yaw_torque() {
+        // Rotors 2, 3, 5, 6 are left, two of each spin: hover balances yaw, but the yaw torque
+        // can only come with roll and pitch torque (rank 3), so yaw is given up.
+        let (alloc, mode) = allocator("hexa_x")
+            .with_failed_rotors(&[true, false, false, true, false, false])
+            .unwrap();
+        assert_eq!(mode, FailedRotors::YawUncontrolled);
+        let hover = alloc.allocate(&Wrench {
+            thrust_n: 14.7,
+            torque_b: Vec3::zeros(),
+        });
+        assert_eq!((hover.omega_sq()[0], hover.omega_sq()[3]), (0.0, 0.0));
+        assert!((hover.applied.thrust_n - 14.7).abs() < 1e-6);
+        assert!(hover.applied.torque_b.norm() < 1e-9, "{:?}", hover.applied);
+        assert!(!hover.saturation.is_saturated());
     }
 
     #[test]

@@ -3,9 +3,10 @@
 //!
 //! Every `ω_i²` is affine in any one scalar of the wrench, so each step intersects n intervals:
 //! 1. clamp u_T to `[0, u_T,max]`;
-//! 2. largest yaw scale `k_z ∈ [0, 1]` that fits: if any fits, done;
+//! 2. largest yaw scale `k_z ∈ [0, 1]` that fits: if any fits, done (with yaw air mode, first
+//!    move the collective, within the air-mode ceiling, to where the full yaw fits);
 //! 3. otherwise drop yaw and shift the collective to the feasible u_T closest to the request
-//!    (with air mode off never above `max(u_T, u_idle)`);
+//!    (never more than the air-mode limit above `max(u_T, u_idle)`);
 //! 4. if no collective fits, scale roll/pitch by the largest `s ∈ [0, 1]` that lets one fit
 //!    (bisection on step 3);
 //! 5. recover as much yaw as the remaining margin allows;
@@ -41,18 +42,47 @@ impl Saturation {
     }
 }
 
-/// Whether the saturation policy may raise the collective above the request to make room for
-/// roll and pitch torque (PX4's `MC_AIRMODE`) (docs/allocation.md §4, eq. (4.3)).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Airmode {
-    /// The collective is never raised above the request (or above idle when the request is
-    /// below it): roll and pitch are scaled down instead. A vehicle asked for no thrust never
-    /// lifts off to make a torque. PX4's default (`MC_AIRMODE` = 0).
-    Disabled,
-    /// The collective moves to whatever value fits full roll and pitch, up as well as down
-    /// (`MC_AIRMODE` = 1): full attitude authority at zero thrust request.
-    #[default]
-    RollPitch,
+/// How far the saturation policy may raise the collective above the request to make room for
+/// torque (PX4's `MC_AIRMODE_LIM` and `MC_AIRMODE_YAW`) (docs/allocation.md §4, eq. (4.3)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Airmode {
+    /// Largest rise of the collective above the request (or above idle when the request is
+    /// below it), as a fraction of the full collective [-] (`MC_AIRMODE_LIM`): 0 never raises it
+    /// (roll and pitch are scaled down instead, so a vehicle asked for no thrust never lifts off
+    /// to make a torque); 1 or more lets it move to whatever value fits full roll and pitch.
+    pub raise_limit: f64,
+    /// Yaw counts too (`MC_AIRMODE_YAW`): when the full yaw torque does not fit at the request,
+    /// the collective moves (within `raise_limit` upwards) to fit it before yaw is scaled down.
+    pub yaw: bool,
+}
+
+impl Airmode {
+    /// Air mode off (PX4's default, `MC_AIRMODE_LIM` 0): the collective never rises.
+    pub const DISABLED: Self = Self {
+        raise_limit: 0.0,
+        yaw: false,
+    };
+    /// Air mode for roll and pitch without a limit (PX4's legacy `MC_AIRMODE` 1): full
+    /// attitude authority at zero thrust request. The bare control laws allocate this way.
+    pub const ROLL_PITCH: Self = Self {
+        raise_limit: 1.0,
+        yaw: false,
+    };
+
+    /// The highest collective [N] the policy may choose for a request `u_n` [N], idle collective
+    /// `idle_n` [N] and full collective `thrust_max_n` [N].
+    fn ceiling_n(&self, u_n: f64, idle_n: f64, thrust_max_n: f64) -> f64 {
+        if self.raise_limit >= 1.0 {
+            return thrust_max_n;
+        }
+        (u_n.max(idle_n) + self.raise_limit.max(0.0) * thrust_max_n).min(thrust_max_n)
+    }
+}
+
+impl Default for Airmode {
+    fn default() -> Self {
+        Self::ROLL_PITCH
+    }
 }
 
 /// Fixed-size vector of per-rotor values.
@@ -131,22 +161,25 @@ pub(crate) fn allocate(
 
     // 2. Full roll/pitch and collective; as much yaw as fits.
     let base = combine(n, &[(col_t, u), (&roll_pitch, 1.0)]);
-    let yaw_scale = match bounds.largest_fraction(&base, &yaw) {
+    let mut fitted = bounds.largest_fraction(&base, &yaw);
+    // 2b. Yaw air mode: a collective (within the ceiling) that fits the full yaw as well.
+    if airmode.yaw && fitted.is_none_or(|k| k < 1.0) {
+        if let Some(shifted) = yaw_collective(a, bounds, thrust_max_n, airmode, u, &roll_pitch, &yaw) {
+            u = shifted;
+            fitted = Some(1.0);
+        }
+    }
+    let yaw_scale = match fitted {
         Some(k) => k,
         None => {
             // 3. Yaw dropped: shift the collective.
             // A collective that fits must also be one the motors can give, [0, u_max]: after a
             // rotor failure a rotor may have (almost) no thrust column, so no collective lifts it.
-            // Without air mode it must also not exceed the request, or idle (4.3).
-            let ceiling_n = match airmode {
-                Airmode::RollPitch => thrust_max_n,
-                Airmode::Disabled => {
-                    let idle_n = bounds
-                        .interval(&[0.0; MAX_ROTORS], col_t)
-                        .map_or(thrust_max_n, |(lo, _)| lo.max(0.0));
-                    u.max(idle_n).min(thrust_max_n)
-                }
-            };
+            // It must also not rise above the request (or idle) by more than air mode allows (4.3).
+            let idle_n = bounds
+                .interval(&[0.0; MAX_ROTORS], col_t)
+                .map_or(thrust_max_n, |(lo, _)| lo.max(0.0));
+            let ceiling_n = airmode.ceiling_n(u, idle_n, thrust_max_n);
             let fit_collective = |s: f64| {
                 bounds
                     .interval(&combine(n, &[(&roll_pitch, s)]), col_t)
@@ -191,4 +224,25 @@ pub(crate) fn allocate(
         roll_pitch_scale: rp_scale,
         clipped,
     }
+}
+
+/// Yaw air mode (step 2b): the collective nearest the request `u` [N], within `[0, ceiling]`,
+/// that fits full roll/pitch and full yaw; `None` when none does.
+fn yaw_collective(
+    a: &[RotorArray; 4],
+    bounds: SpeedBox,
+    thrust_max_n: f64,
+    airmode: Airmode,
+    u: f64,
+    roll_pitch: &RotorArray,
+    yaw: &RotorArray,
+) -> Option<f64> {
+    let n = bounds.n;
+    let idle_n = bounds
+        .interval(&[0.0; MAX_ROTORS], &a[0])
+        .map_or(thrust_max_n, |(lo, _)| lo.max(0.0));
+    let ceiling_n = airmode.ceiling_n(u, idle_n, thrust_max_n);
+    let (lo, hi) = bounds.interval(&combine(n, &[(roll_pitch, 1.0), (yaw, 1.0)]), &a[0])?;
+    let (lo, hi) = (lo.max(0.0), hi.min(ceiling_n));
+    (lo <= hi).then(|| u.clamp(lo, hi))
 }

@@ -1,7 +1,7 @@
 //! The actions a failsafe parameter chooses between, as enums with PX4's codes: `NAV_DLL_ACT`
 //! (GCS link loss), `NAV_RCL_ACT` (stick loss), `COM_RC_IN_MODE` (stick sources),
-//! `COM_OBL_RC_ACT` (offboard loss), `GF_ACTION` (geofence breach) and `COM_LOW_BAT_ACT`
-//! (battery); and the destinations a return may choose (`RTL_TYPE`). Each converts from its
+//! `COM_OBL_RC_ACT` (offboard loss), `GF_ACTION` (geofence breach), `COM_LOW_BAT_ACT`
+//! (battery) and `COM_ACT_FAIL_ACT` (motor failure); and the destinations a return may choose (`RTL_TYPE`). Each converts from its
 //! code with [`TryFrom<i32>`], refusing codes
 //! PX4 does not define, and back with `From<_> for i32` / `f64`. Pure.
 
@@ -214,6 +214,22 @@ action_enum! {
 }
 
 action_enum! {
+    /// What a motor failure in flight does (`COM_ACT_FAIL_ACT`, PX4's codes and default).
+    ActuatorFailureAction, "COM_ACT_FAIL_ACT", default Warn {
+        /// Announce only; the vehicle flies on in its mode.
+        Warn = 0, "warning";
+        /// Hold position (AUTO.LOITER).
+        Hold = 1, "hold";
+        /// Land here.
+        Land = 2, "land";
+        /// Return to launch.
+        Return = 3, "return";
+        /// Flight termination: motors off.
+        Terminate = 4, "terminate";
+    }
+}
+
+action_enum! {
     /// Where AUTO.RTL returns to (`RTL_TYPE`, PX4's destination rule of `RTL::findRtlDestination`
     /// without mission landings; the mission-path types 2 and 4 are not modelled).
     RtlType, "RTL_TYPE", default HomeOrRally {
@@ -265,6 +281,7 @@ mod tests {
             assert_eq!(i32::from(LinkLossAction::from(*a)), i32::from(*a), "same codes");
         }
         round_trips(RtlType::ALL, &[-1, 2, 4, 7]);
+        round_trips(ActuatorFailureAction::ALL, &[-1, 5]);
         assert_eq!(LinkLossAction::ALL.len(), 6);
         assert_eq!(OffboardLossAction::ALL.len(), 8);
         assert_eq!(GeofenceAction::ALL.len(), 6);
@@ -291,5 +308,6 @@ mod tests {
         assert_eq!(ManualLossAction::default(), ManualLossAction::Return);
         assert_eq!(ManualInputMode::default(), ManualInputMode::KeepFirst);
         assert_eq!(RtlType::default(), RtlType::HomeOrRally);
+        assert_eq!(ActuatorFailureAction::default(), ActuatorFailureAction::Warn);
     }
 }

@@ -97,8 +97,9 @@ pub enum Request {
         change_mode: bool,
     },
     /// MAV_CMD_INJECT_FAILURE for motors (`SYS_FAILURE_EN` = 1): rotor `rotor` (1-based; 0 =
-    /// every rotor) stops (`failed`) or works again. The vehicle applies it to the plant; the
-    /// commander hears of it through [`Commander::rotor_failed`].
+    /// every rotor) stops (`failed`) or works again. The flight controller stops its output
+    /// and the plant its rotor; the commander hears of it through [`Commander::rotor_failed`]
+    /// unless the failure is hard (`SYS_FAIL_MOT_OFF` 1).
     InjectRotorFailure {
         /// Rotor, 1-based; 0 = all.
         rotor: usize,

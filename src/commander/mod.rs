@@ -59,8 +59,8 @@ mod rtl;
 mod script;
 
 pub use actions::{
-    GeofenceAction, LinkLossAction, LowBatteryAction, ManualInputMode, ManualLossAction, OffboardLossAction, RtlType,
-    UnknownAction,
+    ActuatorFailureAction, GeofenceAction, LinkLossAction, LowBatteryAction, ManualInputMode, ManualLossAction,
+    OffboardLossAction, RtlType, UnknownAction,
 };
 pub use battery::{BatteryGauge, BatteryParams};
 pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
@@ -70,6 +70,7 @@ pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
 pub use navigation_checks::NavValidity;
 pub use params::{CommanderParams, ManualParams, MissionParams};
+pub use reactions::{LossAllocation, RotorLoss};
 
 use follow::Follow;
 use land_detector::LandDetector;

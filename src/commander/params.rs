@@ -3,8 +3,8 @@
 use crate::navigation::{FollowParams, MotionLimits, StickShaping};
 
 use super::{
-    BatteryParams, FailsafeParams, LandDetectorParams, LinkLossAction, ManualInputMode, ManualLossAction,
-    OffboardLossAction, RtlType,
+    ActuatorFailureAction, BatteryParams, FailsafeParams, LandDetectorParams, LinkLossAction, ManualInputMode,
+    ManualLossAction, OffboardLossAction, RtlType,
 };
 
 /// The stick modes and the loss of the sticks (PX4 names and defaults in brackets).
@@ -104,6 +104,9 @@ pub struct CommanderParams {
     /// The hold before a failsafe's return or landing [s] (`COM_FAIL_ACT_T`, 5; 0 or less than
     /// 0.1 s: none).
     pub fail_action_delay_s: f64,
+    /// What a motor failure in flight does (`COM_ACT_FAIL_ACT`: 0 warning, 1 hold, 2 land,
+    /// 3 return, 4 terminate; default 0).
+    pub actuator_failure_action: ActuatorFailureAction,
 }
 
 /// How mission waypoints are reached and flown through (PX4's navigator and AUTO trajectory).
@@ -157,6 +160,7 @@ impl Default for CommanderParams {
             follow: FollowParams::default(),
             mission: MissionParams::default(),
             fail_action_delay_s: 5.0,
+            actuator_failure_action: ActuatorFailureAction::Warn,
         }
     }
 }

@@ -5,7 +5,43 @@
 use crate::allocation::FailedRotors;
 use crate::control::VehicleState;
 
-use super::{Commander, Event, FailsafeAction, FlightMode, LinkLossAction, Outcome};
+use super::{ActuatorFailureAction, Commander, Event, FailsafeAction, FlightMode, LinkLossAction, Outcome};
+
+/// A motor that just failed, as the flight controller tells the commander.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RotorLoss {
+    /// The failed motor (1-based).
+    pub rotor: usize,
+    /// The motor opposite it, stopped by the allocation as well (1-based), if any.
+    pub also_off: Option<usize>,
+    /// What the allocation did about it.
+    pub allocation: LossAllocation,
+}
+
+/// What the allocation did about a motor failure (`CA_FAILURE_MODE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LossAllocation {
+    /// Nothing: `CA_FAILURE_MODE` 0, or a later failure (only the first one is handled).
+    Unchanged,
+    /// Allocates around the stopped motors now, with what it can still control.
+    Around(FailedRotors),
+    /// No allocation without the motor exists; the last one stays.
+    Impossible,
+}
+
+impl RotorLoss {
+    /// `Motor 1 failed[, motor 4 off][, yaw lost | , no allocation left]` (within a STATUSTEXT
+    /// with any action appended).
+    fn text(&self) -> String {
+        let off = self.also_off.map(|m| format!(", motor {m} off")).unwrap_or_default();
+        let control = match self.allocation {
+            LossAllocation::Around(FailedRotors::YawUncontrolled) => ", yaw lost",
+            LossAllocation::Impossible => ", no allocation left",
+            LossAllocation::Unchanged | LossAllocation::Around(FailedRotors::FullControl) => "",
+        };
+        format!("Motor {} failed{off}{control}", self.rotor)
+    }
+}
 
 /// What a loss action did, for the announcement: `what` is the stream lost.
 /// Below this `COM_FAIL_ACT_T` there is no hold before a failsafe action [s] (PX4's 0.1 s).
@@ -81,28 +117,42 @@ impl Commander {
         events
     }
 
-    /// Rotor `rotor` (1-based) has failed; `control` says what the allocation can still do
-    /// (`None`: nothing useful). In flight the vehicle lands where it is, as well as it can.
-    pub fn rotor_failed(
-        &mut self,
-        rotor: usize,
-        control: Option<FailedRotors>,
-        x: &VehicleState,
-        t_s: f64,
-    ) -> Vec<Event> {
-        let what = match control {
-            Some(FailedRotors::FullControl) => "",
-            Some(FailedRotors::YawUncontrolled) => ", yaw lost",
-            None => ", no allocation left",
+    /// A motor failed (`loss` says which and what the allocation did about it): announced
+    /// (critical) in any case; in flight `COM_ACT_FAIL_ACT` runs: nothing more (0, PX4's
+    /// default: the vehicle flies on in its mode), hold (1), land (2) or return (3), the last
+    /// two after the `COM_FAIL_ACT_T` hold, or flight termination (4: motors off at once). A
+    /// landing under way is never turned into a hold or a return.
+    pub fn rotor_failed(&mut self, loss: RotorLoss, x: &VehicleState, t_s: f64) -> Vec<Event> {
+        let action = self.params.actuator_failure_action;
+        let in_air = self.armed && self.in_air();
+        let did = match action {
+            _ if !in_air => "",
+            ActuatorFailureAction::Warn => "",
+            ActuatorFailureAction::Hold => ": holding",
+            ActuatorFailureAction::Land => ": landing",
+            ActuatorFailureAction::Return => ": returning",
+            ActuatorFailureAction::Terminate => ": terminating",
         };
-        let in_air = self.in_air();
-        let mut events = vec![Event::Failsafe(format!(
-            "Motor {rotor} failed{what}{}",
-            if in_air { ": landing" } else { "" }
-        ))];
-        if in_air && self.mode != FlightMode::Land {
-            self.enter(FlightMode::Land, x, t_s);
-            events.push(Event::ModeChanged(FlightMode::Land));
+        let mut events = vec![Event::Failsafe(format!("{}{did}", loss.text()))];
+        if !in_air {
+            return events;
+        }
+        let landing = self.mode == FlightMode::Land;
+        match action {
+            ActuatorFailureAction::Warn => {}
+            ActuatorFailureAction::Hold if !landing && self.mode != FlightMode::Loiter => {
+                self.enter(FlightMode::Loiter, x, t_s);
+                events.push(Event::ModeChanged(FlightMode::Loiter));
+            }
+            ActuatorFailureAction::Land if !landing => self.fail_to(FlightMode::Land, x, t_s, &mut events),
+            ActuatorFailureAction::Return if !landing && self.mode != FlightMode::ReturnToLaunch => {
+                self.fail_to(FlightMode::ReturnToLaunch, x, t_s, &mut events);
+            }
+            ActuatorFailureAction::Terminate => {
+                self.disarm();
+                events.push(Event::Disarmed("flight termination"));
+            }
+            _ => {}
         }
         events
     }
@@ -314,35 +364,90 @@ mod tests {
         assert!(s.until_disarmed(30.0), "landed and disarmed");
     }
 
+    fn loss(rotor: usize, also_off: Option<usize>, allocation: LossAllocation) -> RotorLoss {
+        RotorLoss {
+            rotor,
+            also_off,
+            allocation,
+        }
+    }
+
     #[test]
-    fn a_rotor_failure_lands_in_the_air_and_is_only_announced_on_the_ground() {
+    fn a_motor_failure_is_announced_and_flown_on_by_default() {
         let mut s = Script::new(CommanderParams::default());
-        let on_ground = s.c.rotor_failed(3, None, &s.x, 0.0);
+        let on_ground = s.c.rotor_failed(loss(3, None, LossAllocation::Impossible), &s.x, 0.0);
         assert_eq!(
             on_ground,
             vec![Event::Failsafe("Motor 3 failed, no allocation left".into())]
         );
         s.airborne(4.0);
-        let t = s.t();
-        let events = s.c.rotor_failed(2, Some(FailedRotors::YawUncontrolled), &s.x, t);
+        let (t, mode) = (s.t(), s.c.mode());
+        let yaw_lost = LossAllocation::Around(FailedRotors::YawUncontrolled);
+        let events = s.c.rotor_failed(loss(1, Some(4), yaw_lost), &s.x, t);
         assert_eq!(
             events,
-            vec![
-                Event::Failsafe("Motor 2 failed, yaw lost: landing".into()),
-                Event::ModeChanged(FlightMode::Land)
-            ]
+            vec![Event::Failsafe("Motor 1 failed, motor 4 off, yaw lost".into())],
+            "COM_ACT_FAIL_ACT 0: a warning only"
         );
-        let again = s.c.rotor_failed(4, Some(FailedRotors::FullControl), &s.x, t);
-        assert_eq!(
-            again,
-            vec![Event::Failsafe("Motor 4 failed: landing".into())],
-            "already landing"
-        );
+        assert_eq!(s.c.mode(), mode, "flies on");
+        assert!(s.c.armed());
+    }
+
+    #[test]
+    fn com_act_fail_act_holds_lands_returns_or_terminates_in_flight() {
+        let full = LossAllocation::Around(FailedRotors::FullControl);
+        for (action, text, expect) in [
+            (
+                ActuatorFailureAction::Hold,
+                "Motor 2 failed: holding",
+                Some(FlightMode::Loiter),
+            ),
+            (
+                ActuatorFailureAction::Land,
+                "Motor 2 failed: landing",
+                Some(FlightMode::Land),
+            ),
+            (
+                ActuatorFailureAction::Return,
+                "Motor 2 failed: returning",
+                Some(FlightMode::ReturnToLaunch),
+            ),
+            (ActuatorFailureAction::Terminate, "Motor 2 failed: terminating", None),
+        ] {
+            let mut s = Script::new(CommanderParams {
+                actuator_failure_action: action,
+                fail_action_delay_s: 0.0,
+                ..Default::default()
+            });
+            s.airborne(4.0);
+            assert_eq!(s.request(Request::SetMode(FlightMode::Position)), Outcome::Accepted);
+            let t = s.t();
+            let events = s.c.rotor_failed(loss(2, None, full), &s.x, t);
+            assert_eq!(events.first(), Some(&Event::Failsafe(text.into())), "{action:?}");
+            match expect {
+                Some(mode) => assert_eq!(s.c.mode(), mode, "{action:?}"),
+                None => {
+                    assert!(!s.c.armed(), "terminated");
+                    assert_eq!(events.last(), Some(&Event::Disarmed("flight termination")));
+                }
+            }
+        }
+        // A landing is never turned into a return; the return waits out COM_FAIL_ACT_T in a hold.
+        let mut s = Script::new(CommanderParams {
+            actuator_failure_action: ActuatorFailureAction::Return,
+            ..Default::default()
+        });
+        s.airborne(4.0);
+        let t = s.t();
+        s.c.rotor_failed(loss(2, None, full), &s.x, t);
+        assert_eq!(s.c.mode(), FlightMode::Loiter, "COM_FAIL_ACT_T hold first");
+        assert!(s.fly_until(6.0, |s| s.c.mode() == FlightMode::ReturnToLaunch));
+        assert_eq!(s.request(Request::SetMode(FlightMode::Land)), Outcome::Accepted);
+        let t = s.t();
+        let again = s.c.rotor_failed(loss(3, None, LossAllocation::Unchanged), &s.x, t);
+        assert_eq!(again, vec![Event::Failsafe("Motor 3 failed: returning".into())]);
+        assert_eq!(s.c.mode(), FlightMode::Land, "still landing");
         assert!(s.until_disarmed(30.0));
-        assert!(
-            (s.x.pos_w.xy() - Vec3::zeros().xy()).norm() < 1e-9,
-            "landed where it was"
-        );
     }
 
     #[test]

@@ -1,19 +1,18 @@
 //! The flight controller of one vehicle: commander (modes, failsafes, battery, land detector),
-//! flight core, parameter table, rotor-failure monitor and home. Pure: requests and parameter
+//! flight core, parameter table, motor failures and home. Pure: requests and parameter
 //! sets between ticks, and one [`Pilot::control`] per tick from the sensed values; what the
 //! simulated hardware must change comes back as a [`PlantChange`].
 //!
 //! One tick (the order every determinism test depends on):
 //!
 //! ```text
-//! ESC report changed → re-allocate, commander reacts      (RotorMonitor::check)
+//! motor failures: injected, detected; re-allocate; react   (MotorFailures::update)
 //! battery and failsafes from x_k and the electrical power  (Commander::check_failsafes)
 //! commander.update(x_k, T_{k−1} / (m g), t_k)              setpoint, attitude target or idle
 //! flight core: setpoint, else attitude target, else idle  (FlightCore::step / step_attitude)
 //! ```
 
-use crate::airframe::Airframe;
-use crate::allocation::Airmode;
+use crate::airframe::{Airframe, MAX_ROTORS};
 use crate::commander::{Commander, CommanderParams, Event, Outcome, Request};
 use crate::control::{ControllerKind, VehicleState};
 use crate::estimation::{ChebyshevDesign, WrenchObserver};
@@ -23,8 +22,8 @@ use crate::params::{ParamError, ParamTable, VehicleSettings};
 use crate::sitl::{EscReport, PlantChange, Sensors};
 use crate::telemetry::Snapshot;
 
+use super::motor_failures::{MotorChange, MotorFailureParams, MotorFailures};
 use super::navigator::Navigator;
-use super::rotor_monitor::RotorMonitor;
 use super::{Control, CoreError, FlightCore, Pilot};
 
 /// The estimator the autopilot starts with: the homework's first-order design (Chebyshev
@@ -55,13 +54,14 @@ impl<T> Reply<T> {
     }
 }
 
-/// Commander, flight core, parameters, rotor monitor and home of one vehicle.
+/// Commander, flight core, parameters, motor failures and home of one vehicle.
 #[derive(Debug)]
 pub struct FlightController {
     core: FlightCore,
     commander: Commander,
     params: ParamTable,
-    rotors: RotorMonitor,
+    motors: MotorFailures,
+    motor_params: MotorFailureParams,
     nav: Navigator,
     home: Home,
     dt_s: f64,
@@ -71,6 +71,9 @@ pub struct FlightController {
     /// Collective thrust the controller asked for at the last tick over the believed weight [-]
     /// (land detector input).
     thrust_over_weight: f64,
+    /// Each rotor's thrust command at the last tick over its full thrust [-] (the ESC check's
+    /// input).
+    rotor_thrust: [f64; MAX_ROTORS],
 }
 
 impl FlightController {
@@ -93,20 +96,21 @@ impl FlightController {
         commander: CommanderParams,
     ) -> Result<Self, CoreError> {
         let mut core = FlightCore::for_airframe(airframe, kind, dt_s)?;
-        core.set_airmode(Airmode::Disabled);
         let mut gains = *core.controller.gains();
         gains.limits.tilt_max_rad = AUTOPILOT_TILT_MAX_DEG.to_radians();
         core.controller.set_gains(gains).map_err(CoreError::from)?;
-        let rotors = RotorMonitor::new(core.allocator().rotor_count());
+        let motors = MotorFailures::new(core.allocator().rotor_count());
         let settings = VehicleSettings {
             commander,
             ..VehicleSettings::new(kind, gains, Some(DEFAULT_ESTIMATOR))
         };
+        core.set_airmode(settings.airmode);
         let mut fc = Self {
             core,
             commander: Commander::new(commander),
             params: ParamTable::new(&settings),
-            rotors,
+            motors,
+            motor_params: settings.motors,
             nav: Navigator::default(),
             home,
             dt_s,
@@ -114,6 +118,7 @@ impl FlightController {
             believed_inertia_kg_m2: airframe.inertia_kg_m2,
             rotor_max_rad_s: airframe.omega_max_rad_s,
             thrust_over_weight: 0.0,
+            rotor_thrust: [0.0; MAX_ROTORS],
         };
         fc.install_observer(Some(DEFAULT_ESTIMATOR));
         Ok(fc)
@@ -169,7 +174,13 @@ impl FlightController {
 
     /// Rotor count.
     pub fn rotor_count(&self) -> usize {
-        self.rotors.rotor_count()
+        self.motors.rotor_count()
+    }
+
+    /// The motors the flight controller stops in flight (bit i: rotor i + 1): switched off by
+    /// failure injection, or left out of the allocation.
+    pub fn motors_stopped(&self) -> u32 {
+        self.motors.stopped()
     }
 
     /// Highest rotor speed [rad/s].
@@ -191,6 +202,8 @@ impl FlightController {
         self.commander.params = s.commander;
         self.core.controller.set_kind(s.controller);
         self.core.controller.set_compensation(s.compensation);
+        self.core.set_airmode(s.airmode);
+        self.motor_params = s.motors;
         if let Err(e) = self.core.controller.set_gains(s.gains) {
             tracing::warn!("{e}");
         }
@@ -247,7 +260,7 @@ impl FlightController {
             };
         }
         if let Request::InjectRotorFailure { rotor, failed } = request {
-            return match self.rotors.injection(rotor, failed) {
+            return match self.motors.inject(rotor, failed) {
                 Ok(change) => Reply {
                     answer: Outcome::Accepted,
                     plant: Some(change),
@@ -275,10 +288,22 @@ impl Pilot for FlightController {
             .map(|(text, warning)| Event::Navigation { text, warning })
             .collect();
         failsafe_events.extend(self.commander.check_navigation(self.nav.validity(), &x, t_s));
-        failsafe_events.extend(
-            self.rotors
-                .check(esc.failed_rotors(), t_s, &x, &mut self.core, &mut self.commander),
+        let n = self.motors.rotor_count();
+        let changes = self.motors.update(
+            &self.motor_params,
+            esc.failed_rotors(),
+            &self.rotor_thrust[..n],
+            t_s,
+            &mut self.core,
         );
+        for change in changes {
+            match change {
+                MotorChange::Failed(loss) => failsafe_events.extend(self.commander.rotor_failed(loss, &x, t_s)),
+                MotorChange::Working(rotor) => {
+                    failsafe_events.push(Event::Failsafe(format!("Motor {rotor} working again")));
+                }
+            }
+        }
         failsafe_events.extend(self.commander.check_failsafes(&x, esc.power_w(), self.dt_s, t_s));
         let mut tick = self.commander.update(&x, self.thrust_over_weight, t_s);
         if self.commander.armed() {
@@ -304,9 +329,16 @@ impl Pilot for FlightController {
         self.thrust_over_weight = step.map_or(0.0, |s| {
             s.control.wrench.thrust_n / (self.believed_mass_kg * GRAVITY_M_S2)
         });
+        let full_sq = self.rotor_max_rad_s.powi(2);
+        self.rotor_thrust = [0.0; MAX_ROTORS];
+        if let Some(s) = &step {
+            for (u, w2) in self.rotor_thrust.iter_mut().zip(s.allocation.omega_sq()) {
+                *u = w2 / full_sq;
+            }
+        }
         Control {
             state: x,
-            rotors: self.rotors.rotor_count(),
+            rotors: n,
             step,
             setpoint: tick.setpoint,
             events: tick.events,

@@ -119,6 +119,12 @@ impl FlightCore {
         Ok(mode)
     }
 
+    /// The rotor mounted opposite rotor `i` (0-based) that turns the other way, if any
+    /// ([`Allocator::counter_rotating_opposite`] of the allocator with every rotor working).
+    pub fn counter_rotating_opposite(&self, i: usize) -> Option<usize> {
+        self.nominal.counter_rotating_opposite(i)
+    }
+
     /// Replaces (or removes) the estimator; a new one starts from ŵ = 0.
     pub fn set_observer(&mut self, observer: Option<WrenchObserver>) {
         self.observer = observer;

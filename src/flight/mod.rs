@@ -18,13 +18,16 @@
 //! - [`navigator`]: the state the controllers fly on: the state sensor's, or the navigation
 //!   filter's estimate.
 //! - [`offboard_pilot`]: the flight controller in OFFBOARD along a setpoint source.
-//! - [`rotor_monitor`]: what the flight controller knows of failed rotors, and failure injection.
+//! - [`motor_failures`]: what the flight controller knows and does about failed motors:
+//!   failure injection, the ESC check, the allocation around them.
+//! - [`rotor_monitor`]: what a bare flight core knows of failed rotors.
 //! - [`snapshot`]: the telemetry snapshot of a tick (the one place it is built).
 //! - `stale_check`: a sensor whose readings repeat exactly is stuck (PX4's data validator).
 
 pub mod controller;
 pub mod flight_core;
 pub mod follower;
+pub mod motor_failures;
 pub mod navigator;
 pub mod offboard_pilot;
 pub mod rotor_monitor;
@@ -40,6 +43,7 @@ use crate::sitl::{EscReport, Sensors};
 pub use controller::{FlightController, Reply, AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
 pub use flight_core::{vehicle_model, CoreError, CoreStep, FlightCore};
 pub use follower::{SetpointFollower, SetpointSource};
+pub use motor_failures::{MotorChange, MotorFailureParams, MotorFailures};
 pub use navigator::Navigator;
 pub use offboard_pilot::OffboardPilot;
 

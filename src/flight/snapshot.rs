@@ -10,14 +10,19 @@ use super::{Control, FlightController};
 
 impl FlightController {
     /// What the links publish after a tick at simulated time `t_s` [s]: the sensed state,
-    /// commander state, the controller step of `control`, and the true rotor speeds
-    /// `motor_speeds` [rad/s] after the plant step.
+    /// commander state, the controller step of `control` (and the motor outputs it commands,
+    /// with the motors the flight controller stops), and the true rotor speeds `motor_speeds`
+    /// [rad/s] after the plant step.
     pub fn snapshot(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Snapshot {
         let x = &control.state;
         let commander = self.commander();
         let step = control.step.as_ref();
         let mut rotor_speeds = [0.0; MAX_ROTORS];
         for (slot, w) in rotor_speeds.iter_mut().zip(motor_speeds) {
+            *slot = *w;
+        }
+        let mut rotor_commands = [0.0; MAX_ROTORS];
+        for (slot, w) in rotor_commands.iter_mut().zip(control.rotor_speeds().as_slice()) {
             *slot = *w;
         }
         let (gauge, pack) = commander.battery();
@@ -35,6 +40,12 @@ impl FlightController {
                 s.allocation.applied.thrust_n / self.core().allocator().thrust_max_n()
             }),
             rotor_speeds,
+            rotor_commands,
+            rotors_stopped: if step.is_some() {
+                self.motors_stopped()
+            } else {
+                u32::MAX
+            },
             rotor_count: self.rotor_count(),
             rotor_max_rad_s: self.rotor_max_rad_s(),
             battery: BatterySnapshot {

@@ -16,6 +16,7 @@
 //! - [`telemetry`] (with `status` and `nav_status`): the streamed messages built from a snapshot;
 //!   `nav_status`: GPS_RAW_INT, ESTIMATOR_STATUS and the raw sensors from the navigation;
 //!   [`foreign`]: messages of other dialects encoded by hand (EKF_STATUS_REPORT).
+//! - [`motor_outputs`]: the motor outputs as PX4 SITL reports them (PWM, 900 µs stopped).
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.
 //! - [`ftp`]: MAVLink FTP (payload, in-memory file system, server); [`metadata`]: the component
 //!   metadata files it serves (general, parameters) and COMPONENT_METADATA.
@@ -47,6 +48,7 @@ pub mod mission_items;
 pub mod mission_report;
 pub mod mission_xfer;
 pub mod modes;
+pub mod motor_outputs;
 mod nav_status;
 pub mod offboard;
 pub mod orbit;

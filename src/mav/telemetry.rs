@@ -3,10 +3,10 @@
 //! stored plans, in `mission_report.rs`. Pure.
 
 use mavlink::dialects::common::{
-    MavFrame, MavLandedState, MavMessage, MavVtolState, PositionTargetTypemask, ACTUATOR_OUTPUT_STATUS_DATA,
-    ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA, DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA,
-    GLOBAL_POSITION_INT_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, NAMED_VALUE_FLOAT_DATA,
-    POSITION_TARGET_LOCAL_NED_DATA, SERVO_OUTPUT_RAW_DATA, SYSTEM_TIME_DATA, VFR_HUD_DATA,
+    MavFrame, MavLandedState, MavMessage, MavVtolState, PositionTargetTypemask, ATTITUDE_DATA,
+    ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA, DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA,
+    HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA,
+    SYSTEM_TIME_DATA, VFR_HUD_DATA,
 };
 
 use super::foreign::ForeignMessage;
@@ -32,9 +32,10 @@ pub enum Stream {
     AttitudeTarget,
     /// POSITION_TARGET_LOCAL_NED (85): the setpoint flown.
     PositionTarget,
-    /// SERVO_OUTPUT_RAW (36): rotor speeds as 1000–2000 µs (ω / ω_max).
+    /// SERVO_OUTPUT_RAW (36): the motor outputs as PX4 SITL's PWM
+    /// ([`motor_output_us`](super::motor_outputs::motor_output_us)).
     ServoOutputRaw,
-    /// ACTUATOR_OUTPUT_STATUS (375): rotor speeds [rad/s], one per rotor.
+    /// ACTUATOR_OUTPUT_STATUS (375): the same motor outputs, one per rotor, `active` the count.
     ActuatorOutputStatus,
     /// HIGHRES_IMU (105): accelerometer, gyro, magnetometer (a fixed field) and barometer.
     HighresImu,
@@ -270,45 +271,8 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
             })
         }
-        Stream::ServoOutputRaw => {
-            let pwm = |i: usize| -> u16 {
-                if i >= s.rotor_count {
-                    return 0;
-                }
-                (1000.0 + 1000.0 * (s.rotor_speeds[i] / s.rotor_max_rad_s).clamp(0.0, 1.0)).round() as u16
-            };
-            MavMessage::SERVO_OUTPUT_RAW(SERVO_OUTPUT_RAW_DATA {
-                time_usec: time_usec as u32,
-                servo1_raw: pwm(0),
-                servo2_raw: pwm(1),
-                servo3_raw: pwm(2),
-                servo4_raw: pwm(3),
-                servo5_raw: pwm(4),
-                servo6_raw: pwm(5),
-                servo7_raw: pwm(6),
-                servo8_raw: pwm(7),
-                port: 0,
-                servo9_raw: pwm(8),
-                servo10_raw: pwm(9),
-                servo11_raw: pwm(10),
-                servo12_raw: pwm(11),
-                servo13_raw: pwm(12),
-                servo14_raw: pwm(13),
-                servo15_raw: pwm(14),
-                servo16_raw: pwm(15),
-            })
-        }
-        Stream::ActuatorOutputStatus => {
-            let mut actuator = [0.0_f32; 32];
-            for (a, w) in actuator.iter_mut().zip(&s.rotor_speeds[..s.rotor_count]) {
-                *a = *w as f32;
-            }
-            MavMessage::ACTUATOR_OUTPUT_STATUS(ACTUATOR_OUTPUT_STATUS_DATA {
-                time_usec,
-                active: s.rotor_count as u32,
-                actuator,
-            })
-        }
+        Stream::ServoOutputRaw => super::motor_outputs::servo_output_raw(s, time_usec),
+        Stream::ActuatorOutputStatus => super::motor_outputs::actuator_output_status(s, time_usec),
         Stream::HighresImu => super::nav_status::highres_imu(s),
         Stream::ExternalForce => vector("EXT_F", s.estimate?.force_w),
         Stream::ExternalTorque => vector("EXT_T", s.estimate?.torque_b),
@@ -423,21 +387,6 @@ mod tests {
             panic!("wrong message");
         };
         assert_eq!(e.landed_state, MavLandedState::MAV_LANDED_STATE_IN_AIR);
-    }
-
-    #[test]
-    fn rotor_speeds_go_out_in_rad_s_and_as_pwm() {
-        let mut s = snapshot();
-        s.rotor_speeds[..4].copy_from_slice(&[550.0, 560.0, 570.0, 1100.0]);
-        let Some(MavMessage::ACTUATOR_OUTPUT_STATUS(a)) = message(Stream::ActuatorOutputStatus, &s) else {
-            panic!("wrong message");
-        };
-        assert_eq!((a.active, a.time_usec), (4, 12_345_000));
-        assert_eq!(&a.actuator[..5], &[550.0, 560.0, 570.0, 1100.0, 0.0]);
-        let Some(MavMessage::SERVO_OUTPUT_RAW(r)) = message(Stream::ServoOutputRaw, &s) else {
-            panic!("wrong message");
-        };
-        assert_eq!((r.servo1_raw, r.servo4_raw, r.servo5_raw), (1500, 2000, 0));
     }
 
     #[test]

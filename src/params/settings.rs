@@ -1,9 +1,11 @@
 //! The settings the parameter table describes, as the flight software uses them, and the checks
 //! that only make sense on all of them together. Pure.
 
+use crate::allocation::Airmode;
 use crate::commander::CommanderParams;
 use crate::control::{ControllerGains, ControllerKind};
 use crate::estimation::ChebyshevDesign;
+use crate::flight::MotorFailureParams;
 use crate::nav_filter::NavParams;
 use crate::ulog::LogMode;
 
@@ -31,6 +33,12 @@ pub struct VehicleSettings {
     pub wind: WindParams,
     /// When `run` writes flight logs (`SDLOG_MODE`, read at start).
     pub log_mode: LogMode,
+    /// How the allocation may raise the collective for torque (`MC_AIRMODE_LIM`,
+    /// `MC_AIRMODE_YAW`; off as PX4's default).
+    pub airmode: Airmode,
+    /// How motor failures are detected and handled (`FD_ACT_*`, `CA_FAILURE_MODE`,
+    /// `SYS_FAIL_MOT_OFF`).
+    pub motors: MotorFailureParams,
 }
 
 /// The simulated wind as parameters set it (PX4 SIH's `SIH_WIND_N`/`SIH_WIND_E`, and the
@@ -48,7 +56,7 @@ pub struct WindParams {
 impl VehicleSettings {
     /// `controller` with `gains` and the wrench `estimator`; everything else at its default
     /// (PX4's commander defaults, no compensation, ground and ceiling effect on, flight logs
-    /// from arming to disarming).
+    /// from arming to disarming, air mode off, motor failures detected and allocated around).
     pub fn new(controller: ControllerKind, gains: ControllerGains, estimator: Option<ChebyshevDesign>) -> Self {
         Self {
             commander: CommanderParams::default(),
@@ -61,6 +69,8 @@ impl VehicleSettings {
             wind: WindParams::default(),
             nav: NavParams::default(),
             log_mode: LogMode::default(),
+            airmode: Airmode::DISABLED,
+            motors: MotorFailureParams::default(),
         }
     }
 

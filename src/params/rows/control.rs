@@ -94,3 +94,29 @@ pub(super) static GUARDS: &[ParamDef] = &[
         value gains.limits.eps_a_n
     ),
 ];
+
+/// Air mode (appended after the motor failures).
+pub(super) static AIRMODE: &[ParamDef] = &[
+    row!(
+        "MC_AIRMODE_LIM",
+        Real32,
+        [0.0, 1.0],
+        "",
+        Controller,
+        "How far the allocation may raise the collective above the request for roll and pitch, as a fraction of full thrust (0 off, 1 unlimited)",
+        |s| s.airmode.raise_limit,
+        |s, v| {
+            s.airmode.raise_limit = v;
+            Ok(())
+        }
+    ),
+    row!(
+        "MC_AIRMODE_YAW",
+        Int32,
+        [0.0, 1.0],
+        "",
+        Controller,
+        "1: the collective also moves (within MC_AIRMODE_LIM) to fit the full yaw torque before yaw is scaled down",
+        flag airmode.yaw
+    ),
+];

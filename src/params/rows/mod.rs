@@ -5,7 +5,7 @@
 //! # Layout
 //! - `flight.rs`: take-off, landing, speeds, accelerations, headings, auto-disarm, land detector,
 //!   return destination.
-//! - `control.rs`: control law, compensation, tilt limit, guards.
+//! - `control.rs`: control law, compensation, tilt limit, guards, air mode.
 //! - `estimator.rs`: the wrench estimator's design.
 //! - `gains.rs`: every gain of the three laws, per axis.
 //! - `failsafe.rs`: link and offboard loss, geofence, battery, failure injection.
@@ -14,6 +14,7 @@
 //! - `follow.rs`: follow-me.
 //! - `navigation_filter.rs`: the navigation filter (EKF2_*).
 //! - `logger.rs`: the flight logs (SDLOG_MODE).
+//! - `motors.rs`: motor failures: the reaction, the ESC check, the allocation around them.
 
 /// Declares one [`ParamDef`](super::ParamDef): name, wire type, `[min, max]`, unit, scope
 /// ([`Scope`](super::Scope) variant), description, then how it reads and writes the settings:
@@ -99,6 +100,7 @@ mod flight;
 mod follow;
 mod gains;
 mod logger;
+mod motors;
 mod navigation_filter;
 mod plant;
 mod sticks;
@@ -106,7 +108,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 26] = [
+static GROUPS: [&[ParamDef]; 28] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -133,6 +135,8 @@ static GROUPS: [&[ParamDef]; 26] = [
     failsafe::DELAY,
     flight::HEADING,
     flight::RETURN_CONE,
+    motors::MOTOR_FAILURE,
+    control::AIRMODE,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 134] = [
+const WIRE_ORDER: [&str; 142] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -139,6 +139,14 @@ const WIRE_ORDER: [&str; 134] = [
     "MPC_YAWRAUTO_ACC",
     "RTL_CONE_ANG",
     "RTL_MIN_DIST",
+    "COM_ACT_FAIL_ACT",
+    "FD_ACT_EN",
+    "FD_ACT_MOT_THR",
+    "FD_ACT_MOT_TOUT",
+    "CA_FAILURE_MODE",
+    "SYS_FAIL_MOT_OFF",
+    "MC_AIRMODE_LIM",
+    "MC_AIRMODE_YAW",
 ];
 
 fn settings() -> VehicleSettings {
