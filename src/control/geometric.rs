@@ -322,7 +322,9 @@ mod tests {
     fn a_vehicle_rolled_far_from_its_desired_attitude_keeps_a_recovery_thrust() {
         // Rolled 100°: the projection (5.2) asks no thrust, which would leave no torque.
         let mut x = level(Vec3::zeros());
-        x.r_wb = UnitQuat::from_euler_angles(100f64.to_radians(), 0.0, 0.0).to_rotation_matrix().into_inner();
+        x.r_wb = UnitQuat::from_euler_angles(100f64.to_radians(), 0.0, 0.0)
+            .to_rotation_matrix()
+            .into_inner();
         let out = step(
             &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
             &x,
@@ -332,7 +334,9 @@ mod tests {
         assert!((out.wrench.thrust_n - 0.12 * model.thrust_max_n).abs() < 1e-12);
         assert!(out.flags.thrust_clamped);
         // Rolled 30°: the projection as it is.
-        x.r_wb = UnitQuat::from_euler_angles(30f64.to_radians(), 0.0, 0.0).to_rotation_matrix().into_inner();
+        x.r_wb = UnitQuat::from_euler_angles(30f64.to_radians(), 0.0, 0.0)
+            .to_rotation_matrix()
+            .into_inner();
         let out = step(
             &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
             &x,
