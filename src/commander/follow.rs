@@ -28,9 +28,9 @@ const ANGLE_ADJUST_RAD_S: f64 = 1.5;
 /// An adjustment applies while the vehicle is within this many seconds of its speed of the
 /// adjusted value [s].
 const ADJUST_WINDOW_S: f64 = 0.5;
-/// Bounds of the adjusted height and distance [m].
+/// Lower bound of the adjusted height and distance [m].
 const ADJUST_MIN_M: f64 = 1.0;
-/// ...
+/// Upper bound of the adjusted height and distance [m].
 const ADJUST_MAX_M: f64 = 100.0;
 
 /// What the sticks changed of the follow parameters since the mode was entered.

@@ -320,28 +320,21 @@ mod tests {
 
     #[test]
     fn a_vehicle_rolled_far_from_its_desired_attitude_keeps_a_recovery_thrust() {
+        let thrust_rolled = |roll_deg: f64| {
+            let mut x = level(Vec3::zeros());
+            x.r_wb = UnitQuat::from_euler_angles(roll_deg.to_radians(), 0.0, 0.0)
+                .to_rotation_matrix()
+                .into_inner();
+            let law = &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical);
+            step(law, &x, &FlatSetpoint::hold(Vec3::zeros(), 0.0))
+        };
         // Rolled 100°: the projection (5.2) asks no thrust, which would leave no torque.
-        let mut x = level(Vec3::zeros());
-        x.r_wb = UnitQuat::from_euler_angles(100f64.to_radians(), 0.0, 0.0)
-            .to_rotation_matrix()
-            .into_inner();
-        let out = step(
-            &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
-            &x,
-            &FlatSetpoint::hold(Vec3::zeros(), 0.0),
-        );
+        let out = thrust_rolled(100.0);
         let model = VehicleModel::homework(60.0);
         assert!((out.wrench.thrust_n - 0.12 * model.thrust_max_n).abs() < 1e-12);
         assert!(out.flags.thrust_clamped);
         // Rolled 30°: the projection as it is.
-        x.r_wb = UnitQuat::from_euler_angles(30f64.to_radians(), 0.0, 0.0)
-            .to_rotation_matrix()
-            .into_inner();
-        let out = step(
-            &mut GeometricLaw::new(1e-3, 0.02, DesiredRateMode::Numerical),
-            &x,
-            &FlatSetpoint::hold(Vec3::zeros(), 0.0),
-        );
+        let out = thrust_rolled(30.0);
         assert!((out.wrench.thrust_n - 1.5 * GRAVITY_M_S2 * 30f64.to_radians().cos()).abs() < 1e-9);
     }
 

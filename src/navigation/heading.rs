@@ -21,7 +21,7 @@ use crate::math::wrap_pi;
 
 /// The heading reference: where it points and how fast it turns.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HeadingReference {
+pub struct HeadingSlew {
     /// ψ [rad].
     yaw_rad: f64,
     /// ω [rad/s].
@@ -41,7 +41,7 @@ pub struct HeadingStep {
     pub acc_rad_s2: f64,
 }
 
-impl HeadingReference {
+impl HeadingSlew {
     /// At rest at heading `yaw_rad` [rad].
     pub fn at(yaw_rad: f64) -> Self {
         Self {
@@ -128,7 +128,7 @@ mod tests {
 
     #[test]
     fn a_turn_accelerates_cruises_and_brakes_onto_the_heading_without_overshoot() {
-        let mut h = HeadingReference::at(170f64.to_radians());
+        let mut h = HeadingSlew::at(170f64.to_radians());
         let target = -100f64.to_radians(); // 90° the short way, across ±180°
         let mut steps = Vec::new();
         for _ in 0..4000 {
@@ -155,7 +155,7 @@ mod tests {
 
     #[test]
     fn a_heading_commanded_while_turning_the_other_way_is_reached_the_short_way() {
-        let mut h = HeadingReference::at(0.0);
+        let mut h = HeadingSlew::at(0.0);
         for _ in 0..3000 {
             h.at_rate(RATE, RATE, ACC, DT);
         }
@@ -179,7 +179,7 @@ mod tests {
 
     #[test]
     fn a_rate_is_reached_within_the_acceleration_limit_and_held() {
-        let mut h = HeadingReference::at(0.0);
+        let mut h = HeadingSlew::at(0.0);
         let steps: Vec<_> = (0..2000).map(|_| h.at_rate(1.0, 3.0, ACC, DT)).collect();
         assert!((steps[499].rate_rad_s - 0.5 * ACC).abs() < 1e-9);
         assert_eq!(steps.last().unwrap().rate_rad_s, 1.0);

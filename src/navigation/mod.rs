@@ -26,7 +26,7 @@ pub use follow::{FollowAltitude, FollowParams, FollowTarget};
 pub use geo::Home;
 pub use geofence::Geofence;
 pub use guidance::Guidance;
-pub use heading::{HeadingReference, HeadingStep};
+pub use heading::{HeadingSlew, HeadingStep};
 pub use limits::MotionLimits;
 pub use mission::{Mission, MissionItem};
 pub use orbit::{Orbit, OrbitYaw, ORBIT_RADIUS_M};

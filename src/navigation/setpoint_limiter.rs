@@ -12,9 +12,9 @@
 //! a = clamp(K (v_d − v), a_max);   v ← v + a dt;   p ← p + dt (v_old + v)/2
 //! acceleration feed-forward a;   K = 1/dt toward a position, K_v for a velocity alone
 //! heading set:    ψ turned the short way within MPC_YAWRAUTO_MAX and MPC_YAWRAUTO_ACC
-//!                 ([`HeadingReference::toward`])
+//!                 ([`HeadingSlew::toward`])
 //! rate only:      ψ turned at clamp(ψ̇_sp, MC_YAWRATE_MAX) from the first tick
-//!                 ([`HeadingReference::at_rate`]), then ψ ← ψ_v + clamp(wrap(ψ − ψ_v), ±Δψ_lead)
+//!                 ([`HeadingSlew::at_rate`]), then ψ ← ψ_v + clamp(wrap(ψ − ψ_v), ±Δψ_lead)
 //! ```
 //! A velocity demand alone is approached at most at the acceleration limit and, close to it,
 //! exponentially with time constant 1/K_v: the acceleration is continuous in the demand, so a
@@ -31,7 +31,7 @@
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::{euler_zyx, wrap_pi, Vec3};
 
-use super::heading::{HeadingReference, HeadingStep};
+use super::heading::{HeadingSlew, HeadingStep};
 use super::MotionLimits;
 
 /// Gain from position error to the velocity demand [1/s] (PX4 `MPC_XY_P` 0.95 feeds a velocity
@@ -48,7 +48,7 @@ const MAX_HEADING_LEAD_RAD: f64 = 0.35;
 pub struct SetpointLimiter {
     pos_w: Vec3,
     vel_w: Vec3,
-    heading: HeadingReference,
+    heading: HeadingSlew,
 }
 
 impl SetpointLimiter {
@@ -57,7 +57,7 @@ impl SetpointLimiter {
         Self {
             pos_w: x.pos_w,
             vel_w: x.vel_w,
-            heading: HeadingReference::at(euler_zyx(&x.r_wb).z),
+            heading: HeadingSlew::at(euler_zyx(&x.r_wb).z),
         }
     }
 

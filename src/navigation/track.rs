@@ -16,7 +16,7 @@
 use crate::control::FlatSetpoint;
 use crate::math::Vec3;
 
-use super::heading::HeadingReference;
+use super::heading::HeadingSlew;
 use super::setpoint_limiter::stopping_speed;
 use super::MotionLimits;
 
@@ -42,7 +42,7 @@ pub struct Leg {
 pub struct Track {
     pos_w: Vec3,
     vel_w: Vec3,
-    heading: HeadingReference,
+    heading: HeadingSlew,
     last_s: f64,
     limits: MotionLimits,
     /// The leg flown.
@@ -56,7 +56,7 @@ impl Track {
         Self {
             pos_w,
             vel_w,
-            heading: HeadingReference::at(yaw_rad),
+            heading: HeadingSlew::at(yaw_rad),
             last_s: t_s,
             limits,
             leg,
