@@ -17,7 +17,7 @@ vehicle's home). All take off to --height, then stream SET_POSITION_TARGET_LOCAL
 (in each vehicle's own local frame) and switch to OFFBOARD: first to its slot on a ring of
 --radius around the swarm's centre, then the centre flies a square of --side metres, --leg-time
 seconds per leg. After each leg every vehicle's distance to its slot is printed and the largest
-is reported as ``max formation error: E m``. Then all land and auto-disarm. The simulation has no
+is reported as ``max formation error: E m``; a vehicle that left OFFBOARD is an error. Then all land and auto-disarm. The simulation has no
 collisions; choose --radius and the start --spacing so paths do not cross if that matters to you.
 Exit status 0 on success, 1 on a refusal or timeout (``error: ...``), 2 for bad usage.
 """
@@ -127,6 +127,11 @@ def main(argv=None):
         for m, (sn, se) in zip(members, slots):
             m.fly_to(centre_n + dn + sn, centre_e + de + se, args.height)
         service_all(conns, args.leg_time)
+        for m in members:
+            beat = gcs.latest(m.conn, "HEARTBEAT")
+            if beat is not None and gcs.mode_of(beat.custom_mode) != gcs.parse_mode(gcs.OFFBOARD):
+                raise gcs.GcsError(f"system {m.conn.target_system} left OFFBOARD for "
+                                   f"{gcs.mode_name(beat.custom_mode)}")
         errors = [m.error() for m in members]
         worst = max(worst, *errors)
         print(f"leg {leg}: centre north {centre_n + dn:+.2f} east {centre_e + de:+.2f}; errors "

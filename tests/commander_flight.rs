@@ -123,6 +123,7 @@ fn mission_takeoff_waypoints_and_land() {
             wp(5.0, 5.0, -4.0, 0.0),
             MissionItem::Land { pos_w: None },
         ],
+        ..Default::default()
     };
     assert_eq!(sim.request(Request::SetMission(mission)), Outcome::Accepted);
     assert_eq!(sim.commander().mission_progress(), (0, 5, MissionState::NotStarted));
@@ -167,6 +168,7 @@ fn mission_ending_in_return_to_launch() {
             },
             MissionItem::ReturnToLaunch,
         ],
+        ..Default::default()
     };
     sim.request(Request::SetMission(mission));
     sim.request(Request::SetMode(FlightMode::Mission));

@@ -76,6 +76,7 @@ fn a_mission_without_takeoff_climbs_first_and_stays_armed_in_the_air() {
                 pos_w: Some(Vec3::new(30.0, 0.0, 0.0)),
             },
         ],
+        ..Default::default()
     };
     assert_eq!(v.apply(Request::SetMission(mission)), Outcome::Accepted);
     assert_eq!(v.apply(Request::Arm { force: false }), Outcome::Accepted);

@@ -39,7 +39,13 @@ fn fly(items: Vec<MissionItem>) -> Vec<(u16, f64)> {
     for _ in 0..(10.0 / DT_S) as usize {
         v.step();
     }
-    assert_eq!(v.apply(Request::SetMission(Mission { items })), Outcome::Accepted);
+    assert_eq!(
+        v.apply(Request::SetMission(Mission {
+            items,
+            ..Default::default()
+        })),
+        Outcome::Accepted
+    );
     assert_eq!(v.apply(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
     assert_eq!(v.apply(Request::Arm { force: false }), Outcome::Accepted);
     let mut trace = Vec::new();

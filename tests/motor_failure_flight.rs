@@ -122,7 +122,13 @@ fn square_mission(failed: Option<usize>) -> Square {
         })
         .chain([MissionItem::Land { pos_w: None }])
         .collect();
-    assert_eq!(v.apply(Request::SetMission(Mission { items })), Outcome::Accepted);
+    assert_eq!(
+        v.apply(Request::SetMission(Mission {
+            items,
+            ..Default::default()
+        })),
+        Outcome::Accepted
+    );
     assert_eq!(v.apply(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
     let mut m = Square {
         events: Vec::new(),
@@ -206,7 +212,10 @@ fn com_act_fail_act_3_returns_home_and_4_terminates() {
         seconds: 600.0,
     };
     assert_eq!(
-        v.apply(Request::SetMission(Mission { items: vec![wp] })),
+        v.apply(Request::SetMission(Mission {
+            items: vec![wp],
+            ..Default::default()
+        })),
         Outcome::Accepted
     );
     assert_eq!(v.apply(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);

@@ -1,7 +1,8 @@
 """The link to one autopilot: connect, receive, wait, and what a ground station sends unasked.
 
 Every message goes through `recv`, which first sends what is due (the GCS heartbeat once a
-second, an offboard setpoint stream: `set_periodic`), drops messages of other systems than the
+second, an offboard setpoint stream: `set_periodic`) on every link the helpers know, so waiting
+for one vehicle never silences the setpoint stream of another (its offboard would be lost), drops messages of other systems than the
 target and undecodable ones, records the latest message of each type (`latest`) and each
 parameter's type, and prints each STATUSTEXT as ``autopilot: [severity] text``.
 
@@ -16,6 +17,7 @@ import collections
 import math
 import sys
 import time
+import weakref
 from typing import Any, Callable, Iterable, TextIO, Union
 
 from ._mav import mavlink, mavutil
@@ -63,12 +65,17 @@ class LinkState:
         self.print_texts = True
 
 
+#: Every connection with helper state: `recv` on any of them services them all.
+_LINKS: "weakref.WeakSet[Connection]" = weakref.WeakSet()
+
+
 def link_state(conn: Connection) -> LinkState:
     """The helpers' state of `conn`, created (GCS heartbeat on, `DEFAULT_TIMEOUT`) on first use."""
     state = getattr(conn, "rp_state", None)
     if state is None:
         state = conn.rp_state = LinkState(DEFAULT_TIMEOUT)
         state.periodic["heartbeat"] = [HEARTBEAT_PERIOD_S, -math.inf, lambda: _heartbeat(conn)]
+        _LINKS.add(conn)
     return state
 
 
@@ -107,13 +114,31 @@ def stop_periodic(conn: Connection, name: str) -> None:
 
 
 def service(conn: Connection) -> None:
-    """Sends what is due now: the GCS heartbeat and every periodic stream."""
+    """Sends what is due now on `conn`: the GCS heartbeat and every periodic stream."""
     now = time.monotonic()
     for entry in list(link_state(conn).periodic.values()):
         period, last, send = entry
         if now - last >= period:
             send()
             entry[1] = time.monotonic()
+
+
+def forget(conn: Connection) -> None:
+    """Stops servicing `conn` from other links' waits (call it before closing `conn`)."""
+    _LINKS.discard(conn)
+
+
+def service_all(conn: Connection) -> None:
+    """`service` on `conn`, then on every other connection the helpers know; one that cannot
+    send any more (closed) is forgotten."""
+    service(conn)
+    for other in list(_LINKS):
+        if other is conn:
+            continue
+        try:
+            service(other)
+        except OSError:
+            _LINKS.discard(other)
 
 
 def print_statustext(msg: Message, out: TextIO | None = None) -> None:
@@ -128,11 +153,11 @@ def recv(conn: Connection, timeout: float) -> Message | None:
     state = link_state(conn)
     deadline = time.monotonic() + timeout
     while True:
-        service(conn)
+        service_all(conn)
         remaining = deadline - time.monotonic()
         if remaining <= 0:
             return None
-        fastest = min((entry[0] for entry in state.periodic.values()), default=1.0)
+        fastest = min((entry[0] for c in list(_LINKS) for entry in link_state(c).periodic.values()), default=1.0)
         m = conn.recv_match(blocking=True, timeout=min(remaining, 0.02 if fastest < 0.2 else 0.2))
         if m is None:
             continue
@@ -238,6 +263,7 @@ def connect(connection: str | Connection = DEFAULT_CONNECTION, timeout: float = 
         remaining = deadline - time.monotonic()
         if remaining <= 0:
             if isinstance(connection, str):
+                forget(conn)
                 conn.close()
             raise LinkTimeout(f"no autopilot heartbeat on {name} within {timeout:g} s")
         m = recv(conn, remaining)

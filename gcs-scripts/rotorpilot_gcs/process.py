@@ -214,6 +214,7 @@ class Autopilot(Vehicle):
             if proc is not None and proc.poll() is None:
                 proc.kill()
                 proc.wait()
+            link.forget(conn)
             conn.close()
             for s in sinks:
                 s.close()
@@ -321,6 +322,7 @@ class Autopilot(Vehicle):
         except subprocess.TimeoutExpired:
             self.proc.kill()
             code = self.proc.wait()
+        link.forget(self.conn)
         self.conn.close()
         for s in self._sinks:
             s.close()

@@ -31,6 +31,7 @@ class Vehicle:
 
     def close(self) -> None:
         """Closes the connection."""
+        link.forget(self._conn)
         self._conn.close()
 
     # The link.

@@ -219,3 +219,31 @@ def test_parameter_bits_and_modes():
     assert gcs.mode_name(gcs.custom_mode("OFFBOARD")) == "OFFBOARD" and gcs.mode_name(9 << 16) == "mode 9/0"
     with pytest.raises(ValueError, match="unknown PX4 mode 'CRUISE'"):
         gcs.parse_mode("CRUISE")
+
+
+def test_waiting_on_one_link_keeps_every_links_streams_going():
+    """A swarm script waits on one vehicle at a time: the other vehicles' setpoint streams (and
+    GCS heartbeats) must go on meanwhile, or their offboard is lost after COM_OF_LOSS_T."""
+    import socket
+
+    from rotorpilot_gcs import link
+
+    peers = [socket.socket(socket.AF_INET, socket.SOCK_DGRAM) for _ in range(2)]
+    conns = []
+    try:
+        for s in peers:
+            s.bind(("127.0.0.1", 0))
+            conns.append(gcs.mavutil.mavlink_connection(f"udpout:127.0.0.1:{s.getsockname()[1]}"))
+        sent = []
+        link.set_periodic(conns[1], "setpoint", 0.05, lambda: sent.append(time.monotonic()))
+        link.recv(conns[0], 1.0)  # nothing answers on link 0: a full second of waiting
+        assert len(sent) >= 15, f"link 1's 20 Hz stream sent {len(sent)} times in 1 s of waiting on link 0"
+        assert max(b - a for a, b in zip(sent, sent[1:])) < 0.2
+        link.forget(conns[1])
+        conns[1].close()
+        link.recv(conns[0], 0.2)  # a forgotten, closed link is left alone
+    finally:
+        for c in conns:
+            c.close()
+        for s in peers:
+            s.close()

@@ -11,7 +11,7 @@
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, wrap_pi, Vec3};
-use crate::navigation::{FollowParams, FollowTarget, Guidance, MotionLimits, SetpointLimiter, StickShaping, Sticks};
+use crate::navigation::{FollowParams, FollowTarget, Guidance, SetpointLimiter, StickShaping, Sticks};
 
 use super::landing::Command;
 use super::Commander;
@@ -128,10 +128,7 @@ impl Commander {
             }
         }
         self.follow.target = Some((target, heard_s));
-        let limits = MotionLimits {
-            horizontal_m_s: self.params.follow.max_speed_m_s.min(self.params.motion.horizontal_m_s),
-            ..self.params.motion
-        };
+        let limits = self.limits(self.params.follow.max_speed_m_s);
         let limiter = self.follow.limiter.get_or_insert_with(|| SetpointLimiter::at(x));
         Some(Command::Flat(limiter.step(&raw, x, &limits, dt_s)))
     }

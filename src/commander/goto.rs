@@ -159,7 +159,14 @@ impl Commander {
                 track.leg = leg;
                 Guidance::Track(track)
             }
-            None => Guidance::Track(Track::new(x.pos_w, x.vel_w, yaw, t_s, leg, self.params.motion)),
+            None => Guidance::Track(Track::new(
+                x.pos_w,
+                x.vel_w,
+                yaw,
+                t_s,
+                leg,
+                self.limits(self.goto_cruise()),
+            )),
         };
         self.advance_goto();
         Outcome::Accepted
@@ -181,7 +188,7 @@ impl Commander {
     pub(super) fn advance_goto(&mut self) {
         let speed = self.goto_speed();
         let cruise = self.goto_cruise();
-        let mut limits = self.params.motion;
+        let mut limits = self.limits(cruise);
         if let Guidance::Track(track) = &mut self.guidance {
             track.leg.cruise_m_s = speed;
             if cruise > 0.0 && track.vel_w().xy().norm() <= speed {

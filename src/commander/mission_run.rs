@@ -146,7 +146,8 @@ impl Commander {
 
     /// One tick of AUTO.MISSION.
     pub(super) fn advance_mission(&mut self, x: &VehicleState, yaw: f64, t_s: f64, events: &mut Vec<Event>) {
-        let Some(item) = self.mission.mission.items.get(self.mission.seq).copied() else {
+        // Heights above home follow a home moved in flight (PX4 reads them at flight time).
+        let Some(item) = self.mission.mission.item_at_home(self.mission.seq, self.home_w.z) else {
             return;
         };
         let speed = self.mission.speed_m_s.unwrap_or(self.cruise_speed());
@@ -156,7 +157,11 @@ impl Commander {
                 let target = Vec3::new(x.pos_w.x, x.pos_w.y, -height_m);
                 self.takeoff_target_w = Some(target);
                 self.climbing_out = on_ground;
-                self.guidance = self.path_to(x, target, yaw, self.cruise_speed(), t_s);
+                self.guidance = if on_ground {
+                    self.climb_to(x, target, yaw, t_s)
+                } else {
+                    self.path_to(x, target, yaw, self.cruise_speed(), t_s)
+                };
                 self.mission.phase = Phase::Travel;
             }
             (Phase::Start, MissionItem::Waypoint { pos_w, .. } | MissionItem::LoiterTime { pos_w, .. })
@@ -167,7 +172,7 @@ impl Commander {
                 let target = Vec3::new(x.pos_w.x, x.pos_w.y, -height);
                 self.takeoff_target_w = Some(target);
                 self.climbing_out = true;
-                self.guidance = self.path_to(x, target, yaw, self.cruise_speed(), t_s);
+                self.guidance = self.climb_to(x, target, yaw, t_s);
                 self.mission.phase = Phase::ClimbFirst;
             }
             (Phase::ClimbFirst, _) => {
@@ -196,7 +201,7 @@ impl Commander {
                         track.leg = leg;
                         Guidance::Track(track)
                     }
-                    _ => Guidance::Track(Track::new(x.pos_w, x.vel_w, yaw, t_s, leg, self.params.motion)),
+                    _ => Guidance::Track(Track::new(x.pos_w, x.vel_w, yaw, t_s, leg, self.limits(speed))),
                 };
                 self.mission.phase = Phase::Travel;
             }
@@ -237,6 +242,14 @@ impl Commander {
                     MissionItem::Land { pos_w: Some(p) } => Vec3::new(p.x, p.y, x.pos_w.z),
                     _ => x.pos_w,
                 };
+                let next_w = self.fly_through_to(&item);
+                if let (MissionItem::Waypoint { .. } | MissionItem::LoiterTime { .. }, Guidance::Track(track)) =
+                    (item, &mut self.guidance)
+                {
+                    // Home moved in flight: the reference flies the item where it is now.
+                    track.leg.target_w = goal;
+                    track.leg.next_w = next_w;
+                }
                 let accept = match item {
                     MissionItem::Waypoint { .. } => self.accept_radius(&item),
                     _ => ARRIVE_M,
@@ -286,9 +299,9 @@ impl Commander {
         if hold_s > 0.0 {
             return None;
         }
-        let items = &self.mission.mission.items;
-        for next in items.iter().skip(self.mission.seq + 1) {
-            match *next {
+        let mission = &self.mission.mission;
+        for seq in self.mission.seq + 1..mission.len() {
+            match mission.item_at_home(seq, self.home_w.z)? {
                 MissionItem::ChangeSpeed { .. } => continue,
                 MissionItem::Waypoint { pos_w: p, .. } | MissionItem::LoiterTime { pos_w: p, .. } => return Some(p),
                 MissionItem::Land { pos_w: Some(p) } => return Some(Vec3::new(p.x, p.y, pos_w.z)),

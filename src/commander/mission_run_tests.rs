@@ -7,7 +7,13 @@ use super::*;
 
 fn flown(items: Vec<MissionItem>) -> Script {
     let mut s = Script::new(CommanderParams::default());
-    assert_eq!(s.request(Request::SetMission(Mission { items })), Outcome::Accepted);
+    assert_eq!(
+        s.request(Request::SetMission(Mission {
+            items,
+            ..Default::default()
+        })),
+        Outcome::Accepted
+    );
     assert_eq!(s.request(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
     assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
     s
@@ -74,7 +80,7 @@ fn a_mission_started_on_the_ground_climbs_first_and_loiters_after_the_last_item(
     let mut straight_up = true;
     assert!(s.fly_until(20.0, |s| {
         straight_up &= s.x.pos_w.x.abs() < 1e-9;
-        s.x.pos_w.z < -4.0 + 1e-6
+        s.x.pos_w.z < -4.0 + 2e-3
     }));
     assert!(straight_up, "climbs to the item's height before it travels");
     assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
@@ -202,4 +208,38 @@ fn a_jump_for_ever_loops_until_the_current_item_is_moved_past_it() {
         Outcome::Accepted
     );
     assert!(s.until_disarmed(300.0), "{:?}", s.events);
+}
+
+#[test]
+fn heights_above_home_follow_a_home_moved_in_flight_and_the_waypoint_is_flown_where_it_is_now() {
+    let mut s = Script::new(CommanderParams::default());
+    let items = vec![
+        MissionItem::Takeoff { height_m: 10.0 },
+        waypoint(40.0, 0.0),
+        waypoint(80.0, 0.0),
+        MissionItem::Land { pos_w: None },
+    ];
+    let mission = Mission {
+        above_home: vec![true; items.len()],
+        items,
+    };
+    assert_eq!(s.request(Request::SetMission(mission)), Outcome::Accepted);
+    assert_eq!(s.request(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
+    assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    assert!(s.fly_until(60.0, |s| s.x.pos_w.x > 20.0), "on the way to item 1");
+    // Home moves 3 m down (DO_SET_HOME): the waypoints' heights above home come down with it.
+    let home = Vec3::new(0.0, 0.0, 3.0);
+    assert_eq!(s.request(Request::SetHome(Some(home))), Outcome::Accepted);
+    assert!(s.fly_until(60.0, |s| reached(s).contains(&1)), "{:?}", s.events);
+    assert!(
+        (s.x.pos_w.z - (3.0 - 5.0)).abs() <= 0.8,
+        "reached item 1 at its new height: {:?}",
+        s.x.pos_w
+    );
+    assert!(s.fly_until(60.0, |s| reached(s).contains(&2)));
+    assert!(
+        (s.x.pos_w - Vec3::new(80.0, 0.0, -2.0)).norm() <= 1.5,
+        "{:?}",
+        s.x.pos_w
+    );
 }

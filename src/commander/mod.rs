@@ -69,7 +69,7 @@ pub use messages::{CommanderTick, Event, LandedState, OrbitRequest, Outcome, Req
 pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
 pub use navigation_checks::NavValidity;
-pub use params::{CommanderParams, ManualParams, MissionParams};
+pub use params::{AutoVertical, CommanderParams, ManualParams, MissionParams};
 pub use reactions::{LossAllocation, RotorLoss};
 
 use follow::Follow;
@@ -259,6 +259,7 @@ impl Commander {
         if !self.armed {
             return CommanderTick::idle(events);
         }
+        self.pace_climb(x);
         let command = command.unwrap_or_else(|| match self.guidance.setpoint(t_s, x) {
             Some(sp) => Command::Flat(sp),
             None => Command::Idle,

@@ -5,7 +5,7 @@
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{DescentProfile, Guidance, MotionLimits};
+use crate::navigation::{DescentProfile, Guidance, Leg, MotionLimits, Track};
 
 use super::follow::FollowAdjust;
 use super::mission_run::MissionState;
@@ -21,13 +21,69 @@ impl Commander {
         self.speed_override.unwrap_or(self.params.cruise_speed_m_s)
     }
 
-    /// Path limits for a horizontal speed of `horizontal_m_s` [m/s], capped at
-    /// `MPC_XY_VEL_MAX`; every other limit as set.
-    fn limits(&self, horizontal_m_s: f64) -> MotionLimits {
+    /// AUTO path limits for a horizontal speed of `horizontal_m_s` [m/s], capped at
+    /// `MPC_XY_VEL_MAX`; vertical speeds `MPC_Z_V_AUTO_UP` / `_DN` within `MPC_Z_VEL_MAX_UP` /
+    /// `_DN`; every other limit as set.
+    pub(super) fn limits(&self, horizontal_m_s: f64) -> MotionLimits {
+        let (m, auto) = (&self.params.motion, &self.params.auto_vertical);
         MotionLimits {
-            horizontal_m_s: horizontal_m_s.min(self.params.motion.horizontal_m_s),
-            ..self.params.motion
+            horizontal_m_s: horizontal_m_s.min(m.horizontal_m_s),
+            up_m_s: auto.up_m_s.min(m.up_m_s),
+            down_m_s: auto.down_m_s.min(m.down_m_s),
+            ..*m
         }
+    }
+
+    /// The limits of a take-off climb at `height_m` [m] above the ground, as PX4's AUTO
+    /// take-off: below `MPC_LAND_ALT1` at `MPC_TKO_SPEED`, reached in `MPC_TKO_RAMP_T`; above it
+    /// as any AUTO path.
+    fn takeoff_limits(&self, height_m: f64) -> MotionLimits {
+        let limits = self.limits(self.cruise_speed());
+        let auto = &self.params.auto_vertical;
+        if height_m >= self.params.land_alt1_m {
+            return limits;
+        }
+        let speed = auto.takeoff_m_s.min(limits.up_m_s);
+        MotionLimits {
+            up_m_s: speed,
+            // A ramp time of 0 turns the ramp off (PX4).
+            acc_up_m_s2: match auto.takeoff_ramp_s {
+                ramp if ramp > 0.0 => limits.acc_up_m_s2.min(speed / ramp),
+                _ => limits.acc_up_m_s2,
+            },
+            ..limits
+        }
+    }
+
+    /// A take-off climb from where the vehicle is to `to_w` [m] at heading `yaw` [rad] (PX4's
+    /// AUTO take-off speeds, [`Self::takeoff_limits`], kept as it climbs by [`Self::pace_climb`]).
+    pub(super) fn climb_to(&self, x: &VehicleState, to_w: Vec3, yaw: f64, t_s: f64) -> Guidance {
+        let leg = Leg {
+            target_w: to_w,
+            next_w: None,
+            accept_m: self.params.mission.accept_m,
+            yaw_rad: yaw,
+            cruise_m_s: self.cruise_speed(),
+            corner_gain: self.params.mission.corner_gain,
+        };
+        let limits = self.takeoff_limits(self.height_above_ground(x));
+        Guidance::Track(Track::new(x.pos_w, x.vel_w, yaw, t_s, leg, limits))
+    }
+
+    /// Keeps a take-off climb's speeds those of its height (below or above `MPC_LAND_ALT1`).
+    pub(super) fn pace_climb(&mut self, x: &VehicleState) {
+        if !self.climbing_out {
+            return;
+        }
+        let limits = self.takeoff_limits(self.height_above_ground(x));
+        if let Guidance::Track(track) = &mut self.guidance {
+            track.set_limits(limits);
+        }
+    }
+
+    /// Height of `x` above the ground the land detector last touched, else above home [m].
+    fn height_above_ground(&self, x: &VehicleState) -> f64 {
+        self.detector.ground_z_m().unwrap_or(self.home_w.z) - x.pos_w.z
     }
 
     /// A path at `speed_m_s` [m/s] from where the vehicle is to `to_w` [m], ending at heading
@@ -37,7 +93,7 @@ impl Commander {
         Guidance::path(x.pos_w, to_w, yaw, to_yaw_rad, &self.limits(speed_m_s), t_s)
     }
 
-    /// A landing descent from where the vehicle is, at heading `yaw` [rad]: `MPC_Z_VEL_MAX_DN`
+    /// A landing descent from where the vehicle is, at heading `yaw` [rad]: `MPC_Z_V_AUTO_DN`
     /// above `MPC_LAND_ALT1`, slowing to `MPC_LAND_SPEED` below `MPC_LAND_ALT2`.
     pub(super) fn descend(&self, x: &VehicleState, yaw: f64, t_s: f64) -> Guidance {
         Guidance::Descend {
@@ -46,7 +102,7 @@ impl Commander {
             z_start_m: x.pos_w.z,
             start_s: t_s,
             profile: DescentProfile {
-                fast_m_s: self.params.motion.down_m_s,
+                fast_m_s: self.limits(0.0).down_m_s,
                 land_m_s: self.params.land_speed_m_s,
                 slow_from_m: self.params.land_alt1_m,
                 land_from_m: self.params.land_alt2_m,
@@ -125,7 +181,7 @@ impl Commander {
                         .takeoff_target_w
                         .unwrap_or(x.pos_w - Vec3::new(0.0, 0.0, self.params.takeoff_alt_m));
                     self.climbing_out = true;
-                    self.path_to(x, target, yaw, self.cruise_speed(), t_s)
+                    self.climb_to(x, target, yaw, t_s)
                 }
                 FlightMode::Land => self.descend(x, yaw, t_s),
                 FlightMode::Orbit if !on_ground => self.orbit_approach(x, t_s),
@@ -195,6 +251,52 @@ mod tests {
         // Then it holds the take-off point.
         assert!(s.fly(5.0).is_empty());
         assert!((s.x.pos_w - Vec3::new(0.0, 0.0, -5.0)).norm() < 1e-9);
+    }
+
+    #[test]
+    fn takeoff_climbs_at_px4s_takeoff_speed_then_at_the_auto_climb_speed() {
+        let mut s = Script::new(CommanderParams::default());
+        assert_eq!(s.request(Request::Takeoff { height_m: Some(100.0) }), Outcome::Accepted);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        let (mut low_peak, mut high_peak, mut acc_peak, mut t) = (0.0_f64, 0.0_f64, 0.0_f64, 0.0);
+        while s.c.mode() == FlightMode::Takeoff && t < 120.0 {
+            s.step();
+            t += super::super::script::DT_S;
+            let Some(sp) = s.last.as_ref().and_then(|tick| tick.setpoint) else {
+                continue;
+            };
+            let (height, up) = (GROUND_Z_M - s.x.pos_w.z, -sp.vel_w.unwrap_or_default().z);
+            if height < 9.0 {
+                low_peak = low_peak.max(up);
+                acc_peak = acc_peak.max(-sp.acc_w.unwrap_or_default().z);
+            } else {
+                high_peak = high_peak.max(up);
+            }
+        }
+        // MPC_TKO_SPEED 1.5 m/s reached in MPC_TKO_RAMP_T 3 s below MPC_LAND_ALT1 10 m, then
+        // MPC_Z_V_AUTO_UP 3 m/s: 10 m in ≈ 8 s, 90 m in ≈ 31 s (PX4 SITL: ≈ 40 s to 100 m).
+        assert!((low_peak - 1.5).abs() < 0.01, "{low_peak}");
+        assert!(acc_peak < 0.5 + 1e-9, "{acc_peak}");
+        assert!((high_peak - 3.0).abs() < 0.01, "{high_peak}");
+        assert!((36.0..45.0).contains(&t), "took {t} s");
+        assert!((s.x.pos_w.z - (GROUND_Z_M - 100.0)).abs() < 0.2, "{:?}", s.x.pos_w);
+    }
+
+    #[test]
+    fn the_auto_vertical_speeds_are_kept_within_the_caps() {
+        let mut s = Script::new(CommanderParams::default());
+        s.c.params.auto_vertical.up_m_s = 5.0;
+        s.c.params.auto_vertical.down_m_s = 1.0;
+        let limits = s.c.limits(5.0);
+        assert_eq!(
+            (limits.up_m_s, limits.down_m_s),
+            (3.0, 1.0),
+            "MPC_Z_VEL_MAX_UP caps MPC_Z_V_AUTO_UP"
+        );
+        s.c.params.auto_vertical.takeoff_ramp_s = 0.0;
+        assert_eq!(s.c.takeoff_limits(1.0).acc_up_m_s2, 4.0, "no ramp: MPC_ACC_UP_MAX");
+        assert_eq!(s.c.takeoff_limits(1.0).up_m_s, 1.5);
+        assert_eq!(s.c.takeoff_limits(10.0).up_m_s, 3.0);
     }
 
     #[test]

@@ -44,6 +44,34 @@ impl Default for ManualParams {
     }
 }
 
+/// The vertical speeds of the AUTO modes and of a take-off (PX4 names and defaults in brackets).
+/// Each is capped by the matching `MotionLimits` speed (`MPC_Z_VEL_MAX_UP` / `_DN`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AutoVertical {
+    /// Climb speed of AUTO paths and of a take-off above `MPC_LAND_ALT1` [m/s]
+    /// (`MPC_Z_V_AUTO_UP`, 3).
+    pub up_m_s: f64,
+    /// Descent speed of AUTO paths, and of a landing above `MPC_LAND_ALT1` [m/s]
+    /// (`MPC_Z_V_AUTO_DN`, 1.5).
+    pub down_m_s: f64,
+    /// Climb speed of a take-off below `MPC_LAND_ALT1` [m/s] (`MPC_TKO_SPEED`, 1.5).
+    pub takeoff_m_s: f64,
+    /// Time a take-off takes to reach `MPC_TKO_SPEED` [s]: its upward acceleration is at most
+    /// `MPC_TKO_SPEED / MPC_TKO_RAMP_T` (`MPC_TKO_RAMP_T`, 3).
+    pub takeoff_ramp_s: f64,
+}
+
+impl Default for AutoVertical {
+    fn default() -> Self {
+        Self {
+            up_m_s: 3.0,
+            down_m_s: 1.5,
+            takeoff_m_s: 1.5,
+            takeoff_ramp_s: 3.0,
+        }
+    }
+}
+
 /// Commander settings (PX4 parameter names in brackets).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CommanderParams {
@@ -51,7 +79,7 @@ pub struct CommanderParams {
     pub takeoff_alt_m: f64,
     /// Landing descent speed [m/s] (`MPC_LAND_SPEED`, 0.7).
     pub land_speed_m_s: f64,
-    /// A landing descends at `MPC_Z_VEL_MAX_DN` above this height, slowing below [m]
+    /// A landing descends at `MPC_Z_V_AUTO_DN` above this height, slowing below [m]
     /// (`MPC_LAND_ALT1`, 10).
     pub land_alt1_m: f64,
     /// ... and at `MPC_LAND_SPEED` below this one [m] (`MPC_LAND_ALT2`, 5).
@@ -93,6 +121,8 @@ pub struct CommanderParams {
     /// Limits of every AUTO path and every offboard setpoint (`MPC_XY_VEL_MAX` caps cruise,
     /// DO_CHANGE_SPEED and DO_REPOSITION speeds; the final landing descends at `land_speed_m_s`).
     pub motion: MotionLimits,
+    /// Vertical speeds of the AUTO modes and of a take-off.
+    pub auto_vertical: AutoVertical,
     /// Land detector.
     pub land_detector: LandDetectorParams,
     /// Stick modes and stick loss.
@@ -150,6 +180,7 @@ impl Default for CommanderParams {
             link_loss_action: LinkLossAction::Disabled,
             link_loss_s: 10.0,
             motion: MotionLimits::default(),
+            auto_vertical: AutoVertical::default(),
             land_detector: LandDetectorParams::default(),
             failsafe: FailsafeParams::default(),
             battery: BatteryParams::default(),

@@ -292,7 +292,10 @@ mod tests {
             accept_m: Some(0.5),
             yaw_rad: None,
         };
-        let mission = Mission { items: vec![leg] };
+        let mission = Mission {
+            items: vec![leg],
+            ..Default::default()
+        };
         assert_eq!(s.request(Request::SetMission(mission)), Outcome::Accepted);
         assert_eq!(s.request(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);
         assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);

@@ -203,6 +203,7 @@ mod tests {
         };
         let mission = Mission {
             items: vec![wp(5.0), wp(10.0)],
+            ..Default::default()
         };
         assert_eq!(s.request(Request::SetMission(mission)), Outcome::Accepted);
         assert_eq!(s.c.mission_progress(), (0, 2, MissionState::NotStarted));

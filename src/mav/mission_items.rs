@@ -39,7 +39,17 @@ pub fn parse_mission(items: &[MISSION_ITEM_INT_DATA], home: &Home) -> Result<Mis
             }
         }
     }
-    Ok(Mission { items: out })
+    let above_home = items.iter().map(|item| is_relative_frame(item.frame)).collect();
+    Ok(Mission { items: out, above_home })
+}
+
+/// True for the frames whose altitude is above home.
+#[allow(deprecated)]
+fn is_relative_frame(frame: MavFrame) -> bool {
+    matches!(
+        frame,
+        MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT | MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT
+    )
 }
 
 /// A position of a positional frame, local NED [m]; UNSUPPORTED_FRAME for another frame,

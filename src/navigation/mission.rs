@@ -87,6 +87,10 @@ impl MissionItem {
 pub struct Mission {
     /// Items.
     pub items: Vec<MissionItem>,
+    /// Per item, true when its height is above home (a GLOBAL_RELATIVE_ALT frame): its heights
+    /// are stored above the local origin and follow home when home moves, as PX4 reads them at
+    /// flight time; an item without an entry keeps its height.
+    pub above_home: Vec<bool>,
 }
 
 impl Mission {
@@ -103,6 +107,38 @@ impl Mission {
     /// True when every number of every item is finite.
     pub fn is_finite(&self) -> bool {
         self.items.iter().all(MissionItem::is_finite)
+    }
+
+    /// Item `seq` as flown with home at `home_z_m` [m] (NED z of home in the local frame): an
+    /// item whose height is above home is moved by home's height over the origin.
+    pub fn item_at_home(&self, seq: usize, home_z_m: f64) -> Option<MissionItem> {
+        let item = *self.items.get(seq)?;
+        if !self.above_home.get(seq).copied().unwrap_or(false) {
+            return Some(item);
+        }
+        let lift = |p: Vec3| Vec3::new(p.x, p.y, p.z + home_z_m);
+        Some(match item {
+            MissionItem::Takeoff { height_m } => MissionItem::Takeoff {
+                height_m: height_m - home_z_m,
+            },
+            MissionItem::Waypoint {
+                pos_w,
+                hold_s,
+                accept_m,
+                yaw_rad,
+            } => MissionItem::Waypoint {
+                pos_w: lift(pos_w),
+                hold_s,
+                accept_m,
+                yaw_rad,
+            },
+            MissionItem::LoiterTime { pos_w, seconds } => MissionItem::LoiterTime {
+                pos_w: lift(pos_w),
+                seconds,
+            },
+            MissionItem::Land { pos_w } => MissionItem::Land { pos_w: pos_w.map(lift) },
+            other => other,
+        })
     }
 }
 
@@ -124,10 +160,33 @@ mod tests {
                 wp(1.0),
                 MissionItem::Land { pos_w: None },
             ],
+            ..Default::default()
         };
         assert!(m.is_finite());
         m.items.push(wp(f64::NAN));
         assert!(!m.is_finite());
         assert!(!MissionItem::Delay { seconds: f64::INFINITY }.is_finite());
+    }
+
+    #[test]
+    fn heights_above_home_follow_home_and_the_others_stay() {
+        let wp = MissionItem::Waypoint {
+            pos_w: Vec3::new(1.0, 2.0, -20.0),
+            hold_s: 0.0,
+            accept_m: None,
+            yaw_rad: None,
+        };
+        let m = Mission {
+            items: vec![MissionItem::Takeoff { height_m: 20.0 }, wp, wp],
+            above_home: vec![true, true, false],
+        };
+        // Home 5 m below the origin (NED z +5): relative heights come down 5 m.
+        assert_eq!(m.item_at_home(0, 5.0), Some(MissionItem::Takeoff { height_m: 15.0 }));
+        let MissionItem::Waypoint { pos_w, .. } = m.item_at_home(1, 5.0).unwrap() else {
+            panic!("a waypoint stays a waypoint");
+        };
+        assert_eq!(pos_w, Vec3::new(1.0, 2.0, -15.0));
+        assert_eq!(m.item_at_home(2, 5.0), Some(wp), "an AMSL height stays");
+        assert_eq!(m.item_at_home(3, 5.0), None);
     }
 }

@@ -21,7 +21,7 @@ pub(super) static TAKEOFF_AND_RETURN: &[ParamDef] = &[
         [0.5, 20.0],
         "m/s",
         Navigation,
-        "Fastest climb of every AUTO path and offboard setpoint",
+        "Climb speed cap of every AUTO path and offboard setpoint (AUTO paths climb at MPC_Z_V_AUTO_UP within it)",
         value commander.motion.up_m_s
     ),
     row!(
@@ -88,7 +88,7 @@ pub(super) static SPEED_CAPS: &[ParamDef] = &[
         [0.1, 10.0],
         "m/s",
         Navigation,
-        "Descent speed cap of every AUTO path and offboard setpoint; landings descend at it above MPC_LAND_ALT1",
+        "Descent speed cap of every AUTO path and offboard setpoint (AUTO paths and landings descend at MPC_Z_V_AUTO_DN within it)",
         value commander.motion.down_m_s
     ),
 ];
@@ -272,5 +272,45 @@ pub(super) static RETURN_CONE: &[ParamDef] = &[
         Navigation,
         "Horizontal distance from the return destination within which the cone lowers the return altitude",
         value commander.rtl_min_dist_m
+    ),
+];
+
+/// The AUTO modes' vertical speeds and the take-off's (appended after the air mode).
+pub(super) static AUTO_VERTICAL: &[ParamDef] = &[
+    row!(
+        "MPC_Z_V_AUTO_UP",
+        Real32,
+        [0.5, 8.0],
+        "m/s",
+        Navigation,
+        "Climb speed of AUTO paths (take-off above MPC_LAND_ALT1, return climb, missions, GOTO), within MPC_Z_VEL_MAX_UP",
+        value commander.auto_vertical.up_m_s
+    ),
+    row!(
+        "MPC_Z_V_AUTO_DN",
+        Real32,
+        [0.5, 4.0],
+        "m/s",
+        Navigation,
+        "Descent speed of AUTO paths and of landings above MPC_LAND_ALT1, within MPC_Z_VEL_MAX_DN",
+        value commander.auto_vertical.down_m_s
+    ),
+    row!(
+        "MPC_TKO_SPEED",
+        Real32,
+        [1.0, 5.0],
+        "m/s",
+        Navigation,
+        "Take-off climb speed below MPC_LAND_ALT1",
+        value commander.auto_vertical.takeoff_m_s
+    ),
+    row!(
+        "MPC_TKO_RAMP_T",
+        Real32,
+        [0.0, 5.0],
+        "s",
+        Navigation,
+        "Time a take-off takes to reach MPC_TKO_SPEED (its upward acceleration is at most MPC_TKO_SPEED over it; 0: MPC_ACC_UP_MAX)",
+        value commander.auto_vertical.takeoff_ramp_s
     ),
 ];

@@ -108,7 +108,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 28] = [
+static GROUPS: [&[ParamDef]; 29] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -137,6 +137,7 @@ static GROUPS: [&[ParamDef]; 28] = [
     flight::RETURN_CONE,
     motors::MOTOR_FAILURE,
     control::AIRMODE,
+    flight::AUTO_VERTICAL,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 142] = [
+const WIRE_ORDER: [&str; 146] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -147,6 +147,10 @@ const WIRE_ORDER: [&str; 142] = [
     "SYS_FAIL_MOT_OFF",
     "MC_AIRMODE_LIM",
     "MC_AIRMODE_YAW",
+    "MPC_Z_V_AUTO_UP",
+    "MPC_Z_V_AUTO_DN",
+    "MPC_TKO_SPEED",
+    "MPC_TKO_RAMP_T",
 ];
 
 fn settings() -> VehicleSettings {
