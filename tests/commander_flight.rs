@@ -19,7 +19,8 @@ fn takeoff_hold_land_and_auto_disarm() {
     assert_eq!(sim.commander().mode(), FlightMode::Takeoff);
     assert!(!sim.commander().armed());
     assert_eq!(sim.request(Request::Arm { force: false }), Outcome::Accepted);
-    sim.run(6.0);
+    // PX4's take-off: 2.5 m at MPC_TKO_SPEED, reached in MPC_TKO_RAMP_T, ≈ 4.6 s.
+    sim.run(7.0);
     assert_eq!(sim.commander().mode(), FlightMode::Loiter, "take-off complete → hold");
     assert_eq!(sim.commander().landed_state(), LandedState::InAir);
     assert!(sim.events.contains(&Event::ModeChanged(FlightMode::Loiter)));
@@ -197,7 +198,7 @@ fn auto_paths_keep_mpc_xy_vel_max_and_mpc_z_vel_max_dn() {
     let mut sim = Sim::new("quad_x", params);
     sim.request(Request::Takeoff { height_m: Some(6.0) });
     sim.request(Request::Arm { force: false });
-    sim.run(8.0);
+    sim.run(11.0);
     // A 10 m/s request is capped at MPC_XY_VEL_MAX; a straight descent keeps MPC_Z_VEL_MAX_DN
     // (flown in AUTO.LOITER: no mode change asked).
     let moves = [(Some(12.0), -6.0, 2.0, 0.0), (None, -2.0, 0.0, 0.8)];
@@ -323,7 +324,7 @@ fn hovering_at_2_m(params: CommanderParams) -> Sim {
     let mut sim = Sim::new("quad_x", params);
     sim.request(Request::Takeoff { height_m: Some(2.0) });
     sim.request(Request::Arm { force: false });
-    sim.run(5.0);
+    sim.run(7.0);
     assert_eq!(sim.commander().mode(), FlightMode::Loiter);
     sim
 }

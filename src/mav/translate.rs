@@ -156,17 +156,8 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
             if param(cmd.param1) == Some(1.0) {
                 CommandDecision::Execute(Request::SetHome(None))
             } else {
-                match (param(cmd.param5), param(cmd.param6), param(cmd.param7)) {
-                    (Some(lat), Some(lon), Some(alt)) if !on_earth(f64::from(lat), f64::from(lon), f64::from(alt)) => {
-                        CommandDecision::Refuse(Outcome::Denied(format!(
-                            "Set home: {lat:.2}, {lon:.2}, {alt:.0} m is no place"
-                        )))
-                    }
-                    (Some(lat), Some(lon), Some(alt)) => CommandDecision::Execute(Request::SetHome(Some(
-                        origin.to_local(f64::from(lat), f64::from(lon), f64::from(alt)),
-                    ))),
-                    _ => CommandDecision::Refuse(Outcome::Denied("Set home: position not given".into())),
-                }
+                let given = |x: f32| param(x).map(f64::from);
+                set_home_at(given(cmd.param5), given(cmd.param6), given(cmd.param7), origin)
             }
         }
         MavCmd::MAV_CMD_MISSION_START => {
@@ -237,10 +228,27 @@ pub fn decode_command_int(id: &Identity, sender: &MavHeader, cmd: &COMMAND_INT_D
         let centre = given.then(|| (f64::from(cmd.x) * 1e-7, f64::from(cmd.y) * 1e-7));
         return super::orbit::decode_orbit(&long, centre, origin);
     }
+    if cmd.command == MavCmd::MAV_CMD_DO_SET_HOME && cmd.param1 != 1.0 {
+        // The exact degE7 position; z is AMSL as PX4's commander reads it, whatever the frame.
+        let degrees = |v: i32| (v != i32::MAX).then(|| f64::from(v) * 1e-7);
+        let alt = param(cmd.z).map(f64::from);
+        return set_home_at(degrees(cmd.x), degrees(cmd.y), alt, origin);
+    }
     if cmd.command != MavCmd::MAV_CMD_DO_REPOSITION {
         return decode_command(id, sender, &long, origin);
     }
     super::reposition::decode_int(cmd, &long, origin)
+}
+
+/// DO_SET_HOME at latitude, longitude [deg] and altitude [m AMSL], each `None` when not given.
+fn set_home_at(lat: Option<f64>, lon: Option<f64>, alt: Option<f64>, origin: &Home) -> CommandDecision {
+    match (lat, lon, alt) {
+        (Some(lat), Some(lon), Some(alt)) if !on_earth(lat, lon, alt) => CommandDecision::Refuse(Outcome::Denied(
+            format!("Set home: {lat:.2}, {lon:.2}, {alt:.0} m is no place"),
+        )),
+        (Some(lat), Some(lon), Some(alt)) => CommandDecision::Execute(Request::SetHome(Some(origin.to_local(lat, lon, alt)))),
+        _ => CommandDecision::Refuse(Outcome::Denied("Set home: position not given".into())),
+    }
 }
 
 /// Latitude [deg] in ±90, longitude [deg] in ±180 and altitude [m AMSL] in −1 km … 100 km.
@@ -394,5 +402,33 @@ mod tests {
             decode_command(&id, &gcs_header(0), &long, &Home::default()),
             CommandDecision::Execute(Request::Takeoff { height_m: Some(5.0) })
         );
+    }
+
+    #[test]
+    fn set_home_by_command_int_takes_the_exact_position() {
+        let id = Identity::autopilot(1, 1);
+        let home = Home::default();
+        let lat_e7 = (home.lat_deg * 1e7).round() as i32 + 900; // ≈ 10 m north
+        let int = COMMAND_INT_DATA {
+            command: MavCmd::MAV_CMD_DO_SET_HOME,
+            frame: mavlink::dialects::common::MavFrame::MAV_FRAME_GLOBAL_INT,
+            x: lat_e7,
+            y: (home.lon_deg * 1e7).round() as i32,
+            z: (home.alt_amsl_m - 5.0) as f32,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        };
+        let CommandDecision::Execute(Request::SetHome(Some(p))) = decode_command_int(&id, &gcs_header(0), &int, &home)
+        else {
+            panic!("DO_SET_HOME as COMMAND_INT is executed");
+        };
+        assert!((p.x - 10.0).abs() < 0.05 && p.y.abs() < 0.05, "{p:?}");
+        assert!((p.z - 5.0).abs() < 1e-3, "5 m below the origin: {p:?}");
+        let unset = COMMAND_INT_DATA { x: i32::MAX, ..int };
+        assert!(matches!(
+            decode_command_int(&id, &gcs_header(0), &unset, &home),
+            CommandDecision::Refuse(Outcome::Denied(_))
+        ));
     }
 }
