@@ -17,8 +17,9 @@ vehicle's home). All take off to --height, then stream SET_POSITION_TARGET_LOCAL
 (in each vehicle's own local frame) and switch to OFFBOARD: first to its slot on a ring of
 --radius around the swarm's centre, then the centre flies a square of --side metres, --leg-time
 seconds per leg. After each leg every vehicle's distance to its slot is printed and the largest
-is reported as ``max formation error: E m``; a vehicle that left OFFBOARD is an error. Then all land and auto-disarm. The simulation has no
-collisions; choose --radius and the start --spacing so paths do not cross if that matters to you.
+is reported as ``max formation error: E m``; a vehicle that left OFFBOARD is an error. Then all
+land and auto-disarm. The simulation has no collisions; choose --radius and the start --spacing so
+paths do not cross if that matters to you.
 Exit status 0 on success, 1 on a refusal or timeout (``error: ...``), 2 for bad usage.
 """
 import argparse

@@ -2,9 +2,9 @@
 
 Every message goes through `recv`, which first sends what is due (the GCS heartbeat once a
 second, an offboard setpoint stream: `set_periodic`) on every link the helpers know, so waiting
-for one vehicle never silences the setpoint stream of another (its offboard would be lost), drops messages of other systems than the
-target and undecodable ones, records the latest message of each type (`latest`) and each
-parameter's type, and prints each STATUSTEXT as ``autopilot: [severity] text``.
+for one vehicle never silences the setpoint stream of another (its offboard would be lost),
+drops messages of other systems than the target and undecodable ones, records the latest message
+of each type (`latest`) and each parameter's type, and prints each STATUSTEXT as ``autopilot: [severity] text``.
 
 Every wait has a timeout and raises `LinkTimeout` when it expires. Helpers that wait for their
 own answer (commands, parameters, plan transfers) keep the one-shot messages they read past

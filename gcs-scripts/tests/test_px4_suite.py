@@ -28,6 +28,8 @@ SUBSET = [
     "Fly Multicopter Mission with external set-current onto a DO_JUMP item",
     "Goto: reposition on a multicopter flies to and holds at the target",
     "Goto: speed change while flying is applied",
+    "Multicopter recovers after missing a waypoint during a home-altitude change",
+    "Control Allocation - Terminate on motor failure",
 ]
 
 
