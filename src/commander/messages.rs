@@ -276,8 +276,8 @@ pub enum Event {
 }
 
 impl Event {
-    /// The severity of its announcement (MAVLink / syslog levels): critical (2) for a failsafe or a critical notice,
-    /// warning (4) for a lost sensor, information (6) for the rest.
+    /// The severity of its announcement (MAVLink / syslog levels): critical (2) for a failsafe
+    /// or a critical notice, warning (4) for a lost sensor, information (6) for the rest.
     pub fn severity(&self) -> u8 {
         match self {
             Self::Failsafe(_) | Self::Notice { critical: true, .. } => 2,

@@ -85,7 +85,14 @@ impl Commander {
                 self.guidance = match self.rtl_way.first() {
                     Some(first) => {
                         let leg = self.rtl_leg(x, *first, self.rtl_way.get(1).copied(), yaw);
-                        Guidance::Track(Track::new(x.pos_w, x.vel_w, yaw, t_s, leg, self.limits(self.cruise_speed())))
+                        Guidance::Track(Track::new(
+                            x.pos_w,
+                            x.vel_w,
+                            yaw,
+                            t_s,
+                            leg,
+                            self.limits(self.cruise_speed()),
+                        ))
                     }
                     None => self.path_to(x, over, yaw, self.cruise_speed(), t_s),
                 };
@@ -345,7 +352,11 @@ mod tests {
             reposition(&mut s, Some(north_m), Some(east_m), None);
         }
         assert!((s.x.pos_w.xy() - Vec3::new(90.0, 0.0, 0.0).xy()).norm() < 1e-6);
-        assert!(!s.events.iter().any(|e| matches!(e, Event::Failsafe(_))), "{:?}", s.events);
+        assert!(
+            !s.events.iter().any(|e| matches!(e, Event::Failsafe(_))),
+            "{:?}",
+            s.events
+        );
         s.events.clear();
         assert_eq!(s.request(Request::ReturnToLaunch), Outcome::Accepted);
         let (mut closest, mut farthest_off_line) = (f64::INFINITY, 0.0_f64);
@@ -375,7 +386,10 @@ mod tests {
         // NAV_ACC_RAD 2: a 4 m margin, cut by less than its half at the corners flown through.
         assert!(closest > 2.0, "kept {closest} m off the square");
         // Round the square's west side (5 m off the line, a 4 m margin), then east of the circle.
-        assert!(farthest_off_line > 8.9, "went round: {farthest_off_line} m off the straight line");
+        assert!(
+            farthest_off_line > 8.9,
+            "went round: {farthest_off_line} m off the straight line"
+        );
         assert_eq!(
             s.events.first(),
             Some(&Event::Notice {
@@ -415,7 +429,11 @@ mod tests {
         s.events.clear();
         assert_eq!(s.request(Request::ReturnToLaunch), Outcome::Accepted);
         assert!(s.until_disarmed(300.0), "{:?}", s.events);
-        assert!((s.x.pos_w - Vec3::new(0.0, 0.0, GROUND_Z_M)).norm() < 1e-3, "{:?}", s.x.pos_w);
+        assert!(
+            (s.x.pos_w - Vec3::new(0.0, 0.0, GROUND_Z_M)).norm() < 1e-3,
+            "{:?}",
+            s.x.pos_w
+        );
         assert!(
             s.events.contains(&Event::Notice {
                 text: super::NO_FENCE_PATH.into(),
