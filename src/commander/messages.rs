@@ -262,6 +262,13 @@ pub enum Event {
         /// A loss (warning) rather than news (information).
         warning: bool,
     },
+    /// News of a mode's plan (a return's way round the geofence).
+    Notice {
+        /// The announcement.
+        text: String,
+        /// Critical (the plan fell back on something unsafe) rather than information.
+        critical: bool,
+    },
     /// Mission item `seq` reached (MISSION_ITEM_REACHED).
     MissionItemReached(u16),
     /// The current mission item changed (MISSION_CURRENT at once).
@@ -269,11 +276,11 @@ pub enum Event {
 }
 
 impl Event {
-    /// The severity of its announcement (MAVLink / syslog levels): critical (2) for a failsafe,
-    /// warning (4) for a lost sensor, information (6) for the rest.
+    /// The severity of its announcement (MAVLink / syslog levels): critical (2) for a failsafe
+    /// or a critical notice, warning (4) for a lost sensor, information (6) for the rest.
     pub fn severity(&self) -> u8 {
         match self {
-            Self::Failsafe(_) => 2,
+            Self::Failsafe(_) | Self::Notice { critical: true, .. } => 2,
             Self::Navigation { warning: true, .. } => 4,
             _ => 6,
         }
@@ -287,7 +294,7 @@ impl Event {
             Self::Landed => "Landing detected".to_string(),
             Self::Airborne => "Takeoff detected".to_string(),
             Self::OffboardLost => "Offboard lost".to_string(),
-            Self::Failsafe(text) | Self::Navigation { text, .. } => text.clone(),
+            Self::Failsafe(text) | Self::Navigation { text, .. } | Self::Notice { text, .. } => text.clone(),
             Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
             Self::MissionCurrent(seq) => format!("Mission item {seq}"),
         }

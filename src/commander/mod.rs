@@ -100,6 +100,8 @@ pub struct Commander {
     guidance: Guidance,
     takeoff_target_w: Option<Vec3>,
     rtl_phase: RtlPhase,
+    /// A return's points still to fly through round the geofence, the destination last [m].
+    rtl_way: Vec<Vec3>,
     armed_at_s: f64,
     /// The vehicle has been in the air since it was armed.
     took_off: bool,
@@ -140,6 +142,7 @@ impl Commander {
             guidance: Guidance::Idle,
             takeoff_target_w: None,
             rtl_phase: RtlPhase::Climb,
+            rtl_way: Vec::new(),
             armed_at_s: 0.0,
             took_off: false,
             offboard: Offboard::default(),

@@ -95,6 +95,9 @@ pub struct CommanderParams {
     pub rtl_min_dist_m: f64,
     /// Where a return goes: home or a rally point (`RTL_TYPE`, 0).
     pub rtl_type: RtlType,
+    /// Fly a land approach on a return when one exists (`RTL_APPR_FORCE`, 0). No land approaches
+    /// are stored here, so it is kept for clients and changes nothing.
+    pub rtl_approach_force: bool,
     /// Disarm this long after landing [s] (`COM_DISARM_LAND`, 2.0; ≤ 0 never).
     pub disarm_land_s: f64,
     /// Disarm this long after arming without taking off [s] (`COM_DISARM_PRFLT`, 10; ≤ 0 never).
@@ -174,6 +177,7 @@ impl Default for CommanderParams {
             rtl_cone_rad: 45f64.to_radians(),
             rtl_min_dist_m: 10.0,
             rtl_type: RtlType::HomeOrRally,
+            rtl_approach_force: false,
             disarm_land_s: 2.0,
             disarm_preflight_s: 10.0,
             offboard_loss_s: 1.0,

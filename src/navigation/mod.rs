@@ -5,6 +5,7 @@
 
 mod climb;
 mod descent;
+pub mod fence_path;
 mod follow;
 pub mod geo;
 pub mod geofence;

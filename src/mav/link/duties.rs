@@ -27,7 +27,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: *seq })
             }
             Event::MissionCurrent(seq) => self.report.mission_current(&self.snapshot, *seq, self.plans.ids()),
-            Event::Failsafe(text) => status_text(CRITICAL, text),
+            Event::Failsafe(text) | Event::Notice { text, critical: true } => status_text(CRITICAL, text),
             Event::Navigation { text, warning: true } => status_text(WARNING, text),
             other => status_text(INFO, &other.describe()),
         }

@@ -314,3 +314,14 @@ pub(super) static AUTO_VERTICAL: &[ParamDef] = &[
         value commander.auto_vertical.takeoff_ramp_s
     ),
 ];
+
+/// The return's land approach (appended after the AUTO vertical speeds).
+pub(super) static RETURN_APPROACH: &[ParamDef] = &[row!(
+    "RTL_APPR_FORCE",
+    Int32,
+    [0.0, 1.0],
+    "",
+    Navigation,
+    "1 makes a return fly a land approach when one exists (PX4); none are stored here, so it changes nothing: the return flies round the geofence either way",
+    flag commander.rtl_approach_force
+)];

@@ -108,7 +108,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 29] = [
+static GROUPS: [&[ParamDef]; 30] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -138,6 +138,7 @@ static GROUPS: [&[ParamDef]; 29] = [
     motors::MOTOR_FAILURE,
     control::AIRMODE,
     flight::AUTO_VERTICAL,
+    flight::RETURN_APPROACH,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely
