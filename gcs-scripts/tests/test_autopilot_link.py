@@ -389,7 +389,9 @@ def test_gcs_link_loss_returns_to_launch(autopilot):
     assert autopilot.command_ack(400, 1.0).result == ACCEPTED
     lost = autopilot.wait("STATUSTEXT", lambda m: "link lost" in m.text, 9)
     assert "returning" in lost.text
-    autopilot.wait_mode("AUTO.LOITER", 2)  # COM_FAIL_ACT_T (5 s) in a hold first, as PX4
+    # COM_FAIL_ACT_T (5 s) in a hold first, as PX4; a take-off still climbing (PX4's take-off
+    # speed) climbs on into its own hold.
+    autopilot.wait_mode("AUTO.LOITER", 5)
     autopilot.wait_mode("AUTO.RTL", 7)
 
 

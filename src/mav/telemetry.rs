@@ -158,8 +158,15 @@ fn heading_cdeg(s: &Snapshot) -> u16 {
     (s.eta.z.to_degrees().rem_euclid(360.0) * 100.0).round() as u16 % 36000
 }
 
+/// The snapshot's time [µs]: its tick's microsecond (rounded, as the flight log stamps it, so a
+/// tick at 4.07 s stored as 4.0699… s is 4 070 000 µs, not one tick earlier).
+pub(super) fn time_usec(s: &Snapshot) -> u64 {
+    (s.t_s * 1e6).round().max(0.0) as u64
+}
+
+/// The snapshot's time since boot [ms]: [`time_usec`] cut to the millisecond.
 pub(super) fn time_boot_ms(s: &Snapshot) -> u32 {
-    (s.t_s * 1000.0) as u32
+    (time_usec(s) / 1000) as u32
 }
 
 /// The components of `v` as MAVLink floats.
@@ -190,7 +197,7 @@ pub enum Outgoing {
 
 /// The message of `stream` for snapshot `s`; `None` when there is nothing to report (no estimate).
 pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
-    let time_usec = (s.t_s * 1e6) as u64;
+    let time_usec = time_usec(s);
     let vector = |name: &str, v: Vec3| {
         MavMessage::DEBUG_VECT(DEBUG_VECT_DATA {
             time_usec,
