@@ -413,7 +413,7 @@ mod tests {
         let lat_e7 = (home.lat_deg * 1e7).round() as i32 + 900; // ≈ 10 m north
         let int = COMMAND_INT_DATA {
             command: MavCmd::MAV_CMD_DO_SET_HOME,
-            frame: mavlink::dialects::common::MavFrame::MAV_FRAME_GLOBAL_INT,
+            frame: mavlink::dialects::common::MavFrame::MAV_FRAME_GLOBAL,
             x: lat_e7,
             y: (home.lon_deg * 1e7).round() as i32,
             z: (home.alt_amsl_m - 5.0) as f32,
