@@ -132,7 +132,7 @@ impl Commander {
             Some("attitude estimate not aligned")
         } else if let (true, Some(why)) = (arming, v.unstable) {
             Some(why)
-        } else if mode.needs_position() && !v.horizontal {
+        } else if (mode.needs_position() || (arming && !self.params.arm_without_gps)) && !v.horizontal {
             Some("no valid position estimate")
         } else if mode.needs_height() && !v.vertical {
             Some("no valid height estimate")
