@@ -12,13 +12,13 @@ use super::state::{ErrorVector, ERR_ATT};
 use super::NavFilter;
 
 /// Decay time constant of the peak-holding filter on |f| whose value gates the fusion [s]
-/// (PX4's `EKF2_ABL_TAU` default, 0.5 s) (eq. (20.2)).
+/// (PX4's `EKF2_ABL_TAU` default, 0.5 s) (docs/navigation_filter.md §20, eq. (20.2)).
 const ACCEL_PEAK_TAU_S: f64 = 0.5;
-/// Fused only while the filtered |f| / g is in this open interval [-] (eq. (20.2)).
+/// Fused only while the filtered |f| / g is in this open interval [-] (docs/navigation_filter.md §20, eq. (20.2)).
 const ACCEL_RATIO_RANGE: (f64, f64) = (0.9, 1.1);
-/// Smallest unit-vector noise (1σ) taken from `EKF2_GRAV_NOISE` [-] (eq. (20.3)).
+/// Smallest unit-vector noise (1σ) taken from `EKF2_GRAV_NOISE` [-] (docs/navigation_filter.md §20, eq. (20.3)).
 const MIN_NOISE: f64 = 0.01;
-/// Innovation gate [SD] (eq. (20.3)).
+/// Innovation gate [SD] (docs/navigation_filter.md §20, eq. (20.3)).
 const GATE_SD: f64 = 0.25;
 
 /// Largest rate for the vehicle to count as at rest [rad/s] (rotorpilot's choice).
@@ -38,7 +38,7 @@ pub(super) struct GravityAid {
 
 impl GravityAid {
     /// Takes one bias-corrected specific force `f_b` [m/s²] over `dt` [s]: the filtered
-    /// magnitude is `max(|f|, (1 − dt/τ) · previous)` (eq. (20.2)).
+    /// magnitude is `max(|f|, (1 − dt/τ) · previous)` (docs/navigation_filter.md §20, eq. (20.2)).
     pub fn add(&mut self, f_b: &Vec3, dt: f64) {
         let beta = 1.0 - (dt / ACCEL_PEAK_TAU_S).clamp(0.0, 1.0);
         let prev = self.accel_peak_m_s2.unwrap_or(0.0);
@@ -92,7 +92,7 @@ impl NavFilter {
     /// Fuses the direction of the bias-corrected specific force `f_b` [m/s²] as the body-frame up
     /// direction, one axis after the other, correcting the tilt only (never the yaw), while
     /// `EKF2_IMU_CTRL` bit 2 is set, nothing aids horizontally and the filtered |f| is between
-    /// 0.9 g and 1.1 g (docs/navigation_filter.md §20, eqs. (20.1)–(20.4)).
+    /// 0.9 g and 1.1 g (docs/navigation_filter.md §20, eqs. (20.1)–(20.3)).
     pub(super) fn fuse_gravity(&mut self, f_b: &Vec3) -> Fusion {
         if self.params.imu_ctrl & IMU_CTRL_GRAVITY == 0 || self.horizontal_aiding_active() {
             return Fusion::skipped(SkipReason::Inactive);
@@ -112,7 +112,7 @@ impl NavFilter {
             let s = (self.p.fixed_view::<3, 3>(ERR_ATT, ERR_ATT) * row).dot(&row) + variance;
             worst = worst.max((measured[axis] - up_b[axis]).powi(2) / (GATE_SD * GATE_SD * s));
         }
-        if !(worst <= 1.0) {
+        if worst.is_nan() || worst > 1.0 {
             return Fusion {
                 outcome: Outcome::Rejected,
                 test_ratio: worst,

@@ -102,9 +102,8 @@ pub struct NavParams {
     /// (docs/navigation_filter.md §20); bits 0 and 1 (gyro and accelerometer bias estimation)
     /// are kept for PX4's tools, rotorpilot always estimates both biases.
     pub imu_ctrl: u8,
-    /// Noise of the gravity-vector observation (`EKF2_GRAV_NOISE` 1.0) [g0]; the unit-vector
-    /// noise used is this value limited to [0.05, 0.3] (docs/navigation_filter.md §20,
-    /// eq. (20.3)).
+    /// Noise of the gravity-vector observation (`EKF2_GRAV_NOISE` 1.0) [g0], used as the noise
+    /// of the unit vector, at least 0.01 (docs/navigation_filter.md §20, eq. (20.3)).
     pub gravity_noise_g: f64,
     /// GNSS use (`EKF2_GPS_CTRL` 7, a bitmask: bit 0 horizontal position, bit 1 height, bit 2
     /// velocity); 0 stops GNSS fusion (docs/navigation_filter.md §6).

@@ -25,7 +25,7 @@ pub(super) static AIDING_SOURCES: &[ParamDef] = &[
         [0.1, 10.0],
         "g0",
         NavFilter,
-        "Noise of the gravity-vector observation (limited to 0.05-0.3 as a unit-vector noise)",
+        "Noise of the gravity-vector observation, as the noise of the unit vector (at least 0.01)",
         value nav.gravity_noise_g
     ),
     row!(
