@@ -214,6 +214,25 @@ mod tests {
     }
 
     #[test]
+    fn com_arm_wo_gps_0_needs_a_position_to_arm_in_every_mode() {
+        let mut s = Script::new(CommanderParams::default());
+        s.c.check_navigation(NO_POSITION, &s.x.clone(), 0.0);
+        assert_eq!(s.c.navigation_refusal(FlightMode::Stabilized, true), None);
+        let mut s = Script::new(CommanderParams {
+            arm_without_gps: false,
+            ..CommanderParams::default()
+        });
+        s.c.check_navigation(NO_POSITION, &s.x.clone(), 0.0);
+        assert_eq!(
+            s.c.navigation_refusal(FlightMode::Stabilized, true),
+            Some(Outcome::TemporarilyRejected(
+                "Arming denied: no valid position estimate".into()
+            ))
+        );
+        assert_eq!(s.c.navigation_refusal(FlightMode::Stabilized, false), None, "not modes");
+    }
+
+    #[test]
     fn a_lost_position_in_flight_descends_level_to_the_ground_and_disarms() {
         let mut s = Script::new(CommanderParams::default());
         s.airborne(10.0);
