@@ -43,11 +43,7 @@ fn fly(preset: &str, rotor: usize, seconds: f64, params: &[(&str, f64)]) -> Flig
     for (name, value) in params {
         v.set_param(name, *value).unwrap();
     }
-    v.schedule_rotor_failure(ScheduledFailure {
-        rotor,
-        at_s: FAILURE_AT_S,
-    })
-    .unwrap();
+    v.schedule_rotor_failure(ScheduledFailure { rotor, at_s: FAILURE_AT_S }).unwrap();
     assert_eq!(v.apply(Request::Takeoff { height_m: Some(3.0) }), Outcome::Accepted);
     assert_eq!(v.apply(Request::Arm { force: false }), Outcome::Accepted);
     let mut flight = Flight {

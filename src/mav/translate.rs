@@ -246,9 +246,7 @@ fn set_home_at(lat: Option<f64>, lon: Option<f64>, alt: Option<f64>, origin: &Ho
         (Some(lat), Some(lon), Some(alt)) if !on_earth(lat, lon, alt) => CommandDecision::Refuse(Outcome::Denied(
             format!("Set home: {lat:.2}, {lon:.2}, {alt:.0} m is no place"),
         )),
-        (Some(lat), Some(lon), Some(alt)) => {
-            CommandDecision::Execute(Request::SetHome(Some(origin.to_local(lat, lon, alt))))
-        }
+        (Some(lat), Some(lon), Some(alt)) => CommandDecision::Execute(Request::SetHome(Some(origin.to_local(lat, lon, alt)))),
         _ => CommandDecision::Refuse(Outcome::Denied("Set home: position not given".into())),
     }
 }
