@@ -132,7 +132,7 @@ impl Commander {
             Some("attitude estimate not aligned")
         } else if let (true, Some(why)) = (arming, v.unstable) {
             Some(why)
-        } else if mode.needs_position() && !v.horizontal {
+        } else if (mode.needs_position() || (arming && !self.params.arm_without_gps)) && !v.horizontal {
             Some("no valid position estimate")
         } else if mode.needs_height() && !v.vertical {
             Some("no valid height estimate")
@@ -211,6 +211,25 @@ mod tests {
         );
         s.c.check_navigation(NavValidity::EXACT, &s.x.clone(), 0.0);
         assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    }
+
+    #[test]
+    fn com_arm_wo_gps_0_needs_a_position_to_arm_in_every_mode() {
+        let mut s = Script::new(CommanderParams::default());
+        s.c.check_navigation(NO_POSITION, &s.x.clone(), 0.0);
+        assert_eq!(s.c.navigation_refusal(FlightMode::Stabilized, true), None);
+        let mut s = Script::new(CommanderParams {
+            arm_without_gps: false,
+            ..CommanderParams::default()
+        });
+        s.c.check_navigation(NO_POSITION, &s.x.clone(), 0.0);
+        assert_eq!(
+            s.c.navigation_refusal(FlightMode::Stabilized, true),
+            Some(Outcome::TemporarilyRejected(
+                "Arming denied: no valid position estimate".into()
+            ))
+        );
+        assert_eq!(s.c.navigation_refusal(FlightMode::Stabilized, false), None, "not modes");
     }
 
     #[test]

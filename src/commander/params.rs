@@ -118,6 +118,10 @@ pub struct CommanderParams {
     /// A position lost in POSCTL lands (descends) instead of falling back to ALTCTL with the
     /// sticks (`COM_POSCTL_NAVL`: 0 altitude, 1 land; default 0). The AUTO modes always descend.
     pub position_loss_lands: bool,
+    /// Arming is allowed without a position estimate in the modes that do not need one
+    /// (`COM_ARM_WO_GPS`: 0 a valid position is required to arm in any mode, 1 allowed;
+    /// default 1).
+    pub arm_without_gps: bool,
     /// Offboard-loss action (`COM_OBL_RC_ACT`: 0–2 hold position (no RC), 3 return, 4 land,
     /// 5 hold (AUTO.LOITER), 6 terminate, 7 disarm; default 0).
     pub offboard_loss_action: OffboardLossAction,
@@ -191,6 +195,7 @@ impl Default for CommanderParams {
             failure_injection: true,
             offboard_loss_action: OffboardLossAction::Position,
             position_loss_lands: false,
+            arm_without_gps: true,
             manual: ManualParams::default(),
             follow: FollowParams::default(),
             mission: MissionParams::default(),

@@ -4,6 +4,7 @@
 use crate::math::Vec3;
 
 use super::covariance::{fuse_group, Scalar};
+use super::params::IMU_CTRL_GRAVITY;
 use super::state::ERR_POS;
 use super::NavFilter;
 
@@ -39,9 +40,13 @@ impl NavFilter {
     /// While nothing has aided for `noaid_timeout_s` (or never), fuses the held horizontal
     /// position with noise `noaid_noise_m` every `HOLD_PERIOD_S`, which bounds the velocity and
     /// tilt errors (PX4's fake position fusion) (docs/navigation_filter.md §12, eq. (12.2)).
+    /// With gravity-vector fusion on (`EKF2_IMU_CTRL` bit 2) the hold runs only while the vehicle
+    /// is at rest: in motion the gravity vector levels the filter instead, as in PX4
+    /// (docs/navigation_filter.md §20).
     pub(super) fn update_position_hold(&mut self) {
         let now = self.t_s;
-        if !Aiding::timed_out(self.aiding.last_aiding_s, now, self.params.noaid_timeout_s) {
+        let gravity_levels = self.params.imu_ctrl & IMU_CTRL_GRAVITY != 0 && !self.gravity.at_rest();
+        if gravity_levels || !Aiding::timed_out(self.aiding.last_aiding_s, now, self.params.noaid_timeout_s) {
             self.aiding.hold_pos_w = None;
             self.aiding.last_hold_s = None;
             return;

@@ -7,7 +7,7 @@ use crate::math::Vec3;
 use super::aiding::Aiding;
 use super::covariance::{fuse_group, innovation_variance, uncorrelate, Scalar};
 use super::fusion::{Fusion, GpsFusion, Outcome, SkipReason};
-use super::params::HeightSource;
+use super::params::{HeightSource, GPS_CTRL_FUSED};
 use super::readings::GpsReading;
 use super::state::{ERR_POS, ERR_VEL};
 use super::NavFilter;
@@ -47,6 +47,9 @@ impl NavFilter {
         }
         if !self.aligned {
             return GpsFusion::all(Fusion::skipped(SkipReason::NotAligned));
+        }
+        if self.params.gps_ctrl & GPS_CTRL_FUSED == 0 {
+            return GpsFusion::all(Fusion::skipped(SkipReason::Inactive));
         }
         if !self.gps_quality_ok(gps) {
             return GpsFusion::all(Fusion::skipped(SkipReason::Quality));

@@ -8,6 +8,7 @@ use crate::math::{wrap_pi, UnitQuat, Vec3};
 use super::alignment::{yaw_from_mag, MIN_HORIZONTAL_FIELD_SHARE};
 use super::covariance::{fuse_shaped, Scalar};
 use super::fusion::{Fusion, Outcome, SkipReason};
+use super::params::MAG_TYPE_NONE;
 use super::readings::{finite3, MagReading};
 use super::state::{ErrorVector, ERR_ATT, ERR_GYRO_BIAS};
 use super::NavFilter;
@@ -50,6 +51,9 @@ impl NavFilter {
     fn fuse_mag_sample(&mut self, mag: &MagReading) -> Fusion {
         if !(mag.t_s.is_finite() && finite3(&mag.field_b)) {
             return Fusion::skipped(SkipReason::Invalid);
+        }
+        if self.params.mag_type == MAG_TYPE_NONE {
+            return Fusion::skipped(SkipReason::Inactive);
         }
         if !self.aligned {
             self.aligner.add_mag(&mag.field_b);

@@ -33,6 +33,7 @@ mod delay_buffer;
 mod estimate;
 mod fuse_baro;
 mod fuse_gps;
+mod fuse_gravity;
 mod fuse_mag;
 mod fusion;
 mod heading_aid;
@@ -54,7 +55,9 @@ pub use aiding::DEAD_RECKONING_AFTER_S;
 pub use estimate::NavEstimate;
 pub use fusion::{Fusion, GpsFusion, Outcome, SkipReason};
 pub use output::NavOutput;
-pub use params::{HeightSource, NavParams, NavParamsError, MAX_DELAY_S};
+pub use params::{
+    HeightSource, NavParams, NavParamsError, GPS_CTRL_FUSED, IMU_CTRL_GRAVITY, MAG_TYPE_NONE, MAX_DELAY_S,
+};
 pub use preflight::PreflightFailure;
 pub use readings::{BaroReading, GpsReading, ImuReading, MagReading};
 pub use state::{
@@ -69,6 +72,7 @@ use alignment::Aligner;
 use covariance::Increments;
 use datum::GnssDatum;
 use delay_buffer::DelayBuffer;
+use fuse_gravity::GravityAid;
 use heading_aid::HeadingAidIncrements;
 use height::HeightSelection;
 use output::OutputLag;
@@ -115,6 +119,7 @@ pub struct NavFilter {
     yaw_gsf: YawEstimator,
     /// IMU increments since the last GNSS fix, for `yaw_gsf`.
     heading_aid: HeadingAidIncrements,
+    gravity: GravityAid,
 }
 
 /// A filter with PX4's defaults ([`NavParams::default`], valid by construction: tested).
@@ -163,6 +168,7 @@ impl NavFilter {
             output_lag: OutputLag::default(),
             yaw_gsf: YawEstimator::default(),
             heading_aid: HeadingAidIncrements::default(),
+            gravity: GravityAid::default(),
         }
     }
 

@@ -98,7 +98,27 @@ pub struct NavParams {
     /// Time constant over which corrections reach the output the controllers fly on [s]
     /// (`EKF2_TAU_VEL` and `EKF2_TAU_POS`, 0.25) (docs/navigation_filter.md §16).
     pub output_tau_s: f64,
+    /// IMU use (`EKF2_IMU_CTRL` 7, a bitmask): bit 2 turns gravity-vector fusion on
+    /// (docs/navigation_filter.md §20); bits 0 and 1 (gyro and accelerometer bias estimation)
+    /// are kept for PX4's tools, rotorpilot always estimates both biases.
+    pub imu_ctrl: u8,
+    /// Noise of the gravity-vector observation (`EKF2_GRAV_NOISE` 1.0) [g0], used as the noise
+    /// of the unit vector, at least 0.01 (docs/navigation_filter.md §20, eq. (20.3)).
+    pub gravity_noise_g: f64,
+    /// GNSS use (`EKF2_GPS_CTRL` 7, a bitmask: bit 0 horizontal position, bit 1 height, bit 2
+    /// velocity); 0 stops GNSS fusion (docs/navigation_filter.md §6).
+    pub gps_ctrl: u8,
+    /// Magnetometer use (`EKF2_MAG_TYPE` 0 automatic; 5 none stops magnetometer fusion)
+    /// (docs/navigation_filter.md §10).
+    pub mag_type: u8,
 }
+
+/// `EKF2_IMU_CTRL` bit turning gravity-vector fusion on (docs/navigation_filter.md §20).
+pub const IMU_CTRL_GRAVITY: u8 = 1 << 2;
+/// `EKF2_GPS_CTRL` bits of the parts rotorpilot fuses: horizontal position, height, velocity.
+pub const GPS_CTRL_FUSED: u8 = 0b111;
+/// `EKF2_MAG_TYPE` value for "no magnetometer fusion".
+pub const MAG_TYPE_NONE: u8 = 5;
 
 impl Default for NavParams {
     fn default() -> Self {
@@ -134,6 +154,10 @@ impl Default for NavParams {
             sensor_timeout_s: 1.0,
             align_time_s: 1.0,
             output_tau_s: 0.25,
+            imu_ctrl: 7,
+            gravity_noise_g: 1.0,
+            gps_ctrl: 7,
+            mag_type: 0,
         }
     }
 }
@@ -163,7 +187,7 @@ impl NavParams {
     /// Checks every field against its range (docs/navigation_filter.md §4, §7).
     pub fn validate(&self) -> Result<(), NavParamsError> {
         let big = 1e6;
-        let checks: [(&'static str, f64, f64, f64); 30] = [
+        let checks: [(&'static str, f64, f64, f64); 34] = [
             ("predict_period_s", self.predict_period_s, 1e-3, 0.02),
             ("accel_noise_m_s2", self.accel_noise_m_s2, 1e-6, 10.0),
             ("gyro_noise_rad_s", self.gyro_noise_rad_s, 1e-7, 1.0),
@@ -199,6 +223,10 @@ impl NavParams {
             ("sensor_timeout_s", self.sensor_timeout_s, 0.01, 600.0),
             ("align_time_s", self.align_time_s, 0.01, 60.0),
             ("output_tau_s", self.output_tau_s, 0.01, 10.0),
+            ("imu_ctrl", f64::from(self.imu_ctrl), 0.0, 7.0),
+            ("gravity_noise_g", self.gravity_noise_g, 0.1, 10.0),
+            ("gps_ctrl", f64::from(self.gps_ctrl), 0.0, 15.0),
+            ("mag_type", f64::from(self.mag_type), 0.0, 6.0),
         ];
         for (name, value, min, max) in checks {
             if !(value.is_finite() && value >= min && value <= max) {

@@ -78,6 +78,9 @@ impl NavFilter {
         }
         let (f_w, yaw_rate) = integrate(&mut self.x, &prev, imu, dt, &mut self.increments);
         self.heading_aid.add(&f_w, yaw_rate, dt);
+        let f_b = imu.accel_b - self.x.accel_bias_b;
+        self.gravity.add(&f_b, dt);
+        self.gravity.add_rest(&self.omega_b, &f_b, dt);
         self.output_lag.decay(dt, self.params.output_tau_s);
         self.buffer.push(Snapshot {
             t_s: imu.t_s,
@@ -89,6 +92,7 @@ impl NavFilter {
             self.flush_covariance();
             self.update_height_source();
             self.update_position_hold();
+            self.fuse_gravity(&f_b);
         }
     }
 

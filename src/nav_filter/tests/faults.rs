@@ -185,7 +185,8 @@ fn without_the_magnetometer_a_wrong_yaw_is_reset_to_the_heading_from_gps_velocit
 
 #[test]
 fn without_gps_horizontal_position_turns_invalid_after_noaid_timeout() {
-    let (mut truth, mut filter) = setup(Motion::curves(), |p| p, 14);
+    // Gravity-vector fusion off (EKF2_IMU_CTRL 3): the position hold levels the filter in flight.
+    let (mut truth, mut filter) = setup(Motion::curves(), |p| NavParams { imu_ctrl: 3, ..p }, 14);
     let faults = Faults {
         gps_off: Some((40.0, 1e9)),
         ..Faults::default()
@@ -222,6 +223,28 @@ fn without_gps_horizontal_position_turns_invalid_after_noaid_timeout() {
     // 40 s of manoeuvres held only by the position-hold pseudo-measurement: degraded, not lost.
     assert!(worst.0.to_degrees() < 5.0, "attitude {}°", worst.0.to_degrees());
     assert!(worst.1 < 1.0, "height {} m", worst.1);
+}
+
+#[test]
+fn without_gps_the_gravity_vector_levels_the_filter_in_flight() {
+    let (mut truth, mut filter) = setup(Motion::curves(), |p| p, 14);
+    let faults = Faults {
+        gps_off: Some((40.0, 1e9)),
+        ..Faults::default()
+    };
+    let mut worst = 0.0_f64;
+    let mut held = false;
+    run(&mut truth, &mut filter, &faults, 80.0, |s| {
+        if s.truth.t_s >= 40.0 {
+            let (_, _, dth) = errors(s.filter, &s.truth);
+            let tilt = dth.x.hypot(dth.y);
+            worst = worst.max(tilt);
+            held |= s.filter.status().position_hold;
+        }
+    });
+    // In motion the position hold stays off (PX4's fake position with gravity fusion on).
+    assert!(!held);
+    assert!(worst.to_degrees() < 5.0, "tilt {}°", worst.to_degrees());
 }
 
 #[test]

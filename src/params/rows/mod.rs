@@ -14,6 +14,8 @@
 //! - `follow.rs`: follow-me.
 //! - `navigation_filter.rs`: the navigation filter (EKF2_*).
 //! - `logger.rs`: the flight logs (SDLOG_MODE).
+//! - `imu_aiding.rs`: which aids the navigation filter uses (gravity vector, GNSS,
+//!   magnetometer) and arming without GPS.
 //! - `motors.rs`: motor failures: the reaction, the ESC check, the allocation around them.
 
 /// Declares one [`ParamDef`](super::ParamDef): name, wire type, `[min, max]`, unit, scope
@@ -99,6 +101,7 @@ mod failsafe;
 mod flight;
 mod follow;
 mod gains;
+mod imu_aiding;
 mod logger;
 mod motors;
 mod navigation_filter;
@@ -108,7 +111,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 30] = [
+static GROUPS: [&[ParamDef]; 31] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -139,6 +142,7 @@ static GROUPS: [&[ParamDef]; 30] = [
     control::AIRMODE,
     flight::AUTO_VERTICAL,
     flight::RETURN_APPROACH,
+    imu_aiding::AIDING_SOURCES,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

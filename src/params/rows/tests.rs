@@ -4,7 +4,7 @@ use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 147] = [
+const WIRE_ORDER: [&str; 152] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -152,6 +152,11 @@ const WIRE_ORDER: [&str; 147] = [
     "MPC_TKO_SPEED",
     "MPC_TKO_RAMP_T",
     "RTL_APPR_FORCE",
+    "EKF2_IMU_CTRL",
+    "EKF2_GRAV_NOISE",
+    "EKF2_GPS_CTRL",
+    "EKF2_MAG_TYPE",
+    "COM_ARM_WO_GPS",
 ];
 
 fn settings() -> VehicleSettings {
