@@ -242,13 +242,14 @@ impl Commander {
                     MissionItem::Land { pos_w: Some(p) } => Vec3::new(p.x, p.y, x.pos_w.z),
                     _ => x.pos_w,
                 };
-                let next_w = self.fly_through_to(&item);
-                if let (MissionItem::Waypoint { .. } | MissionItem::LoiterTime { .. }, Guidance::Track(track)) =
-                    (item, &mut self.guidance)
-                {
+                let moved = matches!(self.guidance, Guidance::Track(t) if t.leg.target_w != goal);
+                if moved && matches!(item, MissionItem::Waypoint { .. } | MissionItem::LoiterTime { .. }) {
                     // Home moved in flight: the reference flies the item where it is now.
-                    track.leg.target_w = goal;
-                    track.leg.next_w = next_w;
+                    let next_w = self.fly_through_to(&item);
+                    if let Guidance::Track(track) = &mut self.guidance {
+                        track.leg.target_w = goal;
+                        track.leg.next_w = next_w;
+                    }
                 }
                 let accept = match item {
                     MissionItem::Waypoint { .. } => self.accept_radius(&item),

@@ -4,7 +4,7 @@
 
 use crate::math::{Mat3, UnitQuat, Vec3, GRAVITY_M_S2};
 
-use super::delay_buffer::Snapshot;
+use super::delay_buffer::PastState;
 use super::fuse_mag::{heading_jacobian, tan_inclination};
 use super::params::{HeightSource, NavParams};
 use super::readings::ImuReading;
@@ -233,7 +233,7 @@ impl NavFilter {
         }
         self.baro_origin_m = self.aligner.mean_baro_m();
         self.buffer.clear();
-        self.buffer.push(Snapshot {
+        self.buffer.push(PastState {
             t_s: self.t_s,
             pos_w: self.x.pos_w,
             vel_w: self.x.vel_w,
@@ -271,7 +271,7 @@ impl NavFilter {
         self.aiding.last_vel_s = Some(t_s);
         self.height.mark_fused(self.height.active, t_s);
         self.buffer.clear();
-        self.buffer.push(Snapshot {
+        self.buffer.push(PastState {
             t_s,
             pos_w,
             vel_w,

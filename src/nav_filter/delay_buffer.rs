@@ -12,7 +12,7 @@ pub(super) const DELAY_BUFFER_LEN: usize = 256;
 
 /// The kinematic part of the nominal state at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Snapshot {
+pub(super) struct PastState {
     /// Time [s].
     pub t_s: f64,
     /// Position, local NED [m].
@@ -23,7 +23,7 @@ pub(super) struct Snapshot {
     pub q_wb: UnitQuat,
 }
 
-impl Default for Snapshot {
+impl Default for PastState {
     fn default() -> Self {
         Self {
             t_s: 0.0,
@@ -34,10 +34,10 @@ impl Default for Snapshot {
     }
 }
 
-/// Ring buffer of [`Snapshot`]s, allocated once.
+/// Ring buffer of [`PastState`]s, allocated once.
 #[derive(Debug, Clone)]
 pub(super) struct DelayBuffer {
-    items: Box<[Snapshot; DELAY_BUFFER_LEN]>,
+    items: Box<[PastState; DELAY_BUFFER_LEN]>,
     /// Index of the oldest entry.
     start: usize,
     len: usize,
@@ -47,7 +47,7 @@ impl DelayBuffer {
     /// An empty buffer.
     pub fn new() -> Self {
         Self {
-            items: Box::new([Snapshot::default(); DELAY_BUFFER_LEN]),
+            items: Box::new([PastState::default(); DELAY_BUFFER_LEN]),
             start: 0,
             len: 0,
         }
@@ -59,12 +59,12 @@ impl DelayBuffer {
         self.len = 0;
     }
 
-    fn get(&self, i: usize) -> &Snapshot {
+    fn get(&self, i: usize) -> &PastState {
         &self.items[(self.start + i) % DELAY_BUFFER_LEN]
     }
 
     /// Appends the newest snapshot, dropping the oldest when full.
-    pub fn push(&mut self, s: Snapshot) {
+    pub fn push(&mut self, s: PastState) {
         if self.len < DELAY_BUFFER_LEN {
             self.items[(self.start + self.len) % DELAY_BUFFER_LEN] = s;
             self.len += 1;
@@ -77,7 +77,7 @@ impl DelayBuffer {
     /// The state at time `t_s` [s], linearly interpolated between the two entries around it
     /// (docs/navigation_filter.md §7, eq. (7.2)); the newest entry for a later time; `None` when
     /// empty or when `t_s` is older than the oldest entry.
-    pub fn at(&self, t_s: f64) -> Option<Snapshot> {
+    pub fn at(&self, t_s: f64) -> Option<PastState> {
         if self.len == 0 {
             return None;
         }
@@ -105,7 +105,7 @@ impl DelayBuffer {
         } else {
             0.0
         };
-        Some(Snapshot {
+        Some(PastState {
             t_s,
             pos_w: a.pos_w.lerp(&b.pos_w, u),
             vel_w: a.vel_w.lerp(&b.vel_w, u),
@@ -149,12 +149,12 @@ impl DelayBuffer {
 mod tests {
     use super::*;
 
-    fn snap(t: f64) -> Snapshot {
-        Snapshot {
+    fn snap(t: f64) -> PastState {
+        PastState {
             t_s: t,
             pos_w: Vec3::new(t, 2.0 * t, 0.0),
             vel_w: Vec3::new(1.0, 2.0, 0.0),
-            ..Snapshot::default()
+            ..PastState::default()
         }
     }
 

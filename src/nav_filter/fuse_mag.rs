@@ -173,7 +173,7 @@ mod tests {
         f.mag_tan_inclination = Some(0.43 / 0.21);
         f.p =
             crate::nav_filter::alignment::initial_covariance(f.params(), HeightSource::Gps, &UnitQuat::identity(), 1.0);
-        f.buffer.push(crate::nav_filter::delay_buffer::Snapshot::default());
+        f.buffer.push(crate::nav_filter::delay_buffer::PastState::default());
         let decl = f.params().mag_declination_rad;
         let field_w = Vec3::new(0.21 * decl.cos(), 0.21 * decl.sin(), 0.43);
         let q_true = UnitQuat::from_euler_angles(0.0, 0.0, 0.1);

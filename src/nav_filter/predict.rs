@@ -4,7 +4,7 @@
 use crate::math::{e3, UnitQuat, Vec3, GRAVITY_M_S2};
 
 use super::covariance::{self, Increments, ProcessNoise};
-use super::delay_buffer::Snapshot;
+use super::delay_buffer::PastState;
 use super::params::HeightSource;
 use super::readings::ImuReading;
 use super::state::Nominal;
@@ -82,7 +82,7 @@ impl NavFilter {
         self.gravity.add(&f_b, dt);
         self.gravity.add_rest(&self.omega_b, &f_b, dt);
         self.output_lag.decay(dt, self.params.output_tau_s);
-        self.buffer.push(Snapshot {
+        self.buffer.push(PastState {
             t_s: imu.t_s,
             pos_w: self.x.pos_w,
             vel_w: self.x.vel_w,
