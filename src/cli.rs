@@ -104,6 +104,8 @@ pub(crate) enum Command {
         /// Parameter file (QGC `SYSID COMPID NAME VALUE TYPE` lines or `NAME VALUE` lines).
         #[arg(long)]
         params: Option<PathBuf>,
+        #[command(flatten)]
+        link: LinkImpairmentArgs,
     },
     /// Headless take-off and hover in lockstep with the plant, as fast as the CPU allows,
     /// printing a JSON summary.
@@ -380,4 +382,40 @@ impl DesignArgs {
 fn parse_sensor_model(text: &str) -> Result<rotorpilot::sitl::SensorModel, String> {
     rotorpilot::sitl::SensorModel::from_name(text)
         .ok_or_else(|| format!("\"{text}\": expected \"ideal\" or \"realistic\""))
+}
+
+/// A bad radio link on purpose, for trying ground stations: `run`'s `--link-*` options.
+#[derive(Debug, Args)]
+pub(crate) struct LinkImpairmentArgs {
+    /// Drop this share of the datagrams, e.g. `20%` or `0.2`; `UP/DOWN` gives each direction
+    /// (to the vehicle / from it), e.g. `5%/20%`.
+    #[arg(long = "link-loss", value_name = "P")]
+    link_loss: Option<String>,
+    /// Hold each datagram for a delay drawn uniformly from this range, e.g. `0..50ms`, `20ms`,
+    /// `0.1s` (delays reorder datagrams); `UP/DOWN` for each direction.
+    #[arg(long = "link-delay", value_name = "RANGE")]
+    link_delay: Option<String>,
+    /// Send this share of the datagrams twice, e.g. `5%`; `UP/DOWN` for each direction.
+    #[arg(long = "link-duplicate", value_name = "P")]
+    link_duplicate: Option<String>,
+    /// Seed of the impairment's draws (vehicle i draws from SEED + i).
+    #[arg(long = "link-seed", value_name = "SEED", default_value_t = 0)]
+    link_seed: u64,
+    /// Which links are impaired: `gcs`, `api` or `all`.
+    #[arg(long = "link-impaired", value_name = "LINKS", default_value = "all")]
+    link_impaired: String,
+}
+
+impl LinkImpairmentArgs {
+    /// The impairment asked for, `None` without any `--link-loss/-delay/-duplicate`.
+    pub(crate) fn config(&self) -> Result<Option<runtime::impairment::LinkImpairment>, String> {
+        runtime::impairment::LinkImpairment::from_options(
+            self.link_loss.as_deref(),
+            self.link_delay.as_deref(),
+            self.link_duplicate.as_deref(),
+            &self.link_impaired,
+            self.link_seed,
+        )
+        .map_err(|e| e.to_string())
+    }
 }

@@ -145,6 +145,7 @@ fn execute(command: Command) -> Result<String, String> {
             no_log,
             log_profile,
             params,
+            link,
         } => {
             let local = |port: u16| {
                 port.checked_add(port_base)
@@ -199,20 +200,21 @@ fn execute(command: Command) -> Result<String, String> {
                 sensors,
                 sensor_failures: fail,
                 signing_key,
+                link_impairment: link.config()?,
             };
             if let Some(d) = duration {
                 if !(d.is_finite() && d > 0.0) {
                     return Err(format!("--duration {d}: must be a positive number of seconds"));
                 }
             }
-            runtime::run(config, shutdown_signal(duration), |ready| {
+            let report = runtime::run(config, shutdown_signal(duration), |ready| {
                 if let Ok(line) = serde_json::to_string(ready) {
                     println!("{line}");
                     let _ = std::io::Write::flush(&mut std::io::stdout());
                 }
             })
             .map_err(|e| e.to_string())?;
-            Ok(String::new())
+            serde_json::to_string(&report).map_err(|e| e.to_string())
         }
         Command::Fly {
             airframe,

@@ -402,3 +402,38 @@ fn gcs_link_loss_runs_nav_dll_act_in_flight_only() {
         }
     }
 }
+
+#[test]
+fn a_landing_that_interrupts_a_return_climb_descends_within_the_speed_limit() {
+    // RTL climbing at MPC_Z_V_AUTO_UP towards RTL_RETURN_ALT, then NAV_LAND: the climb is
+    // stopped and the descent never exceeds MPC_Z_VEL_MAX_DN (1.5 m/s), as every automatic path.
+    let params = CommanderParams {
+        rtl_return_alt_m: 40.0,
+        rtl_cone_rad: 0.0,
+        ..Default::default()
+    };
+    let max_down = params.motion.down_m_s;
+    let mut sim = Sim::new("quad_x", params);
+    sim.request(Request::Takeoff { height_m: Some(5.0) });
+    sim.request(Request::Arm { force: false });
+    sim.run(8.0);
+    assert_eq!(sim.request(Request::ReturnToLaunch), Outcome::Accepted);
+    while sim.velocity().z > -2.5 {
+        sim.run(0.01);
+    }
+    assert_eq!(sim.request(Request::Land), Outcome::Accepted);
+    let (mut fastest_down, mut top) = (0.0_f64, 0.0_f64);
+    for _ in 0..6_000 {
+        sim.run(0.01);
+        fastest_down = fastest_down.max(sim.velocity().z);
+        top = top.min(sim.position().z);
+        if !sim.commander().armed() {
+            break;
+        }
+    }
+    assert!(!sim.commander().armed(), "landed: {:?}", sim.events);
+    assert!(
+        fastest_down <= max_down * 1.05,
+        "descended at {fastest_down:.2} m/s (top {top:.1} m)"
+    );
+}

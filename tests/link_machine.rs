@@ -394,3 +394,64 @@ fn ground_truth_streams_on_request_as_px4_sitl_serves_it() {
     assert!((f64::from(t.lat) / 1e7 - home.lat_deg - (10.0 / 6_371_000f64).to_degrees()).abs() < 2e-7);
     assert_eq!((t.alt, t.vx), (((home.alt_amsl_m + 5.0) * 1000.0).round() as i32, 100));
 }
+
+/// SERIAL_CONTROL opening a shell (RESPOND) with `text` typed.
+fn shell_line(text: &str) -> MavMessage {
+    let mut data = [0u8; 70];
+    data[..text.len()].copy_from_slice(text.as_bytes());
+    MavMessage::SERIAL_CONTROL(SERIAL_CONTROL_DATA {
+        device: SerialControlDev::SERIAL_CONTROL_DEV_SHELL,
+        flags: SerialControlFlag::SERIAL_CONTROL_FLAG_RESPOND | SerialControlFlag::SERIAL_CONTROL_FLAG_EXCLUSIVE,
+        count: text.len() as u8,
+        data,
+        ..Default::default()
+    })
+}
+
+#[test]
+fn five_thousand_addresses_writing_once_get_no_more_telemetry_and_leave_nothing_behind() {
+    use rotorpilot::mav::link::{MAX_PEERS, PEER_TIMEOUT_S};
+    let mut b = Bench::new();
+    b.at(0.5, 0.5);
+    b.out();
+    // One second of telemetry to the configured ground station alone.
+    let alone = (1..=100).map(|k| (0.5 + 0.01 * f64::from(k), 0.5 + 0.01 * f64::from(k)));
+    let per_second_alone = b.count_sent("ATTITUDE", Gcs, alone);
+    assert!(per_second_alone > 0);
+    // 5 000 source ports each send a heartbeat, open a shell and ask for the parameter list.
+    for k in 0..5_000u16 {
+        let from = 50_000 + k;
+        b.send(Gcs, from, gcs_heartbeat());
+        b.send(Gcs, from, shell_line("ver\n"));
+        b.send(
+            Gcs,
+            from,
+            MavMessage::PARAM_REQUEST_LIST(PARAM_REQUEST_LIST_DATA {
+                target_system: 1,
+                target_component: 1,
+            }),
+        );
+    }
+    let held = b.m.held_for_clients();
+    assert!(held.peers <= MAX_PEERS, "{held:?}");
+    assert!(
+        held.shells <= MAX_PEERS + 1 && held.param_lists <= MAX_PEERS + 1,
+        "{held:?}"
+    );
+    b.out();
+    // Telemetry goes to the remote and at most MAX_PEERS peers, not to 5 000 addresses.
+    let during = (1..=100).map(|k| (1.5 + 0.01 * f64::from(k), 1.5 + 0.01 * f64::from(k)));
+    let per_second_flooded = b.count_sent("ATTITUDE", Gcs, during);
+    assert!(
+        per_second_flooded <= (1 + MAX_PEERS) * (per_second_alone + 1),
+        "{per_second_flooded} ATTITUDE/s against {per_second_alone} for one ground station"
+    );
+    // Once they are silent, they are forgotten with their shells and lists.
+    b.at(3.0 + PEER_TIMEOUT_S, 3.0 + PEER_TIMEOUT_S);
+    b.out();
+    let held = b.m.held_for_clients();
+    assert_eq!((held.peers, held.shells, held.param_lists), (0, 0, 0), "{held:?}");
+    // The configured ground station is served as before.
+    b.at(4.5 + PEER_TIMEOUT_S, 4.5 + PEER_TIMEOUT_S);
+    assert_eq!(b.heartbeats_to(Gcs), vec![QGC]);
+}

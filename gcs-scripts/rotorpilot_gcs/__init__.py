@@ -80,7 +80,7 @@ from .modes import (
 )
 from .names import command_name, enum_name
 from .offboard import POSITION_MASK, SETPOINT_RATE_HZ, set_setpoint, stop_setpoints
-from .params import as_float32, float_bits_to_int, int32_bits, param_get, param_set, param_value
+from .params import as_float32, float_bits_to_int, int32_bits, param_get, param_list, param_set, param_value
 from .plans import QgcPlan, load_plan, load_qgc_plan, load_wpl, plan_items, qgc_plan_items
 from .process import Autopilot, checkout_binary, find_binary, free_port
 from .telemetry import (
@@ -118,7 +118,7 @@ __all__ = [
     "format_position", "free_port", "global_to_offset", "home_position",
     "int32_bits", "is_armable", "is_armed", "item_from_message", "keep", "land", "latest", "link_state", "load_plan",
     "load_qgc_plan", "load_wpl", "local_position", "mavlink", "mavutil", "mode_name", "mode_of", "nav_land",
-    "nav_return_to_launch", "nav_takeoff", "nav_waypoint", "offset_to_global", "param_get", "param_set",
+    "nav_return_to_launch", "nav_takeoff", "nav_waypoint", "offset_to_global", "param_get", "param_list", "param_set",
     "param_value", "parse_mode", "parser", "plan_items", "print_statustext", "qgc_plan_items", "recent_text", "recv",
     "request_message", "return_to_launch", "script_main", "send_heartbeat", "set_heartbeats", "set_mode",
     "set_periodic", "set_setpoint", "sleep", "stop_periodic", "stop_setpoints", "takeoff", "upload_mission", "wait",

@@ -118,3 +118,41 @@ def param_set(conn: Connection, name: str, value: float, int32: bool | None = No
                 pass
         raise ParamError(f"{name} = {value} refused: the autopilot kept {got}" + (f" ({reason})" if reason else ""))
     return got
+
+
+#: Silence after which `param_list` asks again for what is missing [s] (QGroundControl waits 1 s).
+LIST_GAP_S = 1.0
+
+
+def param_list(conn: Connection, timeout: float | None = None) -> dict[str, float | int]:
+    """Every parameter, as QGroundControl reads them: PARAM_REQUEST_LIST, then after
+    `LIST_GAP_S` of silence PARAM_REQUEST_READ by index for each one still missing (a lossy link
+    loses some), until all `param_count` arrived. `ParamError` after `timeout` [s] without any."""
+    timeout = link_state(conn).timeout if timeout is None else timeout
+    values: dict[int, tuple[str, float | int]] = {}
+    count: int | None = None
+    conn.mav.param_request_list_send(conn.target_system, conn.target_component)
+    heard = asked = time.monotonic()
+    while count is None or len(values) < count:
+        if time.monotonic() - heard > timeout:
+            have = f"{len(values)} of {count}" if count is not None else "none"
+            raise ParamError(f"parameter list: {have} after {timeout:g} s of silence")
+        m = recv(conn, 0.1)
+        if m is not None and m.get_type() == "PARAM_VALUE" and m.param_index != 65535:
+            count = m.param_count
+            values[m.param_index] = (m.param_id, param_value(m))
+            heard = time.monotonic()
+            continue
+        if m is not None:
+            keep(conn, m)
+        quiet = time.monotonic() - max(heard, asked)
+        if count is None and quiet > LIST_GAP_S:
+            # The request or every answer was lost: ask again.
+            conn.mav.param_request_list_send(conn.target_system, conn.target_component)
+            asked = time.monotonic()
+        elif count is not None and quiet > LIST_GAP_S:
+            # Ten at a time, as QGroundControl does; again 0.3 s later while they stay missing.
+            for index in sorted(set(range(count)) - set(values))[:10]:
+                conn.mav.param_request_read_send(conn.target_system, conn.target_component, b"", index)
+            asked = time.monotonic() - LIST_GAP_S + 0.3
+    return dict(values.values())

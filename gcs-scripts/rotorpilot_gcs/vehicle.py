@@ -140,6 +140,10 @@ class Vehicle:
         """`params.param_set`: set and check the echo; the echoed value."""
         return params.param_set(self.conn, name, value, int32, timeout)
 
+    def param_list(self, timeout: float | None = None) -> dict[str, float | int]:
+        """`params.param_list`: every parameter by name, missing ones re-requested."""
+        return params.param_list(self.conn, timeout)
+
     # Plans.
     def upload_mission(self, items: Iterable[MissionItem], mission_type: int = MISSION,
                        timeout: float | None = None) -> Message:

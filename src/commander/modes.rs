@@ -101,6 +101,7 @@ impl Commander {
             yaw_rad: yaw,
             z_start_m: x.pos_w.z,
             start_s: t_s,
+            start_down_m_s: x.vel_w.z,
             profile: DescentProfile {
                 fast_m_s: self.limits(0.0).down_m_s,
                 land_m_s: self.params.land_speed_m_s,

@@ -17,6 +17,8 @@ use mavlink::MavHeader;
 
 /// How long a result is remembered [s].
 pub const DUPLICATE_WINDOW_S: f64 = 3.0;
+/// Most commands remembered at once (a flood of distinct commands forgets the oldest first).
+pub const MAX_REMEMBERED: usize = 1024;
 
 /// True for commands that only ask for information and have no side effect: each
 /// transmission is answered in full (the ACK and the requested message), never from the cache.
@@ -96,6 +98,16 @@ impl DuplicateCache {
             Some((_, Some(result))) => Seen::Answered(*result),
             Some((_, None)) => Seen::InProgress,
             None => {
+                if self.entries.len() >= MAX_REMEMBERED {
+                    let oldest = self
+                        .entries
+                        .iter()
+                        .min_by(|a, b| a.1 .0.total_cmp(&b.1 .0))
+                        .map(|(k, _)| *k);
+                    if let Some(oldest) = oldest {
+                        self.entries.remove(&oldest);
+                    }
+                }
                 self.entries.insert(key, (now_s, None));
                 Seen::New
             }
@@ -148,6 +160,31 @@ mod tests {
         assert_eq!(cache.check(key, 3.5), Seen::New, "a temporary refusal may be retried");
         cache.answered(key, MavResult::MAV_RESULT_DENIED, 3.6);
         assert_eq!(cache.check(key, 3.7), Seen::New, "so may a denial, judged again");
+    }
+
+    #[test]
+    fn a_flood_of_distinct_commands_is_remembered_up_to_a_bound() {
+        let sender = sender();
+        let mut cache = DuplicateCache::default();
+        for k in 0..10_000u32 {
+            let cmd = COMMAND_LONG_DATA {
+                command: MavCmd::MAV_CMD_DO_SET_SERVO,
+                param1: k as f32,
+                ..Default::default()
+            };
+            assert_eq!(
+                cache.check(CommandKey::new(&sender, &cmd), 1e-4 * f64::from(k)),
+                Seen::New
+            );
+            assert!(cache.entries.len() <= MAX_REMEMBERED);
+        }
+        // The newest are the ones kept.
+        let last = COMMAND_LONG_DATA {
+            command: MavCmd::MAV_CMD_DO_SET_SERVO,
+            param1: 9_999.0,
+            ..Default::default()
+        };
+        assert_eq!(cache.check(CommandKey::new(&sender, &last), 1.0), Seen::InProgress);
     }
 
     #[test]

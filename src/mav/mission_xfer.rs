@@ -2,9 +2,17 @@
 //!
 //! Upload: MISSION_COUNT(n) → MISSION_REQUEST_INT(0) → MISSION_ITEM_INT(0) → … → the caller
 //! validates the staged items and answers with [`MissionTransfer::finish`]; the stored plan
-//! changes only then (atomic replace). Out-of-sequence items are dropped and re-requested; a
-//! missing item is re-requested every [`RETRY_S`], at most [`MAX_RETRIES`] times, then the
-//! upload is cancelled with OPERATION_CANCELLED. A second peer is DENIED while one uploads.
+//! changes only then (atomic replace). On a lossy link (PX4's `MavlinkMissionManager`):
+//! - a missing item is re-requested every [`RETRY_S`] until [`PROTOCOL_TIMEOUT_S`] passed without
+//!   a word from the client; then the upload is dropped with a critical "Operation timeout";
+//! - an item from further on (the one asked for was lost) makes the vehicle ask again at once; a
+//!   repeat of an item already stored (a duplicate, or an answer to a repeated request) is
+//!   ignored, so that duplicates cannot multiply the traffic;
+//! - MISSION_COUNT repeated before the first item (the request was lost) is asked again for; a
+//!   repeat with the same count once items arrived is a duplicate and changes nothing;
+//! - the last item repeated after the final MISSION_ACK (the ACK was lost) gets that ACK again.
+//!
+//! A second peer is DENIED while one uploads.
 //! Downloads are stateless: the client asks, the link answers from the
 //! [`PlanStore`](super::plan_store::PlanStore).
 //!
@@ -19,10 +27,13 @@ use mavlink::dialects::common::{
     MISSION_REQUEST_INT_DATA,
 };
 
-/// Re-request a missing item after this long [s].
+/// Re-request a missing item after this long [s] (PX4's `MAVLINK_MISSION_RETRY_TIMEOUT_DEFAULT`).
 pub const RETRY_S: f64 = 0.25;
-/// Re-requests before the upload is cancelled.
-pub const MAX_RETRIES: u8 = 5;
+/// An upload is dropped after this long without a word from its client [s] (PX4's
+/// `MAVLINK_MISSION_PROTOCOL_TIMEOUT_DEFAULT`).
+pub const PROTOCOL_TIMEOUT_S: f64 = 5.0;
+/// What the vehicle says when it drops a silent upload (PX4's text).
+pub const TIMEOUT_TEXT: &str = "Operation timeout";
 
 /// A peer's MAVLink ids (for the target fields of replies).
 pub type Ids = (u8, u8);
@@ -46,25 +57,41 @@ enum State<P> {
         mission_type: MavMissionType,
         count: u16,
         items: Vec<MISSION_ITEM_INT_DATA>,
+        /// Wall time of the latest request sent [s].
         requested_at_s: f64,
-        retries: u8,
+        /// Wall time the client was last heard [s].
+        heard_at_s: f64,
     },
     Validating {
         peer: P,
         ids: Ids,
         mission_type: MavMissionType,
+        last_seq: u16,
     },
+}
+
+/// The final answer of the latest upload, for a client that did not receive it.
+#[derive(Debug, Clone, PartialEq)]
+struct Answered<P> {
+    peer: P,
+    mission_type: MavMissionType,
+    last_seq: u16,
+    ack: MavMessage,
 }
 
 /// Upload state of one link.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MissionTransfer<P> {
     state: State<P>,
+    answered: Option<Answered<P>>,
 }
 
 impl<P> Default for MissionTransfer<P> {
     fn default() -> Self {
-        Self { state: State::Idle }
+        Self {
+            state: State::Idle,
+            answered: None,
+        }
     }
 }
 
@@ -112,12 +139,25 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         if !uploadable(mission_type) {
             return (ack(MavMissionResult::MAV_MISSION_UNSUPPORTED), None);
         }
-        match self.state {
-            State::Receiving { peer: busy, .. } | State::Validating { peer: busy, .. } if busy != peer => {
+        match &mut self.state {
+            State::Receiving { peer: busy, .. } | State::Validating { peer: busy, .. } if *busy != peer => {
                 return (ack(MavMissionResult::MAV_MISSION_DENIED), None);
             }
+            State::Receiving {
+                mission_type: receiving,
+                count,
+                items,
+                heard_at_s,
+                ..
+            } if *receiving == mission_type && *count == m.count && !items.is_empty() => {
+                // A duplicate of the count that started this upload.
+                *heard_at_s = now_s;
+                return (Vec::new(), None);
+            }
+            State::Validating { mission_type: t, .. } if *t == mission_type => return (Vec::new(), None),
             _ => {}
         }
+        self.answered = None;
         if m.count == 0 {
             self.state = State::Idle;
             return (
@@ -130,9 +170,9 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
             ids,
             mission_type,
             count: m.count,
-            items: Vec::with_capacity(usize::from(m.count)),
+            items: Vec::new(),
             requested_at_s: now_s,
-            retries: 0,
+            heard_at_s: now_s,
         };
         (vec![(peer, request(ids, mission_type, 0))], None)
     }
@@ -144,6 +184,16 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         m: &MISSION_ITEM_INT_DATA,
         now_s: f64,
     ) -> (Vec<(P, MavMessage)>, Option<Completed>) {
+        if let Some(a) = &self.answered {
+            if matches!(self.state, State::Idle)
+                && a.peer == peer
+                && a.mission_type == m.mission_type
+                && a.last_seq == m.seq
+            {
+                // The final ACK was lost: the client sends its last item again.
+                return (vec![(peer, a.ack.clone())], None);
+            }
+        }
         let State::Receiving {
             peer: from,
             ids,
@@ -151,7 +201,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
             count,
             items,
             requested_at_s,
-            retries,
+            heard_at_s,
         } = &mut self.state
         else {
             return (Vec::new(), None);
@@ -159,14 +209,19 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         if *from != peer || m.mission_type != *mission_type {
             return (Vec::new(), None);
         }
+        *heard_at_s = now_s;
         let next = items.len() as u16;
-        if m.seq != next {
-            // Out of sequence: drop it and ask again for the one we need.
+        if m.seq < next {
+            // Stored already: a duplicate, or the answer to a request sent twice.
+            return (Vec::new(), None);
+        }
+        if m.seq > next || m.seq >= *count {
+            // The item asked for was lost: ask for it again now.
+            *requested_at_s = now_s;
             return (vec![(peer, request(*ids, *mission_type, next))], None);
         }
         items.push(m.clone());
         *requested_at_s = now_s;
-        *retries = 0;
         if items.len() < usize::from(*count) {
             return (vec![(peer, request(*ids, *mission_type, next + 1))], None);
         }
@@ -175,6 +230,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
             peer,
             ids,
             mission_type,
+            last_seq: next,
         };
         (Vec::new(), Some(Completed::Items(mission_type, items)))
     }
@@ -187,11 +243,18 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
                 peer,
                 ids,
                 mission_type,
+                last_seq,
             } => {
                 let mut ack = mission_ack(ids, mission_type, result);
                 if let MavMessage::MISSION_ACK(a) = &mut ack {
                     a.opaque_id = opaque_id;
                 }
+                self.answered = Some(Answered {
+                    peer,
+                    mission_type,
+                    last_seq,
+                    ack: ack.clone(),
+                });
                 vec![(peer, ack)]
             }
             other => {
@@ -209,6 +272,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         mission_type: MavMissionType,
     ) -> (Vec<(P, MavMessage)>, Option<Completed>) {
         self.state = State::Idle;
+        self.answered = None;
         (
             vec![(
                 peer,
@@ -218,32 +282,38 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         )
     }
 
-    /// Re-requests a missing item or cancels a stalled upload.
-    pub fn tick(&mut self, now_s: f64) -> Vec<(P, MavMessage)> {
+    /// Re-requests a missing item, or drops an upload whose client fell silent (the caller
+    /// tells the client [`TIMEOUT_TEXT`] when this returns true).
+    pub fn tick(&mut self, now_s: f64) -> (Vec<(P, MavMessage)>, bool) {
         let State::Receiving {
             peer,
             ids,
             mission_type,
             items,
             requested_at_s,
-            retries,
+            heard_at_s,
             ..
         } = &mut self.state
         else {
-            return Vec::new();
+            return (Vec::new(), false);
         };
-        if now_s - *requested_at_s < RETRY_S {
-            return Vec::new();
-        }
-        if *retries >= MAX_RETRIES {
-            let cancelled = MavMissionResult::MAV_MISSION_OPERATION_CANCELLED;
-            let out = vec![(*peer, mission_ack(*ids, *mission_type, cancelled))];
+        if now_s - *heard_at_s >= PROTOCOL_TIMEOUT_S {
             self.state = State::Idle;
-            return out;
+            return (Vec::new(), true);
         }
-        *retries += 1;
+        if now_s - *requested_at_s < RETRY_S {
+            return (Vec::new(), false);
+        }
         *requested_at_s = now_s;
-        vec![(*peer, request(*ids, *mission_type, items.len() as u16))]
+        (vec![(*peer, request(*ids, *mission_type, items.len() as u16))], false)
+    }
+
+    /// The peer of the upload in progress.
+    pub fn client(&self) -> Option<P> {
+        match self.state {
+            State::Idle => None,
+            State::Receiving { peer, .. } | State::Validating { peer, .. } => Some(peer),
+        }
     }
 
     /// True while an upload is under way.
@@ -253,138 +323,5 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use mavlink::dialects::common::MavCmd;
-
-    const GCS: Ids = (255, 190);
-    const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
-
-    fn count(n: u16) -> MISSION_COUNT_DATA {
-        MISSION_COUNT_DATA {
-            count: n,
-            target_system: 1,
-            target_component: 1,
-            mission_type: MISSION,
-            opaque_id: 0,
-        }
-    }
-
-    fn item(seq: u16) -> MISSION_ITEM_INT_DATA {
-        MISSION_ITEM_INT_DATA {
-            seq,
-            command: MavCmd::MAV_CMD_NAV_WAYPOINT,
-            ..Default::default()
-        }
-    }
-
-    fn requested(out: &[(u8, MavMessage)]) -> Option<u16> {
-        match out.first() {
-            Some((_, MavMessage::MISSION_REQUEST_INT(r))) => Some(r.seq),
-            _ => None,
-        }
-    }
-
-    #[test]
-    fn upload_requests_each_item_and_completes() {
-        let mut x = MissionTransfer::<u8>::default();
-        let (out, _) = x.on_count(7, GCS, &count(3), 0.0);
-        assert_eq!(requested(&out), Some(0));
-        assert_eq!(requested(&x.on_item(7, &item(0), 0.01).0), Some(1));
-        // Out of sequence: re-request 1.
-        assert_eq!(requested(&x.on_item(7, &item(2), 0.02).0), Some(1));
-        assert_eq!(requested(&x.on_item(7, &item(1), 0.03).0), Some(2));
-        let (out, done) = x.on_item(7, &item(2), 0.04);
-        assert!(out.is_empty());
-        assert!(matches!(done, Some(Completed::Items(MISSION, ref v)) if v.len() == 3));
-        // Another peer is denied while the first one's upload is validated.
-        let (out, _) = x.on_count(8, (250, 1), &count(1), 0.05);
-        assert!(
-            matches!(out[0].1, MavMessage::MISSION_ACK(ref a) if a.mavtype == MavMissionResult::MAV_MISSION_DENIED)
-        );
-        let out = x.finish(MavMissionResult::MAV_MISSION_ACCEPTED, 0xC0FF_EE00);
-        assert!(
-            matches!(out[0], (7, MavMessage::MISSION_ACK(ref a)) if a.mavtype == MavMissionResult::MAV_MISSION_ACCEPTED && a.target_system == 255 && a.opaque_id == 0xC0FF_EE00)
-        );
-        assert!(!x.busy());
-    }
-
-    #[test]
-    fn stalled_upload_is_retried_then_cancelled() {
-        let mut x = MissionTransfer::<u8>::default();
-        x.on_count(7, GCS, &count(2), 0.0);
-        assert!(x.tick(0.1).is_empty());
-        for k in 1..=MAX_RETRIES {
-            assert_eq!(requested(&x.tick(0.26 * f64::from(k))), Some(0));
-        }
-        let out = x.tick(10.0);
-        assert!(
-            matches!(out[0].1, MavMessage::MISSION_ACK(ref a) if a.mavtype == MavMissionResult::MAV_MISSION_OPERATION_CANCELLED)
-        );
-        assert!(!x.busy());
-    }
-
-    #[test]
-    fn count_zero_and_clear_all_clear_the_plan_of_their_type() {
-        let mut x = MissionTransfer::<u8>::default();
-        let (_, done) = x.on_count(7, GCS, &count(0), 0.0);
-        assert_eq!(done, Some(Completed::Cleared(MISSION)));
-        let all = MavMissionType::MAV_MISSION_TYPE_ALL;
-        let (out, done) = x.on_clear(7, GCS, all);
-        assert_eq!(done, Some(Completed::Cleared(all)));
-        assert!(matches!(out[0].1, MavMessage::MISSION_ACK(ref a) if a.mission_type == all));
-    }
-
-    /// The mission_type of a mission-protocol reply and its result or seq.
-    fn typed(msg: &MavMessage) -> Option<(MavMissionType, u32)> {
-        match msg {
-            MavMessage::MISSION_ACK(a) => Some((a.mission_type, a.mavtype as u32)),
-            MavMessage::MISSION_REQUEST_INT(r) => Some((r.mission_type, u32::from(r.seq))),
-            _ => None,
-        }
-    }
-
-    #[test]
-    fn fence_and_rally_uploads_run_as_their_own_type() {
-        let fence = MavMissionType::MAV_MISSION_TYPE_FENCE;
-        let rally = MavMissionType::MAV_MISSION_TYPE_RALLY;
-        let typed_count = |mission_type, n| MISSION_COUNT_DATA {
-            mission_type,
-            ..count(n)
-        };
-        let mut x = MissionTransfer::<u8>::default();
-        let (out, _) = x.on_count(7, GCS, &typed_count(fence, 2), 0.0);
-        assert_eq!(typed(&out[0].1), Some((fence, 0)), "MISSION_REQUEST_INT 0 of the fence");
-        // A mission item does not fill a fence upload; a fence item does.
-        assert!(x.on_item(7, &item(0), 0.01).0.is_empty());
-        let fence_item = |seq| MISSION_ITEM_INT_DATA {
-            mission_type: fence,
-            ..item(seq)
-        };
-        assert_eq!(typed(&x.on_item(7, &fence_item(0), 0.02).0[0].1), Some((fence, 1)));
-        let (_, done) = x.on_item(7, &fence_item(1), 0.03);
-        assert!(matches!(done, Some(Completed::Items(t, ref v)) if t == fence && v.len() == 2));
-        let accepted = MavMissionResult::MAV_MISSION_ACCEPTED as u32;
-        assert_eq!(
-            typed(&x.finish(MavMissionResult::MAV_MISSION_ACCEPTED, 1)[0].1),
-            Some((fence, accepted))
-        );
-        // Clearing rally by count 0 is a rally clear.
-        let (out, done) = x.on_count(7, GCS, &typed_count(rally, 0), 0.0);
-        assert_eq!(typed(&out[0].1), Some((rally, accepted)));
-        assert_eq!(done, Some(Completed::Cleared(rally)));
-        // A stalled rally upload is cancelled as rally.
-        x.on_count(7, GCS, &typed_count(rally, 1), 0.0);
-        for k in 1..=MAX_RETRIES {
-            assert_eq!(typed(&x.tick(0.26 * f64::from(k))[0].1), Some((rally, 0)));
-        }
-        let cancelled = MavMissionResult::MAV_MISSION_OPERATION_CANCELLED as u32;
-        assert_eq!(typed(&x.tick(10.0)[0].1), Some((rally, cancelled)));
-        // Another type (ALL) cannot be uploaded.
-        let all = MavMissionType::MAV_MISSION_TYPE_ALL;
-        let (out, done) = x.on_count(7, GCS, &typed_count(all, 3), 0.0);
-        let unsupported = MavMissionResult::MAV_MISSION_UNSUPPORTED as u32;
-        assert_eq!((typed(&out[0].1), done), (Some((all, unsupported)), None));
-        assert!(!x.busy());
-    }
-}
+#[path = "mission_xfer_tests.rs"]
+mod tests;

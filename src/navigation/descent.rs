@@ -66,14 +66,24 @@ impl DescentProfile {
     /// Height [m], descent speed [m/s] and downward acceleration [m/s²] at `t_s` [s] after a
     /// descent began at rest at `h0_m` (see [`DescentProfile::at`]).
     pub fn sample(&self, h0_m: f64, t_s: f64) -> (f64, f64, f64) {
+        self.sample_from(h0_m, 0.0, t_s)
+    }
+
+    /// [`DescentProfile::sample`] for a descent that began at height `h0_m` [m] moving down at
+    /// `v0_m_s` [m/s] (negative while climbing): the speed changes at `acc_m_s2` from v₀ to the
+    /// profile's speed v₁ at `h0_m` (a climb is stopped first, overshooting by v₀² / 2a), then
+    /// follows the profile. Over t ≤ |v₁ − v₀| / a: h = h₀ − v₀ t − ½ a t², v = v₀ + a t.
+    pub fn sample_from(&self, h0_m: f64, v0_m_s: f64, t_s: f64) -> (f64, f64, f64) {
         let t = t_s.max(0.0);
-        let v0 = self.speed_m_s(h0_m);
-        let t_acc = v0 / self.acc_m_s2.max(0.1);
+        let v1 = self.speed_m_s(h0_m);
+        let dv = v1 - v0_m_s;
+        let acc = self.acc_m_s2.max(0.1);
+        let t_acc = dv.abs() / acc;
         if t < t_acc {
-            let a = v0 / t_acc;
-            return (h0_m - 0.5 * a * t * t, a * t, a);
+            let a = acc * dv.signum();
+            return (h0_m - v0_m_s * t - 0.5 * a * t * t, v0_m_s + a * t, a);
         }
-        self.cruising(h0_m - 0.5 * v0 * t_acc, t - t_acc)
+        self.cruising(h0_m - 0.5 * (v0_m_s + v1) * t_acc, t - t_acc)
     }
 
     /// Height [m], descent speed [m/s] and downward acceleration [m/s²] `t_s` [s] after passing
@@ -106,6 +116,25 @@ impl DescentProfile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_descent_begun_in_a_climb_stops_the_climb_then_descends_within_the_limit() {
+        let p = DescentProfile::default();
+        // Climbing at 3 m/s at 20 m: stopped at 3 m/s² in 1 s, 1.5 m higher, then down.
+        assert_eq!(p.sample_from(20.0, -3.0, 0.0), (20.0, -3.0, 3.0));
+        let (h, v, _) = p.sample_from(20.0, -3.0, 1.0);
+        assert!((h - 21.5).abs() < 1e-12 && v.abs() < 1e-12, "{h} {v}");
+        let mut fastest: f64 = 0.0;
+        for k in 0..40_000 {
+            let (_, v, _) = p.sample_from(20.0, -3.0, f64::from(k) * 1e-3);
+            fastest = fastest.max(v);
+        }
+        assert!((fastest - p.fast_m_s).abs() < 1e-9, "{fastest}");
+        // Descending faster than the profile: slowed down to it.
+        let (_, v, a) = p.sample_from(30.0, 2.5, 0.1);
+        assert!(a < 0.0 && (v - 2.2).abs() < 1e-9, "{v} {a}");
+        assert!((p.sample_from(30.0, 2.5, 2.0).1 - 1.5).abs() < 1e-9);
+    }
 
     #[test]
     fn heights_follow_the_speed_profile_continuously() {

@@ -43,6 +43,8 @@ pub enum Guidance {
         z_start_m: f64,
         /// Simulated time the descent began [s].
         start_s: f64,
+        /// Downward speed when the descent began [m/s] (negative in a climb).
+        start_down_m_s: f64,
         /// Descent speed by height.
         profile: DescentProfile,
     },
@@ -95,9 +97,10 @@ impl Guidance {
                 yaw_rad,
                 z_start_m,
                 start_s,
+                start_down_m_s,
                 profile,
             } => {
-                let (height_m, speed_m_s, acc_m_s2) = profile.sample(-z_start_m, t_s - start_s);
+                let (height_m, speed_m_s, acc_m_s2) = profile.sample_from(-z_start_m, start_down_m_s, t_s - start_s);
                 let z = (-height_m).min(x.pos_w.z + LAND_LEAD_MAX_M);
                 Some(FlatSetpoint {
                     vel_w: Some(Vec3::new(0.0, 0.0, speed_m_s)),
@@ -187,6 +190,7 @@ mod tests {
             yaw_rad: 0.0,
             z_start_m: -3.0,
             start_s: 0.0,
+            start_down_m_s: 0.0,
             profile: DescentProfile::default(),
         };
         assert!((g.setpoint(1.0, &at(-3.0)).unwrap().pos_w.unwrap().z + 2.5).abs() < 1e-12);

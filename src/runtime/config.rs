@@ -10,6 +10,7 @@ use crate::airframe::AirframeSource;
 use crate::control::ControllerKind;
 use crate::navigation::Home;
 
+use super::impairment::{LinkCounts, LinkImpairment};
 use super::log_place::LogPlace;
 use super::pacer::Pace;
 use super::signing_store::SigningFileError;
@@ -62,6 +63,8 @@ pub struct RunConfig {
     /// `--signing-key FILE`: the MAVLink 2 signing key of every vehicle (the file may not exist
     /// yet; SETUP_SIGNING then creates it), its timestamp kept in `FILE.timestamp`.
     pub signing_key: Option<std::path::PathBuf>,
+    /// `--link-loss`, `--link-delay`, `--link-duplicate`: the links made lossy on purpose.
+    pub link_impairment: Option<LinkImpairment>,
 }
 
 impl RunConfig {
@@ -91,6 +94,7 @@ impl RunConfig {
             sensor_failures: Vec::new(),
             rotor_failures: Vec::new(),
             signing_key: None,
+            link_impairment: None,
         }
     }
 }
@@ -175,13 +179,26 @@ pub struct Ready {
     pub vehicles: Vec<VehicleReady>,
 }
 
-/// What the process did, returned when it stops.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// What one vehicle's link impairment did.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct VehicleLinkCounts {
+    /// System id.
+    pub sysid: u8,
+    /// Each impaired link, both ways.
+    pub links: Vec<LinkCounts>,
+}
+
+/// What the process did, returned when it stops (printed as a JSON line by `run`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RunReport {
+    /// Always "stopped".
+    pub event: &'static str,
     /// Vehicle ticks run (all vehicles together).
     pub vehicle_ticks: u64,
     /// Schedule rebases after a backlog.
     pub overruns: u64,
     /// Wall time between start and stop [s].
     pub wall_s: f64,
+    /// What the link impairment did, per vehicle (empty without one).
+    pub link_impairment: Vec<VehicleLinkCounts>,
 }

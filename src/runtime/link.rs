@@ -2,7 +2,9 @@
 //! drains and sleeps: datagrams, the vehicle's answers and events go into the vehicle's
 //! [`LinkMachine`] with the time; what the machine decided leaves in the order it was decided
 //! (datagrams, requests to the tick thread, keys to the key file, tlog records). Every protocol
-//! decision is the machine's. Runtime layer: clocks, sockets, channels.
+//! decision is the machine's. With `--link-loss`/`--link-delay`/`--link-duplicate` every
+//! datagram in and out goes through the vehicle's [`Impairments`] first. Runtime layer: clocks,
+//! sockets, channels.
 
 use std::net::SocketAddr;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -18,13 +20,14 @@ use crate::mav::streams::LinkKind;
 use crate::telemetry::Snapshot;
 
 use super::flight_log::LogSender;
+use super::impairment::{Impairments, LinkCounts};
 use super::scheduler::{ReplyTo, VehicleCommand};
 use super::signing_store::SigningStore;
+use super::sockets::{LinkSockets, MAX_DATAGRAM_BYTES};
 
-/// The largest datagram read whole [bytes]: 29 MAVLink 2 frames of the largest size (280 bytes,
-/// signed). The kernel cuts longer datagrams to this (PX4 reads 1,600 bytes), so a flood of
-/// 64 KiB garbage costs no more to skip than a flood of small ones.
-const MAX_DATAGRAM_BYTES: usize = 8_192;
+/// A datagram of a link: the link, the client's address, the bytes.
+pub type Datagram = (LinkKind, SocketAddr, Vec<u8>);
+
 /// Datagrams read in a row once one has arrived, before the task looks at its other inputs.
 const RECV_BATCH: usize = 256;
 
@@ -35,29 +38,6 @@ pub struct SigningStatus {
     pub timestamp: AtomicU64,
     /// Frames dropped by signing so far.
     pub dropped: AtomicU64,
-}
-
-/// The GCS and API sockets of one vehicle.
-pub struct LinkSockets([(LinkKind, UdpSocket); 2]);
-
-impl LinkSockets {
-    /// The GCS socket bound at `gcs` and the API socket at `api`, registered with `rt`; or the
-    /// address that could not be bound, and why.
-    pub fn bind(
-        rt: &tokio::runtime::Runtime,
-        gcs: SocketAddr,
-        api: SocketAddr,
-    ) -> Result<Self, (SocketAddr, std::io::Error)> {
-        let _guard = rt.enter();
-        let bind = |addr| bind_udp(addr).map_err(|e| (addr, e));
-        Ok(Self([(LinkKind::Gcs, bind(gcs)?), (LinkKind::Api, bind(api)?)]))
-    }
-
-    /// The bound GCS and API addresses.
-    pub fn local_addrs(&self) -> (String, String) {
-        let local = |s: &UdpSocket| s.local_addr().map(|a| a.to_string()).unwrap_or_default();
-        (local(&self.0[0].1), local(&self.0[1].1))
-    }
 }
 
 /// Everything the link task of one vehicle talks to.
@@ -86,6 +66,8 @@ pub struct LinkIo {
     pub store: Option<Arc<SigningStore>>,
     /// Published for the signing keeper.
     pub signing: Arc<SigningStatus>,
+    /// The impaired links (`--link-loss` …), when there are some.
+    pub impair: Option<Impairments<Datagram>>,
 }
 
 impl LinkIo {
@@ -96,37 +78,33 @@ impl LinkIo {
             sim_s: self.snapshot.borrow().t_s,
         }
     }
-
-    fn socket(&self, link: LinkKind) -> &UdpSocket {
-        let [(_, gcs), (kind, api)] = &self.sockets.0;
-        if *kind == link {
-            api
-        } else {
-            gcs
-        }
-    }
 }
 
-/// Serves the links of one vehicle until shutdown.
-pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
+/// Serves the links of one vehicle until shutdown; returns what the impairment did.
+pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) -> Vec<LinkCounts> {
+    let mut impair = io.impair.take();
     // Nothing is said before the vehicle's first tick: its state is what telemetry reports.
     tokio::select! {
-        _ = io.shutdown.changed() => return,
+        _ = io.shutdown.changed() => return Vec::new(),
         _ = io.snapshot.changed() => {}
     }
     let (mut gcs_buf, mut api_buf) = (vec![0u8; MAX_DATAGRAM_BYTES], vec![0u8; MAX_DATAGRAM_BYTES]);
     loop {
-        let deadline = io.start + Duration::from_secs_f64(machine.poll_timeout().max(0.0));
+        let wake_s = impair
+            .as_ref()
+            .and_then(Impairments::next_due_s)
+            .unwrap_or(f64::INFINITY);
+        let deadline = io.start + Duration::from_secs_f64(machine.poll_timeout().min(wake_s).max(0.0));
         let [(gcs_kind, gcs), (api_kind, api)] = &io.sockets.0;
         tokio::select! {
             _ = io.shutdown.changed() => break,
             Ok((n, from)) = gcs.recv_from(&mut gcs_buf) => {
                 machine.handle_state(*io.snapshot.borrow());
-                read_burst(&mut machine, &io, *gcs_kind, gcs, &mut gcs_buf, (n, from));
+                read_burst(&mut machine, &io, &mut impair, (*gcs_kind, gcs), &mut gcs_buf, (n, from));
             }
             Ok((n, from)) = api.recv_from(&mut api_buf) => {
                 machine.handle_state(*io.snapshot.borrow());
-                read_burst(&mut machine, &io, *api_kind, api, &mut api_buf, (n, from));
+                read_burst(&mut machine, &io, &mut impair, (*api_kind, api), &mut api_buf, (n, from));
             }
             Some((token, reply)) = io.replies.recv() => {
                 machine.handle_state(*io.snapshot.borrow());
@@ -146,13 +124,23 @@ pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
             machine.handle_state(*io.snapshot.borrow());
             machine.handle_timeout(now);
         }
-        drain(&mut machine, &io).await;
+        if let Some(imp) = &mut impair {
+            let (to_vehicle, from_vehicle) = imp.due(now.wall_s);
+            for (link, from, bytes) in to_vehicle {
+                machine.handle_datagram(now, link, from, &bytes);
+            }
+            for (link, to, bytes) in from_vehicle {
+                send(&io, link, to, &bytes).await;
+            }
+        }
+        drain(&mut machine, &io, &mut impair).await;
         // After every send, so the timestamp persisted at shutdown is never behind a frame sent.
         io.signing
             .timestamp
             .store(machine.signing_timestamp(), Ordering::Relaxed);
         io.signing.dropped.store(machine.signing_dropped(), Ordering::Relaxed);
     }
+    impair.map(|imp| imp.counts()).unwrap_or_default()
 }
 
 /// Feeds the datagram that woke the task and, under a burst, what is already queued on the
@@ -160,23 +148,40 @@ pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) {
 fn read_burst(
     machine: &mut LinkMachine<SocketAddr>,
     io: &LinkIo,
-    link: LinkKind,
-    socket: &UdpSocket,
+    impair: &mut Option<Impairments<Datagram>>,
+    (link, socket): (LinkKind, &UdpSocket),
     buf: &mut [u8],
     first: (usize, SocketAddr),
 ) {
-    let (n, from) = first;
-    machine.handle_datagram(io.now(), link, from, &buf[..n]);
+    let mut feed = |n: usize, from: SocketAddr, buf: &[u8]| {
+        let now = io.now();
+        match impair {
+            None => machine.handle_datagram(now, link, from, &buf[..n]),
+            Some(imp) => {
+                for (link, from, bytes) in imp.offer(now.wall_s, link, true, (link, from, buf[..n].to_vec())) {
+                    machine.handle_datagram(now, link, from, &bytes);
+                }
+            }
+        }
+    };
+    feed(first.0, first.1, buf);
     for _ in 0..RECV_BATCH {
         let Ok((n, from)) = socket.try_recv_from(buf) else {
             break;
         };
-        machine.handle_datagram(io.now(), link, from, &buf[..n]);
+        feed(n, from, buf);
+    }
+}
+
+/// Sends `bytes` to `to` on `link` (a failure is only traced: UDP may lose it anyway).
+async fn send(io: &LinkIo, link: LinkKind, to: SocketAddr, bytes: &[u8]) {
+    if let Err(e) = io.sockets.socket(link).send_to(bytes, to).await {
+        tracing::debug!("send to {to}: {e}");
     }
 }
 
 /// Carries out everything the machine decided, in order, until it has nothing more.
-async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo) {
+async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo, impair: &mut Option<Impairments<Datagram>>) {
     loop {
         if let Some(log) = &io.log {
             std::iter::from_fn(|| machine.poll_received()).for_each(|frame| log.frame(&frame));
@@ -186,8 +191,13 @@ async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo) {
             if let Some(log) = &io.log {
                 log.frame(&t.bytes);
             }
-            if let Err(e) = io.socket(t.link).send_to(&t.bytes, t.to).await {
-                tracing::debug!("send to {}: {e}", t.to);
+            match impair {
+                None => send(io, t.link, t.to, &t.bytes).await,
+                Some(imp) => {
+                    for (link, to, bytes) in imp.offer(io.now().wall_s, t.link, false, (t.link, t.to, t.bytes)) {
+                        send(io, link, to, &bytes).await;
+                    }
+                }
             }
         }
         let mut more = false;
@@ -231,18 +241,4 @@ async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo) {
             break;
         }
     }
-}
-
-/// Kernel receive buffer of each link socket [bytes]: large enough that a burst of garbage
-/// datagrams does not make the kernel drop the legitimate command behind it.
-const RECV_BUFFER_BYTES: usize = 4 << 20;
-
-/// A non-blocking UDP socket bound to `addr` with a large receive buffer, for tokio.
-fn bind_udp(addr: SocketAddr) -> std::io::Result<UdpSocket> {
-    let socket = socket2::Socket::new(socket2::Domain::for_address(addr), socket2::Type::DGRAM, None)?;
-    // Best effort: the kernel caps it at net.core.rmem_max.
-    let _ = socket.set_recv_buffer_size(RECV_BUFFER_BYTES);
-    socket.set_nonblocking(true)?;
-    socket.bind(&addr.into())?;
-    UdpSocket::from_std(socket.into())
 }

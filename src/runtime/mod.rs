@@ -7,7 +7,9 @@
 //! - `mod.rs`: setting up the vehicles, their channels and sockets; running until shutdown.
 //! - `config.rs`: what `run` is given, prints when ready, reports at the end, its errors.
 //! - [`scheduler`]: the tick threads; [`pacer`]: their pace; [`vehicle`]: one vehicle's lockstep.
-//! - [`link`]: the link task: sockets ↔ `mav::link::LinkMachine` ↔ the tick thread.
+//! - [`link`]: the link task: sockets ↔ `mav::link::LinkMachine` ↔ the tick thread;
+//!   `sockets.rs`: its two UDP sockets; [`impairment`]: `--link-loss` and its kin, the links
+//!   made lossy on purpose.
 //! - [`signing_store`], `signing_keeper.rs`: the `--signing-key` file and its timestamp.
 //! - [`flight_log`]: the log writer thread (tlog and ULog files of `--log`, `sim`, `fly`).
 //! - [`ulog_file`]: one ULog file for a whole headless run (`sim`, `fly`).
@@ -18,6 +20,7 @@
 
 mod config;
 pub mod flight_log;
+pub mod impairment;
 pub mod link;
 pub mod log_place;
 pub mod log_store;
@@ -25,6 +28,7 @@ pub mod pacer;
 pub mod scheduler;
 mod signing_keeper;
 pub mod signing_store;
+mod sockets;
 pub mod ulog_file;
 pub mod ulog_stream;
 pub mod vehicle;
@@ -46,13 +50,15 @@ use crate::mav::translate::Identity;
 use crate::navigation::Home;
 use crate::telemetry::Snapshot;
 
-pub use config::{Ready, RunConfig, RunReport, RuntimeError, VehicleReady, DEFAULT_SPACING_M};
+pub use config::{Ready, RunConfig, RunReport, RuntimeError, VehicleLinkCounts, VehicleReady, DEFAULT_SPACING_M};
 use flight_log::LogSender;
-use link::{LinkIo, LinkSockets, SigningStatus};
+use impairment::Impairments;
+use link::{LinkIo, SigningStatus};
 pub use pacer::Pace;
 use scheduler::{SchedulerStats, VehicleIo, VehicleSlot};
 use signing_keeper::{signing_keeper, SigningSetup};
 use signing_store::signing_now;
+use sockets::LinkSockets;
 use vehicle::Vehicle;
 
 /// Bound of the request queue into the tick thread: commands are never dropped silently; when
@@ -181,6 +187,7 @@ fn setup_vehicle(
         log: log.as_ref().filter(|_| tlog).map(|(s, _)| s.clone()),
         store: signing.store.clone(),
         signing: Arc::new(SigningStatus::default()),
+        impair: config.link_impairment.as_ref().map(|c| Impairments::new(c, i)),
     };
     let vehicle_io = VehicleIo {
         inbox: inbox_rx,
@@ -241,12 +248,12 @@ pub fn run(
     let threads = tick_thread_count(setups.len());
     let mut groups: Vec<Vec<VehicleSlot>> = (0..threads).map(|_| Vec::new()).collect();
     let mut vehicles = Vec::with_capacity(setups.len());
-    let mut tasks = Vec::new();
+    let mut tasks: Vec<(u8, _)> = Vec::new();
     let mut logs = Vec::new();
     for (i, setup) in setups.into_iter().enumerate() {
         groups[i % threads].push(setup.slot);
+        tasks.push((setup.ready.sysid, rt.spawn(link::serve(setup.machine, setup.io))));
         vehicles.push(setup.ready);
-        tasks.push(rt.spawn(link::serve(setup.machine, setup.io)));
         logs.extend(setup.log);
     }
     let started = std::time::Instant::now();
@@ -267,17 +274,22 @@ pub fn run(
         vehicles,
     });
 
-    rt.block_on(async move {
+    let link_impairment = rt.block_on(async move {
         // A future that completed must not be polled again.
         if !stopped_already {
             shutdown.await;
         }
         let _ = shutdown_tx.send(true);
-        for task in tasks {
-            let _ = task.await;
+        let mut counts = Vec::new();
+        for (sysid, task) in tasks {
+            let links = task.await.unwrap_or_default();
+            if !links.is_empty() {
+                counts.push(VehicleLinkCounts { sysid, links });
+            }
         }
         let _ = links_stopped_tx.send(true);
         let _ = keeper.await;
+        counts
     });
     stop.store(true, Ordering::Relaxed);
     for handle in tick_threads {
@@ -295,10 +307,30 @@ pub fn run(
             tracing::warn!("log: {dropped} records dropped (writer too slow)");
         }
     }
+    for v in &link_impairment {
+        for l in &v.links {
+            tracing::info!(
+                "link impairment, sysid {} {}: to the vehicle {} datagrams, {} dropped, {} duplicated, {} delayed; \
+                 from it {} datagrams, {} dropped, {} duplicated, {} delayed",
+                v.sysid,
+                l.link,
+                l.up.datagrams,
+                l.up.dropped,
+                l.up.duplicated,
+                l.up.delayed,
+                l.down.datagrams,
+                l.down.dropped,
+                l.down.duplicated,
+                l.down.delayed
+            );
+        }
+    }
     let report = RunReport {
+        event: "stopped",
         vehicle_ticks: stats.ticks.load(Ordering::Relaxed),
         overruns: stats.overruns.load(Ordering::Relaxed),
         wall_s,
+        link_impairment,
     };
     tracing::info!(
         "stopped after {} vehicle ticks, {} overruns",

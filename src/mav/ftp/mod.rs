@@ -27,4 +27,7 @@ pub use param_pck::{
 pub use payload::{ErrorCode, Opcode, Payload, DATA_MAX, EINVAL, PAYLOAD_LEN};
 pub use server::{FtpServer, ParamUpload, MAX_SESSIONS, SESSION_IDLE_S};
 pub use storage::Storage;
-pub use vfs::{normalize, writable, Entry, PublishError, Vfs, LOG_DIR, SCRATCH_LIMIT_BYTES, SCRATCH_ROOT};
+pub use vfs::{
+    normalize, writable, Entry, PublishError, Vfs, LOG_DIR, SCRATCH_ENTRY_LIMIT, SCRATCH_LIMIT_BYTES,
+    SCRATCH_NAME_LIMIT_BYTES, SCRATCH_ROOT,
+};

@@ -320,3 +320,35 @@ fn an_upload_is_handed_out_at_its_terminate_and_answered_later() {
     s.handle(&mut fs, &req(Opcode::ResetSessions, 32, 0, 0, &[]), 0.0);
     assert!(s.take_upload().is_none(), "a reset upload is dropped");
 }
+
+#[test]
+fn a_client_making_entries_without_end_gets_enospc_as_on_a_full_card() {
+    let mut fs = Storage::new(Vfs::default(), Box::<crate::mav::logs::MemLogStore>::default());
+    let mut s = FtpServer::default();
+    let name = "n".repeat(200);
+    let mut made = 0u32;
+    for k in 0..20_000u32 {
+        let seq = (2 * k) as u16;
+        let op = if k % 2 == 0 {
+            Opcode::CreateDirectory
+        } else {
+            Opcode::CreateFile
+        };
+        let path = format!("/fs/microsd/{k}{name}");
+        let r = s.handle(&mut fs, &req(op, seq, 0, 0, path.as_bytes()), 0.0).unwrap();
+        if op == Opcode::CreateFile && r.opcode == Opcode::Ack as u8 {
+            // A file stays open in its session: close it as a client does.
+            s.handle(
+                &mut fs,
+                &req(Opcode::TerminateSession, seq.wrapping_add(1), r.session, 0, &[]),
+                0.0,
+            );
+        }
+        if let Some(code) = nak_code(&r) {
+            assert_eq!((code, r.data.get(1).copied()), (2, Some(ENOSPC)), "entry {k}");
+            break;
+        }
+        made += 1;
+    }
+    assert!((200..2_000).contains(&made), "{made} entries made before ENOSPC");
+}

@@ -1,7 +1,10 @@
 //! The in-memory part of the file system MAVLink FTP serves: read-only files the vehicle
 //! publishes (component metadata under `/etc/extras`), the empty [`LOG_DIR`] where the flight
 //! logs are mounted (`storage.rs`), and a writable scratch area under [`SCRATCH_ROOT`] (PX4 allows
-//! writes only below `/fs/microsd/`) bounded to a number of bytes. Paths are normalised before use: empty and `.` components are dropped, a
+//! writes only below `/fs/microsd/`) bounded in file bytes ([`SCRATCH_LIMIT_BYTES`]), in entries
+//! ([`SCRATCH_ENTRY_LIMIT`] files and directories) and in the bytes of their paths
+//! ([`SCRATCH_NAME_LIMIT_BYTES`]): past any bound a write or a create is refused with FailErrno
+//! ENOSPC, as PX4 answers on a full card, so no client can grow the vehicle's memory. Paths are normalised before use: empty and `.` components are dropped, a
 //! relative path starts at `/`, and a `..` component is refused (FileProtected), so no request
 //! reaches anything but these nodes. Errors are the NAK codes the server sends. Pure.
 
@@ -18,6 +21,10 @@ pub const SCRATCH_ROOT: &str = "/fs/microsd";
 pub const LOG_DIR: &str = "/fs/microsd/log";
 /// Bytes the scratch files may hold together, by default.
 pub const SCRATCH_LIMIT_BYTES: usize = 1 << 20;
+/// Files and directories the scratch area may hold together.
+pub const SCRATCH_ENTRY_LIMIT: usize = 1024;
+/// Bytes the paths of the scratch files and directories may take together.
+pub const SCRATCH_NAME_LIMIT_BYTES: usize = 64 << 10;
 
 /// One entry of a directory listing.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -81,6 +88,10 @@ pub struct Vfs {
     dirs: BTreeSet<String>,
     /// Bytes the scratch files may hold together.
     scratch_limit: usize,
+    /// Entries (files and directories) the scratch area may hold.
+    entry_limit: usize,
+    /// Bytes the paths of the scratch entries may take together.
+    name_limit: usize,
 }
 
 impl Default for Vfs {
@@ -97,7 +108,17 @@ impl Vfs {
             files: BTreeMap::new(),
             dirs: [SCRATCH_ROOT.to_string(), LOG_DIR.to_string()].into(),
             scratch_limit,
+            entry_limit: SCRATCH_ENTRY_LIMIT,
+            name_limit: SCRATCH_NAME_LIMIT_BYTES,
         }
+    }
+
+    /// This file system with at most `entries` scratch entries whose paths take at most
+    /// `name_bytes` bytes together.
+    pub fn with_entry_limits(mut self, entries: usize, name_bytes: usize) -> Self {
+        self.entry_limit = entries;
+        self.name_limit = name_bytes;
+        self
     }
 
     /// Publishes a read-only file at `path` (replacing one there): component metadata.
@@ -180,6 +201,22 @@ impl Vfs {
             .sum()
     }
 
+    /// The scratch entries (files and directories made by clients) and the bytes of their paths.
+    pub fn scratch_entries(&self) -> (usize, usize) {
+        let files = self.files.keys().filter(|k| writable(k));
+        let dirs = self.dirs.iter().filter(|k| writable(k));
+        files.chain(dirs).fold((0, 0), |(n, bytes), k| (n + 1, bytes + k.len()))
+    }
+
+    /// FailErrno ENOSPC unless `more` entries whose paths take `name_bytes` more bytes fit.
+    fn entries_fit(&self, more: usize, name_bytes: usize) -> Result<(), ErrorCode> {
+        let (n, bytes) = self.scratch_entries();
+        if n + more > self.entry_limit || bytes + name_bytes > self.name_limit {
+            return Err(ErrorCode::FailErrno(ENOSPC));
+        }
+        Ok(())
+    }
+
     /// `path` normalised when clients may write there, else FileProtected.
     fn writable_path(path: &str) -> Result<String, ErrorCode> {
         let norm = normalize(path)?;
@@ -199,6 +236,9 @@ impl Vfs {
         }
         if !self.is_dir(parent(&norm)) {
             return Err(ErrorCode::FileNotFound);
+        }
+        if !self.files.contains_key(&norm) {
+            self.entries_fit(1, norm.len())?;
         }
         let file = self.files.entry(norm.clone()).or_default();
         if truncate {
@@ -259,6 +299,7 @@ impl Vfs {
         if !self.is_dir(parent(&norm)) {
             return Err(ErrorCode::FileNotFound);
         }
+        self.entries_fit(1, norm.len())?;
         self.dirs.insert(norm);
         Ok(())
     }
@@ -296,13 +337,23 @@ impl Vfs {
         if self.is_dir(&to) {
             return Err(ErrorCode::FailErrno(EISDIR));
         }
+        // A longer name costs its extra bytes in every entry moved.
+        let prefix = format!("{from}/");
+        let moving = 1 + if is_file {
+            0
+        } else {
+            let below = |k: &&String| k.starts_with(&prefix);
+            self.files.keys().filter(below).count() + self.dirs.iter().filter(below).count()
+        };
+        let replaced = self.files.get(&to).map_or(0, |_| to.len());
+        let longer = to.len().saturating_sub(from.len()) * moving;
+        self.entries_fit(0, longer.saturating_sub(replaced))?;
         if is_file {
             if let Some(bytes) = self.files.remove(&from) {
                 self.files.insert(to, bytes);
             }
             return Ok(());
         }
-        let prefix = format!("{from}/");
         let moved = |k: &String| format!("{to}{}", &k[from.len()..]);
         let files: Vec<String> = self.files.keys().filter(|k| k.starts_with(&prefix)).cloned().collect();
         for k in files {

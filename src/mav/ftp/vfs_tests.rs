@@ -92,3 +92,49 @@ fn directories_are_made_renamed_and_removed_when_empty() {
         vec![Entry::File("g".into(), 2), Entry::Dir("log".into())]
     );
 }
+
+#[test]
+fn scratch_entries_and_their_names_are_bounded_too() {
+    // Empty files and directories cost no file bytes, but each is an entry with a path.
+    let mut fs = Vfs::new(100).with_entry_limits(3, 60);
+    fs.create_dir("/fs/microsd/a").unwrap();
+    fs.open_write("/fs/microsd/a/f", true).unwrap();
+    fs.open_write("/fs/microsd/g", true).unwrap();
+    assert_eq!(fs.scratch_entries(), (3, 13 + 15 + 13));
+    let full = Err(ErrorCode::FailErrno(ENOSPC));
+    assert_eq!(fs.create_dir("/fs/microsd/b"), full, "a fourth entry");
+    assert_eq!(fs.open_write("/fs/microsd/h", true).map(|_| ()), full);
+    // Opening one that exists costs nothing.
+    assert!(fs.open_write("/fs/microsd/g", false).is_ok());
+    // Renaming to a longer name costs its extra bytes per entry moved (the directory and its file).
+    assert_eq!(fs.rename("/fs/microsd/a", "/fs/microsd/abcdefghijk"), full);
+    fs.rename("/fs/microsd/a", "/fs/microsd/abcdefghij").unwrap();
+    assert_eq!(fs.scratch_entries(), (3, 59));
+    // Freeing an entry makes room again.
+    fs.remove_file("/fs/microsd/g").unwrap();
+    fs.create_dir("/fs/microsd/b").unwrap();
+    // By name bytes alone.
+    let mut fs = Vfs::new(100).with_entry_limits(100, 30);
+    fs.create_dir("/fs/microsd/0123456789").unwrap();
+    assert_eq!(fs.create_dir("/fs/microsd/01"), full);
+}
+
+#[test]
+fn the_default_scratch_area_holds_a_bounded_number_of_entries() {
+    let mut fs = Vfs::default();
+    let name = "x".repeat(200);
+    let mut made = 0;
+    for k in 0..20_000 {
+        if fs.create_dir(&format!("/fs/microsd/{k}{name}")).is_err() {
+            break;
+        }
+        made += 1;
+    }
+    let (n, bytes) = fs.scratch_entries();
+    assert_eq!(n, made);
+    assert!(
+        made < SCRATCH_ENTRY_LIMIT && bytes <= SCRATCH_NAME_LIMIT_BYTES,
+        "{made} {bytes}"
+    );
+    assert!(made > 200, "{made}");
+}

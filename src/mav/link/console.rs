@@ -9,6 +9,7 @@ use std::hash::Hash;
 use mavlink::dialects::common::{SerialControlFlag, SERIAL_CONTROL_DATA};
 use mavlink::MavHeader;
 
+use super::port::MAX_PEERS;
 use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest};
 use crate::mav::params::param_value;
 use crate::mav::shell::{self, frames, param_set_text, Context, LineBuffer, Outcome, Typed, PROMPT};
@@ -17,8 +18,8 @@ use crate::params::ParamTable;
 /// One client's shell.
 #[derive(Debug)]
 pub(super) struct Console<A> {
-    link: LinkKind,
-    from: A,
+    pub(super) link: LinkKind,
+    pub(super) from: A,
     input: LineBuffer,
 }
 
@@ -45,6 +46,12 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             return;
         }
         let k = at.unwrap_or_else(|| {
+            // One shell per peer the link can have: a new client closes the oldest one beyond.
+            if self.consoles.iter().filter(|c| c.link == link).count() > MAX_PEERS {
+                if let Some(oldest) = self.consoles.iter().position(|c| c.link == link) {
+                    self.consoles.remove(oldest);
+                }
+            }
             self.consoles.push(Console {
                 link,
                 from,
@@ -102,7 +109,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         };
         if let Ok(index) = result {
             if let Some(msg) = param_value(&self.params, index) {
-                for target in self.port(link).map(|p| p.targets(now.wall_s)).unwrap_or_default() {
+                for target in self.port(link).map(|p| p.targets()).unwrap_or_default() {
                     self.send(now, link, target, &msg);
                 }
             }

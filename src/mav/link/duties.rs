@@ -10,6 +10,7 @@ use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INF
 use crate::commander::{Event, LinkLossAction, Request, Stream};
 use crate::mav::foreign::ekf_status_report;
 use crate::mav::identity::heartbeat;
+use crate::mav::mission_xfer::TIMEOUT_TEXT;
 use crate::mav::signing::unix_us_from_timestamp;
 use crate::mav::telemetry::{message, status_text, system_time, Outgoing, Stream as TelemetryStream};
 
@@ -46,9 +47,15 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.check_streams(now);
         for k in 0..self.ports.len() {
             let link = self.ports[k].kind;
-            let targets = self.ports[k].targets(now.wall_s);
-            let retries = self.ports[k].transfer.tick(now.wall_s);
+            let gone = self.ports[k].expire(now.wall_s);
+            self.forget_peers(link, &gone);
+            let targets = self.ports[k].targets();
+            let client = self.ports[k].transfer.client();
+            let (retries, timed_out) = self.ports[k].transfer.tick(now.wall_s);
             self.send_all(now, link, retries);
+            if let (true, Some(to)) = (timed_out, client) {
+                self.send(now, link, to, &status_text(CRITICAL, TIMEOUT_TEXT));
+            }
             if link == LinkKind::Gcs {
                 self.check_link_loss(now, k);
             }

@@ -9,6 +9,7 @@ use mavlink::dialects::common::MavMessage;
 use mavlink::MavHeader;
 
 use super::params::ParamList;
+use super::port::{HeldForClients, Port, MAX_PEERS};
 use super::{KeyToStore, LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, INFO, WARNING};
 use crate::commander::{ManualInputMode, Request, Stream};
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
@@ -17,6 +18,36 @@ use crate::mav::signing::{SigningKey, Verdict};
 use crate::mav::telemetry::status_text;
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
+    /// `from` sent a trusted frame on `link`: a peer now, if there is room for it.
+    fn heard(&mut self, now: Now, link: LinkKind, from: A) {
+        let evicted = self.port(link).and_then(|port| port.heard(from, now.wall_s));
+        if let Some(gone) = evicted {
+            self.forget_peers(link, &[gone]);
+        }
+    }
+
+    /// Frees what was kept for the peers `gone` of `link`, and for any client of it that is
+    /// not one of its targets (one the full peer table did not take): their shells and
+    /// parameter lists.
+    pub(super) fn forget_peers(&mut self, link: LinkKind, gone: &[A]) {
+        if gone.is_empty() {
+            return;
+        }
+        let targets = self.port(link).map(|p| p.targets()).unwrap_or_default();
+        let kept = |l: LinkKind, a: &A| l != link || targets.contains(a);
+        self.consoles.retain(|c| kept(c.link, &c.from));
+        self.param_lists.retain(|l| kept(l.link, &l.to));
+    }
+
+    /// What the machine keeps for its clients now (bounded whatever they send).
+    pub fn held_for_clients(&self) -> HeldForClients {
+        HeldForClients {
+            peers: self.ports.iter().map(Port::peer_count).sum(),
+            shells: self.consoles.len(),
+            param_lists: self.param_lists.len(),
+        }
+    }
+
     /// One datagram from `from` on `link`.
     pub fn handle_datagram(&mut self, now: Now, link: LinkKind, from: A, bytes: &[u8]) {
         let stamp = self.signing_now(now);
@@ -32,9 +63,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 Inbound::Message { header, message, .. } => {
                     self.record(header, &message);
                     if trusted {
-                        if let Some(port) = self.port(link) {
-                            port.heard(from, now.wall_s);
-                        }
+                        self.heard(now, link, from);
                         let now_ns = (now.wall_s * 1e9) as i64;
                         let action = ingest(&self.identity, &header, &message, &self.snapshot.home, now_ns);
                         self.act(now, link, from, &header, action);
@@ -46,9 +75,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     target_system,
                     target_component,
                 } if trusted => {
-                    if let Some(port) = self.port(link) {
-                        port.heard(from, now.wall_s);
-                    }
+                    self.heard(now, link, from);
                     if self.identity.accepts(&header, target_system, target_component) {
                         self.unsupported(now, link, from, &header, command);
                     }
@@ -117,6 +144,12 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             Action::Shell(msg) => self.shell(now, link, from, header, &msg),
             Action::ParamList => {
                 self.param_lists.retain(|l| !(l.link == link && l.to == from));
+                // One list per peer the link can have: beyond, the oldest request is dropped.
+                if self.param_lists.iter().filter(|l| l.link == link).count() > MAX_PEERS {
+                    if let Some(oldest) = self.param_lists.iter().position(|l| l.link == link) {
+                        self.param_lists.remove(oldest);
+                    }
+                }
                 self.param_lists.push(ParamList::new(link, from, now.wall_s));
             }
             Action::ParamRead { name, index } => self.param_read(now, link, from, header, &name, index),

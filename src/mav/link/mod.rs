@@ -59,6 +59,7 @@ use files::Files;
 pub use logs::{LOG_MESSAGES_AT_ONCE, LOG_MESSAGE_PERIOD_S};
 use params::ParamList;
 use port::Port;
+pub use port::{HeldForClients, MAX_PEERS, PEER_EVICT_S, PEER_TIMEOUT_S};
 
 const INFO: MavSeverity = MavSeverity::MAV_SEVERITY_INFO;
 const WARNING: MavSeverity = MavSeverity::MAV_SEVERITY_WARNING;
@@ -483,7 +484,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     fn broadcast(&mut self, now: Now, msg: &MavMessage) {
         for k in 0..self.ports.len() {
             let link = self.ports[k].kind;
-            for to in self.ports[k].targets(now.wall_s) {
+            for to in self.ports[k].targets() {
                 self.send_unlogged(now, link, to, msg);
             }
         }

@@ -180,7 +180,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             Some(Ok(index)) => {
                 self.changed_params.changed(index, now.wall_s);
                 if let Some(msg) = param_value(&self.params, index) {
-                    let mut targets = self.port(link).map(|p| p.targets(now.wall_s)).unwrap_or_default();
+                    let mut targets = self.port(link).map(|p| p.targets()).unwrap_or_default();
                     if !targets.contains(&to) {
                         targets.push(to);
                     }

@@ -13,6 +13,23 @@ use crate::mav::streams::{LinkKind, StreamTable};
 
 /// Learned peers are forgotten after this much wall-clock silence [s].
 pub const PEER_TIMEOUT_S: f64 = 10.0;
+/// Most peers a link learns besides its remote (each one gets the link's telemetry).
+pub const MAX_PEERS: usize = 8;
+/// A full table makes room for a new peer by forgetting the one silent longest, if it has been
+/// silent this long [s]; a peer that keeps talking (a ground station's 1 Hz HEARTBEAT) is never
+/// pushed out by addresses that write once.
+pub const PEER_EVICT_S: f64 = 2.0;
+
+/// What a link machine keeps for its clients, all of it bounded ([`MAX_PEERS`] per link).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HeldForClients {
+    /// Learned peers, over every link (the configured remotes not counted).
+    pub peers: usize,
+    /// Open MAVLink shells.
+    pub shells: usize,
+    /// Parameter lists being sent.
+    pub param_lists: usize,
+}
 
 /// The state of one link.
 #[derive(Debug)]
@@ -62,16 +79,56 @@ impl<A: Copy + Eq + Hash> Port<A> {
         s
     }
 
-    /// `from` sent a trusted frame at `wall_s`.
-    pub fn heard(&mut self, from: A, wall_s: f64) {
+    /// `from` sent a trusted frame at `wall_s`: it becomes (or stays) a peer when there is room
+    /// ([`MAX_PEERS`], [`PEER_EVICT_S`]); returns the peer forgotten to make room.
+    pub fn heard(&mut self, from: A, wall_s: f64) -> Option<A> {
+        if from == self.remote {
+            return None;
+        }
+        if let Some(seen) = self.peers.get_mut(&from) {
+            *seen = wall_s;
+            return None;
+        }
+        let mut evicted = None;
+        if self.peers.len() >= MAX_PEERS {
+            let (stalest, seen) = self
+                .peers
+                .iter()
+                .min_by(|a, b| a.1.total_cmp(b.1))
+                .map(|(p, t)| (*p, *t))?;
+            if wall_s - seen < PEER_EVICT_S {
+                return None;
+            }
+            self.peers.remove(&stalest);
+            evicted = Some(stalest);
+        }
         self.peers.insert(from, wall_s);
+        evicted
     }
 
-    /// The remote and every peer heard within [`PEER_TIMEOUT_S`] (older ones are forgotten).
-    pub fn targets(&mut self, wall_s: f64) -> Vec<A> {
-        self.peers.retain(|_, seen| wall_s - *seen < PEER_TIMEOUT_S);
+    /// Forgets the peers silent for [`PEER_TIMEOUT_S`] at `wall_s`; returns them.
+    pub fn expire(&mut self, wall_s: f64) -> Vec<A> {
+        let gone: Vec<A> = self
+            .peers
+            .iter()
+            .filter(|(_, seen)| wall_s - **seen >= PEER_TIMEOUT_S)
+            .map(|(p, _)| *p)
+            .collect();
+        for p in &gone {
+            self.peers.remove(p);
+        }
+        gone
+    }
+
+    /// Learned peers (the remote not counted).
+    pub fn peer_count(&self) -> usize {
+        self.peers.len()
+    }
+
+    /// The remote and every peer.
+    pub fn targets(&self) -> Vec<A> {
         let mut out = vec![self.remote];
-        out.extend(self.peers.keys().filter(|p| **p != self.remote));
+        out.extend(self.peers.keys());
         out
     }
 }
@@ -80,19 +137,44 @@ impl<A: Copy + Eq + Hash> Port<A> {
 mod tests {
     use super::*;
 
+    fn sorted(mut v: Vec<u16>) -> Vec<u16> {
+        v.sort_unstable();
+        v
+    }
+
     #[test]
     fn peers_expire_and_the_remote_stays() {
         let mut port = Port::new(LinkKind::Gcs, 1u16, 0);
         port.heard(2, 0.0);
         port.heard(1, 0.0);
-        let mut t = port.targets(5.0);
-        t.sort_unstable();
-        assert_eq!(t, vec![1, 2]);
+        assert!(port.expire(5.0).is_empty());
+        assert_eq!(sorted(port.targets()), vec![1, 2]);
         port.heard(3, 6.0);
-        let mut t = port.targets(12.0);
-        t.sort_unstable();
-        assert_eq!(t, vec![1, 3], "peer 2 silent for 12 s is forgotten");
-        assert_eq!(port.targets(20.0), vec![1]);
+        assert_eq!(port.expire(12.0), vec![2], "peer 2 silent for 12 s is forgotten");
+        assert_eq!(sorted(port.targets()), vec![1, 3]);
+        assert_eq!(port.expire(20.0), vec![3]);
+        assert_eq!(port.targets(), vec![1]);
+    }
+
+    #[test]
+    fn the_peer_table_is_bounded_and_keeps_peers_that_keep_talking() {
+        let mut port = Port::new(LinkKind::Gcs, 0u16, 0);
+        // A ground station with a 1 Hz heartbeat, then 5 000 addresses writing once each.
+        port.heard(1, 0.0);
+        let mut evicted = Vec::new();
+        for k in 0..5_000u16 {
+            let t = f64::from(k) * 1e-3;
+            if f64::from(k) % 1000.0 == 0.0 {
+                port.heard(1, t);
+            }
+            evicted.extend(port.heard(100 + k, t));
+            assert!(port.targets().len() <= 1 + MAX_PEERS);
+        }
+        assert!(port.targets().contains(&1), "the talking peer stays");
+        assert!(!evicted.contains(&1));
+        // Once-writers silent for PEER_EVICT_S made room for later ones.
+        assert!(!evicted.is_empty());
+        assert_eq!(port.targets().len(), 1 + MAX_PEERS);
     }
 
     #[test]

@@ -1,0 +1,104 @@
+"""Peers a client can multiply: 5 000 source ports each write to the GCS link once per round (a
+GCS HEARTBEAT, a shell line, a parameter-list request and an FTP directory with a 200-byte name),
+three rounds. The vehicle's memory stays bounded (RSS under 64 MB, no growth from round to
+round), the telemetry it sends stays bounded (at most MAX_PEERS = 8 learned peers get the
+streams the configured ground station gets, whatever the number of addresses), FTP answers a
+full scratch area with FailErrno ENOSPC, and the ground station keeps being served."""
+import resource
+import selectors
+import socket
+import time
+
+from pymavlink.dialects.v20 import common as mavlink2
+
+MAX_PEERS = 8
+ADDRESSES = 5_000
+RSS_BOUND_KB = 64 * 1024
+FTP_FAIL_ERRNO, FTP_NAK, ENOSPC = 2, 129, 28
+
+
+def rss_kb(pid):
+    """Resident memory of process `pid` [kB]."""
+    for line in open(f"/proc/{pid}/status"):
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1])
+    raise AssertionError("no VmRSS")
+
+
+def frames(k):
+    """What address number `k` sends: heartbeat, shell line, parameter list, FTP mkdir."""
+    mav = mavlink2.MAVLink(None, srcSystem=255, srcComponent=190)
+    mav.robust_parsing = True
+    heartbeat = mavlink2.MAVLink_heartbeat_message(mavlink2.MAV_TYPE_GCS, mavlink2.MAV_AUTOPILOT_INVALID, 0, 0, 4, 3)
+    shell = mavlink2.MAVLink_serial_control_message(10, 2 | 4, 0, 0, 4, list(b"ver\n") + [0] * 66)
+    plist = mavlink2.MAVLink_param_request_list_message(1, 1)
+    path = f"/fs/microsd/{k:05d}" + "x" * 200
+    payload = bytearray(251)
+    payload[0:2] = (2 * k % 65536).to_bytes(2, "little")
+    payload[3], payload[4] = 9, len(path)  # CreateDirectory, size
+    payload[12:12 + len(path)] = path.encode()
+    ftp = mavlink2.MAVLink_file_transfer_protocol_message(0, 1, 1, list(payload))
+    return [m.pack(mav) for m in (heartbeat, shell, plist, ftp)]
+
+
+def telemetry_counts(sock, parser_for, counts):
+    """Reads what `sock` has; counts HEARTBEAT and ATTITUDE per socket, FTP NAK codes."""
+    try:
+        data = sock.recv(65536)
+    except BlockingIOError:
+        return
+    for m in parser_for(sock).parse_buffer(data) or []:
+        kind = m.get_type()
+        if kind in ("HEARTBEAT", "ATTITUDE"):
+            counts["telemetry"] += 1
+        elif kind == "FILE_TRANSFER_PROTOCOL" and m.payload[3] == FTP_NAK:
+            counts["ftp_naks"].add((m.payload[12], m.payload[13]))
+
+
+def test_five_thousand_source_ports_leave_memory_and_telemetry_bounded(autopilot):
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    resource.setrlimit(resource.RLIMIT_NOFILE, (min(hard, max(soft, ADDRESSES + 500)), hard))
+    host, port = autopilot.gcs_bind.rsplit(":", 1)
+    target = (host, int(port))
+    remote = autopilot.conn.port  # the configured ground station's socket
+    autopilot.sleep(3.0)
+    before = rss_kb(autopilot.proc.pid)
+    rounds = []
+    for _ in range(3):
+        sel = selectors.DefaultSelector()
+        socks, parsers = [], {}
+        for k in range(ADDRESSES):
+            s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+            s.bind(("127.0.0.1", 0))
+            s.setblocking(False)
+            for frame in frames(k):
+                s.sendto(frame, target)
+            socks.append(s)
+            sel.register(s, selectors.EVENT_READ)
+        sel.register(remote, selectors.EVENT_READ)
+        time.sleep(1.0)  # the replies to the requests themselves
+
+        def parser_for(sock):
+            return parsers.setdefault(sock, mavlink2.MAVLink(None))
+
+        flood = {"telemetry": 0, "ftp_naks": set()}
+        alone = {"telemetry": 0, "ftp_naks": set()}
+        end = time.monotonic() + 3.0
+        while time.monotonic() < end:
+            for key, _ in sel.select(0.05):
+                telemetry_counts(key.fileobj, parser_for, alone if key.fileobj is remote else flood)
+        rounds.append((flood, alone, rss_kb(autopilot.proc.pid)))
+        sel.unregister(remote)
+        for s in socks:
+            s.close()
+        sel.close()
+    for flood, alone, rss in rounds:
+        assert alone["telemetry"] > 50, alone
+        # Telemetry to the flooders: at most MAX_PEERS times what one ground station gets.
+        assert flood["telemetry"] <= MAX_PEERS * alone["telemetry"] * 1.2, (flood, alone)
+        assert rss < RSS_BOUND_KB, f"RSS {rss} kB"
+    assert (FTP_FAIL_ERRNO, ENOSPC) in rounds[-1][0]["ftp_naks"], "a full scratch area is ENOSPC"
+    growth = rounds[-1][2] - rounds[0][2]
+    assert growth < 4 * 1024, f"RSS grew by {growth} kB from the first round to the last (from {before} kB)"
+    # The ground station is still served, and answered.
+    assert autopilot.param_get("MPC_XY_VEL_MAX") == 12.0
