@@ -1,5 +1,6 @@
 //! `rotorpilot` command line: parses options, sets up logging, calls the library, prints results.
 
+use std::io::Write;
 use std::net::SocketAddr;
 use std::process::ExitCode;
 
@@ -109,7 +110,8 @@ fn main() -> ExitCode {
     match execute(cli.command) {
         Ok(text) => {
             if !text.is_empty() {
-                println!("{text}");
+                // A closed stdout (`| head -n 1` after the ready line) is no error of ours.
+                let _ = writeln!(std::io::stdout(), "{text}");
             }
             ExitCode::SUCCESS
         }
@@ -209,8 +211,8 @@ fn execute(command: Command) -> Result<String, String> {
             }
             let report = runtime::run(config, shutdown_signal(duration), |ready| {
                 if let Ok(line) = serde_json::to_string(ready) {
-                    println!("{line}");
-                    let _ = std::io::Write::flush(&mut std::io::stdout());
+                    let _ = writeln!(std::io::stdout(), "{line}");
+                    let _ = std::io::stdout().flush();
                 }
             })
             .map_err(|e| e.to_string())?;
