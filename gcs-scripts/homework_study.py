@@ -32,9 +32,9 @@ import os
 import pathlib
 import subprocess
 import sys
-import tomllib
 
 import numpy as np
+import tomllib
 
 import homework_figures
 import plot_run

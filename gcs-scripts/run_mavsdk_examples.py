@@ -57,8 +57,18 @@ import time
 
 import tlog_judge as judge
 from rotorpilot_gcs import checkout_binary, find_binary
-from tlog_judge import (ACCEPTED, AUTO_LAND, AUTO_RTL, FOLLOW_TARGET, GOTO, INJECT_FAILURE, OFFBOARD, ORBIT, POSCTL,
-                        Phase)
+from tlog_judge import (
+    ACCEPTED,
+    AUTO_LAND,
+    AUTO_RTL,
+    FOLLOW_TARGET,
+    GOTO,
+    INJECT_FAILURE,
+    OFFBOARD,
+    ORBIT,
+    POSCTL,
+    Phase,
+)
 
 HERE = pathlib.Path(__file__).resolve().parent
 EXAMPLES = HERE / "tests" / "third_party" / "mavsdk_examples"

@@ -21,8 +21,9 @@ orbit's centre.
   cos θ cos φ of it in a tilted turn) against the phase's commanded yaw rate, or for a commanded
   heading against the vehicle's heading reference (`HeadingTurn`): from the heading and heading
   rate when the heading was commanded, the short way as of then, at up to MPC_YAWRAUTO_MAX
-  (45 °/s) reached and left at MPC_YAWRAUTO_ACC (60 °/s²), and a hold once there; judged while in OFFBOARD, from 1 s after the setpoint changed (and 1 s after such a turn
-  ends) until it changes again or the example's duration of the phase ends; a departure of more
+  (45 °/s) reached and left at MPC_YAWRAUTO_ACC (60 °/s²), and a hold once there; judged while in
+  OFFBOARD, from 1 s after the setpoint changed (and 1 s after such a turn ends) until it changes
+  again or the example's duration of the phase ends; a departure of more
   than 5 °/s for more than 0.5 s (simulated), a stall, or a spike (under a commanded yaw rate
   30 °/s faster than asked or the wrong way; in a heading turn 30 °/s the wrong way for 0.2 s) is
   reported with its values.
@@ -477,8 +478,8 @@ def _judge_rate(name, samples, rate):
     t0 = samples[0][0] - YAW_SETTLE_S
     problems = _rate_report(samples, lambda a: rate, t0,
                             lambda a: abs(rate) >= 2 * YAW_TOL_DEG_S and abs(a[3]) < YAW_TOL_DEG_S)
-    seen = (f"heading rate (ATTITUDE) mean {statistics.fmean(rates):+.1f} °/s, {min(rates):+.1f} … {max(rates):+.1f} °/s "
-            f"over {samples[-1][1] - samples[0][1]:.1f} s in OFFBOARD")
+    seen = (f"heading rate (ATTITUDE) mean {statistics.fmean(rates):+.1f} °/s, "
+            f"{min(rates):+.1f} … {max(rates):+.1f} °/s over {samples[-1][1] - samples[0][1]:.1f} s in OFFBOARD")
     return Check(name, not problems, "; ".join(problems + [seen]))
 
 

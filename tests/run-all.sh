@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs every test of rotorpilot on a fresh machine: formatting, lints, architecture rules,
+# Runs every test of rotorpilot on a fresh machine: formatting, lints (Rust and Python), Python types, architecture rules,
 # Rust unit/integration/doc tests (release build, reused by the Python tests), a bounded run of
 # every fuzz target from the committed corpus, the README's set-up lines on a fresh clone, and the pytest
 # suite in a venv with the pinned gcs-scripts/requirements.txt. Exits non-zero on any failure,
@@ -32,6 +32,10 @@ fi
 # plugin provides the suite's fixtures.
 "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps -e ./gcs-scripts
 export ROTORPILOT_BIN="$PWD/target/release/rotorpilot"
+
+echo "== Python lints and types (ruff; mypy --strict on rotorpilot_gcs)"
+"$venv/bin/ruff" check gcs-scripts
+(cd gcs-scripts && "../$venv/bin/mypy")
 
 echo "== the README's set-up lines on a fresh clone"
 bash tests/readme-setup.sh

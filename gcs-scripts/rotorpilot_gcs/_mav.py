@@ -5,6 +5,7 @@ variable); this module sets it first and, if pymavlink was already loaded for MA
 the dialect again for MAVLink 2.
 """
 import os
+from typing import Any
 
 os.environ["MAVLINK20"] = "1"
 from pymavlink import mavutil  # noqa: E402
@@ -16,7 +17,7 @@ if mavutil.mavlink.WIRE_PROTOCOL_VERSION != "2.0":
 mavlink = mavutil.mavlink
 
 
-def connection_with_dialect(device: str, dialect: str, **options):
+def connection_with_dialect(device: str, dialect: str, **options: Any) -> Any:
     """``mavutil.mavlink_connection(device, dialect=dialect, **options)`` without changing the
     dialect of the links made after it: pymavlink's dialect is process-wide, and the link keeps
     the parser it was built with, so the previous dialect is put back at once (a link with

@@ -140,7 +140,7 @@ def read_plan(binary: pathlib.Path, sweep: pathlib.Path) -> dict[str, Any]:
     if proc.returncode != 0:
         raise CampaignError(f"{binary} sweep --plan exited with status {proc.returncode}: {message}")
     try:
-        plan = json.loads(proc.stdout)
+        plan: dict[str, Any] = json.loads(proc.stdout)
         runs = int(plan["runs"])
     except (ValueError, KeyError, TypeError):
         raise CampaignError(f"{binary} sweep --plan printed no plan: {proc.stdout[:200]!r}") from None

@@ -1,10 +1,12 @@
 """The link to one autopilot: connect, receive, wait, and what a ground station sends unasked.
 
-Every message goes through `recv`, which first sends what is due (the GCS heartbeat once a
-second, an offboard setpoint stream: `set_periodic`) on every link the helpers know, so waiting
-for one vehicle never silences the setpoint stream of another (its offboard would be lost),
-drops messages of other systems than the target and undecodable ones, records the latest message
-of each type (`latest`) and each parameter's type, and prints each STATUSTEXT as ``autopilot: [severity] text``.
+What a ground station sends unasked (the GCS heartbeat once a second, an offboard setpoint
+stream: `set_periodic`) goes out from a background thread, the keeper, every `KEEPER_PERIOD_S`
+on every link the helpers know, as MAVSDK serves its link: user code may block, sleep or compute
+between calls without tripping the autopilot's link-loss or offboard-loss failsafe. `recv`
+sends what is due too, first; it drops messages of other systems than the target and
+undecodable ones, records the latest message of each type (`latest`) and each parameter's type,
+and prints each STATUSTEXT as ``autopilot: [severity] text``.
 
 Every wait has a timeout and raises `LinkTimeout` when it expires. Helpers that wait for their
 own answer (commands, parameters, plan transfers) keep the one-shot messages they read past
@@ -16,6 +18,7 @@ from __future__ import annotations
 import collections
 import math
 import sys
+import threading
 import time
 import weakref
 from typing import Any, Callable, Iterable, TextIO, Union
@@ -48,6 +51,8 @@ ONE_SHOT = frozenset({"STATUSTEXT", "MISSION_ITEM_REACHED", "PARAM_VALUE", "AUTO
 PENDING_MAX = 100
 #: The ids a ground station uses (QGroundControl's).
 GCS_SYSTEM, GCS_COMPONENT = 255, 190
+#: How often the keeper thread sends what is due [s] (the 20 Hz setpoint stream needs 50 ms).
+KEEPER_PERIOD_S = 0.01
 
 
 class LinkState:
@@ -63,6 +68,8 @@ class LinkState:
         self.pending: list[Message] = []
         self.param_types: dict[str, int] = {}
         self.print_texts = True
+        # Held while the periodic sends change or go out (the keeper thread and the caller's).
+        self.lock = threading.RLock()
 
 
 #: Every connection with helper state: `recv` on any of them services them all.
@@ -76,7 +83,32 @@ def link_state(conn: Connection) -> LinkState:
         state = conn.rp_state = LinkState(DEFAULT_TIMEOUT)
         state.periodic["heartbeat"] = [HEARTBEAT_PERIOD_S, -math.inf, lambda: _heartbeat(conn)]
         _LINKS.add(conn)
+        _start_keeper()
     return state
+
+
+_keeper: threading.Thread | None = None
+_keeper_guard = threading.Lock()
+
+
+def _keep_links() -> None:
+    """The keeper thread: sends what is due on every known link, for ever (a daemon)."""
+    while True:
+        time.sleep(KEEPER_PERIOD_S)
+        for conn in list(_LINKS):
+            try:
+                service(conn)
+            except (OSError, ValueError, AttributeError):
+                # Closed under us: leave it alone from now on.
+                _LINKS.discard(conn)
+
+
+def _start_keeper() -> None:
+    global _keeper
+    with _keeper_guard:
+        if _keeper is None or not _keeper.is_alive():
+            _keeper = threading.Thread(target=_keep_links, name="rotorpilot-gcs-keeper", daemon=True)
+            _keeper.start()
 
 
 def _heartbeat(conn: Connection) -> None:
@@ -85,42 +117,51 @@ def _heartbeat(conn: Connection) -> None:
 
 def send_heartbeat(conn: Connection) -> None:
     """Sends a GCS heartbeat now (also when the periodic one is off)."""
-    _heartbeat(conn)
-    beat = link_state(conn).periodic.get("heartbeat")
-    if beat is not None:
-        beat[1] = time.monotonic()
+    state = link_state(conn)
+    with state.lock:
+        _heartbeat(conn)
+        beat = state.periodic.get("heartbeat")
+        if beat is not None:
+            beat[1] = time.monotonic()
 
 
 def set_heartbeats(conn: Connection, enabled: bool) -> None:
     """Turns the GCS heartbeat `recv` sends once a second on or off (off: the autopilot's
     data-link-loss failsafe can be tested)."""
     state = link_state(conn)
-    if enabled:
-        state.periodic.setdefault("heartbeat", [HEARTBEAT_PERIOD_S, -math.inf, lambda: _heartbeat(conn)])
-    else:
-        state.periodic.pop("heartbeat", None)
+    with state.lock:
+        if enabled:
+            state.periodic.setdefault("heartbeat", [HEARTBEAT_PERIOD_S, -math.inf, lambda: _heartbeat(conn)])
+        else:
+            state.periodic.pop("heartbeat", None)
 
 
 def set_periodic(conn: Connection, name: str, period_s: float, send: Callable[[], None]) -> None:
-    """Calls `send()` now and then every `period_s` [s] while any helper reads the link, until
+    """Calls `send()` now and then every `period_s` [s] (from the keeper thread), until
     `stop_periodic(conn, name)`; a second stream of the same `name` replaces the first."""
-    send()
-    link_state(conn).periodic[name] = [period_s, time.monotonic(), send]
+    state = link_state(conn)
+    with state.lock:
+        send()
+        state.periodic[name] = [period_s, time.monotonic(), send]
 
 
 def stop_periodic(conn: Connection, name: str) -> None:
     """Stops the periodic sender `name` (nothing when there is none)."""
-    link_state(conn).periodic.pop(name, None)
+    state = link_state(conn)
+    with state.lock:
+        state.periodic.pop(name, None)
 
 
 def service(conn: Connection) -> None:
     """Sends what is due now on `conn`: the GCS heartbeat and every periodic stream."""
-    now = time.monotonic()
-    for entry in list(link_state(conn).periodic.values()):
-        period, last, send = entry
-        if now - last >= period:
-            send()
-            entry[1] = time.monotonic()
+    state = link_state(conn)
+    with state.lock:
+        now = time.monotonic()
+        for entry in list(state.periodic.values()):
+            period, last, send = entry
+            if now - last >= period:
+                send()
+                entry[1] = time.monotonic()
 
 
 def forget(conn: Connection) -> None:

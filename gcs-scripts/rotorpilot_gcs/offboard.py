@@ -1,8 +1,9 @@
-"""Offboard control: a position setpoint streamed at 20 Hz while any helper reads the link.
+"""Offboard control: a position setpoint streamed at 20 Hz by the link's keeper thread.
 
 PX4 leaves OFFBOARD (and refuses to enter it) when the setpoint stream stops for COM_OF_LOSS_T,
-so the stream is sent by `link.recv` itself: start it before switching to OFFBOARD, move it with
-further `set_setpoint` calls, stop it after leaving OFFBOARD.
+so the stream goes out on its own, whatever the script does meanwhile (sleeps included): start
+it before switching to OFFBOARD, move it with further `set_setpoint` calls, stop it after
+leaving OFFBOARD.
 """
 from __future__ import annotations
 

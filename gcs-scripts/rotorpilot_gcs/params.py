@@ -22,24 +22,24 @@ INTEGER_TYPES = frozenset({mavlink.MAV_PARAM_TYPE_UINT8, mavlink.MAV_PARAM_TYPE_
 
 def int32_bits(value: int) -> float:
     """The float whose four bytes are the INT32 `value` (what PARAM_SET carries for an integer)."""
-    return struct.unpack("<f", struct.pack("<i", int(value)))[0]
+    return float(struct.unpack("<f", struct.pack("<i", int(value)))[0])
 
 
 def float_bits_to_int(value: float) -> int:
     """The INT32 whose four bytes are the float `value` (an integer PARAM_VALUE's value)."""
-    return struct.unpack("<i", struct.pack("<f", value))[0]
+    return int(struct.unpack("<i", struct.pack("<f", value))[0])
 
 
 def as_float32(value: float) -> float:
     """`value` rounded to the nearest float32 (what a REAL32 parameter holds)."""
-    return struct.unpack("<f", struct.pack("<f", value))[0]
+    return float(struct.unpack("<f", struct.pack("<f", value))[0])
 
 
 def param_value(m: Message) -> float | int:
     """The value of a PARAM_VALUE: an int for the integer types, else the float."""
     if m.param_type in INTEGER_TYPES:
         return float_bits_to_int(m.param_value)
-    return m.param_value
+    return float(m.param_value)
 
 
 def _param_reply(conn: Connection, name: str, start: float, timeout: float, send: Callable[[], None]) -> Message:

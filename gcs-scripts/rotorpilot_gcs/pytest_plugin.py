@@ -33,7 +33,7 @@ import pytest
 
 from .process import Autopilot, find_binary
 
-_RUNS = pytest.StashKey[list]()
+_RUNS = pytest.StashKey[list["_Run"]]()
 _FAILED = pytest.StashKey[bool]()
 MARKER = "rotorpilot"
 STDERR_LINES = 15

@@ -15,24 +15,24 @@ def alloc_json(rotorpilot, airframe):
 def test_octocopter_equals_homework_equations(rotorpilot):
     out = alloc_json(rotorpilot, "octo")
     assert out["airframe"] == "octo" and out["rotors"] == 8
-    ct, cq, l = out["c_T"], out["c_Q"], out["arm_length"]
-    assert (ct, cq, l) == (5.84e-6, 3.504e-7, 0.35)
-    s1 = math.sqrt(2) * ct * l / 2
+    ct, cq, arm = out["c_T"], out["c_Q"], out["arm_length"]
+    assert (ct, cq, arm) == (5.84e-6, 3.504e-7, 0.35)
+    s1 = math.sqrt(2) * ct * arm / 2
     expected = np.array([
         [ct] * 8,
-        [0, s1, ct * l, s1, 0, -s1, -ct * l, -s1],
-        [ct * l, s1, 0, -s1, -ct * l, -s1, 0, s1],
+        [0, s1, ct * arm, s1, 0, -s1, -ct * arm, -s1],
+        [ct * arm, s1, 0, -s1, -ct * arm, -s1, 0, s1],
         [-cq, cq, -cq, cq, -cq, cq, -cq, cq],
     ])
     g = np.array(out["G"])
     assert g.shape == (4, 8)
-    np.testing.assert_allclose(g, expected, rtol=1e-12, atol=1e-12 * ct * l)
+    np.testing.assert_allclose(g, expected, rtol=1e-12, atol=1e-12 * ct * arm)
 
 
 def test_quad_x_golden(rotorpilot):
     out = alloc_json(rotorpilot, "quad_x")
-    ct, cq, l = out["c_T"], out["c_Q"], out["arm_length"]
-    k = ct * l / math.sqrt(2)
+    ct, cq, arm = out["c_T"], out["c_Q"], out["arm_length"]
+    k = ct * arm / math.sqrt(2)
     expected = np.array([
         [ct] * 4,
         [k, k, -k, -k],     # rotors at 45°, 135°, 225°, 315° counter-clockwise seen from above
@@ -71,7 +71,8 @@ def test_bad_airframe_is_refused_with_file_field_and_reason(rotorpilot, tmp_path
     text = (pathlib.Path(__file__).resolve().parents[2] / "airframes" / "quad_x.toml").read_text()
     assert old in text
     path = tmp_path / f"{case}.toml"
-    path.write_text(text.replace(old, new, 1) if new else "\n".join(l for l in text.splitlines() if not l.startswith(old)))
+    kept = "\n".join(line for line in text.splitlines() if not line.startswith(old))
+    path.write_text(text.replace(old, new, 1) if new else kept)
     proc = rotorpilot("alloc", "--airframe", str(path), "--json")
     assert proc.returncode == 2
     assert str(path) in proc.stderr and field in proc.stderr and reason in proc.stderr, proc.stderr

@@ -59,8 +59,10 @@ def test_columns_in_another_order_give_the_same_result(rotorpilot, tmp_path):
 
 
 @pytest.mark.parametrize("edit,expected", [
-    (lambda lines: [lines[0].replace(",psi_dot", "")] + [l.rsplit(",", 1)[0] for l in lines[1:]], "column psi_dot: missing column"),
-    (lambda lines: lines[:5] + [",".join("nan" if i == 7 else x for i, x in enumerate(lines[5].split(",")))] + lines[6:],
+    (lambda lines: [lines[0].replace(",psi_dot", "")] + [row.rsplit(",", 1)[0] for row in lines[1:]],
+     "column psi_dot: missing column"),
+    (lambda lines: lines[:5] + [",".join("nan" if i == 7 else x for i, x in enumerate(lines[5].split(",")))]
+     + lines[6:],
      "line 6, column vz: \"nan\" is not a finite number"),
     (lambda lines: lines[:5] + [lines[3]] + lines[6:], "line 6, column t: time"),
     (lambda lines: [lines[0]] + lines[1::2], "line 3, column t: sample time"),

@@ -118,5 +118,6 @@ def test_ekf_status_report_on_request_as_ardupilot_ground_stations_read_it(autop
     for name in ("velocity_variance", "pos_horiz_variance", "pos_vert_variance", "compass_variance"):
         assert 0.0 <= getattr(report, name) < 0.8, (name, report)
     assert autopilot.command(mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, ekf, 200_000).result == mavlink.MAV_RESULT_ACCEPTED
-    reports = [m for m in (autopilot.recv(0.05) for _ in range(60)) if m is not None and m.get_type() == "EKF_STATUS_REPORT"]
+    reports = [m for m in (autopilot.recv(0.05) for _ in range(60))
+               if m is not None and m.get_type() == "EKF_STATUS_REPORT"]
     assert len(reports) >= 5, "streamed at the interval set"
