@@ -47,6 +47,11 @@ hits=$(too_long 150 fuzz/fuzz_targets/mavlink_ingest.rs)
 hits=$(grep -L 'LinkMachine' fuzz/fuzz_targets/mavlink_ingest.rs || true)
 [ -z "$hits" ] || complain "the MAVLink fuzz target must drive the shipped LinkMachine" "$hits"
 
+# One name per idea: no type is defined twice in src/ (test files aside).
+hits=$(find src -name '*.rs' ! -name '*_tests.rs' ! -name 'tests.rs' ! -path '*/tests/*' -print0 \
+    | xargs -0 grep -hoE '^(pub(\([a-z]+\))? )?(struct|enum|trait|type) [A-Z][A-Za-z0-9]*' | awk '{print $NF}' | sort | uniq -d)
+[ -z "$hits" ] || complain "a type name is defined twice in src/" "$hits"
+
 # Parameters are declared once, as rows (src/params/rows/): nothing names them by position.
 hits=$(code 'PARAM_NAMES' --include='*.rs' src tests benches fuzz/fuzz_targets; code '\b(v|values)\[[0-9]+' src/params src/mav/params.rs)
 [ -z "$hits" ] || complain "parameters are read and written through their rows, never by index" "$hits"

@@ -7,7 +7,7 @@ mod link_bench;
 
 use link_bench::*;
 use mavlink::dialects::common::*;
-use rotorpilot::commander::{Event, Request, Stream};
+use rotorpilot::commander::{Event, InputStream, Request};
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
 use rotorpilot::navigation::Sticks;
 
@@ -72,7 +72,7 @@ fn the_offboard_stream_is_alive_for_the_commander_until_com_of_loss_t_of_wall_ti
     };
     let wall = |alive| {
         VehicleRequest::Commander(Request::StreamInWallTime {
-            stream: Stream::Offboard,
+            stream: InputStream::Offboard,
             alive,
         })
     };
@@ -121,7 +121,7 @@ fn manual_control_is_flown_from_the_first_link_and_alive_until_com_rc_loss_t_of_
     let mut b = Bench::new();
     let wall = |alive| {
         VehicleRequest::Commander(Request::StreamInWallTime {
-            stream: Stream::ManualControl,
+            stream: InputStream::ManualControl,
             alive,
         })
     };

@@ -9,7 +9,7 @@ use mavlink::dialects::common::{GpsFixType, HighresImuUpdatedFlags, MavMessage, 
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::lockstep::ScheduledSensorFailure;
-use rotorpilot::mav::telemetry::{message, Stream};
+use rotorpilot::mav::telemetry::{message, TelemetryStream};
 use rotorpilot::navigation::Home;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
@@ -48,7 +48,7 @@ fn set(v: &mut Vehicle, unit: &str, kind: &str) {
 
 /// SYS_STATUS's (present, enabled, healthy) for `bit`.
 fn sys_status(s: &Snapshot, bit: MavSysStatusSensor) -> (bool, bool, bool) {
-    let Some(MavMessage::SYS_STATUS(m)) = message(Stream::SysStatus, s) else {
+    let Some(MavMessage::SYS_STATUS(m)) = message(TelemetryStream::SysStatus, s) else {
         panic!("no SYS_STATUS")
     };
     (
@@ -59,7 +59,7 @@ fn sys_status(s: &Snapshot, bit: MavSysStatusSensor) -> (bool, bool, bool) {
 }
 
 fn highres_updated(s: &Snapshot) -> HighresImuUpdatedFlags {
-    let Some(MavMessage::HIGHRES_IMU(m)) = message(Stream::HighresImu, s) else {
+    let Some(MavMessage::HIGHRES_IMU(m)) = message(TelemetryStream::HighresImu, s) else {
         panic!("no HIGHRES_IMU")
     };
     m.fields_updated
@@ -72,7 +72,7 @@ const BARO_BITS: u16 = 0x1A00;
 fn a_silent_gps_is_reported_lost_and_back() {
     let mut v = ready();
     let s = run(&mut v, 0.1);
-    let Some(MavMessage::GPS_RAW_INT(g)) = message(Stream::GpsRawInt, &s) else {
+    let Some(MavMessage::GPS_RAW_INT(g)) = message(TelemetryStream::GpsRawInt, &s) else {
         panic!()
     };
     assert_eq!(
@@ -91,7 +91,7 @@ fn a_silent_gps_is_reported_lost_and_back() {
     );
     set(&mut v, "gps", "off");
     let s = run(&mut v, 1.5);
-    let Some(MavMessage::GPS_RAW_INT(g)) = message(Stream::GpsRawInt, &s) else {
+    let Some(MavMessage::GPS_RAW_INT(g)) = message(TelemetryStream::GpsRawInt, &s) else {
         panic!()
     };
     assert_eq!(g.fix_type, GpsFixType::GPS_FIX_TYPE_NO_GPS);
@@ -103,7 +103,7 @@ fn a_silent_gps_is_reported_lost_and_back() {
     assert!(enabled && !healthy, "GPS health cleared, still enabled");
     set(&mut v, "gps", "ok");
     let s = run(&mut v, 3.0);
-    let Some(MavMessage::GPS_RAW_INT(g)) = message(Stream::GpsRawInt, &s) else {
+    let Some(MavMessage::GPS_RAW_INT(g)) = message(TelemetryStream::GpsRawInt, &s) else {
         panic!()
     };
     assert_eq!(g.fix_type, GpsFixType::GPS_FIX_TYPE_3D_FIX);
@@ -117,17 +117,19 @@ fn a_silent_gps_is_reported_lost_and_back() {
 fn a_silent_barometer_stops_scaled_pressure_and_clears_its_bits() {
     let mut v = ready();
     let s = run(&mut v, 0.1);
-    assert!(matches!(message(Stream::ScaledPressure, &s), Some(MavMessage::SCALED_PRESSURE(p)) if p.press_abs > 900.0));
+    assert!(
+        matches!(message(TelemetryStream::ScaledPressure, &s), Some(MavMessage::SCALED_PRESSURE(p)) if p.press_abs > 900.0)
+    );
     let baro = MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE;
     assert_eq!(sys_status(&s, baro), (true, true, true));
     set(&mut v, "baro", "off");
     let s = run(&mut v, 1.5);
-    assert_eq!(message(Stream::ScaledPressure, &s), None);
+    assert_eq!(message(TelemetryStream::ScaledPressure, &s), None);
     assert_eq!(sys_status(&s, baro), (true, true, false));
     assert_eq!(highres_updated(&s).bits() & BARO_BITS, 0);
     set(&mut v, "baro", "ok");
     let s = run(&mut v, 2.0);
-    assert!(message(Stream::ScaledPressure, &s).is_some());
+    assert!(message(TelemetryStream::ScaledPressure, &s).is_some());
     assert_eq!(sys_status(&s, baro), (true, true, true));
 }
 

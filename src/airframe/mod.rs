@@ -120,7 +120,7 @@ impl Airframe {
 
     /// Parses `text`; `origin` names it in errors.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Self, AirframeError> {
-        let f = Fields(origin);
+        let f = FieldErrors(origin);
         let file: AirframeFile = toml::from_str(text).map_err(|e| f.syntax(text, &e))?;
         let vehicle = file.vehicle.ok_or_else(|| f.missing("vehicle"))?;
         let belief = file.fc.unwrap_or(schema::BeliefTable {
@@ -180,7 +180,7 @@ impl Airframe {
     }
 
     /// Coplanar rotor planes and no two propeller discs overlapping.
-    fn check_geometry(&self, f: &Fields) -> Result<(), AirframeError> {
+    fn check_geometry(&self, f: &FieldErrors) -> Result<(), AirframeError> {
         let z0 = self.rotors.first().map_or(0.0, |r| r.z_m);
         let hub = |r: &RotorDef| (r.arm_m * r.angle_rad.cos(), r.arm_m * r.angle_rad.sin());
         for (i, a) in self.rotors.iter().enumerate() {
@@ -216,7 +216,7 @@ impl Airframe {
 
 /// Rotor angles, arms and spins from a ring or a list (docs/allocation.md §1, eqs. (1.1)–(1.3):
 /// α_i = α_0 + 2π(i−1)/n, spins alternating from rotor 1).
-fn rotor_defs(f: &Fields, r: &RotorsTable) -> Result<Vec<RotorDef>, AirframeError> {
+fn rotor_defs(f: &FieldErrors, r: &RotorsTable) -> Result<Vec<RotorDef>, AirframeError> {
     let defs = match (&r.ring, &r.rotor) {
         (Some(_), Some(_)) => {
             return Err(f.bad(
@@ -270,9 +270,9 @@ fn rotor_defs(f: &Fields, r: &RotorsTable) -> Result<Vec<RotorDef>, AirframeErro
 }
 
 /// Error builders for one file.
-struct Fields<'a>(&'a str);
+struct FieldErrors<'a>(&'a str);
 
-impl Fields<'_> {
+impl FieldErrors<'_> {
     fn bad(&self, field: &str, reason: String) -> AirframeError {
         AirframeError::new(self.0, field, reason)
     }

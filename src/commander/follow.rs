@@ -13,7 +13,7 @@ use crate::control::VehicleState;
 use crate::math::{euler_zyx, wrap_pi, Vec3};
 use crate::navigation::{FollowParams, FollowTarget, Guidance, SetpointLimiter, StickShaping, Sticks};
 
-use super::landing::Command;
+use super::landing::FlightDemand;
 use super::Commander;
 
 /// A target not reported for this long is lost [s].
@@ -101,7 +101,7 @@ impl Commander {
 
     /// One follow-me tick, `dt_s` [s] after the last: what to fly, or `None` to hold (no
     /// target, or lost).
-    pub(super) fn follow_command(&mut self, x: &VehicleState, dt_s: f64, t_s: f64) -> Option<Command> {
+    pub(super) fn follow_command(&mut self, x: &VehicleState, dt_s: f64, t_s: f64) -> Option<FlightDemand> {
         let fresh = self.follow.target.filter(|(_, heard_s)| t_s - heard_s < TARGET_LOST_S);
         let Some((mut target, heard_s)) = fresh else {
             if self.follow.limiter.take().is_some() {
@@ -130,7 +130,7 @@ impl Commander {
         self.follow.target = Some((target, heard_s));
         let limits = self.limits(self.params.follow.max_speed_m_s);
         let limiter = self.follow.limiter.get_or_insert_with(|| SetpointLimiter::at(x));
-        Some(Command::Flat(limiter.step(&raw, x, &limits, dt_s)))
+        Some(FlightDemand::Flat(limiter.step(&raw, x, &limits, dt_s)))
     }
 }
 

@@ -26,7 +26,7 @@
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Guidance, Leg, Track};
+use crate::navigation::{Guidance, Track, TrackLeg};
 
 use super::{Commander, FlightMode, Outcome};
 
@@ -146,7 +146,7 @@ impl Commander {
             self.enter(FlightMode::Goto, x, t_s);
         }
         self.speed_override = target.speed_m_s.filter(|v| *v > 0.0);
-        let leg = Leg {
+        let leg = TrackLeg {
             target_w: to,
             next_w: None,
             accept_m: self.params.mission.accept_m,

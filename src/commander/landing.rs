@@ -31,7 +31,7 @@ const DESCENT_THRUST_OF_WEIGHT: f64 = 0.9;
 
 /// What the mode asks the motors to do this tick.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Command {
+pub(super) enum FlightDemand {
     /// Fly a position / velocity / acceleration setpoint.
     Flat(FlatSetpoint),
     /// Fly an attitude or rate target with thrust.
@@ -76,15 +76,15 @@ impl Commander {
     pub(super) fn detect_landing(
         &mut self,
         x: &VehicleState,
-        command: Command,
+        command: FlightDemand,
         thrust_over_weight: f64,
         t_s: f64,
         events: &mut Vec<Event>,
-    ) -> Command {
+    ) -> FlightDemand {
         let descent_commanded = match &command {
-            Command::Flat(sp) => asks_descent(sp, x) || on_the_ground(sp, self.detector.ground_z_m()),
-            Command::Attitude(_) => thrust_over_weight < DESCENT_THRUST_OF_WEIGHT,
-            Command::Idle => true,
+            FlightDemand::Flat(sp) => asks_descent(sp, x) || on_the_ground(sp, self.detector.ground_z_m()),
+            FlightDemand::Attitude(_) => thrust_over_weight < DESCENT_THRUST_OF_WEIGHT,
+            FlightDemand::Idle => true,
         };
         let input = LandInput {
             armed: self.armed,
@@ -99,49 +99,49 @@ impl Commander {
             Some(LandTransition::Airborne) => {
                 self.took_off = true;
                 events.push(Event::Airborne);
-                if self.guidance == Guidance::Idle && !matches!(command, Command::Attitude(_)) {
+                if self.guidance == Guidance::Idle && !matches!(command, FlightDemand::Attitude(_)) {
                     // Lifted with nothing to fly (idle in a hold mode): hold where it is.
                     self.guidance = Guidance::Hold {
                         pos_w: x.pos_w,
                         yaw_rad: euler_zyx(&x.r_wb).z,
                     };
-                    return Command::Flat(FlatSetpoint::hold(x.pos_w, euler_zyx(&x.r_wb).z));
+                    return FlightDemand::Flat(FlatSetpoint::hold(x.pos_w, euler_zyx(&x.r_wb).z));
                 }
             }
             _ => {}
         }
         if !self.armed {
-            return Command::Idle;
+            return FlightDemand::Idle;
         }
         if self.detector.landed() {
             if let Some(why) = self.auto_disarm_reason(t_s) {
                 self.disarm();
                 events.push(Event::Disarmed(why));
-                return Command::Idle;
+                return FlightDemand::Idle;
             }
             return match command {
-                Command::Flat(sp) if asks_climb(&sp, x) => command,
-                Command::Attitude(_) => command,
-                _ => Command::Idle,
+                FlightDemand::Flat(sp) if asks_climb(&sp, x) => command,
+                FlightDemand::Attitude(_) => command,
+                _ => FlightDemand::Idle,
             };
         }
         let land_speed = self.params.land_speed_m_s;
         match command {
-            Command::Flat(sp) if self.detector.touching_down() => {
+            FlightDemand::Flat(sp) if self.detector.touching_down() => {
                 if descends_to_land(&sp, land_speed) {
-                    Command::Attitude(touch_down(x))
+                    FlightDemand::Attitude(touch_down(x))
                 } else {
-                    Command::Flat(descend_below(x, &sp, land_speed))
+                    FlightDemand::Flat(descend_below(x, &sp, land_speed))
                 }
             }
             // The last metre to a position on the ground: a gentle descent that the ground stops,
             // rather than a hover on the landing gear that a touch-down would drop from.
-            Command::Flat(sp)
+            FlightDemand::Flat(sp)
                 if on_the_ground(&sp, self.detector.ground_z_m())
                     && self.detector.near_ground(x)
                     && !descends_to_land(&sp, land_speed) =>
             {
-                Command::Flat(descend_below(x, &sp, land_speed))
+                FlightDemand::Flat(descend_below(x, &sp, land_speed))
             }
             _ => command,
         }

@@ -17,7 +17,7 @@ use crate::control::{AttitudeTarget, VehicleState};
 use crate::math::UnitQuat;
 use crate::navigation::{StickMotion, StickReference, Sticks};
 
-use super::landing::Command;
+use super::landing::FlightDemand;
 use super::{Commander, Event, FlightMode, LinkLossAction, Outcome};
 
 /// `COM_RCL_EXCEPT` bits.
@@ -83,7 +83,7 @@ impl Commander {
     }
 
     /// One tick of a stick mode, `dt_s` [s] after the last: what to fly.
-    pub(super) fn stick_command(&mut self, x: &VehicleState, yaw: f64, dt_s: f64, t_s: f64) -> Command {
+    pub(super) fn stick_command(&mut self, x: &VehicleState, yaw: f64, dt_s: f64, t_s: f64) -> FlightDemand {
         let sticks = self.sticks(t_s);
         let shaping = self.params.manual.shaping;
         let landed = self.detector.landed();
@@ -99,9 +99,9 @@ impl Commander {
                 } else {
                     reference.altitude(&sticks, x, &shaping, &self.params.motion, dt_s)
                 };
-                Command::Flat(sp)
+                FlightDemand::Flat(sp)
             }
-            FlightMode::Acro => Command::Attitude(AttitudeTarget {
+            FlightMode::Acro => FlightDemand::Attitude(AttitudeTarget {
                 q_wb: None,
                 omega_b: Some(shaping.acro_rates(&sticks)),
                 thrust_fraction: shaping.thrust(&sticks),
@@ -114,7 +114,7 @@ impl Commander {
                     *heading = crate::math::wrap_pi(*heading + shaping.yaw_rate(&sticks) * dt_s);
                 }
                 let (roll, pitch) = shaping.tilt(&sticks);
-                Command::Attitude(AttitudeTarget {
+                FlightDemand::Attitude(AttitudeTarget {
                     q_wb: Some(UnitQuat::from_euler_angles(roll, pitch, *heading)),
                     omega_b: None,
                     thrust_fraction: shaping.thrust(&sticks),

@@ -122,7 +122,7 @@ pub enum Request {
     /// runs; the commander itself judges silence in simulated time only.
     StreamInWallTime {
         /// Which stream.
-        stream: Stream,
+        stream: InputStream,
         /// The stream is alive in wall time.
         alive: bool,
     },
@@ -169,7 +169,7 @@ impl OrbitRequest {
 
 /// A stream of messages whose silence the vehicle reacts to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Stream {
+pub enum InputStream {
     /// Offboard setpoints (`COM_OF_LOSS_T`, `COM_OBL_RC_ACT`).
     Offboard,
     /// Stick input (`COM_RC_LOSS_T`, `NAV_RCL_ACT`).

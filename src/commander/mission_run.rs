@@ -7,7 +7,7 @@
 
 use crate::control::VehicleState;
 use crate::math::Vec3;
-use crate::navigation::{Guidance, Leg, Mission, MissionItem, Track};
+use crate::navigation::{Guidance, Mission, MissionItem, Track, TrackLeg};
 
 use super::{Commander, Event, FlightMode};
 
@@ -187,7 +187,7 @@ impl Commander {
                     MissionItem::Waypoint { yaw_rad: Some(y), .. } => y,
                     _ => yaw,
                 };
-                let leg = Leg {
+                let leg = TrackLeg {
                     target_w: pos_w,
                     next_w: self.fly_through_to(&item),
                     accept_m: self.accept_radius(&item),

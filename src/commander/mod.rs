@@ -65,7 +65,7 @@ pub use actions::{
 pub use battery::{BatteryGauge, BatteryParams};
 pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
 pub use land_detector::{LandDetectorParams, LandStage};
-pub use messages::{CommanderTick, Event, LandedState, OrbitRequest, Outcome, Request, Stream};
+pub use messages::{CommanderTick, Event, InputStream, LandedState, OrbitRequest, Outcome, Request};
 pub use mission_run::MissionState;
 pub use mode::{FlightMode, ModeRefusal};
 pub use navigation_checks::NavValidity;
@@ -74,7 +74,7 @@ pub use reactions::{LossAllocation, RotorLoss};
 
 use follow::Follow;
 use land_detector::LandDetector;
-use landing::Command;
+use landing::FlightDemand;
 use manual::ManualInput;
 use mission_run::MissionRun;
 use offboard::Offboard;
@@ -224,7 +224,7 @@ impl Commander {
         self.last_update_s = Some(t_s);
         let mut events = std::mem::take(&mut self.pending);
         if !self.armed {
-            self.detect_landing(x, Command::Idle, thrust_over_weight, t_s, &mut events);
+            self.detect_landing(x, FlightDemand::Idle, thrust_over_weight, t_s, &mut events);
             return CommanderTick::idle(events);
         }
         self.watch_sticks(x, t_s, &mut events);
@@ -264,26 +264,26 @@ impl Commander {
         }
         self.pace_climb(x);
         let command = command.unwrap_or_else(|| match self.guidance.setpoint(t_s, x) {
-            Some(sp) => Command::Flat(sp),
-            None => Command::Idle,
+            Some(sp) => FlightDemand::Flat(sp),
+            None => FlightDemand::Idle,
         });
         let command = match command {
-            Command::Flat(sp) if self.blind_descent => Command::Flat(Self::without_horizontal(sp, x)),
+            FlightDemand::Flat(sp) if self.blind_descent => FlightDemand::Flat(Self::without_horizontal(sp, x)),
             command => command,
         };
         let command = self.detect_landing(x, command, thrust_over_weight, t_s, &mut events);
         match command {
-            Command::Flat(sp) => CommanderTick {
+            FlightDemand::Flat(sp) => CommanderTick {
                 setpoint: Some(sp),
                 attitude: None,
                 events,
             },
-            Command::Attitude(target) => CommanderTick {
+            FlightDemand::Attitude(target) => CommanderTick {
                 setpoint: None,
                 attitude: Some(target),
                 events,
             },
-            Command::Idle => CommanderTick::idle(events),
+            FlightDemand::Idle => CommanderTick::idle(events),
         }
     }
 }

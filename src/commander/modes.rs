@@ -5,7 +5,7 @@
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{DescentProfile, Guidance, Leg, MotionLimits, Track};
+use crate::navigation::{DescentProfile, Guidance, MotionLimits, Track, TrackLeg};
 
 use super::follow::FollowAdjust;
 use super::mission_run::MissionState;
@@ -58,7 +58,7 @@ impl Commander {
     /// A take-off climb from where the vehicle is to `to_w` [m] at heading `yaw` [rad] (PX4's
     /// AUTO take-off speeds, [`Self::takeoff_limits`], kept as it climbs by [`Self::pace_climb`]).
     pub(super) fn climb_to(&self, x: &VehicleState, to_w: Vec3, yaw: f64, t_s: f64) -> Guidance {
-        let leg = Leg {
+        let leg = TrackLeg {
             target_w: to_w,
             next_w: None,
             accept_m: self.params.mission.accept_m,

@@ -6,7 +6,7 @@ use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
 use crate::math::Vec3;
 use crate::navigation::SetpointLimiter;
 
-use super::landing::{asks_climb, Command};
+use super::landing::{asks_climb, FlightDemand};
 use super::{Commander, Event, FlightMode, OffboardLossAction};
 
 /// The latest offboard target.
@@ -48,7 +48,7 @@ impl Commander {
         dt_s: f64,
         t_s: f64,
         events: &mut Vec<Event>,
-    ) -> Option<Command> {
+    ) -> Option<FlightDemand> {
         match self.offboard.latest {
             Some((OffboardTarget::Flat(sp, body_frame), _)) if self.offboard_alive(t_s) => {
                 let raw = if body_frame { heading_to_world(sp, yaw) } else { sp };
@@ -57,11 +57,11 @@ impl Commander {
                     // Resting on the ground: the reference waits with the vehicle.
                     *limiter = SetpointLimiter::at(x);
                 }
-                Some(Command::Flat(limiter.step(&raw, x, &self.params.motion, dt_s)))
+                Some(FlightDemand::Flat(limiter.step(&raw, x, &self.params.motion, dt_s)))
             }
             Some((OffboardTarget::Attitude(target), _)) if self.offboard_alive(t_s) => {
                 self.offboard.limiter = None;
-                Some(Command::Attitude(target))
+                Some(FlightDemand::Attitude(target))
             }
             _ => {
                 self.offboard_lost(x, t_s, events);
@@ -171,7 +171,7 @@ mod tests {
         let here = FlatSetpoint::hold(s.x.pos_w, 0.0);
         stream(&mut s, here, 0.1);
         let wall = |alive| Request::StreamInWallTime {
-            stream: super::super::Stream::Offboard,
+            stream: super::super::InputStream::Offboard,
             alive,
         };
         assert_eq!(s.request(wall(true)), Outcome::Accepted);

@@ -9,7 +9,7 @@ use crate::math::Vec3;
 use super::goto::RepositionTarget;
 use super::mission_run::MissionState;
 use super::offboard::OffboardTarget;
-use super::{Commander, FlightMode, Outcome, Request, Stream};
+use super::{Commander, FlightMode, InputStream, Outcome, Request};
 
 /// Highest take-off height accepted [m].
 const MAX_TAKEOFF_M: f64 = 1000.0;
@@ -36,8 +36,8 @@ impl Commander {
             }
             Request::StreamInWallTime { stream, alive } => {
                 match stream {
-                    Stream::Offboard => self.offboard.alive_in_wall_time = alive,
-                    Stream::ManualControl => self.manual.alive_in_wall_time = alive,
+                    InputStream::Offboard => self.offboard.alive_in_wall_time = alive,
+                    InputStream::ManualControl => self.manual.alive_in_wall_time = alive,
                 }
                 Outcome::Accepted
             }

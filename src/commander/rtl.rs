@@ -23,7 +23,7 @@ use crate::math::Vec3;
 
 use super::{Commander, Event};
 use crate::navigation::fence_path::{self, FencePath};
-use crate::navigation::{Guidance, Leg, Track};
+use crate::navigation::{Guidance, Track, TrackLeg};
 
 /// Where a return is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -152,9 +152,9 @@ impl Commander {
 
     /// The leg to `to_w` [m], flown through towards `next_w` when there is one, heading for
     /// `to_w` (kept at `yaw` [rad] when nearly there).
-    fn rtl_leg(&self, x: &VehicleState, to_w: Vec3, next_w: Option<Vec3>, yaw: f64) -> Leg {
+    fn rtl_leg(&self, x: &VehicleState, to_w: Vec3, next_w: Option<Vec3>, yaw: f64) -> TrackLeg {
         let d = to_w - x.pos_w;
-        Leg {
+        TrackLeg {
             target_w: to_w,
             next_w,
             accept_m: self.params.mission.accept_m,

@@ -158,7 +158,7 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
     let clearable = |t: MavMissionType| uploadable(t) || t == MavMissionType::MAV_MISSION_TYPE_ALL;
     let unsupported_type =
         |t: MavMissionType| Action::Reply(Box::new(mission_ack(ids, t, MavMissionResult::MAV_MISSION_UNSUPPORTED)));
-    let offboard = |decoded: Result<super::offboard::OffboardTarget, String>| match decoded {
+    let offboard = |decoded: Result<super::offboard::DecodedOffboard, String>| match decoded {
         Ok(target) => Action::Request(Request::OffboardSetpoint {
             setpoint: target.setpoint,
             body_frame: target.body_frame,

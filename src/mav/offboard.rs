@@ -20,7 +20,7 @@ const IGNORE_YAW_RATE: u16 = 1 << 11;
 
 /// A decoded offboard target.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OffboardTarget {
+pub struct DecodedOffboard {
     /// The setpoint; with `body_frame` its velocity and acceleration are in the heading frame.
     pub setpoint: FlatSetpoint,
     /// MAV_FRAME_BODY_NED: velocities and accelerations are rotated by the current heading.
@@ -37,7 +37,7 @@ pub const MAX_ACCEL_M_S2: f64 = 100.0;
 /// Decodes `m`, or says why it is refused (PX4 multicopter combinations only). MAV_FRAME_BODY_NED
 /// is deprecated in the spec, but MAVSDK's body-frame velocity uses it.
 #[allow(deprecated)]
-pub fn decode_local_target(m: &SET_POSITION_TARGET_LOCAL_NED_DATA) -> Result<OffboardTarget, String> {
+pub fn decode_local_target(m: &SET_POSITION_TARGET_LOCAL_NED_DATA) -> Result<DecodedOffboard, String> {
     let mask = m.type_mask.bits();
     let body_frame = match m.coordinate_frame {
         MavFrame::MAV_FRAME_LOCAL_NED => false,
@@ -83,7 +83,7 @@ pub fn decode_local_target(m: &SET_POSITION_TARGET_LOCAL_NED_DATA) -> Result<Off
             (false, false) => Err("Offboard: non-finite yaw".into()),
         }
     };
-    Ok(OffboardTarget {
+    Ok(DecodedOffboard {
         setpoint: FlatSetpoint {
             pos_w: pos,
             vel_w: vel,
@@ -99,7 +99,7 @@ pub fn decode_local_target(m: &SET_POSITION_TARGET_LOCAL_NED_DATA) -> Result<Off
 /// SET_POSITION_TARGET_GLOBAL_INT: latitude/longitude [degE7] and altitude (AMSL in
 /// GLOBAL_INT, above home in GLOBAL_RELATIVE_ALT_INT) about `origin`, then as the local target.
 #[allow(deprecated)]
-pub fn decode_global_target(m: &SET_POSITION_TARGET_GLOBAL_INT_DATA, origin: &Home) -> Result<OffboardTarget, String> {
+pub fn decode_global_target(m: &SET_POSITION_TARGET_GLOBAL_INT_DATA, origin: &Home) -> Result<DecodedOffboard, String> {
     let alt_amsl = match m.coordinate_frame {
         MavFrame::MAV_FRAME_GLOBAL_INT | MavFrame::MAV_FRAME_GLOBAL => f64::from(m.alt),
         MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT | MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT => {

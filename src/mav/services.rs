@@ -7,7 +7,7 @@
 use mavlink::dialects::common::{MavMessage, MavProtocolCapability, AUTOPILOT_VERSION_DATA, PING_DATA, TIMESYNC_DATA};
 use mavlink::MavHeader;
 
-use super::telemetry::Stream;
+use super::telemetry::TelemetryStream;
 use super::translate::Identity;
 
 /// A message sent on request.
@@ -24,7 +24,7 @@ pub enum OneShot {
     /// COMPONENT_INFORMATION (395, deprecated; PX4 still answers it) likewise.
     ComponentInformation,
     /// One message of a telemetry stream.
-    Stream(Stream),
+    TelemetryStream(TelemetryStream),
 }
 
 /// The message REQUEST_MESSAGE(`id`, `param2`) asks for, when we can produce it.
@@ -40,7 +40,7 @@ pub(super) fn one_shot(id: f32, param2: f32) -> Option<OneShot> {
         }
         // Any streamed message (CURRENT_MODE, SYSTEM_TIME, HOME_POSITION, …), as PX4 answers
         // REQUEST_MESSAGE for its streams.
-        other => OneShot::Stream(*Stream::ALL.iter().find(|s| s.message_id() == other)?),
+        other => OneShot::TelemetryStream(*TelemetryStream::ALL.iter().find(|s| s.message_id() == other)?),
     })
 }
 

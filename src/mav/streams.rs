@@ -2,7 +2,7 @@
 //! changed by SET_MESSAGE_INTERVAL and REQUEST_DATA_STREAM; given the time, which streams are
 //! due. Pure: the link passes the simulated time, in seconds.
 
-use super::telemetry::Stream;
+use super::telemetry::TelemetryStream;
 
 /// Fastest stream period: one tick [s].
 const MIN_PERIOD_S: f64 = 0.001;
@@ -17,8 +17,8 @@ pub enum LinkKind {
 }
 
 /// Default rate [Hz] of `stream` on a link of `kind`; 0 = off (docs/mavlink.md §5).
-pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
-    use Stream::*;
+pub fn default_rate_hz(kind: LinkKind, stream: TelemetryStream) -> f64 {
+    use TelemetryStream::*;
     let (gcs, api) = match stream {
         SysStatus | ExtendedSysState => (1.0, 5.0),
         GlobalPosition => (5.0, 50.0),
@@ -58,8 +58,8 @@ pub fn default_rate_hz(kind: LinkKind, stream: Stream) -> f64 {
 pub struct NotStreamable;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Entry {
-    stream: Stream,
+struct RateEntry {
+    stream: TelemetryStream,
     period_s: Option<f64>,
     next_s: f64,
 }
@@ -68,7 +68,7 @@ struct Entry {
 #[derive(Debug, Clone, PartialEq)]
 pub struct StreamTable {
     kind: LinkKind,
-    entries: Vec<Entry>,
+    entries: Vec<RateEntry>,
 }
 
 impl StreamTable {
@@ -76,9 +76,9 @@ impl StreamTable {
     pub fn new(kind: LinkKind) -> Self {
         Self {
             kind,
-            entries: Stream::ALL
+            entries: TelemetryStream::ALL
                 .iter()
-                .map(|&stream| Entry {
+                .map(|&stream| RateEntry {
                     stream,
                     period_s: period(default_rate_hz(kind, stream)),
                     next_s: 0.0,
@@ -116,9 +116,9 @@ impl StreamTable {
     /// REQUEST_DATA_STREAM (MAVProxy): the group `stream_id` at `rate_hz`, or off when `start`
     /// is false (docs/mavlink.md §5; ALL = 0).
     pub fn request_data_stream(&mut self, stream_id: u8, rate_hz: u16, start: bool) {
-        use Stream::*;
-        let group: &[Stream] = match stream_id {
-            0 => &Stream::ALL,
+        use TelemetryStream::*;
+        let group: &[TelemetryStream] = match stream_id {
+            0 => &TelemetryStream::ALL,
             1 => &[HighresImu, ScaledPressure],
             2 => &[SysStatus, ExtendedSysState, GpsRawInt, MissionCurrent],
             6 => &[GlobalPosition, LocalPosition],
@@ -138,7 +138,7 @@ impl StreamTable {
     }
 
     /// Streams due at `now_s` [s]; each is rescheduled one period later.
-    pub fn due(&mut self, now_s: f64) -> Vec<Stream> {
+    pub fn due(&mut self, now_s: f64) -> Vec<TelemetryStream> {
         let mut out = Vec::new();
         for e in &mut self.entries {
             if let Some(p) = e.period_s {
@@ -161,7 +161,7 @@ fn period(rate_hz: f64) -> Option<f64> {
 mod tests {
     use super::*;
 
-    fn count(t: &mut StreamTable, stream: Stream, seconds: f64) -> usize {
+    fn count(t: &mut StreamTable, stream: TelemetryStream, seconds: f64) -> usize {
         let mut n = 0;
         let mut now = 0.0;
         while now < seconds {
@@ -174,10 +174,10 @@ mod tests {
     #[test]
     fn defaults_differ_per_link_and_rates_hold() {
         let mut gcs = StreamTable::new(LinkKind::Gcs);
-        assert_eq!(count(&mut gcs, Stream::Attitude, 10.0), 150);
+        assert_eq!(count(&mut gcs, TelemetryStream::Attitude, 10.0), 150);
         assert_eq!(gcs.interval_us(31), Some(-1), "ATTITUDE_QUATERNION off on the GCS link");
         let mut api = StreamTable::new(LinkKind::Api);
-        assert_eq!(count(&mut api, Stream::GlobalPosition, 2.0), 100);
+        assert_eq!(count(&mut api, TelemetryStream::GlobalPosition, 2.0), 100);
     }
 
     #[test]
@@ -185,9 +185,9 @@ mod tests {
         let mut t = StreamTable::new(LinkKind::Gcs);
         t.set_interval(32, 20_000.0).unwrap();
         assert_eq!(t.interval_us(32), Some(20_000));
-        assert_eq!(count(&mut t, Stream::LocalPosition, 1.0), 50);
+        assert_eq!(count(&mut t, TelemetryStream::LocalPosition, 1.0), 50);
         t.set_interval(32, -1.0).unwrap();
-        assert_eq!(count(&mut t, Stream::LocalPosition, 1.0), 0);
+        assert_eq!(count(&mut t, TelemetryStream::LocalPosition, 1.0), 0);
         t.set_interval(32, 0.0).unwrap();
         assert_eq!(t.interval_us(32), Some(1_000_000));
         t.set_interval(30, 10.0).unwrap();

@@ -19,7 +19,7 @@ use super::status::{battery_status, sys_status};
 
 /// A periodic telemetry message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Stream {
+pub enum TelemetryStream {
     /// ATTITUDE_QUATERNION (31).
     AttitudeQuaternion,
     /// GPS_RAW_INT (24).
@@ -80,67 +80,67 @@ pub enum Stream {
     SystemTime,
 }
 
-impl Stream {
+impl TelemetryStream {
     /// Every stream.
-    pub const ALL: [Stream; 27] = [
-        Stream::HighresImu,
-        Stream::SysStatus,
-        Stream::ExtendedSysState,
-        Stream::Attitude,
-        Stream::AttitudeQuaternion,
-        Stream::LocalPosition,
-        Stream::GlobalPosition,
-        Stream::GpsRawInt,
-        Stream::VfrHud,
-        Stream::HomePosition,
-        Stream::BatteryStatus,
-        Stream::AttitudeTarget,
-        Stream::PositionTarget,
-        Stream::ServoOutputRaw,
-        Stream::ActuatorOutputStatus,
-        Stream::MissionCurrent,
-        Stream::ExternalForce,
-        Stream::ExternalTorque,
-        Stream::MassEstimate,
-        Stream::CurrentMode,
-        Stream::OrbitStatus,
-        Stream::SystemTime,
-        Stream::EventSequence,
-        Stream::EstimatorStatus,
-        Stream::ScaledPressure,
-        Stream::GroundTruth,
-        Stream::EkfStatusReport,
+    pub const ALL: [TelemetryStream; 27] = [
+        TelemetryStream::HighresImu,
+        TelemetryStream::SysStatus,
+        TelemetryStream::ExtendedSysState,
+        TelemetryStream::Attitude,
+        TelemetryStream::AttitudeQuaternion,
+        TelemetryStream::LocalPosition,
+        TelemetryStream::GlobalPosition,
+        TelemetryStream::GpsRawInt,
+        TelemetryStream::VfrHud,
+        TelemetryStream::HomePosition,
+        TelemetryStream::BatteryStatus,
+        TelemetryStream::AttitudeTarget,
+        TelemetryStream::PositionTarget,
+        TelemetryStream::ServoOutputRaw,
+        TelemetryStream::ActuatorOutputStatus,
+        TelemetryStream::MissionCurrent,
+        TelemetryStream::ExternalForce,
+        TelemetryStream::ExternalTorque,
+        TelemetryStream::MassEstimate,
+        TelemetryStream::CurrentMode,
+        TelemetryStream::OrbitStatus,
+        TelemetryStream::SystemTime,
+        TelemetryStream::EventSequence,
+        TelemetryStream::EstimatorStatus,
+        TelemetryStream::ScaledPressure,
+        TelemetryStream::GroundTruth,
+        TelemetryStream::EkfStatusReport,
     ];
 
     /// MAVLink message id.
     pub fn message_id(self) -> u32 {
         match self {
-            Stream::SysStatus => 1,
-            Stream::GpsRawInt => 24,
-            Stream::Attitude => 30,
-            Stream::AttitudeQuaternion => 31,
-            Stream::LocalPosition => 32,
-            Stream::GlobalPosition => 33,
-            Stream::ServoOutputRaw => 36,
-            Stream::ActuatorOutputStatus => 375,
-            Stream::HighresImu => 105,
-            Stream::MissionCurrent => 42,
-            Stream::VfrHud => 74,
-            Stream::AttitudeTarget => 83,
-            Stream::PositionTarget => 85,
-            Stream::BatteryStatus => 147,
-            Stream::HomePosition => 242,
-            Stream::ExtendedSysState => 245,
-            Stream::ExternalForce | Stream::ExternalTorque => 250,
-            Stream::MassEstimate => 251,
-            Stream::CurrentMode => 436,
-            Stream::OrbitStatus => 360,
-            Stream::SystemTime => 2,
-            Stream::EventSequence => 411,
-            Stream::EstimatorStatus => 230,
-            Stream::ScaledPressure => 29,
-            Stream::GroundTruth => 115,
-            Stream::EkfStatusReport => super::foreign::EKF_STATUS_REPORT_ID,
+            TelemetryStream::SysStatus => 1,
+            TelemetryStream::GpsRawInt => 24,
+            TelemetryStream::Attitude => 30,
+            TelemetryStream::AttitudeQuaternion => 31,
+            TelemetryStream::LocalPosition => 32,
+            TelemetryStream::GlobalPosition => 33,
+            TelemetryStream::ServoOutputRaw => 36,
+            TelemetryStream::ActuatorOutputStatus => 375,
+            TelemetryStream::HighresImu => 105,
+            TelemetryStream::MissionCurrent => 42,
+            TelemetryStream::VfrHud => 74,
+            TelemetryStream::AttitudeTarget => 83,
+            TelemetryStream::PositionTarget => 85,
+            TelemetryStream::BatteryStatus => 147,
+            TelemetryStream::HomePosition => 242,
+            TelemetryStream::ExtendedSysState => 245,
+            TelemetryStream::ExternalForce | TelemetryStream::ExternalTorque => 250,
+            TelemetryStream::MassEstimate => 251,
+            TelemetryStream::CurrentMode => 436,
+            TelemetryStream::OrbitStatus => 360,
+            TelemetryStream::SystemTime => 2,
+            TelemetryStream::EventSequence => 411,
+            TelemetryStream::EstimatorStatus => 230,
+            TelemetryStream::ScaledPressure => 29,
+            TelemetryStream::GroundTruth => 115,
+            TelemetryStream::EkfStatusReport => super::foreign::EKF_STATUS_REPORT_ID,
         }
     }
 }
@@ -196,7 +196,7 @@ pub enum Outgoing {
 }
 
 /// The message of `stream` for snapshot `s`; `None` when there is nothing to report (no estimate).
-pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
+pub fn message(stream: TelemetryStream, s: &Snapshot) -> Option<MavMessage> {
     let time_usec = time_usec(s);
     let vector = |name: &str, v: Vec3| {
         MavMessage::DEBUG_VECT(DEBUG_VECT_DATA {
@@ -208,12 +208,14 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
         })
     };
     Some(match stream {
-        Stream::CurrentMode => super::modes::current_mode(s.mode),
-        Stream::OrbitStatus => return super::orbit::orbit_execution_status(s),
+        TelemetryStream::CurrentMode => super::modes::current_mode(s.mode),
+        TelemetryStream::OrbitStatus => return super::orbit::orbit_execution_status(s),
         // Built by the link: the wall clock, a foreign dialect, the stored plans' ids.
-        Stream::SystemTime | Stream::EkfStatusReport | Stream::MissionCurrent => return None,
-        Stream::EventSequence => super::events::current_event_sequence(),
-        Stream::AttitudeQuaternion => {
+        TelemetryStream::SystemTime | TelemetryStream::EkfStatusReport | TelemetryStream::MissionCurrent => {
+            return None
+        }
+        TelemetryStream::EventSequence => super::events::current_event_sequence(),
+        TelemetryStream::AttitudeQuaternion => {
             let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);
             MavMessage::ATTITUDE_QUATERNION(ATTITUDE_QUATERNION_DATA {
                 time_boot_ms: time_boot_ms(s),
@@ -227,11 +229,11 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 repr_offset_q: [0.0; 4],
             })
         }
-        Stream::GpsRawInt => super::nav_status::gps_raw_int(s),
-        Stream::EstimatorStatus => super::nav_status::estimator_status(s),
-        Stream::ScaledPressure => return super::nav_status::scaled_pressure(s),
-        Stream::GroundTruth => return super::nav_status::ground_truth(s),
-        Stream::VfrHud => MavMessage::VFR_HUD(VFR_HUD_DATA {
+        TelemetryStream::GpsRawInt => super::nav_status::gps_raw_int(s),
+        TelemetryStream::EstimatorStatus => super::nav_status::estimator_status(s),
+        TelemetryStream::ScaledPressure => return super::nav_status::scaled_pressure(s),
+        TelemetryStream::GroundTruth => return super::nav_status::ground_truth(s),
+        TelemetryStream::VfrHud => MavMessage::VFR_HUD(VFR_HUD_DATA {
             airspeed: s.vel_w.norm() as f32,
             groundspeed: s.vel_w.xy().norm() as f32,
             alt: s.home.to_global(&s.pos_w).2 as f32,
@@ -239,8 +241,8 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
             heading: (heading_cdeg(s) / 100) as i16,
             throttle: (s.thrust_fraction.clamp(0.0, 1.0) * 100.0).round() as u16,
         }),
-        Stream::BatteryStatus => battery_status(&s.battery),
-        Stream::AttitudeTarget => {
+        TelemetryStream::BatteryStatus => battery_status(&s.battery),
+        TelemetryStream::AttitudeTarget => {
             let eta = s.eta_desired?;
             let q = UnitQuat::from_euler_angles(eta.x, eta.y, eta.z);
             MavMessage::ATTITUDE_TARGET(ATTITUDE_TARGET_DATA {
@@ -250,7 +252,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 ..Default::default()
             })
         }
-        Stream::PositionTarget => {
+        TelemetryStream::PositionTarget => {
             let sp = s.setpoint?;
             let nan3 = |v: Option<Vec3>| v.map_or([f32::NAN; 3], f32x3);
             let ([x, y, z], [vx, vy, vz]) = (nan3(sp.pos_w), nan3(sp.vel_w));
@@ -278,18 +280,18 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
             })
         }
-        Stream::ServoOutputRaw => super::motor_outputs::servo_output_raw(s, time_usec),
-        Stream::ActuatorOutputStatus => super::motor_outputs::actuator_output_status(s, time_usec),
-        Stream::HighresImu => super::nav_status::highres_imu(s),
-        Stream::ExternalForce => vector("EXT_F", s.estimate?.force_w),
-        Stream::ExternalTorque => vector("EXT_T", s.estimate?.torque_b),
-        Stream::MassEstimate => MavMessage::NAMED_VALUE_FLOAT(NAMED_VALUE_FLOAT_DATA {
+        TelemetryStream::ServoOutputRaw => super::motor_outputs::servo_output_raw(s, time_usec),
+        TelemetryStream::ActuatorOutputStatus => super::motor_outputs::actuator_output_status(s, time_usec),
+        TelemetryStream::HighresImu => super::nav_status::highres_imu(s),
+        TelemetryStream::ExternalForce => vector("EXT_F", s.estimate?.force_w),
+        TelemetryStream::ExternalTorque => vector("EXT_T", s.estimate?.torque_b),
+        TelemetryStream::MassEstimate => MavMessage::NAMED_VALUE_FLOAT(NAMED_VALUE_FLOAT_DATA {
             time_boot_ms: time_boot_ms(s),
             value: s.estimate?.mass_kg as f32,
             name: "EXT_MASS".into(),
         }),
-        Stream::SysStatus => sys_status(s),
-        Stream::ExtendedSysState => MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
+        TelemetryStream::SysStatus => sys_status(s),
+        TelemetryStream::ExtendedSysState => MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
             vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
             landed_state: match s.landed {
                 LandedState::OnGround => MavLandedState::MAV_LANDED_STATE_ON_GROUND,
@@ -298,7 +300,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 LandedState::Landing => MavLandedState::MAV_LANDED_STATE_LANDING,
             },
         }),
-        Stream::Attitude => {
+        TelemetryStream::Attitude => {
             let ([roll, pitch, yaw], [rollspeed, pitchspeed, yawspeed]) = (f32x3(s.eta), f32x3(s.omega_b));
             MavMessage::ATTITUDE(ATTITUDE_DATA {
                 time_boot_ms: time_boot_ms(s),
@@ -310,7 +312,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 yawspeed,
             })
         }
-        Stream::LocalPosition => {
+        TelemetryStream::LocalPosition => {
             let ([x, y, z], [vx, vy, vz]) = (f32x3(s.pos_w), f32x3(s.vel_w));
             MavMessage::LOCAL_POSITION_NED(LOCAL_POSITION_NED_DATA {
                 time_boot_ms: time_boot_ms(s),
@@ -322,7 +324,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 vz,
             })
         }
-        Stream::GlobalPosition => {
+        TelemetryStream::GlobalPosition => {
             let [lat, lon, alt] = global_int(s, &s.pos_w);
             let heading_cdeg = heading_cdeg(s);
             MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
@@ -338,7 +340,7 @@ pub fn message(stream: Stream, s: &Snapshot) -> Option<MavMessage> {
                 hdg: heading_cdeg,
             })
         }
-        Stream::HomePosition => {
+        TelemetryStream::HomePosition => {
             let [latitude, longitude, altitude] = global_int(s, &s.home_w);
             let [x, y, z] = f32x3(s.home_w);
             MavMessage::HOME_POSITION(HOME_POSITION_DATA {
@@ -381,7 +383,7 @@ mod tests {
 
     #[test]
     fn positions_are_scaled_as_the_spec_says() {
-        let Some(MavMessage::GLOBAL_POSITION_INT(g)) = message(Stream::GlobalPosition, &snapshot()) else {
+        let Some(MavMessage::GLOBAL_POSITION_INT(g)) = message(TelemetryStream::GlobalPosition, &snapshot()) else {
             panic!("wrong message");
         };
         assert_eq!(g.time_boot_ms, 12_345);
@@ -390,7 +392,7 @@ mod tests {
         assert_eq!((g.vx, g.vz), (50, -25));
         assert_eq!(g.hdg, 30_270, "yaw −1 rad = 302.7°");
         assert!(g.lat > 473_977_420 && g.lon < 85_455_940);
-        let Some(MavMessage::EXTENDED_SYS_STATE(e)) = message(Stream::ExtendedSysState, &snapshot()) else {
+        let Some(MavMessage::EXTENDED_SYS_STATE(e)) = message(TelemetryStream::ExtendedSysState, &snapshot()) else {
             panic!("wrong message");
         };
         assert_eq!(e.landed_state, MavLandedState::MAV_LANDED_STATE_IN_AIR);
@@ -399,7 +401,7 @@ mod tests {
     #[test]
     fn geofence_is_healthy_until_breached() {
         let fence = MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE;
-        let status = |s: &Snapshot| match message(Stream::SysStatus, s) {
+        let status = |s: &Snapshot| match message(TelemetryStream::SysStatus, s) {
             Some(MavMessage::SYS_STATUS(m)) => m,
             other => panic!("wrong message {other:?}"),
         };

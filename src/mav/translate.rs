@@ -13,7 +13,7 @@ use crate::navigation::Home;
 pub use super::identity::{command_ack, heartbeat, result_of, Identity};
 use super::services::one_shot;
 pub use super::services::OneShot;
-use super::telemetry::Stream;
+use super::telemetry::TelemetryStream;
 
 /// Force-arm magic numbers in ARM_DISARM param2: the spec's and MAVProxy's.
 const FORCE_MAGIC: [f32; 2] = [21196.0, 2989.0];
@@ -199,7 +199,9 @@ pub fn decode_command(id: &Identity, sender: &MavHeader, cmd: &COMMAND_LONG_DATA
         },
         MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => CommandDecision::Reply(OneShot::AutopilotVersion),
         MavCmd::MAV_CMD_REQUEST_PROTOCOL_VERSION => CommandDecision::Reply(OneShot::ProtocolVersion),
-        MavCmd::MAV_CMD_GET_HOME_POSITION => CommandDecision::Reply(OneShot::Stream(Stream::HomePosition)),
+        MavCmd::MAV_CMD_GET_HOME_POSITION => {
+            CommandDecision::Reply(OneShot::TelemetryStream(TelemetryStream::HomePosition))
+        }
         _ => CommandDecision::Unsupported,
     }
 }
@@ -376,7 +378,7 @@ mod tests {
         );
         assert_eq!(
             d(MavCmd::MAV_CMD_GET_HOME_POSITION, [NAN; 7]),
-            CommandDecision::Reply(OneShot::Stream(Stream::HomePosition))
+            CommandDecision::Reply(OneShot::TelemetryStream(TelemetryStream::HomePosition))
         );
         assert_eq!(
             d(MavCmd::MAV_CMD_REQUEST_MESSAGE, [435.0, 3.0, NAN, NAN, NAN, NAN, NAN]),

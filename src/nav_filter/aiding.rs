@@ -3,7 +3,7 @@
 
 use crate::math::Vec3;
 
-use super::covariance::{fuse_group, Scalar};
+use super::covariance::{fuse_group, ScalarObservation};
 use super::params::IMU_CTRL_GRAVITY;
 use super::state::ERR_POS;
 use super::NavFilter;
@@ -58,8 +58,8 @@ impl NavFilter {
         self.aiding.last_hold_s = Some(now);
         let r = self.params.noaid_noise_m.powi(2);
         let group = [
-            Scalar::of_state(ERR_POS, hold.x - self.x.pos_w.x, r),
-            Scalar::of_state(ERR_POS + 1, hold.y - self.x.pos_w.y, r),
+            ScalarObservation::of_state(ERR_POS, hold.x - self.x.pos_w.x, r),
+            ScalarObservation::of_state(ERR_POS + 1, hold.y - self.x.pos_w.y, r),
         ];
         if let Some(dx) = fuse_group(&mut self.p, &group, None).dx {
             self.apply(&dx);

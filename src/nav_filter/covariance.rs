@@ -145,7 +145,7 @@ pub(super) fn uncorrelate(p: &mut Covariance, i: usize, variance: f64) {
 
 /// One scalar observation of the error state: `ν = H δx + n`, `n ~ N(0, r)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Scalar {
+pub(super) struct ScalarObservation {
     /// Measurement row H (as a column) [-].
     pub h: ErrorVector,
     /// Innovation against the nominal state before this group [measurement unit].
@@ -154,7 +154,7 @@ pub(super) struct Scalar {
     pub variance: f64,
 }
 
-impl Scalar {
+impl ScalarObservation {
     /// An observation of the single error state `i`.
     pub fn of_state(i: usize, innovation: f64, variance: f64) -> Self {
         let mut h = ErrorVector::zeros();
@@ -180,14 +180,14 @@ pub(super) struct GroupUpdate {
 }
 
 /// S = H P Hᵀ + r (docs/navigation_filter.md §5, eq. (5.2)).
-pub(super) fn innovation_variance(p: &Covariance, obs: &Scalar) -> f64 {
+pub(super) fn innovation_variance(p: &Covariance, obs: &ScalarObservation) -> f64 {
     (p * obs.h).dot(&obs.h) + obs.variance
 }
 
 /// Gates a group of scalars against the prior P (rejected as a whole when any test ratio
 /// exceeds 1; `gate_sd = None` fuses without a gate), then fuses them one after the other,
 /// accumulating δx (docs/navigation_filter.md §5, eqs. (5.2)–(5.6)).
-pub(super) fn fuse_group(p: &mut Covariance, group: &[Scalar], gate_sd: Option<f64>) -> GroupUpdate {
+pub(super) fn fuse_group(p: &mut Covariance, group: &[ScalarObservation], gate_sd: Option<f64>) -> GroupUpdate {
     let mut test_ratio: f64 = 0.0;
     let mut innovation_variance_out = [0.0; 3];
     for (k, obs) in group.iter().enumerate() {
@@ -239,7 +239,7 @@ pub(super) fn fuse_group(p: &mut Covariance, group: &[Scalar], gate_sd: Option<f
 /// Joseph-form update holds for any gain) (docs/navigation_filter.md §5, eq. (5.8)).
 pub(super) fn fuse_shaped(
     p: &mut Covariance,
-    obs: &Scalar,
+    obs: &ScalarObservation,
     gate_sd: f64,
     shape: impl FnOnce(&mut ErrorVector),
 ) -> GroupUpdate {
@@ -289,7 +289,7 @@ mod tests {
         let mut p = prior();
         p[(ERR_POS, ERR_VEL)] = 0.1;
         p[(ERR_VEL, ERR_POS)] = 0.1;
-        let obs = Scalar::of_state(ERR_POS, 2.0, 1.0);
+        let obs = ScalarObservation::of_state(ERR_POS, 2.0, 1.0);
         let u = fuse_group(&mut p, &[obs], Some(5.0));
         let dx = u.dx.unwrap();
         // K = P Hᵀ / S with S = 4 + 1.
@@ -305,8 +305,8 @@ mod tests {
         let mut p = prior();
         let before = p;
         let group = [
-            Scalar::of_state(ERR_POS, 0.1, 1.0),
-            Scalar::of_state(ERR_POS + 1, 50.0, 1.0),
+            ScalarObservation::of_state(ERR_POS, 0.1, 1.0),
+            ScalarObservation::of_state(ERR_POS + 1, 50.0, 1.0),
         ];
         let u = fuse_group(&mut p, &group, Some(5.0));
         assert!(u.dx.is_none() && u.test_ratio > 1.0);
@@ -320,8 +320,8 @@ mod tests {
         p[(ERR_POS + 1, ERR_POS)] = 1.0;
         let mut seq = p;
         let group = [
-            Scalar::of_state(ERR_POS, 1.0, 0.5),
-            Scalar::of_state(ERR_POS + 1, -1.0, 0.5),
+            ScalarObservation::of_state(ERR_POS, 1.0, 0.5),
+            ScalarObservation::of_state(ERR_POS + 1, -1.0, 0.5),
         ];
         let dx = fuse_group(&mut seq, &group, None).dx.unwrap();
         // Batch: K = P Hᵀ (H P Hᵀ + R)⁻¹ with H selecting the first two states.
@@ -340,7 +340,7 @@ mod tests {
         p[(ERR_POS, ERR_ATT)] = 0.05;
         p[(ERR_ATT, ERR_POS)] = 0.05;
         let mut q = p;
-        let obs = Scalar::of_state(ERR_POS, 1.5, 0.7);
+        let obs = ScalarObservation::of_state(ERR_POS, 1.5, 0.7);
         let a = fuse_group(&mut p, &[obs], Some(5.0)).dx.unwrap();
         let b = fuse_shaped(&mut q, &obs, 5.0, |_| {}).dx.unwrap();
         assert!((a - b).norm() < 1e-12 && (p - q).norm() < 1e-12);

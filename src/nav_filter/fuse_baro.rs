@@ -3,8 +3,8 @@
 //! (docs/navigation_filter.md §8–§9).
 
 use super::aiding::Aiding;
-use super::covariance::{fuse_group, innovation_variance, uncorrelate, Scalar};
-use super::fusion::{Fusion, Outcome, SkipReason};
+use super::covariance::{fuse_group, innovation_variance, uncorrelate, ScalarObservation};
+use super::fusion::{Fusion, FusionOutcome, SkipReason};
 use super::isa::pressure_altitude_m;
 use super::params::HeightSource;
 use super::readings::BaroReading;
@@ -44,7 +44,7 @@ impl NavFilter {
         let mut h = ErrorVector::zeros();
         h[ERR_POS + 2] = -1.0;
         h[ERR_BARO_OFFSET] = 1.0;
-        let obs = Scalar {
+        let obs = ScalarObservation {
             h,
             innovation,
             variance: self.params.baro_noise_m.powi(2),
@@ -69,22 +69,22 @@ impl NavFilter {
     /// The barometer while GNSS holds the height: fused for its offset; after
     /// `height_timeout_s` without a fused sample the offset is reset to the innovation
     /// (docs/navigation_filter.md §8, eq. (8.3)).
-    fn fuse_secondary_baro(&mut self, obs: &Scalar) -> Fusion {
+    fn fuse_secondary_baro(&mut self, obs: &ScalarObservation) -> Fusion {
         let now = self.t_s;
         let update = fuse_group(&mut self.p, std::slice::from_ref(obs), Some(self.params.baro_gate_sd));
         let outcome = if let Some(dx) = update.dx {
             self.apply(&dx);
-            Outcome::Fused
+            FusionOutcome::Fused
         } else if Aiding::timed_out(self.baro.last_fused_s, now, self.params.height_timeout_s) {
             self.x.baro_offset_m += obs.innovation;
             uncorrelate(&mut self.p, ERR_BARO_OFFSET, obs.variance);
             self.resets.baro_offset = self.resets.baro_offset.saturating_add(1);
-            Outcome::Reset
+            FusionOutcome::Reset
         } else {
-            Outcome::Rejected
+            FusionOutcome::Rejected
         };
         if self.height.reference == HeightSource::Baro {
-            self.height.note_reference_test(outcome == Outcome::Fused, now);
+            self.height.note_reference_test(outcome == FusionOutcome::Fused, now);
         }
         Fusion {
             outcome,

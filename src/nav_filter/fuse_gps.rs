@@ -5,8 +5,8 @@
 use crate::math::Vec3;
 
 use super::aiding::Aiding;
-use super::covariance::{fuse_group, innovation_variance, uncorrelate, Scalar};
-use super::fusion::{Fusion, GpsFusion, Outcome, SkipReason};
+use super::covariance::{fuse_group, innovation_variance, uncorrelate, ScalarObservation};
+use super::fusion::{Fusion, FusionOutcome, GpsFusion, SkipReason};
 use super::params::{HeightSource, GPS_CTRL_FUSED};
 use super::readings::GpsReading;
 use super::state::{ERR_POS, ERR_VEL};
@@ -80,11 +80,11 @@ impl NavFilter {
             }
             self.resets.velocity = self.resets.velocity.saturating_add(1);
             Fusion {
-                outcome: Outcome::Reset,
+                outcome: FusionOutcome::Reset,
                 test_ratio: 0.0,
             }
         } else {
-            let group = [0, 1, 2].map(|i| Scalar::of_state(ERR_VEL + i, nu_vel[i], var_vel));
+            let group = [0, 1, 2].map(|i| ScalarObservation::of_state(ERR_VEL + i, nu_vel[i], var_vel));
             let f = self.fuse_gated(&group, p.gps_vel_gate_sd, |s, v| s.innovations.gps_vel_var = v);
             self.ratios.gps_velocity = f.test_ratio;
             let var = self.innovations.gps_vel_var;
@@ -110,11 +110,11 @@ impl NavFilter {
             uncorrelate(&mut self.p, ERR_POS + 1, var_h);
             self.resets.horizontal_position = self.resets.horizontal_position.saturating_add(1);
             Fusion {
-                outcome: Outcome::Reset,
+                outcome: FusionOutcome::Reset,
                 test_ratio: 0.0,
             }
         } else {
-            let group = [0, 1].map(|i| Scalar::of_state(ERR_POS + i, nu_pos[i], var_h));
+            let group = [0, 1].map(|i| ScalarObservation::of_state(ERR_POS + i, nu_pos[i], var_h));
             let f = self.fuse_gated(&group, p.gps_pos_gate_sd, |s, v| {
                 s.innovations.gps_pos_var.x = v.x;
                 s.innovations.gps_pos_var.y = v.y;
@@ -134,7 +134,7 @@ impl NavFilter {
         let past = self.buffer.at(t_meas).unwrap_or(past);
         let nu_z = z_w.z - past.pos_w.z;
         self.innovations.gps_pos_w = Vec3::new(nu_pos.x, nu_pos.y, nu_z);
-        let obs = Scalar::of_state(ERR_POS + 2, nu_z, var_v);
+        let obs = ScalarObservation::of_state(ERR_POS + 2, nu_z, var_v);
         let s = innovation_variance(&self.p, &obs);
         self.innovations.gps_pos_var.z = s;
         self.preflight.gps_height(now, nu_z, s, p.gps_pos_gate_sd);
@@ -146,7 +146,7 @@ impl NavFilter {
                 self.height.note_reference_test(ratio <= 1.0, now);
             }
             Fusion {
-                outcome: Outcome::Skipped(SkipReason::Inactive),
+                outcome: FusionOutcome::Skipped(SkipReason::Inactive),
                 test_ratio: ratio,
             }
         };
@@ -160,16 +160,16 @@ impl NavFilter {
 
     /// Gates and fuses a group of scalars, applying the correction; `store` receives the
     /// innovation variances (docs/navigation_filter.md §5, eqs. (5.2)–(5.7)).
-    fn fuse_gated(&mut self, group: &[Scalar], gate_sd: f64, store: impl FnOnce(&mut Self, Vec3)) -> Fusion {
+    fn fuse_gated(&mut self, group: &[ScalarObservation], gate_sd: f64, store: impl FnOnce(&mut Self, Vec3)) -> Fusion {
         let update = fuse_group(&mut self.p, group, Some(gate_sd));
         let [a, b, c] = update.innovation_variance;
         store(self, Vec3::new(a, b, c));
         let outcome = match update.dx {
             Some(dx) => {
                 self.apply(&dx);
-                Outcome::Fused
+                FusionOutcome::Fused
             }
-            None => Outcome::Rejected,
+            None => FusionOutcome::Rejected,
         };
         Fusion {
             outcome,

@@ -5,8 +5,8 @@
 use crate::math::{hat, Mat3, UnitQuat, Vec3, GRAVITY_M_S2};
 
 use super::aiding::DEAD_RECKONING_AFTER_S;
-use super::covariance::{fuse_shaped, Scalar};
-use super::fusion::{Fusion, Outcome, SkipReason};
+use super::covariance::{fuse_shaped, ScalarObservation};
+use super::fusion::{Fusion, FusionOutcome, SkipReason};
 use super::params::{GPS_CTRL_FUSED, IMU_CTRL_GRAVITY};
 use super::state::{ErrorVector, ERR_ATT};
 use super::NavFilter;
@@ -114,7 +114,7 @@ impl NavFilter {
         }
         if worst.is_nan() || worst > 1.0 {
             return Fusion {
-                outcome: Outcome::Rejected,
+                outcome: FusionOutcome::Rejected,
                 test_ratio: worst,
             };
         }
@@ -123,7 +123,7 @@ impl NavFilter {
             let (up_b, jac) = predicted_up(&self.x.q_wb);
             let mut h = ErrorVector::zeros();
             h.fixed_rows_mut::<3>(ERR_ATT).copy_from(&jac.row(axis).transpose());
-            let obs = Scalar {
+            let obs = ScalarObservation {
                 h,
                 innovation: measured[axis] - up_b[axis],
                 variance,
@@ -135,7 +135,11 @@ impl NavFilter {
             }
         }
         Fusion {
-            outcome: if fused == 3 { Outcome::Fused } else { Outcome::Rejected },
+            outcome: if fused == 3 {
+                FusionOutcome::Fused
+            } else {
+                FusionOutcome::Rejected
+            },
             test_ratio: worst,
         }
     }

@@ -77,14 +77,17 @@ fn nothing_is_fused_while_accelerating_or_aided() {
     f.gravity.add(&hard, 1.0);
     let p_before = f.p;
     let fusion = f.fuse_gravity(&hard);
-    assert_eq!(fusion.outcome, Outcome::Skipped(SkipReason::Geometry));
+    assert_eq!(fusion.outcome, FusionOutcome::Skipped(SkipReason::Geometry));
     assert_eq!(f.estimate().q_wb, q_est);
     assert_eq!(f.p, p_before);
     // Near 1 g but with GNSS aiding the state a moment ago: not fused either.
     let level = Vec3::new(0.0, 0.0, -GRAVITY_M_S2);
     f.gravity.add(&level, 1.0);
     f.aiding.last_aiding_s = Some(0.0);
-    assert_eq!(f.fuse_gravity(&level).outcome, Outcome::Skipped(SkipReason::Inactive));
+    assert_eq!(
+        f.fuse_gravity(&level).outcome,
+        FusionOutcome::Skipped(SkipReason::Inactive)
+    );
     f.aiding.last_aiding_s = None;
     assert!(f.fuse_gravity(&level).accepted());
     assert!(f.estimate().q_wb.angle_to(&q_est) > 1e-7);

@@ -6,8 +6,8 @@
 use crate::math::{wrap_pi, UnitQuat, Vec3};
 
 use super::alignment::{yaw_from_mag, MIN_HORIZONTAL_FIELD_SHARE};
-use super::covariance::{fuse_shaped, Scalar};
-use super::fusion::{Fusion, Outcome, SkipReason};
+use super::covariance::{fuse_shaped, ScalarObservation};
+use super::fusion::{Fusion, FusionOutcome, SkipReason};
 use super::params::MAG_TYPE_NONE;
 use super::readings::{finite3, MagReading};
 use super::state::{ErrorVector, ERR_ATT, ERR_GYRO_BIAS};
@@ -68,7 +68,7 @@ impl NavFilter {
         let (true, Some(tan_incl)) = (self.yaw_aligned, self.mag_tan_inclination) else {
             return if self.reset_yaw_to_mag(&mag.field_b) {
                 Fusion {
-                    outcome: Outcome::Reset,
+                    outcome: FusionOutcome::Reset,
                     test_ratio: 0.0,
                 }
             } else {
@@ -92,7 +92,7 @@ impl NavFilter {
     fn fuse_heading(&mut self, innovation: f64, h_att: &Vec3, variance: f64) -> Fusion {
         let mut h = ErrorVector::zeros();
         h.fixed_rows_mut::<3>(ERR_ATT).copy_from(h_att);
-        let obs = Scalar {
+        let obs = ScalarObservation {
             h,
             innovation,
             variance,
@@ -117,9 +117,9 @@ impl NavFilter {
         let outcome = match update.dx {
             Some(dx) => {
                 self.apply(&dx);
-                Outcome::Fused
+                FusionOutcome::Fused
             }
-            None => Outcome::Rejected,
+            None => FusionOutcome::Rejected,
         };
         Fusion {
             outcome,

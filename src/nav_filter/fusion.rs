@@ -23,7 +23,7 @@ pub enum SkipReason {
 
 /// Result of one measurement, or of one part of a GNSS fix.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Outcome {
+pub enum FusionOutcome {
     /// Passed the gate and fused.
     Fused,
     /// The state was reset to the measurement (start of aiding, height-source change, or a
@@ -41,7 +41,7 @@ pub enum Outcome {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fusion {
     /// What happened.
-    pub outcome: Outcome,
+    pub outcome: FusionOutcome,
     /// Largest test ratio of the measurement's components [-]; > 1 means rejected.
     pub test_ratio: f64,
 }
@@ -50,14 +50,14 @@ impl Fusion {
     /// Skipped before the gate.
     pub fn skipped(reason: SkipReason) -> Self {
         Self {
-            outcome: Outcome::Skipped(reason),
+            outcome: FusionOutcome::Skipped(reason),
             test_ratio: 0.0,
         }
     }
 
     /// Whether the measurement changed the state (fused or reset).
     pub fn accepted(&self) -> bool {
-        matches!(self.outcome, Outcome::Fused | Outcome::Reset)
+        matches!(self.outcome, FusionOutcome::Fused | FusionOutcome::Reset)
     }
 }
 
@@ -91,6 +91,6 @@ impl GpsFusion {
     pub fn rejected(&self) -> bool {
         [self.velocity, self.horizontal, self.vertical]
             .iter()
-            .any(|f| f.outcome == Outcome::Rejected)
+            .any(|f| f.outcome == FusionOutcome::Rejected)
     }
 }

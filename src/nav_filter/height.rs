@@ -5,8 +5,8 @@
 
 use crate::math::Vec3;
 
-use super::covariance::{fuse_group, uncorrelate, Scalar};
-use super::fusion::{Fusion, Outcome};
+use super::covariance::{fuse_group, uncorrelate, ScalarObservation};
+use super::fusion::{Fusion, FusionOutcome};
 use super::params::HeightSource;
 use super::state::{ERR_BARO_OFFSET, ERR_POS};
 use super::NavFilter;
@@ -137,18 +137,18 @@ impl NavFilter {
     /// Fuses one height observation of the active source `source` behind gate `gate_sd` [SD]; when
     /// it fails its gate and a reset is pending, the height is reset to it instead
     /// (docs/navigation_filter.md §5, eqs. (5.2)–(5.7); docs/navigation_filter.md §9).
-    pub(super) fn fuse_active_height(&mut self, source: HeightSource, obs: &Scalar, gate_sd: f64) -> Fusion {
+    pub(super) fn fuse_active_height(&mut self, source: HeightSource, obs: &ScalarObservation, gate_sd: f64) -> Fusion {
         let update = fuse_group(&mut self.p, std::slice::from_ref(obs), Some(gate_sd));
         let outcome = if let Some(dx) = update.dx {
             self.apply(&dx);
-            Outcome::Fused
+            FusionOutcome::Fused
         } else if self.height.reset_pending {
             self.reset_height(obs);
-            Outcome::Reset
+            FusionOutcome::Reset
         } else {
-            Outcome::Rejected
+            FusionOutcome::Rejected
         };
-        if outcome != Outcome::Rejected {
+        if outcome != FusionOutcome::Rejected {
             self.height.mark_fused(source, self.t_s);
             self.height.reset_pending = false;
         }
@@ -160,7 +160,7 @@ impl NavFilter {
 
     /// Moves the height so that `obs` has no innovation, and restarts its variance at the
     /// measurement's (docs/navigation_filter.md §6, eq. (6.4)).
-    fn reset_height(&mut self, obs: &Scalar) {
+    fn reset_height(&mut self, obs: &ScalarObservation) {
         let c = obs.h[ERR_POS + 2];
         if c == 0.0 {
             return;

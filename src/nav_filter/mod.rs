@@ -53,7 +53,7 @@ mod tests;
 
 pub use aiding::DEAD_RECKONING_AFTER_S;
 pub use estimate::NavEstimate;
-pub use fusion::{Fusion, GpsFusion, Outcome, SkipReason};
+pub use fusion::{Fusion, FusionOutcome, GpsFusion, SkipReason};
 pub use output::NavOutput;
 pub use params::{
     HeightSource, NavParams, NavParamsError, GPS_CTRL_FUSED, IMU_CTRL_GRAVITY, MAG_TYPE_NONE, MAX_DELAY_S,

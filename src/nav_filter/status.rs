@@ -3,7 +3,7 @@
 
 use crate::math::Vec3;
 
-use super::fusion::Outcome;
+use super::fusion::FusionOutcome;
 use super::params::HeightSource;
 
 /// Health of one sensor (docs/navigation_filter.md §13).
@@ -48,31 +48,33 @@ pub(super) struct SourceTrack {
     pub skipped: u32,
     pub last_received_s: Option<f64>,
     pub last_fused_s: Option<f64>,
-    pub last_outcome: Option<Outcome>,
+    pub last_outcome: Option<FusionOutcome>,
 }
 
 impl SourceTrack {
     /// Counts a sample received at `t_s` [s] with this outcome.
-    pub fn record(&mut self, t_s: f64, outcome: Outcome) {
+    pub fn record(&mut self, t_s: f64, outcome: FusionOutcome) {
         self.received = self.received.saturating_add(1);
         self.last_received_s = Some(t_s);
         self.last_outcome = Some(outcome);
         match outcome {
-            Outcome::Fused | Outcome::Reset => {
+            FusionOutcome::Fused | FusionOutcome::Reset => {
                 self.fused = self.fused.saturating_add(1);
                 self.last_fused_s = Some(t_s);
             }
-            Outcome::Rejected => self.rejected = self.rejected.saturating_add(1),
-            Outcome::Skipped(_) => self.skipped = self.skipped.saturating_add(1),
+            FusionOutcome::Rejected => self.rejected = self.rejected.saturating_add(1),
+            FusionOutcome::Skipped(_) => self.skipped = self.skipped.saturating_add(1),
         }
     }
 
     /// Counts a sample made of several parts at `t_s` [s]: fused if any part was fused (or
     /// reset to), rejected if any part was rejected (both can hold), skipped if every part was;
     /// the health follows a rejection first (docs/navigation_filter.md §13).
-    pub fn record_parts(&mut self, t_s: f64, parts: &[Outcome]) {
-        let accepted = parts.iter().any(|o| matches!(o, Outcome::Fused | Outcome::Reset));
-        let rejected = parts.contains(&Outcome::Rejected);
+    pub fn record_parts(&mut self, t_s: f64, parts: &[FusionOutcome]) {
+        let accepted = parts
+            .iter()
+            .any(|o| matches!(o, FusionOutcome::Fused | FusionOutcome::Reset));
+        let rejected = parts.contains(&FusionOutcome::Rejected);
         self.received = self.received.saturating_add(1);
         self.last_received_s = Some(t_s);
         if accepted {
@@ -86,9 +88,9 @@ impl SourceTrack {
             self.skipped = self.skipped.saturating_add(1);
         }
         self.last_outcome = if rejected {
-            Some(Outcome::Rejected)
+            Some(FusionOutcome::Rejected)
         } else if accepted {
-            Some(Outcome::Fused)
+            Some(FusionOutcome::Fused)
         } else {
             parts.first().copied()
         };
@@ -99,9 +101,9 @@ impl SourceTrack {
         let health = match (self.last_received_s, self.last_outcome) {
             (None, _) | (_, None) => SourceHealth::NoData,
             (Some(t), _) if now_s - t > timeout_s => SourceHealth::TimedOut,
-            (_, Some(Outcome::Fused | Outcome::Reset)) => SourceHealth::Fused,
-            (_, Some(Outcome::Rejected)) => SourceHealth::Rejected,
-            (_, Some(Outcome::Skipped(_))) => SourceHealth::Unusable,
+            (_, Some(FusionOutcome::Fused | FusionOutcome::Reset)) => SourceHealth::Fused,
+            (_, Some(FusionOutcome::Rejected)) => SourceHealth::Rejected,
+            (_, Some(FusionOutcome::Skipped(_))) => SourceHealth::Unusable,
         };
         SourceStatus {
             health,
@@ -244,22 +246,22 @@ mod tests {
     fn health_follows_the_latest_sample_and_times_out() {
         let mut s = SourceTrack::default();
         assert_eq!(s.status(0.0, 1.0).health, SourceHealth::NoData);
-        s.record(1.0, Outcome::Fused);
+        s.record(1.0, FusionOutcome::Fused);
         assert_eq!(s.status(1.5, 1.0).health, SourceHealth::Fused);
-        s.record(1.6, Outcome::Rejected);
+        s.record(1.6, FusionOutcome::Rejected);
         let r = s.status(1.7, 1.0);
         assert_eq!(r.health, SourceHealth::Rejected);
         assert_eq!((r.received, r.fused, r.rejected), (2, 1, 1));
         assert!((r.time_since_fused_s.unwrap() - 0.7).abs() < 1e-12);
-        s.record(1.8, Outcome::Skipped(SkipReason::Quality));
+        s.record(1.8, FusionOutcome::Skipped(SkipReason::Quality));
         assert_eq!(s.status(1.9, 1.0).health, SourceHealth::Unusable);
         assert_eq!(s.status(2.9, 1.0).health, SourceHealth::TimedOut);
         s.record_parts(
             3.0,
             &[
-                Outcome::Fused,
-                Outcome::Rejected,
-                Outcome::Skipped(SkipReason::Inactive),
+                FusionOutcome::Fused,
+                FusionOutcome::Rejected,
+                FusionOutcome::Skipped(SkipReason::Inactive),
             ],
         );
         let r = s.status(3.0, 1.0);

@@ -35,5 +35,5 @@ pub use rally::RallyPoints;
 pub use setpoint_limiter::SetpointLimiter;
 pub use stick_reference::StickReference;
 pub use sticks::{StickError, StickMotion, StickShaping, Sticks};
-pub use track::{Leg, Track};
+pub use track::{Track, TrackLeg};
 pub use trajectory::{Trajectory, TrajectorySample, TrajectorySpec};

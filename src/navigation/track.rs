@@ -22,7 +22,7 @@ use super::MotionLimits;
 
 /// The leg being flown: its waypoint and what the waypoint allows.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Leg {
+pub struct TrackLeg {
     /// The waypoint, world NED [m].
     pub target_w: Vec3,
     /// The next waypoint when this one is flown through (no hold), world NED [m].
@@ -46,13 +46,13 @@ pub struct Track {
     last_s: f64,
     limits: MotionLimits,
     /// The leg flown.
-    pub leg: Leg,
+    pub leg: TrackLeg,
 }
 
 impl Track {
     /// A reference at `pos_w` [m] moving at `vel_w` [m/s] with heading `yaw_rad` [rad] at
     /// `t_s` [s], flying `leg` within `limits`.
-    pub fn new(pos_w: Vec3, vel_w: Vec3, yaw_rad: f64, t_s: f64, leg: Leg, limits: MotionLimits) -> Self {
+    pub fn new(pos_w: Vec3, vel_w: Vec3, yaw_rad: f64, t_s: f64, leg: TrackLeg, limits: MotionLimits) -> Self {
         Self {
             pos_w,
             vel_w,
@@ -178,8 +178,8 @@ mod tests {
 
     const DT: f64 = 0.001;
 
-    fn leg(target: Vec3, next: Option<Vec3>) -> Leg {
-        Leg {
+    fn leg(target: Vec3, next: Option<Vec3>) -> TrackLeg {
+        TrackLeg {
             target_w: target,
             next_w: next,
             accept_m: 2.0,

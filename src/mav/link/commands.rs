@@ -101,7 +101,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     OneShot::AvailableModes(index) => {
                         available_modes(index).map(|ms| ms.into_iter().map(Outgoing::Message).collect())
                     }
-                    OneShot::Stream(stream) => self.stream_message(now, stream).map(|m| vec![m]),
+                    OneShot::TelemetryStream(stream) => self.stream_message(now, stream).map(|m| vec![m]),
                 };
                 match msgs {
                     Some(msgs) => {

@@ -12,7 +12,7 @@ use mavlink::MavHeader;
 use super::port::MAX_PEERS;
 use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest};
 use crate::mav::params::param_value;
-use crate::mav::shell::{self, frames, param_set_text, Context, LineBuffer, Outcome, Typed, PROMPT};
+use crate::mav::shell::{self, frames, param_set_text, Context, LineBuffer, ShellOutcome, Typed, PROMPT};
 use crate::params::ParamTable;
 
 /// One client's shell.
@@ -76,8 +76,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 snapshot: &self.snapshot,
             };
             match shell::run(&line, ctx) {
-                Outcome::Text(text) => said += &format!("\n{text}{PROMPT}"),
-                Outcome::SetParam { name, value } => {
+                ShellOutcome::Text(text) => said += &format!("\n{text}{PROMPT}"),
+                ShellOutcome::SetParam { name, value } => {
                     said.push('\n');
                     self.type_out(now, link, from, ids, &std::mem::take(&mut said));
                     let token = self.expect(Pending::Shell(ShellSet {

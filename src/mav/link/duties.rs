@@ -7,12 +7,12 @@ use std::hash::Hash;
 use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
 
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
-use crate::commander::{Event, LinkLossAction, Request, Stream};
+use crate::commander::{Event, InputStream, LinkLossAction, Request};
 use crate::mav::foreign::ekf_status_report;
 use crate::mav::identity::heartbeat;
 use crate::mav::mission_xfer::TIMEOUT_TEXT;
 use crate::mav::signing::unix_us_from_timestamp;
-use crate::mav::telemetry::{message, status_text, system_time, Outgoing, Stream as TelemetryStream};
+use crate::mav::telemetry::{message, status_text, system_time, Outgoing, TelemetryStream};
 
 /// How often the link looks at what is due (wall time) [s].
 pub const DUTY_PERIOD_S: f64 = 0.005;
@@ -139,7 +139,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// A message of `stream` arrived: the stream is alive in wall time; the commander hears of
     /// it when it starts ([`Request::StreamInWallTime`]).
-    pub(super) fn heard_stream(&mut self, stream: Stream, now: Now) {
+    pub(super) fn heard_stream(&mut self, stream: InputStream, now: Now) {
         if self.stream_heard_wall_s[stream as usize].replace(now.wall_s).is_none() {
             self.tell_stream(stream, true);
         }
@@ -151,8 +151,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     fn check_streams(&mut self, now: Now) {
         let commander = self.params.current().commander;
         for (stream, loss_s) in [
-            (Stream::Offboard, commander.offboard_loss_s),
-            (Stream::ManualControl, commander.manual.loss_s),
+            (InputStream::Offboard, commander.offboard_loss_s),
+            (InputStream::ManualControl, commander.manual.loss_s),
         ] {
             let heard = &mut self.stream_heard_wall_s[stream as usize];
             if heard.is_some_and(|heard| now.wall_s - heard >= loss_s) {
@@ -162,7 +162,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         }
     }
 
-    fn tell_stream(&mut self, stream: Stream, alive: bool) {
+    fn tell_stream(&mut self, stream: InputStream, alive: bool) {
         self.to_vehicle.push_back(ToVehicle {
             token: None,
             request: VehicleRequest::Commander(Request::StreamInWallTime { stream, alive }),

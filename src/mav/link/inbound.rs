@@ -11,7 +11,7 @@ use mavlink::MavHeader;
 use super::params::ParamList;
 use super::port::{HeldForClients, Port, MAX_PEERS};
 use super::{KeyToStore, LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, INFO, WARNING};
-use crate::commander::{ManualInputMode, Request, Stream};
+use crate::commander::{InputStream, ManualInputMode, Request};
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::ingest::{ingest, Action};
 use crate::mav::signing::{SigningKey, Verdict};
@@ -115,9 +115,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             // Setpoints and SET_MODE get no answer: the next heartbeat shows the result.
             Action::Request(request) => {
                 let stream = match request {
-                    Request::OffboardSetpoint { .. } | Request::OffboardAttitude(_) => Some(Stream::Offboard),
+                    Request::OffboardSetpoint { .. } | Request::OffboardAttitude(_) => Some(InputStream::Offboard),
                     Request::ManualControl(_) if !self.flies_sticks_from(link) => return,
-                    Request::ManualControl(_) => Some(Stream::ManualControl),
+                    Request::ManualControl(_) => Some(InputStream::ManualControl),
                     _ => None,
                 };
                 self.to_vehicle.push_back(ToVehicle {

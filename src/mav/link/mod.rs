@@ -233,7 +233,7 @@ pub struct LinkMachine<A> {
     consoles: Vec<console::Console<A>>,
     /// Where to announce each stored key's result, oldest first.
     keys_in_store: VecDeque<(LinkKind, A, bool)>,
-    /// Wall time of the latest message of each [`Stream`](crate::commander::Stream) while it is alive in wall time [s].
+    /// Wall time of the latest message of each [`InputStream`](crate::commander::InputStream) while it is alive in wall time [s].
     stream_heard_wall_s: [Option<f64>; 2],
     /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
     sticks_from: Option<LinkKind>,

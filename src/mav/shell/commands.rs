@@ -20,7 +20,7 @@ pub struct Context<'a> {
 
 /// What a line does.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Outcome {
+pub enum ShellOutcome {
     /// Print this (each line ends with `\n`).
     Text(String),
     /// Ask the vehicle to set `name` to `value`; print [`param_set_text`] of its answer.
@@ -64,7 +64,7 @@ pub fn param_set_text(
 }
 
 /// The outcome of one command `line`.
-pub fn run(line: &str, ctx: Context) -> Outcome {
+pub fn run(line: &str, ctx: Context) -> ShellOutcome {
     let words: Vec<&str> = line.split_whitespace().collect();
     let text = match words.as_slice() {
         [] => String::new(),
@@ -91,19 +91,19 @@ pub fn run(line: &str, ctx: Context) -> Outcome {
         [comment, ..] if comment.starts_with('#') => String::new(),
         [command, ..] => format!("Invalid command: {command}\ntype 'help' for a list of commands\n"),
     };
-    Outcome::Text(text)
+    ShellOutcome::Text(text)
 }
 
-fn param_set(params: &ParamTable, name: &str, value: &str) -> Outcome {
+fn param_set(params: &ParamTable, name: &str, value: &str) -> ShellOutcome {
     let Some(index) = params.index_of(name) else {
-        return Outcome::Text(format!("ERROR: Parameter {name} not found.\n"));
+        return ShellOutcome::Text(format!("ERROR: Parameter {name} not found.\n"));
     };
     match value.parse::<f64>() {
-        Ok(v) if v.is_finite() => Outcome::SetParam {
+        Ok(v) if v.is_finite() => ShellOutcome::SetParam {
             name: name.to_string(),
             value: v,
         },
-        _ => Outcome::Text(format!(
+        _ => ShellOutcome::Text(format!(
             "ERROR: {value} is not a number (param set {name} VALUE; now {})\n",
             shown(params, index)
         )),

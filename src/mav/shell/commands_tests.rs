@@ -13,7 +13,7 @@ fn table() -> ParamTable {
 
 fn text(line: &str, params: &ParamTable, snapshot: &Snapshot) -> String {
     match run(line, Context { params, snapshot }) {
-        Outcome::Text(t) => t,
+        ShellOutcome::Text(t) => t,
         other => panic!("{line}: {other:?}"),
     }
 }
@@ -56,7 +56,7 @@ fn param_show_filters_and_param_set_is_checked_before_it_is_asked() {
                 snapshot: &s
             }
         ),
-        Outcome::SetParam {
+        ShellOutcome::SetParam {
             name: "MIS_TAKEOFF_ALT".into(),
             value: 4.0
         }

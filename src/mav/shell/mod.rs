@@ -17,7 +17,7 @@ mod commands;
 
 use mavlink::dialects::common::{MavMessage, SerialControlDev, SerialControlFlag, SERIAL_CONTROL_DATA};
 
-pub use commands::{param_set_text, run, Context, Outcome};
+pub use commands::{param_set_text, run, Context, ShellOutcome};
 
 /// What the shell prints when it waits for a line (PX4 SITL's `pxh`; NuttX boards say `nsh> `).
 pub const PROMPT: &str = "pxh> ";

@@ -5,7 +5,7 @@ use super::truth::{Motion, SensorErrors, Truth};
 use super::{errors, run, Faults};
 use crate::math::Vec3;
 use crate::nav_filter::{
-    GpsReading, HeightSource, NavFilter, NavParams, Outcome, SkipReason, SourceHealth, DEAD_RECKONING_AFTER_S,
+    FusionOutcome, GpsReading, HeightSource, NavFilter, NavParams, SkipReason, SourceHealth, DEAD_RECKONING_AFTER_S,
 };
 
 fn setup(motion: Motion, params: impl FnOnce(NavParams) -> NavParams, seed: u64) -> (Truth, NavFilter) {
@@ -32,12 +32,12 @@ fn a_50_m_gps_jump_is_rejected_and_reported() {
         }
         let Some(g) = s.gps else { return };
         if (60.0..63.0).contains(&t) {
-            rejected += usize::from(g.horizontal.outcome == Outcome::Rejected && g.horizontal.test_ratio > 1.0);
-            velocity_fused += usize::from(g.velocity.outcome == Outcome::Fused);
+            rejected += usize::from(g.horizontal.outcome == FusionOutcome::Rejected && g.horizontal.test_ratio > 1.0);
+            velocity_fused += usize::from(g.velocity.outcome == FusionOutcome::Fused);
             let st = s.filter.status();
             reported |= st.gps.health == SourceHealth::Rejected && st.test_ratios.gps_horizontal > 1.0;
         }
-        if t >= 64.0 && g.horizontal.outcome != Outcome::Fused {
+        if t >= 64.0 && g.horizontal.outcome != FusionOutcome::Fused {
             refused_after += 1;
         }
     });
@@ -72,7 +72,7 @@ fn an_offset_baro_is_rejected_height_falls_back_to_gps_and_the_baro_stays_at_fau
             worst_height = worst_height.max(errors(s.filter, &s.truth).0.z.abs());
         }
         if (60.0..64.9).contains(&t) {
-            rejected += usize::from(s.baro.is_some_and(|b| b.outcome == Outcome::Rejected));
+            rejected += usize::from(s.baro.is_some_and(|b| b.outcome == FusionOutcome::Rejected));
             assert_eq!(st.active_height, HeightSource::Baro);
         }
         if gps_active_at.is_none() && st.active_height == HeightSource::Gps {
@@ -85,7 +85,7 @@ fn an_offset_baro_is_rejected_height_falls_back_to_gps_and_the_baro_stays_at_fau
         }
         if t >= 70.0 {
             if let Some(b) = s.baro {
-                assert_eq!(b.outcome, Outcome::Skipped(SkipReason::Fault), "t = {t}");
+                assert_eq!(b.outcome, FusionOutcome::Skipped(SkipReason::Fault), "t = {t}");
                 at_fault += 1;
             }
         }
@@ -281,7 +281,9 @@ fn a_late_magnetometer_sets_the_yaw() {
     let mut first = None;
     run(&mut truth, &mut filter, &faults, 30.0, |s| {
         if first.is_none() {
-            first = s.mag.filter(|m| m.outcome != Outcome::Skipped(SkipReason::NotAligned));
+            first = s
+                .mag
+                .filter(|m| m.outcome != FusionOutcome::Skipped(SkipReason::NotAligned));
             if first.is_some() {
                 assert!(s.filter.status().yaw_aligned);
             } else if s.truth.t_s > 1.5 {
@@ -289,7 +291,7 @@ fn a_late_magnetometer_sets_the_yaw() {
             }
         }
     });
-    assert_eq!(first.unwrap().outcome, Outcome::Reset);
+    assert_eq!(first.unwrap().outcome, FusionOutcome::Reset);
     assert_eq!(filter.status().resets.yaw, 1);
     let dth = errors(&filter, &truth.motion.at(30.0)).2;
     let std = filter.estimate().att_std_w;
@@ -313,7 +315,7 @@ fn poor_fixes_and_bad_readings_are_skipped_and_counted() {
     for c in cases {
         assert_eq!(
             filter.fuse_gps(&c).horizontal.outcome,
-            Outcome::Skipped(SkipReason::Quality)
+            FusionOutcome::Skipped(SkipReason::Quality)
         );
     }
     let nan = GpsReading {
@@ -322,14 +324,17 @@ fn poor_fixes_and_bad_readings_are_skipped_and_counted() {
     };
     assert_eq!(
         filter.fuse_gps(&nan).velocity.outcome,
-        Outcome::Skipped(SkipReason::Invalid)
+        FusionOutcome::Skipped(SkipReason::Invalid)
     );
     let st = filter.status();
     assert_eq!(st.gps.health, SourceHealth::Unusable);
     assert_eq!(st.gps.skipped - skipped_before, 4);
     let mut baro = truth.baro(5.0, 0.0);
     baro.pressure_pa = -1.0;
-    assert_eq!(filter.fuse_baro(&baro).outcome, Outcome::Skipped(SkipReason::Invalid));
+    assert_eq!(
+        filter.fuse_baro(&baro).outcome,
+        FusionOutcome::Skipped(SkipReason::Invalid)
+    );
     let before = filter.estimate();
     let mut imu = truth.imu(4.0);
     filter.predict(&imu);

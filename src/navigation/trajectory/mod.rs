@@ -26,7 +26,7 @@ pub use error::TrajectoryError;
 pub use hover::Hover;
 pub use quintic::Quintic;
 pub use spec::{Direction, SegmentTime, TrajectorySpec, YawMode};
-pub use waypoints::{Leg, LegTiming, Waypoint, Waypoints, QUINTIC_PEAK_OVER_MEAN};
+pub use waypoints::{LegTiming, TimedLeg, Waypoint, Waypoints, QUINTIC_PEAK_OVER_MEAN};
 
 use crate::control::FlatSetpoint;
 use crate::math::{wrap_pi, Vec3};

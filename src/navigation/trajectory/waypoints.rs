@@ -39,7 +39,7 @@ pub enum LegTiming {
 
 /// One leg of a [`Waypoints`] trajectory.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Leg {
+pub struct TimedLeg {
     /// Time the leg starts, from the start of the trajectory [s].
     pub start_s: f64,
     /// The move itself (its time runs from `start_s`).
@@ -51,7 +51,7 @@ pub struct Leg {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Waypoints {
     first: Waypoint,
-    legs: Vec<Leg>,
+    legs: Vec<TimedLeg>,
 }
 
 fn err(field: &str, reason: String) -> TrajectoryError {
@@ -112,14 +112,14 @@ impl Waypoints {
                 start_yaw_rad: p[0].yaw_rad,
                 goal_yaw_rad: p[1].yaw_rad,
             };
-            legs.push(Leg { start_s, path });
+            legs.push(TimedLeg { start_s, path });
             start_s += duration_s + hold_s;
         }
         Ok(Self { first, legs })
     }
 
     /// The legs in order.
-    pub fn legs(&self) -> &[Leg] {
+    pub fn legs(&self) -> &[TimedLeg] {
         &self.legs
     }
 
