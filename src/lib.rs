@@ -30,7 +30,7 @@
 //! - [`navigation`]: setpoint generators (take-off climb; hover, quintic, waypoint and circle
 //!   trajectories with a `[trajectory]` TOML spec).
 //! - [`params`]: the parameter table (PX4 and RP_ names), each parameter declared once as a row,
-//!   validated as a whole; the README's parameter table is generated from the rows.
+//!   validated as a whole; the table of docs/parameters.md is generated from the rows.
 //! - [`report`]: what the `alloc` and `gains` commands print.
 //! - [`scenario`]: scenario files (airframe, mismatch, disturbances, controller, estimator,
 //!   trajectory) validated into a run description; run statistics.

@@ -9,6 +9,8 @@
    and equations are never cited by a bare integer (the homework's numbering).
 4. `<note>.md §X` is always written `docs/<note>.md §X`.
 5. A note defines each equation number once, inside the top-level section S of its label.
+6. README.md stays short: at most 200 lines, and without the generated parameter table (which
+   docs/parameters.md holds); everything else lives in docs/.
 
 Prints `file:line: problem` for each violation and exits 1 if there is any. Standard library only.
 """
@@ -36,6 +38,8 @@ BARE_NOTE = re.compile(r"(?<![\w/.-])([A-Za-z0-9_-]+\.md)\s*§")
 SECTION_TOKEN = re.compile(rf"§\s*({NUM})")
 HEADING = re.compile(rf"^#{{1,6}}\s+({NUM})\.?\s")
 LABEL = re.compile(r"\((\d+)\.(\d+)\)\s*$")
+README_MAX_LINES = 200
+PARAMS_MARKER = re.compile(r"<!--\s*params:(begin|end)")
 
 
 def repo_files():
@@ -172,6 +176,18 @@ def check_line(name, number, line, notes, problems):
             )
 
 
+def check_readme(text, problems):
+    """README.md is the front page: short, and the generated parameter table lives in docs/."""
+    lines = text.splitlines()
+    if len(lines) > README_MAX_LINES:
+        problems.append(f"README.md: {len(lines)} lines, at most {README_MAX_LINES}")
+    for number, line in enumerate(lines, 1):
+        if PARAMS_MARKER.search(line):
+            problems.append(
+                f"README.md:{number}: the generated parameter table belongs in docs/parameters.md"
+            )
+
+
 def main():
     problems = []
     files = list(repo_files())
@@ -183,6 +199,8 @@ def main():
     for name, text in files:
         for number, line in enumerate(text.splitlines(), 1):
             check_line(name, number, line, notes, problems)
+        if name == "README.md":
+            check_readme(text, problems)
     for p in problems:
         print(p, file=sys.stderr)
     if problems:

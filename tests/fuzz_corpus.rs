@@ -1,5 +1,5 @@
-//! The committed seed corpus of the cargo-fuzz targets (`fuzz/corpus/<target>/seed-*`, README
-//! "Fuzzing") is what this file generates: real MAVLink datagrams encoded with the codec, the
+//! The committed seed corpus of the cargo-fuzz targets (`fuzz/corpus/<target>/seed-*`,
+//! docs/fuzzing.md) is what this file generates: real MAVLink datagrams encoded with the codec, the
 //! shipped airframes and scenarios, and parameter files. The test fails when a seed is missing
 //! or stale; `ROTORPILOT_WRITE_FUZZ_CORPUS=1 cargo test --release --test fuzz_corpus` rewrites them.
 #![allow(clippy::unwrap_used, clippy::expect_used)]

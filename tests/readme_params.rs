@@ -1,6 +1,6 @@
-//! The README's parameter table is the one the rows generate for `rotorpilot run`'s vehicle (the
-//! default airframe `quad_x`, geometric law): a change to a row, a default or a range that the
-//! README does not show fails here. `UPDATE_README=1` rewrites the block instead.
+//! The parameter table of docs/parameters.md is the one the rows generate for `rotorpilot run`'s
+//! vehicle (the default airframe `quad_x`, geometric law): a change to a row, a default or a range
+//! that the table does not show fails here. `UPDATE_DOCS=1` rewrites the block instead.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::Path;
@@ -31,24 +31,27 @@ fn generated() -> String {
 }
 
 #[test]
-fn readme_parameter_table_is_generated_from_the_rows() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md");
-    let readme = std::fs::read_to_string(&path).unwrap();
-    let start = readme.find(BEGIN).expect("README.md lacks the params:begin marker") + BEGIN.len();
+fn docs_parameter_table_is_generated_from_the_rows() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/parameters.md");
+    let doc = std::fs::read_to_string(&path).unwrap();
+    let start = doc
+        .find(BEGIN)
+        .expect("docs/parameters.md lacks the params:begin marker")
+        + BEGIN.len();
     let end = start
-        + readme[start..]
+        + doc[start..]
             .find(END)
-            .expect("README.md lacks the params:end marker");
+            .expect("docs/parameters.md lacks the params:end marker");
     let table = generated();
-    if std::env::var_os("UPDATE_README").is_some_and(|v| v == "1") {
-        let updated = format!("{}{table}{}", &readme[..start], &readme[end..]);
+    if std::env::var_os("UPDATE_DOCS").is_some_and(|v| v == "1") {
+        let updated = format!("{}{table}{}", &doc[..start], &doc[end..]);
         std::fs::write(&path, updated).unwrap();
         return;
     }
     assert!(
-        readme[start..end] == table,
-        "README.md's parameter table differs from the rows (src/params/rows/); regenerate it with\n  \
-         UPDATE_README=1 cargo test --release --test readme_params\n--- README\n{}\n--- generated\n{table}",
-        &readme[start..end]
+        doc[start..end] == table,
+        "docs/parameters.md's parameter table differs from the rows (src/params/rows/); regenerate it with\n  \
+         UPDATE_DOCS=1 cargo test --release --test readme_params\n--- docs/parameters.md\n{}\n--- generated\n{table}",
+        &doc[start..end]
     );
 }

@@ -18,7 +18,7 @@ echo "== Rust tests"
 cargo build --release --bin rotorpilot
 cargo test --workspace --release
 
-echo "== fuzz smoke run (README \"Fuzzing\")"
+echo "== fuzz smoke run (docs/fuzzing.md)"
 bash tests/fuzz-smoke.sh
 
 echo "== Python tests"

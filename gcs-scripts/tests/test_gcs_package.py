@@ -18,7 +18,7 @@ import rotorpilot_gcs as gcs
 from rotorpilot_gcs import mavlink
 
 SCRIPTS = pathlib.Path(__file__).resolve().parents[1]
-README = SCRIPTS.parent / "README.md"
+GUIDE = SCRIPTS.parent / "docs" / "gcs_scripts.md"
 
 TAKEOFF_LAND_TEST = '''
 import pytest
@@ -33,8 +33,8 @@ def test_take_off_and_land(autopilot):
     assert not autopilot.wait_disarmed(timeout=10).base_mode & 128
 '''
 
-# The README's example, verbatim.
-README_TEST = '''import pytest
+# The example of docs/gcs_scripts.md, verbatim.
+GUIDE_TEST = '''import pytest
 from rotorpilot_gcs import nav_return_to_launch, nav_takeoff, nav_waypoint, offset_to_global
 
 
@@ -79,7 +79,7 @@ def test_pip_install_into_an_empty_venv_and_a_users_mission_tests_fly(tmp_path, 
     tests = tmp_path / "user"
     tests.mkdir()
     (tests / "test_takeoff_land.py").write_text(TAKEOFF_LAND_TEST)
-    (tests / "test_square_mission.py").write_text(README_TEST)
+    (tests / "test_square_mission.py").write_text(GUIDE_TEST)
     run = subprocess.run([str(python), "-m", "pytest", "-p", "no:cacheprovider", "-rA", "--rotorpilot-bin",
                           str(rotorpilot_bin), "."], cwd=tests, capture_output=True, text=True, timeout=300,
                          env=inner_env(), check=False)
@@ -88,8 +88,8 @@ def test_pip_install_into_an_empty_venv_and_a_users_mission_tests_fly(tmp_path, 
     assert "PASSED test_square_mission.py::test_square_mission" in run.stdout, run.stdout
 
 
-def test_the_readme_shows_the_mission_test_run_here():
-    assert README_TEST in README.read_text(), "README's user mission test differs from README_TEST"
+def test_the_docs_show_the_mission_test_run_here():
+    assert GUIDE_TEST in GUIDE.read_text(), "docs/gcs_scripts.md's user mission test differs from GUIDE_TEST"
 
 
 FAILING_TESTS = '''

@@ -1,4 +1,4 @@
-"""The README's main command: a headless take-off and hover."""
+"""`rotorpilot fly` (docs/cli.md §2): a headless take-off and hover."""
 import csv
 import json
 

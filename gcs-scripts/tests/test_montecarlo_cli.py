@@ -46,7 +46,7 @@ def test_the_envelope_and_criterion_are_the_documented_defaults(default_run):
 
 
 def test_convergence_rates(default_run, rotorpilot):
-    # Measured over 1000 runs (README): geometric 99.0 %, hierarchical 87.4 %, passivity 81.9 %
+    # Measured over 1000 runs (docs/cli.md §6): geometric 99.0 %, hierarchical 87.4 %, passivity 81.9 %
     # with a heading change to north; 100 / 99.0 / 99.0 % holding the initial heading.
     _, report = default_run
     rate = {c["controller"]: c["converged_pct"] for c in report["controllers"]}

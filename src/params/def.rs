@@ -73,7 +73,7 @@ impl fmt::Display for Scope {
 pub type Codes = fn() -> Vec<(i32, &'static str)>;
 
 /// One parameter, declared once (in `params::rows`): everything the table, the MAVLink parameter
-/// protocol and the README need to know about it.
+/// protocol and docs/parameters.md need to know about it.
 #[derive(Debug, Clone, Copy)]
 pub struct ParamDef {
     /// Name (≤ 16 characters: MAVLink's `param_id`).

@@ -1,6 +1,6 @@
-//! The README's parameter table, generated from the rows: one line per parameter with its name,
-//! wire type, value in the given table (the default when the table is fresh), range, unit, what
-//! it acts on and what it means. Pure.
+//! The parameter table of docs/parameters.md, generated from the rows: one line per parameter with
+//! its name, wire type, value in the given table (the default when the table is fresh), range,
+//! unit, what it acts on and what it means. Pure.
 
 use super::{ParamDef, ParamTable, ParamType};
 

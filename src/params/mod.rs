@@ -9,7 +9,7 @@
 //! - `def.rs`: [`ParamDef`] (one row), [`ParamType`], [`Scope`].
 //! - `settings.rs`: [`VehicleSettings`] and the checks across parameters.
 //! - `rows/`: every row, grouped by what it acts on, in wire order.
-//! - `markdown.rs`: the README's parameter table, generated from the rows.
+//! - `markdown.rs`: the parameter table of docs/parameters.md, generated from the rows.
 //! - `file.rs`: `--params FILE` parsing.
 
 mod def;
