@@ -1,10 +1,7 @@
-//! The sockets of one vehicle's MAVLink links (GCS and API). This task only reads, feeds,
-//! drains and sleeps: datagrams, the vehicle's answers and events go into the vehicle's
-//! [`LinkMachine`] with the time; what the machine decided leaves in the order it was decided
-//! (datagrams, requests to the tick thread, keys to the key file, tlog records). Every protocol
-//! decision is the machine's. With `--link-loss`/`--link-delay`/`--link-duplicate` every
-//! datagram in and out goes through the vehicle's [`Impairments`] first. Runtime layer: clocks,
-//! sockets, channels.
+//! The link task of one vehicle (GCS and API): it only reads, feeds, drains and sleeps. Inputs
+//! go into the vehicle's [`LinkMachine`] with the latest state and that state's clock; what the
+//! machine decided leaves in its order (datagrams, requests to the tick thread, keys, tlog).
+//! With `--link-loss`/`-delay`/`-duplicate` datagrams pass the vehicle's [`Impairments`] first.
 
 use std::net::SocketAddr;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -71,11 +68,18 @@ pub struct LinkIo {
 }
 
 impl LinkIo {
-    /// The machine's clocks now: wall time since `start`, simulated time of the latest state.
-    fn now(&self) -> Now {
+    /// Hands the vehicle's latest state to `machine`; returns the clocks of a decision on it.
+    fn sync(&self, machine: &mut LinkMachine<SocketAddr>) -> Now {
+        machine.handle_state(*self.snapshot.borrow());
+        self.now(machine)
+    }
+
+    /// The clocks of `machine` now: wall time since `start`, and the simulated time of the state
+    /// it holds (never a newer one it has not been given).
+    fn now(&self, machine: &LinkMachine<SocketAddr>) -> Now {
         Now {
             wall_s: self.start.elapsed().as_secs_f64(),
-            sim_s: self.snapshot.borrow().t_s,
+            sim_s: machine.state_time_s(),
         }
     }
 }
@@ -99,29 +103,29 @@ pub async fn serve(mut machine: LinkMachine<SocketAddr>, mut io: LinkIo) -> Vec<
         tokio::select! {
             _ = io.shutdown.changed() => break,
             Ok((n, from)) = gcs.recv_from(&mut gcs_buf) => {
-                machine.handle_state(*io.snapshot.borrow());
+                io.sync(&mut machine);
                 read_burst(&mut machine, &io, &mut impair, (*gcs_kind, gcs), &mut gcs_buf, (n, from));
             }
             Ok((n, from)) = api.recv_from(&mut api_buf) => {
-                machine.handle_state(*io.snapshot.borrow());
+                io.sync(&mut machine);
                 read_burst(&mut machine, &io, &mut impair, (*api_kind, api), &mut api_buf, (n, from));
             }
             Some((token, reply)) = io.replies.recv() => {
-                machine.handle_state(*io.snapshot.borrow());
-                machine.handle_reply(io.now(), token, reply);
+                let now = io.sync(&mut machine);
+                machine.handle_reply(now, token, reply);
             }
             Some(event) = io.events.recv() => {
-                machine.handle_state(*io.snapshot.borrow());
-                machine.handle_event(io.now(), event);
+                let now = io.sync(&mut machine);
+                machine.handle_event(now, event);
             }
-            Some(text) = io.notices.recv() => machine.handle_notice(io.now(), &text),
+            Some(text) = io.notices.recv() => machine.handle_notice(io.now(&machine), &text),
             _ = tokio::time::sleep_until(deadline.into()) => {}
         }
         // Duties are checked against the wall clock after every input, not only when the
         // timer fires: under a flood the task never parks, and tokio's timer then advances late.
-        let now = io.now();
+        let mut now = io.now(&machine);
         if now.wall_s >= machine.poll_timeout() {
-            machine.handle_state(*io.snapshot.borrow());
+            now = io.sync(&mut machine);
             machine.handle_timeout(now);
         }
         if let Some(imp) = &mut impair {
@@ -154,7 +158,7 @@ fn read_burst(
     first: (usize, SocketAddr),
 ) {
     let mut feed = |n: usize, from: SocketAddr, buf: &[u8]| {
-        let now = io.now();
+        let now = io.now(machine);
         match impair {
             None => machine.handle_datagram(now, link, from, &buf[..n]),
             Some(imp) => {
@@ -194,7 +198,7 @@ async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo, impair: &mut 
             match impair {
                 None => send(io, t.link, t.to, &t.bytes).await,
                 Some(imp) => {
-                    for (link, to, bytes) in imp.offer(io.now().wall_s, t.link, false, (t.link, t.to, t.bytes)) {
+                    for (link, to, bytes) in imp.offer(io.now(machine).wall_s, t.link, false, (t.link, t.to, t.bytes)) {
                         send(io, link, to, &bytes).await;
                     }
                 }
@@ -218,7 +222,7 @@ async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo, impair: &mut 
                 // A full inbox: a command is answered TEMPORARILY_REJECTED at once; a setpoint
                 // is dropped, the next one replaces it.
                 if let Some(token) = token {
-                    machine.handle_reply(io.now(), token, VehicleReply::Busy);
+                    machine.handle_reply(io.now(machine), token, VehicleReply::Busy);
                     more = true;
                 }
             }
@@ -234,7 +238,7 @@ async fn drain(machine: &mut LinkMachine<SocketAddr>, io: &LinkIo, impair: &mut 
                     }),
                 None => Err("no key file".into()),
             };
-            machine.handle_stored(io.now(), result);
+            machine.handle_stored(io.now(machine), result);
             more = true;
         }
         if !more {

@@ -397,6 +397,11 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.signing.timestamp()
     }
 
+    /// Simulated time of the vehicle state the machine holds [s] (the clock its `Now` must use).
+    pub fn state_time_s(&self) -> f64 {
+        self.snapshot.t_s
+    }
+
     /// Frames signing dropped so far (unsigned, wrongly signed or replayed).
     pub fn signing_dropped(&self) -> u64 {
         self.signing.dropped().total()
