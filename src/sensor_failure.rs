@@ -9,7 +9,7 @@ use serde::Serialize;
 /// A sensor that can be failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum SensorUnit {
+pub enum FailureUnit {
     /// The IMU's gyroscope (FAILURE_UNIT 0).
     Gyro,
     /// The IMU's accelerometer (1).
@@ -44,7 +44,7 @@ pub enum FailureKind {
     Intermittent,
 }
 
-impl SensorUnit {
+impl FailureUnit {
     /// Every unit, in FAILURE_UNIT order.
     pub const ALL: [Self; 5] = [Self::Gyro, Self::Accel, Self::Mag, Self::Baro, Self::Gps];
 
@@ -106,7 +106,7 @@ impl FailureKind {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 pub struct SensorFailure {
     /// Which sensor.
-    pub unit: SensorUnit,
+    pub unit: FailureUnit,
     /// How.
     pub kind: FailureKind,
 }
@@ -119,7 +119,7 @@ impl std::str::FromStr for SensorFailure {
         let (unit, kind) = text
             .split_once(':')
             .ok_or_else(|| format!("{text}: expected UNIT:TYPE, e.g. gps:off"))?;
-        let unit = SensorUnit::ALL
+        let unit = FailureUnit::ALL
             .into_iter()
             .find(|u| u.name() == unit.trim())
             .ok_or_else(|| format!("{text}: unknown sensor \"{unit}\"; expected gyro, accel, mag, baro or gps"))?;
@@ -136,17 +136,17 @@ mod tests {
 
     #[test]
     fn numbers_and_names_follow_mavlink_and_px4() {
-        assert_eq!(SensorUnit::from_failure_unit(4), Some(SensorUnit::Gps));
-        assert_eq!(SensorUnit::from_failure_unit(5), None, "optical flow is not simulated");
+        assert_eq!(FailureUnit::from_failure_unit(4), Some(FailureUnit::Gps));
+        assert_eq!(FailureUnit::from_failure_unit(5), None, "optical flow is not simulated");
         assert_eq!(FailureKind::from_failure_type(7), Some(FailureKind::Intermittent));
         assert_eq!(FailureKind::from_failure_type(8), None);
-        for u in SensorUnit::ALL {
-            assert_eq!(SensorUnit::from_failure_unit(u.failure_unit()), Some(u));
+        for u in FailureUnit::ALL {
+            assert_eq!(FailureUnit::from_failure_unit(u.failure_unit()), Some(u));
         }
         assert_eq!(
             "gps:off".parse::<SensorFailure>(),
             Ok(SensorFailure {
-                unit: SensorUnit::Gps,
+                unit: FailureUnit::Gps,
                 kind: FailureKind::Off
             })
         );

@@ -10,7 +10,7 @@ use mavlink::dialects::common::COMMAND_LONG_DATA;
 
 use super::translate::CommandDecision;
 use crate::commander::{Outcome, Request};
-use crate::sensor_failure::{FailureKind, SensorFailure, SensorUnit};
+use crate::sensor_failure::{FailureKind, FailureUnit, SensorFailure};
 
 /// FAILURE_UNIT SYSTEM_MOTOR.
 const MOTOR_UNIT: u8 = 101;
@@ -65,7 +65,7 @@ pub(super) fn inject_failure(cmd: &COMMAND_LONG_DATA) -> CommandDecision {
         small_int(cmd.param3)
     };
     if let (Some(unit), Some(kind)) = (
-        SensorUnit::from_failure_unit(unit),
+        FailureUnit::from_failure_unit(unit),
         FailureKind::from_failure_type(kind),
     ) {
         return match instance {
@@ -144,7 +144,7 @@ mod tests {
     #[test]
     fn sensors_fail_in_every_way_one_instance_each() {
         let gps_off = SensorFailure {
-            unit: SensorUnit::Gps,
+            unit: FailureUnit::Gps,
             kind: FailureKind::Off,
         };
         assert_eq!(
@@ -156,7 +156,7 @@ mod tests {
             CommandDecision::Execute(Request::InjectSensorFailure(gps_off))
         );
         let baro_stuck = SensorFailure {
-            unit: SensorUnit::Baro,
+            unit: FailureUnit::Baro,
             kind: FailureKind::Stuck,
         };
         assert_eq!(

@@ -31,13 +31,6 @@ pub struct Impairment {
     pub delay_s: DelayRange,
 }
 
-impl Impairment {
-    /// True when it changes nothing.
-    pub fn is_none(&self) -> bool {
-        self.loss == 0.0 && self.duplicate == 0.0 && self.delay_s.1 == 0.0
-    }
-}
-
 /// The impairment of a vehicle's links: to the vehicle (`up`) and from it (`down`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinkImpairment {

@@ -2,7 +2,7 @@
 //! attitude over Monte Carlo runs against chi-square bounds
 //! (docs/navigation_filter.md §15, eqs. (15.1)–(15.2)).
 
-use super::truth::{Motion, SensorErrors, Truth};
+use super::truth::{Motion, SimulatedErrors, Truth};
 use super::{nees3, run, Faults};
 use crate::nav_filter::NavFilter;
 
@@ -19,7 +19,7 @@ const CHECKPOINTS: usize = 31;
 #[test]
 fn nees_of_position_velocity_and_attitude_is_within_chi_square_bounds() {
     let mut sums = [[0.0; 3]; CHECKPOINTS];
-    let errors = SensorErrors::realistic();
+    let errors = SimulatedErrors::realistic();
     for seed in 0..RUNS {
         let mut truth = Truth::new(Motion::curves(), errors, 100 + seed);
         let mut filter = NavFilter::new(errors.matched_params()).unwrap();

@@ -1,7 +1,7 @@
 //! Convergence from the alignment, tracking with ideal sensors, and the benefit of fusing
 //! GNSS at its time of validity (docs/navigation_filter.md §7, §11, §15).
 
-use super::truth::{Motion, SensorErrors, Truth};
+use super::truth::{Motion, SimulatedErrors, Truth};
 use super::{errors, run, Faults};
 use crate::math::Vec3;
 use crate::nav_filter::{NavFilter, NavParams, SourceHealth};
@@ -17,7 +17,14 @@ struct Worst {
     gyro_bias: Vec3,
 }
 
-fn worst_after(params: NavParams, errors_in: SensorErrors, motion: Motion, seed: u64, from_s: f64, to_s: f64) -> Worst {
+fn worst_after(
+    params: NavParams,
+    errors_in: SimulatedErrors,
+    motion: Motion,
+    seed: u64,
+    from_s: f64,
+    to_s: f64,
+) -> Worst {
     let mut truth = Truth::new(motion, errors_in, seed);
     let mut filter = NavFilter::new(params).unwrap();
     let mut w = Worst::default();
@@ -37,7 +44,7 @@ fn worst_after(params: NavParams, errors_in: SensorErrors, motion: Motion, seed:
 
 #[test]
 fn converges_from_alignment_with_biases_and_noise() {
-    let e = SensorErrors::realistic();
+    let e = SimulatedErrors::realistic();
     let w = worst_after(e.matched_params(), e, Motion::curves(), 1, 60.0, 120.0);
     assert!(w.att.to_degrees() < 1.0, "{w:?}");
     assert!(w.pos < 1.0, "{w:?}");
@@ -49,7 +56,7 @@ fn converges_from_alignment_with_biases_and_noise() {
 
 #[test]
 fn converges_with_px4_default_tuning() {
-    let e = SensorErrors::realistic();
+    let e = SimulatedErrors::realistic();
     let params = NavParams {
         baro_noise_m: 1.0,
         ..NavParams::default()
@@ -62,7 +69,7 @@ fn converges_with_px4_default_tuning() {
 
 #[test]
 fn ideal_sensors_track_the_truth_tightly() {
-    let e = SensorErrors::ideal();
+    let e = SimulatedErrors::ideal();
     let w = worst_after(e.matched_params(), e, Motion::curves(), 3, 2.0, 60.0);
     assert!(w.pos < 2e-3, "{w:?}");
     assert!(w.vel < 2e-3, "{w:?}");
@@ -72,7 +79,7 @@ fn ideal_sensors_track_the_truth_tightly() {
 
 #[test]
 fn alignment_sets_attitude_origin_and_flags() {
-    let e = SensorErrors::realistic();
+    let e = SimulatedErrors::realistic();
     let params = e.matched_params();
     let mut truth = Truth::new(Motion::hover(2.5), e, 4);
     let mut filter = NavFilter::new(params).unwrap();
@@ -98,11 +105,11 @@ fn alignment_sets_attitude_origin_and_flags() {
 
 /// RMS position error [m] over [20 s, 90 s] with the filter told `assumed_delay_s`.
 fn rms_position_error(assumed_delay_s: f64, seed: u64) -> f64 {
-    let e = SensorErrors {
+    let e = SimulatedErrors {
         gps_h: 0.1,
         gps_v: 0.15,
         gps_vel: 0.05,
-        ..SensorErrors::realistic()
+        ..SimulatedErrors::realistic()
     };
     let params = NavParams {
         gps_delay_s: assumed_delay_s,

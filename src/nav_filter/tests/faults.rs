@@ -1,7 +1,7 @@
 //! Faulty and missing sensors: gates, fall-backs, time-outs, dead reckoning
 //! (docs/navigation_filter.md §6, §9, §10, §12, §13).
 
-use super::truth::{Motion, SensorErrors, Truth};
+use super::truth::{Motion, SimulatedErrors, Truth};
 use super::{errors, run, Faults};
 use crate::math::Vec3;
 use crate::nav_filter::{
@@ -9,7 +9,7 @@ use crate::nav_filter::{
 };
 
 fn setup(motion: Motion, params: impl FnOnce(NavParams) -> NavParams, seed: u64) -> (Truth, NavFilter) {
-    let e = SensorErrors::realistic();
+    let e = SimulatedErrors::realistic();
     (
         Truth::new(motion, e, seed),
         NavFilter::new(params(e.matched_params())).unwrap(),

@@ -10,7 +10,7 @@ use nalgebra::Matrix3;
 
 use crate::math::Vec3;
 use crate::nav_filter::{Fusion, GpsFusion, NavFilter, ERR_ATT, ERR_POS, ERR_VEL};
-use truth::{Truth, TruthState, GPS_FRAME_OFFSET, IMU_DT_S};
+use truth::{TrueMotion, Truth, GPS_FRAME_OFFSET, IMU_DT_S};
 
 /// Sensor faults of a run.
 #[derive(Debug, Clone, Copy, Default)]
@@ -29,7 +29,7 @@ pub struct Faults {
 
 /// What the observer sees after each IMU sample.
 pub struct Step<'a> {
-    pub truth: TruthState,
+    pub truth: TrueMotion,
     pub filter: &'a NavFilter,
     pub gps: Option<GpsFusion>,
     pub baro: Option<Fusion>,
@@ -88,7 +88,7 @@ pub fn run(truth: &mut Truth, filter: &mut NavFilter, faults: &Faults, t_end_s: 
 
 /// True minus estimated position (in the filter's frame), velocity and attitude (a world-frame
 /// rotation vector), as the error state of docs/navigation_filter.md §1, eq. (1.3).
-pub fn errors(filter: &NavFilter, truth: &TruthState) -> (Vec3, Vec3, Vec3) {
+pub fn errors(filter: &NavFilter, truth: &TrueMotion) -> (Vec3, Vec3, Vec3) {
     let est = filter.estimate();
     let shift = filter.status().origin_w.map_or(Vec3::zeros(), |o| o - GPS_FRAME_OFFSET);
     let dp = truth.pos_w - shift - est.pos_w;
@@ -105,7 +105,7 @@ pub fn nees(filter: &NavFilter, i: usize, e: &Vec3) -> f64 {
 }
 
 /// NEES of position, velocity and attitude.
-pub fn nees3(filter: &NavFilter, truth: &TruthState) -> [f64; 3] {
+pub fn nees3(filter: &NavFilter, truth: &TrueMotion) -> [f64; 3] {
     let (dp, dv, dth) = errors(filter, truth);
     [
         nees(filter, ERR_POS, &dp),

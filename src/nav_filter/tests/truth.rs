@@ -57,7 +57,7 @@ impl Motion {
 
 /// The true state at one instant.
 #[derive(Debug, Clone, Copy)]
-pub struct TruthState {
+pub struct TrueMotion {
     pub t_s: f64,
     pub pos_w: Vec3,
     pub vel_w: Vec3,
@@ -77,7 +77,7 @@ fn cosine_axis(amp: f64, freq: f64, tau: f64) -> (f64, f64, f64) {
 
 impl Motion {
     /// The true state at `t_s` [s].
-    pub fn at(&self, t_s: f64) -> TruthState {
+    pub fn at(&self, t_s: f64) -> TrueMotion {
         let tau = (t_s - self.rest_s).max(0.0);
         let (mut pos, mut vel, mut acc, mut eta, mut eta_dot) =
             (Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), self.euler0, Vec3::zeros());
@@ -94,7 +94,7 @@ impl Motion {
             eta_dot.y * phi.cos() + eta_dot.z * phi.sin() * theta.cos(),
             -eta_dot.y * phi.sin() + eta_dot.z * phi.cos() * theta.cos(),
         );
-        TruthState {
+        TrueMotion {
             t_s,
             pos_w: pos,
             vel_w: vel,
@@ -107,7 +107,7 @@ impl Motion {
 
 /// Sensor errors of the generator; all zero is "ideal sensors".
 #[derive(Debug, Clone, Copy)]
-pub struct SensorErrors {
+pub struct SimulatedErrors {
     /// Accelerometer white noise per 1 kHz sample [m/s²].
     pub accel_noise: f64,
     /// Gyroscope white noise per 1 kHz sample [rad/s].
@@ -132,7 +132,7 @@ pub struct SensorErrors {
     pub mag: f64,
 }
 
-impl SensorErrors {
+impl SimulatedErrors {
     /// Noise levels of a good small drone, with switch-on biases.
     pub fn realistic() -> Self {
         Self {
@@ -204,7 +204,7 @@ pub const GPS_FRAME_OFFSET: Vec3 = Vec3::new(120.0, -45.0, -7.0);
 /// Generator of readings from a motion, with seeded noise.
 pub struct Truth {
     pub motion: Motion,
-    pub errors: SensorErrors,
+    pub errors: SimulatedErrors,
     rng: ChaCha8Rng,
     accel_bias: Vec3,
     gyro_bias: Vec3,
@@ -219,7 +219,7 @@ fn gaussian(rng: &mut ChaCha8Rng) -> f64 {
 }
 
 impl Truth {
-    pub fn new(motion: Motion, errors: SensorErrors, seed: u64) -> Self {
+    pub fn new(motion: Motion, errors: SimulatedErrors, seed: u64) -> Self {
         Self {
             motion,
             errors,
