@@ -211,12 +211,6 @@ impl SimPlant {
         self.plant.params().warnings()
     }
 
-    /// The state sensor's reading, `None` with the sensor suite (the flight controller then
-    /// knows only its estimate).
-    pub fn sense(&mut self) -> Option<VehicleState> {
-        (self.model == SensorModel::State).then(|| self.sense_state())
-    }
-
     /// The state sensor: the exact state with the airframe's noise.
     fn sense_state(&mut self) -> VehicleState {
         let s = self.plant.sense(&mut self.rng);

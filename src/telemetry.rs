@@ -7,6 +7,7 @@ use crate::control::{FlatSetpoint, VehicleState};
 use crate::estimation::WrenchEstimate;
 use crate::math::{euler_zyx, Vec3};
 use crate::navigation::Home;
+use crate::sitl::PlantTruth;
 
 /// The battery as its gauge reads it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -181,22 +182,6 @@ impl NavSnapshot {
     };
 }
 
-/// The simulator's truth of the vehicle (simulation only: HIL_STATE_QUATERNION, which PX4 SITL
-/// streams from its simulator on request and MAVSDK reads as "ground truth").
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GroundTruth {
-    /// True position, world NED about the start [m].
-    pub pos_w: Vec3,
-    /// True velocity, world NED [m/s].
-    pub vel_w: Vec3,
-    /// True attitude, body FRD → world NED.
-    pub q_wb: crate::math::UnitQuat,
-    /// True body rates, FRD [rad/s].
-    pub omega_b: Vec3,
-    /// True acceleration, world NED [m/s²].
-    pub accel_w: Vec3,
-}
-
 /// Latest vehicle state for telemetry.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Snapshot {
@@ -257,8 +242,10 @@ pub struct Snapshot {
     pub orbit: Option<(Vec3, f64)>,
     /// The navigation's health and raw readings.
     pub nav: NavSnapshot,
-    /// The simulator's truth, when the runtime that steps the plant adds it.
-    pub truth: Option<GroundTruth>,
+    /// The simulator's truth after the tick, never read by the flight controller: what
+    /// HIL_STATE_QUATERNION carries (PX4 SITL streams it from its simulator on request, MAVSDK
+    /// reads it as "ground truth"); `None` only before the first tick.
+    pub truth: Option<PlantTruth>,
 }
 
 impl Snapshot {

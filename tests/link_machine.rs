@@ -361,14 +361,19 @@ fn stream_rates_count_simulated_time() {
 #[test]
 fn ground_truth_streams_on_request_as_px4_sitl_serves_it() {
     use rotorpilot::math::{UnitQuat, Vec3};
-    use rotorpilot::telemetry::GroundTruth;
+    use rotorpilot::sitl::PlantTruth;
     let mut b = Bench::new();
-    b.state.truth = Some(GroundTruth {
+    b.state.truth = Some(PlantTruth {
         pos_w: Vec3::new(10.0, 0.0, -5.0),
         vel_w: Vec3::new(1.0, 0.0, 0.0),
         q_wb: UnitQuat::identity(),
         omega_b: Vec3::zeros(),
+        on_ground: false,
+        external_force_w: Vec3::zeros(),
+        external_torque_b: Vec3::zeros(),
         accel_w: Vec3::zeros(),
+        wind_w: Vec3::zeros(),
+        drag_force_w: Vec3::zeros(),
     });
     // Off by default.
     let times = (1..=100).map(|k| (f64::from(k) * 0.01, f64::from(k) * 0.01));

@@ -19,7 +19,7 @@ use crate::estimation::{ChebyshevDesign, WrenchObserver};
 use crate::math::{Vec3, GRAVITY_M_S2};
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable, VehicleSettings};
-use crate::sitl::{EscReport, PlantChange, Sensors};
+use crate::sitl::{EscReport, PlantChange, PlantTruth, Sensors};
 use crate::telemetry::Snapshot;
 
 use super::motor_failures::{MotorChange, MotorFailureParams, MotorFailures};
@@ -230,14 +230,11 @@ impl FlightController {
 
     /// Handles a ground-station request at simulated time `t_s` [s]: failure injection (when
     /// `SYS_FAILURE_EN` allows it) answers with the rotors the plant must stop or restore;
-    /// everything else goes to the commander with the state `sense` reads (the state sensor),
-    /// or without one the navigator's latest estimate.
-    pub fn request(
-        &mut self,
-        request: Request,
-        t_s: f64,
-        sense: impl FnOnce() -> Option<VehicleState>,
-    ) -> Reply<Outcome> {
+    /// everything else goes to the commander with the state the latest tick flew on (the state
+    /// sensor's reading or the filter's estimate; at rest at the origin before the first tick),
+    /// as PX4's commander acts on the latest `vehicle_local_position`. Nothing is sensed between
+    /// ticks: the plant is read once per tick, in [`crate::lockstep::Lockstep::step`].
+    pub fn request(&mut self, request: Request, t_s: f64) -> Reply<Outcome> {
         let injection = matches!(
             request,
             Request::InjectRotorFailure { .. } | Request::InjectSensorFailure(_)
@@ -268,8 +265,9 @@ impl FlightController {
                 Err(why) => Reply::only(Outcome::Denied(why)),
             };
         }
-        let x = sense()
-            .or(self.nav.latest())
+        let x = self
+            .nav
+            .latest()
             .unwrap_or_else(|| VehicleState::at_rest(t_s, Vec3::zeros()));
         Reply::only(self.commander.request(request, &x, t_s))
     }
@@ -346,8 +344,15 @@ impl Pilot for FlightController {
     }
 
     /// The telemetry snapshot of the tick.
-    fn report(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Snapshot {
-        self.snapshot(t_s, sensors, control, motor_speeds)
+    fn report(
+        &self,
+        t_s: f64,
+        sensors: &Sensors,
+        control: &Control,
+        motor_speeds: &[f64],
+        truth: &PlantTruth,
+    ) -> Snapshot {
+        self.snapshot(t_s, sensors, control, motor_speeds, truth)
     }
 
     fn params(&self) -> Option<&ParamTable> {
@@ -365,16 +370,12 @@ mod tests {
         FlightController::new(&af, ControllerKind::Geometric, Home::default(), 1e-3).unwrap()
     }
 
-    fn never_sensed() -> Option<VehicleState> {
-        panic!("failure injection must not sense the state")
-    }
-
     #[test]
     fn replies_say_what_the_plant_must_change() {
         let mut fc = controller();
         let inject = |rotor| Request::InjectRotorFailure { rotor, failed: true };
         assert!(fc.set_param("SYS_FAILURE_EN", 0.0).answer.is_ok());
-        let denied = fc.request(inject(2), 0.0, never_sensed);
+        let denied = fc.request(inject(2), 0.0);
         assert!(matches!(&denied.answer, Outcome::Denied(why) if why.contains("SYS_FAILURE_EN")));
         assert_eq!(denied.plant, None);
         let set = fc.set_param("SYS_FAILURE_EN", 1.0);
@@ -396,7 +397,7 @@ mod tests {
         );
         let refused = fc.set_param("NO_SUCH_PARAM", 1.0);
         assert!(refused.answer.is_err() && refused.plant.is_none());
-        let accepted = fc.request(inject(2), 0.0, never_sensed);
+        let accepted = fc.request(inject(2), 0.0);
         assert_eq!(accepted.answer, Outcome::Accepted);
         assert_eq!(
             accepted.plant,
@@ -405,26 +406,19 @@ mod tests {
                 failed: true
             })
         );
-        let none = fc.request(inject(5), 0.0, never_sensed);
+        let none = fc.request(inject(5), 0.0);
         assert!(matches!(&none.answer, Outcome::Denied(why) if why == "Failure injection: no motor 5 (1 to 4)"));
     }
 
     #[test]
-    fn commander_requests_see_the_sensed_state() {
+    fn commander_requests_see_the_state_of_the_latest_tick() {
         let mut fc = controller();
-        let mut sensed = false;
-        let reply = fc.request(Request::Arm { force: false }, 0.0, || {
-            sensed = true;
-            Some(VehicleState {
-                t_s: 0.0,
-                pos_w: Vec3::zeros(),
-                vel_w: Vec3::zeros(),
-                r_wb: crate::math::Mat3::identity(),
-                omega_b: Vec3::zeros(),
-            })
-        });
-        assert!(sensed);
-        assert_eq!(reply, Reply::only(Outcome::Accepted));
+        // Before the first tick: at rest at the origin.
+        assert_eq!(
+            fc.request(Request::Arm { force: false }, 0.0),
+            Reply::only(Outcome::Accepted)
+        );
         assert!(fc.commander().armed());
+        assert_eq!(fc.commander().home_w(), Vec3::zeros());
     }
 }

@@ -6,7 +6,7 @@
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::navigation::trajectory::Trajectory;
 use crate::navigation::ClimbProfile;
-use crate::sitl::{EscReport, Sensors};
+use crate::sitl::{EscReport, PlantTruth, Sensors};
 
 use super::navigator::Navigator;
 use super::rotor_monitor::RotorMonitor;
@@ -88,5 +88,5 @@ impl<S: SetpointSource> Pilot for SetpointFollower<S> {
         }
     }
 
-    fn report(&self, _t_s: f64, _sensors: &Sensors, _control: &Control, _motor_speeds: &[f64]) {}
+    fn report(&self, _t_s: f64, _sensors: &Sensors, _control: &Control, _motor_speeds: &[f64], _truth: &PlantTruth) {}
 }

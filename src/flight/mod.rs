@@ -38,7 +38,7 @@ use crate::allocation::RotorSpeeds;
 use crate::commander::Event;
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::params::ParamTable;
-use crate::sitl::{EscReport, Sensors};
+use crate::sitl::{EscReport, PlantTruth, Sensors};
 
 pub use controller::{FlightController, Reply, AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
 pub use flight_core::{vehicle_model, CoreError, CoreStep, FlightCore};
@@ -85,8 +85,16 @@ pub trait Pilot {
     fn control(&mut self, t_s: f64, sensors: &Sensors, esc: &EscReport<'_>) -> Control;
 
     /// The tick's report once the plant has stepped with `control`, its rotors now turning at
-    /// `motor_speeds` [rad/s].
-    fn report(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Self::Report;
+    /// `motor_speeds` [rad/s]; `truth` is the plant's exact state after the step, passed
+    /// through to telemetry and never an input of the flight controller.
+    fn report(
+        &self,
+        t_s: f64,
+        sensors: &Sensors,
+        control: &Control,
+        motor_speeds: &[f64],
+        truth: &PlantTruth,
+    ) -> Self::Report;
 
     /// The parameter table, for a flight controller (a bare flight core has none).
     fn params(&self) -> Option<&ParamTable> {

@@ -7,7 +7,7 @@
 //! of them leaves OFFBOARD, the setpoints are no longer flown. Pure.
 
 use crate::commander::{FlightMode, Outcome, Request};
-use crate::sitl::{EscReport, Sensors};
+use crate::sitl::{EscReport, PlantTruth, Sensors};
 use crate::telemetry::Snapshot;
 
 use super::{Control, FlightController, Pilot, SetpointSource};
@@ -57,7 +57,7 @@ impl<S: SetpointSource> Pilot for OffboardPilot<S> {
         }
         for request in requests {
             let what = format!("{request:?}");
-            let outcome = self.controller.request(request, t_s, || sensors.state).answer;
+            let outcome = self.controller.request(request, t_s).answer;
             if outcome != Outcome::Accepted && self.refused.is_none() {
                 self.refused = Some(format!("{what}: {outcome:?}"));
             }
@@ -65,8 +65,15 @@ impl<S: SetpointSource> Pilot for OffboardPilot<S> {
         self.controller.control(t_s, sensors, esc)
     }
 
-    fn report(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Snapshot {
-        self.controller.report(t_s, sensors, control, motor_speeds)
+    fn report(
+        &self,
+        t_s: f64,
+        sensors: &Sensors,
+        control: &Control,
+        motor_speeds: &[f64],
+        truth: &PlantTruth,
+    ) -> Snapshot {
+        self.controller.report(t_s, sensors, control, motor_speeds, truth)
     }
 
     fn params(&self) -> Option<&crate::params::ParamTable> {

@@ -3,7 +3,7 @@
 
 use crate::airframe::MAX_ROTORS;
 use crate::math::euler_zyx;
-use crate::sitl::Sensors;
+use crate::sitl::{PlantTruth, Sensors};
 use crate::telemetry::{BatterySnapshot, Snapshot};
 
 use super::{Control, FlightController};
@@ -11,9 +11,16 @@ use super::{Control, FlightController};
 impl FlightController {
     /// What the links publish after a tick at simulated time `t_s` [s]: the sensed state,
     /// commander state, the controller step of `control` (and the motor outputs it commands,
-    /// with the motors the flight controller stops), and the true rotor speeds `motor_speeds`
-    /// [rad/s] after the plant step.
-    pub fn snapshot(&self, t_s: f64, sensors: &Sensors, control: &Control, motor_speeds: &[f64]) -> Snapshot {
+    /// with the motors the flight controller stops), the true rotor speeds `motor_speeds`
+    /// [rad/s] and the plant's `truth` after the plant step (telemetry only).
+    pub fn snapshot(
+        &self,
+        t_s: f64,
+        sensors: &Sensors,
+        control: &Control,
+        motor_speeds: &[f64],
+        truth: &PlantTruth,
+    ) -> Snapshot {
         let x = &control.state;
         let commander = self.commander();
         let step = control.step.as_ref();
@@ -57,6 +64,7 @@ impl FlightController {
                 energy_j: gauge.used_j(),
             },
             nav: self.navigator().snapshot(t_s, self.commander().navigation_armable()),
+            truth: Some(*truth),
             ..Snapshot::initial(self.home())
         }
         .with_commander(commander)

@@ -11,7 +11,8 @@
 //! control_k  = pilot.control(t_k, sensors_k, esc)    rotor speeds, controller step, events
 //!                                                    (esc: failed rotors, electrical power)
 //! status_k   = plant.step(control_k.rotor_speeds(), dt)
-//! report_k   = pilot.report(t_k, sensors_k, control_k, true motor speeds)
+//! truth_k    = plant.truth()                         exact state after the step (logs, telemetry)
+//! report_k   = pilot.report(t_k, sensors_k, control_k, true motor speeds, truth_k)
 //! ```
 //!
 //! This is the only place outside `src/sitl.rs` that steps the plant
@@ -30,7 +31,7 @@ use crate::commander::{Outcome, Request};
 use crate::flight::{Control, CoreError, FlightController, Pilot};
 use crate::math::Vec3;
 use crate::params::ParamError;
-use crate::sitl::{PlantChange, PlantStatus, Sensors, SimPlant, SitlError};
+use crate::sitl::{PlantChange, PlantStatus, PlantTruth, Sensors, SimPlant, SitlError};
 
 pub use failure_schedule::{FailureSchedule, ScheduledFailure, ScheduledSensorFailure};
 pub use observer::{Guard, Observer};
@@ -88,6 +89,8 @@ pub struct Tick<R> {
     pub control: Control,
     /// The plant step's flags.
     pub status: PlantStatus,
+    /// The plant's exact state after the step (never the pilot's input).
+    pub truth: PlantTruth,
     /// The pilot's report after the plant step.
     pub report: R,
 }
@@ -173,13 +176,17 @@ impl<P: Pilot> Lockstep<P> {
         let sensors = self.plant.read_sensors();
         let control = self.pilot.control(t_s, &sensors, &self.plant.esc());
         let status = self.plant.step(control.rotor_speeds().as_slice(), self.dt_s);
-        let report = self.pilot.report(t_s, &sensors, &control, self.plant.motor_speeds());
+        let truth = self.plant.truth();
+        let report = self
+            .pilot
+            .report(t_s, &sensors, &control, self.plant.motor_speeds(), &truth);
         self.tick += 1;
         Tick {
             t_s,
             sensors,
             control,
             status,
+            truth,
             report,
         }
     }
@@ -199,11 +206,11 @@ impl<P: Pilot> Lockstep<P> {
 /// Requests and parameter sets between ticks, when the flight controller flies.
 impl Lockstep<FlightController> {
     /// Applies a ground-station request at the current tick boundary (the commander sees the
-    /// state sensed now; an accepted failure injection stops or restores rotors in the plant).
+    /// state the latest tick flew on, never a reading of its own; an accepted failure injection
+    /// stops or restores rotors in the plant).
     pub fn request(&mut self, request: Request) -> Outcome {
         let t_s = self.time_s();
-        let plant = &mut self.plant;
-        let reply = self.pilot.request(request, t_s, || plant.sense());
+        let reply = self.pilot.request(request, t_s);
         self.carry_out(reply.plant);
         reply.answer
     }
@@ -315,6 +322,18 @@ mod tests {
         };
         assert_eq!(l.request(restore), Outcome::Accepted);
         assert!(l.plant().failed_rotors().iter().all(|f| !f));
+    }
+
+    #[test]
+    fn a_request_between_ticks_reads_nothing_from_the_plant() {
+        let (mut asked, mut quiet) = (autopilot("quad_x"), autopilot("quad_x"));
+        for _ in 0..3 {
+            assert_eq!(asked.step().sensors, quiet.step().sensors);
+        }
+        // The commander decides on the state of the latest tick: the plant's noise is not
+        // drawn between ticks, so the next readings are the same as without the request.
+        assert_eq!(asked.request(Request::Arm { force: false }), Outcome::Accepted);
+        assert_eq!(asked.step().sensors, quiet.step().sensors);
     }
 
     #[test]

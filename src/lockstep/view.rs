@@ -58,7 +58,6 @@ pub struct TickView<'a> {
 impl<'a> TickView<'a> {
     /// The view of lockstep tick `tick`, with the plant `plant` after its step.
     pub fn of<R: SnapshotReport>(tick: &'a Tick<R>, plant: &'a SimPlant) -> Self {
-        let truth = plant.truth();
         Self {
             t_s: tick.t_s,
             state: &tick.control.state,
@@ -69,7 +68,7 @@ impl<'a> TickView<'a> {
             events: &tick.control.events,
             snapshot: tick.report.snapshot(),
             motor_speeds: plant.motor_speeds(),
-            truth,
+            truth: tick.truth,
         }
     }
 }

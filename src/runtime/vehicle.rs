@@ -12,7 +12,7 @@ use crate::lockstep::{Lockstep, ScheduledFailure, ScheduledSensorFailure, SetupE
 use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable};
 use crate::sitl::{PlantTruth, SensorModel, SimPlant};
-use crate::telemetry::{GroundTruth, Snapshot};
+use crate::telemetry::Snapshot;
 
 use super::flight_log::{LogSender, UlogTarget};
 use super::ulog_stream::{log_params, param_value, UlogStream};
@@ -160,18 +160,8 @@ impl Vehicle {
                 log.stream.close();
             }
         }
-        let truth = self.lockstep.plant().truth();
         TickOutput {
-            snapshot: Snapshot {
-                truth: Some(GroundTruth {
-                    pos_w: truth.pos_w,
-                    vel_w: truth.vel_w,
-                    q_wb: truth.q_wb,
-                    omega_b: truth.omega_b,
-                    accel_w: truth.accel_w,
-                }),
-                ..tick.report
-            },
+            snapshot: tick.report,
             events: tick.control.events,
         }
     }

@@ -5,6 +5,7 @@
 //! writes `DIR/run.ulg` (ULog, every tick: the full profile), `DIR/summary.json` and on request
 //! `DIR/run.csv`; the maths it calls is pure.
 
+mod observers;
 pub mod run_csv;
 
 use std::path::Path;
@@ -14,17 +15,18 @@ use serde::Serialize;
 use thiserror::Error;
 
 use crate::flight::{OffboardPilot, Pilot, SetpointFollower};
-use crate::lockstep::{Exit, Guard, Lockstep, Observer, SetupError, SnapshotReport, Tick, TickView};
-use crate::math::{Vec3, GRAVITY_M_S2};
-use crate::runtime::pacer::{Pace, Pacer, Wait};
+use crate::lockstep::{Guard, Lockstep, SetupError, SnapshotReport};
+use crate::math::GRAVITY_M_S2;
+use crate::runtime::pacer::Pace;
 use crate::runtime::ulog_file::UlogFile;
 use crate::runtime::ulog_stream::log_params;
 use crate::scenario::estimate_stats::{EstimateStats, EstimateTracking, SETTLE_TIME_CONSTANTS};
-use crate::scenario::summary::{RunStats, TickRecord, TrackingSummary};
+use crate::scenario::summary::{RunStats, TrackingSummary};
 use crate::scenario::Scenario;
 use crate::sitl::{SensorModel, SimPlant};
 
 use crate::ulog::{LogInfo, Profile, Recorder, RecorderSetup};
+use observers::{CsvObserver, EstimateTracker, EventLog, Paced};
 use run_csv::RunCsv;
 
 /// Beyond this distance from the origin the run is stopped as a fly-away [m].
@@ -217,45 +219,22 @@ where
         None => None,
     };
     lockstep.set_rotor_failures(scn.rotor_failures.clone());
-    let mut observer = (RunStats::default(), (csv, ulog), Guard { fly_away_m: FLY_AWAY_M });
-    let mut events = Vec::new();
-
+    let estimate = EstimateTracker {
+        stats: EstimateStats::starting_at(estimator_settle_s(scn)),
+        last: None,
+        mismatch_n: (lockstep.plant().true_mass_kg() - scn.airframe.mass_kg) * GRAVITY_M_S2,
+    };
+    let mut observer = (
+        (estimate, EventLog::default()),
+        (RunStats::default(), (csv, ulog), Guard { fly_away_m: FLY_AWAY_M }),
+        Paced::new(pace, Duration::from_secs_f64(scn.dt_s)),
+    );
     let ticks = (scn.duration_s / scn.dt_s).round() as u64;
     let wall = Instant::now();
-    let mut pacer = Pacer::new(pace, Duration::from_secs_f64(scn.dt_s), wall);
-    let mut exit = Exit::Complete;
-    let mut last_estimate = None;
-    let mut estimate_stats = EstimateStats::starting_at(estimator_settle_s(scn));
-    let mismatch_n = (lockstep.plant().true_mass_kg() - scn.airframe.mass_kg) * GRAVITY_M_S2;
-    for _ in 0..ticks {
-        if pacer.is_paced() {
-            if let Wait::Sleep(d) = pacer.next_tick(Instant::now()) {
-                std::thread::sleep(d);
-            }
-        }
-        let tick = lockstep.step();
-        last_estimate = tick.control.step.and_then(|s| s.estimate);
-        let truth = lockstep.plant().truth();
-        estimate_stats.add(
-            tick.t_s,
-            last_estimate.as_ref(),
-            truth.external_and_drag_force_w() + Vec3::new(0.0, 0.0, mismatch_n),
-            truth.external_torque_b,
-        );
-        let t_s = tick.t_s;
-        events.extend(
-            tick.control
-                .events
-                .iter()
-                .map(|e| format!("{t_s:.3} s: {}", e.describe())),
-        );
-        if let Some(stop) = observer.observe(&tick, lockstep.plant()) {
-            exit = stop;
-            break;
-        }
-    }
+    let exit = lockstep.run(ticks, &mut observer);
     let wall_time_s = wall.elapsed().as_secs_f64();
-    let (stats, (csv, ulog), _) = observer;
+    let ((estimate, EventLog(events)), (stats, (csv, ulog), _), _) = observer;
+    let (estimate_stats, last_estimate) = (estimate.stats, estimate.last);
     if let Some(csv) = csv {
         csv.finish()?;
     }
@@ -310,51 +289,4 @@ where
         std::fs::write(&path, text + "\n").map_err(io(&path))?;
     }
     Ok(summary)
-}
-
-/// The tracking statistics of every tick the flight core flew.
-impl<R> Observer<R> for RunStats {
-    fn observe(&mut self, tick: &Tick<R>, _plant: &SimPlant) -> Option<Exit> {
-        let step = tick.control.step.as_ref()?;
-        let state = &tick.control.state;
-        self.add(&TickRecord {
-            t_s: tick.t_s,
-            pos_w: state.pos_w,
-            ref_w: tick.reference_w(),
-            vel_error_w: step.control.errors.vel_w,
-            att_error: step.control.errors.attitude,
-            tilt_rad: state.tilt_rad(),
-            thrust_n: step.allocation.applied.thrust_n,
-            torque_b: step.allocation.applied.torque_b,
-            saturated: step.allocation.saturation.is_saturated(),
-            controller_fault: step.control.flags.is_fault(),
-        });
-        None
-    }
-}
-
-/// `run.csv` written tick by tick; the first write error stops the run and is returned by
-/// [`CsvObserver::finish`].
-struct CsvObserver {
-    csv: RunCsv,
-    path: String,
-    error: Option<std::io::Error>,
-}
-
-impl CsvObserver {
-    fn finish(self) -> Result<(), SimError> {
-        let path = self.path;
-        match self.error {
-            Some(source) => Err(SimError::Io { path, source }),
-            None => self.csv.finish().map_err(|source| SimError::Io { path, source }),
-        }
-    }
-}
-
-impl<R: SnapshotReport> Observer<R> for CsvObserver {
-    fn observe(&mut self, tick: &Tick<R>, plant: &SimPlant) -> Option<Exit> {
-        let e = self.csv.row(&TickView::of(tick, plant)).err()?;
-        self.error = Some(e);
-        Some(Exit::Stopped)
-    }
 }
