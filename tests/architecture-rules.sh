@@ -52,6 +52,15 @@ hits=$(find src -name '*.rs' ! -name '*_tests.rs' ! -name 'tests.rs' ! -path '*/
     | xargs -0 grep -hoE '^(pub(\([a-z]+\))? )?(struct|enum|trait|type) [A-Z][A-Za-z0-9]*' | awk '{print $NF}' | sort | uniq -d)
 [ -z "$hits" ] || complain "a type name is defined twice in src/" "$hits"
 
+# Types own their state (docs/architecture.md §1): one type's inherent `impl` blocks sit in at most
+# three files (its definition, and at most two more), test files aside; a concern that needs more
+# is its own type.
+hits=$(find src -name '*.rs' ! -name '*_tests.rs' ! -name 'tests.rs' ! -path '*/tests/*' -print0 \
+    | xargs -0 grep -HoE '^impl(<[^>]*>)? [A-Z][A-Za-z0-9]*(<[^>]*>)? *\{' \
+    | sed -E 's/^([^:]+):impl(<[^>]*>)? ([A-Za-z0-9]+).*/\3 \1/' | sort -u \
+    | awk '{ n[$1]++; f[$1] = f[$1] " " $2 } END { for (t in n) if (n[t] > 3) print t ":" f[t] }')
+[ -z "$hits" ] || complain "a type's impl is spread over more than three files" "$hits"
+
 # Parameters are declared once, as rows (src/params/rows/): nothing names them by position.
 hits=$(code 'PARAM_NAMES' --include='*.rs' src tests benches fuzz/fuzz_targets; code '\b(v|values)\[[0-9]+' src/params src/mav/params.rs)
 [ -z "$hits" ] || complain "parameters are read and written through their rows, never by index" "$hits"
