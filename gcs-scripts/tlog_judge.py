@@ -88,8 +88,7 @@ class Telemetry:
     Streams sent on both links are kept once (strictly increasing time_boot_ms)."""
 
     def __init__(self, path):
-        from rotorpilot_gcs import mavutil
-        from rotorpilot_gcs.link import connection_with_dialect
+        from rotorpilot_gcs import connection_with_dialect, mavutil
 
         self.heartbeats = []  # (wall, sim, armed, custom_mode)
         self.local = []  # (wall, sim, z [m], vz [m/s, down])

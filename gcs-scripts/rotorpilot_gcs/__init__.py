@@ -25,7 +25,7 @@ scripts' argument parser). The pytest plugin (``rotorpilot_gcs.pytest_plugin``) 
 fixtures ``autopilot``, ``vehicle``, ``autopilot_factory``, ``rotorpilot_bin`` and ``rotorpilot``.
 """
 from . import cli, commands, flight, geo, link, missions, modes, names, offboard, params, plans, process, telemetry
-from ._mav import mavlink, mavutil
+from ._mav import connection_with_dialect, mavlink, mavutil
 from .errors import AutopilotStartError, CommandError, GcsError, LinkTimeout, MissionError, ParamError, UsageError
 from .link import DEFAULT_CONNECTION, DEFAULT_TIMEOUT, Connection, Message, connect
 from .modes import (
@@ -57,7 +57,7 @@ __all__ = [
     "Mode", "OFFBOARD", "POSCTL", "AUTO_LAND", "AUTO_LOITER", "AUTO_MISSION", "AUTO_RTL", "AUTO_TAKEOFF",
     "PX4_MODES", "custom_mode", "mode_name", "parse_mode",
     # pymavlink, for MAVLink 2.
-    "mavlink", "mavutil",
+    "mavlink", "mavutil", "connection_with_dialect",
     # The submodules.
     "cli", "commands", "flight", "geo", "link", "missions", "modes", "names", "offboard", "params", "plans", "process",
     "telemetry",

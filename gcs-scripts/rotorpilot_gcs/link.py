@@ -24,7 +24,6 @@ import time
 import weakref
 from typing import Any, Callable, Iterable, TextIO, Union
 
-from ._mav import connection_with_dialect as connection_with_dialect
 from ._mav import mavlink, mavutil
 from .errors import GcsError, LinkTimeout
 from .modes import mode_name

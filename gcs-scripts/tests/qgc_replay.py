@@ -11,7 +11,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from rotorpilot_gcs.link import connection_with_dialect
+from rotorpilot_gcs import connection_with_dialect
 
 QGC = (255, 190)  # QGroundControl's system and component ids
 TRIES, ACK_TIMEOUT_S = 3, 3.0

@@ -40,8 +40,8 @@ from netns import can_unshare
 from pymavlink.mavftp import MAVFTP, MAVFTPSettings
 from qgc_replay import ACK, BIN, Qgc, qgc_download, qgc_list
 
-from rotorpilot_gcs import free_port
-from rotorpilot_gcs.link import connection_with_dialect, recent_text
+from rotorpilot_gcs import connection_with_dialect, free_port
+from rotorpilot_gcs.link import recent_text
 
 # The logs placed before start: name under DIR/log → size [bytes], and their UTC times.
 LOGS = {"2026-01-01/10_00_00.ulg": 20001, "2026-01-02/11_30_00.ulg": 3}
