@@ -8,6 +8,11 @@ sends what is due too, first; it drops messages of other systems than the target
 undecodable ones, records the latest message of each type (`latest`) and each parameter's type,
 and prints each STATUSTEXT as ``autopilot: [severity] text``.
 
+What the helpers know of each link is one `LinkState` (a dataclass: time-out, periodic sends,
+latest messages, texts, kept messages, parameter types), held in a registry keyed weakly by the
+pymavlink connection (`link_state`; nothing is set on pymavlink's object) and by the `Vehicle` of
+that connection; `forget` drops it.
+
 Every wait has a timeout and raises `LinkTimeout` when it expires. Helpers that wait for their
 own answer (commands, parameters, plan transfers) keep the one-shot messages they read past
 (`ONE_SHOT`: a STATUSTEXT may overtake a COMMAND_ACK) for the next `wait`, which looks at those
