@@ -46,7 +46,8 @@ from importlib.metadata import version
 
 import numpy as np
 
-from rotorpilot_gcs import checkout_binary, find_binary
+from rotorpilot_gcs import find_binary
+from rotorpilot_gcs.process import checkout_binary
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 ALTITUDE_M = 2.0

@@ -83,7 +83,7 @@ def find_binary(arg):
     """The rotorpilot binary to run (rotorpilot_gcs.find_binary: --binary, $ROTORPILOT_BIN, the
     checkout's build, PATH); StudyError if it is missing or not executable."""
     try:
-        binary = rotorpilot_gcs.find_binary(arg, fallback=rotorpilot_gcs.checkout_binary())
+        binary = rotorpilot_gcs.find_binary(arg, fallback=rotorpilot_gcs.process.checkout_binary())
     except FileNotFoundError as exc:
         raise StudyError(f"{exc} (or pass --binary)") from None
     if not os.access(binary, os.X_OK):

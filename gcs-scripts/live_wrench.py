@@ -45,7 +45,7 @@ def plot(path, series):
 
 
 def main(argv=None):
-    p = gcs.parser(__doc__.split("\n\n")[0])
+    p = gcs.cli.parser(__doc__.split("\n\n")[0])
     p.add_argument("--duration", type=float, default=None, help="stop after S seconds (default: until Ctrl-C)")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="save a figure of the estimate at the end")
     args = p.parse_args(argv)
@@ -87,11 +87,11 @@ def main(argv=None):
     try:
         if args.duration is None:
             while True:
-                tick(gcs.recv(conn, 1.0))
+                tick(gcs.link.recv(conn, 1.0))
         else:
             deadline = time.monotonic() + args.duration
             while (remaining := deadline - time.monotonic()) > 0:
-                tick(gcs.recv(conn, min(remaining, 1.0)))
+                tick(gcs.link.recv(conn, min(remaining, 1.0)))
     except KeyboardInterrupt:
         pass
     counts = ", ".join(f"{name} {len(series[name])}" for name in NAMES)
@@ -103,4 +103,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    gcs.script_main(main)
+    gcs.cli.script_main(main)

@@ -42,7 +42,7 @@ def row(m):
         return kind, f"{m.time_boot_ms * 1e-3:.3f}", [m.lat * 1e-7, m.lon * 1e-7, m.alt * 1e-3, m.relative_alt * 1e-3,
                                              m.vx * 1e-2, m.vy * 1e-2]
     if kind == "HEARTBEAT" and m.get_srcComponent() == 1:
-        return kind, "", [gcs.mode_name(m.custom_mode), int(gcs.is_armed(m)), m.custom_mode, m.system_status]
+        return kind, "", [gcs.mode_name(m.custom_mode), int(gcs.telemetry.is_armed(m)), m.custom_mode, m.system_status]
     if kind == "DEBUG_VECT" and m.name in ESTIMATOR:
         return m.name, f"{m.time_usec * 1e-6:.6f}", [m.x, m.y, m.z]
     if kind == "NAMED_VALUE_FLOAT" and m.name in ESTIMATOR:
@@ -51,7 +51,7 @@ def row(m):
 
 
 def main(argv=None):
-    p = gcs.parser(__doc__.split("\n\n")[0])
+    p = gcs.cli.parser(__doc__.split("\n\n")[0])
     p.add_argument("--out", required=True, help="CSV file to write")
     p.add_argument("--duration", type=float, default=10.0, help="recording time [s] (default 10)")
     args = p.parse_args(argv)
@@ -71,11 +71,11 @@ def main(argv=None):
                 out.writerow([f"{time.time():.6f}", kind, t_boot, *fields])
                 counts[kind] = counts.get(kind, 0) + 1
 
-        gcs.sleep(conn, args.duration, record)
+        gcs.link.sleep(conn, args.duration, record)
     total = sum(counts.values())
     print(f"wrote {total} rows to {args.out}: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())), flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    gcs.script_main(main)
+    gcs.cli.script_main(main)

@@ -54,27 +54,27 @@ def load(path, skip_home):
     except OSError as e:
         raise gcs.UsageError(f"{path}: {e.strerror}") from None
     if head.lstrip().startswith("QGC WPL"):
-        return "wpl", gcs.load_wpl(path, skip_home=skip_home)
+        return "wpl", gcs.plans.load_wpl(path, skip_home=skip_home)
     try:
         is_qgc = json.loads(pathlib.Path(path).read_text()).get("fileType") == "Plan"
     except (json.JSONDecodeError, AttributeError):
         is_qgc = False
     if is_qgc:
-        return "qgc", gcs.load_qgc_plan(path)
-    return "json", gcs.load_plan(path)
+        return "qgc", gcs.plans.load_qgc_plan(path)
+    return "json", gcs.plans.load_plan(path)
 
 
 def fly(conn, items, home, timeout, stall_s=60.0):
     """AUTO.MISSION, arm, report MISSION_ITEM_REACHED until disarmed (or COMPLETE without a landing)."""
-    gcs.wait_armable(conn)
-    gcs.set_mode(conn, gcs.AUTO_MISSION)
-    gcs.arm(conn)
+    gcs.telemetry.wait_armable(conn)
+    gcs.flight.set_mode(conn, gcs.AUTO_MISSION)
+    gcs.flight.arm(conn)
     print("flying", flush=True)
     ends_on_ground = items[-1].command in (mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, mavlink.MAV_CMD_NAV_LAND)
     current = None
     progress = time.monotonic()  # last item change or movement: a stalled mission times out
     while True:
-        m = gcs.recv(conn, 1.0)
+        m = gcs.link.recv(conn, 1.0)
         now = time.monotonic()
         kind = None if m is None else m.get_type()
         if kind == "MISSION_ITEM_REACHED":
@@ -87,20 +87,20 @@ def fly(conn, items, home, timeout, stall_s=60.0):
             if m.mission_state == MISSION_STATE_COMPLETE and not ends_on_ground:
                 print("mission complete", flush=True)
                 break
-        elif kind == "HEARTBEAT" and m.get_srcComponent() == conn.target_component and not gcs.is_armed(m):
+        elif kind == "HEARTBEAT" and m.get_srcComponent() == conn.target_component and not gcs.telemetry.is_armed(m):
             print("landed and disarmed", flush=True)
             break
         elif kind == "GLOBAL_POSITION_INT" and math.hypot(m.vx, m.vy, m.vz) > 10:  # cm/s
             progress = now
         if now - progress > stall_s + timeout:
             raise gcs.LinkTimeout(f"the mission made no progress for {stall_s + timeout:g} s")
-    g = gcs.request_message(conn, mavlink.MAVLINK_MSG_ID_GLOBAL_POSITION_INT, "GLOBAL_POSITION_INT")
-    north, east = gcs.global_to_offset(home[0], home[1], g.lat * 1e-7, g.lon * 1e-7)
+    g = gcs.commands.request_message(conn, mavlink.MAVLINK_MSG_ID_GLOBAL_POSITION_INT, "GLOBAL_POSITION_INT")
+    north, east = gcs.geo.global_to_offset(home[0], home[1], g.lat * 1e-7, g.lon * 1e-7)
     print(f"final position: north {north:+.2f} m, east {east:+.2f} m, up {g.relative_alt * 1e-3:+.2f} m", flush=True)
 
 
 def main(argv=None):
-    p = gcs.parser(__doc__.split("\n\n")[0])
+    p = gcs.cli.parser(__doc__.split("\n\n")[0])
     p.add_argument("plan", help="plan file: rotorpilot JSON plan, QGC .plan or QGC WPL 110")
     p.add_argument("--fly", action="store_true", help="fly the mission after the upload")
     p.add_argument("--wpl-skip-home", action="store_true", help="drop a WPL file's first line (its home position)")
@@ -109,22 +109,23 @@ def main(argv=None):
 
     conn = gcs.connect(args.connection, args.timeout)
     if kind == "json" and plan["rtl_alt"] is not None:
-        gcs.param_set(conn, "RTL_RETURN_ALT", plan["rtl_alt"])
+        gcs.params.param_set(conn, "RTL_RETURN_ALT", plan["rtl_alt"])
         print(f"RTL_RETURN_ALT = {plan['rtl_alt']:g}", flush=True)
-    home = gcs.home_position(conn)
+    home = gcs.telemetry.home_position(conn)
     print(f"home: {home[0]:.7f} {home[1]:.7f} {home[2]:.2f} m AMSL", flush=True)
-    items = {"json": lambda: gcs.plan_items(plan, home[0], home[1]), "qgc": lambda: plan.mission,
+    items = {"json": lambda: gcs.plans.plan_items(plan, home[0], home[1]), "qgc": lambda: plan.mission,
              "wpl": lambda: plan}[kind]()
     if not items:
         raise gcs.UsageError(f"{args.plan}: no mission items")
-    gcs.upload_mission(conn, items, timeout=args.timeout)
+    gcs.missions.upload_mission(conn, items, timeout=args.timeout)
     print(f"uploaded {len(items)} items:", flush=True)
     for seq, item in enumerate(items):
-        print(f"  {seq}: {gcs.command_name(item.command)}: {describe(item)}", flush=True)
+        print(f"  {seq}: {gcs.names.command_name(item.command)}: {describe(item)}", flush=True)
     if kind == "qgc":
-        for name, mission_type, extra in (("fence", gcs.FENCE, plan.fence), ("rally", gcs.RALLY, plan.rally)):
+        extras = (("fence", gcs.missions.FENCE, plan.fence), ("rally", gcs.missions.RALLY, plan.rally))
+        for name, mission_type, extra in extras:
             if extra:
-                gcs.upload_mission(conn, extra, mission_type, timeout=args.timeout)
+                gcs.missions.upload_mission(conn, extra, mission_type, timeout=args.timeout)
                 print(f"uploaded {len(extra)} {name} items", flush=True)
     if args.fly:
         fly(conn, items, home, args.timeout)
@@ -132,4 +133,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    gcs.script_main(main)
+    gcs.cli.script_main(main)

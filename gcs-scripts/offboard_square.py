@@ -25,7 +25,7 @@ CORNER_REQUESTS = 3
 
 
 def main(argv=None):
-    p = gcs.parser(__doc__.split("\n\n")[0])
+    p = gcs.cli.parser(__doc__.split("\n\n")[0])
     p.add_argument("--side", type=float, default=2.0, help="side of the square [m] (default 2)")
     p.add_argument("--leg-time", type=float, default=4.0, help="seconds per corner (default 4)")
     p.add_argument("--height", type=float, default=None,
@@ -40,32 +40,32 @@ def main(argv=None):
         p.error("--height must be in (0, 1000] m")
 
     conn = gcs.connect(args.connection, args.timeout)
-    height = gcs.takeoff(conn, args.height)
-    start = gcs.local_position(conn)
-    yaw = gcs.request_message(conn, mavlink.MAVLINK_MSG_ID_ATTITUDE, "ATTITUDE").yaw
-    print(f"took off to {height:g} m: {gcs.format_position(start)}", flush=True)
+    height = gcs.flight.takeoff(conn, args.height)
+    start = gcs.telemetry.local_position(conn)
+    yaw = gcs.commands.request_message(conn, mavlink.MAVLINK_MSG_ID_ATTITUDE, "ATTITUDE").yaw
+    print(f"took off to {height:g} m: {gcs.telemetry.format_position(start)}", flush=True)
 
     x0, y0, z0 = start.x, start.y, start.z
-    gcs.set_setpoint(conn, x0, y0, z0, yaw)
-    gcs.sleep(conn, 0.3)  # proof of life before the mode switch
-    gcs.set_mode(conn, gcs.OFFBOARD)
+    gcs.offboard.set_setpoint(conn, x0, y0, z0, yaw)
+    gcs.link.sleep(conn, 0.3)  # proof of life before the mode switch
+    gcs.flight.set_mode(conn, gcs.OFFBOARD)
     print("OFFBOARD", flush=True)
 
     corners = [(x0 + args.side, y0), (x0 + args.side, y0 + args.side), (x0, y0 + args.side), (x0, y0)]
     worst = 0.0
     for i, (x, y) in enumerate(corners, 1):
-        gcs.set_setpoint(conn, x, y, z0, yaw)
-        gcs.sleep(conn, args.leg_time - 0.3)
+        gcs.offboard.set_setpoint(conn, x, y, z0, yaw)
+        gcs.link.sleep(conn, args.leg_time - 0.3)
         sent = time.monotonic()
         fresh = []
         for _ in range(CORNER_REQUESTS):  # the same request again if the answer was lost
             conn.mav.command_long_send(conn.target_system, conn.target_component, mavlink.MAV_CMD_REQUEST_MESSAGE,
-                                       0, mavlink.MAVLINK_MSG_ID_LOCAL_POSITION_NED, *([gcs.NAN] * 6))
-            gcs.sleep(conn, 0.3, lambda m: fresh.append(m) if m.get_type() == "LOCAL_POSITION_NED" else None)
+                                       0, mavlink.MAVLINK_MSG_ID_LOCAL_POSITION_NED, *([gcs.commands.NAN] * 6))
+            gcs.link.sleep(conn, 0.3, lambda m: fresh.append(m) if m.get_type() == "LOCAL_POSITION_NED" else None)
             if fresh:
                 break
         if not fresh:
-            latest = gcs.latest(conn, "LOCAL_POSITION_NED", since=sent - 1.5)
+            latest = gcs.link.latest(conn, "LOCAL_POSITION_NED", since=sent - 1.5)
             if latest is None:
                 raise gcs.LinkTimeout(f"no LOCAL_POSITION_NED at corner {i}")
             fresh = [latest]
@@ -73,22 +73,22 @@ def main(argv=None):
         err = math.sqrt((pos.x - x) ** 2 + (pos.y - y) ** 2 + (pos.z - z0) ** 2)
         worst = max(worst, err)
         print(f"corner {i}: target north {x:+.2f} east {y:+.2f} up {-z0:+.2f}; "
-              f"at {gcs.format_position(pos)}; error {err:.3f} m", flush=True)
+              f"at {gcs.telemetry.format_position(pos)}; error {err:.3f} m", flush=True)
 
     print(f"max corner error: {worst:.3f} m", flush=True)
     if args.land:
-        gcs.land(conn)
-        gcs.stop_setpoints(conn)
+        gcs.flight.land(conn)
+        gcs.offboard.stop_setpoints(conn)
         print("landing", flush=True)
-        gcs.wait_landed_state(conn, gcs.ON_GROUND, 15.0 + 3.0 * height)
-        gcs.wait_disarmed(conn, 10.0 + args.timeout)
-        print(f"landed and disarmed: {gcs.format_position(gcs.local_position(conn))}", flush=True)
+        gcs.telemetry.wait_landed_state(conn, gcs.telemetry.ON_GROUND, 15.0 + 3.0 * height)
+        gcs.telemetry.wait_disarmed(conn, 10.0 + args.timeout)
+        print(f"landed and disarmed: {gcs.telemetry.format_position(gcs.telemetry.local_position(conn))}", flush=True)
     else:
-        gcs.set_mode(conn, gcs.AUTO_LOITER)
-        gcs.stop_setpoints(conn)
+        gcs.flight.set_mode(conn, gcs.AUTO_LOITER)
+        gcs.offboard.stop_setpoints(conn)
         print("AUTO.LOITER", flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    gcs.script_main(main)
+    gcs.cli.script_main(main)

@@ -56,7 +56,8 @@ import threading
 import time
 
 import tlog_judge as judge
-from rotorpilot_gcs import checkout_binary, find_binary
+from rotorpilot_gcs import find_binary
+from rotorpilot_gcs.process import checkout_binary
 from tlog_judge import (
     ACCEPTED,
     AUTO_LAND,

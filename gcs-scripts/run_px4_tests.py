@@ -40,7 +40,7 @@ HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import px4_tests  # noqa: E402  (after the path: the package sits beside this script)
-from rotorpilot_gcs import checkout_binary, find_binary  # noqa: E402
+from rotorpilot_gcs.process import checkout_binary, find_binary  # noqa: E402
 
 #: The config's per-case limit (configs/sitl.json: "timeout_min": 10) [s].
 DEFAULT_TIMEOUT_S = 600.0

@@ -36,7 +36,7 @@ gain.__name__ = "NAME=VALUE"
 
 
 def main(argv=None):
-    p = gcs.parser(__doc__.split("\n\n")[0])
+    p = gcs.cli.parser(__doc__.split("\n\n")[0])
     p.add_argument("controller", choices=sorted(CONTROLLERS, key=CONTROLLERS.get), help="control law (RP_CTRL)")
     p.add_argument("--estimator-order", type=int, default=None, metavar="R",
                    help="wrench estimator order, 0 = off (RP_EST_ORDER)")
@@ -63,10 +63,10 @@ def main(argv=None):
 
     conn = gcs.connect(args.connection, args.timeout)
     for name, value, int32 in settings:
-        got = gcs.param_set(conn, name, value, int32=int32)
+        got = gcs.params.param_set(conn, name, value, int32=int32)
         print(f"{name} = {got:g}" if not int32 else f"{name} = {got}", flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    gcs.script_main(main)
+    gcs.cli.script_main(main)

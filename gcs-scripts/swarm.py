@@ -42,7 +42,7 @@ def ring_slots(count, radius):
 
 def home_offset(home, origin):
     """(north, east) [m] of geodetic `home` from `origin`, both (lat_deg, lon_deg, alt_m)."""
-    return gcs.global_to_offset(origin[0], origin[1], home[0], home[1])
+    return gcs.geo.global_to_offset(origin[0], origin[1], home[0], home[1])
 
 
 def service_all(conns, seconds):
@@ -50,7 +50,7 @@ def service_all(conns, seconds):
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
         for conn in conns:
-            gcs.recv(conn, 0.002)
+            gcs.link.recv(conn, 0.002)
 
 
 class Member:
@@ -64,11 +64,11 @@ class Member:
     def fly_to(self, north, east, up):
         """Streams the common-frame point (north, east, up) [m] as this vehicle's local setpoint."""
         self.target = (north, east, up)
-        gcs.set_setpoint(self.conn, north - self.north0, east - self.east0, -up)
+        gcs.offboard.set_setpoint(self.conn, north - self.north0, east - self.east0, -up)
 
     def error(self):
         """Distance [m] between the vehicle and its target, from a fresh LOCAL_POSITION_NED."""
-        p = gcs.local_position(self.conn)
+        p = gcs.telemetry.local_position(self.conn)
         north, east, up = self.target
         return math.sqrt((p.x + self.north0 - north) ** 2 + (p.y + self.east0 - east) ** 2 + (-p.z - up) ** 2)
 
@@ -100,26 +100,26 @@ def main(argv=None):
     sysids = [c.target_system for c in conns]
     if len(set(sysids)) != len(sysids):
         raise gcs.GcsError(f"two connections reach the same vehicle: system ids {sysids}")
-    homes = [gcs.home_position(c) for c in conns]
+    homes = [gcs.telemetry.home_position(c) for c in conns]
     members = [Member(c, home_offset(h, homes[0])) for c, h in zip(conns, homes)]
 
     for m in members:
-        gcs.command(m.conn, mavlink.MAV_CMD_NAV_TAKEOFF, *([gcs.NAN] * 6), homes[0][2] + args.height)
-        gcs.arm(m.conn)
+        gcs.commands.command(m.conn, mavlink.MAV_CMD_NAV_TAKEOFF, *([gcs.commands.NAN] * 6), homes[0][2] + args.height)
+        gcs.flight.arm(m.conn)
     for m in members:
-        gcs.wait_landed_state(m.conn, gcs.IN_AIR, 15.0 + 2.0 * args.height)
+        gcs.telemetry.wait_landed_state(m.conn, gcs.telemetry.IN_AIR, 15.0 + 2.0 * args.height)
     print(f"{len(members)} vehicles in the air (systems {', '.join(map(str, sysids))})", flush=True)
 
     slots = ring_slots(len(members), args.radius)
     centre_n = sum(m.north0 for m in members) / len(members)
     centre_e = sum(m.east0 for m in members) / len(members)
     for m in members:
-        p = gcs.local_position(m.conn)
+        p = gcs.telemetry.local_position(m.conn)
         m.target = (p.x + m.north0, p.y + m.east0, -p.z)
         m.fly_to(*m.target)
     service_all(conns, 0.3)  # proof of life before OFFBOARD
     for m in members:
-        gcs.set_mode(m.conn, gcs.OFFBOARD)
+        gcs.flight.set_mode(m.conn, gcs.OFFBOARD)
     print("OFFBOARD", flush=True)
 
     legs = [(0.0, 0.0), (args.side, 0.0), (args.side, args.side), (0.0, args.side), (0.0, 0.0)]
@@ -129,8 +129,8 @@ def main(argv=None):
             m.fly_to(centre_n + dn + sn, centre_e + de + se, args.height)
         service_all(conns, args.leg_time)
         for m in members:
-            beat = gcs.latest(m.conn, "HEARTBEAT")
-            if beat is not None and gcs.mode_of(beat.custom_mode) != gcs.parse_mode(gcs.OFFBOARD):
+            beat = gcs.link.latest(m.conn, "HEARTBEAT")
+            if beat is not None and gcs.modes.mode_of(beat.custom_mode) != gcs.parse_mode(gcs.OFFBOARD):
                 raise gcs.GcsError(f"system {m.conn.target_system} left OFFBOARD for "
                                    f"{gcs.mode_name(beat.custom_mode)}")
         errors = [m.error() for m in members]
@@ -140,13 +140,13 @@ def main(argv=None):
     print(f"max formation error: {worst:.3f} m", flush=True)
 
     for m in members:
-        gcs.land(m.conn)
-        gcs.stop_setpoints(m.conn)
+        gcs.flight.land(m.conn)
+        gcs.offboard.stop_setpoints(m.conn)
     for m in members:
-        gcs.wait_disarmed(m.conn, 20.0 + 3.0 * args.height)
+        gcs.telemetry.wait_disarmed(m.conn, 20.0 + 3.0 * args.height)
     print(f"{len(members)} vehicles landed and disarmed", flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    gcs.script_main(main)
+    gcs.cli.script_main(main)

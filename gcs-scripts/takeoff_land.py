@@ -14,7 +14,7 @@ import rotorpilot_gcs as gcs
 
 
 def main(argv=None):
-    p = gcs.parser(__doc__.split("\n\n")[0])
+    p = gcs.cli.parser(__doc__.split("\n\n")[0])
     p.add_argument("--height", type=float, default=None,
                    help="take-off height above home [m] (default MIS_TAKEOFF_ALT)")
     p.add_argument("--hold", type=float, default=5.0, help="hover time before landing [s] (default 5)")
@@ -25,26 +25,26 @@ def main(argv=None):
         p.error("--hold must be >= 0")
 
     conn = gcs.connect(args.connection, args.timeout)
-    start = gcs.local_position(conn)
-    print(f"start position: {gcs.format_position(start)}", flush=True)
-    height = gcs.takeoff(conn, args.height)
-    pos = gcs.local_position(conn)
-    print(f"took off to {height:g} m: {gcs.format_position(pos)}", flush=True)
+    start = gcs.telemetry.local_position(conn)
+    print(f"start position: {gcs.telemetry.format_position(start)}", flush=True)
+    height = gcs.flight.takeoff(conn, args.height)
+    pos = gcs.telemetry.local_position(conn)
+    print(f"took off to {height:g} m: {gcs.telemetry.format_position(pos)}", flush=True)
 
     def show(m):
         if m.get_type() == "LOCAL_POSITION_NED":
-            print(f"hover: {gcs.format_position(m)}", flush=True)
+            print(f"hover: {gcs.telemetry.format_position(m)}", flush=True)
 
-    gcs.sleep(conn, args.hold, show)
+    gcs.link.sleep(conn, args.hold, show)
     print("landing", flush=True)
-    gcs.land(conn)
+    gcs.flight.land(conn)
     descent = 15.0 + 3.0 * height
-    gcs.wait_landed_state(conn, gcs.ON_GROUND, descent)
-    gcs.wait_disarmed(conn, 10.0 + args.timeout)
-    pos = gcs.local_position(conn)
-    print(f"landed and disarmed: {gcs.format_position(pos)}", flush=True)
+    gcs.telemetry.wait_landed_state(conn, gcs.telemetry.ON_GROUND, descent)
+    gcs.telemetry.wait_disarmed(conn, 10.0 + args.timeout)
+    pos = gcs.telemetry.local_position(conn)
+    print(f"landed and disarmed: {gcs.telemetry.format_position(pos)}", flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    gcs.script_main(main)
+    gcs.cli.script_main(main)

@@ -8,6 +8,11 @@ sends what is due too, first; it drops messages of other systems than the target
 undecodable ones, records the latest message of each type (`latest`) and each parameter's type,
 and prints each STATUSTEXT as ``autopilot: [severity] text``.
 
+What the helpers know of each link is one `LinkState` (a dataclass: time-out, periodic sends,
+latest messages, texts, kept messages, parameter types), held in a registry keyed weakly by the
+pymavlink connection (`link_state`; nothing is set on pymavlink's object) and by the `Vehicle` of
+that connection; `forget` drops it.
+
 Every wait has a timeout and raises `LinkTimeout` when it expires. Helpers that wait for their
 own answer (commands, parameters, plan transfers) keep the one-shot messages they read past
 (`ONE_SHOT`: a STATUSTEXT may overtake a COMMAND_ACK) for the next `wait`, which looks at those
@@ -16,6 +21,7 @@ first; a `wait` that does not find its message among them drops them and reads n
 from __future__ import annotations
 
 import collections
+import dataclasses
 import math
 import sys
 import threading
@@ -49,42 +55,72 @@ RESEND_S = 1.0
 ONE_SHOT = frozenset({"STATUSTEXT", "MISSION_ITEM_REACHED", "PARAM_VALUE", "AUTOPILOT_VERSION", "MESSAGE_INTERVAL"})
 #: At most this many kept one-shot messages (the oldest go first).
 PENDING_MAX = 100
+#: STATUSTEXTs kept for `recent_text`.
+TEXTS_MAX = 20
 #: The ids a ground station uses (QGroundControl's).
 GCS_SYSTEM, GCS_COMPONENT = 255, 190
 #: How often the keeper thread sends what is due [s] (the 20 Hz setpoint stream needs 50 ms).
 KEEPER_PERIOD_S = 0.01
 
 
+@dataclasses.dataclass
+class Periodic:
+    """A message a link sends unasked every `period_s` (the keeper thread calls `send`)."""
+
+    period_s: float
+    #: When it last went out (``time.monotonic()``; ``-inf``: never, due at once).
+    last_sent: float
+    send: Callable[[], None]
+
+
+@dataclasses.dataclass
 class LinkState:
-    """What the helpers keep per connection (``conn.rp_state``)."""
+    """Everything the helpers keep about one link: held in a registry keyed by the pymavlink
+    connection (`link_state`), and by the `Vehicle` of that connection (``vehicle.state``)."""
 
-    def __init__(self, timeout: float) -> None:
-        self.timeout = timeout
-        self.started = time.monotonic()
-        # name -> [period_s, last_sent (monotonic), send]
-        self.periodic: dict[str, list[Any]] = {}
-        self.latest: dict[str, tuple[float, Message]] = {}
-        self.texts: collections.deque[tuple[float, str]] = collections.deque(maxlen=20)
-        self.pending: list[Message] = []
-        self.param_types: dict[str, int] = {}
-        self.print_texts = True
-        # Held while the periodic sends change or go out (the keeper thread and the caller's).
-        self.lock = threading.RLock()
+    #: The default time-out of this link's waits [s].
+    timeout: float = DEFAULT_TIMEOUT
+    #: When the link was first used (``time.monotonic()``; the setpoints' ``time_boot_ms`` count from it).
+    started: float = dataclasses.field(default_factory=time.monotonic)
+    #: What goes out unasked, by name (``"heartbeat"``, ``"setpoint"``).
+    periodic: dict[str, Periodic] = dataclasses.field(default_factory=dict)
+    #: The latest message of each type and when it came (``time.monotonic()``).
+    latest: dict[str, tuple[float, Message]] = dataclasses.field(default_factory=dict)
+    #: The last `TEXTS_MAX` STATUSTEXTs and when they came.
+    texts: collections.deque[tuple[float, str]] = dataclasses.field(
+        default_factory=lambda: collections.deque(maxlen=TEXTS_MAX))
+    #: One-shot messages a helper read past, for the next `wait`.
+    pending: list[Message] = dataclasses.field(default_factory=list)
+    #: Each parameter's MAV_PARAM_TYPE as the autopilot declared it.
+    param_types: dict[str, int] = dataclasses.field(default_factory=dict)
+    #: Whether `recv` prints each STATUSTEXT.
+    print_texts: bool = True
+    #: Held while the periodic sends change or go out (the keeper thread and the caller's).
+    lock: threading.RLock = dataclasses.field(default_factory=threading.RLock, repr=False, compare=False)
 
 
-#: Every connection with helper state: `recv` on any of them services them all.
-_LINKS: "weakref.WeakSet[Connection]" = weakref.WeakSet()
+#: Every connection with helper state, and that state: `recv` on any of them and the keeper
+#: thread service them all. Keyed weakly: a connection dropped by its user goes with its state.
+_STATES: weakref.WeakKeyDictionary[Connection, LinkState] = weakref.WeakKeyDictionary()
+#: Held while `_STATES` changes or is copied (the keeper thread reads it).
+_states_guard = threading.Lock()
 
 
 def link_state(conn: Connection) -> LinkState:
     """The helpers' state of `conn`, created (GCS heartbeat on, `DEFAULT_TIMEOUT`) on first use."""
-    state = getattr(conn, "rp_state", None)
-    if state is None:
-        state = conn.rp_state = LinkState(DEFAULT_TIMEOUT)
-        state.periodic["heartbeat"] = [HEARTBEAT_PERIOD_S, -math.inf, lambda: _heartbeat(conn)]
-        _LINKS.add(conn)
-        _start_keeper()
+    with _states_guard:
+        state = _STATES.get(conn)
+        if state is None:
+            state = _STATES[conn] = LinkState()
+            state.periodic["heartbeat"] = Periodic(HEARTBEAT_PERIOD_S, -math.inf, weak_sender(conn, _heartbeat))
+    _start_keeper()
     return state
+
+
+def _links() -> list[tuple[Connection, LinkState]]:
+    """A copy of the registry: every known link and its state."""
+    with _states_guard:
+        return list(_STATES.items())
 
 
 _keeper: threading.Thread | None = None
@@ -95,12 +131,18 @@ def _keep_links() -> None:
     """The keeper thread: sends what is due on every known link, for ever (a daemon)."""
     while True:
         time.sleep(KEEPER_PERIOD_S)
-        for conn in list(_LINKS):
-            try:
-                service(conn)
-            except (OSError, ValueError, AttributeError):
-                # Closed under us: leave it alone from now on.
-                _LINKS.discard(conn)
+        _service_links()
+
+
+def _service_links() -> None:
+    """One round of the keeper (a function of its own: no connection stays referenced while the
+    keeper sleeps, so a dropped one can go)."""
+    for conn, state in _links():
+        try:
+            _service(conn, state)
+        except (OSError, ValueError, AttributeError):
+            # Closed under us: leave it alone from now on.
+            forget(conn)
 
 
 def _start_keeper() -> None:
@@ -115,6 +157,19 @@ def _heartbeat(conn: Connection) -> None:
     conn.mav.heartbeat_send(mavlink.MAV_TYPE_GCS, mavlink.MAV_AUTOPILOT_INVALID, 0, 0, mavlink.MAV_STATE_ACTIVE)
 
 
+def weak_sender(conn: Connection, send: Callable[[Connection], None]) -> Callable[[], None]:
+    """``send(conn)`` as a periodic sender that does not keep `conn` alive (the registry holds
+    each link's state only while its connection lives)."""
+    ref = weakref.ref(conn)
+
+    def send_if_alive() -> None:
+        alive = ref()
+        if alive is not None:
+            send(alive)
+
+    return send_if_alive
+
+
 def send_heartbeat(conn: Connection) -> None:
     """Sends a GCS heartbeat now (also when the periodic one is off)."""
     state = link_state(conn)
@@ -122,7 +177,7 @@ def send_heartbeat(conn: Connection) -> None:
         _heartbeat(conn)
         beat = state.periodic.get("heartbeat")
         if beat is not None:
-            beat[1] = time.monotonic()
+            beat.last_sent = time.monotonic()
 
 
 def set_heartbeats(conn: Connection, enabled: bool) -> None:
@@ -131,7 +186,8 @@ def set_heartbeats(conn: Connection, enabled: bool) -> None:
     state = link_state(conn)
     with state.lock:
         if enabled:
-            state.periodic.setdefault("heartbeat", [HEARTBEAT_PERIOD_S, -math.inf, lambda: _heartbeat(conn)])
+            state.periodic.setdefault("heartbeat",
+                                      Periodic(HEARTBEAT_PERIOD_S, -math.inf, weak_sender(conn, _heartbeat)))
         else:
             state.periodic.pop("heartbeat", None)
 
@@ -142,7 +198,7 @@ def set_periodic(conn: Connection, name: str, period_s: float, send: Callable[[]
     state = link_state(conn)
     with state.lock:
         send()
-        state.periodic[name] = [period_s, time.monotonic(), send]
+        state.periodic[name] = Periodic(period_s, time.monotonic(), send)
 
 
 def stop_periodic(conn: Connection, name: str) -> None:
@@ -152,34 +208,38 @@ def stop_periodic(conn: Connection, name: str) -> None:
         state.periodic.pop(name, None)
 
 
-def service(conn: Connection) -> None:
-    """Sends what is due now on `conn`: the GCS heartbeat and every periodic stream."""
-    state = link_state(conn)
+def _service(conn: Connection, state: LinkState) -> None:
     with state.lock:
         now = time.monotonic()
         for entry in list(state.periodic.values()):
-            period, last, send = entry
-            if now - last >= period:
-                send()
-                entry[1] = time.monotonic()
+            if now - entry.last_sent >= entry.period_s:
+                entry.send()
+                entry.last_sent = time.monotonic()
+
+
+def service(conn: Connection) -> None:
+    """Sends what is due now on `conn`: the GCS heartbeat and every periodic stream."""
+    _service(conn, link_state(conn))
 
 
 def forget(conn: Connection) -> None:
-    """Stops servicing `conn` from other links' waits (call it before closing `conn`)."""
-    _LINKS.discard(conn)
+    """Drops `conn` and its state from the helpers' registry: neither the keeper thread nor other
+    links' waits service it any more (call it before closing `conn`)."""
+    with _states_guard:
+        _STATES.pop(conn, None)
 
 
 def service_all(conn: Connection) -> None:
     """`service` on `conn`, then on every other connection the helpers know; one that cannot
     send any more (closed) is forgotten."""
     service(conn)
-    for other in list(_LINKS):
+    for other, state in _links():
         if other is conn:
             continue
         try:
-            service(other)
+            _service(other, state)
         except OSError:
-            _LINKS.discard(other)
+            forget(other)
 
 
 def print_statustext(msg: Message, out: TextIO | None = None) -> None:
@@ -198,7 +258,7 @@ def recv(conn: Connection, timeout: float) -> Message | None:
         remaining = deadline - time.monotonic()
         if remaining <= 0:
             return None
-        fastest = min((entry[0] for c in list(_LINKS) for entry in link_state(c).periodic.values()), default=1.0)
+        fastest = min((entry.period_s for _, other in _links() for entry in other.periodic.values()), default=1.0)
         m = conn.recv_match(blocking=True, timeout=min(remaining, 0.02 if fastest < 0.2 else 0.2))
         if m is None:
             continue

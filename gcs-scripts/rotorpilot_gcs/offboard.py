@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 
 from ._mav import mavlink
-from .link import Connection, link_state, set_periodic, stop_periodic
+from .link import Connection, link_state, set_periodic, stop_periodic, weak_sender
 
 #: SET_POSITION_TARGET_LOCAL_NED type_mask: position and yaw only (MAVSDK's set_position_ned).
 POSITION_MASK = 2552
@@ -24,14 +24,14 @@ def set_setpoint(conn: Connection, x: float, y: float, z: float, yaw: float = 0.
     started = link_state(conn).started
     target = (float(x), float(y), float(z), float(yaw))
 
-    def send() -> None:
+    def send(conn: Connection) -> None:
         boot_ms = int((time.monotonic() - started) * 1000) & 0xFFFFFFFF
         px, py, pz, pyaw = target
         conn.mav.set_position_target_local_ned_send(boot_ms, conn.target_system, conn.target_component,
                                                     mavlink.MAV_FRAME_LOCAL_NED, POSITION_MASK, px, py, pz,
                                                     0, 0, 0, 0, 0, 0, pyaw, 0)
 
-    set_periodic(conn, "setpoint", 1.0 / SETPOINT_RATE_HZ, send)
+    set_periodic(conn, "setpoint", 1.0 / SETPOINT_RATE_HZ, weak_sender(conn, send))
 
 
 def stop_setpoints(conn: Connection) -> None:

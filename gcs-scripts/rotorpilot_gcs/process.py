@@ -3,7 +3,7 @@
 The process binds port 0 for its GCS and API links and prints one JSON line when ready, with the
 ports it bound (``{"event":"ready","sysid":1,"gcs_bind":"127.0.0.1:PORT","api_bind":...}``), so
 any number of them run side by side. Its GCS telemetry goes to a pymavlink socket of this
-process (`Autopilot.conn`); its API telemetry to a socket that only swallows it (MAVSDK connects
+process (`Autopilot.vehicle`); its API telemetry to a socket that only swallows it (MAVSDK connects
 itself with `Autopilot.api`). Everything it writes goes to its run directory: ``command.txt``,
 ``stdout.txt``, ``stderr.txt``, ``params.txt`` and, with ``log=True``, ``log/`` (``flight.tlog``
 and a ULog per arming); by default it writes no log (``--no-log``), so nothing lands in the
@@ -47,22 +47,33 @@ def checkout_binary() -> pathlib.Path:
     return pathlib.Path(__file__).resolve().parents[2] / "target" / "release" / "rotorpilot"
 
 
+def packaged_binary() -> pathlib.Path | None:
+    """The binary a wheel of this package ships (``rotorpilot_gcs/bin/rotorpilot``, built by
+    ``pip install ./gcs-scripts``), or None (an editable install, ``ROTORPILOT_SKIP_BINARY=1``)."""
+    path = pathlib.Path(__file__).resolve().parent / "bin" / "rotorpilot"
+    return path if path.is_file() else None
+
+
 def find_binary(explicit: str | os.PathLike[str] | None = None,
                 fallback: str | os.PathLike[str] | None = None) -> pathlib.Path:
-    """The rotorpilot binary: `explicit` if given, else ``$ROTORPILOT_BIN``, else `fallback` if
-    given (the scripts pass `checkout_binary()`), else ``rotorpilot`` on PATH.
-    `FileNotFoundError` naming what was tried."""
+    """The rotorpilot binary: `explicit` if given, else ``$ROTORPILOT_BIN``, else the one this
+    package ships (`packaged_binary`), else `fallback` if given (the scripts pass
+    `checkout_binary()`), else ``rotorpilot`` on PATH. `FileNotFoundError` naming what was tried."""
+    packaged = packaged_binary()
     if explicit:
         path, source = pathlib.Path(explicit), "the given path"
     elif os.environ.get(ENV_BIN):
         path, source = pathlib.Path(os.environ[ENV_BIN]), f"${ENV_BIN}"
+    elif packaged is not None:
+        return packaged
     elif fallback:
         path, source = pathlib.Path(fallback), "the checkout's build"
     else:
         found = shutil.which("rotorpilot")
         if found is None:
-            raise FileNotFoundError(f"no rotorpilot binary: pass --rotorpilot-bin PATH, set ${ENV_BIN}, or put "
-                                    "rotorpilot on PATH (cargo build --release builds target/release/rotorpilot)")
+            raise FileNotFoundError(f"no rotorpilot binary: pass --rotorpilot-bin PATH, set ${ENV_BIN}, install "
+                                    "this package from a checkout (pip install ./gcs-scripts builds and ships it), "
+                                    "or put rotorpilot on PATH (cargo install --path . --locked)")
         return pathlib.Path(found)
     if not path.is_file():
         raise FileNotFoundError(f"rotorpilot binary not found at {path} ({source}): run cargo build --release first")
@@ -111,20 +122,26 @@ def _tail(path: pathlib.Path, lines: int) -> str:
         return ""
 
 
-class Autopilot(Vehicle):
-    """A running ``rotorpilot run`` and a GCS connection to it; start one with `Autopilot.start`
-    (or the pytest fixtures ``autopilot`` / ``autopilot_factory``). As a `Vehicle` it has every
-    helper as a method (``takeoff``, ``land``, ``wait``, ``param_set``, ``upload_mission``...)."""
+class Autopilot:
+    """A running ``rotorpilot run``: the process, its run directory and ports; start one with
+    `Autopilot.start` (or the pytest fixtures ``autopilot`` / ``autopilot_factory``). It hands out
+    the `Vehicle` it flies, `vehicle` (a GCS connection to it, made at start), with every
+    helper as a method (``autopilot.vehicle.takeoff(3.0)``)."""
 
     def __init__(self, proc: subprocess.Popen[bytes], ready: dict[str, Any], workdir: pathlib.Path,
-                 conn: Any, sinks: list[socket.socket], log_dir: pathlib.Path | None, argv: list[str]) -> None:
-        super().__init__(conn)
+                 vehicle: Vehicle, sinks: list[socket.socket], log_dir: pathlib.Path | None, argv: list[str]) -> None:
         self.proc = proc
         self.ready = ready
         self.workdir = workdir
         self.log_dir = log_dir
         self.argv = argv
+        self._vehicle = vehicle
         self._sinks = sinks
+
+    @property
+    def vehicle(self) -> Vehicle:
+        """The (first) vehicle over the GCS connection this process sends its telemetry to."""
+        return self._vehicle
 
     @classmethod
     def start(cls, binary: str | os.PathLike[str] | None = None, *, airframe: str | os.PathLike[str] | None = None,
@@ -152,7 +169,7 @@ class Autopilot(Vehicle):
         (``{"XDG_STATE_HOME": dir}`` moves that state directory);
         `args` are more options (``["--signing-key", path]``); `duration` stops it
         after that many wall seconds (None: never). `connect` waits up to `timeout` [s] for the
-        first heartbeat on `conn`. `workdir` is the run directory (default: a new temporary one).
+        first heartbeat on `vehicle`'s connection. `workdir` is the run directory (default: a new temporary one).
         `AutopilotStartError` when it does not start (its stderr in the message)."""
         path = find_binary(binary)
         if workdir is None:
@@ -205,8 +222,9 @@ class Autopilot(Vehicle):
             if log is None and ready.get("log_dir"):
                 log_dir = pathlib.Path(ready["log_dir"])
             conn.target_system, conn.target_component = int(ready["sysid"]), mavlink.MAV_COMP_ID_AUTOPILOT1
-            link.link_state(conn).timeout = timeout
-            ap = cls(proc, ready, run_dir, conn, sinks, log_dir, argv)
+            vehicle = Vehicle(conn)
+            vehicle.state.timeout = timeout
+            ap = cls(proc, ready, run_dir, vehicle, sinks, log_dir, argv)
             if connect:
                 link.connect(conn, timeout, target_system=ap.sysid)
             return ap
@@ -322,8 +340,7 @@ class Autopilot(Vehicle):
         except subprocess.TimeoutExpired:
             self.proc.kill()
             code = self.proc.wait()
-        link.forget(self.conn)
-        self.conn.close()
+        self._vehicle.close()
         for s in self._sinks:
             s.close()
         self._sinks = []

@@ -5,10 +5,13 @@ installed). Fixtures:
   from the test's ``@pytest.mark.rotorpilot(...)`` marker (the keyword arguments of
   `Autopilot.start`: ``airframe``, ``controller``, ``speedup``, ``params``, ``log``, ``args``...;
   markers on the class or module apply too, the closest winning per option).
+- ``vehicle``: the ``autopilot`` fixture's `Vehicle` (``autopilot.vehicle``), the link a test
+  flies with: ``vehicle.takeoff(3.0)``, ``vehicle.wait("HEARTBEAT")``...
 - ``autopilot_factory``: ``autopilot_factory(**options)`` starts another one (same options), for
   tests that need several, or options computed in the test (a file in ``tmp_path``).
-- ``rotorpilot_bin``: the binary: ``--rotorpilot-bin PATH``, else ``$ROTORPILOT_BIN``, else
-  ``rotorpilot`` on PATH (the test fails naming them when none is found).
+- ``rotorpilot_bin``: the binary: ``--rotorpilot-bin PATH``, else ``$ROTORPILOT_BIN``, else the
+  one the package ships (``pip install ./gcs-scripts`` builds it in), else ``rotorpilot`` on PATH
+  (the test fails naming them when none is found).
 - ``rotorpilot``: ``rotorpilot(*args, timeout=120)`` runs the binary; the CompletedProcess.
 
 Every autopilot is stopped after its test. Its run directory (``command.txt``, ``stdout.txt``,
@@ -32,6 +35,7 @@ from typing import Any, Callable, Iterator
 import pytest
 
 from .process import Autopilot, find_binary
+from .vehicle import Vehicle
 
 _RUNS = pytest.StashKey[list["_Run"]]()
 _FAILED = pytest.StashKey[bool]()
@@ -62,7 +66,8 @@ class _Run:
 def pytest_addoption(parser: pytest.Parser) -> None:
     group = parser.getgroup("rotorpilot", "rotorpilot autopilot fixtures (rotorpilot-gcs)")
     group.addoption("--rotorpilot-bin", metavar="PATH", default=None,
-                    help="the rotorpilot binary (else $ROTORPILOT_BIN, else rotorpilot on PATH)")
+                    help="the rotorpilot binary (else $ROTORPILOT_BIN, else the package's own, else rotorpilot "
+                         "on PATH)")
     group.addoption("--rotorpilot-keep", action="store_true", default=False,
                     help="keep every autopilot's run directory, not only those of failed tests")
 
@@ -151,8 +156,15 @@ def autopilot(request: pytest.FixtureRequest, autopilot_factory: Callable[..., A
     GPS: SYS_STATUS's pre-arm check) unless ``connect=False``."""
     ap = autopilot_factory()
     if _marker_options(request).get("connect", True):
-        ap.wait_armable()
+        ap.vehicle.wait_armable()
     return ap
+
+
+@pytest.fixture
+def vehicle(autopilot: Autopilot) -> Vehicle:
+    """The `Vehicle` of the ``autopilot`` fixture (its GCS link, ready to arm): for a test that
+    only flies (``vehicle.takeoff(3.0)``)."""
+    return autopilot.vehicle
 
 
 def _marker_options(request: pytest.FixtureRequest) -> dict[str, Any]:

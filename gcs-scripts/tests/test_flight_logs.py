@@ -57,9 +57,9 @@ def flight_logs(log_dir):
 def fly_one_flight(autopilot_factory, log_dir, *args, hover_s=1.0):
     """`run --log log_dir ARGS`: take off, hover `hover_s`, forced disarm; the flight's ULog."""
     ap = autopilot_factory(log=log_dir, args=args)
-    ap.takeoff()
+    ap.vehicle.takeoff()
     time.sleep(hover_s)
-    ap.disarm(force=True)
+    ap.vehicle.disarm(force=True)
     time.sleep(0.3)  # the writer closes the file
     assert ap.stop() == 0
     (path,) = flight_logs(log_dir)
@@ -70,16 +70,16 @@ def test_run_log_writes_one_ulog_per_flight_with_params_messages_and_changes(tmp
     log_dir = tmp_path / "log"
     ap = autopilot_factory(log=log_dir)
     # An estimator, so its topic has data.
-    ap.param_set("RP_EST_ORDER", 1)
-    count = gcs.latest(ap.conn, "PARAM_VALUE").param_count
-    ap.takeoff()
-    ap.param_set("MPC_XY_VEL_MAX", 7.5)
+    ap.vehicle.param_set("RP_EST_ORDER", 1)
+    count = gcs.link.latest(ap.vehicle.conn, "PARAM_VALUE").param_count
+    ap.vehicle.takeoff()
+    ap.vehicle.param_set("MPC_XY_VEL_MAX", 7.5)
     # A hover long enough for the estimate to settle after the climb (whose body drag it saw).
-    ap.sleep(3.0)
-    ap.land()
-    ap.wait_disarmed(30)  # landed and disarmed
-    ap.takeoff()
-    ap.disarm(force=True)  # the second flight ends by a forced disarm
+    ap.vehicle.sleep(3.0)
+    ap.vehicle.land()
+    ap.vehicle.wait_disarmed(30)  # landed and disarmed
+    ap.vehicle.takeoff()
+    ap.vehicle.disarm(force=True)  # the second flight ends by a forced disarm
     time.sleep(0.3)
     assert ap.stop() == 0
     files = flight_logs(log_dir)
@@ -141,8 +141,8 @@ def test_kill_9_keeps_every_record_older_than_200_ms(tmp_path, autopilot_factory
     """After SIGKILL, the flight's ULog holds every tick and flight.tlog every frame older than 200 ms."""
     log_dir = tmp_path / "log"
     ap = autopilot_factory(log=log_dir, log_profile="full")
-    ap.takeoff()
-    att = ap.wait("ATTITUDE", timeout=2)
+    ap.vehicle.takeoff()
+    att = ap.vehicle.wait("ATTITUDE", timeout=2)
     received = time.monotonic()
     ap.proc.send_signal(signal.SIGKILL)
     killed_wall = time.time()
@@ -209,11 +209,11 @@ def test_a_flight_log_downloads_as_qgc_does_equal_to_the_file(tmp_path, autopilo
     disk, and read by pyulog."""
     log_dir = tmp_path / "log"
     ap = autopilot_factory(log=log_dir)
-    ap.takeoff()
+    ap.vehicle.takeoff()
     station = Qgc(ap)
     during = qgc_list(station)
     assert len(during) == 1 and during[0].size > 0, "the log being written is listed"
-    ap.disarm(force=True)
+    ap.vehicle.disarm(force=True)
     time.sleep(0.5)  # the writer closes the file
     entries = qgc_list(station)
     (path,) = flight_logs(log_dir)

@@ -25,30 +25,31 @@ import pytest
 
 
 @pytest.mark.rotorpilot(speedup=5)
-def test_take_off_and_land(autopilot):
-    autopilot.takeoff(2.0)  # NAV_TAKEOFF, arm, in the air
-    assert abs(autopilot.local_position().z + 2.0) < 0.2
-    autopilot.land()  # NAV_LAND
-    autopilot.wait_on_ground(timeout=30)
-    assert not autopilot.wait_disarmed(timeout=10).base_mode & 128
+def test_take_off_and_land(vehicle):
+    vehicle.takeoff(2.0)  # NAV_TAKEOFF, arm, in the air
+    assert abs(vehicle.local_position().z + 2.0) < 0.2
+    vehicle.land()  # NAV_LAND
+    vehicle.wait_on_ground(timeout=30)
+    assert not vehicle.wait_disarmed(timeout=10).base_mode & 128
 '''
 
 # The example of docs/gcs_scripts.md, verbatim.
 GUIDE_TEST = '''import pytest
-from rotorpilot_gcs import nav_return_to_launch, nav_takeoff, nav_waypoint, offset_to_global
+from rotorpilot_gcs.geo import offset_to_global
+from rotorpilot_gcs.missions import nav_return_to_launch, nav_takeoff, nav_waypoint
 
 
 @pytest.mark.rotorpilot(airframe="hexa_x", speedup=5, params={"MPC_XY_CRUISE": 4})
-def test_square_mission(autopilot):
-    lat, lon, _ = autopilot.home_position()
+def test_square_mission(vehicle):
+    lat, lon, _ = vehicle.home_position()
     corners = [offset_to_global(lat, lon, north, east) for north, east in [(0, 0), (5, 0), (5, 5), (0, 5)]]
-    autopilot.upload_mission([nav_takeoff(*corners[0], 3.0)] + [nav_waypoint(*c, 3.0) for c in corners[1:]]
-                             + [nav_return_to_launch()])
-    autopilot.set_mode("AUTO.MISSION")
-    autopilot.arm()
-    autopilot.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 3, timeout=60)  # the last corner
-    autopilot.wait_disarmed(timeout=60)  # returned, landed, disarmed
-    home = autopilot.local_position()
+    vehicle.upload_mission([nav_takeoff(*corners[0], 3.0)] + [nav_waypoint(*c, 3.0) for c in corners[1:]]
+                           + [nav_return_to_launch()])
+    vehicle.set_mode("AUTO.MISSION")
+    vehicle.arm()
+    vehicle.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 3, timeout=60)  # the last corner
+    vehicle.wait_disarmed(timeout=60)  # returned, landed, disarmed
+    home = vehicle.local_position()
     assert abs(home.x) < 0.3 and abs(home.y) < 0.3
 '''
 
@@ -97,13 +98,13 @@ import pytest
 
 
 @pytest.mark.rotorpilot(log=True, speedup=5)
-def test_fails_in_the_air(autopilot):
-    autopilot.takeoff(2.0)
-    assert autopilot.param_get("MIS_TAKEOFF_ALT") == 99, "a deliberate failure"
+def test_fails_in_the_air(vehicle):
+    vehicle.takeoff(2.0)
+    assert vehicle.param_get("MIS_TAKEOFF_ALT") == 99, "a deliberate failure"
 
 
 def test_passes(autopilot):
-    assert autopilot.param_get("MIS_TAKEOFF_ALT") == 2.5
+    assert autopilot.vehicle.param_get("MIS_TAKEOFF_ALT") == 2.5
 
 
 def test_fails_at_start(autopilot_factory):
@@ -137,15 +138,15 @@ class TestMarkerOptions:
     @pytest.mark.rotorpilot(airframe="hexa_x", speedup=5, params={"MPC_XY_VEL_MAX": 5, "RP_EST_ORDER": 1},
                             log=True)
     def test_reach_the_vehicle_the_closest_marker_winning(self, autopilot):
-        hb = autopilot.wait_heartbeat()
+        hb = autopilot.vehicle.wait_heartbeat()
         assert hb.type == mavlink.MAV_TYPE_HEXAROTOR, "airframe hexa_x (the method's marker)"
-        assert autopilot.param_get("RP_CTRL") == 2, "controller passivity (the class's marker)"
-        assert autopilot.param_get("MPC_XY_VEL_MAX") == 5.0 and autopilot.param_get("RP_EST_ORDER") == 1
+        assert autopilot.vehicle.param_get("RP_CTRL") == 2, "controller passivity (the class's marker)"
+        assert autopilot.vehicle.param_get("MPC_XY_VEL_MAX") == 5.0 and autopilot.vehicle.param_get("RP_EST_ORDER") == 1
         # Speed-up 5: five simulated seconds per wall second, from ATTITUDE's time_boot_ms.
-        first = autopilot.wait("ATTITUDE")
+        first = autopilot.vehicle.wait("ATTITUDE")
         start = time.monotonic()
-        autopilot.sleep(1.5)
-        last = gcs.latest(autopilot.conn, "ATTITUDE")
+        autopilot.vehicle.sleep(1.5)
+        last = gcs.link.latest(autopilot.vehicle.conn, "ATTITUDE")
         ratio = (last.time_boot_ms - first.time_boot_ms) / 1000 / (time.monotonic() - start)
         assert 3.5 < ratio < 6.5, ratio
         assert (autopilot.log_dir / "flight.tlog").exists() and autopilot.log_dir.parent == autopilot.workdir
@@ -170,19 +171,24 @@ def test_mavsdk_connects_to_the_api_address(autopilot):
 
     assert autopilot.api.startswith("udpout://127.0.0.1:")
     assert asyncio.run(asyncio.wait_for(fly(), 60)) == 3.0
-    assert autopilot.param_get("MIS_TAKEOFF_ALT") == 3.0
+    assert autopilot.vehicle.param_get("MIS_TAKEOFF_ALT") == 3.0
 
 
-def test_the_binary_is_the_option_then_the_environment_then_path(tmp_path, monkeypatch):
-    for name in ("option", "env", "path"):
+def test_the_binary_is_the_option_then_the_environment_then_the_packaged_one_then_path(tmp_path, monkeypatch):
+    for name in ("option", "env", "packaged", "checkout", "path"):
         (tmp_path / name).mkdir()
         (tmp_path / name / "rotorpilot").write_text("#!/bin/sh\n")
         (tmp_path / name / "rotorpilot").chmod(0o755)
     monkeypatch.setenv("PATH", str(tmp_path / "path"))
     monkeypatch.setenv("ROTORPILOT_BIN", str(tmp_path / "env" / "rotorpilot"))
+    monkeypatch.setattr(gcs.process, "packaged_binary", lambda: tmp_path / "packaged" / "rotorpilot")
+    checkout = tmp_path / "checkout" / "rotorpilot"
     assert gcs.find_binary(tmp_path / "option" / "rotorpilot") == tmp_path / "option" / "rotorpilot"
     assert gcs.find_binary() == tmp_path / "env" / "rotorpilot"
     monkeypatch.delenv("ROTORPILOT_BIN")
+    assert gcs.find_binary(fallback=checkout) == tmp_path / "packaged" / "rotorpilot"
+    monkeypatch.setattr(gcs.process, "packaged_binary", lambda: None)  # an editable install
+    assert gcs.find_binary(fallback=checkout) == checkout
     assert gcs.find_binary() == tmp_path / "path" / "rotorpilot"
     monkeypatch.setenv("PATH", str(tmp_path))
     with pytest.raises(FileNotFoundError, match="--rotorpilot-bin"):
@@ -192,29 +198,29 @@ def test_the_binary_is_the_option_then_the_environment_then_path(tmp_path, monke
 
 
 def test_plan_files(tmp_path):
-    example = gcs.load_qgc_plan(SCRIPTS / "tests" / "third_party" / "mavsdk_examples" / "example-mission.plan")
+    example = gcs.plans.load_qgc_plan(SCRIPTS / "tests" / "third_party" / "mavsdk_examples" / "example-mission.plan")
     assert [(i.command, i.frame) for i in example.mission] == [(22, 3), (16, 3), (16, 3), (16, 3), (20, 2)]
     assert example.mission[0].x == round(47.397763168426465 * 1e7) and example.mission[0].z == 50
     assert len(example.rally) == 2 and example.fence == []
     wpl = tmp_path / "mission.txt"
     wpl.write_text("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t47.397742\t8.545594\t488\t1\n"
                    "1\t0\t3\t22\t0\t0\t0\t0\t47.3978\t8.5456\t5\t1\n")
-    (item,) = gcs.load_wpl(wpl, skip_home=True)
-    assert item == gcs.MissionItem(22, 473978000, 85456000, 5.0, 3)
-    assert item == gcs.MissionItem(22, 473978000, 85456000, 5.0 + 1e-9, 3), "compared as float32"
-    assert gcs.nav_waypoint(1, 2, 3.0) == gcs.nav_waypoint(1, 2, 3.0), "NaN yaw equal to NaN yaw"
+    (item,) = gcs.plans.load_wpl(wpl, skip_home=True)
+    assert item == gcs.missions.MissionItem(22, 473978000, 85456000, 5.0, 3)
+    assert item == gcs.missions.MissionItem(22, 473978000, 85456000, 5.0 + 1e-9, 3), "compared as float32"
+    assert gcs.missions.nav_waypoint(1, 2, 3.0) == gcs.missions.nav_waypoint(1, 2, 3.0), "NaN yaw equal to NaN yaw"
     wpl.write_text("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t47.39\t8.54\t488\tx\n")
     with pytest.raises(gcs.UsageError, match=r"mission.txt:2: invalid literal"):
-        gcs.load_wpl(wpl)
+        gcs.plans.load_wpl(wpl)
     bad = tmp_path / "bad.plan"
     bad.write_text(json.dumps({"fileType": "Plan", "mission": {"items": [{"type": "ComplexItem",
                                                                           "complexItemType": "survey"}]}}))
     with pytest.raises(gcs.UsageError, match=r"mission.items\[0\]: only SimpleItems are supported, not survey"):
-        gcs.load_qgc_plan(bad)
+        gcs.plans.load_qgc_plan(bad)
 
 
 def test_parameter_bits_and_modes():
-    assert gcs.float_bits_to_int(gcs.int32_bits(-123456)) == -123456
+    assert gcs.params.float_bits_to_int(gcs.params.int32_bits(-123456)) == -123456
     assert gcs.custom_mode("auto.rtl") == gcs.custom_mode(4, 5) == (4 << 16) | (5 << 24)
     assert gcs.mode_name(gcs.custom_mode("OFFBOARD")) == "OFFBOARD" and gcs.mode_name(9 << 16) == "mode 9/0"
     with pytest.raises(ValueError, match="unknown PX4 mode 'CRUISE'"):

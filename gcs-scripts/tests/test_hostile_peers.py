@@ -60,8 +60,8 @@ def test_five_thousand_source_ports_leave_memory_and_telemetry_bounded(autopilot
     resource.setrlimit(resource.RLIMIT_NOFILE, (min(hard, max(soft, ADDRESSES + 500)), hard))
     host, port = autopilot.gcs_bind.rsplit(":", 1)
     target = (host, int(port))
-    remote = autopilot.conn.port  # the configured ground station's socket
-    autopilot.sleep(3.0)
+    remote = autopilot.vehicle.conn.port  # the configured ground station's socket
+    autopilot.vehicle.sleep(3.0)
     before = rss_kb(autopilot.proc.pid)
     rounds = []
     for _ in range(3):
@@ -101,4 +101,4 @@ def test_five_thousand_source_ports_leave_memory_and_telemetry_bounded(autopilot
     growth = rounds[-1][2] - rounds[0][2]
     assert growth < 4 * 1024, f"RSS grew by {growth} kB from the first round to the last (from {before} kB)"
     # The ground station is still served, and answered.
-    assert autopilot.param_get("MPC_XY_VEL_MAX") == 12.0
+    assert autopilot.vehicle.param_get("MPC_XY_VEL_MAX") == 12.0

@@ -128,10 +128,10 @@ class Typist:
 
 def test_mavproxy_lists_downloads_and_ftp_gets_the_logs_unchanged(autopilot_factory, tmp_path):
     placed = place_logs(tmp_path / "vehicle")
-    vehicle = autopilot_factory(log=tmp_path / "vehicle")
+    ap = autopilot_factory(log=tmp_path / "vehicle")
     mavproxy = None
     try:
-        mavproxy = Typist([sys.executable, str(MAVPROXY), f"--master={vehicle.gcs}",
+        mavproxy = Typist([sys.executable, str(MAVPROXY), f"--master={ap.gcs}",
                            "--default-modules=link,log,ftp", f"--state-basedir={tmp_path}"], tmp_path)
         mavproxy.wait_for(r"Detected vehicle 1:1")
         mavproxy.type("log list")
@@ -152,9 +152,9 @@ def test_mavproxy_lists_downloads_and_ftp_gets_the_logs_unchanged(autopilot_fact
 
 def test_pymavlink_mavftp_gets_a_log(autopilot_factory, tmp_path):
     placed = place_logs(tmp_path)
-    vehicle = autopilot_factory(log=tmp_path)
+    ap = autopilot_factory(log=tmp_path)
     try:
-        master = connection_with_dialect(vehicle.gcs, "common", source_system=254, source_component=190)
+        master = connection_with_dialect(ap.gcs, "common", source_system=254, source_component=190)
         # pymavlink's defaults but a shorter wait for silence after each operation (3.7 s).
         settings = MAVFTPSettings([("debug", int, 0), ("pkt_loss_tx", int, 0), ("pkt_loss_rx", int, 0),
                                    ("max_backlog", int, 5), ("burst_read_size", int, 80),
@@ -183,30 +183,30 @@ def test_mavsdk_logfile_download_example_brings_both_logs_back(rotorpilot_bin):
 
 def flight_without_log(autopilot_factory):
     """A take-off and landing of `rotorpilot run` without `--log`; (the vehicle, its flight log)."""
-    vehicle = autopilot_factory(log=None, speedup=4)
-    place = vehicle.workdir / "state" / "rotorpilot" / "instance-0"
-    assert vehicle.ready["log_dir"] == str(place) == vehicle.vehicles[0]["log_dir"]
-    assert vehicle.log_dir == place and not place.exists(), "nothing before a log begins"
-    vehicle.wait_armable()
+    ap = autopilot_factory(log=None, speedup=4)
+    place = ap.workdir / "state" / "rotorpilot" / "instance-0"
+    assert ap.ready["log_dir"] == str(place) == ap.vehicles[0]["log_dir"]
+    assert ap.log_dir == place and not place.exists(), "nothing before a log begins"
+    ap.vehicle.wait_armable()
     since = time.monotonic()
-    vehicle.takeoff()
-    vehicle.land()
-    vehicle.wait_disarmed(timeout=60)
-    (path,) = vehicle.flight_logs()
+    ap.vehicle.takeoff()
+    ap.vehicle.land()
+    ap.vehicle.wait_disarmed(timeout=60)
+    (path,) = ap.flight_logs()
     name = path.relative_to(place).as_posix()
-    assert recent_text(vehicle.conn, since, "[logger]") == f"[logger] ./{name}"
+    assert recent_text(ap.vehicle.conn, since, "[logger]") == f"[logger] ./{name}"
     assert not (place / "flight.tlog").exists(), "the tlog only with --log"
     time.sleep(0.5)  # closed and flushed by the writer after the disarming
-    return vehicle, path
+    return ap, path
 
 
 @pytest.mark.filterwarnings("ignore:The 'mavsdk' package has been renamed:FutureWarning",
                             "ignore:path is deprecated:DeprecationWarning")
 def test_a_flight_without_log_is_found_and_downloaded_by_qgc_mavproxy_and_mavsdk(autopilot_factory, tmp_path):
-    vehicle, path = flight_without_log(autopilot_factory)
+    ap, path = flight_without_log(autopilot_factory)
     flown = path.read_bytes()
     assert flown.startswith(b"ULog")
-    qgc = Qgc(vehicle)
+    qgc = Qgc(ap)
     try:
         entries = qgc_list(qgc)
         assert [(e.id, e.num_logs, e.size) for e in entries.values()] == [(0, 1, len(flown))]
@@ -214,7 +214,7 @@ def test_a_flight_without_log_is_found_and_downloaded_by_qgc_mavproxy_and_mavsdk
     finally:
         qgc.close()
 
-    mavproxy = Typist([sys.executable, str(MAVPROXY), f"--master={vehicle.gcs}", "--default-modules=link,log",
+    mavproxy = Typist([sys.executable, str(MAVPROXY), f"--master={ap.gcs}", "--default-modules=link,log",
                        f"--state-basedir={tmp_path}"], tmp_path)
     try:
         mavproxy.wait_for(r"Detected vehicle 1:1")
@@ -230,7 +230,7 @@ def test_a_flight_without_log_is_found_and_downloaded_by_qgc_mavproxy_and_mavsdk
         from mavsdk import System
 
         drone = System(port=free_port())
-        await drone.connect(system_address=vehicle.api)
+        await drone.connect(system_address=ap.api)
         try:
             async for state in drone.core.connection_state():
                 if state.is_connected:
@@ -251,10 +251,10 @@ def test_a_flight_without_log_is_found_and_downloaded_by_qgc_mavproxy_and_mavsdk
 @pytest.mark.parametrize("mode, logs", [(-1, 0), (1, 1)])
 def test_sdlog_mode_chooses_what_a_flight_leaves(autopilot_factory, mode, logs):
     # -1: nothing written; 1 (PX4 SITL's): one log from start through the flight to its disarming.
-    vehicle = autopilot_factory(log=None, speedup=4, params={"SDLOG_MODE": mode})
-    vehicle.wait_armable()
-    vehicle.arm()
-    vehicle.disarm()
+    ap = autopilot_factory(log=None, speedup=4, params={"SDLOG_MODE": mode})
+    ap.vehicle.wait_armable()
+    ap.vehicle.arm()
+    ap.vehicle.disarm()
     time.sleep(0.5)
-    assert len(vehicle.flight_logs()) == logs
-    assert (vehicle.log_dir / "log").exists() == (logs > 0)
+    assert len(ap.flight_logs()) == logs
+    assert (ap.log_dir / "log").exists() == (logs > 0)

@@ -15,40 +15,41 @@ from lossy_proxy import LossyProxy
 from pymavlink import mavutil
 
 import rotorpilot_gcs as gcs
-from rotorpilot_gcs import FENCE, MISSION, RALLY, mavlink
+from rotorpilot_gcs import mavlink
+from rotorpilot_gcs.missions import FENCE, MISSION, RALLY
 
 PLAN = pathlib.Path(__file__).resolve().parent / "data" / "fence_rally.plan"
-HOME = gcs.DEFAULT_HOME
+HOME = gcs.geo.DEFAULT_HOME
 IMPAIRED = ["--link-loss", "20%", "--link-delay", "0..50ms", "--link-duplicate", "5%"]
 
 
 def at(north_m, east_m):
     """(lat, lon) [degE7] of a point north / east of home."""
-    return gcs.offset_to_global(HOME[0], HOME[1], north_m, east_m)
+    return gcs.geo.offset_to_global(HOME[0], HOME[1], north_m, east_m)
 
 
 def long_mission():
     """30 waypoints on a 6 × 5 grid, 3 to 9 m high."""
-    return [gcs.nav_waypoint(*at(4.0 * (k // 5), 4.0 * (k % 5)), 3.0 + k % 7) for k in range(30)]
+    return [gcs.missions.nav_waypoint(*at(4.0 * (k // 5), 4.0 * (k % 5)), 3.0 + k % 7) for k in range(30)]
 
 
 def flight():
     """Take off to 4 m, two waypoints 8 m out, land."""
-    return [gcs.nav_takeoff(*at(0.0, 0.0), 4.0), gcs.nav_waypoint(*at(8.0, 0.0), 4.0),
-            gcs.nav_waypoint(*at(8.0, 8.0), 4.0), gcs.nav_land(*at(8.0, 8.0))]
+    return [gcs.missions.nav_takeoff(*at(0.0, 0.0), 4.0), gcs.missions.nav_waypoint(*at(8.0, 0.0), 4.0),
+            gcs.missions.nav_waypoint(*at(8.0, 8.0), 4.0), gcs.missions.nav_land(*at(8.0, 8.0))]
 
 
 def round_trips_and_a_flight(vehicle, since):
     """Every transfer at the first attempt over `vehicle`'s lossy link, then a mission flown to
     its landing; no upload dropped by the vehicle since `since` (monotonic)."""
-    plan = gcs.load_qgc_plan(PLAN)
+    plan = gcs.plans.load_qgc_plan(PLAN)
     for items, kind in ((long_mission(), MISSION), (plan.fence, FENCE), (plan.rally, RALLY)):
         ack = vehicle.upload_mission(items, kind)
         assert ack.type == mavlink.MAV_MISSION_ACCEPTED
         assert vehicle.download_mission(kind) == items, f"mission type {kind} came back changed"
     params = vehicle.param_list()
     assert len(params) > 100 and params["MPC_XY_VEL_MAX"] == pytest.approx(12.0)
-    vehicle.clear_mission(gcs.ALL)
+    vehicle.clear_mission(gcs.missions.ALL)
     assert vehicle.download_mission(FENCE) == []
     vehicle.upload_mission(flight())
     vehicle.wait_armable(timeout=60)
@@ -56,7 +57,7 @@ def round_trips_and_a_flight(vehicle, since):
     vehicle.arm()
     vehicle.wait_in_air(timeout=30)
     vehicle.wait_disarmed(timeout=120)
-    assert gcs.recent_text(vehicle.conn, since, "Operation timeout") is None
+    assert gcs.link.recent_text(vehicle.conn, since, "Operation timeout") is None
 
 
 def stopped_line(ap):
@@ -68,7 +69,7 @@ def stopped_line(ap):
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_transfers_and_a_flight_over_the_built_in_impairment(autopilot_factory, seed):
     ap = autopilot_factory(speedup=4, args=[*IMPAIRED, "--link-seed", str(seed)], timeout=10)
-    round_trips_and_a_flight(ap, time.monotonic())
+    round_trips_and_a_flight(ap.vehicle, time.monotonic())
     ap.stop()
     counts = stopped_line(ap)["link_impairment"][0]["links"]
     gcs_link = next(c for c in counts if c["link"] == "gcs")
@@ -89,20 +90,20 @@ def test_transfers_and_a_flight_through_an_external_lossy_proxy(autopilot_factor
         round_trips_and_a_flight(vehicle, time.monotonic())
         assert proxy.counts["dropped"] > 100 and proxy.counts["duplicated"] > 10, proxy.counts
     finally:
-        gcs.forget(conn)
+        gcs.link.forget(conn)
         conn.close()
         proxy.close()
 
 
-def test_the_last_item_repeated_after_the_final_ack_gets_the_ack_again(autopilot):
+def test_the_last_item_repeated_after_the_final_ack_gets_the_ack_again(vehicle):
     items = flight()
-    conn = autopilot.conn
+    conn = vehicle.conn
     conn.mav.mission_count_send(1, 1, len(items), MISSION)
     for seq, it in enumerate(items):
-        request = autopilot.wait("MISSION_REQUEST_INT", lambda m, s=seq: m.seq == s, timeout=5)
+        request = vehicle.wait("MISSION_REQUEST_INT", lambda m, s=seq: m.seq == s, timeout=5)
         conn.mav.mission_item_int_send(1, 1, request.seq, it.frame, it.command, 0, it.autocontinue, it.param1,
                                        it.param2, it.param3, it.param4, it.x, it.y, it.z, MISSION)
-    first = autopilot.wait("MISSION_ACK", timeout=5)
+    first = vehicle.wait("MISSION_ACK", timeout=5)
     assert first.type == mavlink.MAV_MISSION_ACCEPTED
     # As if that ACK had been lost: the client sends its last item again, and again.
     last = items[-1]
@@ -110,6 +111,6 @@ def test_the_last_item_repeated_after_the_final_ack_gets_the_ack_again(autopilot
         conn.mav.mission_item_int_send(1, 1, len(items) - 1, last.frame, last.command, 0, last.autocontinue,
                                        last.param1, last.param2, last.param3, last.param4, last.x, last.y, last.z,
                                        MISSION)
-        again = autopilot.wait("MISSION_ACK", timeout=2)
+        again = vehicle.wait("MISSION_ACK", timeout=2)
         assert again.type == mavlink.MAV_MISSION_ACCEPTED
-    assert autopilot.download_mission() == items
+    assert vehicle.download_mission() == items

@@ -24,7 +24,7 @@ class Joystick:
     def run(self):
         while self.running:
             x, y, z, r = self.sticks
-            self.ap.conn.mav.manual_control_send(1, x, y, z, r, 0)
+            self.ap.vehicle.conn.mav.manual_control_send(1, x, y, z, r, 0)
             time.sleep(0.02)
 
     def stop(self):
@@ -33,7 +33,7 @@ class Joystick:
 
 
 def position(ap):
-    return ap.wait("LOCAL_POSITION_NED", timeout=2)
+    return ap.vehicle.wait("LOCAL_POSITION_NED", timeout=2)
 
 
 def test_posctl_takes_off_flies_holds_and_lands_on_the_sticks(autopilot):
@@ -41,12 +41,12 @@ def test_posctl_takes_off_flies_holds_and_lands_on_the_sticks(autopilot):
     stick = Joystick(ap)
     try:
         time.sleep(0.3)
-        assert ap.command_ack(176, 1, 3, 0).result == ACCEPTED, "POSCTL with sticks"
-        ap.wait_armable()
-        assert ap.command_ack(400, 1.0).result == ACCEPTED
+        assert ap.vehicle.command_ack(176, 1, 3, 0).result == ACCEPTED, "POSCTL with sticks"
+        ap.vehicle.wait_armable()
+        assert ap.vehicle.command_ack(400, 1.0).result == ACCEPTED
         stick.sticks = (0, 0, 1000, 0)
-        ap.wait_in_air(10)
-        ap.wait("LOCAL_POSITION_NED", lambda m: m.z < -4.0, 10, what="a climb on the throttle")
+        ap.vehicle.wait_in_air(10)
+        ap.vehicle.wait("LOCAL_POSITION_NED", lambda m: m.z < -4.0, 10, what="a climb on the throttle")
         stick.sticks = (0, 0, 500, 0)
         time.sleep(2.0)
         held = position(ap)
@@ -54,13 +54,13 @@ def test_posctl_takes_off_flies_holds_and_lands_on_the_sticks(autopilot):
         still = position(ap)
         assert abs(still.x - held.x) < 0.5 and abs(still.z - held.z) < 0.5, (held, still)
         stick.sticks = (1000, 0, 500, 0)
-        ap.wait("LOCAL_POSITION_NED", lambda m: m.vx > 5.0, 8, what="full pitch flying north")
+        ap.vehicle.wait("LOCAL_POSITION_NED", lambda m: m.vx > 5.0, 8, what="full pitch flying north")
         stick.sticks = (0, 0, 500, 0)
-        ap.wait("LOCAL_POSITION_NED", lambda m: abs(m.vx) < 0.2 and abs(m.vy) < 0.2, 10)
-        assert ap.wait_heartbeat(timeout=2).custom_mode == 3 << 16, "still in POSCTL"
+        ap.vehicle.wait("LOCAL_POSITION_NED", lambda m: abs(m.vx) < 0.2 and abs(m.vy) < 0.2, 10)
+        assert ap.vehicle.wait_heartbeat(timeout=2).custom_mode == 3 << 16, "still in POSCTL"
         stick.sticks = (0, 0, 0, 0)
-        ap.wait_on_ground(30)
-        ap.wait_disarmed(6)  # COM_DISARM_LAND
+        ap.vehicle.wait_on_ground(30)
+        ap.vehicle.wait_disarmed(6)  # COM_DISARM_LAND
     finally:
         stick.stop()
 
@@ -70,11 +70,11 @@ def test_stick_loss_in_the_air_returns(autopilot):
     stick = Joystick(ap)
     try:
         time.sleep(0.3)
-        ap.takeoff()
+        ap.vehicle.takeoff()
         stick.stop()
-        lost = ap.wait("STATUSTEXT", lambda m: m.text.startswith("Manual control lost"), 3)
+        lost = ap.vehicle.wait("STATUSTEXT", lambda m: m.text.startswith("Manual control lost"), 3)
         assert lost.text == "Manual control lost: returning"
-        ap.wait_mode("AUTO.LOITER", 3)  # COM_FAIL_ACT_T (5 s) in a hold first, as PX4
-        ap.wait_mode("AUTO.RTL", 7)
+        ap.vehicle.wait_mode("AUTO.LOITER", 3)  # COM_FAIL_ACT_T (5 s) in a hold first, as PX4
+        ap.vehicle.wait_mode("AUTO.RTL", 7)
     finally:
         stick.stop()

@@ -9,8 +9,9 @@ import math
 import pytest
 from pyulog import ULog
 
-import rotorpilot_gcs as gcs
 from rotorpilot_gcs import mavlink
+from rotorpilot_gcs.geo import offset_to_global
+from rotorpilot_gcs.missions import nav_return_to_launch, nav_takeoff, nav_waypoint
 
 pytestmark = pytest.mark.rotorpilot(sensors="realistic", speedup=4, log=True,
                                     params={"SYS_FAILURE_EN": 1, "MPC_XY_CRUISE": 4})
@@ -23,18 +24,19 @@ OFF = 1
 
 def mission(autopilot, legs_m=(20, 20), alt=10.0):
     """Take-off to `alt`, a square of `legs_m` north then east and back, then RTL."""
-    lat, lon, _ = autopilot.home_position()
+    vehicle = autopilot.vehicle
+    lat, lon, _ = vehicle.home_position()
     north, east = legs_m
     corners = [(north, 0), (north, east), (0, east), (0, 0)]
-    points = [gcs.offset_to_global(lat, lon, n, e) for n, e in corners]
-    autopilot.upload_mission([gcs.nav_takeoff(*gcs.offset_to_global(lat, lon, 0, 0), alt)]
-                             + [gcs.nav_waypoint(*p, alt) for p in points] + [gcs.nav_return_to_launch()])
-    autopilot.set_mode("AUTO.MISSION")
-    autopilot.arm()
+    points = [offset_to_global(lat, lon, n, e) for n, e in corners]
+    vehicle.upload_mission([nav_takeoff(*offset_to_global(lat, lon, 0, 0), alt)]
+                           + [nav_waypoint(*p, alt) for p in points] + [nav_return_to_launch()])
+    vehicle.set_mode("AUTO.MISSION")
+    vehicle.arm()
 
 
 def inject(autopilot, unit, kind=OFF):
-    ack = autopilot.command(INJECT_FAILURE, unit, kind, 0)
+    ack = autopilot.vehicle.command(INJECT_FAILURE, unit, kind, 0)
     assert ack.result == mavlink.MAV_RESULT_ACCEPTED
 
 
@@ -42,7 +44,7 @@ def texts_until(autopilot, done, timeout):
     """STATUSTEXTs until `done(message)` holds for one of them or `timeout` [s] passes."""
     seen = []
     for _ in range(int(timeout * 20)):
-        m = autopilot.recv(0.05)
+        m = autopilot.vehicle.recv(0.05)
         if m is not None and m.get_type() == "STATUSTEXT":
             seen.append(m.text)
             if done(m.text):
@@ -60,14 +62,14 @@ def flight_truth(autopilot):
 
 def test_gps_lost_in_a_mission_descends_level_and_lands_gently(autopilot):
     mission(autopilot)
-    autopilot.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 1, timeout=60)  # the first corner
+    autopilot.vehicle.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 1, timeout=60)  # the first corner
     inject(autopilot, GPS)
     # Dead reckoning along the mission for EKF2_NOAID_TOUT (5 s), then the descent.
     texts = texts_until(autopilot, lambda t: t == "No position estimate: descending", 30)
     assert "GPS lost: dead reckoning" in texts and texts[-1] == "No position estimate: descending", texts
-    autopilot.wait_mode("AUTO.LAND", 5)
-    descent_s = autopilot.local_position().time_boot_ms / 1e3
-    autopilot.wait_disarmed(timeout=90)
+    autopilot.vehicle.wait_mode("AUTO.LAND", 5)
+    descent_s = autopilot.vehicle.local_position().time_boot_ms / 1e3
+    autopilot.vehicle.wait_disarmed(timeout=90)
     truth = flight_truth(autopilot)
     ground = max(p[3] for p in truth)
     touchdown = max(p[4] for p in truth if ground - p[3] < 0.3 and p[0] > truth[0][0] + 5)
@@ -84,40 +86,40 @@ def test_gps_lost_in_a_mission_descends_level_and_lands_gently(autopilot):
                                             (MAG, "Compass lost: heading from gyro and GPS")])
 def test_baro_or_compass_lost_in_a_mission_flies_on(autopilot, unit, announced):
     mission(autopilot)
-    autopilot.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 1, timeout=60)
+    autopilot.vehicle.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 1, timeout=60)
     inject(autopilot, unit)
     texts = texts_until(autopilot, lambda t: t == announced, 10)
     assert announced in texts, texts
     # The mission carries on to its last corner, returns and lands.
-    autopilot.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 4, timeout=90)
-    autopilot.wait_mode("AUTO.RTL", 10)
-    autopilot.wait_disarmed(timeout=90)
+    autopilot.vehicle.wait("MISSION_ITEM_REACHED", lambda m: m.seq == 4, timeout=90)
+    autopilot.vehicle.wait_mode("AUTO.RTL", 10)
+    autopilot.vehicle.wait_disarmed(timeout=90)
     final = flight_truth(autopilot)[-1]
     assert math.hypot(final[1], final[2]) < 3.0, "landed at home"
 
 
 def test_sensor_failure_injection_needs_sys_failure_en(autopilot_factory):
     ap = autopilot_factory(params={"SYS_FAILURE_EN": 0})
-    ack = ap.command_ack(INJECT_FAILURE, GPS, OFF, 0)
+    ack = ap.vehicle.command_ack(INJECT_FAILURE, GPS, OFF, 0)
     assert ack.result == mavlink.MAV_RESULT_DENIED
 
 
-def test_ekf_status_report_on_request_as_ardupilot_ground_stations_read_it(autopilot):
+def test_ekf_status_report_on_request_as_ardupilot_ground_stations_read_it(vehicle):
     """EKF_STATUS_REPORT (ArduPilot's dialect) is off by default, as in PX4; asked for, it carries
     the filter's flags and the square roots of its test ratios, decoded by pymavlink's default
     ardupilotmega dialect as MAVProxy and QGroundControl decode it."""
     ekf = 193
-    assert autopilot.command(mavlink.MAV_CMD_GET_MESSAGE_INTERVAL, ekf).result == mavlink.MAV_RESULT_ACCEPTED
-    interval = autopilot.wait("MESSAGE_INTERVAL", lambda m: m.message_id == ekf, timeout=5)
+    assert vehicle.command(mavlink.MAV_CMD_GET_MESSAGE_INTERVAL, ekf).result == mavlink.MAV_RESULT_ACCEPTED
+    interval = vehicle.wait("MESSAGE_INTERVAL", lambda m: m.message_id == ekf, timeout=5)
     assert interval.interval_us == -1, "off until asked for"
-    report = autopilot.request_message(ekf, "EKF_STATUS_REPORT")
+    report = vehicle.request_message(ekf, "EKF_STATUS_REPORT")
     good = (mavlink.EKF_ATTITUDE | mavlink.EKF_VELOCITY_HORIZ | mavlink.EKF_VELOCITY_VERT
             | mavlink.EKF_POS_HORIZ_ABS | mavlink.EKF_POS_VERT_ABS)
     assert report.flags & good == good, hex(report.flags)
     assert not report.flags & mavlink.EKF_UNINITIALIZED
     for name in ("velocity_variance", "pos_horiz_variance", "pos_vert_variance", "compass_variance"):
         assert 0.0 <= getattr(report, name) < 0.8, (name, report)
-    assert autopilot.command(mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, ekf, 200_000).result == mavlink.MAV_RESULT_ACCEPTED
-    reports = [m for m in (autopilot.recv(0.05) for _ in range(60))
+    assert vehicle.command(mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, ekf, 200_000).result == mavlink.MAV_RESULT_ACCEPTED
+    reports = [m for m in (vehicle.recv(0.05) for _ in range(60))
                if m is not None and m.get_type() == "EKF_STATUS_REPORT"]
     assert len(reports) >= 5, "streamed at the interval set"

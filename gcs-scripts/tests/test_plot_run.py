@@ -210,9 +210,9 @@ def test_every_shipped_scenario_plots_from_its_ulog_and_its_csv(rotorpilot, tmp_
 
 @pytest.mark.rotorpilot(log=True)
 def test_a_run_log_directory_plots_its_latest_flight(autopilot):
-    autopilot.takeoff()
-    autopilot.sleep(1.0)
-    autopilot.disarm(force=True)
+    autopilot.vehicle.takeoff()
+    autopilot.vehicle.sleep(1.0)
+    autopilot.vehicle.disarm(force=True)
     assert autopilot.stop() == 0
     (flight,) = autopilot.flight_logs()
     proc = plot_run(autopilot.log_dir)

@@ -24,7 +24,8 @@ import pytest
 from qgc_replay import ACCEPTED, ACK_TIMEOUT_S, DENIED, DEV_SHELL, REPLY, SHELL_FLAGS, Qgc, crc32_part
 
 import rotorpilot_gcs as gcs
-from rotorpilot_gcs import FENCE, RALLY, mavutil
+from rotorpilot_gcs import mavutil
+from rotorpilot_gcs.missions import FENCE, RALLY
 
 PLAN = pathlib.Path(__file__).resolve().parent / "data" / "fence_rally.plan"
 
@@ -118,11 +119,11 @@ def test_qgc_initial_connect_sequence(qgc):
     assert counts[1] == ("MISSION_COUNT", 1, 0) and counts[2] == ("MISSION_COUNT", 2, 0), counts
     # A vehicle holding a fence and rally points (uploaded as QGC's plan managers send a `.plan`):
     # QGC's download of each plan brings back exactly what went up.
-    plan = gcs.load_qgc_plan(PLAN)
+    plan = gcs.plans.load_qgc_plan(PLAN)
     qgc.mav.target_system, qgc.mav.target_component = 1, 1
     for mission_type, items in ((FENCE, plan.fence), (RALLY, plan.rally)):
-        gcs.upload_mission(qgc.mav, items, mission_type)
-        assert gcs.download_mission(qgc.mav, mission_type) == items, mission_type
+        gcs.missions.upload_mission(qgc.mav, items, mission_type)
+        assert gcs.missions.download_mission(qgc.mav, mission_type) == items, mission_type
 
     # The MAVLink console: `ver all` over SERIAL_CONTROL, answered by the shell with REPLY frames.
     line = b"ver all\n"

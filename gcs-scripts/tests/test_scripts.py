@@ -118,9 +118,9 @@ def test_mission_uploads_a_qgc_plan_and_a_wpl_file_as_they_are(autopilot, tmp_pa
     r = script(autopilot, "mission.py", str(path))
     assert r.returncode == 0, r.stdout + r.stderr
     assert "uploaded 5 items:" in r.stdout and "uploaded 1 rally items" in r.stdout, r.stdout
-    expected = gcs.load_qgc_plan(path)
-    assert autopilot.download_mission() == expected.mission
-    assert autopilot.download_mission(gcs.RALLY) == expected.rally
+    expected = gcs.plans.load_qgc_plan(path)
+    assert autopilot.vehicle.download_mission() == expected.mission
+    assert autopilot.vehicle.download_mission(gcs.missions.RALLY) == expected.rally
     # The same mission as MAVProxy's `wp save` writes it: the home position first.
     rows = ["QGC WPL 110", "0\t1\t0\t16\t0\t0\t0\t0\t47.3977420\t8.5455940\t488.0\t1"]
     for seq, it in enumerate(expected.mission, 1):
@@ -129,11 +129,11 @@ def test_mission_uploads_a_qgc_plan_and_a_wpl_file_as_they_are(autopilot, tmp_pa
                     f"{it.param4:g}\t{lat:.10f}\t{lon:.10f}\t{it.z:g}\t{it.autocontinue}")
     wpl = tmp_path / "mission.txt"
     wpl.write_text("\n".join(rows) + "\n")
-    autopilot.clear_mission()
+    autopilot.vehicle.clear_mission()
     r = script(autopilot, "mission.py", str(wpl), "--wpl-skip-home")
     assert r.returncode == 0, r.stdout + r.stderr
     assert "uploaded 5 items:" in r.stdout and "MAV_CMD_NAV_TAKEOFF: lat 47.3977632" in r.stdout, r.stdout
-    assert autopilot.download_mission() == expected.mission
+    assert autopilot.vehicle.download_mission() == expected.mission
 
 
 def test_mission_plan_errors_name_the_field(tmp_path):
@@ -165,7 +165,7 @@ def test_set_controller_and_refusal(autopilot):
 
 def test_refused_command_names_the_result_and_reason(autopilot):
     with pytest.raises(gcs.CommandError) as refused:
-        autopilot.set_mode("OFFBOARD")  # no setpoints streaming
+        autopilot.vehicle.set_mode("OFFBOARD")  # no setpoints streaming
     assert refused.value.result in (1, 2)
     assert str(refused.value).startswith("MAV_CMD_DO_SET_MODE (176) refused: MAV_RESULT_")
     assert refused.value.reason, "the autopilot's STATUSTEXT explains the refusal"
@@ -173,7 +173,7 @@ def test_refused_command_names_the_result_and_reason(autopilot):
 
 @EXACT_STATE  # the hover to 0.15 m and the mass estimate to 0.05 kg
 def test_log_telemetry_writes_csv(autopilot, tmp_path):
-    autopilot.takeoff(2.0)
+    autopilot.vehicle.takeoff(2.0)
     out = tmp_path / "telemetry.csv"
     r = script(autopilot, "log_telemetry.py", "--out", str(out), "--duration", "3")
     assert r.returncode == 0, r.stdout + r.stderr
@@ -190,7 +190,7 @@ def test_log_telemetry_writes_csv(autopilot, tmp_path):
 
 @EXACT_STATE  # the force estimate of a still hover below 0.5 N
 def test_live_wrench_prints_and_plots(autopilot, tmp_path):
-    autopilot.takeoff(2.0)
+    autopilot.vehicle.takeoff(2.0)
     figure = tmp_path / "wrench.png"
     r = script(autopilot, "live_wrench.py", "--duration", "2", "--plot", str(figure))
     assert r.returncode == 0, r.stdout + r.stderr

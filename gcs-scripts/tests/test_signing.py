@@ -55,11 +55,11 @@ def ack_for(conn, command, timeout=1.0):
 def test_signed_gcs_flies_and_everything_it_receives_is_signed(autopilot_factory, tmp_path):
     path = key_file(tmp_path)
     ap = autopilot_factory(args=["--signing-key", path])
-    ap.conn.setup_signing(KEY, sign_outgoing=True, link_id=1)
-    ap.takeoff()
-    ap.land()
-    ap.wait("STATUSTEXT", lambda m: "Disarmed" in m.text, 15)  # landed and disarmed
-    signing = ap.conn.mav.signing
+    ap.vehicle.conn.setup_signing(KEY, sign_outgoing=True, link_id=1)
+    ap.vehicle.takeoff()
+    ap.vehicle.land()
+    ap.vehicle.wait("STATUSTEXT", lambda m: "Disarmed" in m.text, 15)  # landed and disarmed
+    signing = ap.vehicle.conn.mav.signing
     assert signing.goodsig_count > 100
     assert (signing.badsig_count, signing.unsigned_count, signing.reject_count) == (0, 0, 0)
     assert ap.proc.poll() is None
@@ -76,7 +76,7 @@ def test_unsigned_and_wrong_key_senders_receive_nothing_and_change_nothing(autop
     ap = autopilot_factory(args=["--signing-key", path])
     intruders = [sender(ap), sender(ap, key=WRONG_KEY)]
     try:
-        ap.conn.setup_signing(KEY, sign_outgoing=True, link_id=1)
+        ap.vehicle.conn.setup_signing(KEY, sign_outgoing=True, link_id=1)
         for who in intruders:
             who.mav.heartbeat_send(6, 8, 0, 0, 0)
             who.mav.command_long_send(1, 1, 400, 0, 1, 21196, NAN, NAN, NAN, NAN, NAN)  # force-arm
@@ -88,9 +88,9 @@ def test_unsigned_and_wrong_key_senders_receive_nothing_and_change_nothing(autop
         for who in intruders:
             assert anything(who, 2.0) is None, "an intruder received a frame"
         # The signed ground station still gets the telemetry, and nothing moved.
-        hb = ap.wait_heartbeat(timeout=3)
-        assert not gcs.is_armed(hb) and hb.custom_mode == gcs.custom_mode("AUTO.LOITER")
-        assert abs(ap.param_get("MIS_TAKEOFF_ALT") - 2.5) < 1e-6
+        hb = ap.vehicle.wait_heartbeat(timeout=3)
+        assert not gcs.telemetry.is_armed(hb) and hb.custom_mode == gcs.custom_mode("AUTO.LOITER")
+        assert abs(ap.vehicle.param_get("MIS_TAKEOFF_ALT") - 2.5) < 1e-6
         assert path.read_bytes() == KEY, "the key file is unchanged"
     finally:
         for who in intruders:
@@ -125,30 +125,30 @@ def test_replayed_and_stale_frames_are_rejected(autopilot_factory, tmp_path):
 def test_setup_signing_sets_stores_and_clears_the_key(autopilot_factory, tmp_path):
     path = tmp_path / "new.key"
     ap = autopilot_factory(args=["--signing-key", path])
-    ap.wait_armable()
-    assert ap.command_ack(400, 1.0).result == ACCEPTED, "unsigned commands work without a key"
-    ap.conn.mav.setup_signing_send(1, 1, KEY, now_timestamp())
-    refused = ap.wait("STATUSTEXT", lambda m: "SETUP_SIGNING" in m.text, 2)
+    ap.vehicle.wait_armable()
+    assert ap.vehicle.command_ack(400, 1.0).result == ACCEPTED, "unsigned commands work without a key"
+    ap.vehicle.conn.mav.setup_signing_send(1, 1, KEY, now_timestamp())
+    refused = ap.vehicle.wait("STATUSTEXT", lambda m: "SETUP_SIGNING" in m.text, 2)
     assert "disarm" in refused.text, "refused while armed"
-    assert ap.command_ack(400, 0.0).result == ACCEPTED
-    ap.conn.mav.setup_signing_send(0, 0, KEY, now_timestamp())
+    assert ap.vehicle.command_ack(400, 0.0).result == ACCEPTED
+    ap.vehicle.conn.mav.setup_signing_send(0, 0, KEY, now_timestamp())
     with pytest.raises(gcs.LinkTimeout):
-        ap.wait("STATUSTEXT", lambda m: "Signing" in m.text, 1)  # never by broadcast
-    ap.conn.mav.setup_signing_send(1, 1, KEY, now_timestamp())
-    enabled = ap.wait("STATUSTEXT", lambda m: "Signing" in m.text, 2)
+        ap.vehicle.wait("STATUSTEXT", lambda m: "Signing" in m.text, 1)  # never by broadcast
+    ap.vehicle.conn.mav.setup_signing_send(1, 1, KEY, now_timestamp())
+    enabled = ap.vehicle.wait("STATUSTEXT", lambda m: "Signing" in m.text, 2)
     assert enabled.text == "Signing enabled; key stored"
     assert path.read_bytes() == KEY and stat.S_IMODE(path.stat().st_mode) & 0o077 == 0
-    assert ap.command_ack(400, 1.0) is None, "unsigned commands are ignored once a key is set"
+    assert ap.vehicle.command_ack(400, 1.0) is None, "unsigned commands are ignored once a key is set"
     # Unsigned frames are let through on our side: the answer to "signing off" comes unsigned.
-    ap.conn.setup_signing(KEY, sign_outgoing=True, link_id=2, allow_unsigned_callback=lambda *_: True)
-    assert ap.command_ack(400, 1.0).result == ACCEPTED and ap.command_ack(400, 0.0).result == ACCEPTED
+    ap.vehicle.conn.setup_signing(KEY, sign_outgoing=True, link_id=2, allow_unsigned_callback=lambda *_: True)
+    assert ap.vehicle.command_ack(400, 1.0).result == ACCEPTED and ap.vehicle.command_ack(400, 0.0).result == ACCEPTED
     # Signed with the current key, an all-zero key turns signing off and removes the file.
-    ap.conn.mav.setup_signing_send(1, 1, bytes(32), 0)
-    disabled = ap.wait("STATUSTEXT", lambda m: "Signing" in m.text, 2)
+    ap.vehicle.conn.mav.setup_signing_send(1, 1, bytes(32), 0)
+    disabled = ap.vehicle.wait("STATUSTEXT", lambda m: "Signing" in m.text, 2)
     assert disabled.text == "Signing disabled; key stored"
     assert not path.exists()
-    ap.conn.disable_signing()
-    assert ap.command_ack(400, 1.0).result == ACCEPTED, "unsigned again"
+    ap.vehicle.conn.disable_signing()
+    assert ap.vehicle.command_ack(400, 1.0).result == ACCEPTED, "unsigned again"
 
 
 def test_the_signing_timestamp_survives_a_restart(autopilot_factory, tmp_path):
@@ -156,9 +156,9 @@ def test_the_signing_timestamp_survives_a_restart(autopilot_factory, tmp_path):
     ahead = now_timestamp() + 3600 * 100_000
     pathlib.Path(f"{path}.timestamp").write_text(f"{ahead}\n")
     ap = autopilot_factory(args=["--signing-key", path])
-    ap.conn.setup_signing(KEY, sign_outgoing=True, link_id=1)
-    ap.wait_heartbeat()  # a signed frame read with the key
-    sent = max(ap.conn.mav.signing.stream_timestamps.values())
+    ap.vehicle.conn.setup_signing(KEY, sign_outgoing=True, link_id=1)
+    ap.vehicle.wait_heartbeat()  # a signed frame read with the key
+    sent = max(ap.vehicle.conn.mav.signing.stream_timestamps.values())
     assert sent > ahead, "outgoing timestamps continue after the persisted one"
     ap.stop()
     assert int(pathlib.Path(f"{path}.timestamp").read_text()) >= sent

@@ -40,14 +40,14 @@ def test_count_gives_separate_vehicles_on_a_grid(autopilot_factory):
         homes.append((lat, lon))
         vehicle.close()
     # A 2 × 2 grid, 5 m apart: rows north, columns east.
-    north, east = gcs.global_to_offset(*homes[0], *homes[2])
+    north, east = gcs.geo.global_to_offset(*homes[0], *homes[2])
     assert abs(north - 5) < 0.01 and abs(east) < 0.01 and homes[1][0] == homes[0][0]
     assert homes[1][1] > homes[0][1] and homes[3][1] == homes[1][1]
 
 
 def test_speedup_runs_every_timer_in_simulated_time(autopilot_factory):
     ap = autopilot_factory(speedup=20)
-    conn = ap.conn
+    conn = ap.vehicle.conn
     first = conn.recv_match(type="ATTITUDE", blocking=True, timeout=3)
     # Read all along: at 20× the streams fill a default socket buffer in about half a second,
     # and the kernel would drop the newest messages.
@@ -60,7 +60,7 @@ def test_speedup_runs_every_timer_in_simulated_time(autopilot_factory):
     sim_s = (last.time_boot_ms - first.time_boot_ms) / 1000
     assert 15 < sim_s < 25, f"20 simulated seconds per wall second: {sim_s}"
     # COM_DISARM_PRFLT (10 s simulated) disarms an idle armed vehicle after ~0.5 s wall.
-    assert result(ap, 400, 1) == ACCEPTED
+    assert result(ap.vehicle, 400, 1) == ACCEPTED
     armed = time.monotonic()
     deadline = armed + 5
     disarmed = None
@@ -70,12 +70,12 @@ def test_speedup_runs_every_timer_in_simulated_time(autopilot_factory):
             disarmed = time.monotonic() - armed
     assert disarmed is not None and disarmed < 2.5, disarmed
     # Commands are still answered at once, and at --speedup max too (below).
-    assert result(ap, 176, 1, 3, 0) == ACCEPTED
+    assert result(ap.vehicle, 176, 1, 3, 0) == ACCEPTED
     ap.stop()
     fast = autopilot_factory(speedup="max")
-    assert result(fast, 22) == ACCEPTED and result(fast, 400, 1) == ACCEPTED
-    fast.wait_in_air(5)
-    assert result(fast, 21) == ACCEPTED, "NAV_LAND answered while the tick runs flat out"
+    assert result(fast.vehicle, 22) == ACCEPTED and result(fast.vehicle, 400, 1) == ACCEPTED
+    fast.vehicle.wait_in_air(5)
+    assert result(fast.vehicle, 21) == ACCEPTED, "NAV_LAND answered while the tick runs flat out"
     fast.stop()
     assert "stopped after" in fast.stderr_text()
 
@@ -95,11 +95,11 @@ def scripted_mission(autopilot_factory, speedup, log_dir):
     disarm; the ground station acts on the vehicle's simulated clock only."""
     ap = autopilot_factory(speedup=speedup, log=log_dir, log_profile="full")
     lat, lon = 473977420, 85455940
-    ap.upload_mission([gcs.nav_takeoff(lat, lon, 2.0), gcs.nav_waypoint(lat + 360, lon, 2.0),
-                       gcs.nav_land(lat + 360, lon)])
-    assert result(ap, 176, 1, 4, 4) == ACCEPTED
-    assert result(ap, 400, 1) == ACCEPTED
-    ap.wait_disarmed(60)  # the mission's end
+    ap.vehicle.upload_mission([gcs.missions.nav_takeoff(lat, lon, 2.0), gcs.missions.nav_waypoint(lat + 360, lon, 2.0),
+                               gcs.missions.nav_land(lat + 360, lon)])
+    assert result(ap.vehicle, 176, 1, 4, 4) == ACCEPTED
+    assert result(ap.vehicle, 400, 1) == ACCEPTED
+    ap.vehicle.wait_disarmed(60)  # the mission's end
     ap.stop()
     return trajectory_after_arming(log_dir)
 
