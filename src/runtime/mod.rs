@@ -166,8 +166,8 @@ fn setup_vehicle(
     let machine = LinkMachine::new(LinkConfig {
         identity: Identity::autopilot(sysid, vehicle.rotor_count()),
         links: vec![(LinkKind::Gcs, config.gcs), (LinkKind::Api, api)],
-        params: vehicle.params().clone(),
-        snapshot: Snapshot::initial(home),
+        params: Arc::new(vehicle.params().clone()),
+        snapshot: Arc::new(Snapshot::initial(home)),
         signing: Signing::new(signing.key.clone(), signing.timestamp),
         signing_epoch: signing_now(),
         key_store: signing.store.is_some(),

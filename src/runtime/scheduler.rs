@@ -79,7 +79,7 @@ impl VehicleSlot {
                 VehicleRequest::Commander(request) => VehicleReply::Outcome(self.vehicle.apply(request)),
                 VehicleRequest::SetParam { name, value } => VehicleReply::Param {
                     result: self.vehicle.set_param(&name, value),
-                    table: Box::new(self.vehicle.params().clone()),
+                    table: std::sync::Arc::new(self.vehicle.params().clone()),
                 },
             };
             answers.extend(cmd.reply.map(|reply| (reply, answer)));

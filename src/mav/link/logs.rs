@@ -6,11 +6,15 @@
 //! requests replaces the previous one, as on PX4). PX4 sends as fast as its link's data rate
 //! allows. A late wake-up sends at most [`LOG_MESSAGES_AT_ONCE`] and does not catch up beyond. LOG_ERASE deletes the store's logs (the store keeps the one being written) and
 //! every link's list.
+//!
+//! [`LogService`] owns the log server of each link; the logs are read from the store it is
+//! handed.
 
-use std::hash::Hash;
+use mavlink::dialects::common::MavMessage;
 
-use super::{LinkKind, LinkMachine, Now};
-use crate::mav::logs::{LogRequest, LogServer};
+use super::effects::Effect;
+use super::LinkKind;
+use crate::mav::logs::{LogRequest, LogServer, LogStore};
 
 /// Wall time between two log messages to one client [s].
 pub const LOG_MESSAGE_PERIOD_S: f64 = 2.5e-4;
@@ -19,7 +23,7 @@ pub const LOG_MESSAGES_AT_ONCE: usize = 50;
 
 /// The log server of one link and where its messages go.
 #[derive(Debug)]
-pub(super) struct LogLink<A> {
+struct LogLink<A> {
     link: LinkKind,
     server: LogServer,
     /// The client of the request in progress.
@@ -29,65 +33,84 @@ pub(super) struct LogLink<A> {
 }
 
 impl<A> LogLink<A> {
-    /// An idle log server on `link`.
-    pub fn new(link: LinkKind) -> Self {
-        Self {
-            link,
-            server: LogServer::default(),
-            client: None,
-            next_s: 0.0,
-        }
-    }
-
     /// Wall time the next message is due [s], while one remains.
-    pub fn due_s(&self) -> Option<f64> {
+    fn due_s(&self) -> Option<f64> {
         self.server.busy().then_some(self.next_s)
     }
 }
 
-impl<A: Copy + Eq + Hash> LinkMachine<A> {
-    /// One log protocol request from `from` on `link`; its first message goes out at once.
-    pub(super) fn log_request(&mut self, now: Now, link: LinkKind, from: A, request: LogRequest) {
-        let files = &mut self.files;
+/// The log protocol of every link.
+#[derive(Debug)]
+pub(super) struct LogService<A> {
+    links: Vec<LogLink<A>>,
+}
+
+impl<A: Copy> LogService<A> {
+    /// An idle log server on each of `links`.
+    pub fn new(links: &[LinkKind]) -> Self {
+        let links = links
+            .iter()
+            .map(|link| LogLink {
+                link: *link,
+                server: LogServer::default(),
+                client: None,
+                next_s: 0.0,
+            })
+            .collect();
+        Self { links }
+    }
+
+    /// Wall time the next log message of any link is due [s].
+    pub fn next_due_s(&self) -> Option<f64> {
+        self.links.iter().filter_map(LogLink::due_s).reduce(f64::min)
+    }
+
+    /// One log protocol request from `from` on `link` at wall time `wall_s` [s] about the logs
+    /// of `store`; the first message goes out at once (with what else is due).
+    pub fn request(
+        &mut self,
+        wall_s: f64,
+        link: LinkKind,
+        from: A,
+        request: LogRequest,
+        store: &mut dyn LogStore,
+    ) -> Vec<Effect<A>> {
         if request == LogRequest::Erase {
-            for log_link in &mut files.logs {
+            for log_link in &mut self.links {
                 log_link.server.forget();
             }
             // PX4 answers nothing, whatever happened; a file that could not go stays listed.
-            let _ = files.fs.logs.erase();
-            return;
+            let _ = store.erase();
+            return Vec::new();
         }
-        let Some(log_link) = files.logs.iter_mut().find(|l| l.link == link) else {
-            return;
+        let Some(log_link) = self.links.iter_mut().find(|l| l.link == link) else {
+            return Vec::new();
         };
-        log_link.server.handle(files.fs.logs.as_mut(), request);
+        log_link.server.handle(store, request);
         log_link.client = Some(from);
-        log_link.next_s = now.wall_s;
-        self.stream_logs(now);
+        log_link.next_s = wall_s;
+        self.stream(wall_s, store)
     }
 
-    /// The log messages due by `now`.
-    pub(super) fn stream_logs(&mut self, now: Now) {
-        for k in 0..self.files.logs.len() {
-            let mut messages = Vec::new();
-            let files = &mut self.files;
-            let log_link = &mut files.logs[k];
-            while log_link.server.busy() && log_link.next_s <= now.wall_s && messages.len() < LOG_MESSAGES_AT_ONCE {
-                match log_link.server.next_message(files.fs.logs.as_mut()) {
+    /// The log messages of `store` due by wall time `wall_s` [s].
+    pub fn stream(&mut self, wall_s: f64, store: &mut dyn LogStore) -> Vec<Effect<A>> {
+        let mut out = Vec::new();
+        for log_link in &mut self.links {
+            let mut messages: Vec<MavMessage> = Vec::new();
+            while log_link.server.busy() && log_link.next_s <= wall_s && messages.len() < LOG_MESSAGES_AT_ONCE {
+                match log_link.server.next_message(store) {
                     Some(message) => messages.push(message),
                     None => break,
                 }
                 log_link.next_s += LOG_MESSAGE_PERIOD_S;
             }
-            if log_link.next_s < now.wall_s {
-                log_link.next_s = now.wall_s + LOG_MESSAGE_PERIOD_S;
+            if log_link.next_s < wall_s {
+                log_link.next_s = wall_s + LOG_MESSAGE_PERIOD_S;
             }
-            let (link, client) = (log_link.link, log_link.client);
-            if let Some(to) = client {
-                for message in &messages {
-                    self.send(now, link, to, message);
-                }
+            if let Some(to) = log_link.client {
+                out.extend(messages.into_iter().map(|m| Effect::send(log_link.link, to, m)));
             }
         }
+        out
     }
 }
