@@ -161,3 +161,87 @@ fn type_out<A: Copy>(link: LinkKind, to: A, ids: (u8, u8), text: &str) -> Vec<Ef
         .map(|msg| Effect::send(link, to, msg))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use mavlink::dialects::common::{MavMessage, SerialControlDev};
+
+    use super::*;
+    use crate::mav::link::effects::testing::{param_names, sent, table};
+    use crate::navigation::Home;
+
+    const GCS: LinkKind = LinkKind::Gcs;
+
+    fn typed(text: &str, respond: bool) -> SERIAL_CONTROL_DATA {
+        let mut data = [0u8; 70];
+        data[..text.len()].copy_from_slice(text.as_bytes());
+        let mut flags = SerialControlFlag::SERIAL_CONTROL_FLAG_EXCLUSIVE;
+        if respond {
+            flags |= SerialControlFlag::SERIAL_CONTROL_FLAG_RESPOND;
+        }
+        SERIAL_CONTROL_DATA {
+            device: SerialControlDev::SERIAL_CONTROL_DEV_SHELL,
+            flags,
+            count: text.len() as u8,
+            data,
+            ..Default::default()
+        }
+    }
+
+    fn said(out: &[Effect<u16>]) -> String {
+        sent(out)
+            .into_iter()
+            .filter_map(|(_, _, m)| match m {
+                MavMessage::SERIAL_CONTROL(r) => {
+                    Some(String::from_utf8_lossy(&r.data[..r.count as usize]).into_owned())
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_line_is_echoed_and_answered_and_a_set_waits_for_the_vehicle() {
+        let (params, snapshot) = (table(), Snapshot::initial(Home::default()));
+        let mut c = Consoles::default();
+        let out = c.serial(
+            (GCS, 5u16, (255, 190)),
+            &typed("param show MIS_TAKEOFF_ALT\n", true),
+            &params,
+            &snapshot,
+        );
+        assert!(said(&out).contains("MIS_TAKEOFF_ALT"), "{}", said(&out));
+        assert_eq!(c.count(), 1);
+        let out = c.serial(
+            (GCS, 5, (255, 190)),
+            &typed("param set MIS_TAKEOFF_ALT 4.5\n", true),
+            &params,
+            &snapshot,
+        );
+        let Some(Effect::Ask(Some(Pending::Shell(set)), VehicleRequest::SetParam { value, .. })) =
+            out.iter().find(|e| matches!(e, Effect::Ask(..)))
+        else {
+            panic!("{out:?}");
+        };
+        assert_eq!(*value, 4.5);
+        let mut after = table();
+        let index = after.set("MIS_TAKEOFF_ALT", 4.5, 1e-3).map_err(|e| e.to_string());
+        let done = c.set_done(set.clone(), index, &params, &after, vec![5, 6]);
+        assert_eq!(param_names(&done), vec!["MIS_TAKEOFF_ALT"; 2], "to the link's targets");
+        assert_eq!(said(&done), "MIS_TAKEOFF_ALT: curr: 2.5000 -> new: 4.5000\npxh> ");
+    }
+
+    #[test]
+    fn a_client_without_respond_closes_its_shell_and_forgotten_clients_lose_theirs() {
+        let (params, snapshot) = (table(), Snapshot::initial(Home::default()));
+        let mut c = Consoles::default();
+        c.serial((GCS, 5u16, (255, 190)), &typed("\n", true), &params, &snapshot);
+        c.serial((GCS, 6, (255, 190)), &typed("\n", true), &params, &snapshot);
+        assert!(c
+            .serial((GCS, 5, (255, 190)), &typed("", false), &params, &snapshot)
+            .is_empty());
+        assert_eq!(c.count(), 1);
+        c.keep_clients(GCS, &[5]);
+        assert_eq!(c.count(), 0);
+    }
+}

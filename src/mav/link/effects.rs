@@ -40,3 +40,62 @@ impl<A> Effect<A> {
         Self::To(link, to, Outgoing::Message(msg))
     }
 }
+
+/// What the tests of the link's parts share: a parameter table and readers of effects.
+#[cfg(test)]
+pub(super) mod testing {
+    use mavlink::dialects::common::MavMessage;
+
+    use super::Effect;
+    use crate::control::{ControllerGains, ControllerKind};
+    use crate::mav::streams::LinkKind;
+    use crate::mav::telemetry::Outgoing;
+    use crate::params::{ParamTable, VehicleSettings};
+
+    /// The table of a geometric controller with default gains.
+    pub fn table() -> ParamTable {
+        ParamTable::new(&VehicleSettings::new(
+            ControllerKind::Geometric,
+            ControllerGains::default(),
+            None,
+        ))
+    }
+
+    /// The messages to one client among `out`: (link, destination, message), in order.
+    pub fn sent<A: Copy>(out: &[Effect<A>]) -> Vec<(LinkKind, A, MavMessage)> {
+        out.iter()
+            .filter_map(|e| match e {
+                Effect::To(link, to, Outgoing::Message(m)) => Some((*link, *to, m.clone())),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The STATUSTEXTs among `out`, as text.
+    pub fn texts<A: Copy>(out: &[Effect<A>]) -> Vec<String> {
+        sent(out)
+            .into_iter()
+            .filter_map(|(_, _, m)| match m {
+                MavMessage::STATUSTEXT(t) => {
+                    let end = t.text.iter().position(|&b| b == 0).unwrap_or(t.text.len());
+                    Some(String::from_utf8_lossy(&t.text[..end]).into_owned())
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The name of each PARAM_VALUE among `out`, in order.
+    pub fn param_names<A: Copy>(out: &[Effect<A>]) -> Vec<String> {
+        sent(out)
+            .into_iter()
+            .filter_map(|(_, _, m)| match m {
+                MavMessage::PARAM_VALUE(p) => {
+                    let end = p.param_id.iter().position(|&b| b == 0).unwrap_or(p.param_id.len());
+                    Some(String::from_utf8_lossy(&p.param_id[..end]).into_owned())
+                }
+                _ => None,
+            })
+            .collect()
+    }
+}

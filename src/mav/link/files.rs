@@ -179,3 +179,76 @@ impl<A: Copy> Files<A> {
         metadata::component_information(self.general_crc, (wall_s * 1e3) as u32)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mav::ftp::Opcode;
+    use crate::mav::link::effects::testing::{sent, table};
+    use crate::mav::logs::MemLogStore;
+
+    const ACK: u8 = 128;
+    const CLIENT: Client<u16> = (LinkKind::Api, 9, (1, 1));
+
+    fn replies(out: &[Effect<u16>]) -> Vec<Payload> {
+        sent(out)
+            .into_iter()
+            .filter_map(|(_, to, m)| match m {
+                MavMessage::FILE_TRANSFER_PROTOCOL(f) if to == 9 => Some(Payload::decode(&f.payload)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn request(op: Opcode, seq: u16, session: u8, data: &[u8]) -> [u8; 251] {
+        Payload::request(op, seq, session, 0, data).encode()
+    }
+
+    #[test]
+    fn a_burst_goes_to_its_client_one_frame_per_period() {
+        let params = table();
+        let mut f = Files::new(&params, None, &[LinkKind::Api], Box::new(MemLogStore::default()));
+        assert_ne!(f.component_metadata(0.0), f.component_information(0.0));
+        let open = f.ftp(
+            0.0,
+            CLIENT,
+            &request(Opcode::OpenFileRO, 0, 0, b"@PARAM/param.pck"),
+            &params,
+        );
+        assert_eq!(replies(&open)[0].opcode, ACK);
+        let burst = f.ftp(0.0, CLIENT, &request(Opcode::BurstReadFile, 2, 0, &[]), &params);
+        assert!(burst.is_empty(), "a burst answers from the timer");
+        assert_eq!(f.next_due_s(), Some(0.0));
+        let frames = f.stream_bursts(2.5 * FTP_BURST_PERIOD_S);
+        assert_eq!(replies(&frames).len(), 3, "one frame per period, to the client");
+        let other = (LinkKind::Gcs, 9, (1, 1));
+        assert!(f
+            .ftp(0.0, other, &request(Opcode::ListDirectory, 0, 0, b"/"), &params)
+            .is_empty());
+    }
+
+    #[test]
+    fn an_uploaded_parameter_file_goes_to_the_parameters_and_its_answer_back() {
+        let params = table();
+        let mut f = Files::new(&params, None, &[LinkKind::Api], Box::new(MemLogStore::default()));
+        let create = f.ftp(
+            0.0,
+            CLIENT,
+            &request(Opcode::CreateFile, 0, 0, b"@PARAM/param.pck\0"),
+            &params,
+        );
+        let session = replies(&create)[0].session;
+        let out = f.ftp(
+            0.0,
+            CLIENT,
+            &request(Opcode::TerminateSession, 2, session, &[]),
+            &params,
+        );
+        let [Effect::Upload(client, upload)] = &out[..] else {
+            panic!("{out:?}");
+        };
+        assert_eq!(*client, CLIENT);
+        let answer = f.answer_upload(CLIENT, &upload.request, Ok(()));
+        assert_eq!(replies(&answer)[0].opcode, ACK);
+    }
+}

@@ -111,22 +111,8 @@ impl<A: Copy> SigningKeys<A> {
 
 #[cfg(test)]
 mod tests {
-    use mavlink::dialects::common::MavMessage;
-
     use super::*;
-    use crate::mav::telemetry::Outgoing;
-
-    fn texts(out: &[Effect<u16>]) -> Vec<String> {
-        out.iter()
-            .filter_map(|e| match e {
-                Effect::To(_, _, Outgoing::Message(MavMessage::STATUSTEXT(t))) => {
-                    let end = t.text.iter().position(|&b| b == 0).unwrap_or(t.text.len());
-                    Some(String::from_utf8_lossy(&t.text[..end]).into_owned())
-                }
-                _ => None,
-            })
-            .collect()
-    }
+    use crate::mav::link::effects::testing::texts;
 
     #[test]
     fn a_key_is_refused_while_armed_and_stored_when_there_is_a_key_file() {

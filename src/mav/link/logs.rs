@@ -114,3 +114,39 @@ impl<A: Copy> LogService<A> {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mav::link::effects::testing::sent;
+    use crate::mav::logs::MemLogStore;
+
+    fn entries(out: &[Effect<u16>]) -> Vec<(LinkKind, u16, u16)> {
+        sent(out)
+            .into_iter()
+            .filter_map(|(link, to, m)| match m {
+                MavMessage::LOG_ENTRY(e) => Some((link, to, e.num_logs)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_list_goes_to_its_client_paced_and_erase_forgets_the_logs() {
+        let mut store = MemLogStore::from_iter([(10, vec![1]), (20, vec![2]), (30, vec![3])]);
+        let mut l = LogService::new(&[LinkKind::Gcs, LinkKind::Api]);
+        let all = LogRequest::List { start: 0, end: 0xFFFF };
+        let first = l.request(1.0, LinkKind::Api, 9u16, all, &mut store);
+        assert_eq!(entries(&first), vec![(LinkKind::Api, 9, 3)], "the first at once");
+        assert_eq!(l.next_due_s(), Some(1.0 + LOG_MESSAGE_PERIOD_S));
+        assert!(l.stream(1.0, &mut store).is_empty());
+        let rest = l.stream(1.1, &mut store);
+        assert_eq!(entries(&rest).len(), 2);
+        assert_eq!(l.next_due_s(), None);
+        assert!(l
+            .request(2.0, LinkKind::Gcs, 9, LogRequest::Erase, &mut store)
+            .is_empty());
+        let after = l.request(3.0, LinkKind::Gcs, 9, all, &mut store);
+        assert!(entries(&after).iter().all(|e| e.2 == 0), "{after:?}");
+    }
+}

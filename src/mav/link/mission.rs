@@ -192,3 +192,96 @@ impl<A: Copy + PartialEq> PlanService<A> {
 fn on_link<A>(link: LinkKind, sent: Vec<(A, MavMessage)>) -> Vec<Effect<A>> {
     sent.into_iter().map(|(to, msg)| Effect::send(link, to, msg)).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use mavlink::dialects::common::{MavCmd, MavFrame, MISSION_COUNT_DATA};
+
+    use super::*;
+    use crate::mav::link::effects::testing::{sent, texts};
+    use crate::mav::mission_xfer::PROTOCOL_TIMEOUT_S;
+
+    const GCS: LinkKind = LinkKind::Gcs;
+    const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
+    const IDS: Ids = (255, 190);
+
+    fn count(n: u16) -> MissionStep {
+        MissionStep::Count(MISSION_COUNT_DATA {
+            count: n,
+            target_system: 1,
+            target_component: 1,
+            mission_type: MISSION,
+            opaque_id: 0,
+        })
+    }
+
+    fn waypoint(seq: u16) -> MissionStep {
+        let home = Home::default();
+        MissionStep::Item(Box::new(MISSION_ITEM_INT_DATA {
+            seq,
+            command: MavCmd::MAV_CMD_NAV_WAYPOINT,
+            frame: MavFrame::MAV_FRAME_GLOBAL,
+            x: (home.lat_deg * 1e7) as i32 + 100,
+            y: (home.lon_deg * 1e7) as i32,
+            z: (home.alt_amsl_m + 10.0) as f32,
+            target_system: 1,
+            target_component: 1,
+            mission_type: MISSION,
+            ..Default::default()
+        }))
+    }
+
+    fn ack(out: &[Effect<u16>]) -> Option<(MavMissionResult, u32)> {
+        sent(out).into_iter().find_map(|(_, _, m)| match m {
+            MavMessage::MISSION_ACK(a) => Some((a.mavtype, a.opaque_id)),
+            _ => None,
+        })
+    }
+
+    #[test]
+    fn an_upload_is_asked_of_the_vehicle_and_stored_once_taken() {
+        let home = Home::default();
+        let mut p = PlanService::new(&[GCS]);
+        let out = p.step(0.0, (GCS, 5u16, IDS), count(1), &home);
+        assert!(matches!(sent(&out)[0].2, MavMessage::MISSION_REQUEST_INT(ref r) if r.seq == 0));
+        let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
+        let [Effect::Ask(Some(Pending::Mission { items, .. }), VehicleRequest::Commander(Request::SetMission(_)))] =
+            &out[..]
+        else {
+            panic!("{out:?}");
+        };
+        assert!(p.items(MISSION).is_empty(), "stored only once the vehicle took it");
+        let out = p.taken(GCS, MISSION, items.clone(), true);
+        let (result, id) = ack(&out).unwrap();
+        assert_eq!(result, MavMissionResult::MAV_MISSION_ACCEPTED);
+        assert_eq!(p.items(MISSION).len(), 1);
+        assert_ne!(id, 0, "the plan's id");
+        let out = p.step(0.2, (GCS, 5, IDS), MissionStep::RequestList(MISSION), &home);
+        assert!(matches!(sent(&out)[0].2, MavMessage::MISSION_COUNT(ref c) if c.count == 1));
+    }
+
+    #[test]
+    fn an_unreached_vehicle_errs_a_clear_empties_and_silence_times_out() {
+        let home = Home::default();
+        let mut p = PlanService::new(&[GCS]);
+        p.step(0.0, (GCS, 5u16, IDS), count(1), &home);
+        let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
+        let Some(Effect::Ask(Some(Pending::Mission { items, .. }), _)) = out.into_iter().next() else {
+            panic!("asked of the vehicle");
+        };
+        let out = p.taken(GCS, MISSION, items, false);
+        assert_eq!(ack(&out).map(|a| a.0), Some(MavMissionResult::MAV_MISSION_ERROR));
+        assert!(p.items(MISSION).is_empty());
+
+        let out = p.step(1.0, (GCS, 5, IDS), MissionStep::Clear(MISSION), &home);
+        assert!(
+            out.iter().any(|e| matches!(e, Effect::Ask(None, _))),
+            "the vehicle's plan emptied"
+        );
+
+        p.step(2.0, (GCS, 5, IDS), count(2), &home);
+        assert!(texts(&p.tick(2.0 + PROTOCOL_TIMEOUT_S / 2.0, GCS)).is_empty());
+        assert_eq!(texts(&p.tick(2.0 + PROTOCOL_TIMEOUT_S, GCS)), vec![TIMEOUT_TEXT]);
+        assert!(p.tick(10.0, LinkKind::Api).is_empty(), "no such link");
+    }
+}

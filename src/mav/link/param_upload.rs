@@ -166,3 +166,78 @@ fn finish<A: Copy>(upload: Upload<A>) -> Vec<Effect<A>> {
     out.push(Effect::UploadAnswer(upload.client, upload.request, result));
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mav::ftp::{Opcode, PackedValue, PckError};
+    use crate::mav::link::effects::testing::texts;
+    use crate::mav::streams::LinkKind;
+
+    const CLIENT: Client<u16> = (LinkKind::Api, 3, (1, 1));
+
+    fn upload(parsed: Result<Vec<(String, PackedValue)>, PckError>) -> ParamUpload {
+        ParamUpload {
+            request: Payload::request(Opcode::TerminateSession, 9, 0, 0, &[]),
+            parsed,
+        }
+    }
+
+    fn asks(out: &[Effect<u16>]) -> Vec<UploadSet> {
+        out.iter()
+            .filter_map(|e| match e {
+                Effect::Ask(Some(Pending::Upload(set)), _) => Some(set.clone()),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn at_most_a_window_waits_and_the_answer_follows_the_last_reply() {
+        let mut u = Uploads::default();
+        let entries = (0..UPLOAD_WINDOW + 3)
+            .map(|k| (format!("P{k}"), PackedValue::Float(k as f32)))
+            .collect();
+        let mut waiting = asks(&u.start(CLIENT, upload(Ok(entries))));
+        assert_eq!(waiting.len(), UPLOAD_WINDOW);
+        let mut last = Vec::new();
+        let mut asked = waiting.len();
+        while let Some(set) = waiting.pop() {
+            let result = match set.name.as_str() {
+                "P1" => Err(ParamError::Invalid {
+                    name: "P1".into(),
+                    reason: "out of range".into(),
+                }),
+                "P2" => Err(ParamError::Unknown("P2".into(), String::new())),
+                _ => Ok(0),
+            };
+            last = u.set_done(set, result);
+            let more = asks(&last);
+            asked += more.len();
+            waiting.extend(more);
+        }
+        assert_eq!(asked, UPLOAD_WINDOW + 3, "each parameter asked once");
+        assert_eq!(
+            texts(&last),
+            vec!["P1: out of range", "param.pck: 1 unknown skipped: P2"]
+        );
+        assert!(matches!(last.last(), Some(Effect::UploadAnswer(CLIENT, _, Err(_)))));
+    }
+
+    #[test]
+    fn a_malformed_file_sets_nothing_and_is_refused() {
+        let mut u = Uploads::default();
+        let out = u.start(CLIENT, upload(Err(PckError::Query("x".into()))));
+        assert!(asks(&out).is_empty());
+        assert_eq!(texts(&out), vec!["param.pck: bad query: x"]);
+        assert!(matches!(
+            out.last(),
+            Some(Effect::UploadAnswer(CLIENT, _, Err(ErrorCode::FailErrno(EINVAL))))
+        ));
+        let out = u.start(CLIENT, upload(Ok(Vec::new())));
+        assert!(
+            matches!(&out[..], [Effect::UploadAnswer(CLIENT, _, Ok(()))]),
+            "an empty file"
+        );
+    }
+}

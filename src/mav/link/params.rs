@@ -289,3 +289,98 @@ impl<A: Copy + PartialEq> ParamService<A> {
         self.uploads.set_done(set, result)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use mavlink::dialects::common::MavMessage;
+
+    use super::*;
+    use crate::mav::gcs::gcs_header;
+    use crate::mav::link::effects::testing::{param_names, sent, table, texts};
+
+    const GCS: LinkKind = LinkKind::Gcs;
+
+    #[test]
+    fn a_list_sends_the_hash_first_then_one_value_per_period_and_ends() {
+        let params = table();
+        let mut p = ParamService::default();
+        p.request_list(GCS, 5u16, 1.0);
+        assert_eq!(p.next_due_s(), Some(1.0));
+        let first = p.stream_lists(1.0, &params);
+        assert_eq!(param_names(&first), vec![HASH_CHECK]);
+        let more = p.stream_lists(1.0 + 2.5 * PARAM_LIST_PERIOD_S, &params);
+        assert_eq!(param_names(&more).len(), 2, "one value per period of wall time");
+        let rest = p.stream_lists(1e3, &params);
+        assert_eq!(param_names(&rest).len(), params.len() - 2);
+        assert_eq!(p.list_count(), 0, "a sent list is done");
+        assert_eq!(p.next_due_s(), None);
+    }
+
+    #[test]
+    fn the_hash_check_stops_a_list_and_forgotten_clients_lose_theirs() {
+        let mut p = ParamService::default();
+        p.request_list(GCS, 5u16, 0.0);
+        p.request_list(GCS, 6u16, 0.0);
+        assert!(p.set(GCS, 5, &gcs_header(0), HASH_CHECK.into(), 1.0).is_empty());
+        assert_eq!(p.list_count(), 1);
+        p.keep_clients(GCS, &[7]);
+        assert_eq!(p.list_count(), 0);
+    }
+
+    #[test]
+    fn a_set_is_asked_echoed_to_the_link_and_announced_to_every_link_later() {
+        let mut params = table();
+        let mut p = ParamService::default();
+        let out = p.set(GCS, 5u16, &gcs_header(0), "MIS_TAKEOFF_ALT".into(), 5.0);
+        let [Effect::Ask(Some(Pending::Param(set)), VehicleRequest::SetParam { name, value })] = &out[..] else {
+            panic!("{out:?}");
+        };
+        assert_eq!((name.as_str(), *value), ("MIS_TAKEOFF_ALT", 5.0));
+        let result = params.set("MIS_TAKEOFF_ALT", 5.0, 1e-3);
+        let echo = p.set_done(1.0, set.clone(), Some(result), &params, vec![1, 2]);
+        let to: Vec<u16> = sent(&echo).iter().map(|(_, to, _)| *to).collect();
+        assert_eq!(to, vec![1, 2, 5], "the link's targets and the sender");
+        assert!(p.announce_changed(1.001, &params).is_empty());
+        assert_eq!(p.next_due_s(), Some(1.0 + PARAM_CHANGE_DELAY_S));
+        let later = p.announce_changed(1.0 + PARAM_CHANGE_DELAY_S, &params);
+        assert!(matches!(&later[..], [Effect::Everyone(MavMessage::PARAM_VALUE(_))]));
+    }
+
+    #[test]
+    fn a_refused_or_unknown_set_says_why_to_the_sender() {
+        let mut params = table();
+        let mut p = ParamService::default();
+        let set = |name: &str| ParamSet {
+            link: GCS,
+            to: 5u16,
+            header: gcs_header(0),
+            name: name.into(),
+        };
+        let refused = params.set("MIS_TAKEOFF_ALT", -1e9, 1e-3);
+        let out = p.set_done(0.0, set("MIS_TAKEOFF_ALT"), Some(refused), &params, vec![1]);
+        assert_eq!(param_names(&out), vec!["MIS_TAKEOFF_ALT"], "the unchanged value");
+        assert_eq!(texts(&out).len(), 1);
+        let out = p.set_done(0.0, set("NOPE"), Some(params.set("NOPE", 1.0, 1e-3)), &params, vec![1]);
+        assert!(matches!(sent(&out)[0].2, MavMessage::PARAM_ERROR(_)));
+        assert_eq!(texts(&out), vec!["Unknown parameter NOPE"]);
+        let out = p.set_done(0.0, set("MIS_TAKEOFF_ALT"), None, &params, vec![1]);
+        assert_eq!(texts(&out), vec!["Vehicle busy"]);
+        assert_eq!(p.next_due_s(), None, "nothing changed");
+    }
+
+    #[test]
+    fn a_read_by_name_or_index_and_an_unknown_name() {
+        let params = table();
+        let p = ParamService::<u16>::default();
+        let header = gcs_header(0);
+        let by_name = p.read((GCS, 5, &header), "MIS_TAKEOFF_ALT", None, &params);
+        assert_eq!(param_names(&by_name), vec!["MIS_TAKEOFF_ALT"]);
+        assert_eq!(param_names(&p.read((GCS, 5, &header), "", Some(0), &params)).len(), 1);
+        assert_eq!(
+            param_names(&p.read((GCS, 5, &header), HASH_CHECK, None, &params)),
+            vec![HASH_CHECK]
+        );
+        let unknown = p.read((GCS, 5, &header), "NOPE", None, &params);
+        assert!(matches!(sent(&unknown)[0].2, MavMessage::PARAM_ERROR(_)));
+    }
+}
