@@ -3,8 +3,8 @@
 //! scratch files in memory, the flight logs from the log store), replies to the sender, and
 //! burst reads paced at one frame per [`FTP_BURST_PERIOD_S`] of wall time to the client that
 //! asked; COMPONENT_METADATA / COMPONENT_INFORMATION carry the general metadata file's CRC.
-//! `@PARAM/param.pck` packs the link's copy of the parameter table (refreshed at the first FTP
-//! request after it changed); an uploaded one goes to `param_upload.rs`.
+//! `@PARAM/param.pck` packs the parameter table the link holds (the vehicle's, shared; packed
+//! again at the first FTP request after it changed); an uploaded one goes to `param_upload.rs`.
 //!
 //! [`Files`] owns the file system and the FTP servers; the log protocol reads the flight logs
 //! through it ([`Files::log_store`]).
