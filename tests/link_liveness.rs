@@ -23,7 +23,7 @@ fn link_loss_needs_silence_in_wall_and_simulated_time_and_fires_once() {
         token,
         VehicleReply::Param {
             result: Ok(0),
-            table: Box::new(after),
+            table: std::sync::Arc::new(after),
         },
     );
     b.send(Gcs, QGC, gcs_heartbeat());
@@ -160,7 +160,9 @@ fn manual_control_is_flown_from_the_first_link_and_alive_until_com_rc_loss_t_of_
 fn com_rc_in_mode_zero_and_four_ignore_manual_control_and_one_takes_any_link() {
     for (mode, flown) in [(0.0, [false, false]), (4.0, [false, false]), (1.0, [true, true])] {
         let mut b = Bench::with(|config| {
-            config.params.set("COM_RC_IN_MODE", mode, 1e-3).unwrap();
+            std::sync::Arc::make_mut(&mut config.params)
+                .set("COM_RC_IN_MODE", mode, 1e-3)
+                .unwrap();
         });
         b.send(Gcs, QGC, joystick(0, 500));
         let from_gcs = !b.asks().is_empty();

@@ -205,7 +205,7 @@ fn a_parameter_set_waits_for_the_vehicle_is_echoed_to_every_peer_and_announced_o
         asks[0].token.unwrap(),
         VehicleReply::Param {
             result,
-            table: Box::new(after),
+            table: std::sync::Arc::new(after),
         },
     );
     let out = b.out();

@@ -112,7 +112,7 @@ fn param_set_waits_for_the_vehicle_and_says_what_changed() {
         ask.token.unwrap(),
         VehicleReply::Param {
             result,
-            table: Box::new(after),
+            table: std::sync::Arc::new(after),
         },
     );
     let out = b.out();
@@ -143,7 +143,7 @@ fn param_set_waits_for_the_vehicle_and_says_what_changed() {
         asks[0].token.unwrap(),
         VehicleReply::Param {
             result,
-            table: Box::new(after),
+            table: std::sync::Arc::new(after),
         },
     );
     let refused = shell_out(&mut b);

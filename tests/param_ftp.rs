@@ -109,7 +109,7 @@ impl Client {
                 panic!("{:?}", ask.request);
             };
             let result = self.vehicle.set(&name, value, 1e-3);
-            let table = Box::new(self.vehicle.clone());
+            let table = std::sync::Arc::new(self.vehicle.clone());
             self.b
                 .m
                 .handle_reply(self.b.now, ask.token.unwrap(), VehicleReply::Param { result, table });

@@ -121,7 +121,7 @@ impl Stub {
                 }
                 VehicleReply::Param {
                     result,
-                    table: Box::new(self.params.clone()),
+                    table: std::sync::Arc::new(self.params.clone()),
                 }
             }
         }

@@ -12,6 +12,8 @@
 //! flight core: setpoint, else attitude target, else idle  (FlightCore::step / step_attitude)
 //! ```
 
+use std::sync::Arc;
+
 use crate::airframe::{Airframe, MAX_ROTORS};
 use crate::commander::{Commander, CommanderParams, Event, Outcome, Request};
 use crate::control::{ControllerKind, VehicleState};
@@ -59,7 +61,9 @@ impl<T> Reply<T> {
 pub struct FlightController {
     core: FlightCore,
     commander: Commander,
-    params: ParamTable,
+    /// Published as it is after each set: shared with whoever holds it (the link), copied on
+    /// write only while shared.
+    params: Arc<ParamTable>,
     motors: MotorFailures,
     motor_params: MotorFailureParams,
     nav: Navigator,
@@ -108,7 +112,7 @@ impl FlightController {
         let mut fc = Self {
             core,
             commander: Commander::new(commander),
-            params: ParamTable::new(&settings),
+            params: Arc::new(ParamTable::new(&settings)),
             motors,
             motor_params: settings.motors,
             nav: Navigator::default(),
@@ -136,6 +140,13 @@ impl FlightController {
     /// The parameter table.
     pub fn params(&self) -> &ParamTable {
         &self.params
+    }
+
+    /// The parameter table as published, shared: a holder keeps this very table (no copy) until
+    /// the next set publishes another (copy-on-write: a set copies the table only while it is
+    /// held elsewhere).
+    pub fn shared_params(&self) -> Arc<ParamTable> {
+        Arc::clone(&self.params)
     }
 
     /// The commander (mode, arming, landed state, mission progress, battery).
@@ -194,7 +205,7 @@ impl FlightController {
     /// ceiling effects or its wind (the reply's plant change). Refused sets change nothing.
     pub fn set_param(&mut self, name: &str, value: f64) -> Reply<Result<usize, ParamError>> {
         let before = self.params.settings();
-        let index = match self.params.set(name, value, self.dt_s) {
+        let index = match Arc::make_mut(&mut self.params).set(name, value, self.dt_s) {
             Ok(index) => index,
             Err(e) => return Reply::only(Err(e)),
         };

@@ -49,8 +49,8 @@ pub struct LinkIo {
     pub replies_to: mpsc::UnboundedSender<(Token, VehicleReply)>,
     /// The tick thread's answers.
     pub replies: mpsc::UnboundedReceiver<(Token, VehicleReply)>,
-    /// Latest vehicle state.
-    pub snapshot: watch::Receiver<Snapshot>,
+    /// Latest vehicle state (the machine keeps the `Arc`, shared, not a copy).
+    pub snapshot: watch::Receiver<Arc<Snapshot>>,
     /// Commander events.
     pub events: mpsc::Receiver<Event>,
     /// The log writer's announcements ("[logger] ./log/…").
@@ -70,7 +70,7 @@ pub struct LinkIo {
 impl LinkIo {
     /// Hands the vehicle's latest state to `machine`; returns the clocks of a decision on it.
     fn sync(&self, machine: &mut LinkMachine<SocketAddr>) -> Now {
-        machine.handle_state(*self.snapshot.borrow());
+        machine.handle_state(Arc::clone(&self.snapshot.borrow()));
         self.now(machine)
     }
 

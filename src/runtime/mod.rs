@@ -159,15 +159,16 @@ fn setup_vehicle(
         log_dir: log_dir.map(|d| d.display().to_string()),
     };
     let (inbox_tx, inbox_rx) = mpsc::channel(INBOX_CAPACITY);
-    let (snapshot_tx, snapshot_rx) = watch::channel(Snapshot::initial(home));
+    let initial = Arc::new(Snapshot::initial(home));
+    let (snapshot_tx, snapshot_rx) = watch::channel(Arc::clone(&initial));
     let (event_tx, event_rx) = mpsc::channel(EVENT_CAPACITY);
     let (replies_to, replies) = mpsc::unbounded_channel();
     let start = std::time::Instant::now();
     let machine = LinkMachine::new(LinkConfig {
         identity: Identity::autopilot(sysid, vehicle.rotor_count()),
         links: vec![(LinkKind::Gcs, config.gcs), (LinkKind::Api, api)],
-        params: vehicle.params().clone(),
-        snapshot: Snapshot::initial(home),
+        params: vehicle.shared_params(),
+        snapshot: initial,
         signing: Signing::new(signing.key.clone(), signing.timestamp),
         signing_epoch: signing_now(),
         key_store: signing.store.is_some(),

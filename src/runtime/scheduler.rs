@@ -7,6 +7,7 @@
 //! drops when full.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use tokio::sync::{mpsc, watch};
@@ -52,8 +53,8 @@ pub struct SchedulerStats {
 pub struct VehicleIo {
     /// Requests from the links.
     pub inbox: mpsc::Receiver<VehicleCommand>,
-    /// Latest state.
-    pub snapshot: watch::Sender<Snapshot>,
+    /// Latest state, shared with the link (which keeps the `Arc` it is handed, no copy).
+    pub snapshot: watch::Sender<Arc<Snapshot>>,
     /// Commander events.
     pub events: mpsc::Sender<Event>,
 }
@@ -79,13 +80,13 @@ impl VehicleSlot {
                 VehicleRequest::Commander(request) => VehicleReply::Outcome(self.vehicle.apply(request)),
                 VehicleRequest::SetParam { name, value } => VehicleReply::Param {
                     result: self.vehicle.set_param(&name, value),
-                    table: Box::new(self.vehicle.params().clone()),
+                    table: self.vehicle.shared_params(),
                 },
             };
             answers.extend(cmd.reply.map(|reply| (reply, answer)));
         }
         let out = self.vehicle.step();
-        self.io.snapshot.send_replace(out.snapshot);
+        self.io.snapshot.send_replace(Arc::new(out.snapshot));
         for e in out.events {
             // Events are announcements; a full queue drops them rather than stall the tick.
             let _ = self.io.events.try_send(e);

@@ -4,6 +4,8 @@
 //! disarming. A thin wrapper: every decision is made by [`FlightController`], every tick by
 //! [`Lockstep::step`], when to log by [`LogSchedule`].
 
+use std::sync::Arc;
+
 use crate::airframe::{Airframe, AirframeSource};
 use crate::commander::{Event, Outcome, Request};
 use crate::control::ControllerKind;
@@ -95,6 +97,12 @@ impl Vehicle {
     /// The parameter table.
     pub fn params(&self) -> &ParamTable {
         self.lockstep.pilot().params()
+    }
+
+    /// The parameter table as its owner publishes it after each set, shared (no copy; see
+    /// [`FlightController::shared_params`]): what the link holds.
+    pub fn shared_params(&self) -> Arc<ParamTable> {
+        self.lockstep.pilot().shared_params()
     }
 
     /// Sets parameter `name` to `value` at this tick boundary ([`FlightController::set_param`]).

@@ -1,28 +1,65 @@
-//! COMMAND_LONG / COMMAND_INT: the duplicate check (information requests bypass the cache and
-//! are answered every time), the decision, exactly one COMMAND_ACK to the sender, the message
-//! a request asked for right after its ACK, a STATUSTEXT with the reason of a refusal, and the
-//! `[cal]` STATUSTEXTs of a calibration after its ACK.
+//! COMMAND_LONG / COMMAND_INT and the requests the link waits for: [`CommandService`] owns the
+//! duplicate check of each link (information requests bypass the cache and are answered every
+//! time), exactly one COMMAND_ACK to the sender, the messages a request asked for right after
+//! its ACK, a STATUSTEXT with the reason of a refusal, the `[cal]` STATUSTEXTs of a calibration
+//! after its ACK; and the tokens naming every request whose answer the link awaits
+//! ([`Pending`]: a command's ACK, a PARAM_SET's echo, a shell's `param set`, an uploaded
+//! parameter, a plan upload).
 
-use std::hash::Hash;
+use std::collections::HashMap;
 
-use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA};
+use mavlink::dialects::common::{MavCmd, MavMissionType, MavResult, MISSION_ITEM_INT_DATA};
 use mavlink::MavHeader;
 
-use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
-use crate::commander::Outcome;
-use crate::mav::calibration;
-use crate::mav::duplicates::{CommandKey, Seen};
-use crate::mav::modes::{available_modes, protocol_version};
-use crate::mav::services::autopilot_version;
+use super::boundary::{Token, VehicleRequest};
+use super::console::ShellSet;
+use super::effects::Effect;
+use super::param_upload::UploadSet;
+use super::params::ParamSet;
+use super::{LinkKind, WARNING};
+use crate::commander::{Outcome, Request};
+use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
 use crate::mav::telemetry::{status_text, Outgoing};
-use crate::mav::translate::{command_ack, result_of, CommandDecision, OneShot};
+use crate::mav::translate::{command_ack, result_of};
+
+/// What the machine waits for from the vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Pending<A> {
+    /// A command's ACK.
+    Command(Asker<A>),
+    /// A PARAM_SET's echo.
+    Param(ParamSet<A>),
+    /// A shell's `param set`.
+    Shell(ShellSet<A>),
+    /// One parameter of a file uploaded over FTP.
+    Upload(UploadSet),
+    /// A validated upload's MISSION_ACK (mission, fence or rally plan).
+    Mission {
+        /// The link of the upload.
+        link: LinkKind,
+        /// Mission, fence or rally.
+        mission_type: MavMissionType,
+        /// The plan as uploaded.
+        items: Vec<MISSION_ITEM_INT_DATA>,
+    },
+}
 
 /// What an ACK reports.
-pub(super) enum AckOf<'a> {
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum AckOf {
     /// A result decided by the link.
     Result(MavResult),
     /// The vehicle's answer (a refusal also gets a STATUSTEXT with its reason).
-    Outcome(&'a Outcome),
+    Outcome(Outcome),
+}
+
+/// A new command as decided with what the link knows (the vehicle's state, the streams).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Decided {
+    /// Answered at once: the ACK, then these messages to the sender.
+    Answer(AckOf, Vec<Outgoing>),
+    /// For the vehicle: the ACK waits for its outcome.
+    Execute(Request),
 }
 
 /// Who sent a command and what it was: where its ACK goes.
@@ -35,120 +72,82 @@ pub(super) struct Asker<A> {
     pub key: CommandKey,
 }
 
-impl<A: Copy + Eq + Hash> LinkMachine<A> {
-    /// One command from `from` (a COMMAND_INT arrives as its COMMAND_LONG equivalent).
-    pub(super) fn command(
-        &mut self,
-        now: Now,
-        link: LinkKind,
-        from: A,
-        header: &MavHeader,
-        cmd: &COMMAND_LONG_DATA,
-        decision: CommandDecision,
-    ) {
-        if decision == CommandDecision::NotForUs {
-            return;
-        }
-        let asker = Asker {
-            link,
-            to: from,
-            header: *header,
-            command: cmd.command,
-            key: CommandKey::new(header, cmd),
-        };
-        let Some(port) = self.port(link) else {
-            return;
-        };
-        match port.duplicates.check(asker.key, now.wall_s) {
-            Seen::InProgress => {}
-            Seen::Answered(result) => self.send(now, link, from, &command_ack(header, cmd.command, result)),
-            Seen::New => self.new_command(now, asker, decision),
+/// The commands of every link and the requests awaited from the vehicle.
+#[derive(Debug)]
+pub(super) struct CommandService<A> {
+    /// The duplicate-command cache of each link.
+    duplicates: Vec<(LinkKind, DuplicateCache)>,
+    /// The requests whose answer is awaited.
+    pending: HashMap<Token, Pending<A>>,
+    next_token: Token,
+}
+
+impl<A: Copy> CommandService<A> {
+    /// No command seen yet on `links`.
+    pub fn new(links: &[LinkKind]) -> Self {
+        Self {
+            duplicates: links.iter().map(|l| (*l, DuplicateCache::default())).collect(),
+            pending: HashMap::new(),
+            next_token: 0,
         }
     }
 
-    fn new_command(&mut self, now: Now, asker: Asker<A>, decision: CommandDecision) {
-        let (link, from) = (asker.link, asker.to);
-        let accepted = AckOf::Result(MavResult::MAV_RESULT_ACCEPTED);
-        let denied = AckOf::Result(MavResult::MAV_RESULT_DENIED);
-        match decision {
-            CommandDecision::NotForUs => {}
-            CommandDecision::Unsupported => {
-                let unsupported = AckOf::Result(MavResult::MAV_RESULT_UNSUPPORTED);
-                self.answer(now, asker, unsupported);
+    /// A fresh token for a request whose answer is awaited as `pending`.
+    pub fn expect(&mut self, pending: Pending<A>) -> Token {
+        let token = self.next_token;
+        self.next_token += 1;
+        self.pending.insert(token, pending);
+        token
+    }
+
+    /// What `token` named, once (`None`: unknown or already answered).
+    pub fn take(&mut self, token: Token) -> Option<Pending<A>> {
+        self.pending.remove(&token)
+    }
+
+    fn cache(&mut self, link: LinkKind) -> Option<&mut DuplicateCache> {
+        self.duplicates.iter_mut().find(|(l, _)| *l == link).map(|(_, c)| c)
+    }
+
+    /// The duplicate check of `asker`'s command at wall time `wall_s` [s]: `Ok` for a new one
+    /// (to decide), `Err` with what a repeat gets (its remembered ACK, or nothing while it is in
+    /// progress or on a link without a cache).
+    pub fn check(&mut self, wall_s: f64, asker: &Asker<A>) -> Result<(), Vec<Effect<A>>> {
+        let Some(cache) = self.cache(asker.link) else {
+            return Err(Vec::new());
+        };
+        match cache.check(asker.key, wall_s) {
+            Seen::InProgress => Err(Vec::new()),
+            Seen::Answered(result) => Err(vec![Effect::send(
+                asker.link,
+                asker.to,
+                command_ack(&asker.header, asker.command, result),
+            )]),
+            Seen::New => Ok(()),
+        }
+    }
+
+    /// What a new command decided as `decided` brings at wall time `wall_s` [s].
+    pub fn decide(&mut self, wall_s: f64, asker: Asker<A>, decided: Decided) -> Vec<Effect<A>> {
+        match decided {
+            Decided::Answer(ack, then) => {
+                let (link, to) = (asker.link, asker.to);
+                let mut out = self.answer(wall_s, asker, ack);
+                out.extend(then.into_iter().map(|m| Effect::To(link, to, m)));
+                out
             }
-            CommandDecision::NotSimulated(why) => {
-                self.answer(now, asker, AckOf::Result(MavResult::MAV_RESULT_UNSUPPORTED));
-                self.send(now, link, from, &status_text(WARNING, &why));
-            }
-            CommandDecision::Calibrate(calibration) => match calibration::run(calibration, self.snapshot.armed) {
-                Err(refusal) => self.answer(now, asker, AckOf::Outcome(&refusal)),
-                Ok(texts) => {
-                    self.answer(now, asker, accepted);
-                    for t in texts {
-                        let severity = if t.critical { CRITICAL } else { INFO };
-                        self.send(now, link, from, &status_text(severity, &t.text));
-                    }
-                }
-            },
-            CommandDecision::Refuse(outcome) => self.answer(now, asker, AckOf::Outcome(&outcome)),
-            CommandDecision::Reply(one_shot) => {
-                let common = |m: MavMessage| vec![Outgoing::Message(m)];
-                let msgs = match one_shot {
-                    OneShot::AutopilotVersion => Some(common(autopilot_version(&self.identity))),
-                    OneShot::ProtocolVersion => Some(common(protocol_version())),
-                    OneShot::ComponentMetadata => Some(common(self.component_metadata(now))),
-                    OneShot::ComponentInformation => Some(common(self.component_information(now))),
-                    OneShot::AvailableModes(index) => {
-                        available_modes(index).map(|ms| ms.into_iter().map(Outgoing::Message).collect())
-                    }
-                    OneShot::TelemetryStream(stream) => self.stream_message(now, stream).map(|m| vec![m]),
-                };
-                match msgs {
-                    Some(msgs) => {
-                        self.answer(now, asker, accepted);
-                        for msg in msgs {
-                            self.send_outgoing(now, link, from, &msg);
-                        }
-                    }
-                    // PX4 denies a request it sent nothing for (a mode index beyond the last).
-                    None if matches!(one_shot, OneShot::AvailableModes(_)) => self.answer(now, asker, denied),
-                    None => self.answer(now, asker, accepted),
-                }
-            }
-            CommandDecision::SetMessageInterval {
-                message_id,
-                interval_us,
-            } => {
-                let set = self.port(link).map(|p| p.streams.set_interval(message_id, interval_us));
-                let ack = if matches!(set, Some(Ok(()))) { accepted } else { denied };
-                self.answer(now, asker, ack);
-            }
-            CommandDecision::GetMessageInterval { message_id } => {
-                match self.port(link).and_then(|p| p.streams.interval_us(message_id)) {
-                    Some(interval_us) => {
-                        self.answer(now, asker, accepted);
-                        let msg = MavMessage::MESSAGE_INTERVAL(MESSAGE_INTERVAL_DATA {
-                            interval_us,
-                            message_id: message_id as u16,
-                        });
-                        self.send(now, link, from, &msg);
-                    }
-                    None => self.answer(now, asker, denied),
-                }
-            }
-            CommandDecision::Execute(request) => {
-                let token = self.expect(Pending::Command(asker));
-                self.to_vehicle.push_back(ToVehicle {
-                    token: Some(token),
-                    request: VehicleRequest::Commander(request),
-                });
+            Decided::Execute(request) => {
+                vec![Effect::Ask(
+                    Some(Pending::Command(asker)),
+                    VehicleRequest::Commander(request),
+                )]
             }
         }
     }
 
-    /// COMMAND_ACK to `to` (its result remembered for retransmissions), and a STATUSTEXT with
-    /// the reason of a refusal.
-    pub(super) fn answer(&mut self, now: Now, asker: Asker<A>, ack: AckOf) {
+    /// COMMAND_ACK to the asker (its result remembered for retransmissions at wall time
+    /// `wall_s` [s]), and a STATUSTEXT with the reason of a refusal.
+    pub fn answer(&mut self, wall_s: f64, asker: Asker<A>, ack: AckOf) -> Vec<Effect<A>> {
         let Asker {
             link,
             to,
@@ -160,15 +159,87 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             AckOf::Result(r) => *r,
             AckOf::Outcome(o) => result_of(o),
         };
-        if let Some(port) = self.port(link) {
-            port.duplicates.answered(key, result, now.wall_s);
+        if let Some(cache) = self.cache(link) {
+            cache.answered(key, result, wall_s);
         }
-        self.send(now, link, to, &command_ack(&header, command, result));
+        let mut out = vec![Effect::send(link, to, command_ack(&header, command, result))];
         if let AckOf::Outcome(
             Outcome::TemporarilyRejected(why) | Outcome::Denied(why) | Outcome::Unsupported(why) | Outcome::Failed(why),
         ) = ack
         {
-            self.send(now, link, to, &status_text(WARNING, why));
+            out.push(Effect::send(link, to, status_text(WARNING, &why)));
         }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use mavlink::dialects::common::{MavMessage, COMMAND_LONG_DATA};
+
+    use super::*;
+    use crate::mav::gcs::gcs_header;
+
+    fn asker(command: MavCmd) -> Asker<u16> {
+        let header = gcs_header(0);
+        let cmd = COMMAND_LONG_DATA {
+            command,
+            target_system: 1,
+            ..Default::default()
+        };
+        Asker {
+            link: LinkKind::Gcs,
+            to: 7,
+            header,
+            command,
+            key: CommandKey::new(&header, &cmd),
+        }
+    }
+
+    fn acks(out: &[Effect<u16>]) -> Vec<MavResult> {
+        out.iter()
+            .filter_map(|e| match e {
+                Effect::To(_, 7, Outgoing::Message(MavMessage::COMMAND_ACK(a))) => Some(a.result),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_repeat_gets_the_remembered_ack_and_a_refusal_says_why() {
+        let mut c = CommandService::new(&[LinkKind::Gcs]);
+        let arm = asker(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM);
+        assert_eq!(c.check(0.0, &arm), Ok(()));
+        assert_eq!(c.check(0.1, &arm), Err(Vec::new()), "in progress: nothing yet");
+        let out = c.answer(0.2, arm, AckOf::Result(MavResult::MAV_RESULT_ACCEPTED));
+        assert_eq!(acks(&out), vec![MavResult::MAV_RESULT_ACCEPTED]);
+        let repeat = c.check(0.3, &arm).unwrap_err();
+        assert_eq!(acks(&repeat), vec![MavResult::MAV_RESULT_ACCEPTED]);
+
+        let land = asker(MavCmd::MAV_CMD_NAV_LAND);
+        assert_eq!(c.check(0.0, &land), Ok(()));
+        let out = c.answer(0.0, land, AckOf::Outcome(Outcome::Denied("not armed".into())));
+        assert_eq!(out.len(), 2, "ACK, then the reason");
+        assert_eq!(c.check(0.1, &land), Ok(()), "a refusal is not remembered");
+        let other_link = Asker {
+            link: LinkKind::Api,
+            ..land
+        };
+        assert_eq!(c.check(0.1, &other_link), Err(Vec::new()), "no cache, no answer");
+    }
+
+    #[test]
+    fn tokens_name_each_awaited_request_once() {
+        let mut c = CommandService::new(&[LinkKind::Gcs]);
+        let arm = asker(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM);
+        let out = c.decide(0.0, arm, Decided::Execute(Request::Disarm { force: false }));
+        let Some(Effect::Ask(Some(pending), _)) = out.into_iter().next() else {
+            panic!("the command goes to the vehicle");
+        };
+        let (a, b) = (c.expect(pending.clone()), c.expect(pending.clone()));
+        assert_eq!((a, b), (0, 1));
+        assert_eq!(c.take(a), Some(pending));
+        assert_eq!(c.take(a), None);
+        assert!(c.take(b).is_some());
     }
 }

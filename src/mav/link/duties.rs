@@ -10,7 +10,6 @@ use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INF
 use crate::commander::{Event, InputStream, LinkLossAction, Request};
 use crate::mav::foreign::ekf_status_report;
 use crate::mav::identity::heartbeat;
-use crate::mav::mission_xfer::TIMEOUT_TEXT;
 use crate::mav::signing::unix_us_from_timestamp;
 use crate::mav::telemetry::{message, status_text, system_time, Outgoing, TelemetryStream};
 
@@ -24,10 +23,10 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     pub(super) fn announcement(&mut self, event: &Event) -> MavMessage {
         match event {
             Event::MissionItemReached(seq) => {
-                self.report.handle_reached(*seq);
+                self.plans.handle_reached(*seq);
                 MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: *seq })
             }
-            Event::MissionCurrent(seq) => self.report.mission_current(&self.snapshot, *seq, self.plans.ids()),
+            Event::MissionCurrent(seq) => self.plans.mission_current(&self.snapshot, *seq),
             Event::Failsafe(text) | Event::Notice { text, critical: true } => status_text(CRITICAL, text),
             Event::Navigation { text, warning: true } => status_text(WARNING, text),
             other => status_text(INFO, &other.describe()),
@@ -36,10 +35,14 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// Everything due by `now`.
     pub fn handle_timeout(&mut self, now: Now) {
-        self.stream_param_lists(now);
-        self.announce_changed_params(now);
-        self.stream_ftp_bursts(now);
-        self.stream_logs(now);
+        let lists = self.parameters.stream_lists(now.wall_s, &self.params);
+        self.carry_out(now, lists);
+        let changed = self.parameters.announce_changed(now.wall_s, &self.params);
+        self.carry_out(now, changed);
+        let bursts = self.files.stream_bursts(now.wall_s);
+        self.carry_out(now, bursts);
+        let logs = self.logs.stream(now.wall_s, self.files.log_store());
+        self.carry_out(now, logs);
         if now.wall_s < self.next_duty_s {
             return;
         }
@@ -50,12 +53,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             let gone = self.ports[k].expire(now.wall_s);
             self.forget_peers(link, &gone);
             let targets = self.ports[k].targets();
-            let client = self.ports[k].transfer.client();
-            let (retries, timed_out) = self.ports[k].transfer.tick(now.wall_s);
-            self.send_all(now, link, retries);
-            if let (true, Some(to)) = (timed_out, client) {
-                self.send(now, link, to, &status_text(CRITICAL, TIMEOUT_TEXT));
-            }
+            let uploads = self.plans.tick(now.wall_s, link);
+            self.carry_out(now, uploads);
             if link == LinkKind::Gcs {
                 self.check_link_loss(now, k);
             }
@@ -77,15 +76,13 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     pub(super) fn stream_message(&self, now: Now, stream: TelemetryStream) -> Option<Outgoing> {
         match stream {
             TelemetryStream::SystemTime => Some(Outgoing::Message(system_time(
-                unix_us_from_timestamp(self.signing_now(now)),
+                unix_us_from_timestamp(self.keys.now(now.wall_s)),
                 &self.snapshot,
             ))),
             TelemetryStream::EkfStatusReport => Some(Outgoing::Foreign(ekf_status_report(&self.snapshot))),
-            TelemetryStream::MissionCurrent => Some(Outgoing::Message(self.report.mission_current(
-                &self.snapshot,
-                self.snapshot.mission_seq,
-                self.plans.ids(),
-            ))),
+            TelemetryStream::MissionCurrent => Some(Outgoing::Message(
+                self.plans.mission_current(&self.snapshot, self.snapshot.mission_seq),
+            )),
             _ => message(stream, &self.snapshot).map(Outgoing::Message),
         }
     }

@@ -3,17 +3,16 @@
 //! scratch files in memory, the flight logs from the log store), replies to the sender, and
 //! burst reads paced at one frame per [`FTP_BURST_PERIOD_S`] of wall time to the client that
 //! asked; COMPONENT_METADATA / COMPONENT_INFORMATION carry the general metadata file's CRC.
-//! `@PARAM/param.pck` packs the link's copy of the parameter table (refreshed at the first FTP
-//! request after it changed); an uploaded one goes to `param_upload.rs`.
-
-use std::hash::Hash;
+//! `@PARAM/param.pck` packs the parameter table the link holds (the vehicle's, shared; packed
+//! again at the first FTP request after it changed); an uploaded one goes to `param_upload.rs`.
+//!
+//! [`Files`] owns the file system and the FTP servers; the log protocol reads the flight logs
+//! through it ([`Files::log_store`]).
 
 use mavlink::dialects::common::MavMessage;
-use mavlink::MavHeader;
 
-use super::logs::LogLink;
-use super::param_upload::Uploads;
-use super::{LinkKind, LinkMachine, Now};
+use super::effects::{Client, Effect};
+use super::LinkKind;
 use crate::mav::ftp::{ErrorCode, FtpServer, Payload, Storage, Vfs};
 use crate::mav::logs::LogStore;
 use crate::mav::metadata::{self, MetadataFiles};
@@ -34,25 +33,20 @@ struct FtpLink<A> {
     next_s: f64,
 }
 
-/// The vehicle's files, the FTP servers and the log protocol of its links.
+/// The vehicle's files and the FTP servers of its links.
 #[derive(Debug)]
 pub(super) struct Files<A> {
-    pub(super) fs: Storage,
+    fs: Storage,
     links: Vec<FtpLink<A>>,
-    /// The log protocol of each link.
-    pub(super) logs: Vec<LogLink<A>>,
     /// CRC-32 of the general metadata file.
-    pub general_crc: u32,
+    general_crc: u32,
     /// The parameter table changed since [`Storage::params`] was packed from it.
-    pub(super) params_stale: bool,
-    /// The parameter files uploaded and being applied.
-    pub(super) uploads: Uploads<A>,
+    params_stale: bool,
 }
 
-impl<A> Files<A> {
+impl<A: Copy> Files<A> {
     /// The file system with the component metadata of `params` (`built` when the caller made
-    /// them already) and the flight logs of `logs`, an FTP server and a log server per link of
-    /// `links`.
+    /// them already) and the flight logs of `logs`, an FTP server per link of `links`.
     pub fn new(params: &ParamTable, built: Option<MetadataFiles>, links: &[LinkKind], logs: Box<dyn LogStore>) -> Self {
         let mut vfs = Vfs::default();
         // The metadata paths are fixed and outside the scratch area, and the files are compressed
@@ -76,102 +70,185 @@ impl<A> Files<A> {
         Self {
             fs,
             links: ftp,
-            logs: links.iter().map(|link| LogLink::new(*link)).collect(),
             general_crc,
             params_stale: false,
-            uploads: Uploads::default(),
         }
     }
 
-    /// Wall time the next burst frame or log message of any link is due [s].
+    /// The files served from memory (metadata, scratch area).
+    pub fn vfs(&self) -> &Vfs {
+        &self.fs.vfs
+    }
+
+    /// The flight logs served.
+    pub fn log_store(&mut self) -> &mut dyn LogStore {
+        self.fs.logs.as_mut()
+    }
+
+    /// The parameter table changed: `@PARAM/param.pck` is packed again at the next request.
+    pub fn params_changed(&mut self) {
+        self.params_stale = true;
+    }
+
+    /// Wall time the next burst frame of any link is due [s].
     pub fn next_due_s(&self) -> Option<f64> {
-        let bursts = self.links.iter().filter(|l| l.server.bursting()).map(|l| l.next_s);
-        bursts
-            .chain(self.logs.iter().filter_map(LogLink::due_s))
+        self.links
+            .iter()
+            .filter(|l| l.server.bursting())
+            .map(|l| l.next_s)
             .reduce(f64::min)
     }
-}
 
-impl<A: Copy + Eq + Hash> LinkMachine<A> {
-    /// The files served over MAVLink FTP from memory (metadata, scratch area).
-    pub fn files(&self) -> &Vfs {
-        &self.files.fs.vfs
-    }
-
-    /// One FTP request from `from` on `link`: the reply to the sender, a burst that starts, or
-    /// an uploaded parameter file for the vehicle.
-    pub(super) fn ftp(&mut self, now: Now, link: LinkKind, from: A, sender: &MavHeader, payload: &[u8; 251]) {
-        let ids = (sender.system_id as u8, sender.component_id);
-        let Files {
+    /// One FTP request from `from` (MAVLink ids `ids`) on `link` at wall time `wall_s` [s],
+    /// `params` the table as it is: the reply to the sender, a burst that starts, or an uploaded
+    /// parameter file for the vehicle.
+    pub fn ftp(
+        &mut self,
+        wall_s: f64,
+        (link, from, ids): Client<A>,
+        payload: &[u8; 251],
+        params: &ParamTable,
+    ) -> Vec<Effect<A>> {
+        let Self {
             fs,
             links,
             params_stale,
             ..
-        } = &mut self.files;
+        } = self;
         let Some(ftp) = links.iter_mut().find(|l| l.link == link) else {
-            return;
+            return Vec::new();
         };
         if std::mem::take(params_stale) {
-            fs.params = packed_params(&self.params);
+            fs.params = packed_params(params);
         }
-        match ftp.server.handle(fs, &Payload::decode(payload), now.wall_s) {
-            Some(reply) => self.send(now, link, from, &reply.message(ids)),
+        match ftp.server.handle(fs, &Payload::decode(payload), wall_s) {
+            Some(reply) => vec![Effect::send(link, from, reply.message(ids))],
             None => match ftp.server.take_upload() {
-                Some(upload) => self.start_param_upload(now, (link, from, ids), upload),
+                Some(upload) => vec![Effect::Upload((link, from, ids), upload)],
                 None => {
                     ftp.client = Some((from, ids));
-                    ftp.next_s = now.wall_s;
+                    ftp.next_s = wall_s;
+                    Vec::new()
                 }
             },
         }
     }
 
-    /// The answer to the upload's TerminateSession `request` from `to` (address, MAVLink ids) on
-    /// `link`: an ACK, or a NAK with the error.
-    pub(super) fn answer_param_upload(
+    /// The answer to the upload's TerminateSession `request` from `client`: an ACK, or a NAK
+    /// with the error.
+    pub fn answer_upload(
         &mut self,
-        now: Now,
-        (link, to, ids): (LinkKind, A, (u8, u8)),
+        (link, to, ids): Client<A>,
         request: &Payload,
         result: Result<(), ErrorCode>,
-    ) {
-        let Some(ftp) = self.files.links.iter_mut().find(|l| l.link == link) else {
-            return;
+    ) -> Vec<Effect<A>> {
+        let Some(ftp) = self.links.iter_mut().find(|l| l.link == link) else {
+            return Vec::new();
         };
         let reply = ftp.server.answer_upload(request, result);
-        self.send(now, link, to, &reply.message(ids));
+        vec![Effect::send(link, to, reply.message(ids))]
     }
 
-    /// The burst frames due by `now`, and idle sessions closed.
-    pub(super) fn stream_ftp_bursts(&mut self, now: Now) {
-        for k in 0..self.files.links.len() {
+    /// The burst frames due by wall time `wall_s` [s], and idle sessions closed.
+    pub fn stream_bursts(&mut self, wall_s: f64) -> Vec<Effect<A>> {
+        let mut out = Vec::new();
+        for ftp in &mut self.links {
             let mut frames = Vec::new();
-            let Files { fs, links, .. } = &mut self.files;
-            let ftp = &mut links[k];
-            ftp.server.expire(now.wall_s);
-            while ftp.server.bursting() && ftp.next_s <= now.wall_s {
-                match ftp.server.burst_frame(fs, now.wall_s) {
+            ftp.server.expire(wall_s);
+            while ftp.server.bursting() && ftp.next_s <= wall_s {
+                match ftp.server.burst_frame(&mut self.fs, wall_s) {
                     Some(frame) => frames.push(frame),
                     None => break,
                 }
                 ftp.next_s += FTP_BURST_PERIOD_S;
             }
-            let (link, client) = (ftp.link, ftp.client);
-            if let Some((to, ids)) = client {
-                for frame in &frames {
-                    self.send(now, link, to, &frame.message(ids));
-                }
+            if let Some((to, ids)) = ftp.client {
+                out.extend(frames.iter().map(|f| Effect::send(ftp.link, to, f.message(ids))));
             }
         }
+        out
     }
 
-    /// COMPONENT_METADATA at `now`.
-    pub(super) fn component_metadata(&self, now: Now) -> MavMessage {
-        metadata::component_metadata(self.files.general_crc, (now.wall_s * 1e3) as u32)
+    /// COMPONENT_METADATA at wall time `wall_s` [s].
+    pub fn component_metadata(&self, wall_s: f64) -> MavMessage {
+        metadata::component_metadata(self.general_crc, (wall_s * 1e3) as u32)
     }
 
-    /// COMPONENT_INFORMATION at `now`.
-    pub(super) fn component_information(&self, now: Now) -> MavMessage {
-        metadata::component_information(self.files.general_crc, (now.wall_s * 1e3) as u32)
+    /// COMPONENT_INFORMATION at wall time `wall_s` [s].
+    pub fn component_information(&self, wall_s: f64) -> MavMessage {
+        metadata::component_information(self.general_crc, (wall_s * 1e3) as u32)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mav::ftp::Opcode;
+    use crate::mav::link::effects::testing::{sent, table};
+    use crate::mav::logs::MemLogStore;
+
+    const ACK: u8 = 128;
+    const CLIENT: Client<u16> = (LinkKind::Api, 9, (1, 1));
+
+    fn replies(out: &[Effect<u16>]) -> Vec<Payload> {
+        sent(out)
+            .into_iter()
+            .filter_map(|(_, to, m)| match m {
+                MavMessage::FILE_TRANSFER_PROTOCOL(f) if to == 9 => Some(Payload::decode(&f.payload)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn request(op: Opcode, seq: u16, session: u8, data: &[u8]) -> [u8; 251] {
+        Payload::request(op, seq, session, 0, data).encode()
+    }
+
+    #[test]
+    fn a_burst_goes_to_its_client_one_frame_per_period() {
+        let params = table();
+        let mut f = Files::new(&params, None, &[LinkKind::Api], Box::new(MemLogStore::default()));
+        assert_ne!(f.component_metadata(0.0), f.component_information(0.0));
+        let open = f.ftp(
+            0.0,
+            CLIENT,
+            &request(Opcode::OpenFileRO, 0, 0, b"@PARAM/param.pck"),
+            &params,
+        );
+        assert_eq!(replies(&open)[0].opcode, ACK);
+        let burst = f.ftp(0.0, CLIENT, &request(Opcode::BurstReadFile, 2, 0, &[]), &params);
+        assert!(burst.is_empty(), "a burst answers from the timer");
+        assert_eq!(f.next_due_s(), Some(0.0));
+        let frames = f.stream_bursts(2.5 * FTP_BURST_PERIOD_S);
+        assert_eq!(replies(&frames).len(), 3, "one frame per period, to the client");
+        let other = (LinkKind::Gcs, 9, (1, 1));
+        assert!(f
+            .ftp(0.0, other, &request(Opcode::ListDirectory, 0, 0, b"/"), &params)
+            .is_empty());
+    }
+
+    #[test]
+    fn an_uploaded_parameter_file_goes_to_the_parameters_and_its_answer_back() {
+        let params = table();
+        let mut f = Files::new(&params, None, &[LinkKind::Api], Box::new(MemLogStore::default()));
+        let create = f.ftp(
+            0.0,
+            CLIENT,
+            &request(Opcode::CreateFile, 0, 0, b"@PARAM/param.pck\0"),
+            &params,
+        );
+        let session = replies(&create)[0].session;
+        let out = f.ftp(
+            0.0,
+            CLIENT,
+            &request(Opcode::TerminateSession, 2, session, &[]),
+            &params,
+        );
+        let [Effect::Upload(client, upload)] = &out[..] else {
+            panic!("{out:?}");
+        };
+        assert_eq!(*client, CLIENT);
+        let answer = f.answer_upload(CLIENT, &upload.request, Ok(()));
+        assert_eq!(replies(&answer)[0].opcode, ACK);
     }
 }

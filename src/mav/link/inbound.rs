@@ -1,21 +1,27 @@
 //! A datagram in: every frame through the signing check (with a key, only signed frames with
 //! fresh timestamps pass, and HEARTBEAT-like ones unsigned), trusted frames make their sender a
-//! peer, each message goes through [`ingest`] and its [`Action`] is carried out here or in
-//! the module that owns it. SETUP_SIGNING is handled here too.
+//! peer, each message goes through [`ingest`] and its [`Action`] is handed to the part that
+//! owns it. A new command is decided here with what the machine knows (the vehicle's state,
+//! the link's streams, the metadata files) and answered by the command service.
 
 use std::hash::Hash;
 
-use mavlink::dialects::common::MavMessage;
+use mavlink::dialects::common::{MavMessage, MavResult, COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA};
 use mavlink::MavHeader;
 
-use super::params::ParamList;
-use super::port::{HeldForClients, Port, MAX_PEERS};
-use super::{KeyToStore, LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, INFO, WARNING};
+use super::commands::{AckOf, Asker, Decided};
+use super::port::{HeldForClients, Port};
+use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
 use crate::commander::{InputStream, ManualInputMode, Request};
+use crate::mav::calibration;
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
+use crate::mav::duplicates::CommandKey;
 use crate::mav::ingest::{ingest, Action};
-use crate::mav::signing::{SigningKey, Verdict};
-use crate::mav::telemetry::status_text;
+use crate::mav::modes::{available_modes, protocol_version};
+use crate::mav::services::autopilot_version;
+use crate::mav::signing::Verdict;
+use crate::mav::telemetry::{status_text, Outgoing};
+use crate::mav::translate::{CommandDecision, OneShot};
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// `from` sent a trusted frame on `link`: a peer now, if there is room for it.
@@ -34,25 +40,24 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             return;
         }
         let targets = self.port(link).map(|p| p.targets()).unwrap_or_default();
-        let kept = |l: LinkKind, a: &A| l != link || targets.contains(a);
-        self.consoles.retain(|c| kept(c.link, &c.from));
-        self.param_lists.retain(|l| kept(l.link, &l.to));
+        self.consoles.keep_clients(link, &targets);
+        self.parameters.keep_clients(link, &targets);
     }
 
     /// What the machine keeps for its clients now (bounded whatever they send).
     pub fn held_for_clients(&self) -> HeldForClients {
         HeldForClients {
             peers: self.ports.iter().map(Port::peer_count).sum(),
-            shells: self.consoles.len(),
-            param_lists: self.param_lists.len(),
+            shells: self.consoles.count(),
+            param_lists: self.parameters.list_count(),
         }
     }
 
     /// One datagram from `from` on `link`.
     pub fn handle_datagram(&mut self, now: Now, link: LinkKind, from: A, bytes: &[u8]) {
-        let stamp = self.signing_now(now);
-        let signing = &mut self.signing;
-        let frames = decode_datagram_checked(bytes, |raw| match signing.check(raw, stamp) {
+        let stamp = self.keys.now(now.wall_s);
+        let keys = &mut self.keys;
+        let frames = decode_datagram_checked(bytes, |raw| match keys.check(raw, stamp) {
             Verdict::Dropped(_) => None,
             verdict => Some(verdict == Verdict::Trusted),
         });
@@ -104,14 +109,16 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// Carries out what [`ingest`] decided for one message from `from`.
     fn act(&mut self, now: Now, link: LinkKind, from: A, header: &MavHeader, action: Action) {
-        match action {
-            Action::Ignore => {}
+        let ids = (header.system_id as u8, header.component_id);
+        let effects = match action {
+            Action::Ignore => Vec::new(),
             Action::GcsHeartbeat => {
                 if let Some(port) = self.port(link) {
                     port.gcs_heard = Some((now.wall_s, now.sim_s));
                 }
+                Vec::new()
             }
-            Action::Command { command, decision } => self.command(now, link, from, header, &command, decision),
+            Action::Command { command, decision } => return self.command(now, link, from, header, &command, decision),
             // Setpoints and SET_MODE get no answer: the next heartbeat shows the result.
             Action::Request(request) => {
                 let stream = match request {
@@ -127,9 +134,10 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 if let Some(stream) = stream {
                     self.heard_stream(stream, now);
                 }
+                Vec::new()
             }
-            Action::Refuse(why) => self.send(now, link, from, &status_text(WARNING, &why)),
-            Action::Reply(msg) => self.send(now, link, from, &msg),
+            Action::Refuse(why) => return self.send(now, link, from, &status_text(WARNING, &why)),
+            Action::Reply(msg) => return self.send(now, link, from, &msg),
             Action::DataStream {
                 stream_id,
                 rate_hz,
@@ -138,26 +146,124 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 if let Some(port) = self.port(link) {
                     port.streams.request_data_stream(stream_id, rate_hz, start);
                 }
+                Vec::new()
             }
-            Action::Ftp(payload) => self.ftp(now, link, from, header, &payload),
-            Action::Log(request) => self.log_request(now, link, from, request),
-            Action::Shell(msg) => self.shell(now, link, from, header, &msg),
+            Action::Ftp(payload) => self.files.ftp(now.wall_s, (link, from, ids), &payload, &self.params),
+            Action::Log(request) => {
+                let store = self.files.log_store();
+                self.logs.request(now.wall_s, link, from, request, store)
+            }
+            Action::Shell(msg) => self
+                .consoles
+                .serial((link, from, ids), &msg, &self.params, &self.snapshot),
             Action::ParamList => {
-                self.param_lists.retain(|l| !(l.link == link && l.to == from));
-                // One list per peer the link can have: beyond, the oldest request is dropped.
-                if self.param_lists.iter().filter(|l| l.link == link).count() > MAX_PEERS {
-                    if let Some(oldest) = self.param_lists.iter().position(|l| l.link == link) {
-                        self.param_lists.remove(oldest);
-                    }
-                }
-                self.param_lists.push(ParamList::new(link, from, now.wall_s));
+                self.parameters.request_list(link, from, now.wall_s);
+                Vec::new()
             }
-            Action::ParamRead { name, index } => self.param_read(now, link, from, header, &name, index),
-            Action::ParamSet { name, value } => self.param_set(link, from, header, name, value),
-            Action::Mission { ids, step } => self.mission(now, link, from, ids, step),
+            Action::ParamRead { name, index } => self.parameters.read((link, from, header), &name, index, &self.params),
+            Action::ParamSet { name, value } => self.parameters.set(link, from, header, name, value),
+            Action::Mission { ids, step } => self
+                .plans
+                .step(now.wall_s, (link, from, ids), step, &self.snapshot.home),
             Action::SetupSigning { key, initial_timestamp } => {
-                self.setup_signing(now, link, from, key, initial_timestamp)
+                self.keys
+                    .setup((link, from), key, initial_timestamp, self.snapshot.armed)
             }
+        };
+        self.carry_out(now, effects);
+    }
+
+    /// One command from `from` (a COMMAND_INT arrives as its COMMAND_LONG equivalent): a
+    /// repeat gets what the command service remembers, a new one is decided.
+    fn command(
+        &mut self,
+        now: Now,
+        link: LinkKind,
+        from: A,
+        header: &MavHeader,
+        cmd: &COMMAND_LONG_DATA,
+        decision: CommandDecision,
+    ) {
+        if decision == CommandDecision::NotForUs {
+            return;
+        }
+        let asker = Asker {
+            link,
+            to: from,
+            header: *header,
+            command: cmd.command,
+            key: CommandKey::new(header, cmd),
+        };
+        let effects = match self.commands.check(now.wall_s, &asker) {
+            Err(repeat) => repeat,
+            Ok(()) => {
+                let decided = self.decide(now, link, decision);
+                self.commands.decide(now.wall_s, asker, decided)
+            }
+        };
+        self.carry_out(now, effects);
+    }
+
+    /// A new command's decision completed with what the machine knows: the vehicle's state, the
+    /// messages a request asks for, the link's streams.
+    fn decide(&mut self, now: Now, link: LinkKind, decision: CommandDecision) -> Decided {
+        let accepted = AckOf::Result(MavResult::MAV_RESULT_ACCEPTED);
+        let denied = AckOf::Result(MavResult::MAV_RESULT_DENIED);
+        let unsupported = AckOf::Result(MavResult::MAV_RESULT_UNSUPPORTED);
+        let common = |m: MavMessage| vec![Outgoing::Message(m)];
+        match decision {
+            CommandDecision::NotForUs | CommandDecision::Unsupported => Decided::Answer(unsupported, Vec::new()),
+            CommandDecision::NotSimulated(why) => Decided::Answer(unsupported, common(status_text(WARNING, &why))),
+            CommandDecision::Calibrate(calibration) => match calibration::run(calibration, self.snapshot.armed) {
+                Err(refusal) => Decided::Answer(AckOf::Outcome(refusal), Vec::new()),
+                Ok(texts) => {
+                    let said = texts.into_iter().map(|t| {
+                        let severity = if t.critical { CRITICAL } else { INFO };
+                        Outgoing::Message(status_text(severity, &t.text))
+                    });
+                    Decided::Answer(accepted, said.collect())
+                }
+            },
+            CommandDecision::Refuse(outcome) => Decided::Answer(AckOf::Outcome(outcome), Vec::new()),
+            CommandDecision::Reply(one_shot) => {
+                let msgs = match one_shot {
+                    OneShot::AutopilotVersion => Some(common(autopilot_version(&self.identity))),
+                    OneShot::ProtocolVersion => Some(common(protocol_version())),
+                    OneShot::ComponentMetadata => Some(common(self.files.component_metadata(now.wall_s))),
+                    OneShot::ComponentInformation => Some(common(self.files.component_information(now.wall_s))),
+                    OneShot::AvailableModes(index) => {
+                        available_modes(index).map(|ms| ms.into_iter().map(Outgoing::Message).collect())
+                    }
+                    OneShot::TelemetryStream(stream) => self.stream_message(now, stream).map(|m| vec![m]),
+                };
+                match msgs {
+                    Some(msgs) => Decided::Answer(accepted, msgs),
+                    // PX4 denies a request it sent nothing for (a mode index beyond the last).
+                    None if matches!(one_shot, OneShot::AvailableModes(_)) => Decided::Answer(denied, Vec::new()),
+                    None => Decided::Answer(accepted, Vec::new()),
+                }
+            }
+            CommandDecision::SetMessageInterval {
+                message_id,
+                interval_us,
+            } => {
+                let set = self.port(link).map(|p| p.streams.set_interval(message_id, interval_us));
+                let ack = if matches!(set, Some(Ok(()))) { accepted } else { denied };
+                Decided::Answer(ack, Vec::new())
+            }
+            CommandDecision::GetMessageInterval { message_id } => {
+                match self.port(link).and_then(|p| p.streams.interval_us(message_id)) {
+                    Some(interval_us) => {
+                        let msg = MavMessage::MESSAGE_INTERVAL(MESSAGE_INTERVAL_DATA {
+                            interval_us,
+                            message_id: message_id as u16,
+                        });
+                        Decided::Answer(accepted, common(msg))
+                    }
+                    None => Decided::Answer(denied, Vec::new()),
+                }
+            }
+            CommandDecision::Execute(request) => Decided::Execute(request),
         }
     }
 
@@ -169,33 +275,6 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             ManualInputMode::RcOnly | ManualInputMode::Disabled => false,
             ManualInputMode::MavlinkOnly | ManualInputMode::Fallback => true,
             ManualInputMode::KeepFirst => *self.sticks_from.get_or_insert(link) == link,
-        }
-    }
-
-    /// SETUP_SIGNING: refused while armed; otherwise the key (all zero: off) applies at once to
-    /// every link, and is stored when there is a key file. It reached here only unsigned with
-    /// no key set, or signed with the current key.
-    fn setup_signing(&mut self, now: Now, link: LinkKind, from: A, key: SigningKey, initial_timestamp: u64) {
-        if self.snapshot.armed {
-            self.send(
-                now,
-                link,
-                from,
-                &status_text(WARNING, "SETUP_SIGNING refused: disarm first"),
-            );
-            return;
-        }
-        self.signing.set_key(key.clone(), initial_timestamp);
-        let enabled = self.signing.enabled();
-        if self.key_store {
-            self.to_store.push_back(KeyToStore {
-                key: enabled.then_some(key),
-                timestamp: self.signing.timestamp(),
-            });
-            self.keys_in_store.push_back((link, from, enabled));
-        } else {
-            let state = if enabled { "Signing enabled" } else { "Signing disabled" };
-            self.send(now, link, from, &status_text(INFO, &format!("{state} until restart")));
         }
     }
 }

@@ -3,20 +3,26 @@
 //! a complete upload is validated, handed to the vehicle (as the mission, the geofence or the
 //! rally points), and stored and ACKed once the vehicle took it; downloads are answered from the
 //! [`PlanStore`](crate::mav::plan_store::PlanStore); a clear empties both, per type.
-
-use std::hash::Hash;
+//!
+//! [`PlanService`] owns the stored plans, what MISSION_CURRENT remembers and the upload state
+//! of each link.
 
 use mavlink::dialects::common::{MavMessage, MavMissionResult, MavMissionType, MISSION_ITEM_INT_DATA};
 
-use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest, WARNING};
+use super::boundary::VehicleRequest;
+use super::commands::Pending;
+use super::effects::Effect;
+use super::{LinkKind, CRITICAL, WARNING};
 use crate::commander::Request;
 use crate::mav::ingest::MissionStep;
 use crate::mav::mission_items::{parse_mission, ItemError};
-use crate::mav::mission_xfer::{Completed, Ids};
+use crate::mav::mission_report::MissionReport;
+use crate::mav::mission_xfer::{Completed, Ids, MissionTransfer, TIMEOUT_TEXT};
 use crate::mav::plan_items::{parse_fence, parse_rally};
-use crate::mav::plan_store::{plan_name, PLAN_TYPES};
+use crate::mav::plan_store::{plan_name, PlanStore, PLAN_TYPES};
 use crate::mav::telemetry::status_text;
 use crate::navigation::{Geofence, Home, Mission, RallyPoints};
+use crate::telemetry::Snapshot;
 
 /// The commander request that puts plan `mission_type` of `items` in force, or why not.
 fn plan_request(
@@ -40,92 +46,242 @@ fn empty_plan(mission_type: MavMissionType) -> Request {
     }
 }
 
-impl<A: Copy + Eq + Hash> LinkMachine<A> {
-    /// One mission-protocol step from `from` (MAVLink ids `ids`).
-    pub(super) fn mission(&mut self, now: Now, link: LinkKind, from: A, ids: Ids, step: MissionStep) {
-        let Some(port) = self.ports.iter_mut().find(|p| p.kind == link) else {
-            return;
+/// The vehicle's plans and the mission protocol of every link.
+#[derive(Debug)]
+pub(super) struct PlanService<A> {
+    /// The plans as uploaded, for downloads; each replaced only when the vehicle took an upload.
+    plans: PlanStore,
+    /// What MISSION_CURRENT remembers (PX4's mission mode and state).
+    report: MissionReport,
+    /// The upload in progress on each link.
+    transfers: Vec<(LinkKind, MissionTransfer<A>)>,
+}
+
+impl<A: Copy + PartialEq> PlanService<A> {
+    /// No plan, no upload, on `links`.
+    pub fn new(links: &[LinkKind]) -> Self {
+        Self {
+            plans: PlanStore::default(),
+            report: MissionReport::default(),
+            transfers: links.iter().map(|l| (*l, MissionTransfer::default())).collect(),
+        }
+    }
+
+    fn transfer(&mut self, link: LinkKind) -> Option<&mut MissionTransfer<A>> {
+        self.transfers.iter_mut().find(|(l, _)| *l == link).map(|(_, t)| t)
+    }
+
+    /// Plan `mission_type` (mission, fence or rally) as last uploaded.
+    pub fn items(&self, mission_type: MavMissionType) -> &[MISSION_ITEM_INT_DATA] {
+        self.plans.items(mission_type)
+    }
+
+    /// The vehicle's latest state (MISSION_CURRENT follows its mission).
+    pub fn handle_state(&mut self, snapshot: &Snapshot) {
+        self.report.handle_state(snapshot, self.plans.ids());
+    }
+
+    /// Mission item `seq` was reached.
+    pub fn handle_reached(&mut self, seq: u16) {
+        self.report.handle_reached(seq);
+    }
+
+    /// MISSION_CURRENT for `snapshot` with current item `seq`.
+    pub fn mission_current(&self, snapshot: &Snapshot, seq: u16) -> MavMessage {
+        self.report.mission_current(snapshot, seq, self.plans.ids())
+    }
+
+    /// One mission-protocol step from `from` (MAVLink ids `ids`) on `link` at wall time
+    /// `wall_s` [s]; a complete upload is validated against `home` and asked of the vehicle.
+    pub fn step(
+        &mut self,
+        wall_s: f64,
+        (link, from, ids): (LinkKind, A, Ids),
+        step: MissionStep,
+        home: &Home,
+    ) -> Vec<Effect<A>> {
+        let Some((_, transfer)) = self.transfers.iter_mut().find(|(l, _)| *l == link) else {
+            return Vec::new();
         };
-        let (out, completed) = match step {
-            MissionStep::Count(m) => port.transfer.on_count(from, ids, &m, now.wall_s),
-            MissionStep::Item(m) => port.transfer.on_item(from, &m, now.wall_s),
-            MissionStep::Clear(t) => port.transfer.on_clear(from, ids, t),
+        let (sent, completed) = match step {
+            MissionStep::Count(m) => transfer.on_count(from, ids, &m, wall_s),
+            MissionStep::Item(m) => transfer.on_item(from, &m, wall_s),
+            MissionStep::Clear(t) => transfer.on_clear(from, ids, t),
             MissionStep::RequestList(t) => (vec![(from, self.plans.download_count(ids, t))], None),
             MissionStep::RequestItem { seq, mission_type } => {
                 (vec![(from, self.plans.download_item(ids, mission_type, seq))], None)
             }
         };
-        self.send_all(now, link, out);
+        let mut out = on_link(link, sent);
         match completed {
-            Some(Completed::Items(mission_type, items)) => {
-                match plan_request(mission_type, &items, &self.snapshot.home) {
-                    Ok(request) => {
-                        let token = self.expect(Pending::Mission {
-                            link,
-                            mission_type,
-                            items,
-                        });
-                        self.to_vehicle.push_back(ToVehicle {
-                            token: Some(token),
-                            request: VehicleRequest::Commander(request),
-                        });
-                    }
-                    Err(e) => {
-                        let why = format!("{} item {} refused: {:?}", plan_name(mission_type), e.seq, e.result);
-                        self.send(now, link, from, &status_text(WARNING, &why));
-                        self.finish_upload(now, link, e.result, 0);
-                    }
+            Some(Completed::Items(mission_type, items)) => match plan_request(mission_type, &items, home) {
+                Ok(request) => {
+                    let pending = Pending::Mission {
+                        link,
+                        mission_type,
+                        items,
+                    };
+                    out.push(Effect::Ask(Some(pending), VehicleRequest::Commander(request)));
                 }
-            }
+                Err(e) => {
+                    let why = format!("{} item {} refused: {:?}", plan_name(mission_type), e.seq, e.result);
+                    out.push(Effect::send(link, from, status_text(WARNING, &why)));
+                    out.extend(self.finish_upload(link, e.result, 0));
+                }
+            },
             Some(Completed::Cleared(cleared)) => {
                 for t in PLAN_TYPES
                     .into_iter()
                     .filter(|t| cleared == *t || cleared == MavMissionType::MAV_MISSION_TYPE_ALL)
                 {
-                    self.to_vehicle.push_back(ToVehicle {
-                        token: None,
-                        request: VehicleRequest::Commander(empty_plan(t)),
-                    });
+                    out.push(Effect::Ask(None, VehicleRequest::Commander(empty_plan(t))));
                     self.plans.set(t, Vec::new());
                 }
             }
             None => {}
         }
+        out
     }
 
-    /// The vehicle's answer to a validated upload of plan `mission_type`: stored and ACCEPTED
-    /// with the plan's id once it took the plan, MISSION_ERROR when it could not be reached.
-    pub(super) fn mission_taken(
+    /// The vehicle's answer to a validated upload of plan `mission_type` on `link` (`taken`
+    /// false: it could not be reached): stored and ACCEPTED with the plan's id once it took the
+    /// plan, MISSION_ERROR otherwise.
+    pub fn taken(
         &mut self,
-        now: Now,
         link: LinkKind,
         mission_type: MavMissionType,
         items: Vec<MISSION_ITEM_INT_DATA>,
-        reply: VehicleReply,
-    ) {
-        let (result, id) = match reply {
-            VehicleReply::Busy => (MavMissionResult::MAV_MISSION_ERROR, 0),
-            _ => {
+        taken: bool,
+    ) -> Vec<Effect<A>> {
+        let (result, id) = match taken {
+            false => (MavMissionResult::MAV_MISSION_ERROR, 0),
+            true => {
                 self.plans.set(mission_type, items);
                 (MavMissionResult::MAV_MISSION_ACCEPTED, self.plans.id(mission_type))
             }
         };
-        self.finish_upload(now, link, result, id);
+        self.finish_upload(link, result, id)
     }
 
-    /// The upload's MISSION_ACK with `result` and `opaque_id`.
-    fn finish_upload(&mut self, now: Now, link: LinkKind, result: MavMissionResult, opaque_id: u32) {
-        let out = self
-            .port(link)
-            .map(|p| p.transfer.finish(result, opaque_id))
+    /// The upload's MISSION_ACK on `link` with `result` and `opaque_id`.
+    fn finish_upload(&mut self, link: LinkKind, result: MavMissionResult, opaque_id: u32) -> Vec<Effect<A>> {
+        let sent = self
+            .transfer(link)
+            .map(|t| t.finish(result, opaque_id))
             .unwrap_or_default();
-        self.send_all(now, link, out);
+        on_link(link, sent)
     }
 
-    /// Every (destination, message) of `out` on `link`.
-    pub(super) fn send_all(&mut self, now: Now, link: LinkKind, out: Vec<(A, MavMessage)>) {
-        for (to, msg) in out {
-            self.send(now, link, to, &msg);
+    /// `link`'s upload at wall time `wall_s` [s]: a missing item re-requested, or the upload
+    /// dropped with [`TIMEOUT_TEXT`] to its client when the client fell silent.
+    pub fn tick(&mut self, wall_s: f64, link: LinkKind) -> Vec<Effect<A>> {
+        let Some(transfer) = self.transfer(link) else {
+            return Vec::new();
+        };
+        let client = transfer.client();
+        let (retries, timed_out) = transfer.tick(wall_s);
+        let mut out = on_link(link, retries);
+        if let (true, Some(to)) = (timed_out, client) {
+            out.push(Effect::send(link, to, status_text(CRITICAL, TIMEOUT_TEXT)));
         }
+        out
+    }
+}
+
+/// Every (destination, message) of `sent` on `link`.
+fn on_link<A>(link: LinkKind, sent: Vec<(A, MavMessage)>) -> Vec<Effect<A>> {
+    sent.into_iter().map(|(to, msg)| Effect::send(link, to, msg)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use mavlink::dialects::common::{MavCmd, MavFrame, MISSION_COUNT_DATA};
+
+    use super::*;
+    use crate::mav::link::effects::testing::{sent, texts};
+    use crate::mav::mission_xfer::PROTOCOL_TIMEOUT_S;
+
+    const GCS: LinkKind = LinkKind::Gcs;
+    const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
+    const IDS: Ids = (255, 190);
+
+    fn count(n: u16) -> MissionStep {
+        MissionStep::Count(MISSION_COUNT_DATA {
+            count: n,
+            target_system: 1,
+            target_component: 1,
+            mission_type: MISSION,
+            opaque_id: 0,
+        })
+    }
+
+    fn waypoint(seq: u16) -> MissionStep {
+        let home = Home::default();
+        MissionStep::Item(Box::new(MISSION_ITEM_INT_DATA {
+            seq,
+            command: MavCmd::MAV_CMD_NAV_WAYPOINT,
+            frame: MavFrame::MAV_FRAME_GLOBAL,
+            x: (home.lat_deg * 1e7) as i32 + 100,
+            y: (home.lon_deg * 1e7) as i32,
+            z: (home.alt_amsl_m + 10.0) as f32,
+            target_system: 1,
+            target_component: 1,
+            mission_type: MISSION,
+            ..Default::default()
+        }))
+    }
+
+    fn ack(out: &[Effect<u16>]) -> Option<(MavMissionResult, u32)> {
+        sent(out).into_iter().find_map(|(_, _, m)| match m {
+            MavMessage::MISSION_ACK(a) => Some((a.mavtype, a.opaque_id)),
+            _ => None,
+        })
+    }
+
+    #[test]
+    fn an_upload_is_asked_of_the_vehicle_and_stored_once_taken() {
+        let home = Home::default();
+        let mut p = PlanService::new(&[GCS]);
+        let out = p.step(0.0, (GCS, 5u16, IDS), count(1), &home);
+        assert!(matches!(sent(&out)[0].2, MavMessage::MISSION_REQUEST_INT(ref r) if r.seq == 0));
+        let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
+        let [Effect::Ask(Some(Pending::Mission { items, .. }), VehicleRequest::Commander(Request::SetMission(_)))] =
+            &out[..]
+        else {
+            panic!("{out:?}");
+        };
+        assert!(p.items(MISSION).is_empty(), "stored only once the vehicle took it");
+        let out = p.taken(GCS, MISSION, items.clone(), true);
+        let (result, id) = ack(&out).unwrap();
+        assert_eq!(result, MavMissionResult::MAV_MISSION_ACCEPTED);
+        assert_eq!(p.items(MISSION).len(), 1);
+        assert_ne!(id, 0, "the plan's id");
+        let out = p.step(0.2, (GCS, 5, IDS), MissionStep::RequestList(MISSION), &home);
+        assert!(matches!(sent(&out)[0].2, MavMessage::MISSION_COUNT(ref c) if c.count == 1));
+    }
+
+    #[test]
+    fn an_unreached_vehicle_errs_a_clear_empties_and_silence_times_out() {
+        let home = Home::default();
+        let mut p = PlanService::new(&[GCS]);
+        p.step(0.0, (GCS, 5u16, IDS), count(1), &home);
+        let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
+        let Some(Effect::Ask(Some(Pending::Mission { items, .. }), _)) = out.into_iter().next() else {
+            panic!("asked of the vehicle");
+        };
+        let out = p.taken(GCS, MISSION, items, false);
+        assert_eq!(ack(&out).map(|a| a.0), Some(MavMissionResult::MAV_MISSION_ERROR));
+        assert!(p.items(MISSION).is_empty());
+
+        let out = p.step(1.0, (GCS, 5, IDS), MissionStep::Clear(MISSION), &home);
+        assert!(
+            out.iter().any(|e| matches!(e, Effect::Ask(None, _))),
+            "the vehicle's plan emptied"
+        );
+
+        p.step(2.0, (GCS, 5, IDS), count(2), &home);
+        assert!(texts(&p.tick(2.0 + PROTOCOL_TIMEOUT_S / 2.0, GCS)).is_empty());
+        assert_eq!(texts(&p.tick(2.0 + PROTOCOL_TIMEOUT_S, GCS)), vec![TIMEOUT_TEXT]);
+        assert!(p.tick(10.0, LinkKind::Api).is_empty(), "no such link");
     }
 }

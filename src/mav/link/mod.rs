@@ -10,54 +10,75 @@
 //! simulated-time heartbeat and the simulated half of link loss, so that scripts pacing
 //! themselves in simulated time see the same protocol at any speed-up.
 //!
+//! As quinn-proto's `Connection` is composed of the states that own their parts, the machine
+//! is composed of one service per protocol, each owning its state: their methods take the
+//! values they need (the wall time, the client, the parameter table or the state) and return
+//! [`Effect`](effects::Effect)s, which the machine carries out in order. The machine keeps what
+//! every part reads: the links, the vehicle's state and parameter table (shared with the
+//! vehicle, never copied), and the output queues.
+//!
 //! # Layout
-//! - `mod.rs`: [`LinkMachine`], its inputs and outputs and the types they carry.
+//! - `mod.rs`: [`LinkMachine`]: its parts, its `handle_*` and `poll_*`, sending.
+//! - `boundary.rs`: its inputs, outputs and configuration ([`Now`], [`LinkConfig`],
+//!   [`VehicleReply`], [`Transmit`], [`ToVehicle`], [`KeyToStore`], [`Said`]).
+//! - `effects.rs`: what a part decided, as a value.
 //! - `port.rs`: one link (GCS or API): remote, learned peers, sequence, rates, heartbeat
-//!   schedule, duplicate cache, mission upload, ground-station liveness.
+//!   schedule, ground-station liveness.
 //! - `inbound.rs`: a datagram → frames → signing verdict → [`ingest`](super::ingest::ingest) →
-//!   what to do; SETUP_SIGNING.
-//! - `commands.rs`: COMMAND_LONG/INT, their one ACK, and the vehicle's answers.
-//! - `params.rs`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ, PARAM_SET and its echo.
-//! - `mission.rs`: the mission protocol against the stored plans (mission, fence, rally).
-//! - `files.rs`: MAVLink FTP per link, burst pacing, component metadata.
-//! - `param_upload.rs`: an uploaded `@PARAM/param.pck` applied as PARAM_SETs.
-//! - `logs.rs`: the log protocol per link (list, download, erase of the log store's logs), paced.
-//! - `console.rs`: the MAVLink shell (SERIAL_CONTROL) per client.
+//!   which part handles it; the decision on a new command.
+//! - `commands.rs`: `CommandService`: duplicate commands, their one ACK, the awaited requests.
+//! - `params.rs`: `ParamService`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ, PARAM_SET and
+//!   its echo, changes announced.
+//! - `param_upload.rs`: `Uploads`: an uploaded `@PARAM/param.pck` applied as PARAM_SETs.
+//! - `mission.rs`: `PlanService`: the mission protocol against the stored plans (mission,
+//!   fence, rally).
+//! - `files.rs`: `Files`: MAVLink FTP per link, burst pacing, component metadata.
+//! - `logs.rs`: `LogService`: the log protocol per link (list, download, erase), paced.
+//! - `console.rs`: `Consoles`: the MAVLink shell (SERIAL_CONTROL) per client.
+//! - `keys.rs`: `SigningKeys`: signing, SETUP_SIGNING and the key file's answers.
 //! - `duties.rs`: what time brings: heartbeats, streams, link loss, retransmissions.
 
+mod boundary;
 mod commands;
 mod console;
 mod duties;
+mod effects;
 mod files;
 mod inbound;
+mod keys;
 mod logs;
 mod mission;
 mod param_upload;
 mod params;
 mod port;
 
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
 use std::hash::Hash;
+use std::sync::Arc;
 
 use mavlink::dialects::common::{MavMessage, MavMissionType, MavSeverity, MISSION_ITEM_INT_DATA};
 use mavlink::{MAVLinkV2MessageRaw, MavHeader};
 
-use crate::commander::{Event, Outcome, Request};
+use crate::commander::{Event, Outcome};
 use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::codec::frame_message;
-use super::logs::{LogStore, MemLogStore};
+use super::ftp::Vfs;
 use super::metadata::MetadataFiles;
-use super::mission_report::MissionReport;
-use super::plan_store::PlanStore;
-use super::signing::{Signing, SigningKey};
 use super::streams::LinkKind;
 use super::telemetry::Outgoing;
 use super::translate::Identity;
+pub use boundary::{KeyToStore, LinkConfig, Now, Said, ToVehicle, Token, Transmit, VehicleReply, VehicleRequest};
+use commands::{AckOf, CommandService, Pending};
+use console::Consoles;
+use effects::Effect;
 use files::Files;
+use keys::SigningKeys;
+use logs::LogService;
 pub use logs::{LOG_MESSAGES_AT_ONCE, LOG_MESSAGE_PERIOD_S};
-use params::ParamList;
+use mission::PlanService;
+use params::ParamService;
 use port::Port;
 pub use port::{HeldForClients, MAX_PEERS, PEER_EVICT_S, PEER_TIMEOUT_S};
 
@@ -65,174 +86,30 @@ const INFO: MavSeverity = MavSeverity::MAV_SEVERITY_INFO;
 const WARNING: MavSeverity = MavSeverity::MAV_SEVERITY_WARNING;
 const CRITICAL: MavSeverity = MavSeverity::MAV_SEVERITY_CRITICAL;
 
-/// The two clocks of one input [s].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Now {
-    /// Wall time since the machine started [s].
-    pub wall_s: f64,
-    /// Simulated time of the vehicle [s].
-    pub sim_s: f64,
-}
-
-impl Now {
-    /// Wall time `wall_s` and simulated time `sim_s` [s].
-    pub fn new(wall_s: f64, sim_s: f64) -> Self {
-        Self { wall_s, sim_s }
-    }
-}
-
-/// One datagram to send.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Transmit<A> {
-    /// The link whose socket sends it.
-    pub link: LinkKind,
-    /// Destination.
-    pub to: A,
-    /// One MAVLink 2 frame (signed when the vehicle has a key).
-    pub bytes: Vec<u8>,
-}
-
-/// Names a request whose answer the machine waits for ([`LinkMachine::handle_reply`]).
-pub type Token = u64;
-
-/// What the link asks of the vehicle.
-#[derive(Debug, Clone, PartialEq)]
-pub enum VehicleRequest {
-    /// A commander request (commands, setpoints, modes, missions, link loss).
-    Commander(Request),
-    /// A parameter set.
-    SetParam {
-        /// Parameter name.
-        name: String,
-        /// New value.
-        value: f64,
-    },
-}
-
-/// A request for the vehicle; with a token, the answer is expected through
-/// [`LinkMachine::handle_reply`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct ToVehicle {
-    /// Present when the link waits for the answer.
-    pub token: Option<Token>,
-    /// What to do.
-    pub request: VehicleRequest,
-}
-
-/// The vehicle's answer to a [`ToVehicle`] with a token.
-#[derive(Debug, Clone, PartialEq)]
-pub enum VehicleReply {
-    /// The commander's answer.
-    Outcome(Outcome),
-    /// A parameter set's result and the table after it.
-    Param {
-        /// The parameter's index, or why the set was refused.
-        result: Result<usize, ParamError>,
-        /// The table as it now is.
-        table: Box<ParamTable>,
-    },
-    /// The request could not be queued (the vehicle's inbox is full).
-    Busy,
-}
-
-/// A key (or its removal) the runtime writes to the `--signing-key` file, with the timestamp;
-/// the result comes back through [`LinkMachine::handle_stored`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct KeyToStore {
-    /// The new key; `None`: signing switched off (the file is removed).
-    pub key: Option<SigningKey>,
-    /// Signing timestamp at the change [10 µs since 2015].
-    pub timestamp: u64,
-}
-
-/// How a machine starts.
-#[derive(Debug)]
-pub struct LinkConfig<A> {
-    /// Our system and component ids and vehicle type.
-    pub identity: Identity,
-    /// The links and the remote each always sends telemetry to; the position is the link id
-    /// of outgoing signatures (GCS 0, API 1 in the autopilot).
-    pub links: Vec<(LinkKind, A)>,
-    /// The vehicle's parameters at start.
-    pub params: ParamTable,
-    /// The vehicle's state at start.
-    pub snapshot: Snapshot,
-    /// Signing key and timestamp at start.
-    pub signing: Signing,
-    /// The wall clock at wall time 0, as a signing timestamp [10 µs since 2015]: the signing
-    /// clock and SYSTEM_TIME are this plus wall time (0: no clock; SYSTEM_TIME then says 0).
-    pub signing_epoch: u64,
-    /// SETUP_SIGNING keys are kept (a key file): a change waits for [`LinkMachine::handle_stored`].
-    pub key_store: bool,
-    /// Received frames are handed out for the tlog ([`LinkMachine::poll_received`]).
-    pub record_received: bool,
-    /// The flight logs served by the log protocol and at `/fs/microsd/log` over FTP.
-    pub logs: Box<dyn LogStore>,
-}
-
-impl<A> LinkConfig<A> {
-    /// A vehicle with `identity` on `links`, `params` and `snapshot` at start; no signing key,
-    /// no key file, received frames not recorded, no flight logs.
-    pub fn new(identity: Identity, links: Vec<(LinkKind, A)>, params: ParamTable, snapshot: Snapshot) -> Self {
-        Self {
-            identity,
-            links,
-            params,
-            snapshot,
-            signing: Signing::new(None, 0),
-            signing_epoch: 0,
-            key_store: false,
-            record_received: false,
-            logs: Box::new(MemLogStore::default()),
-        }
-    }
-}
-
-/// What the machine waits for from the vehicle or the key file.
-#[derive(Debug, Clone, PartialEq)]
-enum Pending<A> {
-    /// A command's ACK.
-    Command(commands::Asker<A>),
-    /// A PARAM_SET's echo.
-    Param(params::ParamSet<A>),
-    /// A shell's `param set`.
-    Shell(console::ShellSet<A>),
-    /// One parameter of a file uploaded over FTP.
-    Upload(param_upload::UploadSet),
-    /// A validated upload's MISSION_ACK (mission, fence or rally plan).
-    Mission {
-        link: LinkKind,
-        mission_type: MavMissionType,
-        items: Vec<MISSION_ITEM_INT_DATA>,
-    },
-}
-
 /// The MAVLink endpoint of one vehicle over one or more links; `A` is a peer address.
 #[derive(Debug)]
 pub struct LinkMachine<A> {
     identity: Identity,
     ports: Vec<Port<A>>,
-    signing: Signing,
-    signing_epoch: u64,
-    key_store: bool,
     record_received: bool,
-    params: ParamTable,
-    snapshot: Snapshot,
-    /// The plans as uploaded, for downloads; each replaced only when the vehicle took an upload.
-    plans: PlanStore,
-    /// What MISSION_CURRENT remembers (PX4's mission mode and state).
-    report: MissionReport,
-    pending: HashMap<Token, Pending<A>>,
-    next_token: Token,
-    param_lists: Vec<ParamList<A>>,
-    /// Parameters changed and not yet announced on every link.
-    changed_params: params::ChangedParams,
+    /// The vehicle's parameter table as its owner last published it (shared, not copied).
+    params: Arc<ParamTable>,
+    /// The vehicle's latest state as the state channel carries it (shared, not copied).
+    snapshot: Arc<Snapshot>,
+    /// Signing, SETUP_SIGNING and the key file.
+    keys: SigningKeys<A>,
+    /// Duplicate commands, ACKs, and the requests awaited from the vehicle.
+    commands: CommandService<A>,
+    /// The parameter protocol: lists, changes to announce, uploaded parameter files.
+    parameters: ParamService<A>,
+    /// The stored plans and the mission protocol.
+    plans: PlanService<A>,
     /// The files served over MAVLink FTP and the FTP server of each link.
     files: Files<A>,
+    /// The log protocol of each link.
+    logs: LogService<A>,
     /// The MAVLink shells of the clients that use one.
-    consoles: Vec<console::Console<A>>,
-    /// Where to announce each stored key's result, oldest first.
-    keys_in_store: VecDeque<(LinkKind, A, bool)>,
+    consoles: Consoles<A>,
     /// Wall time of the latest message of each [`InputStream`](crate::commander::InputStream) while it is alive in wall time [s].
     stream_heard_wall_s: [Option<f64>; 2],
     /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
@@ -244,18 +121,6 @@ pub struct LinkMachine<A> {
     received: VecDeque<Vec<u8>>,
     /// The STATUSTEXTs said to one client, for the flight log (kept when logging).
     said: VecDeque<Said>,
-}
-
-/// A STATUSTEXT the link said to a client (a refusal, a calibration step, a signing change), for
-/// the flight log; the commander's announcements to everyone are logged by the recorder.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Said {
-    /// Simulated time of the vehicle's latest tick [s].
-    pub t_s: f64,
-    /// MAV_SEVERITY (0 emergency … 7 debug).
-    pub severity: u8,
-    /// The text.
-    pub text: String,
 }
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
@@ -279,21 +144,16 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         Self {
             identity: config.identity,
             ports,
-            signing: config.signing,
-            signing_epoch: config.signing_epoch,
-            key_store: config.key_store,
             record_received: config.record_received,
             params: config.params,
             snapshot: config.snapshot,
-            plans: PlanStore::default(),
-            report: MissionReport::default(),
-            pending: HashMap::new(),
-            next_token: 0,
-            param_lists: Vec::new(),
-            changed_params: params::ChangedParams::default(),
+            keys: SigningKeys::new(config.signing, config.signing_epoch, config.key_store),
+            commands: CommandService::new(&kinds),
+            parameters: ParamService::default(),
+            plans: PlanService::new(&kinds),
             files,
-            consoles: Vec::new(),
-            keys_in_store: VecDeque::new(),
+            logs: LogService::new(&kinds),
+            consoles: Consoles::default(),
             stream_heard_wall_s: [None; 2],
             sticks_from: None,
             next_duty_s: 0.0,
@@ -305,9 +165,11 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         }
     }
 
-    /// The vehicle's latest state (telemetry, home, armed state for SETUP_SIGNING).
-    pub fn handle_state(&mut self, snapshot: Snapshot) {
-        self.report.handle_state(&snapshot, self.plans.ids());
+    /// The vehicle's latest state (telemetry, home, armed state for SETUP_SIGNING), as the
+    /// state channel carries it: an `Arc` is kept as it is, shared, not copied.
+    pub fn handle_state(&mut self, snapshot: impl Into<Arc<Snapshot>>) {
+        let snapshot = snapshot.into();
+        self.plans.handle_state(&snapshot);
         self.snapshot = snapshot;
     }
 
@@ -325,36 +187,54 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// The vehicle's answer to the request `token` named.
     pub fn handle_reply(&mut self, now: Now, token: Token, reply: VehicleReply) {
-        match self.pending.remove(&token) {
+        let effects = match self.commands.take(token) {
             Some(Pending::Command(asker)) => {
                 let outcome = match reply {
                     VehicleReply::Outcome(outcome) => outcome,
                     _ => Outcome::TemporarilyRejected("Vehicle busy".into()),
                 };
-                self.answer(now, asker, commands::AckOf::Outcome(&outcome));
+                self.commands.answer(now.wall_s, asker, AckOf::Outcome(outcome))
             }
-            Some(Pending::Param(set)) => self.param_set_done(now, set, reply),
-            Some(Pending::Shell(set)) => self.shell_set_done(now, set, reply),
-            Some(Pending::Upload(set)) => self.upload_set_done(now, set, reply),
+            Some(Pending::Param(set)) => {
+                let result = self.take_table(reply);
+                let targets = self.targets(set.link());
+                self.parameters.set_done(now.wall_s, set, result, &self.params, targets)
+            }
+            Some(Pending::Shell(set)) => {
+                let before = Arc::clone(&self.params);
+                let result = match self.take_table(reply) {
+                    Some(result) => result.map_err(|e| e.to_string()),
+                    None => Err("vehicle busy, try again".to_string()),
+                };
+                let targets = self.targets(set.link());
+                self.consoles.set_done(set, result, &before, &self.params, targets)
+            }
+            Some(Pending::Upload(set)) => {
+                let result = self.take_table(reply).unwrap_or_else(|| {
+                    Err(ParamError::Invalid {
+                        name: set.name.clone(),
+                        reason: "vehicle busy".into(),
+                    })
+                });
+                self.parameters.upload_set_done(now.wall_s, set, result)
+            }
             Some(Pending::Mission {
                 link,
                 mission_type,
                 items,
-            }) => self.mission_taken(now, link, mission_type, items, reply),
-            None => {}
-        }
+            }) => {
+                let taken = !matches!(reply, VehicleReply::Busy);
+                self.plans.taken(link, mission_type, items, taken)
+            }
+            None => Vec::new(),
+        };
+        self.carry_out(now, effects);
     }
 
     /// The key file's answer to the oldest [`KeyToStore`].
     pub fn handle_stored(&mut self, now: Now, result: Result<(), String>) {
-        if let Some((link, to, enabled)) = self.keys_in_store.pop_front() {
-            let state = if enabled { "Signing enabled" } else { "Signing disabled" };
-            let (severity, text) = match result {
-                Ok(()) => (INFO, format!("{state}; key stored")),
-                Err(_) => (WARNING, format!("{state}; key file not written")),
-            };
-            self.send(now, link, to, &super::telemetry::status_text(severity, &text));
-        }
+        let effects = self.keys.stored(result);
+        self.carry_out(now, effects);
     }
 
     /// The next datagram to send.
@@ -384,17 +264,19 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// Wall time at which [`handle_timeout`](Self::handle_timeout) next has work [s].
     pub fn poll_timeout(&self) -> f64 {
-        self.param_lists
-            .iter()
-            .map(|l| l.next_s)
-            .fold(self.next_duty_s, f64::min)
-            .min(self.files.next_due_s().unwrap_or(f64::INFINITY))
-            .min(self.changed_params.due_s.unwrap_or(f64::INFINITY))
+        [
+            self.parameters.next_due_s(),
+            self.files.next_due_s(),
+            self.logs.next_due_s(),
+        ]
+        .into_iter()
+        .flatten()
+        .fold(self.next_duty_s, f64::min)
     }
 
     /// The signing timestamp to persist [10 µs since 2015].
     pub fn signing_timestamp(&self) -> u64 {
-        self.signing.timestamp()
+        self.keys.timestamp()
     }
 
     /// Simulated time of the vehicle state the machine holds [s] (the clock its `Now` must use).
@@ -404,7 +286,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// Frames signing dropped so far (unsigned, wrongly signed or replayed).
     pub fn signing_dropped(&self) -> u64 {
-        self.signing.dropped().total()
+        self.keys.dropped()
     }
 
     /// The mission as last uploaded.
@@ -417,21 +299,59 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.plans.items(mission_type)
     }
 
-    /// A fresh token for a request whose answer is awaited.
-    fn expect(&mut self, pending: Pending<A>) -> Token {
-        let token = self.next_token;
-        self.next_token += 1;
-        self.pending.insert(token, pending);
-        token
+    /// The files served over MAVLink FTP from memory (metadata, scratch area).
+    pub fn files(&self) -> &Vfs {
+        self.files.vfs()
+    }
+
+    /// The result a parameter reply carries (`None`: the vehicle was busy); the table it
+    /// carries becomes the link's, shared with the vehicle (`@PARAM/param.pck` packs it).
+    fn take_table(&mut self, reply: VehicleReply) -> Option<Result<usize, ParamError>> {
+        match reply {
+            VehicleReply::Param { result, table } => {
+                self.params = table;
+                self.files.params_changed();
+                Some(result)
+            }
+            _ => None,
+        }
     }
 
     fn port(&mut self, link: LinkKind) -> Option<&mut Port<A>> {
         self.ports.iter_mut().find(|p| p.kind == link)
     }
 
-    /// The signing clock at `now` [10 µs since 2015].
-    fn signing_now(&self, now: Now) -> u64 {
-        self.signing_epoch + (now.wall_s.max(0.0) * 1e5) as u64
+    /// The remote and the peers of `link`.
+    fn targets(&self, link: LinkKind) -> Vec<A> {
+        self.ports
+            .iter()
+            .find(|p| p.kind == link)
+            .map(|p| p.targets())
+            .unwrap_or_default()
+    }
+
+    /// Carries out what a part decided, in order: messages queued, requests for the vehicle
+    /// named and queued, what one part decided for another handed to it.
+    fn carry_out(&mut self, now: Now, effects: Vec<Effect<A>>) {
+        for effect in effects {
+            match effect {
+                Effect::To(link, to, out) => self.send_outgoing(now, link, to, &out),
+                Effect::Everyone(msg) => self.broadcast(now, &msg),
+                Effect::Ask(pending, request) => {
+                    let token = pending.map(|p| self.commands.expect(p));
+                    self.to_vehicle.push_back(ToVehicle { token, request });
+                }
+                Effect::Upload(client, upload) => {
+                    let more = self.parameters.start_upload(client, upload);
+                    self.carry_out(now, more);
+                }
+                Effect::UploadAnswer(client, request, result) => {
+                    let more = self.files.answer_upload(client, &request, result);
+                    self.carry_out(now, more);
+                }
+                Effect::Store(key) => self.to_store.push_back(key),
+            }
+        }
     }
 
     /// Queues `msg` to `to` on `link`.
@@ -474,10 +394,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         };
         let link_id = port.link_id;
         let mut frame = build(header);
-        if self.signing.enabled() {
-            let stamp = self.signing_now(now);
-            self.signing.seal(&mut frame, link_id, stamp);
-        }
+        self.keys.seal(&mut frame, link_id, now.wall_s);
         self.transmits.push_back(Transmit {
             link,
             to,

@@ -12,11 +12,15 @@
 //!   not validate) leaves that parameter as it was, with PARAM_SET's STATUSTEXT saying why, and
 //!   the others are applied; the TerminateSession is then NAKed (FailErrno EINVAL), as PX4 NAKs
 //!   an upload a parameter of which it could not set.
+//!
+//! [`Uploads`] owns the files being applied; the link carries out what it returns.
 
 use std::collections::VecDeque;
-use std::hash::Hash;
 
-use super::{LinkKind, LinkMachine, Now, Pending, ToVehicle, VehicleReply, VehicleRequest, WARNING};
+use super::boundary::VehicleRequest;
+use super::commands::Pending;
+use super::effects::{Client, Effect};
+use super::WARNING;
 use crate::mav::ftp::{ErrorCode, ParamUpload, Payload, EINVAL};
 use crate::mav::telemetry::status_text;
 use crate::params::ParamError;
@@ -25,9 +29,6 @@ use crate::params::ParamError;
 pub const UPLOAD_WINDOW: usize = 32;
 /// Refusals of one upload told one by one; more are counted in one STATUSTEXT.
 const REFUSALS_TOLD: usize = 5;
-
-/// Where an upload's answers go: link, client address, client's MAVLink ids.
-type Client<A> = (LinkKind, A, (u8, u8));
 
 /// One upload being applied.
 #[derive(Debug)]
@@ -62,37 +63,36 @@ impl<A> Default for Uploads<A> {
     }
 }
 
-impl<A> Uploads<A> {
-    fn position(&self, id: u64) -> Option<usize> {
-        self.list.iter().position(|u| u.id == id)
-    }
-}
-
 /// One PARAM_SET of an upload, waiting for the vehicle.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct UploadSet {
     id: u64,
-    name: String,
+    /// The parameter's name.
+    pub name: String,
 }
 
-impl<A: Copy + Eq + Hash> LinkMachine<A> {
+impl<A: Copy> Uploads<A> {
+    fn position(&self, id: u64) -> Option<usize> {
+        self.list.iter().position(|u| u.id == id)
+    }
+
     /// The upload of `client` whose TerminateSession came: refused when malformed, else its
     /// parameters asked of the vehicle.
-    pub(super) fn start_param_upload(&mut self, now: Now, client: Client<A>, upload: ParamUpload) {
+    pub fn start(&mut self, client: Client<A>, upload: ParamUpload) -> Vec<Effect<A>> {
         let ParamUpload { request, parsed } = upload;
         let entries = match parsed {
             Ok(entries) => entries,
             Err(e) => {
                 let (link, to, _) = client;
-                self.send(now, link, to, &status_text(WARNING, &format!("param.pck: {e}")));
-                self.answer_param_upload(now, client, &request, Err(ErrorCode::FailErrno(EINVAL)));
-                return;
+                return vec![
+                    Effect::send(link, to, status_text(WARNING, &format!("param.pck: {e}"))),
+                    Effect::UploadAnswer(client, request, Err(ErrorCode::FailErrno(EINVAL))),
+                ];
             }
         };
-        let uploads = &mut self.files.uploads;
-        let id = uploads.next_id;
-        uploads.next_id += 1;
-        uploads.list.push(Upload {
+        let id = self.next_id;
+        self.next_id += 1;
+        self.list.push(Upload {
             id,
             client,
             request,
@@ -101,81 +101,143 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             unknown: Vec::new(),
             refused: Vec::new(),
         });
-        self.pump_param_upload(now, id);
+        self.pump(id)
     }
 
     /// Asks the vehicle for the next parameters of upload `id` while the window has room; answers
     /// the upload once every one is answered.
-    fn pump_param_upload(&mut self, now: Now, id: u64) {
-        let Some(k) = self.files.uploads.position(id) else {
-            return;
+    fn pump(&mut self, id: u64) -> Vec<Effect<A>> {
+        let Some(k) = self.position(id) else {
+            return Vec::new();
         };
-        let upload = &mut self.files.uploads.list[k];
+        let upload = &mut self.list[k];
         let room = UPLOAD_WINDOW.saturating_sub(upload.in_flight);
         let asks: Vec<(String, f64)> = (0..room).map_while(|_| upload.queue.pop_front()).collect();
         upload.in_flight += asks.len();
         if upload.in_flight == 0 {
-            let done = self.files.uploads.list.remove(k);
-            self.finish_param_upload(now, done);
-            return;
+            let done = self.list.remove(k);
+            return finish(done);
         }
-        for (name, value) in asks {
-            let token = self.expect(Pending::Upload(UploadSet { id, name: name.clone() }));
-            self.to_vehicle.push_back(ToVehicle {
-                token: Some(token),
-                request: VehicleRequest::SetParam { name, value },
-            });
-        }
+        asks.into_iter()
+            .map(|(name, value)| {
+                let set = UploadSet { id, name: name.clone() };
+                Effect::Ask(Some(Pending::Upload(set)), VehicleRequest::SetParam { name, value })
+            })
+            .collect()
     }
 
     /// The vehicle's answer to one PARAM_SET of an upload.
-    pub(super) fn upload_set_done(&mut self, now: Now, set: UploadSet, reply: VehicleReply) {
-        let result = match reply {
-            VehicleReply::Param { result, table } => {
-                self.take_table(*table);
-                result
-            }
-            _ => Err(ParamError::Invalid {
-                name: set.name,
-                reason: "vehicle busy".into(),
-            }),
+    pub fn set_done(&mut self, set: UploadSet, result: Result<usize, ParamError>) -> Vec<Effect<A>> {
+        let Some(k) = self.position(set.id) else {
+            return Vec::new();
         };
-        if let Ok(index) = result {
-            self.changed_params.changed(index, now.wall_s);
-        }
-        let Some(k) = self.files.uploads.position(set.id) else {
-            return;
-        };
-        let upload = &mut self.files.uploads.list[k];
+        let upload = &mut self.list[k];
         upload.in_flight = upload.in_flight.saturating_sub(1);
         match result {
             Ok(_) => {}
             Err(ParamError::Unknown(name, _)) => upload.unknown.push(name),
             Err(refused) => upload.refused.push(refused.to_string()),
         }
-        self.pump_param_upload(now, set.id);
+        self.pump(set.id)
+    }
+}
+
+/// What an applied upload's client hears: the refusals, the names skipped, the answer.
+fn finish<A: Copy>(upload: Upload<A>) -> Vec<Effect<A>> {
+    let (link, to, _) = upload.client;
+    let mut texts: Vec<String> = upload.refused.iter().take(REFUSALS_TOLD).cloned().collect();
+    if upload.refused.len() > REFUSALS_TOLD {
+        texts.push(format!(
+            "param.pck: {} more refused",
+            upload.refused.len() - REFUSALS_TOLD
+        ));
+    }
+    if let Some(first) = upload.unknown.first() {
+        texts.push(format!("param.pck: {} unknown skipped: {first}", upload.unknown.len()));
+    }
+    let mut out: Vec<Effect<A>> = texts
+        .into_iter()
+        .map(|text| Effect::send(link, to, status_text(WARNING, &text)))
+        .collect();
+    let result = match upload.refused.is_empty() {
+        true => Ok(()),
+        false => Err(ErrorCode::FailErrno(EINVAL)),
+    };
+    out.push(Effect::UploadAnswer(upload.client, upload.request, result));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mav::ftp::{Opcode, PackedValue, PckError};
+    use crate::mav::link::effects::testing::texts;
+    use crate::mav::streams::LinkKind;
+
+    const CLIENT: Client<u16> = (LinkKind::Api, 3, (1, 1));
+
+    fn upload(parsed: Result<Vec<(String, PackedValue)>, PckError>) -> ParamUpload {
+        ParamUpload {
+            request: Payload::request(Opcode::TerminateSession, 9, 0, 0, &[]),
+            parsed,
+        }
     }
 
-    /// What an applied upload's client hears: the refusals, the names skipped, the answer.
-    fn finish_param_upload(&mut self, now: Now, upload: Upload<A>) {
-        let (link, to, _) = upload.client;
-        let mut texts: Vec<String> = upload.refused.iter().take(REFUSALS_TOLD).cloned().collect();
-        if upload.refused.len() > REFUSALS_TOLD {
-            texts.push(format!(
-                "param.pck: {} more refused",
-                upload.refused.len() - REFUSALS_TOLD
-            ));
+    fn asks(out: &[Effect<u16>]) -> Vec<UploadSet> {
+        out.iter()
+            .filter_map(|e| match e {
+                Effect::Ask(Some(Pending::Upload(set)), _) => Some(set.clone()),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn at_most_a_window_waits_and_the_answer_follows_the_last_reply() {
+        let mut u = Uploads::default();
+        let entries = (0..UPLOAD_WINDOW + 3)
+            .map(|k| (format!("P{k}"), PackedValue::Float(k as f32)))
+            .collect();
+        let mut waiting = asks(&u.start(CLIENT, upload(Ok(entries))));
+        assert_eq!(waiting.len(), UPLOAD_WINDOW);
+        let mut last = Vec::new();
+        let mut asked = waiting.len();
+        while let Some(set) = waiting.pop() {
+            let result = match set.name.as_str() {
+                "P1" => Err(ParamError::Invalid {
+                    name: "P1".into(),
+                    reason: "out of range".into(),
+                }),
+                "P2" => Err(ParamError::Unknown("P2".into(), String::new())),
+                _ => Ok(0),
+            };
+            last = u.set_done(set, result);
+            let more = asks(&last);
+            asked += more.len();
+            waiting.extend(more);
         }
-        if let Some(first) = upload.unknown.first() {
-            texts.push(format!("param.pck: {} unknown skipped: {first}", upload.unknown.len()));
-        }
-        for text in texts {
-            self.send(now, link, to, &status_text(WARNING, &text));
-        }
-        let result = match upload.refused.is_empty() {
-            true => Ok(()),
-            false => Err(ErrorCode::FailErrno(EINVAL)),
-        };
-        self.answer_param_upload(now, upload.client, &upload.request, result);
+        assert_eq!(asked, UPLOAD_WINDOW + 3, "each parameter asked once");
+        assert_eq!(
+            texts(&last),
+            vec!["P1: out of range", "param.pck: 1 unknown skipped: P2"]
+        );
+        assert!(matches!(last.last(), Some(Effect::UploadAnswer(CLIENT, _, Err(_)))));
+    }
+
+    #[test]
+    fn a_malformed_file_sets_nothing_and_is_refused() {
+        let mut u = Uploads::default();
+        let out = u.start(CLIENT, upload(Err(PckError::Query("x".into()))));
+        assert!(asks(&out).is_empty());
+        assert_eq!(texts(&out), vec!["param.pck: bad query: x"]);
+        assert!(matches!(
+            out.last(),
+            Some(Effect::UploadAnswer(CLIENT, _, Err(ErrorCode::FailErrno(EINVAL))))
+        ));
+        let out = u.start(CLIENT, upload(Ok(Vec::new())));
+        assert!(
+            matches!(&out[..], [Effect::UploadAnswer(CLIENT, _, Ok(()))]),
+            "an empty file"
+        );
     }
 }

@@ -1,14 +1,12 @@
 //! One link of the vehicle (GCS or API): the remote that always gets telemetry, the peers
 //! learned from trusted frames, the outgoing sequence number, the telemetry rates, the
-//! heartbeat schedule, the duplicate-command cache, the mission upload in progress and the
-//! ground station's liveness.
+//! heartbeat schedule and the ground station's liveness (the per-link state of the protocols
+//! is owned by their services: duplicate commands, mission uploads, FTP, logs).
 
 use std::collections::HashMap;
 use std::hash::Hash;
 
 use crate::commander::FlightMode;
-use crate::mav::duplicates::DuplicateCache;
-use crate::mav::mission_xfer::MissionTransfer;
 use crate::mav::streams::{LinkKind, StreamTable};
 
 /// Learned peers are forgotten after this much wall-clock silence [s].
@@ -42,8 +40,6 @@ pub(super) struct Port<A> {
     peers: HashMap<A, f64>,
     sequence: u8,
     pub streams: StreamTable,
-    pub duplicates: DuplicateCache,
-    pub transfer: MissionTransfer<A>,
     /// Wall and simulated time of the next due heartbeat [s].
     pub next_heartbeat: (f64, f64),
     /// Armed state and mode of the last heartbeat.
@@ -63,8 +59,6 @@ impl<A: Copy + Eq + Hash> Port<A> {
             peers: HashMap::new(),
             sequence: 0,
             streams: StreamTable::new(kind),
-            duplicates: DuplicateCache::default(),
-            transfer: MissionTransfer::default(),
             next_heartbeat: (0.0, 0.0),
             last_state: None,
             gcs_heard: None,
