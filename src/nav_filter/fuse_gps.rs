@@ -243,3 +243,120 @@ impl PreparedFix {
         vertical
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::UnitQuat;
+    use crate::nav_filter::alignment::initial_covariance;
+    use crate::nav_filter::readings::ImuReading;
+    use crate::nav_filter::state::Nominal;
+
+    fn reading(t_s: f64, pos_w: Vec3) -> GpsReading {
+        GpsReading {
+            t_s,
+            pos_w,
+            vel_w: Vec3::zeros(),
+            h_acc_m: 0.5,
+            v_acc_m: 0.8,
+            speed_acc_m_s: 0.2,
+            fix_3d: true,
+            satellites: 10,
+        }
+    }
+
+    /// An aligned core filter at rest at the origin with history from 0 to 1 s at 100 Hz.
+    fn core_for_a_second(params: &NavParams) -> ErrorStateFilter {
+        let mut core = ErrorStateFilter::new();
+        let p = initial_covariance(params, HeightSource::Gps, &UnitQuat::identity(), 1.0);
+        let still = |k: u32| ImuReading {
+            t_s: 0.01 * f64::from(k),
+            accel_b: Vec3::new(0.0, 0.0, -crate::math::GRAVITY_M_S2),
+            gyro_b: Vec3::zeros(),
+        };
+        core.accept_imu(&still(0));
+        core.restart(Nominal::default(), p);
+        for k in 1..=100 {
+            let prev = core.accept_imu(&still(k)).unwrap();
+            core.propagate(prev, &still(k), params.output_tau_s);
+        }
+        core
+    }
+
+    #[test]
+    fn skips_come_before_the_state_is_touched_and_the_first_fix_sets_the_origin() {
+        let params = NavParams::default();
+        let mut core = core_for_a_second(&params);
+        let mut gnss = GnssAid::default();
+        let at = Vec3::new(100.0, -50.0, -3.0);
+        let bad = GpsReading {
+            satellites: 4,
+            ..reading(1.0, at)
+        };
+        let gps = HeightSource::Gps;
+        let good = reading(1.11, at);
+        assert_eq!(
+            gnss.prepare(&good, false, &mut core, &params, gps),
+            Err(SkipReason::NotAligned)
+        );
+        assert_eq!(
+            gnss.prepare(&bad, true, &mut core, &params, gps),
+            Err(SkipReason::Quality)
+        );
+        assert_eq!(
+            gnss.prepare(&reading(0.1, at), true, &mut core, &params, gps),
+            Err(SkipReason::Stale),
+            "valid before the history"
+        );
+        assert_eq!(gnss.origin_w, None);
+        let fix = gnss
+            .prepare(&reading(1.11, at), true, &mut core, &params, HeightSource::Gps)
+            .unwrap();
+        assert_eq!(gnss.origin_w, Some(at), "the estimate continues where it was");
+        assert_eq!(fix.pos_w, Vec3::zeros());
+        assert_eq!(fix.var_h, 0.25);
+        let inactive = NavParams { gps_ctrl: 0, ..params };
+        assert_eq!(
+            gnss.prepare(&reading(1.11, at), true, &mut core, &inactive, HeightSource::Gps),
+            Err(SkipReason::Inactive)
+        );
+    }
+
+    #[test]
+    fn the_first_fixes_reset_and_later_ones_are_fused_each_part_on_its_own() {
+        let params = NavParams::default();
+        let mut core = core_for_a_second(&params);
+        let mut gnss = GnssAid::default();
+        let mut height = HeightSelection::new(HeightSource::Gps);
+        let mut report = FilterReport::default();
+        let moving = GpsReading {
+            vel_w: Vec3::new(1.0, 0.0, 0.0),
+            ..reading(1.11, Vec3::zeros())
+        };
+        let mut fix = gnss
+            .prepare(&moving, true, &mut core, &params, HeightSource::Gps)
+            .unwrap();
+        let velocity = fix.fuse_velocity(true, &mut core, &params, &mut report);
+        assert_eq!(velocity.outcome, FusionOutcome::Reset);
+        assert_eq!(core.x.vel_w, Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(report.resets.velocity, 1);
+        let horizontal = fix.fuse_horizontal(false, &mut core, &params, &mut report);
+        assert_eq!(horizontal.outcome, FusionOutcome::Fused);
+        let vertical = fix.fuse_height(&mut core, &params, &mut height, &mut report);
+        assert_eq!(vertical.outcome, FusionOutcome::Fused);
+        assert_eq!(height.last_fused_s(HeightSource::Gps), Some(1.0));
+        // GNSS height while the barometer holds the height: only its test ratio.
+        height.active = HeightSource::Baro;
+        let vertical = fix.fuse_height(&mut core, &params, &mut height, &mut report);
+        assert_eq!(vertical.outcome, FusionOutcome::Skipped(SkipReason::Inactive));
+        gnss.record(
+            1.0,
+            &GpsFusion {
+                velocity,
+                horizontal,
+                vertical,
+            },
+        );
+        assert!(gnss.available(1.5, 1.0) && !gnss.available(2.5, 1.0));
+    }
+}
