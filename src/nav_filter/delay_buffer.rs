@@ -4,7 +4,7 @@
 
 use crate::math::{UnitQuat, Vec3};
 
-use super::state::rotate_world;
+use super::state::turn_world;
 
 /// Entries kept: 256 IMU samples, 255 ms at 1 kHz, more than `MAX_DELAY_S`
 /// (docs/navigation_filter.md §7).
@@ -117,14 +117,15 @@ impl DelayBuffer {
     /// time `from_s` [s] on (older ones are never looked up again)
     /// (docs/navigation_filter.md §7, eq. (7.3)).
     pub fn correct(&mut self, from_s: f64, dpos_w: &Vec3, dvel_w: &Vec3, dtheta_w: &Vec3) {
-        let rotate = dtheta_w.norm_squared() > 0.0;
+        // Exp(δθ) once for every entry (the same rotation as `rotate_world`'s).
+        let turn = (dtheta_w.norm_squared() > 0.0).then(|| UnitQuat::from_scaled_axis(*dtheta_w));
         let first = self.first_at_or_after(from_s);
         for i in first..self.len {
             let s = &mut self.items[(self.start + i) % DELAY_BUFFER_LEN];
             s.pos_w += dpos_w;
             s.vel_w += dvel_w;
-            if rotate {
-                s.q_wb = rotate_world(&s.q_wb, dtheta_w);
+            if let Some(turn) = &turn {
+                s.q_wb = turn_world(&s.q_wb, turn);
             }
         }
     }

@@ -4,12 +4,11 @@
 
 use crate::math::{hat, Mat3, UnitQuat, Vec3, GRAVITY_M_S2};
 
-use super::aiding::DEAD_RECKONING_AFTER_S;
 use super::covariance::{fuse_shaped, ScalarObservation};
+use super::error_state::ErrorStateFilter;
 use super::fusion::{Fusion, FusionOutcome, SkipReason};
-use super::params::{GPS_CTRL_FUSED, IMU_CTRL_GRAVITY};
+use super::params::{HeightSource, NavParams, IMU_CTRL_GRAVITY};
 use super::state::{ErrorVector, ERR_ATT};
-use super::NavFilter;
 
 /// Decay time constant of the peak-holding filter on |f| whose value gates the fusion [s]
 /// (PX4's `EKF2_ABL_TAU` default, 0.5 s) (docs/navigation_filter.md §20, eq. (20.2)).
@@ -61,6 +60,70 @@ impl GravityAid {
     pub fn accel_ratio(&self) -> Option<f64> {
         self.accel_peak_m_s2.map(|f| f / GRAVITY_M_S2)
     }
+
+    /// Fuses the direction of the bias-corrected specific force `f_b` [m/s²] as the body-frame up
+    /// direction, one axis after the other, correcting the tilt only (never the yaw), while
+    /// `EKF2_IMU_CTRL` bit 2 is set, nothing aids horizontally and the filtered |f| is between
+    /// 0.9 g and 1.1 g (docs/navigation_filter.md §20, eqs. (20.1)–(20.3)); `horizontal_aiding`
+    /// says whether GNSS aids now, `active_height` which height source the covariance
+    /// prediction before the fusion works with.
+    pub fn fuse(
+        &self,
+        f_b: &Vec3,
+        horizontal_aiding: bool,
+        core: &mut ErrorStateFilter,
+        params: &NavParams,
+        active_height: HeightSource,
+    ) -> Fusion {
+        if params.imu_ctrl & IMU_CTRL_GRAVITY == 0 || horizontal_aiding {
+            return Fusion::skipped(SkipReason::Inactive);
+        }
+        let (Some(ratio), Some(measured)) = (self.accel_ratio(), f_b.try_normalize(1e-6)) else {
+            return Fusion::skipped(SkipReason::Invalid);
+        };
+        if !(ratio > ACCEL_RATIO_RANGE.0 && ratio < ACCEL_RATIO_RANGE.1) {
+            return Fusion::skipped(SkipReason::Geometry);
+        }
+        core.flush_covariance(params, active_height);
+        let variance = gravity_noise(params.gravity_noise_g).powi(2);
+        let (up_b, jac) = predicted_up(&core.x.q_wb);
+        let mut worst: f64 = 0.0;
+        for axis in 0..3 {
+            let row = jac.row(axis).transpose();
+            let s = (core.p.fixed_view::<3, 3>(ERR_ATT, ERR_ATT) * row).dot(&row) + variance;
+            worst = worst.max((measured[axis] - up_b[axis]).powi(2) / (GATE_SD * GATE_SD * s));
+        }
+        if worst.is_nan() || worst > 1.0 {
+            return Fusion {
+                outcome: FusionOutcome::Rejected,
+                test_ratio: worst,
+            };
+        }
+        let mut fused = 0;
+        for axis in 0..3 {
+            let (up_b, jac) = predicted_up(&core.x.q_wb);
+            let mut h = ErrorVector::zeros();
+            h.fixed_rows_mut::<3>(ERR_ATT).copy_from(&jac.row(axis).transpose());
+            let obs = ScalarObservation {
+                h,
+                innovation: measured[axis] - up_b[axis],
+                variance,
+            };
+            let update = fuse_shaped(&mut core.p, &obs, f64::INFINITY, |k| k[ERR_ATT + 2] = 0.0);
+            if let Some(dx) = update.dx {
+                core.apply(&dx, params);
+                fused += 1;
+            }
+        }
+        Fusion {
+            outcome: if fused == 3 {
+                FusionOutcome::Fused
+            } else {
+                FusionOutcome::Rejected
+            },
+            test_ratio: worst,
+        }
+    }
 }
 
 /// Unit-vector noise (1σ) for `EKF2_GRAV_NOISE` = `noise_g` [-]: `max(noise, 0.01)`
@@ -76,73 +139,6 @@ pub(super) fn predicted_up(q_wb: &UnitQuat) -> (Vec3, Mat3) {
     let up_w = Vec3::new(0.0, 0.0, -1.0);
     let rt = q_wb.to_rotation_matrix().into_inner().transpose();
     (rt * up_w, rt * hat(&up_w))
-}
-
-impl NavFilter {
-    /// Whether GNSS position or velocity corrected the state within the last
-    /// `DEAD_RECKONING_AFTER_S` and GNSS fusion is on (PX4's "horizontal aiding active").
-    fn horizontal_aiding_active(&self) -> bool {
-        self.params.gps_ctrl & GPS_CTRL_FUSED != 0
-            && self
-                .aiding
-                .last_aiding_s
-                .is_some_and(|t| self.t_s - t <= DEAD_RECKONING_AFTER_S)
-    }
-
-    /// Fuses the direction of the bias-corrected specific force `f_b` [m/s²] as the body-frame up
-    /// direction, one axis after the other, correcting the tilt only (never the yaw), while
-    /// `EKF2_IMU_CTRL` bit 2 is set, nothing aids horizontally and the filtered |f| is between
-    /// 0.9 g and 1.1 g (docs/navigation_filter.md §20, eqs. (20.1)–(20.3)).
-    pub(super) fn fuse_gravity(&mut self, f_b: &Vec3) -> Fusion {
-        if self.params.imu_ctrl & IMU_CTRL_GRAVITY == 0 || self.horizontal_aiding_active() {
-            return Fusion::skipped(SkipReason::Inactive);
-        }
-        let (Some(ratio), Some(measured)) = (self.gravity.accel_ratio(), f_b.try_normalize(1e-6)) else {
-            return Fusion::skipped(SkipReason::Invalid);
-        };
-        if !(ratio > ACCEL_RATIO_RANGE.0 && ratio < ACCEL_RATIO_RANGE.1) {
-            return Fusion::skipped(SkipReason::Geometry);
-        }
-        self.flush_covariance();
-        let variance = gravity_noise(self.params.gravity_noise_g).powi(2);
-        let (up_b, jac) = predicted_up(&self.x.q_wb);
-        let mut worst: f64 = 0.0;
-        for axis in 0..3 {
-            let row = jac.row(axis).transpose();
-            let s = (self.p.fixed_view::<3, 3>(ERR_ATT, ERR_ATT) * row).dot(&row) + variance;
-            worst = worst.max((measured[axis] - up_b[axis]).powi(2) / (GATE_SD * GATE_SD * s));
-        }
-        if worst.is_nan() || worst > 1.0 {
-            return Fusion {
-                outcome: FusionOutcome::Rejected,
-                test_ratio: worst,
-            };
-        }
-        let mut fused = 0;
-        for axis in 0..3 {
-            let (up_b, jac) = predicted_up(&self.x.q_wb);
-            let mut h = ErrorVector::zeros();
-            h.fixed_rows_mut::<3>(ERR_ATT).copy_from(&jac.row(axis).transpose());
-            let obs = ScalarObservation {
-                h,
-                innovation: measured[axis] - up_b[axis],
-                variance,
-            };
-            let update = fuse_shaped(&mut self.p, &obs, f64::INFINITY, |k| k[ERR_ATT + 2] = 0.0);
-            if let Some(dx) = update.dx {
-                self.apply(&dx);
-                fused += 1;
-            }
-        }
-        Fusion {
-            outcome: if fused == 3 {
-                FusionOutcome::Fused
-            } else {
-                FusionOutcome::Rejected
-            },
-            test_ratio: worst,
-        }
-    }
 }
 
 #[cfg(test)]

@@ -1,5 +1,7 @@
 use super::*;
-use crate::nav_filter::{ImuReading, NavParams};
+use crate::nav_filter::alignment::initial_covariance;
+use crate::nav_filter::state::Nominal;
+use crate::nav_filter::{ImuReading, NavFilter, NavParams};
 
 /// Level and turning about the vertical at 0.1 rad/s (so not at rest), from `t_s` [s].
 fn turning(t_s: f64) -> ImuReading {
@@ -75,11 +77,11 @@ fn nothing_is_fused_while_accelerating_or_aided() {
     f.aiding.last_aiding_s = None;
     let hard = Vec3::new(0.0, 0.0, -2.5 * GRAVITY_M_S2);
     f.gravity.add(&hard, 1.0);
-    let p_before = f.p;
+    let p_before = f.core.p;
     let fusion = f.fuse_gravity(&hard);
     assert_eq!(fusion.outcome, FusionOutcome::Skipped(SkipReason::Geometry));
     assert_eq!(f.estimate().q_wb, q_est);
-    assert_eq!(f.p, p_before);
+    assert_eq!(f.core.p, p_before);
     // Near 1 g but with GNSS aiding the state a moment ago: not fused either.
     let level = Vec3::new(0.0, 0.0, -GRAVITY_M_S2);
     f.gravity.add(&level, 1.0);
@@ -91,4 +93,47 @@ fn nothing_is_fused_while_accelerating_or_aided() {
     f.aiding.last_aiding_s = None;
     assert!(f.fuse_gravity(&level).accepted());
     assert!(f.estimate().q_wb.angle_to(&q_est) > 1e-7);
+}
+
+#[test]
+fn the_aid_alone_skips_while_gnss_aids_and_levels_at_one_g() {
+    let params = NavParams::default();
+    let q = UnitQuat::from_euler_angles(0.1, 0.0, 0.0);
+    let mut core = ErrorStateFilter::new();
+    let x = Nominal {
+        q_wb: q,
+        ..Nominal::default()
+    };
+    core.restart(x, initial_covariance(&params, HeightSource::Gps, &q, 1.0));
+    let mut aid = GravityAid::default();
+    let level = Vec3::new(0.0, 0.0, -GRAVITY_M_S2);
+    assert_eq!(
+        aid.fuse(&level, false, &mut core, &params, HeightSource::Gps).outcome,
+        FusionOutcome::Skipped(SkipReason::Invalid),
+        "no magnitude yet"
+    );
+    aid.add(&level, 1.0);
+    assert_eq!(
+        aid.fuse(&level, true, &mut core, &params, HeightSource::Gps).outcome,
+        FusionOutcome::Skipped(SkipReason::Inactive)
+    );
+    assert_eq!(core.x.q_wb, q);
+    assert!(aid
+        .fuse(&level, false, &mut core, &params, HeightSource::Gps)
+        .accepted());
+    assert!(core.x.q_wb.angle_to(&q) > 1e-7);
+    let (_, _, yaw) = core.x.q_wb.euler_angles();
+    assert!(yaw.abs() < 1e-12, "never the yaw: {yaw}");
+}
+
+#[test]
+fn rest_needs_a_second_of_stillness() {
+    let mut aid = GravityAid::default();
+    let level = Vec3::new(0.0, 0.0, -GRAVITY_M_S2);
+    aid.add_rest(&Vec3::zeros(), &level, 0.6);
+    assert!(!aid.at_rest());
+    aid.add_rest(&Vec3::zeros(), &level, 0.6);
+    assert!(aid.at_rest());
+    aid.add_rest(&Vec3::new(0.1, 0.0, 0.0), &level, 0.001);
+    assert!(!aid.at_rest());
 }

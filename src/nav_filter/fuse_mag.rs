@@ -7,11 +7,13 @@ use crate::math::{wrap_pi, UnitQuat, Vec3};
 
 use super::alignment::{yaw_from_mag, MIN_HORIZONTAL_FIELD_SHARE};
 use super::covariance::{fuse_shaped, ScalarObservation};
+use super::error_state::ErrorStateFilter;
 use super::fusion::{Fusion, FusionOutcome, SkipReason};
-use super::params::MAG_TYPE_NONE;
+use super::params::{HeightSource, NavParams, MAG_TYPE_NONE};
 use super::readings::{finite3, MagReading};
+use super::reporting::FilterReport;
 use super::state::{ErrorVector, ERR_ATT, ERR_GYRO_BIAS};
-use super::NavFilter;
+use super::status::SourceTrack;
 
 /// Heading innovation ν = ψ_m − ψ̂ [rad] of field `field_b` [gauss] measured at attitude `q_wb`
 /// (docs/navigation_filter.md §10, eqs. (10.1)–(10.2)); `None` when the field's horizontal
@@ -37,36 +39,57 @@ pub(super) fn heading_jacobian(declination_rad: f64, tan_inclination: f64) -> Ve
     Vec3::new(-c * tan_inclination, -s * tan_inclination, 1.0)
 }
 
-impl NavFilter {
-    /// Fuses one magnetometer sample as a heading
-    /// (docs/navigation_filter.md §10, eqs. (10.1)–(10.4)); before the alignment it feeds the
-    /// alignment, and the first sample after an alignment without one sets the yaw
-    /// (docs/navigation_filter.md §11, eq. (11.4)).
-    pub fn fuse_mag(&mut self, mag: &MagReading) -> Fusion {
-        let f = self.fuse_mag_sample(mag);
-        self.mag.record(self.t_s, f.outcome);
-        f
+/// The magnetometer's heading: its counters, the field's inclination and whether the yaw is set
+/// (docs/navigation_filter.md §10–§11).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct MagHeading {
+    /// Counters and times of the magnetometer's samples.
+    pub track: SourceTrack,
+    /// tan of the field's inclination, taken when the yaw is set from the magnetometer [-].
+    pub tan_inclination: Option<f64>,
+    /// The yaw is set: from the magnetometer (at alignment or later) or a known attitude.
+    pub yaw_aligned: bool,
+}
+
+impl MagHeading {
+    /// Why reading `mag` is not offered at all: not finite, or the magnetometer is not fused
+    /// (`EKF2_MAG_TYPE` 5) (docs/navigation_filter.md §20).
+    pub fn unusable(mag: &MagReading, params: &NavParams) -> Option<SkipReason> {
+        if !(mag.t_s.is_finite() && finite3(&mag.field_b)) {
+            return Some(SkipReason::Invalid);
+        }
+        if params.mag_type == MAG_TYPE_NONE {
+            return Some(SkipReason::Inactive);
+        }
+        None
     }
 
-    fn fuse_mag_sample(&mut self, mag: &MagReading) -> Fusion {
-        if !(mag.t_s.is_finite() && finite3(&mag.field_b)) {
-            return Fusion::skipped(SkipReason::Invalid);
-        }
-        if self.params.mag_type == MAG_TYPE_NONE {
-            return Fusion::skipped(SkipReason::Inactive);
-        }
-        if !self.aligned {
-            self.aligner.add_mag(&mag.field_b);
-            return Fusion::skipped(SkipReason::NotAligned);
-        }
-        self.flush_covariance();
-        if self.yaw_aligned && self.mag_tan_inclination.is_none() {
+    /// Whether nothing was fused within `timeout_s` [s] of `now_s` [s]
+    /// (docs/navigation_filter.md §18, eq. (18.7)).
+    pub fn lost(&self, now_s: f64, timeout_s: f64) -> bool {
+        self.track.last_fused_s.is_none_or(|t| now_s - t > timeout_s)
+    }
+
+    /// Fuses one magnetometer sample of an aligned filter as a heading
+    /// (docs/navigation_filter.md §10, eqs. (10.1)–(10.4)); the first sample after an
+    /// alignment without one sets the yaw (docs/navigation_filter.md §11, eq. (11.4)).
+    /// `active_height` is the height source the covariance prediction works with.
+    pub fn fuse(
+        &mut self,
+        mag: &MagReading,
+        core: &mut ErrorStateFilter,
+        params: &NavParams,
+        active_height: HeightSource,
+        report: &mut FilterReport,
+    ) -> Fusion {
+        core.flush_covariance(params, active_height);
+        if self.yaw_aligned && self.tan_inclination.is_none() {
             // Started at a known attitude (`align_at`): the first sample gives the field's
             // inclination and is fused, not reset to (one noisy sample is a poor heading).
-            self.mag_tan_inclination = tan_inclination(&self.x.q_wb, &mag.field_b);
+            self.tan_inclination = tan_inclination(&core.x.q_wb, &mag.field_b);
         }
-        let (true, Some(tan_incl)) = (self.yaw_aligned, self.mag_tan_inclination) else {
-            return if self.reset_yaw_to_mag(&mag.field_b) {
+        let (true, Some(tan_incl)) = (self.yaw_aligned, self.tan_inclination) else {
+            return if self.reset_yaw(&mag.field_b, core, params, report) {
                 Fusion {
                     outcome: FusionOutcome::Reset,
                     test_ratio: 0.0,
@@ -75,21 +98,64 @@ impl NavFilter {
                 Fusion::skipped(SkipReason::Geometry)
             };
         };
-        let Some(past) = self.buffer.at(mag.t_s - self.params.mag_delay_s) else {
+        let Some(past) = core.past(mag.t_s - params.mag_delay_s) else {
             return Fusion::skipped(SkipReason::Stale);
         };
-        let decl = self.params.mag_declination_rad;
+        let decl = params.mag_declination_rad;
         let Some(innovation) = heading_innovation(&past.q_wb, &mag.field_b, decl) else {
             return Fusion::skipped(SkipReason::Geometry);
         };
-        let variance = self.params.heading_noise_rad.powi(2);
-        self.fuse_heading(innovation, &heading_jacobian(decl, tan_incl), variance)
+        let variance = params.heading_noise_rad.powi(2);
+        Self::fuse_heading(
+            innovation,
+            &heading_jacobian(decl, tan_incl),
+            variance,
+            core,
+            params,
+            report,
+        )
+    }
+
+    /// Sets the yaw from one magnetometer sample `field_b` [gauss], keeping roll and pitch; the
+    /// attitude rows of P turn with the yaw change, the yaw row restarts as at alignment and a
+    /// yaw reset is counted (docs/navigation_filter.md §11, eqs. (11.4)–(11.5)). False when the
+    /// field gives no heading.
+    pub fn reset_yaw(
+        &mut self,
+        field_b: &Vec3,
+        core: &mut ErrorStateFilter,
+        params: &NavParams,
+        report: &mut FilterReport,
+    ) -> bool {
+        let (roll, pitch, yaw) = core.x.q_wb.euler_angles();
+        let Some(new_yaw) = yaw_from_mag(roll, pitch, field_b, params.mag_declination_rad) else {
+            return false;
+        };
+        let Some(tan_incl) = self.tan_inclination.or_else(|| tan_inclination(&core.x.q_wb, field_b)) else {
+            return false;
+        };
+        core.turn_yaw(wrap_pi(new_yaw - yaw), params);
+        report.resets.yaw = report.resets.yaw.saturating_add(1);
+        self.tan_inclination = Some(tan_incl);
+        core.yaw_covariance_from_heading(
+            &heading_jacobian(params.mag_declination_rad, tan_incl),
+            params.heading_noise_rad,
+        );
+        self.yaw_aligned = true;
+        true
     }
 
     /// Fuses a heading innovation `innovation` [rad] with attitude Jacobian `h_att` and noise
     /// variance `variance` [rad²] behind the magnetometer's gate, correcting only the yaw and the
     /// gyro bias about the vertical (docs/navigation_filter.md §10, eq. (10.4)).
-    fn fuse_heading(&mut self, innovation: f64, h_att: &Vec3, variance: f64) -> Fusion {
+    fn fuse_heading(
+        innovation: f64,
+        h_att: &Vec3,
+        variance: f64,
+        core: &mut ErrorStateFilter,
+        params: &NavParams,
+        report: &mut FilterReport,
+    ) -> Fusion {
         let mut h = ErrorVector::zeros();
         h.fixed_rows_mut::<3>(ERR_ATT).copy_from(h_att);
         let obs = ScalarObservation {
@@ -97,26 +163,23 @@ impl NavFilter {
             innovation,
             variance,
         };
-        let d = self.x.q_wb.inverse_transform_vector(&Vec3::z());
-        let update = fuse_shaped(&mut self.p, &obs, self.params.mag_gate_sd, |k| {
+        let d = core.x.q_wb.inverse_transform_vector(&Vec3::z());
+        let update = fuse_shaped(&mut core.p, &obs, params.mag_gate_sd, |k| {
             let yaw = k[ERR_ATT + 2];
             let k_bg = d * d.dot(&k.fixed_rows::<3>(ERR_GYRO_BIAS));
             k.fill(0.0);
             k[ERR_ATT + 2] = yaw;
             k.fixed_rows_mut::<3>(ERR_GYRO_BIAS).copy_from(&k_bg);
         });
-        self.innovations.heading_rad = innovation;
-        self.innovations.heading_var = update.innovation_variance[0];
-        self.preflight.heading(
-            self.t_s,
-            innovation,
-            self.innovations.heading_var,
-            self.params.mag_gate_sd,
-        );
-        self.ratios.heading = update.test_ratio;
+        report.innovations.heading_rad = innovation;
+        report.innovations.heading_var = update.innovation_variance[0];
+        report
+            .preflight
+            .heading(core.t_s, innovation, report.innovations.heading_var, params.mag_gate_sd);
+        report.ratios.heading = update.test_ratio;
         let outcome = match update.dx {
             Some(dx) => {
-                self.apply(&dx);
+                core.apply(&dx, params);
                 FusionOutcome::Fused
             }
             None => FusionOutcome::Rejected,
@@ -168,12 +231,12 @@ mod tests {
     fn heading_corrects_yaw_but_never_tilt() {
         let mut f = NavFilter::new(NavParams::default()).unwrap();
         // Aligned level, facing north; the truth has a yaw of 0.1 rad.
-        f.aligned = true;
-        f.yaw_aligned = true;
-        f.mag_tan_inclination = Some(0.43 / 0.21);
-        f.p =
+        f.alignment.aligned = true;
+        f.mag.yaw_aligned = true;
+        f.mag.tan_inclination = Some(0.43 / 0.21);
+        let p =
             crate::nav_filter::alignment::initial_covariance(f.params(), HeightSource::Gps, &UnitQuat::identity(), 1.0);
-        f.buffer.push(crate::nav_filter::delay_buffer::PastState::default());
+        f.core.restart(crate::nav_filter::state::Nominal::default(), p);
         let decl = f.params().mag_declination_rad;
         let field_w = Vec3::new(0.21 * decl.cos(), 0.21 * decl.sin(), 0.43);
         let q_true = UnitQuat::from_euler_angles(0.0, 0.0, 0.1);
@@ -187,5 +250,40 @@ mod tests {
         assert!(yaw > 0.04, "{yaw}");
         assert_eq!(f.estimate().accel_bias_b, Vec3::zeros());
         assert!(f.covariance().symmetric_eigenvalues().min() > -1e-12);
+    }
+
+    #[test]
+    fn the_first_sample_after_an_alignment_without_a_heading_sets_the_yaw() {
+        let params = NavParams::default();
+        let mut core = ErrorStateFilter::new();
+        let p =
+            crate::nav_filter::alignment::initial_covariance(&params, HeightSource::Gps, &UnitQuat::identity(), 1.0);
+        core.restart(crate::nav_filter::state::Nominal::default(), p);
+        let mut report = FilterReport::default();
+        let mut mag = MagHeading::default();
+        let decl = params.mag_declination_rad;
+        let field_w = Vec3::new(0.21 * decl.cos(), 0.21 * decl.sin(), 0.43);
+        let q_true = UnitQuat::from_euler_angles(0.0, 0.0, 0.7);
+        let reading = MagReading {
+            t_s: 0.0,
+            field_b: q_true.inverse() * field_w,
+        };
+        assert_eq!(MagHeading::unusable(&reading, &params), None);
+        let f = mag.fuse(&reading, &mut core, &params, HeightSource::Gps, &mut report);
+        assert_eq!(f.outcome, FusionOutcome::Reset);
+        assert!(mag.yaw_aligned && mag.tan_inclination.is_some());
+        assert_eq!(report.resets.yaw, 1);
+        assert!((core.x.q_wb.euler_angles().2 - 0.7).abs() < 1e-9);
+        // The next sample is fused as a heading.
+        let f = mag.fuse(&reading, &mut core, &params, HeightSource::Gps, &mut report);
+        assert_eq!(f.outcome, FusionOutcome::Fused);
+        assert!(mag.lost(10.0, 1.0), "fusing is the caller's to record");
+        mag.track.record(0.0, f.outcome);
+        assert!(!mag.lost(0.5, 1.0));
+        let silent = NavParams {
+            mag_type: MAG_TYPE_NONE,
+            ..params
+        };
+        assert_eq!(MagHeading::unusable(&reading, &silent), Some(SkipReason::Inactive));
     }
 }

@@ -12,8 +12,10 @@ use nalgebra::Vector2;
 use crate::math::{wrap_pi, Vec3};
 
 use super::covariance::uncorrelate;
+use super::error_state::{ErrorStateFilter, ImuInterval};
+use super::params::NavParams;
 use super::state::ERR_ATT;
-use super::NavFilter;
+use super::yaw_estimator::YawEstimator;
 
 /// Largest standard deviation of the estimator's heading that may reset the yaw [rad] (PX4
 /// resets its yaw to its EKF-GSF below 15°).
@@ -42,14 +44,36 @@ impl HeadingAidIncrements {
     }
 }
 
-impl NavFilter {
+/// The heading from GNSS velocity (docs/navigation_filter.md §18): the yaw estimator and the
+/// IMU increments it has not seen yet.
+#[derive(Debug, Clone, Default)]
+pub(super) struct HeadingAid {
+    /// The Gaussian sum of heading hypotheses (docs/navigation_filter.md §18, eqs. (18.1)–(18.5)).
+    yaw_gsf: YawEstimator,
+    /// IMU increments since the last GNSS fix, for `yaw_gsf`.
+    increments: HeadingAidIncrements,
+}
+
+impl HeadingAid {
+    /// Adds one integrated IMU interval (docs/navigation_filter.md §18, eq. (18.6)).
+    pub fn add(&mut self, interval: &ImuInterval) {
+        self.increments.add(&interval.f_w, interval.yaw_rate, interval.dt_s);
+    }
+
     /// A GNSS velocity `vel_w` [m/s] of variance `vel_var` [m²/s²] arrived: the yaw estimator
     /// predicts over the increments, rotated into the level frame by the estimated yaw (18.6), and
-    /// fuses it; while the magnetometer is lost a yaw far from its converged heading is reset to
-    /// it (18.7).
-    pub(super) fn aid_heading_from_gps(&mut self, vel_w: &Vec3, vel_var: f64) {
-        let inc = std::mem::take(&mut self.heading_aid);
-        let (_, _, yaw) = self.x.q_wb.euler_angles();
+    /// fuses it; when `may_reset` (the yaw was aligned and the magnetometer is lost) a yaw far
+    /// from the estimator's converged heading is reset to it (18.7). True when the yaw was reset.
+    pub fn aid(
+        &mut self,
+        vel_w: &Vec3,
+        vel_var: f64,
+        may_reset: bool,
+        core: &mut ErrorStateFilter,
+        params: &NavParams,
+    ) -> bool {
+        let inc = std::mem::take(&mut self.increments);
+        let (_, _, yaw) = core.x.q_wb.euler_angles();
         let (s, c) = yaw.sin_cos();
         let level = Vector2::new(
             c * inc.dvel_w.x + s * inc.dvel_w.y,
@@ -57,23 +81,54 @@ impl NavFilter {
         );
         self.yaw_gsf.predict(level, inc.dyaw, inc.dt_s);
         self.yaw_gsf.fuse_velocity(vel_w.xy(), vel_var);
-        let mag_lost = self
-            .mag
-            .last_fused_s
-            .is_none_or(|t| self.t_s - t > self.params.sensor_timeout_s);
         let Some((gsf_yaw, gsf_var)) = self.yaw_gsf.yaw() else {
-            return;
+            return false;
         };
         let disagreement = wrap_pi(gsf_yaw - yaw);
-        let yaw_var = self.p[(ERR_ATT + 2, ERR_ATT + 2)];
-        let reset = self.yaw_aligned
-            && mag_lost
+        let yaw_var = core.p[(ERR_ATT + 2, ERR_ATT + 2)];
+        let reset = may_reset
             && gsf_var.sqrt() < MAX_AID_YAW_STD_RAD
             && disagreement.abs() > YAW_RESET_MIN_RAD
             && disagreement.powi(2) > 9.0 * (gsf_var + yaw_var);
         if reset {
-            self.turn_yaw(disagreement);
-            uncorrelate(&mut self.p, ERR_ATT + 2, gsf_var);
+            core.turn_yaw(disagreement, params);
+            uncorrelate(&mut core.p, ERR_ATT + 2, gsf_var);
         }
+        reset
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::UnitQuat;
+    use crate::nav_filter::alignment::initial_covariance;
+    use crate::nav_filter::params::HeightSource;
+    use crate::nav_filter::state::Nominal;
+
+    #[test]
+    fn a_hover_never_resets_the_yaw() {
+        let params = NavParams::default();
+        let q = UnitQuat::from_euler_angles(0.0, 0.0, 1.0);
+        let mut core = ErrorStateFilter::new();
+        let x = Nominal {
+            q_wb: q,
+            ..Nominal::default()
+        };
+        core.restart(x, initial_covariance(&params, HeightSource::Gps, &q, 1.0));
+        let mut aid = HeadingAid::default();
+        let hover = ImuInterval {
+            f_w: Vec3::new(0.0, 0.0, -crate::math::GRAVITY_M_S2),
+            yaw_rate: 0.0,
+            dt_s: 1e-3,
+        };
+        for _ in 0..300 {
+            for _ in 0..100 {
+                aid.add(&hover);
+            }
+            assert!(!aid.aid(&Vec3::zeros(), 0.09, true, &mut core, &params));
+        }
+        assert_eq!(core.x.q_wb, q, "every hypothesis predicts a hover equally well");
+        assert_eq!(aid.increments, HeadingAidIncrements::default(), "taken at every fix");
     }
 }

@@ -6,10 +6,12 @@
 use crate::math::Vec3;
 
 use super::covariance::{fuse_group, uncorrelate, ScalarObservation};
+use super::error_state::ErrorStateFilter;
 use super::fusion::{Fusion, FusionOutcome};
-use super::params::HeightSource;
+use super::params::{HeightSource, NavParams};
+use super::reporting::FilterReport;
 use super::state::{ERR_BARO_OFFSET, ERR_POS};
-use super::NavFilter;
+use super::status::ResetCounters;
 
 /// State of the height-source choice.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -70,87 +72,95 @@ impl HeightSelection {
             None
         };
     }
-}
 
-impl NavFilter {
-    /// Whether the active height source was fused within `height_timeout_s`
+    /// Whether the active height source was fused within `timeout_s` [s] of `now_s` [s]
     /// (docs/navigation_filter.md §12, eq. (12.1)).
-    pub(super) fn height_fused_recently(&self) -> bool {
-        self.height
-            .last_fused_s(self.height.active)
-            .is_some_and(|t| self.t_s - t <= self.params.height_timeout_s)
-    }
-
-    /// Whether `s` could take over the height now (docs/navigation_filter.md §9).
-    fn height_source_available(&self, s: HeightSource) -> bool {
-        let recent = |t: Option<f64>| t.is_some_and(|t| self.t_s - t <= self.params.sensor_timeout_s);
-        match s {
-            HeightSource::Baro => self.baro_origin_m.is_some() && recent(self.baro.last_received_s),
-            HeightSource::Gps => self.origin_w.is_some() && recent(self.gps.last_fused_s),
-        }
+    pub fn fused_recently(&self, now_s: f64, timeout_s: f64) -> bool {
+        self.last_fused_s(self.active).is_some_and(|t| now_s - t <= timeout_s)
     }
 
     /// The time-driven rules: fall back after `height_timeout_s` without a fused height sample,
-    /// return to the reference after it has passed its gate for `height_timeout_s`
+    /// return to the reference after it has passed its gate for `height_timeout_s`;
+    /// `available` says whether a source could take over the height now
     /// (docs/navigation_filter.md §9).
-    pub(super) fn update_height_source(&mut self) {
-        let h = self.height;
-        let timeout = self.params.height_timeout_s;
+    pub fn update(
+        &mut self,
+        available: impl Fn(HeightSource) -> bool,
+        core: &mut ErrorStateFilter,
+        params: &NavParams,
+        resets: &mut ResetCounters,
+    ) {
+        let h = *self;
+        let timeout = params.height_timeout_s;
         let last = h
             .last_fused_s(h.active)
             .map_or(h.active_since_s, |t| t.max(h.active_since_s));
-        if self.t_s - last > timeout {
+        if core.t_s - last > timeout {
             let other = h.active.other();
-            if self.height_source_available(other) {
+            if available(other) {
                 // A barometer that kept delivering while it failed its gate is at fault.
-                if h.active == HeightSource::Baro && self.height_source_available(HeightSource::Baro) {
-                    self.height.baro_fault = true;
+                if h.active == HeightSource::Baro && available(HeightSource::Baro) {
+                    self.baro_fault = true;
                 }
-                self.switch_height_source(other);
+                self.switch(other, core, params, resets);
             } else {
-                self.height.reset_pending = true;
+                self.reset_pending = true;
             }
         } else if h.active != h.reference
-            && h.reference_passing_since_s.is_some_and(|s| self.t_s - s >= timeout)
-            && self.height_source_available(h.reference)
+            && h.reference_passing_since_s.is_some_and(|s| core.t_s - s >= timeout)
+            && available(h.reference)
             && !(h.reference == HeightSource::Baro && h.baro_fault)
         {
-            self.switch_height_source(h.reference);
+            self.switch(h.reference, core, params, resets);
         }
     }
 
     /// Makes `to` the active height source; the barometer offset is frozen while the barometer is
     /// active (docs/navigation_filter.md §8, eq. (8.3); docs/navigation_filter.md §9).
-    pub(super) fn switch_height_source(&mut self, to: HeightSource) {
+    pub fn switch(
+        &mut self,
+        to: HeightSource,
+        core: &mut ErrorStateFilter,
+        params: &NavParams,
+        resets: &mut ResetCounters,
+    ) {
         if to == HeightSource::Baro {
-            uncorrelate(&mut self.p, ERR_BARO_OFFSET, 0.0);
-        } else if self.p[(ERR_BARO_OFFSET, ERR_BARO_OFFSET)] <= 0.0 {
-            uncorrelate(&mut self.p, ERR_BARO_OFFSET, self.params.baro_noise_m.powi(2));
+            uncorrelate(&mut core.p, ERR_BARO_OFFSET, 0.0);
+        } else if core.p[(ERR_BARO_OFFSET, ERR_BARO_OFFSET)] <= 0.0 {
+            uncorrelate(&mut core.p, ERR_BARO_OFFSET, params.baro_noise_m.powi(2));
         }
-        self.height.active = to;
-        self.height.active_since_s = self.t_s;
-        self.height.reset_pending = true;
-        self.height.reference_passing_since_s = None;
-        self.resets.height_source_changes = self.resets.height_source_changes.saturating_add(1);
+        self.active = to;
+        self.active_since_s = core.t_s;
+        self.reset_pending = true;
+        self.reference_passing_since_s = None;
+        resets.height_source_changes = resets.height_source_changes.saturating_add(1);
     }
 
     /// Fuses one height observation of the active source `source` behind gate `gate_sd` [SD]; when
     /// it fails its gate and a reset is pending, the height is reset to it instead
     /// (docs/navigation_filter.md §5, eqs. (5.2)–(5.7); docs/navigation_filter.md §9).
-    pub(super) fn fuse_active_height(&mut self, source: HeightSource, obs: &ScalarObservation, gate_sd: f64) -> Fusion {
-        let update = fuse_group(&mut self.p, std::slice::from_ref(obs), Some(gate_sd));
+    pub fn fuse_active(
+        &mut self,
+        source: HeightSource,
+        obs: &ScalarObservation,
+        gate_sd: f64,
+        core: &mut ErrorStateFilter,
+        params: &NavParams,
+        report: &mut FilterReport,
+    ) -> Fusion {
+        let update = fuse_group(&mut core.p, std::slice::from_ref(obs), Some(gate_sd));
         let outcome = if let Some(dx) = update.dx {
-            self.apply(&dx);
+            core.apply(&dx, params);
             FusionOutcome::Fused
-        } else if self.height.reset_pending {
-            self.reset_height(obs);
+        } else if self.reset_pending {
+            Self::reset_height(obs, core, params, &mut report.resets);
             FusionOutcome::Reset
         } else {
             FusionOutcome::Rejected
         };
         if outcome != FusionOutcome::Rejected {
-            self.height.mark_fused(source, self.t_s);
-            self.height.reset_pending = false;
+            self.mark_fused(source, core.t_s);
+            self.reset_pending = false;
         }
         Fusion {
             outcome,
@@ -160,20 +170,79 @@ impl NavFilter {
 
     /// Moves the height so that `obs` has no innovation, and restarts its variance at the
     /// measurement's (docs/navigation_filter.md §6, eq. (6.4)).
-    fn reset_height(&mut self, obs: &ScalarObservation) {
+    fn reset_height(
+        obs: &ScalarObservation,
+        core: &mut ErrorStateFilter,
+        params: &NavParams,
+        resets: &mut ResetCounters,
+    ) {
         let c = obs.h[ERR_POS + 2];
         if c == 0.0 {
             return;
         }
         let dz = obs.innovation / c;
-        self.x.pos_w.z += dz;
-        self.buffer.correct(
-            self.history_start_s(),
-            &Vec3::new(0.0, 0.0, dz),
-            &Vec3::zeros(),
-            &Vec3::zeros(),
+        core.x.pos_w.z += dz;
+        core.correct_history(params, &Vec3::new(0.0, 0.0, dz), &Vec3::zeros(), &Vec3::zeros());
+        uncorrelate(&mut core.p, ERR_POS + 2, obs.variance);
+        resets.height = resets.height.saturating_add(1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn core_at(t_s: f64) -> ErrorStateFilter {
+        let mut core = ErrorStateFilter::new();
+        core.t_s = t_s;
+        core
+    }
+
+    #[test]
+    fn falls_back_after_the_time_out_and_returns_to_the_reference() {
+        let params = NavParams::default();
+        let timeout = params.height_timeout_s;
+        let mut resets = ResetCounters::default();
+        let mut h = HeightSelection::new(HeightSource::Gps);
+        h.mark_fused(HeightSource::Gps, 0.0);
+        assert!(h.fused_recently(timeout, timeout));
+        let mut core = core_at(timeout + 0.1);
+        h.update(|_| false, &mut core, &params, &mut resets);
+        assert_eq!(h.active, HeightSource::Gps, "no alternative");
+        assert!(h.reset_pending);
+        h.update(|s| s == HeightSource::Baro, &mut core, &params, &mut resets);
+        assert_eq!(h.active, HeightSource::Baro);
+        assert_eq!(resets.height_source_changes, 1);
+        assert_eq!(core.p[(ERR_BARO_OFFSET, ERR_BARO_OFFSET)], 0.0, "offset frozen");
+        // The reference passes its gate for the time-out: back to it.
+        h.mark_fused(HeightSource::Baro, core.t_s);
+        h.note_reference_test(true, core.t_s);
+        let mut core = core_at(core.t_s + timeout);
+        h.update(|_| true, &mut core, &params, &mut resets);
+        assert_eq!(h.active, HeightSource::Gps);
+        assert_eq!(resets.height_source_changes, 2);
+        assert_eq!(
+            core.p[(ERR_BARO_OFFSET, ERR_BARO_OFFSET)],
+            params.baro_noise_m.powi(2),
+            "offset learned again"
         );
-        uncorrelate(&mut self.p, ERR_POS + 2, obs.variance);
-        self.resets.height = self.resets.height.saturating_add(1);
+    }
+
+    #[test]
+    fn a_pending_reset_moves_the_height_to_a_rejected_sample() {
+        let params = NavParams::default();
+        let mut core = core_at(1.0);
+        core.p[(ERR_POS + 2, ERR_POS + 2)] = 0.01;
+        let mut report = FilterReport::default();
+        let mut h = HeightSelection::new(HeightSource::Gps);
+        let obs = ScalarObservation::of_state(ERR_POS + 2, 50.0, 1.0);
+        h.reset_pending = true;
+        let f = h.fuse_active(HeightSource::Gps, &obs, 5.0, &mut core, &params, &mut report);
+        assert_eq!(f.outcome, FusionOutcome::Reset);
+        assert_eq!(core.x.pos_w.z, 50.0);
+        assert_eq!(report.resets.height, 1);
+        assert_eq!(h.last_fused_s(HeightSource::Gps), Some(1.0));
+        let f = h.fuse_active(HeightSource::Gps, &obs, 5.0, &mut core, &params, &mut report);
+        assert_eq!(f.outcome, FusionOutcome::Rejected, "no reset pending any more");
     }
 }

@@ -11,25 +11,35 @@
 //! - `readings`: the FC-side sensor readings [`ImuReading`], [`GpsReading`], [`BaroReading`],
 //!   [`MagReading`].
 //! - `state`: nominal state, error-state layout (`ERR_*`), injection.
-//! - `predict`: nominal integration per IMU sample, increments, covariance prediction timing.
+//! - `orchestration`: [`NavFilter`]'s per-reading steps: which part runs, in which order.
+//! - `error_state`: the core filter (`ErrorStateFilter`): nominal state, covariance, the IMU
+//!   step, the gated fusion of scalars, the state history, the output lag.
+//! - `predict`: nominal integration per IMU sample and its increments.
 //! - `covariance`: Φ, Q, the gated sequential scalar update, variance limits, resets.
 //! - `delay_buffer`: the fixed-size state history for delayed measurements.
-//! - `alignment`: roll and pitch from the accelerometer, yaw from the magnetometer, initial P.
-//! - `fuse_gps`, `fuse_baro`, `fuse_mag`: the measurement models and their fusion.
+//! - `aligner`: the alignment window and its end (`Alignment`); `alignment`: its maths (roll and
+//!   pitch from the accelerometer, yaw from the magnetometer, initial P).
+//! - `fuse_gps` (`GnssAid`: origin, datum, the fix's three parts), `fuse_baro` (`BaroAid`:
+//!   origin altitude), `fuse_mag` (`MagHeading`: inclination, yaw alignment), `fuse_gravity`
+//!   (`GravityAid`): each aid owns its state and fuses into the core filter.
 //! - `datum`: the GNSS height datum, averaged until the first arming.
-//! - `height`: which height source is active, fall-back and return.
-//! - `aiding`: dead reckoning, validity, the position-hold pseudo-measurement.
+//! - `height`: which height source is active, fall-back and return (`HeightSelection`).
+//! - `aiding`: the aiding decision (`Aiding`): dead reckoning, resets, the position hold.
+//! - `reporting`: what the fusions leave for the status (`FilterReport`): test ratios,
+//!   innovations, pre-flight checks, reset counters.
 //! - `fusion`, `status`, `estimate`: what the filter returns.
 //! - `preflight`: the pre-flight checks on the low-passed innovations.
 //! - `isa`: ISA pressure altitude.
 //! - `yaw_estimator`, `heading_aid`: the heading from GNSS velocity (a Gaussian sum of heading
-//!   hypotheses) and its fusion while the magnetometer is lost.
+//!   hypotheses) and its fusion while the magnetometer is lost (`HeadingAid`).
 
 mod aiding;
+mod aligner;
 mod alignment;
 mod covariance;
 mod datum;
 mod delay_buffer;
+mod error_state;
 mod estimate;
 mod fuse_baro;
 mod fuse_gps;
@@ -39,11 +49,13 @@ mod fusion;
 mod heading_aid;
 mod height;
 pub mod isa;
+mod orchestration;
 mod output;
 mod params;
 mod predict;
 mod preflight;
 mod readings;
+mod reporting;
 mod state;
 mod status;
 mod yaw_estimator;
@@ -68,58 +80,41 @@ pub use status::{Innovations, NavStatus, ResetCounters, SourceHealth, SourceStat
 use crate::math::Vec3;
 
 use aiding::Aiding;
-use alignment::Aligner;
-use covariance::Increments;
-use datum::GnssDatum;
-use delay_buffer::DelayBuffer;
+use aligner::Alignment;
+use error_state::ErrorStateFilter;
+use fuse_baro::BaroAid;
+use fuse_gps::GnssAid;
 use fuse_gravity::GravityAid;
-use heading_aid::HeadingAidIncrements;
+use fuse_mag::MagHeading;
+use heading_aid::HeadingAid;
 use height::HeightSelection;
-use output::OutputLag;
-use preflight::PreflightChecks;
-use state::{part, Nominal};
-use status::SourceTrack;
-use yaw_estimator::YawEstimator;
+use reporting::FilterReport;
 
-/// The navigation filter (docs/navigation_filter.md).
+/// The navigation filter (docs/navigation_filter.md): the core error-state filter and the
+/// aids around it, each owning its state; [`NavFilter`] runs them in order for each reading.
 #[derive(Debug, Clone)]
 pub struct NavFilter {
     params: NavParams,
-    x: Nominal,
-    p: Covariance,
-    /// Time of the latest IMU sample [s].
-    t_s: f64,
-    last_imu: Option<ImuReading>,
-    omega_b: Vec3,
-    increments: Increments,
-    buffer: DelayBuffer,
-    aligner: Aligner,
-    aligned: bool,
-    yaw_aligned: bool,
-    /// tan of the field's inclination, taken when the yaw is set from the magnetometer.
-    mag_tan_inclination: Option<f64>,
-    origin_w: Option<Vec3>,
-    /// The vertical part of `origin_w` (docs/navigation_filter.md §6, eq. (6.5)).
-    datum: GnssDatum,
-    baro_origin_m: Option<f64>,
+    /// Nominal state, covariance, state history, output lag.
+    core: ErrorStateFilter,
+    /// The alignment at rest (docs/navigation_filter.md §11).
+    alignment: Alignment,
+    /// GNSS: origin, datum, counters (docs/navigation_filter.md §6).
+    gnss: GnssAid,
+    /// Barometer: origin altitude, counters (docs/navigation_filter.md §8).
+    baro: BaroAid,
+    /// Which height source is fused (docs/navigation_filter.md §9).
     height: HeightSelection,
-    aiding: Aiding,
-    gps: SourceTrack,
-    baro: SourceTrack,
-    mag: SourceTrack,
-    ratios: TestRatios,
-    innovations: Innovations,
-    /// The low-passed innovations the pre-flight checks read (docs/navigation_filter.md §19).
-    preflight: PreflightChecks,
-    resets: ResetCounters,
-    imu_dropped: u32,
-    /// The corrections not yet blended into the output (docs/navigation_filter.md §16).
-    output_lag: OutputLag,
+    /// Magnetometer heading: inclination, yaw alignment, counters (docs/navigation_filter.md §10).
+    mag: MagHeading,
     /// The heading from GNSS velocity (docs/navigation_filter.md §18).
-    yaw_gsf: YawEstimator,
-    /// IMU increments since the last GNSS fix, for `yaw_gsf`.
-    heading_aid: HeadingAidIncrements,
+    heading_aid: HeadingAid,
+    /// Gravity-vector fusion (docs/navigation_filter.md §20).
     gravity: GravityAid,
+    /// The aiding decision and the position hold (docs/navigation_filter.md §12).
+    aiding: Aiding,
+    /// Test ratios, innovations, pre-flight checks, resets (docs/navigation_filter.md §13).
+    report: FilterReport,
 }
 
 /// A filter with PX4's defaults ([`NavParams::default`], valid by construction: tested).
@@ -141,34 +136,16 @@ impl NavFilter {
     fn unchecked(params: NavParams) -> Self {
         Self {
             params,
-            x: Nominal::default(),
-            p: Covariance::zeros(),
-            t_s: 0.0,
-            last_imu: None,
-            omega_b: Vec3::zeros(),
-            increments: Increments::default(),
-            buffer: DelayBuffer::new(),
-            aligner: Aligner::default(),
-            aligned: false,
-            yaw_aligned: false,
-            mag_tan_inclination: None,
-            origin_w: None,
-            datum: GnssDatum::default(),
-            baro_origin_m: None,
+            core: ErrorStateFilter::new(),
+            alignment: Alignment::default(),
+            gnss: GnssAid::default(),
+            baro: BaroAid::default(),
             height: HeightSelection::new(params.height_ref),
-            aiding: Aiding::default(),
-            gps: SourceTrack::default(),
-            baro: SourceTrack::default(),
-            mag: SourceTrack::default(),
-            ratios: TestRatios::default(),
-            innovations: Innovations::default(),
-            preflight: PreflightChecks::default(),
-            resets: ResetCounters::default(),
-            imu_dropped: 0,
-            output_lag: OutputLag::default(),
-            yaw_gsf: YawEstimator::default(),
-            heading_aid: HeadingAidIncrements::default(),
+            mag: MagHeading::default(),
+            heading_aid: HeadingAid::default(),
             gravity: GravityAid::default(),
+            aiding: Aiding::default(),
+            report: FilterReport::default(),
         }
     }
 
@@ -181,7 +158,8 @@ impl NavFilter {
         if new_ref {
             self.height.reference = params.height_ref;
             if self.height.active != params.height_ref {
-                self.switch_height_source(params.height_ref);
+                self.height
+                    .switch(params.height_ref, &mut self.core, &self.params, &mut self.report.resets);
             }
         }
         Ok(())
@@ -194,105 +172,61 @@ impl NavFilter {
 
     /// The current navigation solution (docs/navigation_filter.md §1, eqs. (1.1)–(1.2)).
     pub fn estimate(&self) -> NavEstimate {
-        let std = |i: usize| Vec3::new(self.p[(i, i)], self.p[(i + 1, i + 1)], self.p[(i + 2, i + 2)]).map(f64::sqrt);
-        NavEstimate {
-            t_s: self.t_s,
-            pos_w: self.x.pos_w,
-            vel_w: self.x.vel_w,
-            q_wb: self.x.q_wb,
-            omega_b: self.omega_b,
-            accel_bias_b: self.x.accel_bias_b,
-            gyro_bias_b: self.x.gyro_bias_b,
-            baro_offset_m: self.x.baro_offset_m,
-            pos_std_w: std(ERR_POS),
-            vel_std_w: std(ERR_VEL),
-            att_std_w: std(ERR_ATT),
-        }
+        self.core.estimate()
     }
 
     /// The output the controllers fly on: the nominal state with the corrections blended in
     /// over `output_tau_s` (docs/navigation_filter.md §16, eqs. (16.1)–(16.2)).
     pub fn output(&self) -> NavOutput {
-        let (pos_w, vel_w, q_wb) = self.output_lag.apply(&self.x);
-        NavOutput {
-            t_s: self.t_s,
-            pos_w,
-            vel_w,
-            q_wb,
-            omega_b: self.omega_b,
-        }
+        self.core.output()
     }
 
     /// The filter's origin in the GNSS readings' NED frame [m], once the first fix set it.
     pub fn origin_w(&self) -> Option<Vec3> {
-        self.origin_w
+        self.gnss.origin_w
     }
 
     /// Freezes the GNSS height datum: the vehicle armed and may leave the height it rested at
     /// (docs/navigation_filter.md §6, eq. (6.5)).
     pub fn freeze_height_datum(&mut self) {
-        self.datum.freeze();
+        self.gnss.freeze_datum();
     }
 
     /// The filter's report on itself (docs/navigation_filter.md §12–§13).
     pub fn status(&self) -> NavStatus {
-        let now = self.t_s;
+        let now = self.core.t_s;
         let timeout = self.params.sensor_timeout_s;
+        let aligned = self.alignment.aligned;
         let since_aiding = self.aiding.last_aiding_s.map(|t| (now - t).max(0.0));
-        let aided = self.aligned && since_aiding.is_some_and(|s| s <= self.params.noaid_timeout_s);
+        let aided = aligned && since_aiding.is_some_and(|s| s <= self.params.noaid_timeout_s);
         NavStatus {
             t_s: now,
-            attitude_valid: self.aligned,
-            yaw_aligned: self.yaw_aligned,
-            horizontal_position_valid: aided && self.origin_w.is_some(),
-            vertical_position_valid: self.aligned && self.height_fused_recently(),
+            attitude_valid: aligned,
+            yaw_aligned: self.mag.yaw_aligned,
+            horizontal_position_valid: aided && self.gnss.origin_w.is_some(),
+            vertical_position_valid: aligned && self.height.fused_recently(now, self.params.height_timeout_s),
             velocity_valid: aided,
-            dead_reckoning: self.aligned && since_aiding.is_some_and(|s| s > DEAD_RECKONING_AFTER_S),
-            position_hold: self.aligned && self.aiding.hold_pos_w.is_some(),
+            dead_reckoning: aligned && since_aiding.is_some_and(|s| s > DEAD_RECKONING_AFTER_S),
+            position_hold: aligned && self.aiding.hold_pos_w.is_some(),
             time_since_aiding_s: since_aiding,
             height_ref: self.height.reference,
             active_height: self.height.active,
-            gps: self.gps.status(now, timeout),
-            baro: self.baro.status(now, timeout),
-            mag: self.mag.status(now, timeout),
-            test_ratios: self.ratios,
-            innovations: self.innovations,
-            preflight: if self.aligned {
-                self.preflight.failure(now, self.yaw_aligned)
-            } else {
-                Some(PreflightFailure::Heading)
-            },
-            resets: self.resets,
-            origin_w: self.origin_w,
-            baro_origin_m: self.baro_origin_m,
-            imu_dropped: self.imu_dropped,
+            gps: self.gnss.track.status(now, timeout),
+            baro: self.baro.track.status(now, timeout),
+            mag: self.mag.track.status(now, timeout),
+            test_ratios: self.report.ratios,
+            innovations: self.report.innovations,
+            preflight: self.report.preflight_failure(now, aligned, self.mag.yaw_aligned),
+            resets: self.report.resets,
+            origin_w: self.gnss.origin_w,
+            baro_origin_m: self.baro.origin_m,
+            imu_dropped: self.core.imu_dropped,
         }
     }
 
     /// The error-state covariance P, ordered as the `ERR_*` indices
     /// (docs/navigation_filter.md §1, eq. (1.2)).
     pub fn covariance(&self) -> &Covariance {
-        &self.p
-    }
-
-    /// Oldest time a future measurement can refer to: now minus the longest configured delay,
-    /// with a margin of two IMU periods [s] (docs/navigation_filter.md §7, eq. (7.3)).
-    fn history_start_s(&self) -> f64 {
-        let p = &self.params;
-        self.t_s - p.gps_delay_s.max(p.baro_delay_s).max(p.mag_delay_s) - 0.002
-    }
-
-    /// Injects an error estimate into the nominal state and the state history
-    /// (docs/navigation_filter.md §5, eq. (5.7); docs/navigation_filter.md §7, eq. (7.3)).
-    fn apply(&mut self, dx: &ErrorVector) {
-        self.x.inject(dx);
-        self.output_lag
-            .corrected(&part(dx, ERR_POS), &part(dx, ERR_VEL), &part(dx, ERR_ATT));
-        self.buffer.correct(
-            self.history_start_s(),
-            &part(dx, ERR_POS),
-            &part(dx, ERR_VEL),
-            &part(dx, ERR_ATT),
-        );
+        &self.core.p
     }
 }

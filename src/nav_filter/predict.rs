@@ -1,14 +1,11 @@
-//! Prediction: the nominal state integrated at every IMU sample, the increments accumulated,
-//! and the covariance predicted once per `predict_period_s` (docs/navigation_filter.md §2, §4).
+//! Prediction: the nominal state integrated at every IMU sample and the increments accumulated
+//! for the covariance prediction (docs/navigation_filter.md §2, §4).
 
 use crate::math::{e3, UnitQuat, Vec3, GRAVITY_M_S2};
 
-use super::covariance::{self, Increments, ProcessNoise};
-use super::delay_buffer::PastState;
-use super::params::HeightSource;
+use super::covariance::Increments;
 use super::readings::ImuReading;
 use super::state::Nominal;
-use super::NavFilter;
 
 /// Longest IMU interval integrated [s]; a longer gap is skipped and counted
 /// (docs/navigation_filter.md §2).
@@ -41,85 +38,11 @@ pub(super) fn integrate(
     (f_w, (r1 * omega_b).z)
 }
 
-impl NavFilter {
-    /// Takes one IMU sample: feeds the alignment until it is done, then integrates the nominal
-    /// state from the previous sample, records it in the state history and, once `predict_period_s`
-    /// has accumulated, predicts the covariance and runs the time-driven checks (height-source
-    /// time-outs, position hold) (docs/navigation_filter.md §2, eqs. (2.2)–(2.3);
-    /// docs/navigation_filter.md §4, eq. (4.2); docs/navigation_filter.md §9;
-    /// docs/navigation_filter.md §12, eq. (12.2)). Non-finite, repeated or out-of-order samples are
-    /// dropped and counted.
-    pub fn predict(&mut self, imu: &ImuReading) {
-        if !imu.is_finite() {
-            self.imu_dropped = self.imu_dropped.saturating_add(1);
-            return;
-        }
-        let prev = match self.last_imu {
-            Some(prev) if imu.t_s <= prev.t_s => {
-                self.imu_dropped = self.imu_dropped.saturating_add(1);
-                return;
-            }
-            prev => prev,
-        };
-        self.last_imu = Some(*imu);
-        self.t_s = imu.t_s;
-        if !self.aligned {
-            if self.aligner.add_imu(imu, self.params.align_time_s) {
-                self.finish_alignment();
-            }
-            return;
-        }
-        self.omega_b = imu.gyro_b - self.x.gyro_bias_b;
-        let Some(prev) = prev else { return };
-        let dt = imu.t_s - prev.t_s;
-        if dt > MAX_IMU_DT_S {
-            self.imu_dropped = self.imu_dropped.saturating_add(1);
-            return;
-        }
-        let (f_w, yaw_rate) = integrate(&mut self.x, &prev, imu, dt, &mut self.increments);
-        self.heading_aid.add(&f_w, yaw_rate, dt);
-        let f_b = imu.accel_b - self.x.accel_bias_b;
-        self.gravity.add(&f_b, dt);
-        self.gravity.add_rest(&self.omega_b, &f_b, dt);
-        self.output_lag.decay(dt, self.params.output_tau_s);
-        self.buffer.push(PastState {
-            t_s: imu.t_s,
-            pos_w: self.x.pos_w,
-            vel_w: self.x.vel_w,
-            q_wb: self.x.q_wb,
-        });
-        if self.increments.dt_s >= self.params.predict_period_s - 1e-6 {
-            self.flush_covariance();
-            self.update_height_source();
-            self.update_position_hold();
-            self.fuse_gravity(&f_b);
-        }
-    }
-
-    /// Predicts the covariance over the increments accumulated so far (also before every fusion, so
-    /// that P belongs to the current time) (docs/navigation_filter.md §4, eqs. (4.1)–(4.3)).
-    pub(super) fn flush_covariance(&mut self) {
-        if self.increments.dt_s <= 0.0 {
-            return;
-        }
-        let p = &self.params;
-        let noise = ProcessNoise {
-            accel: p.accel_noise_m_s2,
-            gyro: p.gyro_noise_rad_s,
-            accel_bias: p.accel_bias_noise_m_s3,
-            gyro_bias: p.gyro_bias_noise_rad_s2,
-            baro_offset: (self.height.active != HeightSource::Baro).then_some(p.baro_offset_noise_m_s),
-            period_s: p.predict_period_s,
-        };
-        covariance::predict(&mut self.p, &self.increments, &noise);
-        self.increments = Increments::default();
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::math::Vec3;
+    use crate::nav_filter::covariance;
     use crate::nav_filter::state::{ErrorVector, ERR_ATT, ERR_GYRO_BIAS, ERR_POS, ERR_VEL, STATE_DIM};
 
     fn imu(k: usize) -> ImuReading {

@@ -63,7 +63,14 @@ pub(super) fn part(dx: &ErrorVector, i: usize) -> Vec3 {
 /// `Exp(δθ) ⊗ q`: a world-frame rotation error applied to an attitude
 /// (docs/navigation_filter.md §1, eq. (1.3)).
 pub(super) fn rotate_world(q_wb: &UnitQuat, dtheta_w: &Vec3) -> UnitQuat {
-    let mut q = UnitQuat::from_scaled_axis(*dtheta_w) * q_wb;
+    turn_world(q_wb, &UnitQuat::from_scaled_axis(*dtheta_w))
+}
+
+/// `turn ⊗ q`, renormalised: [`rotate_world`] with `Exp(δθ)` computed once by the caller, for a
+/// correction applied to many attitudes (docs/navigation_filter.md §7, eq. (7.3)).
+#[inline]
+pub(super) fn turn_world(q_wb: &UnitQuat, turn: &UnitQuat) -> UnitQuat {
+    let mut q = turn * q_wb;
     q.renormalize_fast();
     q
 }

@@ -51,7 +51,8 @@ pub fn run(truth: &mut Truth, filter: &mut NavFilter, faults: &Faults, t_end_s: 
         let imu = truth.imu(t);
         filter.predict(&imu);
         if let Some((_, angle)) = faults.yaw_kick.filter(|(at_s, _)| (t - at_s).abs() < 0.5 * IMU_DT_S) {
-            filter.x.q_wb = crate::nav_filter::state::rotate_world(&filter.x.q_wb, &Vec3::new(0.0, 0.0, angle));
+            filter.core.x.q_wb =
+                crate::nav_filter::state::rotate_world(&filter.core.x.q_wb, &Vec3::new(0.0, 0.0, angle));
         }
         let mut gps = None;
         if k % 100 == 0 && !inside(faults.gps_off, t) {
