@@ -56,6 +56,7 @@ import threading
 import time
 
 import tlog_judge as judge
+import tlog_yaw as yaw
 from rotorpilot_gcs import find_binary
 from rotorpilot_gcs.process import checkout_binary
 from tlog_judge import (
@@ -68,8 +69,8 @@ from tlog_judge import (
     OFFBOARD,
     ORBIT,
     POSCTL,
-    Phase,
 )
+from tlog_yaw import Phase
 
 HERE = pathlib.Path(__file__).resolve().parent
 EXAMPLES = HERE / "tests" / "third_party" / "mavsdk_examples"
@@ -397,7 +398,7 @@ def judge_run(example, code, output, log_dir, work_dir, placed):
         verdict.update({k: v for k, v in summary.items() if k not in ("counts", "statustexts", "command_acks")})
         checks = judge.ground_checks(summary, spec.get("lands", False), spec.get("disarms", False),
                                      spec.get("touchdown_max_m_s", judge.TOUCHDOWN_MAX_M_S))
-        checks += judge.yaw_checks(telemetry, spec.get("phases", ()))
+        checks += yaw.yaw_checks(telemetry, spec.get("phases", ()))
         if spec.get("gps_loss"):
             checks += judge.gps_loss_checks(telemetry)
         verdict["checks"] = [c.as_dict() for c in checks]

@@ -12,6 +12,7 @@ from script_module import load_script
 from rotorpilot_gcs import mavlink
 
 judge = load_script("tlog_judge")
+yaw = load_script("tlog_yaw")
 OFFBOARD, POSCTL = judge.OFFBOARD, judge.POSCTL
 T0 = 1_800_000_000.0  # wall time of the first frame [s]
 
@@ -97,8 +98,8 @@ def fly(path, rest_z=0.0, stall=None, spike=None, landed_z=None, gps_after_failu
     return judge.Telemetry(path)
 
 
-PHASES = [judge.Phase("turn", {"vx": 0, "vy": 0, "vz": 0, "yaw_rate": 60}, 5),
-          judge.Phase("hold", {"vx": 0, "vy": 0, "vz": 0, "yaw_rate": 0}, 3)]
+PHASES = [yaw.Phase("turn", {"vx": 0, "vy": 0, "vz": 0, "yaw_rate": 60}, 5),
+          yaw.Phase("hold", {"vx": 0, "vy": 0, "vz": 0, "yaw_rate": 0}, 3)]
 
 
 def failing(checks):
@@ -109,7 +110,7 @@ def failing(checks):
 def test_a_healthy_flight_passes_every_check(tmp_path):
     tel = fly(tmp_path / "flight.tlog")
     summary = judge.summarize(tel)
-    checks = (judge.ground_checks(summary, lands=True, disarms=True) + judge.yaw_checks(tel, PHASES))
+    checks = (judge.ground_checks(summary, lands=True, disarms=True) + yaw.yaw_checks(tel, PHASES))
     assert not failing(checks), failing(checks)
     assert [c.name for c in checks] == ["at rest on the ground", "disarmed on the ground", "landing 1: resting height",
                                         "landing 1: touch-down", "ends on the ground", "disarms after landing",
@@ -129,7 +130,7 @@ def test_a_height_estimate_off_at_rest_and_a_landing_under_the_ground_fail(tmp_p
 
 def test_a_yaw_rate_stall_and_spike_fail_naming_the_values(tmp_path):
     tel = fly(tmp_path / "flight.tlog", stall=(4.0, 5.0), spike=220.0)
-    bad = failing(judge.yaw_checks(tel, PHASES))
+    bad = failing(yaw.yaw_checks(tel, PHASES))
     assert set(bad) == {"yaw: turn (yaw rate +60 °/s, 5 s)"}, bad
     turn = bad["yaw: turn (yaw rate +60 °/s, 5 s)"]
     assert "more than 5 °/s off for 1.00 s from +2.0 s" in turn and "stalled" in turn, turn
@@ -138,8 +139,8 @@ def test_a_yaw_rate_stall_and_spike_fail_naming_the_values(tmp_path):
 
 def test_a_short_glitch_passes_and_a_missing_phase_fails(tmp_path):
     tel = fly(tmp_path / "flight.tlog", stall=(4.0, 4.3))
-    assert not failing(judge.yaw_checks(tel, PHASES))
-    missing = judge.yaw_checks(tel, [judge.Phase("climb", {"vz": -1, "yaw_rate": 0}, 4)])
+    assert not failing(yaw.yaw_checks(tel, PHASES))
+    missing = yaw.yaw_checks(tel, [yaw.Phase("climb", {"vz": -1, "yaw_rate": 0}, 4)])
     assert not missing[0].ok and "never received" in missing[0].seen
 
 
@@ -164,12 +165,12 @@ def test_the_heading_rate_is_read_from_the_body_rates_of_a_tilted_vehicle():
 
 def test_a_commanded_heading_is_expected_to_turn_within_the_auto_rate_and_acceleration():
     # 90° from rest at 45 °/s with 0.75 s ramps at 60 °/s²: 2.75 s; 20° never reaches 45 °/s.
-    turn = judge.HeadingTurn(0.0, 0.0, 90.0)
+    turn = yaw.HeadingTurn(0.0, 0.0, 90.0)
     assert turn.duration == pytest.approx(2.75, abs=0.01)
     assert turn.rate(0.375) == pytest.approx(22.5, abs=0.1) and turn.rate(1.5) == pytest.approx(45.0)
     assert turn.rate(3.0) == 0.0
-    assert max(judge.HeadingTurn(170.0, 0.0, -170.0).rates) < 45.0
+    assert max(yaw.HeadingTurn(170.0, 0.0, -170.0).rates) < 45.0
     # Still turning at +45 °/s through 118°, sent to -50°: back the short way, never the long way.
-    back = judge.HeadingTurn(118.0, 45.0, -50.0)
+    back = yaw.HeadingTurn(118.0, 45.0, -50.0)
     assert back.turn_deg == pytest.approx(-168.0) and min(back.rates) == pytest.approx(-45.0)
     assert back.rate(0.5) > 0.0 and back.rate(1.0) < 0.0
