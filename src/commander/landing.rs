@@ -263,4 +263,30 @@ mod tests {
         assert_eq!(target.omega_b, Some(Vec3::zeros()));
         assert!(target.q_wb.is_some_and(|q| q.angle_to(&tilted) < 1e-12));
     }
+
+    #[test]
+    fn a_descent_is_commanded_by_a_setpoint_below_low_thrust_or_idle_motors() {
+        let x = at(-3.0);
+        let below = FlightDemand::Flat(FlatSetpoint::hold(Vec3::new(0.0, 0.0, -1.0), 0.0));
+        let here = FlightDemand::Flat(FlatSetpoint::hold(x.pos_w, 0.0));
+        assert!(descent_commanded(&below, &x, 1.0, None));
+        assert!(!descent_commanded(&here, &x, 1.0, None));
+        let ground = FlightDemand::Flat(FlatSetpoint::hold(Vec3::new(0.0, 0.0, -0.1), 0.0));
+        assert!(!descent_commanded(&ground, &at(-0.1), 1.0, None));
+        let pressed = descent_commanded(&ground, &at(-0.1), 1.0, Some(-0.1));
+        assert!(pressed, "a position on the ground");
+        let attitude = FlightDemand::Attitude(touch_down(&x));
+        assert!(descent_commanded(&attitude, &x, 0.5, None));
+        assert!(!descent_commanded(&attitude, &x, 1.0, None));
+        assert!(descent_commanded(&FlightDemand::Idle, &x, 1.0, None));
+        let detector = LandDetector::default();
+        assert!(detector.landed(), "a new detector starts on the ground");
+        assert_eq!(
+            near_ground(&detector, here, &x, 0.7),
+            FlightDemand::Idle,
+            "landed: no climb asked"
+        );
+        let up = FlightDemand::Flat(FlatSetpoint::hold(Vec3::new(0.0, 0.0, -5.0), 0.0));
+        assert_eq!(near_ground(&detector, up, &x, 0.7), up, "a climb is flown");
+    }
 }
