@@ -9,11 +9,11 @@
 //! `FLW_TGT_MAX_VEL`) through the POSCTL deadzone and expo, and only while the vehicle is within
 //! half a second of that speed of the value it flies to, so the setting never runs away from it.
 
-use crate::control::VehicleState;
 use crate::math::{wrap_pi, Vec3};
 use crate::navigation::{FollowParams, FollowTarget, MotionLimits, SetpointLimiter, StickShaping, Sticks};
 
 use super::landing::FlightDemand;
+use super::Moment;
 
 /// A target not reported for this long is lost [s].
 pub const TARGET_LOST_S: f64 = 3.0;
@@ -116,21 +116,19 @@ impl Follow {
         self.adjust = FollowAdjust::default();
     }
 
-    /// One follow-me tick, `dt_s` [s] after the last, with home at `home_w` [m], the live
-    /// `sticks` (if any) shaped by `shaping`, the follow settings `p` and the path limits at
-    /// `FLW_TGT_MAX_VEL` `limits`: what to fly.
-    #[allow(clippy::too_many_arguments)]
+    /// One follow-me tick `now`, with home at `home_w` [m], the live `sticks` (if any) shaped
+    /// by `shaping`, the follow settings `p` and the path limits at `FLW_TGT_MAX_VEL` `limits`:
+    /// what to fly.
     pub fn command(
         &mut self,
-        x: &VehicleState,
-        dt_s: f64,
-        t_s: f64,
+        now: Moment,
         home_w: Vec3,
         sticks: Option<Sticks>,
         shaping: &StickShaping,
         p: &FollowParams,
         limits: impl FnOnce() -> MotionLimits,
     ) -> FollowCommand {
+        let Moment { x, dt_s, t_s, .. } = now;
         let fresh = self.target.filter(|(_, heard_s)| t_s - heard_s < TARGET_LOST_S);
         let Some((mut target, heard_s)) = fresh else {
             return if self.limiter.take().is_some() {
@@ -163,6 +161,7 @@ mod tests {
     use super::super::script::Script;
     use super::super::{CommanderParams, FlightMode, Outcome, Request};
     use super::*;
+    use crate::control::VehicleState;
     use crate::math::euler_zyx;
 
     fn report(s: &mut Script, north_m: f64, east_m: f64, vel_w: Vec3) {
@@ -311,7 +310,15 @@ mod tests {
         let mut f = Follow::default();
         let limits = || MotionLimits::default();
         let shaping = p.manual.shaping;
-        let tick = |f: &mut Follow, t_s| f.command(&x, 0.01, t_s, Vec3::zeros(), None, &shaping, &p.follow, limits);
+        let tick = |f: &mut Follow, t_s| {
+            let now = Moment {
+                x: &x,
+                yaw_rad: 0.0,
+                dt_s: 0.01,
+                t_s,
+            };
+            f.command(now, Vec3::zeros(), None, &shaping, &p.follow, limits)
+        };
         assert_eq!(tick(&mut f, 0.0), FollowCommand::Wait, "no target");
         f.report(Vec3::new(20.0, 0.0, 0.0), Vec3::zeros(), 1.0, &p.follow);
         assert!(matches!(tick(&mut f, 1.0), FollowCommand::Fly(FlightDemand::Flat(_))));

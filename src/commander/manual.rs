@@ -13,12 +13,12 @@
 //! deflected, or a throttle resting low, is not moving) takes over in POSCTL when
 //! `COM_RC_OVERRIDE` allows it.
 
-use crate::control::{AttitudeTarget, VehicleState};
+use crate::control::AttitudeTarget;
 use crate::math::UnitQuat;
 use crate::navigation::{MotionLimits, StickMotion, StickReference, Sticks};
 
 use super::landing::FlightDemand;
-use super::{FlightMode, LinkLossAction, ManualParams, Outcome};
+use super::{FlightMode, LinkLossAction, ManualParams, Moment, Outcome};
 
 /// `COM_RCL_EXCEPT` bits.
 const EXCEPT_MISSION: u8 = 1;
@@ -123,20 +123,22 @@ impl ManualInput {
         None
     }
 
-    /// One tick of the stick mode `mode` at heading `yaw` [rad], `dt_s` [s] after the last,
-    /// `landed` the land detector's verdict, within `motion`: what to fly.
-    #[allow(clippy::too_many_arguments)]
+    /// One tick `now` of the stick mode `mode`, `landed` the land detector's verdict, within
+    /// `motion`: what to fly.
     pub fn command(
         &mut self,
         mode: FlightMode,
-        x: &VehicleState,
-        yaw: f64,
-        dt_s: f64,
-        t_s: f64,
+        now: Moment,
         landed: bool,
         p: &ManualParams,
         motion: &MotionLimits,
     ) -> FlightDemand {
+        let Moment {
+            x,
+            yaw_rad: yaw,
+            dt_s,
+            t_s,
+        } = now;
         let sticks = self.sticks(t_s, p);
         let shaping = p.shaping;
         match mode {

@@ -5,12 +5,11 @@
 //! the vehicle is within its acceptance radii (`NAV_ACC_RAD` or the item's, `NAV_MC_ALT_RAD`), as
 //! PX4's navigator does; the others are arrived at standing still.
 
-use crate::control::VehicleState;
 use crate::math::Vec3;
 use crate::navigation::{Guidance, Mission, MissionItem, Track, TrackLeg};
 
 use super::auto_paths::AutoPaths;
-use super::{Event, FlightMode};
+use super::{Event, FlightMode, Moment};
 
 /// Distance within which a take-off or the end of a travel leg counts as arrived [m].
 const ARRIVE_M: f64 = 0.2;
@@ -181,33 +180,31 @@ impl MissionRun {
     /// not: the flight from now on, and the mode to switch to when the mission hands over
     /// (AUTO.RTL for a return item, AUTO.LOITER after the last item). Reached items and the
     /// current one are announced in `events`.
-    #[allow(clippy::too_many_arguments)]
     pub fn advance(
         &mut self,
         paths: &AutoPaths,
         in_air: bool,
         flight: MissionFlight,
-        x: &VehicleState,
-        yaw: f64,
-        t_s: f64,
+        now: Moment,
         events: &mut Vec<Event>,
     ) -> (MissionFlight, Option<FlightMode>) {
         let mut f = flight;
-        let then = self.tick(paths, in_air, &mut f, x, yaw, t_s, events);
+        let then = self.tick(paths, in_air, &mut f, now, events);
         (f, then)
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// [`Self::advance`] on the flight `f`.
     fn tick(
         &mut self,
         paths: &AutoPaths,
         in_air: bool,
         f: &mut MissionFlight,
-        x: &VehicleState,
-        yaw: f64,
-        t_s: f64,
+        now: Moment,
         events: &mut Vec<Event>,
     ) -> Option<FlightMode> {
+        let Moment {
+            x, yaw_rad: yaw, t_s, ..
+        } = now;
         // Heights above home follow a home moved in flight (PX4 reads them at flight time).
         let item = self.mission.item_at_home(self.seq, paths.home_z_m())?;
         let speed = self.speed_m_s.unwrap_or(paths.cruise_speed());
@@ -271,7 +268,7 @@ impl MissionRun {
                     f.guidance = paths.path_to(x, above, yaw, speed, t_s);
                     self.phase = Phase::Travel;
                 }
-                _ => self.begin_landing(paths, f, x, pos_w, yaw, t_s),
+                _ => self.begin_landing(paths, f, now, pos_w),
             },
             (Phase::Start, MissionItem::ReturnToLaunch) => {
                 self.reached(events);
@@ -322,7 +319,7 @@ impl MissionRun {
                         f.climbing_out = false;
                     }
                     match item {
-                        MissionItem::Land { pos_w } => self.begin_landing(paths, f, x, pos_w, yaw, t_s),
+                        MissionItem::Land { pos_w } => self.begin_landing(paths, f, now, pos_w),
                         MissionItem::Waypoint { hold_s, .. } if hold_s > 0.0 => self.phase = Phase::Hold(t_s + hold_s),
                         MissionItem::LoiterTime { seconds, .. } => self.phase = Phase::Hold(t_s + seconds),
                         _ => return self.next_item(events),
@@ -372,16 +369,10 @@ impl MissionRun {
 
     /// Descends over the item's position `at_w` (PX4 lands on the item, not where the vehicle
     /// happened to be when it came within the acceptance radius), or here without one.
-    #[allow(clippy::too_many_arguments)]
-    fn begin_landing(
-        &mut self,
-        paths: &AutoPaths,
-        f: &mut MissionFlight,
-        x: &VehicleState,
-        at_w: Option<Vec3>,
-        yaw: f64,
-        t_s: f64,
-    ) {
+    fn begin_landing(&mut self, paths: &AutoPaths, f: &mut MissionFlight, now: Moment, at_w: Option<Vec3>) {
+        let Moment {
+            x, yaw_rad: yaw, t_s, ..
+        } = now;
         let mut guidance = paths.descend(x, yaw, t_s);
         if let (Guidance::Descend { xy_w, .. }, Some(at_w)) = (&mut guidance, at_w) {
             *xy_w = at_w;

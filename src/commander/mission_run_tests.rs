@@ -4,6 +4,7 @@
 use super::super::script::{Script, GROUND_Z_M};
 use super::super::{CommanderParams, Event, Outcome, Request};
 use super::*;
+use crate::control::VehicleState;
 
 fn flown(items: Vec<MissionItem>) -> Script {
     let mut s = Script::new(CommanderParams::default());
@@ -256,6 +257,12 @@ fn the_run_alone_hands_over_to_a_return_item_and_to_a_hold_after_its_last_item()
         r_wb: crate::math::Mat3::identity(),
         omega_b: Vec3::zeros(),
     };
+    let at = |t_s| Moment {
+        x: &x,
+        yaw_rad: 0.0,
+        dt_s: 0.01,
+        t_s,
+    };
     let hold = MissionFlight {
         guidance: Guidance::Hold {
             pos_w: x.pos_w,
@@ -274,10 +281,10 @@ fn the_run_alone_hands_over_to_a_return_item_and_to_a_hold_after_its_last_item()
     assert_eq!(run.progress(), (0, 2, MissionState::NotStarted));
     run.start();
     let mut events = Vec::new();
-    let (flight, then) = run.advance(&paths, true, hold, &x, 0.0, 0.0, &mut events);
+    let (flight, then) = run.advance(&paths, true, hold, at(0.0), &mut events);
     assert_eq!((flight, then), (hold, None), "a speed change flies nothing");
     assert_eq!(events, vec![Event::MissionItemReached(0), Event::MissionCurrent(1)]);
-    let (_, then) = run.advance(&paths, true, hold, &x, 0.0, 0.01, &mut events);
+    let (_, then) = run.advance(&paths, true, hold, at(0.01), &mut events);
     assert_eq!(then, Some(FlightMode::ReturnToLaunch));
     assert_eq!(events.last(), Some(&Event::MissionItemReached(1)));
     assert_eq!(run.progress(), (1, 2, MissionState::Complete));
@@ -291,7 +298,7 @@ fn the_run_alone_hands_over_to_a_return_item_and_to_a_hold_after_its_last_item()
         ..Default::default()
     });
     run.start();
-    let (_, then) = run.advance(&paths, true, hold, &x, 0.0, 0.02, &mut events);
+    let (_, then) = run.advance(&paths, true, hold, at(0.02), &mut events);
     assert_eq!(then, Some(FlightMode::Loiter), "after the last item: a hold");
     assert_eq!(run.progress(), (0, 1, MissionState::Complete));
 }

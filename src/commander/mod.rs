@@ -118,6 +118,19 @@ macro_rules! paths_of {
 }
 pub(crate) use paths_of;
 
+/// The vehicle and the clock of one tick, as the parts read them.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Moment<'a> {
+    /// The vehicle's state.
+    pub x: &'a VehicleState,
+    /// Its heading [rad].
+    pub yaw_rad: f64,
+    /// Time since the last tick [s].
+    pub dt_s: f64,
+    /// Simulated time [s].
+    pub t_s: f64,
+}
+
 /// Armed state, mode and guidance of one vehicle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Commander {
@@ -274,6 +287,12 @@ impl Commander {
         }
         self.run_delayed_failsafe(x, t_s, &mut events);
         let yaw = euler_zyx(&x.r_wb).z;
+        let now = Moment {
+            x,
+            yaw_rad: yaw,
+            dt_s,
+            t_s,
+        };
         let command = match self.mode {
             FlightMode::Takeoff => {
                 self.complete_takeoff(x, yaw, t_s, &mut events);
@@ -284,20 +303,20 @@ impl Commander {
                 None
             }
             FlightMode::Mission => {
-                self.advance_mission(x, yaw, t_s, &mut events);
+                self.advance_mission(now, &mut events);
                 None
             }
-            FlightMode::Offboard => self.offboard_command(x, yaw, dt_s, t_s, &mut events),
+            FlightMode::Offboard => self.offboard_command(now, &mut events),
             FlightMode::Orbit => {
                 self.advance_orbit(dt_s, t_s);
                 None
             }
-            FlightMode::FollowTarget => self.follow_command(x, dt_s, t_s),
+            FlightMode::FollowTarget => self.follow_command(now),
             FlightMode::Goto => {
                 self.advance_goto();
                 None
             }
-            mode if mode.flown_by_sticks() => Some(self.stick_command(x, yaw, dt_s, t_s)),
+            mode if mode.flown_by_sticks() => Some(self.stick_command(now)),
             _ => None,
         };
         if !self.armed() {

@@ -16,7 +16,7 @@ use super::manual::StickWatch;
 use super::mission_run::MissionFlight;
 use super::reactions::{loss_text, FailTo, Reaction};
 use super::rtl::Rtl;
-use super::{paths_of, Commander, Event, FlightMode, LinkLossAction, Outcome};
+use super::{paths_of, Commander, Event, FlightMode, LinkLossAction, Moment, Outcome};
 
 /// Take-off is complete within this distance of the target [m].
 const TAKEOFF_ACCEPT_M: f64 = 0.2;
@@ -264,8 +264,9 @@ impl Commander {
         }
     }
 
-    /// One AUTO.MISSION tick: the run flies the guidance, and may hand over to another mode.
-    pub(super) fn advance_mission(&mut self, x: &VehicleState, yaw: f64, t_s: f64, events: &mut Vec<Event>) {
+    /// One AUTO.MISSION tick `now`: the run flies the guidance, and may hand over to another mode.
+    pub(super) fn advance_mission(&mut self, now: Moment, events: &mut Vec<Event>) {
+        let (x, t_s) = (now.x, now.t_s);
         let in_air = self.in_air();
         let flight = MissionFlight {
             guidance: self.guidance,
@@ -273,7 +274,7 @@ impl Commander {
             climbing_out: self.climbing_out,
         };
         let paths = paths_of!(self);
-        let (flight, then) = self.mission.advance(&paths, in_air, flight, x, yaw, t_s, events);
+        let (flight, then) = self.mission.advance(&paths, in_air, flight, now, events);
         self.guidance = flight.guidance;
         self.takeoff_target_w = flight.takeoff_target_w;
         self.climbing_out = flight.climbing_out;
@@ -283,20 +284,12 @@ impl Commander {
         }
     }
 
-    /// One OFFBOARD tick at heading `yaw` [rad], `dt_s` [s] after the last: what to fly, or
-    /// `None` when the stream was lost and `COM_OBL_RC_ACT` took over.
-    pub(super) fn offboard_command(
-        &mut self,
-        x: &VehicleState,
-        yaw: f64,
-        dt_s: f64,
-        t_s: f64,
-        events: &mut Vec<Event>,
-    ) -> Option<FlightDemand> {
+    /// One OFFBOARD tick `now`: what to fly, or `None` when the stream was lost and
+    /// `COM_OBL_RC_ACT` took over.
+    pub(super) fn offboard_command(&mut self, now: Moment, events: &mut Vec<Event>) -> Option<FlightDemand> {
+        let (x, t_s) = (now.x, now.t_s);
         let (landed, loss_s) = (self.detector.landed(), self.params.offboard_loss_s);
-        let command = self
-            .offboard
-            .command(x, yaw, dt_s, t_s, landed, &self.params.motion, loss_s);
+        let command = self.offboard.command(now, landed, &self.params.motion, loss_s);
         if command.is_none() {
             events.push(Event::OffboardLost);
             let sticks = self.sticks_alive(t_s);
@@ -325,16 +318,17 @@ impl Commander {
         }
     }
 
-    /// One follow-me tick, `dt_s` [s] after the last: what to fly, or `None` to hold.
-    pub(super) fn follow_command(&mut self, x: &VehicleState, dt_s: f64, t_s: f64) -> Option<FlightDemand> {
+    /// One follow-me tick `now`: what to fly, or `None` to hold.
+    pub(super) fn follow_command(&mut self, now: Moment) -> Option<FlightDemand> {
+        let x = now.x;
         let paths = paths_of!(self);
         let p = &self.params;
-        let sticks = self.manual.live(t_s, &p.manual);
+        let sticks = self.manual.live(now.t_s, &p.manual);
         let limits = || paths.limits(p.follow.max_speed_m_s);
         let home_w = self.plans.home_w();
         match self
             .follow
-            .command(x, dt_s, t_s, home_w, sticks, &p.manual.shaping, &p.follow, limits)
+            .command(now, home_w, sticks, &p.manual.shaping, &p.follow, limits)
         {
             FollowCommand::Fly(command) => Some(command),
             FollowCommand::HoldHere => {
@@ -356,12 +350,11 @@ impl Commander {
         }
     }
 
-    /// One tick of a stick mode at heading `yaw` [rad], `dt_s` [s] after the last: what to fly.
-    pub(super) fn stick_command(&mut self, x: &VehicleState, yaw: f64, dt_s: f64, t_s: f64) -> FlightDemand {
+    /// One tick `now` of a stick mode: what to fly.
+    pub(super) fn stick_command(&mut self, now: Moment) -> FlightDemand {
         let landed = self.detector.landed();
         let p = &self.params;
-        self.manual
-            .command(self.mode, x, yaw, dt_s, t_s, landed, &p.manual, &p.motion)
+        self.manual.command(self.mode, now, landed, &p.manual, &p.motion)
     }
 }
 

@@ -2,12 +2,12 @@
 //! acceleration and heading-rate limits, yaw rate integrated into the heading), attitude and
 //! rate targets flown as they come, and the stream's loss (`COM_OF_LOSS_T`, `COM_OBL_RC_ACT`).
 
-use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
+use crate::control::{AttitudeTarget, FlatSetpoint};
 use crate::math::Vec3;
 use crate::navigation::{MotionLimits, SetpointLimiter};
 
 use super::landing::{asks_climb, FlightDemand};
-use super::{FlightMode, OffboardLossAction};
+use super::{FlightMode, Moment, OffboardLossAction};
 
 /// The latest offboard target.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,20 +53,15 @@ impl Offboard {
             .is_some_and(|(_, t)| self.alive_in_wall_time || t_s - t < loss_s)
     }
 
-    /// One OFFBOARD tick at heading `yaw` [rad], `dt_s` [s] after the last, `landed` the land
-    /// detector's verdict, within `motion` and with the stream lost after `loss_s` [s]: what to
-    /// fly, or `None` when the stream is lost.
-    #[allow(clippy::too_many_arguments)]
-    pub fn command(
-        &mut self,
-        x: &VehicleState,
-        yaw: f64,
-        dt_s: f64,
-        t_s: f64,
-        landed: bool,
-        motion: &MotionLimits,
-        loss_s: f64,
-    ) -> Option<FlightDemand> {
+    /// One OFFBOARD tick `now`, `landed` the land detector's verdict, within `motion` and with
+    /// the stream lost after `loss_s` [s]: what to fly, or `None` when the stream is lost.
+    pub fn command(&mut self, now: Moment, landed: bool, motion: &MotionLimits, loss_s: f64) -> Option<FlightDemand> {
+        let Moment {
+            x,
+            yaw_rad: yaw,
+            dt_s,
+            t_s,
+        } = now;
         match self.latest {
             Some((OffboardTarget::Flat(sp, body_frame), _)) if self.alive(t_s, loss_s) => {
                 let raw = if body_frame { heading_to_world(sp, yaw) } else { sp };
@@ -121,6 +116,7 @@ mod tests {
     use super::super::script::Script;
     use super::super::{CommanderParams, Event, Outcome, Request};
     use super::*;
+    use crate::control::VehicleState;
 
     fn stream(s: &mut Script, setpoint: FlatSetpoint, seconds: f64) {
         let request = Request::offboard(setpoint);
@@ -219,12 +215,18 @@ mod tests {
             omega_b: Vec3::zeros(),
         };
         let motion = MotionLimits::default();
+        let now = Moment {
+            x: &x,
+            yaw_rad: 0.0,
+            dt_s: 0.01,
+            t_s: 100.0,
+        };
         assert!(matches!(
-            o.command(&x, 0.0, 0.01, 100.0, false, &motion, 1.0),
+            o.command(now, false, &motion, 1.0),
             Some(FlightDemand::Flat(_))
         ));
         o.set_alive_in_wall_time(false);
-        assert_eq!(o.command(&x, 0.0, 0.01, 100.0, false, &motion, 1.0), None, "lost");
+        assert_eq!(o.command(now, false, &motion, 1.0), None, "lost");
     }
 
     #[test]

@@ -176,10 +176,13 @@ impl FailsafeState {
         self.battery
     }
 
-    /// Draws `power_w` [W] from the battery for `dt_s` [s], then runs the geofence and battery
-    /// checks of `p` for the vehicle at `pos_w` [m], `rel_home_w` [m] from home, inside `fence`
-    /// or not, `in_air` or not: the failsafes that fire now.
-    #[allow(clippy::too_many_arguments)]
+    /// Draws `power_w` [W] from the battery for `dt_s` [s].
+    pub fn draw(&mut self, power_w: f64, dt_s: f64) {
+        self.battery.draw(power_w, dt_s);
+    }
+
+    /// Runs the geofence and battery checks of `p` for the vehicle at `pos_w` [m], `rel_home_w`
+    /// [m] from home, inside `fence` or not, `in_air` or not: the failsafes that fire now.
     pub fn check(
         &mut self,
         p: &CommanderParams,
@@ -187,10 +190,7 @@ impl FailsafeState {
         fence: &Geofence,
         pos_w: &Vec3,
         in_air: bool,
-        power_w: f64,
-        dt_s: f64,
     ) -> Vec<Failsafe> {
-        self.battery.draw(power_w, dt_s);
         self.monitor.check_with_fence(
             &p.failsafe,
             rel_home_w,

@@ -270,6 +270,7 @@ impl Commander {
     /// failsafes for state `x` at `t_s` [s]: each announces itself and switches the mode (hold,
     /// return, land) or terminates, which the next heartbeat shows.
     pub fn check_failsafes(&mut self, x: &VehicleState, power_w: f64, dt_s: f64, t_s: f64) -> Vec<Event> {
+        self.failsafe.draw(power_w, dt_s);
         let rel = x.pos_w - self.plans.home_w();
         let in_air = self.in_air();
         let fired = self.failsafe.check(
@@ -278,8 +279,6 @@ impl Commander {
             self.plans.geofence(),
             &x.pos_w,
             in_air,
-            power_w,
-            dt_s,
         );
         let mut events = Vec::new();
         for failsafe in fired {
