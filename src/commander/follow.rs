@@ -9,12 +9,11 @@
 //! `FLW_TGT_MAX_VEL`) through the POSCTL deadzone and expo, and only while the vehicle is within
 //! half a second of that speed of the value it flies to, so the setting never runs away from it.
 
-use crate::control::VehicleState;
-use crate::math::{euler_zyx, wrap_pi, Vec3};
-use crate::navigation::{FollowParams, FollowTarget, Guidance, SetpointLimiter, StickShaping, Sticks};
+use crate::math::{wrap_pi, Vec3};
+use crate::navigation::{FollowParams, FollowTarget, MotionLimits, SetpointLimiter, StickShaping, Sticks};
 
 use super::landing::FlightDemand;
-use super::Commander;
+use super::Moment;
 
 /// A target not reported for this long is lost [s].
 pub const TARGET_LOST_S: f64 = 3.0;
@@ -78,59 +77,82 @@ impl FollowAdjust {
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct Follow {
     /// The target, with the simulated time of its last report [s].
-    pub target: Option<(FollowTarget, f64)>,
+    target: Option<(FollowTarget, f64)>,
     /// The reference flown while following (`None` while holding).
-    pub limiter: Option<SetpointLimiter>,
+    limiter: Option<SetpointLimiter>,
     /// What the sticks changed.
-    pub adjust: FollowAdjust,
+    adjust: FollowAdjust,
 }
 
-impl Commander {
-    /// A FOLLOW_TARGET report: position `pos_w` [m], velocity `vel_w` [m/s].
-    pub(super) fn follow_report(&mut self, pos_w: Vec3, vel_w: Vec3, t_s: f64) {
-        let p = self.params.follow;
-        let target = match self.follow.target {
+/// What one follow-me tick flies.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum FollowCommand {
+    /// Fly this.
+    Fly(FlightDemand),
+    /// The target was just lost: hold where the vehicle is.
+    HoldHere,
+    /// No target: fly the guidance there is (the hold).
+    Wait,
+}
+
+impl Follow {
+    /// A FOLLOW_TARGET report at `t_s` [s]: position `pos_w` [m], velocity `vel_w` [m/s],
+    /// filtered with `p`.
+    pub fn report(&mut self, pos_w: Vec3, vel_w: Vec3, t_s: f64, p: &FollowParams) {
+        let target = match self.target {
             Some((mut target, _)) => {
-                target.report(pos_w, vel_w, &p);
+                target.report(pos_w, vel_w, p);
                 target
             }
             None => FollowTarget::new(pos_w, vel_w),
         };
-        self.follow.target = Some((target, t_s));
+        self.target = Some((target, t_s));
     }
 
-    /// One follow-me tick, `dt_s` [s] after the last: what to fly, or `None` to hold (no
-    /// target, or lost).
-    pub(super) fn follow_command(&mut self, x: &VehicleState, dt_s: f64, t_s: f64) -> Option<FlightDemand> {
-        let fresh = self.follow.target.filter(|(_, heard_s)| t_s - heard_s < TARGET_LOST_S);
+    /// The mode is entered: the reference starts again from the vehicle, the sticks' changes
+    /// are forgotten.
+    pub fn restart(&mut self) {
+        self.limiter = None;
+        self.adjust = FollowAdjust::default();
+    }
+
+    /// One follow-me tick `now`, with home at `home_w` [m], the live `sticks` (if any) shaped
+    /// by `shaping`, the follow settings `p` and the path limits at `FLW_TGT_MAX_VEL` `limits`:
+    /// what to fly.
+    pub fn command(
+        &mut self,
+        now: Moment,
+        home_w: Vec3,
+        sticks: Option<Sticks>,
+        shaping: &StickShaping,
+        p: &FollowParams,
+        limits: impl FnOnce() -> MotionLimits,
+    ) -> FollowCommand {
+        let Moment { x, dt_s, t_s, .. } = now;
+        let fresh = self.target.filter(|(_, heard_s)| t_s - heard_s < TARGET_LOST_S);
         let Some((mut target, heard_s)) = fresh else {
-            if self.follow.limiter.take().is_some() {
-                self.guidance = Guidance::Hold {
-                    pos_w: x.pos_w,
-                    yaw_rad: euler_zyx(&x.r_wb).z,
-                };
-            }
-            return None;
+            return if self.limiter.take().is_some() {
+                FollowCommand::HoldHere
+            } else {
+                FollowCommand::Wait
+            };
         };
-        let flown = self.follow.adjust.applied(&self.params.follow);
-        let raw = target.setpoint(x.pos_w, self.home_w, &flown);
-        if self.sticks_alive(t_s) {
-            if let (Some((sticks, _)), Some(point)) = (self.manual.latest, raw.pos_w) {
-                let from_target = x.pos_w - target.pos_w;
-                let point_from_target = point - target.pos_w;
-                let errors = [
-                    point.z - x.pos_w.z,
-                    from_target.xy().norm() - flown.distance_m,
-                    wrap_pi(from_target.y.atan2(from_target.x) - point_from_target.y.atan2(point_from_target.x)),
-                ];
-                let shaping = self.params.manual.shaping;
-                self.follow.adjust.step(&sticks, &shaping, &flown, errors, dt_s);
-            }
+        let flown = self.adjust.applied(p);
+        let raw = target.setpoint(x.pos_w, home_w, &flown);
+        if let (Some(sticks), Some(point)) = (sticks, raw.pos_w) {
+            let from_target = x.pos_w - target.pos_w;
+            let point_from_target = point - target.pos_w;
+            let errors = [
+                point.z - x.pos_w.z,
+                from_target.xy().norm() - flown.distance_m,
+                wrap_pi(from_target.y.atan2(from_target.x) - point_from_target.y.atan2(point_from_target.x)),
+            ];
+            self.adjust.step(&sticks, shaping, &flown, errors, dt_s);
         }
-        self.follow.target = Some((target, heard_s));
-        let limits = self.limits(self.params.follow.max_speed_m_s);
-        let limiter = self.follow.limiter.get_or_insert_with(|| SetpointLimiter::at(x));
-        Some(FlightDemand::Flat(limiter.step(&raw, x, &limits, dt_s)))
+        self.target = Some((target, heard_s));
+        let limits = limits();
+        let limiter = self.limiter.get_or_insert_with(|| SetpointLimiter::at(x));
+        FollowCommand::Fly(FlightDemand::Flat(limiter.step(&raw, x, &limits, dt_s)))
     }
 }
 
@@ -139,6 +161,8 @@ mod tests {
     use super::super::script::Script;
     use super::super::{CommanderParams, FlightMode, Outcome, Request};
     use super::*;
+    use crate::control::VehicleState;
+    use crate::math::euler_zyx;
 
     fn report(s: &mut Script, north_m: f64, east_m: f64, vel_w: Vec3) {
         let pos_w = Vec3::new(north_m, east_m, 0.0);
@@ -271,5 +295,42 @@ mod tests {
             }
         }
         assert!(fastest <= 2.0 + 1e-9 && fastest > 1.9, "{fastest}");
+    }
+
+    #[test]
+    fn a_target_is_followed_while_reported_then_held_once_lost() {
+        let p = CommanderParams::default();
+        let x = VehicleState {
+            t_s: 0.0,
+            pos_w: Vec3::new(0.0, 0.0, -5.0),
+            vel_w: Vec3::zeros(),
+            r_wb: crate::math::Mat3::identity(),
+            omega_b: Vec3::zeros(),
+        };
+        let mut f = Follow::default();
+        let limits = || MotionLimits::default();
+        let shaping = p.manual.shaping;
+        let tick = |f: &mut Follow, t_s| {
+            let now = Moment {
+                x: &x,
+                yaw_rad: 0.0,
+                dt_s: 0.01,
+                t_s,
+            };
+            f.command(now, Vec3::zeros(), None, &shaping, &p.follow, limits)
+        };
+        assert_eq!(tick(&mut f, 0.0), FollowCommand::Wait, "no target");
+        f.report(Vec3::new(20.0, 0.0, 0.0), Vec3::zeros(), 1.0, &p.follow);
+        assert!(matches!(tick(&mut f, 1.0), FollowCommand::Fly(FlightDemand::Flat(_))));
+        assert!(matches!(
+            tick(&mut f, 1.0 + TARGET_LOST_S - 0.01),
+            FollowCommand::Fly(_)
+        ));
+        assert_eq!(tick(&mut f, 1.0 + TARGET_LOST_S), FollowCommand::HoldHere, "lost: hold");
+        assert_eq!(
+            tick(&mut f, 2.0 + TARGET_LOST_S),
+            FollowCommand::Wait,
+            "then the hold flies"
+        );
     }
 }

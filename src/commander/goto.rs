@@ -26,9 +26,10 @@
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Guidance, Track, TrackLeg};
+use crate::navigation::{Track, TrackLeg};
 
-use super::{Commander, FlightMode, Outcome};
+use super::auto_paths::AutoPaths;
+use super::{FlightMode, Outcome};
 
 /// What a DO_REPOSITION does (PX4's commander).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,107 +75,46 @@ impl RepositionTarget {
         let [n, e, d] = self.ned_m;
         Vec3::new(n.unwrap_or(base_w.x), e.unwrap_or(base_w.y), d.unwrap_or(base_w.z))
     }
-}
 
-impl Commander {
-    /// DO_REPOSITION to `target`, mode change asked with `change_mode` (module docs); only in the
-    /// air.
-    pub(super) fn reposition(
-        &mut self,
-        target: RepositionTarget,
-        change_mode: bool,
-        x: &VehicleState,
-        t_s: f64,
-    ) -> Outcome {
-        if !self.in_air() {
-            return Outcome::TemporarilyRejected("Reposition refused: not flying".into());
-        }
-        let [n, e, d] = target.ned_m;
-        let horizontal = n.is_some() || e.is_some();
-        let height_or_heading = d.is_some() || target.yaw_rad.is_some();
-        match RepositionAction::decide(self.mode, change_mode, horizontal, height_or_heading) {
-            RepositionAction::Refused => Outcome::Denied(format!(
-                "Reposition refused: no mode change asked in {}",
-                self.mode.name()
-            )),
-            RepositionAction::Goto => self.fly_goto(target, x, t_s),
-            RepositionAction::Hold | RepositionAction::InHold => self.fly_in_hold(target, x, t_s),
-        }
+    /// The reposition gives a horizontal target (north or east).
+    pub fn horizontal(&self) -> bool {
+        let [n, e, _] = self.ned_m;
+        n.is_some() || e.is_some()
     }
 
-    /// AUTO.LOITER flies to `target` (unset coordinates: where the vehicle is) and holds there.
-    fn fly_in_hold(&mut self, target: RepositionTarget, x: &VehicleState, t_s: f64) -> Outcome {
-        let to = target.point(x.pos_w);
-        if !to.iter().all(|v| v.is_finite()) {
-            return Outcome::Denied("Reposition refused: bad target".into());
-        }
-        if let Some(refusal) = self.navigation_refusal(FlightMode::Loiter, false) {
-            return refusal;
-        }
-        self.enter(FlightMode::Loiter, x, t_s);
-        let yaw = target.yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z);
-        let speed = target.speed_m_s.filter(|v| *v > 0.0).unwrap_or(self.cruise_speed());
-        self.guidance = self.path_to(x, to, yaw, speed, t_s);
-        Outcome::Accepted
+    /// The reposition gives a height or a heading.
+    pub fn height_or_heading(&self) -> bool {
+        self.ned_m[2].is_some() || self.yaw_rad.is_some()
     }
 
-    /// GOTO flies to `target` (unset coordinates: those of the target flown, else where the
-    /// vehicle is), keeping the reference's motion when GOTO already flies.
-    fn fly_goto(&mut self, target: RepositionTarget, x: &VehicleState, t_s: f64) -> Outcome {
-        let running = match (self.mode, self.guidance) {
-            (FlightMode::Goto, Guidance::Track(track)) => Some(track),
-            _ => None,
-        };
-        let to = target.point(running.map_or(x.pos_w, |t| t.leg.target_w));
+    /// The point [m] a reposition flies to from `base_w` [m] (unset coordinates taken from it),
+    /// refused when not finite.
+    pub fn point_from(&self, base_w: Vec3) -> Result<Vec3, Outcome> {
+        let to = self.point(base_w);
         if !to.iter().all(|v| v.is_finite()) {
-            return Outcome::Denied("Reposition refused: bad target".into());
+            return Err(Outcome::Denied("Reposition refused: bad target".into()));
         }
-        if let Some(refusal) = self.navigation_refusal(FlightMode::Goto, false) {
-            return refusal;
-        }
+        Ok(to)
+    }
+
+    /// GOTO's heading [rad] flying from `x` to `to` [m]: the one given, else towards the target
+    /// while farther than `accept_m` [m], else the running track's (`running`) or the vehicle's.
+    pub fn goto_heading(&self, to: Vec3, running: Option<Track>, x: &VehicleState, accept_m: f64) -> f64 {
         let yaw = euler_zyx(&x.r_wb).z;
         let towards = to - x.pos_w;
-        let heading = match target.yaw_rad {
+        match self.yaw_rad {
             Some(h) => h,
-            None if towards.xy().norm() > self.params.mission.accept_m => towards.y.atan2(towards.x),
+            None if towards.xy().norm() > accept_m => towards.y.atan2(towards.x),
             None => running.map_or(yaw, |t| t.leg.yaw_rad),
-        };
-        if self.mode != FlightMode::Goto {
-            // A mode the pilot chose: a failsafe waiting in its hold gives way, as for a mode switch.
-            self.delayed_failsafe = None;
-            self.blind_descent = false;
-            self.enter(FlightMode::Goto, x, t_s);
         }
-        self.speed_override = target.speed_m_s.filter(|v| *v > 0.0);
-        let leg = TrackLeg {
-            target_w: to,
-            next_w: None,
-            accept_m: self.params.mission.accept_m,
-            yaw_rad: heading,
-            cruise_m_s: self.goto_speed(),
-            corner_gain: self.params.mission.corner_gain,
-        };
-        self.guidance = match running {
-            Some(mut track) => {
-                track.leg = leg;
-                Guidance::Track(track)
-            }
-            None => Guidance::Track(Track::new(
-                x.pos_w,
-                x.vel_w,
-                yaw,
-                t_s,
-                leg,
-                self.limits(self.goto_cruise()),
-            )),
-        };
-        self.advance_goto();
-        Outcome::Accepted
     }
+}
 
+impl AutoPaths<'_> {
     /// `MPC_XY_CRUISE` as flown [m/s]: within `MPC_XY_VEL_MAX`, which caps it.
     fn goto_cruise(&self) -> f64 {
-        self.params.cruise_speed_m_s.min(self.params.motion.horizontal_m_s)
+        let p = self.params();
+        p.cruise_speed_m_s.min(p.motion.horizontal_m_s)
     }
 
     /// GOTO's horizontal speed [m/s]: the reposition's or DO_CHANGE_SPEED's, else
@@ -183,19 +123,49 @@ impl Commander {
         self.cruise_speed().min(self.goto_cruise())
     }
 
-    /// One GOTO tick: the speed asked now, and the horizontal acceleration scaled to it once the
-    /// reference is within it (module docs).
-    pub(super) fn advance_goto(&mut self) {
+    /// GOTO's track from `x` to `to_w` [m] at `heading` [rad]: the running one (`running`) with
+    /// the new leg, keeping the reference's motion, else a new one from the vehicle at heading
+    /// `yaw` [rad]; paced by [`Self::pace_goto`].
+    pub fn goto_track(
+        &self,
+        running: Option<Track>,
+        to_w: Vec3,
+        heading: f64,
+        x: &VehicleState,
+        yaw: f64,
+        t_s: f64,
+    ) -> Track {
+        let p = self.params();
+        let leg = TrackLeg {
+            target_w: to_w,
+            next_w: None,
+            accept_m: p.mission.accept_m,
+            yaw_rad: heading,
+            cruise_m_s: self.goto_speed(),
+            corner_gain: p.mission.corner_gain,
+        };
+        let mut track = match running {
+            Some(mut track) => {
+                track.leg = leg;
+                track
+            }
+            None => Track::new(x.pos_w, x.vel_w, yaw, t_s, leg, self.limits(self.goto_cruise())),
+        };
+        self.pace_goto(&mut track);
+        track
+    }
+
+    /// One GOTO tick of `track`: the speed asked now, and the horizontal acceleration scaled to
+    /// it once the reference is within it (module docs).
+    pub fn pace_goto(&self, track: &mut Track) {
         let speed = self.goto_speed();
         let cruise = self.goto_cruise();
         let mut limits = self.limits(cruise);
-        if let Guidance::Track(track) = &mut self.guidance {
-            track.leg.cruise_m_s = speed;
-            if cruise > 0.0 && track.vel_w().xy().norm() <= speed {
-                limits.acc_horizontal_m_s2 *= (speed / cruise).clamp(0.0, 1.0);
-            }
-            track.set_limits(limits);
+        track.leg.cruise_m_s = speed;
+        if cruise > 0.0 && track.vel_w().xy().norm() <= speed {
+            limits.acc_horizontal_m_s2 *= (speed / cruise).clamp(0.0, 1.0);
         }
+        track.set_limits(limits);
     }
 }
 

@@ -308,3 +308,37 @@ fn goto_keeps_mpc_xy_vel_max_which_caps_mpc_xy_cruise() {
     }));
     assert!((fastest - 2.0).abs() < 1e-9, "{fastest} m/s");
 }
+
+#[test]
+fn a_target_fills_its_unset_coordinates_from_a_base_and_heads_for_itself_while_far() {
+    use super::RepositionTarget;
+    let x = crate::control::VehicleState {
+        t_s: 0.0,
+        pos_w: Vec3::new(0.0, 0.0, -5.0),
+        vel_w: Vec3::zeros(),
+        r_wb: crate::math::Mat3::identity(),
+        omega_b: Vec3::zeros(),
+    };
+    let east = RepositionTarget {
+        ned_m: [None, Some(10.0), None],
+        yaw_rad: None,
+        speed_m_s: None,
+    };
+    assert!(east.horizontal() && !east.height_or_heading());
+    let to = east.point_from(x.pos_w).expect("finite");
+    assert_eq!(to, Vec3::new(0.0, 10.0, -5.0));
+    assert!((east.goto_heading(to, None, &x, 2.0) - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    assert_eq!(
+        east.goto_heading(x.pos_w, None, &x, 2.0),
+        0.0,
+        "there: the vehicle's heading"
+    );
+    let bad = RepositionTarget {
+        ned_m: [Some(f64::INFINITY), None, None],
+        ..east
+    };
+    assert_eq!(
+        bad.point_from(x.pos_w),
+        Err(Outcome::Denied("Reposition refused: bad target".into()))
+    );
+}

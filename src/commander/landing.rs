@@ -14,10 +14,8 @@
 
 use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
 use crate::math::{euler_zyx, UnitQuat, Vec3};
-use crate::navigation::Guidance;
 
-use super::land_detector::{LandInput, LandTransition};
-use super::{Commander, Event};
+use super::land_detector::LandDetector;
 
 /// A position setpoint this far below (above) the vehicle asks to descend (climb) [m].
 const SETPOINT_MARGIN_M: f64 = 0.05;
@@ -70,93 +68,58 @@ pub(super) fn asks_climb(sp: &FlatSetpoint, x: &VehicleState) -> bool {
         || (sp.pos_w.is_none() && sp.vel_w.is_none() && sp.acc_w.is_some_and(|a| a.z < -SETPOINT_SPEED_M_S))
 }
 
-impl Commander {
-    /// Runs the land detector on this tick's `command` and applies its verdict: the command to
-    /// fly, with touch-down, lift-off and auto-disarm events.
-    pub(super) fn detect_landing(
-        &mut self,
-        x: &VehicleState,
-        command: FlightDemand,
-        thrust_over_weight: f64,
-        t_s: f64,
-        events: &mut Vec<Event>,
-    ) -> FlightDemand {
-        let descent_commanded = match &command {
-            FlightDemand::Flat(sp) => asks_descent(sp, x) || on_the_ground(sp, self.detector.ground_z_m()),
-            FlightDemand::Attitude(_) => thrust_over_weight < DESCENT_THRUST_OF_WEIGHT,
-            FlightDemand::Idle => true,
+/// Whether this tick's `command` asks the vehicle in `x` to go down (the land detector's
+/// "descent commanded"), with the last tick's `thrust_over_weight` [-] and the ground the
+/// detector last touched at `ground_z_m` [m].
+pub(super) fn descent_commanded(
+    command: &FlightDemand,
+    x: &VehicleState,
+    thrust_over_weight: f64,
+    ground_z_m: Option<f64>,
+) -> bool {
+    match command {
+        FlightDemand::Flat(sp) => asks_descent(sp, x) || on_the_ground(sp, ground_z_m),
+        FlightDemand::Attitude(_) => thrust_over_weight < DESCENT_THRUST_OF_WEIGHT,
+        FlightDemand::Idle => true,
+    }
+}
+
+/// What an armed vehicle in `x` flies of `command` given the land detector's verdict
+/// (`detector`, after its update) and `MPC_LAND_SPEED` `land_speed_m_s` [m/s]: on the ground only
+/// a climb or an attitude target (else idle); pushed against the ground by a landing descent, the
+/// touch-down; by another setpoint, a gentle descent below.
+pub(super) fn near_ground(
+    detector: &LandDetector,
+    command: FlightDemand,
+    x: &VehicleState,
+    land_speed_m_s: f64,
+) -> FlightDemand {
+    if detector.landed() {
+        return match command {
+            FlightDemand::Flat(sp) if asks_climb(&sp, x) => command,
+            FlightDemand::Attitude(_) => command,
+            _ => FlightDemand::Idle,
         };
-        let input = LandInput {
-            armed: self.armed,
-            descent_commanded,
-            thrust_over_weight,
-        };
-        match self.detector.update(&self.params.land_detector, &input, x, t_s) {
-            Some(LandTransition::Landed) if self.armed => {
-                self.climbing_out = false;
-                events.push(Event::Landed);
-            }
-            Some(LandTransition::Airborne) => {
-                self.took_off = true;
-                events.push(Event::Airborne);
-                if self.guidance == Guidance::Idle && !matches!(command, FlightDemand::Attitude(_)) {
-                    // Lifted with nothing to fly (idle in a hold mode): hold where it is.
-                    self.guidance = Guidance::Hold {
-                        pos_w: x.pos_w,
-                        yaw_rad: euler_zyx(&x.r_wb).z,
-                    };
-                    return FlightDemand::Flat(FlatSetpoint::hold(x.pos_w, euler_zyx(&x.r_wb).z));
-                }
-            }
-            _ => {}
-        }
-        if !self.armed {
-            return FlightDemand::Idle;
-        }
-        if self.detector.landed() {
-            if let Some(why) = self.auto_disarm_reason(t_s) {
-                self.disarm();
-                events.push(Event::Disarmed(why));
-                return FlightDemand::Idle;
-            }
-            return match command {
-                FlightDemand::Flat(sp) if asks_climb(&sp, x) => command,
-                FlightDemand::Attitude(_) => command,
-                _ => FlightDemand::Idle,
-            };
-        }
-        let land_speed = self.params.land_speed_m_s;
-        match command {
-            FlightDemand::Flat(sp) if self.detector.touching_down() => {
-                if descends_to_land(&sp, land_speed) {
-                    FlightDemand::Attitude(touch_down(x))
-                } else {
-                    FlightDemand::Flat(descend_below(x, &sp, land_speed))
-                }
-            }
-            // The last metre to a position on the ground: a gentle descent that the ground stops,
-            // rather than a hover on the landing gear that a touch-down would drop from.
-            FlightDemand::Flat(sp)
-                if on_the_ground(&sp, self.detector.ground_z_m())
-                    && self.detector.near_ground(x)
-                    && !descends_to_land(&sp, land_speed) =>
-            {
+    }
+    let land_speed = land_speed_m_s;
+    match command {
+        FlightDemand::Flat(sp) if detector.touching_down() => {
+            if descends_to_land(&sp, land_speed) {
+                FlightDemand::Attitude(touch_down(x))
+            } else {
                 FlightDemand::Flat(descend_below(x, &sp, land_speed))
             }
-            _ => command,
         }
-    }
-
-    /// Why the vehicle, landed, disarms now: `COM_DISARM_LAND` after a touch-down,
-    /// `COM_DISARM_PRFLT` when it has not been in the air since arming.
-    fn auto_disarm_reason(&self, t_s: f64) -> Option<&'static str> {
-        let p = &self.params;
-        if self.took_off {
-            let landed_for = self.detector.landed_at_s().map(|at| t_s - at);
-            (p.disarm_land_s > 0.0 && landed_for.is_some_and(|d| d >= p.disarm_land_s)).then_some("landed")
-        } else {
-            (p.disarm_preflight_s > 0.0 && t_s - self.armed_at_s >= p.disarm_preflight_s).then_some("no takeoff")
+        // The last metre to a position on the ground: a gentle descent that the ground stops,
+        // rather than a hover on the landing gear that a touch-down would drop from.
+        FlightDemand::Flat(sp)
+            if on_the_ground(&sp, detector.ground_z_m())
+                && detector.near_ground(x)
+                && !descends_to_land(&sp, land_speed) =>
+        {
+            FlightDemand::Flat(descend_below(x, &sp, land_speed))
         }
+        _ => command,
     }
 }
 
@@ -190,6 +153,7 @@ fn touch_down(x: &VehicleState) -> AttitudeTarget {
 
 #[cfg(test)]
 mod tests {
+    use super::super::{Commander, Event};
     use super::*;
     use crate::math::Mat3;
 
@@ -298,5 +262,31 @@ mod tests {
         assert_eq!(target.thrust_fraction, 0.0);
         assert_eq!(target.omega_b, Some(Vec3::zeros()));
         assert!(target.q_wb.is_some_and(|q| q.angle_to(&tilted) < 1e-12));
+    }
+
+    #[test]
+    fn a_descent_is_commanded_by_a_setpoint_below_low_thrust_or_idle_motors() {
+        let x = at(-3.0);
+        let below = FlightDemand::Flat(FlatSetpoint::hold(Vec3::new(0.0, 0.0, -1.0), 0.0));
+        let here = FlightDemand::Flat(FlatSetpoint::hold(x.pos_w, 0.0));
+        assert!(descent_commanded(&below, &x, 1.0, None));
+        assert!(!descent_commanded(&here, &x, 1.0, None));
+        let ground = FlightDemand::Flat(FlatSetpoint::hold(Vec3::new(0.0, 0.0, -0.1), 0.0));
+        assert!(!descent_commanded(&ground, &at(-0.1), 1.0, None));
+        let pressed = descent_commanded(&ground, &at(-0.1), 1.0, Some(-0.1));
+        assert!(pressed, "a position on the ground");
+        let attitude = FlightDemand::Attitude(touch_down(&x));
+        assert!(descent_commanded(&attitude, &x, 0.5, None));
+        assert!(!descent_commanded(&attitude, &x, 1.0, None));
+        assert!(descent_commanded(&FlightDemand::Idle, &x, 1.0, None));
+        let detector = LandDetector::default();
+        assert!(detector.landed(), "a new detector starts on the ground");
+        assert_eq!(
+            near_ground(&detector, here, &x, 0.7),
+            FlightDemand::Idle,
+            "landed: no climb asked"
+        );
+        let up = FlightDemand::Flat(FlatSetpoint::hold(Vec3::new(0.0, 0.0, -5.0), 0.0));
+        assert_eq!(near_ground(&detector, up, &x, 0.7), up, "a climb is flown");
     }
 }

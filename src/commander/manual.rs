@@ -13,12 +13,12 @@
 //! deflected, or a throttle resting low, is not moving) takes over in POSCTL when
 //! `COM_RC_OVERRIDE` allows it.
 
-use crate::control::{AttitudeTarget, VehicleState};
+use crate::control::AttitudeTarget;
 use crate::math::UnitQuat;
-use crate::navigation::{StickMotion, StickReference, Sticks};
+use crate::navigation::{MotionLimits, StickMotion, StickReference, Sticks};
 
 use super::landing::FlightDemand;
-use super::{Commander, Event, FlightMode, LinkLossAction, Outcome};
+use super::{FlightMode, LinkLossAction, ManualParams, Moment, Outcome};
 
 /// `COM_RCL_EXCEPT` bits.
 const EXCEPT_MISSION: u8 = 1;
@@ -35,40 +35,81 @@ const ARM_THROTTLE_MAX: f64 = 0.2;
 /// and what the stick modes fly from.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct ManualInput {
-    pub latest: Option<(Sticks, f64)>,
-    pub alive_in_wall_time: bool,
-    pub at_arming: bool,
-    pub lost: bool,
+    latest: Option<(Sticks, f64)>,
+    alive_in_wall_time: bool,
+    at_arming: bool,
+    lost: bool,
     /// POSCTL / ALTCTL reference (`None` until the mode's first tick).
-    pub reference: Option<StickReference>,
+    reference: Option<StickReference>,
     /// STABILIZED / MANUAL heading [rad] (`None` until the mode's first tick).
-    pub heading_rad: Option<f64>,
+    heading_rad: Option<f64>,
     /// Whether the pilot moves the sticks (stick take-over).
-    pub motion: StickMotion,
+    motion: StickMotion,
 }
 
-impl Commander {
+/// What the sticks' liveness asks of the commander this tick.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum StickWatch {
+    /// Nothing: no sticks ever, or a loss already reacted to or that does not apply.
+    Quiet,
+    /// The sticks are live; `regained` after a loss.
+    Alive {
+        /// They were lost until now.
+        regained: bool,
+    },
+    /// They were just lost: run this `NAV_RCL_ACT` (Disabled: announce only).
+    Lost(LinkLossAction),
+}
+
+impl ManualInput {
+    /// A MANUAL_CONTROL sample arrived at `t_s` [s].
+    pub fn receive(&mut self, sticks: Sticks, t_s: f64) {
+        self.latest = Some((sticks, t_s));
+        self.motion.sample(sticks, t_s);
+    }
+
+    /// The link's word on the sticks' liveness in wall time.
+    pub fn set_alive_in_wall_time(&mut self, alive: bool) {
+        self.alive_in_wall_time = alive;
+    }
+
     /// True when sticks arrived within `COM_RC_LOSS_T` of `t_s` [s] or the link says they are
     /// alive in wall time.
-    pub(super) fn sticks_alive(&self, t_s: f64) -> bool {
-        self.manual
-            .latest
-            .is_some_and(|(_, t)| self.manual.alive_in_wall_time || t_s - t < self.params.manual.loss_s)
+    pub fn alive(&self, t_s: f64, p: &ManualParams) -> bool {
+        self.latest
+            .is_some_and(|(_, t)| self.alive_in_wall_time || t_s - t < p.loss_s)
+    }
+
+    /// The latest sticks while they are alive.
+    pub fn live(&self, t_s: f64, p: &ManualParams) -> Option<Sticks> {
+        self.latest.filter(|_| self.alive(t_s, p)).map(|(s, _)| s)
     }
 
     /// The sticks to fly: the latest while alive, else centred (hold).
-    fn sticks(&self, t_s: f64) -> Sticks {
-        match self.manual.latest {
-            Some((s, _)) if self.sticks_alive(t_s) => s,
+    fn sticks(&self, t_s: f64, p: &ManualParams) -> Sticks {
+        match self.latest {
+            Some((s, _)) if self.alive(t_s, p) => s,
             _ => Sticks::CENTRED,
         }
     }
 
+    /// The vehicle was armed at `t_s` [s]: whether the sticks were live then, no loss yet.
+    pub fn armed_at(&mut self, t_s: f64, p: &ManualParams) {
+        self.at_arming = self.alive(t_s, p);
+        self.lost = false;
+    }
+
+    /// A mode is entered: the stick modes start again from the vehicle.
+    pub fn restart(&mut self) {
+        self.reference = None;
+        self.heading_rad = None;
+    }
+
     /// Why `mode` cannot be entered (or armed in) now: the modes flown by the sticks other than
     /// POSCTL (which holds without them) need live sticks.
-    pub(super) fn stick_mode_refusal(&self, mode: FlightMode, t_s: f64, arming: bool) -> Option<Outcome> {
+    pub fn mode_refusal(&self, mode: FlightMode, t_s: f64, arming: bool, p: &ManualParams) -> Option<Outcome> {
         let needs_sticks = mode.flown_by_sticks() && mode != FlightMode::Position;
-        if needs_sticks && !self.sticks_alive(t_s) {
+        if needs_sticks && !self.alive(t_s, p) {
             let what = if arming {
                 "Arming denied".to_string()
             } else {
@@ -76,28 +117,41 @@ impl Commander {
             };
             return Some(Outcome::TemporarilyRejected(format!("{what}: no manual control input")));
         }
-        if arming && mode.manual_thrust() && self.sticks(t_s).throttle > ARM_THROTTLE_MAX {
+        if arming && mode.manual_thrust() && self.sticks(t_s, p).throttle > ARM_THROTTLE_MAX {
             return Some(Outcome::TemporarilyRejected("Arming denied: throttle above 20%".into()));
         }
         None
     }
 
-    /// One tick of a stick mode, `dt_s` [s] after the last: what to fly.
-    pub(super) fn stick_command(&mut self, x: &VehicleState, yaw: f64, dt_s: f64, t_s: f64) -> FlightDemand {
-        let sticks = self.sticks(t_s);
-        let shaping = self.params.manual.shaping;
-        let landed = self.detector.landed();
-        match self.mode {
+    /// One tick `now` of the stick mode `mode`, `landed` the land detector's verdict, within
+    /// `motion`: what to fly.
+    pub fn command(
+        &mut self,
+        mode: FlightMode,
+        now: Moment,
+        landed: bool,
+        p: &ManualParams,
+        motion: &MotionLimits,
+    ) -> FlightDemand {
+        let Moment {
+            x,
+            yaw_rad: yaw,
+            dt_s,
+            t_s,
+        } = now;
+        let sticks = self.sticks(t_s, p);
+        let shaping = p.shaping;
+        match mode {
             FlightMode::Position | FlightMode::Altitude => {
-                let reference = self.manual.reference.get_or_insert_with(|| StickReference::at(x));
+                let reference = self.reference.get_or_insert_with(|| StickReference::at(x));
                 if landed && shaping.climb(&sticks) <= 0.0 {
                     // Resting on the ground: the reference waits with the vehicle.
                     *reference = StickReference::at(x);
                 }
-                let sp = if self.mode == FlightMode::Position {
-                    reference.position(&sticks, x, &shaping, &self.params.motion, dt_s)
+                let sp = if mode == FlightMode::Position {
+                    reference.position(&sticks, x, &shaping, motion, dt_s)
                 } else {
-                    reference.altitude(&sticks, x, &shaping, &self.params.motion, dt_s)
+                    reference.altitude(&sticks, x, &shaping, motion, dt_s)
                 };
                 FlightDemand::Flat(sp)
             }
@@ -107,7 +161,7 @@ impl Commander {
                 thrust_fraction: shaping.thrust(&sticks),
             }),
             _ => {
-                let heading = self.manual.heading_rad.get_or_insert(yaw);
+                let heading = self.heading_rad.get_or_insert(yaw);
                 if landed {
                     *heading = yaw;
                 } else {
@@ -123,44 +177,42 @@ impl Commander {
         }
     }
 
-    /// Each armed tick: the sticks' loss and return, and a pilot taking over an AUTO mode.
-    pub(super) fn watch_sticks(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
-        if self.manual.latest.is_none() {
-            return;
+    /// Each armed tick in `mode` (`in_air` or not): the sticks' loss and return. A loss is
+    /// reacted to once, when the sticks were live at arming or the mode is flown by them, with
+    /// `NAV_RCL_ACT` unless `COM_RCL_EXCEPT` exempts the mode or the vehicle is on the ground; a
+    /// stick mode that cannot fly without sticks holds whatever the action.
+    pub fn watch(&mut self, mode: FlightMode, t_s: f64, in_air: bool, p: &ManualParams) -> StickWatch {
+        if self.latest.is_none() {
+            return StickWatch::Quiet;
         }
-        if self.sticks_alive(t_s) {
-            if std::mem::take(&mut self.manual.lost) {
-                events.push(Event::Failsafe("Manual control regained".into()));
-                self.cancel_delayed_failsafe(x, t_s, events);
-            }
-            self.take_over_by_sticks(x, t_s, events);
-            return;
+        if self.alive(t_s, p) {
+            return StickWatch::Alive {
+                regained: std::mem::take(&mut self.lost),
+            };
         }
-        if self.manual.lost || !(self.manual.at_arming || self.mode.flown_by_sticks()) {
-            return;
+        if self.lost || !(self.at_arming || mode.flown_by_sticks()) {
+            return StickWatch::Quiet;
         }
-        self.manual.lost = true;
-        let p = self.params.manual;
-        let exempt = match self.mode {
+        self.lost = true;
+        let exempt = match mode {
             FlightMode::Mission => p.loss_exceptions & EXCEPT_MISSION != 0,
             FlightMode::Loiter | FlightMode::Takeoff => p.loss_exceptions & EXCEPT_HOLD != 0,
             FlightMode::Offboard => p.loss_exceptions & EXCEPT_OFFBOARD != 0,
             _ => false,
         };
-        let stick_mode = self.mode.flown_by_sticks() && self.mode != FlightMode::Position;
-        let action = match LinkLossAction::from(p.loss_action) {
-            _ if exempt || !self.in_air() => LinkLossAction::Disabled,
+        let stick_mode = mode.flown_by_sticks() && mode != FlightMode::Position;
+        StickWatch::Lost(match LinkLossAction::from(p.loss_action) {
+            _ if exempt || !in_air => LinkLossAction::Disabled,
             LinkLossAction::Disabled if stick_mode => LinkLossAction::Hold,
             action => action,
-        };
-        events.push(self.react_to_loss("Manual control", action, x, t_s));
+        })
     }
 
     /// In an AUTO mode (and OFFBOARD), sticks moved faster than `COM_RC_STICK_OV` per second
-    /// hand the vehicle to the pilot in POSCTL, as `COM_RC_OVERRIDE` allows.
-    fn take_over_by_sticks(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
-        let p = &self.params.manual;
-        let allowed = match self.mode {
+    /// hand the vehicle to the pilot in POSCTL, as `COM_RC_OVERRIDE` allows: true when they do
+    /// now in `mode`, `in_air`, no failsafe waiting in its hold (`failsafe_delayed`).
+    pub fn takes_over(&self, mode: FlightMode, in_air: bool, failsafe_delayed: bool, p: &ManualParams) -> bool {
+        let allowed = match mode {
             FlightMode::Offboard => p.override_bits & OVERRIDE_OFFBOARD != 0,
             // PX4's orbit is not an AUTO mode: its yaw stick steers (yaw behaviour 4); in
             // follow-me the sticks adjust the follow.
@@ -168,12 +220,8 @@ impl Commander {
             mode if mode.flown_by_sticks() => false,
             _ => p.override_bits & OVERRIDE_AUTO != 0,
         };
-        let moved = self.manual.motion.moving(p.override_threshold);
-        if allowed && moved && self.in_air() && !self.failsafe_delayed() {
-            self.enter(FlightMode::Position, x, t_s);
-            events.push(Event::Failsafe("Pilot took over using sticks".into()));
-            events.push(Event::ModeChanged(FlightMode::Position));
-        }
+        let moved = self.motion.moving(p.override_threshold);
+        allowed && moved && in_air && !failsafe_delayed
     }
 }
 

@@ -220,3 +220,67 @@ fn stabilized_and_acro_fly_attitude_and_rate_targets_from_the_sticks() {
     assert_eq!(target.q_wb, None);
     assert_eq!(target.omega_b, Some(Vec3::new(100f64.to_radians(), 0.0, 0.0)));
 }
+
+#[test]
+fn a_loss_is_reported_once_then_the_return_and_exempt_modes_or_the_ground_run_nothing() {
+    use super::{ManualInput, StickWatch};
+    use crate::commander::LinkLossAction;
+    let p = CommanderParams::default().manual;
+    let mut m = ManualInput::default();
+    assert_eq!(
+        m.watch(FlightMode::Loiter, 0.0, true, &p),
+        StickWatch::Quiet,
+        "never any sticks"
+    );
+    m.receive(Sticks::CENTRED, 0.0);
+    m.armed_at(0.0, &p);
+    assert_eq!(
+        m.watch(FlightMode::Loiter, 0.1, true, &p),
+        StickWatch::Alive { regained: false }
+    );
+    let lost_s = p.loss_s + 0.1;
+    assert_eq!(
+        m.watch(FlightMode::Loiter, lost_s, true, &p),
+        StickWatch::Lost(LinkLossAction::from(p.loss_action))
+    );
+    assert_eq!(
+        m.watch(FlightMode::Loiter, lost_s + 0.1, true, &p),
+        StickWatch::Quiet,
+        "once"
+    );
+    m.receive(Sticks::CENTRED, lost_s + 0.2);
+    assert_eq!(
+        m.watch(FlightMode::Loiter, lost_s + 0.2, true, &p),
+        StickWatch::Alive { regained: true }
+    );
+    let later_s = lost_s + 0.3 + p.loss_s;
+    assert_eq!(
+        m.watch(FlightMode::Stabilized, later_s, false, &p),
+        StickWatch::Lost(LinkLossAction::Disabled),
+        "on the ground: announced only"
+    );
+}
+
+#[test]
+fn arming_in_a_manual_thrust_mode_needs_the_throttle_down() {
+    use super::ManualInput;
+    let p = CommanderParams::default().manual;
+    let mut m = ManualInput::default();
+    assert!(
+        m.mode_refusal(FlightMode::Stabilized, 0.0, true, &p).is_some(),
+        "no sticks"
+    );
+    assert_eq!(
+        m.mode_refusal(FlightMode::Position, 0.0, false, &p),
+        None,
+        "POSCTL holds without"
+    );
+    m.receive(throttle(0.5), 0.0);
+    assert_eq!(
+        m.mode_refusal(FlightMode::Stabilized, 0.0, true, &p),
+        Some(Outcome::TemporarilyRejected("Arming denied: throttle above 20%".into()))
+    );
+    assert_eq!(m.mode_refusal(FlightMode::Stabilized, 0.0, false, &p), None, "modes");
+    m.receive(throttle(0.0), 0.01);
+    assert_eq!(m.mode_refusal(FlightMode::Stabilized, 0.01, true, &p), None);
+}

@@ -4,6 +4,7 @@
 use super::super::script::{Script, GROUND_Z_M};
 use super::super::{CommanderParams, Event, Outcome, Request};
 use super::*;
+use crate::control::VehicleState;
 
 fn flown(items: Vec<MissionItem>) -> Script {
     let mut s = Script::new(CommanderParams::default());
@@ -242,4 +243,62 @@ fn heights_above_home_follow_a_home_moved_in_flight_and_the_waypoint_is_flown_wh
         "{:?}",
         s.x.pos_w
     );
+}
+
+#[test]
+fn the_run_alone_hands_over_to_a_return_item_and_to_a_hold_after_its_last_item() {
+    use crate::navigation::Guidance;
+    let p = CommanderParams::default();
+    let paths = AutoPaths::new(&p, None, None, 0.0);
+    let x = VehicleState {
+        t_s: 0.0,
+        pos_w: Vec3::new(0.0, 0.0, -5.0),
+        vel_w: Vec3::zeros(),
+        r_wb: crate::math::Mat3::identity(),
+        omega_b: Vec3::zeros(),
+    };
+    let at = |t_s| Moment {
+        x: &x,
+        yaw_rad: 0.0,
+        dt_s: 0.01,
+        t_s,
+    };
+    let hold = MissionFlight {
+        guidance: Guidance::Hold {
+            pos_w: x.pos_w,
+            yaw_rad: 0.0,
+        },
+        takeoff_target_w: None,
+        climbing_out: false,
+    };
+    let mut run = MissionRun::default();
+    assert_eq!(run.progress(), (0, 0, MissionState::NoMission));
+    let items = vec![MissionItem::ChangeSpeed { speed_m_s: 2.0 }, MissionItem::ReturnToLaunch];
+    run.replace(Mission {
+        items,
+        ..Default::default()
+    });
+    assert_eq!(run.progress(), (0, 2, MissionState::NotStarted));
+    run.start();
+    let mut events = Vec::new();
+    let (flight, then) = run.advance(&paths, true, hold, at(0.0), &mut events);
+    assert_eq!((flight, then), (hold, None), "a speed change flies nothing");
+    assert_eq!(events, vec![Event::MissionItemReached(0), Event::MissionCurrent(1)]);
+    let (_, then) = run.advance(&paths, true, hold, at(0.01), &mut events);
+    assert_eq!(then, Some(FlightMode::ReturnToLaunch));
+    assert_eq!(events.last(), Some(&Event::MissionItemReached(1)));
+    assert_eq!(run.progress(), (1, 2, MissionState::Complete));
+    assert!(run.start_at(0) && !run.start_at(2));
+    assert_eq!(run.progress(), (0, 2, MissionState::NotStarted));
+    run.start();
+    run.pause();
+    assert_eq!(run.progress(), (0, 2, MissionState::Paused));
+    run.replace(Mission {
+        items: vec![MissionItem::ChangeSpeed { speed_m_s: 2.0 }],
+        ..Default::default()
+    });
+    run.start();
+    let (_, then) = run.advance(&paths, true, hold, at(0.02), &mut events);
+    assert_eq!(then, Some(FlightMode::Loiter), "after the last item: a hold");
+    assert_eq!(run.progress(), (0, 1, MissionState::Complete));
 }

@@ -3,28 +3,40 @@
 //! state in, an outcome, a setpoint and events out.
 //!
 //! # Layout
-//! - `mod.rs`: the [`Commander`] struct, its accessors and the tick ([`Commander::update`]).
-//! - `requests.rs`: [`Commander::request`] and the small requests (take-off, change speed, set
-//!   home, set / start mission, the offboard setpoint store).
+//! The [`Commander`] is a composition of smaller types, each owning its fields behind its own
+//! methods: they take values (the time included) and return values or decisions (a mode to
+//! switch to, a guidance to fly) that the commander applies. Only three files hold
+//! `impl Commander`:
+//! - `mod.rs`: the [`Commander`] struct, its accessors and the tick ([`Commander::update`]) with
+//!   the land detector's verdict applied.
+//! - `requests.rs`: what comes in: [`Commander::request`] dispatched to the part that handles
+//!   it, the failsafe checks, a rotor failure, the navigation estimate's validity.
+//! - `modes.rs`: mode switches and what each mode's tick does with its part's decision; the
+//!   failsafes' mode changes (hold, delayed return or landing, termination).
+//!
+//! The parts:
+//! - `arming.rs`: [`arming::Arming`]: armed, when, whether airborne since; the pre-arm refusals
+//!   and auto-disarm.
+//! - `auto_paths.rs`: [`auto_paths::AutoPaths`]: the AUTO modes' paths, climbs and descents.
+//! - `rtl.rs`: [`rtl::Rtl`]: AUTO.RTL's phases (climb, return round the fence, descend).
+//! - `plans.rs`: [`plans::Plans`]: home, the uploaded geofence and rally points: which zones
+//!   count, the arming refusal, the return destination (`RTL_TYPE`).
+//! - `reactions.rs`: [`reactions::FailsafeState`]: the geofence / battery monitor, the battery
+//!   gauge, the `COM_FAIL_ACT_T` hold, the position-loss descent; rotor failures and link losses
+//!   as decisions.
+//! - `navigation_checks.rs`: what the navigation estimate allows ([`NavValidity`]): mode
+//!   requirements, pre-arm refusals, the position-loss descent.
+//! - `mission_run.rs`: [`mission_run::MissionRun`]: AUTO.MISSION, item by item.
 //! - `goto.rs`: DO_REPOSITION (the mode-change flag as PX4's commander reads it) and the GOTO
 //!   mode it flies in.
-//! - `arming.rs`: arm and disarm, and their refusals.
-//! - `modes.rs`: mode switches, each mode's guidance, paths and descents, take-off completion.
-//! - `rtl.rs`: AUTO.RTL's phases (climb, return, descend).
-//! - `plans.rs`: the uploaded geofence and rally points: which zones count, the breach check
-//!   and arming refusal, the return destination (`RTL_TYPE`).
+//! - `offboard.rs`: [`offboard::Offboard`]: the offboard setpoint stream, its limiter and its loss.
+//! - `manual.rs`: [`manual::ManualInput`]: the stick modes (POSCTL, ALTCTL, STABILIZED, ACRO),
+//!   the sticks' loss (`NAV_RCL_ACT`) and a pilot taking over with the sticks.
+//! - `orbit.rs`: [`orbit::OrbitMode`] (MAV_CMD_DO_ORBIT); `follow.rs`: [`follow::Follow`]
+//!   (FOLLOW_TARGET).
+//! - [`land_detector`]: on the ground or in the air, from what the vehicle does; `landing.rs`:
+//!   what the verdict changes: touch-down thrust cut, idle on the ground, hold after a lift-off.
 //! - `messages.rs`: requests, outcomes, events, landed state; `params.rs`: the settings.
-//! - [`land_detector`]: on the ground or in the air, from what the vehicle does.
-//! - `landing.rs`: what the verdict changes: touch-down thrust cut, idle on the ground,
-//!   hold after a lift-off, auto-disarm (only ever on the ground).
-//! - `offboard.rs`: the offboard setpoint stream, its limiter and its loss.
-//! - `mission_run.rs`: AUTO.MISSION, item by item.
-//! - `orbit.rs`: orbit mode (MAV_CMD_DO_ORBIT); `follow.rs`: follow-me (FOLLOW_TARGET).
-//! - `manual.rs`: the stick modes (POSCTL, ALTCTL, STABILIZED, ACRO), the sticks' loss
-//!   (`NAV_RCL_ACT`) and a pilot taking over with the sticks.
-//! - `reactions.rs`: failsafes, rotor failures and GCS link loss.
-//! - `navigation_checks.rs`: what the navigation estimate allows: mode requirements, pre-arm
-//!   refusals, the position-loss descent.
 //! - `failsafe.rs`, `battery.rs`, `mode.rs`: geofence/battery monitor, energy gauge, PX4 modes.
 //! - `actions.rs`: the failsafe parameters' actions (`NAV_DLL_ACT`, `COM_OBL_RC_ACT`,
 //!   `GF_ACTION`, `COM_LOW_BAT_ACT`) and `RTL_TYPE` as enums with PX4's codes.
@@ -36,6 +48,7 @@
 
 mod actions;
 mod arming;
+mod auto_paths;
 mod battery;
 mod failsafe;
 mod follow;
@@ -72,62 +85,79 @@ pub use navigation_checks::NavValidity;
 pub use params::{AutoVertical, CommanderParams, ManualParams, MissionParams};
 pub use reactions::{LossAllocation, RotorLoss};
 
+use arming::Arming;
 use follow::Follow;
-use land_detector::LandDetector;
+use land_detector::{LandDetector, LandInput, LandTransition};
 use landing::FlightDemand;
 use manual::ManualInput;
 use mission_run::MissionRun;
 use offboard::Offboard;
-use rtl::RtlPhase;
+use orbit::OrbitMode;
+use plans::Plans;
+use reactions::FailsafeState;
+use rtl::Rtl;
 
-use crate::control::VehicleState;
+use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Geofence, Guidance, Orbit, RallyPoints};
+use crate::navigation::Guidance;
 
 /// Tick length assumed before the second tick [s].
 const DEFAULT_DT_S: f64 = 0.001;
+
+/// The [`auto_paths::AutoPaths`] of a commander, borrowing only its settings (its other fields
+/// stay free to change meanwhile).
+macro_rules! paths_of {
+    ($c:expr) => {
+        $crate::commander::auto_paths::AutoPaths::new(
+            &$c.params,
+            $c.speed_override,
+            $c.detector.ground_z_m(),
+            $c.plans.home_w().z,
+        )
+    };
+}
+pub(crate) use paths_of;
+
+/// The vehicle and the clock of one tick, as the parts read them.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Moment<'a> {
+    /// The vehicle's state.
+    pub x: &'a VehicleState,
+    /// Its heading [rad].
+    pub yaw_rad: f64,
+    /// Time since the last tick [s].
+    pub dt_s: f64,
+    /// Simulated time [s].
+    pub t_s: f64,
+}
 
 /// Armed state, mode and guidance of one vehicle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Commander {
     /// Settings.
     pub params: CommanderParams,
-    armed: bool,
     mode: FlightMode,
     detector: LandDetector,
     /// A take-off climb is under way (AUTO.TAKEOFF, a mission's take-off or first climb).
     climbing_out: bool,
     guidance: Guidance,
     takeoff_target_w: Option<Vec3>,
-    rtl_phase: RtlPhase,
-    /// A return's points still to fly through round the geofence, the destination last [m].
-    rtl_way: Vec<Vec3>,
-    armed_at_s: f64,
-    /// The vehicle has been in the air since it was armed.
-    took_off: bool,
+    /// DO_CHANGE_SPEED's (or a reposition's) horizontal speed [m/s].
+    speed_override: Option<f64>,
+    arming: Arming,
+    rtl: Rtl,
     offboard: Offboard,
     manual: ManualInput,
     mission: MissionRun,
-    /// The orbit flown or approached in orbit mode.
-    orbit: Option<Orbit>,
+    orbit: OrbitMode,
     follow: Follow,
-    speed_override: Option<f64>,
-    home_w: Vec3,
-    /// The uploaded fence's zones that count (PX4 leaves out those home breaks).
-    geofence: Geofence,
-    /// The uploaded rally points.
-    rally: RallyPoints,
-    failsafes: FailsafeMonitor,
-    battery: BatteryGauge,
+    plans: Plans,
+    failsafe: FailsafeState,
     last_update_s: Option<f64>,
     /// Events of a request's reaction, announced at the start of the next tick.
     pending: Vec<Event>,
     /// The validity of the latest navigation estimate.
     nav: NavValidity,
-    /// Descending without a position (the position-loss failsafe) until disarmed.
-    blind_descent: bool,
-    /// A failsafe's return or landing waiting out `COM_FAIL_ACT_T` in a hold.
-    delayed_failsafe: Option<reactions::DelayedFailsafe>,
 }
 
 impl Commander {
@@ -135,53 +165,45 @@ impl Commander {
     pub fn new(params: CommanderParams) -> Self {
         Self {
             params,
-            armed: false,
             mode: FlightMode::Loiter,
             detector: LandDetector::default(),
             climbing_out: false,
             guidance: Guidance::Idle,
             takeoff_target_w: None,
-            rtl_phase: RtlPhase::Climb,
-            rtl_way: Vec::new(),
-            armed_at_s: 0.0,
-            took_off: false,
+            speed_override: None,
+            arming: Arming::default(),
+            rtl: Rtl::default(),
             offboard: Offboard::default(),
             manual: ManualInput::default(),
             mission: MissionRun::default(),
-            orbit: None,
+            orbit: OrbitMode::default(),
             follow: Follow::default(),
-            speed_override: None,
-            home_w: Vec3::zeros(),
-            geofence: Geofence::default(),
-            rally: RallyPoints::default(),
-            failsafes: FailsafeMonitor::default(),
-            battery: BatteryGauge::default(),
+            plans: Plans::default(),
+            failsafe: FailsafeState::default(),
             last_update_s: None,
             pending: Vec::new(),
             nav: NavValidity::EXACT,
-            blind_descent: false,
-            delayed_failsafe: None,
         }
     }
 
     /// The local NED point RTL returns to [m].
     pub fn home_w(&self) -> Vec3 {
-        self.home_w
+        self.plans.home_w()
     }
 
     /// Current mission item, item count and mission state (MISSION_CURRENT).
     pub fn mission_progress(&self) -> (usize, usize, MissionState) {
-        (self.mission.seq, self.mission.mission.len(), self.mission.state)
+        self.mission.progress()
     }
 
     /// The battery gauge and the pack it measures.
     pub fn battery(&self) -> (BatteryGauge, BatteryParams) {
-        (self.battery, self.params.battery)
+        (self.failsafe.battery(), self.params.battery)
     }
 
     /// Armed.
     pub fn armed(&self) -> bool {
-        self.armed
+        self.arming.armed()
     }
 
     /// Current mode.
@@ -191,7 +213,7 @@ impl Commander {
 
     /// Armed and not on the ground (the land detector's verdict).
     pub fn in_air(&self) -> bool {
-        self.armed && !self.detector.landed()
+        self.arming.armed() && !self.detector.landed()
     }
 
     /// The land detector's stage.
@@ -213,6 +235,38 @@ impl Commander {
         }
     }
 
+    /// A geofence limit is breached right now (SYS_STATUS health).
+    pub fn geofence_breached(&self) -> bool {
+        self.failsafe.geofence_breached()
+    }
+
+    /// The orbit flown (centre [m] and radius [m], positive clockwise) while in orbit mode.
+    pub fn orbit_status(&self) -> Option<(Vec3, f64)> {
+        self.orbit.status(self.mode == FlightMode::Orbit)
+    }
+
+    /// The validity of the latest estimate.
+    pub fn navigation(&self) -> NavValidity {
+        self.nav
+    }
+
+    /// Takes the estimate's validity `v` before the first tick (a flight controller that will
+    /// fly on its navigation filter starts unaligned), without reacting to it.
+    pub fn set_navigation(&mut self, v: NavValidity) {
+        self.nav = v;
+    }
+
+    /// True when arming now would pass the navigation checks of the current mode (SYS_STATUS's
+    /// pre-arm bit).
+    pub fn navigation_armable(&self) -> bool {
+        self.nav.missing(self.mode, true, self.params.arm_without_gps).is_none()
+    }
+
+    /// True while the vehicle descends without a position (the position-loss failsafe).
+    pub fn descending_blind(&self) -> bool {
+        self.failsafe.descending_blind()
+    }
+
     /// One tick at simulated time `t_s` [s] with the vehicle in state `x` and the last tick's
     /// collective thrust over the believed weight `thrust_over_weight` [-]: the events pending
     /// from requests first, then mode progress, then land detection, touch-down and auto-disarm
@@ -223,16 +277,22 @@ impl Commander {
             .map_or(DEFAULT_DT_S, |last| (t_s - last).clamp(1e-6, 0.1));
         self.last_update_s = Some(t_s);
         let mut events = std::mem::take(&mut self.pending);
-        if !self.armed {
+        if !self.armed() {
             self.detect_landing(x, FlightDemand::Idle, thrust_over_weight, t_s, &mut events);
             return CommanderTick::idle(events);
         }
         self.watch_sticks(x, t_s, &mut events);
-        if !self.armed {
+        if !self.armed() {
             return CommanderTick::idle(events);
         }
         self.run_delayed_failsafe(x, t_s, &mut events);
         let yaw = euler_zyx(&x.r_wb).z;
+        let now = Moment {
+            x,
+            yaw_rad: yaw,
+            dt_s,
+            t_s,
+        };
         let command = match self.mode {
             FlightMode::Takeoff => {
                 self.complete_takeoff(x, yaw, t_s, &mut events);
@@ -243,23 +303,23 @@ impl Commander {
                 None
             }
             FlightMode::Mission => {
-                self.advance_mission(x, yaw, t_s, &mut events);
+                self.advance_mission(now, &mut events);
                 None
             }
-            FlightMode::Offboard => self.offboard_command(x, yaw, dt_s, t_s, &mut events),
+            FlightMode::Offboard => self.offboard_command(now, &mut events),
             FlightMode::Orbit => {
                 self.advance_orbit(dt_s, t_s);
                 None
             }
-            FlightMode::FollowTarget => self.follow_command(x, dt_s, t_s),
+            FlightMode::FollowTarget => self.follow_command(now),
             FlightMode::Goto => {
                 self.advance_goto();
                 None
             }
-            mode if mode.flown_by_sticks() => Some(self.stick_command(x, yaw, dt_s, t_s)),
+            mode if mode.flown_by_sticks() => Some(self.stick_command(now)),
             _ => None,
         };
-        if !self.armed {
+        if !self.armed() {
             return CommanderTick::idle(events);
         }
         self.pace_climb(x);
@@ -268,7 +328,9 @@ impl Commander {
             None => FlightDemand::Idle,
         });
         let command = match command {
-            FlightDemand::Flat(sp) if self.blind_descent => FlightDemand::Flat(Self::without_horizontal(sp, x)),
+            FlightDemand::Flat(sp) if self.failsafe.descending_blind() => {
+                FlightDemand::Flat(navigation_checks::without_horizontal(sp, x))
+            }
             command => command,
         };
         let command = self.detect_landing(x, command, thrust_over_weight, t_s, &mut events);
@@ -285,6 +347,55 @@ impl Commander {
             },
             FlightDemand::Idle => CommanderTick::idle(events),
         }
+    }
+
+    /// Runs the land detector on this tick's `command` and applies its verdict: the command to
+    /// fly, with touch-down, lift-off and auto-disarm events (only ever on the ground, so no
+    /// path stops the motors in the air except a termination).
+    fn detect_landing(
+        &mut self,
+        x: &VehicleState,
+        command: FlightDemand,
+        thrust_over_weight: f64,
+        t_s: f64,
+        events: &mut Vec<Event>,
+    ) -> FlightDemand {
+        let input = LandInput {
+            armed: self.arming.armed(),
+            descent_commanded: landing::descent_commanded(&command, x, thrust_over_weight, self.detector.ground_z_m()),
+            thrust_over_weight,
+        };
+        match self.detector.update(&self.params.land_detector, &input, x, t_s) {
+            Some(LandTransition::Landed) if self.arming.armed() => {
+                self.climbing_out = false;
+                events.push(Event::Landed);
+            }
+            Some(LandTransition::Airborne) => {
+                self.arming.took_off();
+                events.push(Event::Airborne);
+                if self.guidance == Guidance::Idle && !matches!(command, FlightDemand::Attitude(_)) {
+                    // Lifted with nothing to fly (idle in a hold mode): hold where it is.
+                    self.guidance = Guidance::Hold {
+                        pos_w: x.pos_w,
+                        yaw_rad: euler_zyx(&x.r_wb).z,
+                    };
+                    return FlightDemand::Flat(FlatSetpoint::hold(x.pos_w, euler_zyx(&x.r_wb).z));
+                }
+            }
+            _ => {}
+        }
+        if !self.arming.armed() {
+            return FlightDemand::Idle;
+        }
+        if self.detector.landed() {
+            let landed_at_s = self.detector.landed_at_s();
+            if let Some(why) = self.arming.auto_disarm_reason(&self.params, landed_at_s, t_s) {
+                self.disarm();
+                events.push(Event::Disarmed(why));
+                return FlightDemand::Idle;
+            }
+        }
+        landing::near_ground(&self.detector, command, x, self.params.land_speed_m_s)
     }
 }
 

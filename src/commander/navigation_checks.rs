@@ -5,7 +5,7 @@
 //! it as AUTO.LAND), or with `COM_POSCTL_NAVL` = 0 and live sticks in POSCTL falls back to
 //! ALTCTL. The height and the attitude still come from the estimate. Pure.
 
-use super::{Commander, Event, FlightMode, Outcome};
+use super::{FlightMode, Outcome};
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::Vec3;
 
@@ -55,68 +55,52 @@ impl FlightMode {
     }
 }
 
-impl Commander {
-    /// The validity of the latest estimate.
-    pub fn navigation(&self) -> NavValidity {
-        self.nav
+/// What the commander does about the estimate this tick.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum PositionLoss {
+    /// Nothing to do.
+    Fly,
+    /// POSCTL without a position and with live sticks: fall back to ALTCTL.
+    Altitude,
+    /// Descend level without a position until on the ground.
+    Descend,
+}
+
+impl NavValidity {
+    /// The announcement of a change of the horizontal estimate from `before` to `self`, if it
+    /// changed.
+    pub(super) fn position_change(&self, before: &NavValidity) -> Option<&'static str> {
+        (self.horizontal != before.horizontal).then_some(if self.horizontal {
+            "Position estimate valid again"
+        } else {
+            "Position estimate lost"
+        })
     }
 
-    /// Takes the estimate's validity `v` before the first tick (a flight controller that will
-    /// fly on its navigation filter starts unaligned), without reacting to it.
-    pub fn set_navigation(&mut self, v: NavValidity) {
-        self.nav = v;
-    }
-
-    /// True when arming now would pass the navigation checks of the current mode (SYS_STATUS's
-    /// pre-arm bit).
-    pub fn navigation_armable(&self) -> bool {
-        self.navigation_missing(self.mode, true).is_none()
-    }
-
-    /// True while the vehicle descends without a position (the position-loss failsafe).
-    pub fn descending_blind(&self) -> bool {
-        self.blind_descent
-    }
-
-    /// Each tick, before the other failsafes: the estimate's validity `v` with the vehicle in
-    /// (estimated) state `x` at `t_s` [s]; what the commander did about it.
-    pub fn check_navigation(&mut self, v: NavValidity, x: &VehicleState, t_s: f64) -> Vec<Event> {
-        let mut events = Vec::new();
-        if v.horizontal != self.nav.horizontal && self.armed {
-            let text = if v.horizontal {
-                "Position estimate valid again"
-            } else {
-                "Position estimate lost"
-            };
-            events.push(Event::Failsafe(text.into()));
+    /// What to do with this estimate flying (armed, `in_air`) in `mode`, `blind` already
+    /// descending without a position, the sticks `sticks_alive`, `COM_POSCTL_NAVL`
+    /// (`position_loss_lands`).
+    pub(super) fn position_loss(
+        &self,
+        mode: FlightMode,
+        in_air: bool,
+        blind: bool,
+        sticks_alive: impl FnOnce() -> bool,
+        position_loss_lands: bool,
+    ) -> PositionLoss {
+        if self.horizontal || !in_air || !mode.needs_position() || blind {
+            return PositionLoss::Fly;
         }
-        self.nav = v;
-        if !self.armed {
-            self.blind_descent = false;
-            return events;
+        if mode == FlightMode::Position && sticks_alive() && !position_loss_lands && self.vertical {
+            return PositionLoss::Altitude;
         }
-        if v.horizontal || !self.in_air() || !self.mode.needs_position() || self.blind_descent {
-            return events;
-        }
-        let sticks = self.sticks_alive(t_s);
-        if self.mode == FlightMode::Position && sticks && !self.params.position_loss_lands && v.vertical {
-            self.enter(FlightMode::Altitude, x, t_s);
-            events.push(Event::Failsafe(
-                "No position estimate: switching to Altitude mode".into(),
-            ));
-            events.push(Event::ModeChanged(FlightMode::Altitude));
-            return events;
-        }
-        self.blind_descent = true;
-        self.enter(FlightMode::Land, x, t_s);
-        events.push(Event::Failsafe("No position estimate: descending".into()));
-        events.push(Event::ModeChanged(FlightMode::Land));
-        events
+        PositionLoss::Descend
     }
 
-    /// Why `mode` cannot be flown (or armed in, `arming`) on the current estimate, if it cannot.
-    pub(super) fn navigation_refusal(&self, mode: FlightMode, arming: bool) -> Option<Outcome> {
-        let missing = self.navigation_missing(mode, arming)?;
+    /// Why `mode` cannot be flown (or armed in, `arming`) on this estimate, `arm_without_gps`
+    /// (`COM_ARM_WO_GPS`), if it cannot.
+    pub(super) fn refusal(&self, mode: FlightMode, arming: bool, arm_without_gps: bool) -> Option<Outcome> {
+        let missing = self.missing(mode, arming, arm_without_gps)?;
         let what = if arming {
             "Arming denied".to_string()
         } else {
@@ -125,14 +109,14 @@ impl Commander {
         Some(Outcome::TemporarilyRejected(format!("{what}: {missing}")))
     }
 
-    /// What the current estimate lacks for `mode` (or for arming in it), if anything.
-    fn navigation_missing(&self, mode: FlightMode, arming: bool) -> Option<&'static str> {
-        let v = self.nav;
+    /// What this estimate lacks for `mode` (or for arming in it), if anything.
+    pub(super) fn missing(&self, mode: FlightMode, arming: bool, arm_without_gps: bool) -> Option<&'static str> {
+        let v = self;
         if arming && !v.attitude {
             Some("attitude estimate not aligned")
         } else if let (true, Some(why)) = (arming, v.unstable) {
             Some(why)
-        } else if (mode.needs_position() || (arming && !self.params.arm_without_gps)) && !v.horizontal {
+        } else if (mode.needs_position() || (arming && !arm_without_gps)) && !v.horizontal {
             Some("no valid position estimate")
         } else if mode.needs_height() && !v.vertical {
             Some("no valid height estimate")
@@ -140,26 +124,26 @@ impl Commander {
             None
         }
     }
+}
 
-    /// A descent without a position holds no horizontal position: the setpoint takes it from
-    /// the estimate, and asks for zero horizontal velocity and acceleration, so the controller
-    /// damps the dead-reckoned velocity (good for seconds, drifting slowly) and keeps the
-    /// attitude near level while height and heading are controlled.
-    pub(super) fn without_horizontal(sp: FlatSetpoint, x: &VehicleState) -> FlatSetpoint {
-        let with_xy = |v: Option<Vec3>, xy: Vec3| v.map(|v| Vec3::new(xy.x, xy.y, v.z));
-        FlatSetpoint {
-            pos_w: with_xy(sp.pos_w, x.pos_w),
-            vel_w: with_xy(sp.vel_w, Vec3::zeros()),
-            acc_w: with_xy(sp.acc_w, Vec3::zeros()),
-            ..sp
-        }
+/// A descent without a position holds no horizontal position: the setpoint takes it from
+/// the estimate, and asks for zero horizontal velocity and acceleration, so the controller
+/// damps the dead-reckoned velocity (good for seconds, drifting slowly) and keeps the
+/// attitude near level while height and heading are controlled.
+pub(super) fn without_horizontal(sp: FlatSetpoint, x: &VehicleState) -> FlatSetpoint {
+    let with_xy = |v: Option<Vec3>, xy: Vec3| v.map(|v| Vec3::new(xy.x, xy.y, v.z));
+    FlatSetpoint {
+        pos_w: with_xy(sp.pos_w, x.pos_w),
+        vel_w: with_xy(sp.vel_w, Vec3::zeros()),
+        acc_w: with_xy(sp.acc_w, Vec3::zeros()),
+        ..sp
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::script::Script;
-    use super::super::{CommanderParams, Request};
+    use super::super::{CommanderParams, Event, Request};
     use super::*;
 
     const NO_POSITION: NavValidity = NavValidity {
@@ -265,5 +249,59 @@ mod tests {
         s.x.vel_w.y = 0.0;
         assert!(s.fly_until(60.0, |s| !s.c.armed()), "lands and disarms");
         assert!(!s.c.descending_blind());
+    }
+
+    #[test]
+    fn a_lost_position_descends_unless_posctl_with_sticks_falls_back_to_altctl() {
+        let rtl = FlightMode::ReturnToLaunch;
+        assert_eq!(
+            NavValidity::EXACT.position_loss(rtl, true, false, || true, false),
+            PositionLoss::Fly
+        );
+        assert_eq!(
+            NO_POSITION.position_loss(rtl, false, false, || true, false),
+            PositionLoss::Fly,
+            "ground"
+        );
+        assert_eq!(
+            NO_POSITION.position_loss(rtl, true, true, || true, false),
+            PositionLoss::Fly,
+            "already"
+        );
+        assert_eq!(
+            NO_POSITION.position_loss(FlightMode::Altitude, true, false, || true, false),
+            PositionLoss::Fly
+        );
+        assert_eq!(
+            NO_POSITION.position_loss(rtl, true, false, || true, false),
+            PositionLoss::Descend
+        );
+        let pos = FlightMode::Position;
+        assert_eq!(
+            NO_POSITION.position_loss(pos, true, false, || true, false),
+            PositionLoss::Altitude
+        );
+        assert_eq!(
+            NO_POSITION.position_loss(pos, true, false, || false, false),
+            PositionLoss::Descend
+        );
+        assert_eq!(
+            NO_POSITION.position_loss(pos, true, false, || true, true),
+            PositionLoss::Descend
+        );
+        assert_eq!(
+            NO_POSITION.position_change(&NavValidity::EXACT),
+            Some("Position estimate lost")
+        );
+        assert_eq!(
+            NavValidity::EXACT.position_change(&NO_POSITION),
+            Some("Position estimate valid again")
+        );
+        assert_eq!(NO_POSITION.position_change(&NO_POSITION), None);
+        assert_eq!(NO_POSITION.missing(FlightMode::Stabilized, true, true), None);
+        assert_eq!(
+            NO_POSITION.missing(FlightMode::Stabilized, true, false),
+            Some("no valid position estimate")
+        );
     }
 }

@@ -2,12 +2,12 @@
 //! acceleration and heading-rate limits, yaw rate integrated into the heading), attitude and
 //! rate targets flown as they come, and the stream's loss (`COM_OF_LOSS_T`, `COM_OBL_RC_ACT`).
 
-use crate::control::{AttitudeTarget, FlatSetpoint, VehicleState};
+use crate::control::{AttitudeTarget, FlatSetpoint};
 use crate::math::Vec3;
-use crate::navigation::SetpointLimiter;
+use crate::navigation::{MotionLimits, SetpointLimiter};
 
 use super::landing::{asks_climb, FlightDemand};
-use super::{Commander, Event, FlightMode, OffboardLossAction};
+use super::{FlightMode, Moment, OffboardLossAction};
 
 /// The latest offboard target.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,62 +23,72 @@ pub(super) enum OffboardTarget {
 /// through (`None` until the first tick in OFFBOARD).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct Offboard {
-    pub latest: Option<(OffboardTarget, f64)>,
-    pub alive_in_wall_time: bool,
-    pub limiter: Option<SetpointLimiter>,
+    latest: Option<(OffboardTarget, f64)>,
+    alive_in_wall_time: bool,
+    limiter: Option<SetpointLimiter>,
 }
 
-impl Commander {
-    /// True when an offboard setpoint arrived within `COM_OF_LOSS_T` of `t_s` [s], or the link
-    /// says the stream is alive in wall time ([`Request::StreamInWallTime`]): a ground
-    /// station streaming in wall time does not lose offboard just because simulated time runs
-    /// faster, and a stream that stops is lost once it is silent in both clocks.
-    pub(super) fn offboard_alive(&self, t_s: f64) -> bool {
-        self.offboard
-            .latest
-            .is_some_and(|(_, t)| self.offboard.alive_in_wall_time || t_s - t < self.params.offboard_loss_s)
+impl Offboard {
+    /// A new target, arrived at `t_s` [s].
+    pub fn receive(&mut self, target: OffboardTarget, t_s: f64) {
+        self.latest = Some((target, t_s));
     }
 
-    /// One OFFBOARD tick at heading `yaw` [rad], `dt_s` [s] after the last: what to fly, or
-    /// `None` when the stream was lost and another mode took over.
-    pub(super) fn offboard_command(
-        &mut self,
-        x: &VehicleState,
-        yaw: f64,
-        dt_s: f64,
-        t_s: f64,
-        events: &mut Vec<Event>,
-    ) -> Option<FlightDemand> {
-        match self.offboard.latest {
-            Some((OffboardTarget::Flat(sp, body_frame), _)) if self.offboard_alive(t_s) => {
+    /// The link's word on the stream's liveness in wall time.
+    pub fn set_alive_in_wall_time(&mut self, alive: bool) {
+        self.alive_in_wall_time = alive;
+    }
+
+    /// The mode is entered or left: the reference starts again from the vehicle.
+    pub fn restart(&mut self) {
+        self.limiter = None;
+    }
+
+    /// True when an offboard setpoint arrived within `loss_s` (`COM_OF_LOSS_T`) [s] of `t_s`
+    /// [s], or the link says the stream is alive in wall time ([`super::Request::StreamInWallTime`]):
+    /// a ground station streaming in wall time does not lose offboard just because simulated
+    /// time runs faster, and a stream that stops is lost once it is silent in both clocks.
+    pub fn alive(&self, t_s: f64, loss_s: f64) -> bool {
+        self.latest
+            .is_some_and(|(_, t)| self.alive_in_wall_time || t_s - t < loss_s)
+    }
+
+    /// One OFFBOARD tick `now`, `landed` the land detector's verdict, within `motion` and with
+    /// the stream lost after `loss_s` [s]: what to fly, or `None` when the stream is lost.
+    pub fn command(&mut self, now: Moment, landed: bool, motion: &MotionLimits, loss_s: f64) -> Option<FlightDemand> {
+        let Moment {
+            x,
+            yaw_rad: yaw,
+            dt_s,
+            t_s,
+        } = now;
+        match self.latest {
+            Some((OffboardTarget::Flat(sp, body_frame), _)) if self.alive(t_s, loss_s) => {
                 let raw = if body_frame { heading_to_world(sp, yaw) } else { sp };
-                let limiter = self.offboard.limiter.get_or_insert_with(|| SetpointLimiter::at(x));
-                if self.detector.landed() && !asks_climb(&raw, x) {
+                let limiter = self.limiter.get_or_insert_with(|| SetpointLimiter::at(x));
+                if landed && !asks_climb(&raw, x) {
                     // Resting on the ground: the reference waits with the vehicle.
                     *limiter = SetpointLimiter::at(x);
                 }
-                Some(FlightDemand::Flat(limiter.step(&raw, x, &self.params.motion, dt_s)))
+                Some(FlightDemand::Flat(limiter.step(&raw, x, motion, dt_s)))
             }
-            Some((OffboardTarget::Attitude(target), _)) if self.offboard_alive(t_s) => {
-                self.offboard.limiter = None;
+            Some((OffboardTarget::Attitude(target), _)) if self.alive(t_s, loss_s) => {
+                self.limiter = None;
                 Some(FlightDemand::Attitude(target))
             }
-            _ => {
-                self.offboard_lost(x, t_s, events);
-                None
-            }
+            _ => None,
         }
     }
+}
 
-    /// `COM_OBL_RC_ACT`: 0–2 the stick mode it names (without live sticks, POSCTL, which holds
-    /// position); 3 return, 4 land, 5 hold, 6 and 7 stop the motors (the parameter's own choice
-    /// of termination).
-    fn offboard_lost(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
-        events.push(Event::OffboardLost);
-        let sticks = self.sticks_alive(t_s);
-        let mode = match self.params.offboard_loss_action {
-            OffboardLossAction::Altitude if sticks => Some(FlightMode::Altitude),
-            OffboardLossAction::Manual if sticks => Some(FlightMode::Stabilized),
+impl OffboardLossAction {
+    /// `COM_OBL_RC_ACT` when the stream is lost, with the sticks live or not: 0–2 the stick mode
+    /// it names (without live sticks, POSCTL, which holds position); 3 return, 4 land, 5 hold;
+    /// `None` for 6 and 7, which stop the motors (the parameter's own choice of termination).
+    pub(super) fn mode_on_loss(self, sticks_alive: bool) -> Option<FlightMode> {
+        match self {
+            OffboardLossAction::Altitude if sticks_alive => Some(FlightMode::Altitude),
+            OffboardLossAction::Manual if sticks_alive => Some(FlightMode::Stabilized),
             OffboardLossAction::Position | OffboardLossAction::Altitude | OffboardLossAction::Manual => {
                 Some(FlightMode::Position)
             }
@@ -86,16 +96,6 @@ impl Commander {
             OffboardLossAction::Land => Some(FlightMode::Land),
             OffboardLossAction::Hold => Some(FlightMode::Loiter),
             OffboardLossAction::Terminate | OffboardLossAction::Disarm => None,
-        };
-        match mode {
-            Some(mode) => {
-                self.enter(mode, x, t_s);
-                events.push(Event::ModeChanged(mode));
-            }
-            None => {
-                self.disarm();
-                events.push(Event::Disarmed("offboard lost (COM_OBL_RC_ACT)"));
-            }
         }
     }
 }
@@ -114,8 +114,9 @@ fn heading_to_world(sp: FlatSetpoint, yaw: f64) -> FlatSetpoint {
 #[cfg(test)]
 mod tests {
     use super::super::script::Script;
-    use super::super::{CommanderParams, Outcome, Request};
+    use super::super::{CommanderParams, Event, Outcome, Request};
     use super::*;
+    use crate::control::VehicleState;
 
     fn stream(s: &mut Script, setpoint: FlatSetpoint, seconds: f64) {
         let request = Request::offboard(setpoint);
@@ -195,5 +196,47 @@ mod tests {
         let w = heading_to_world(sp, std::f64::consts::FRAC_PI_2);
         assert!((w.vel_w.unwrap_or_default() - Vec3::new(0.0, 1.0, 0.5)).norm() < 1e-12);
         assert!((w.acc_w.unwrap_or_default() - Vec3::new(-2.0, 0.0, 0.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn the_stream_lives_com_of_loss_t_in_simulated_time_or_while_the_link_says_so() {
+        let mut o = Offboard::default();
+        assert!(!o.alive(0.0, 1.0), "nothing received");
+        let sp = FlatSetpoint::hold(Vec3::new(0.0, 0.0, -2.0), 0.0);
+        o.receive(OffboardTarget::Flat(sp, false), 10.0);
+        assert!(o.alive(10.9, 1.0) && !o.alive(11.0, 1.0));
+        o.set_alive_in_wall_time(true);
+        assert!(o.alive(100.0, 1.0));
+        let x = VehicleState {
+            t_s: 0.0,
+            pos_w: Vec3::new(0.0, 0.0, -2.0),
+            vel_w: Vec3::zeros(),
+            r_wb: crate::math::Mat3::identity(),
+            omega_b: Vec3::zeros(),
+        };
+        let motion = MotionLimits::default();
+        let now = Moment {
+            x: &x,
+            yaw_rad: 0.0,
+            dt_s: 0.01,
+            t_s: 100.0,
+        };
+        assert!(matches!(
+            o.command(now, false, &motion, 1.0),
+            Some(FlightDemand::Flat(_))
+        ));
+        o.set_alive_in_wall_time(false);
+        assert_eq!(o.command(now, false, &motion, 1.0), None, "lost");
+    }
+
+    #[test]
+    fn com_obl_rc_act_falls_back_to_posctl_without_sticks() {
+        use OffboardLossAction::*;
+        assert_eq!(Altitude.mode_on_loss(true), Some(FlightMode::Altitude));
+        assert_eq!(Altitude.mode_on_loss(false), Some(FlightMode::Position));
+        assert_eq!(Manual.mode_on_loss(true), Some(FlightMode::Stabilized));
+        assert_eq!(Manual.mode_on_loss(false), Some(FlightMode::Position));
+        assert_eq!(Hold.mode_on_loss(false), Some(FlightMode::Loiter));
+        assert_eq!(Terminate.mode_on_loss(true), None);
     }
 }

@@ -9,44 +9,65 @@
 
 use crate::control::VehicleState;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Guidance, Orbit, OrbitYaw, ORBIT_RADIUS_M};
+use crate::navigation::{Guidance, MotionLimits, Orbit, OrbitYaw, StickShaping, Sticks, ORBIT_RADIUS_M};
 
-use super::{Commander, FlightMode, OrbitRequest, Outcome};
+use super::{OrbitRequest, Outcome};
 
 /// Radius of an orbit that names none [m].
 const DEFAULT_RADIUS_M: f64 = 10.0;
 /// Speed of an orbit that names none [m/s].
 const DEFAULT_SPEED_M_S: f64 = 1.0;
 
-impl Commander {
-    /// The orbit flown (centre [m] and radius [m], positive clockwise) while in orbit mode.
-    pub fn orbit_status(&self) -> Option<(Vec3, f64)> {
-        let o = self.orbit.filter(|_| self.mode == FlightMode::Orbit)?;
+/// The orbit flown or approached in orbit mode.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct OrbitMode {
+    plan: Option<Orbit>,
+}
+
+impl OrbitMode {
+    /// The orbit flown (centre [m] and radius [m], positive clockwise), `in_mode` while in
+    /// orbit mode.
+    pub fn status(&self, in_mode: bool) -> Option<(Vec3, f64)> {
+        let o = self.plan.filter(|_| in_mode)?;
         Some((o.centre_w, if o.clockwise { o.radius_m } else { -o.radius_m }))
     }
 
-    /// DO_ORBIT: refused on the ground and for a radius outside [1, 1000] m or a speed ≤ 0.
-    pub(super) fn orbit(&mut self, req: OrbitRequest, x: &VehicleState, t_s: f64) -> Outcome {
-        if !self.in_air() {
-            return Outcome::TemporarilyRejected("Orbit: not in the air".into());
+    /// Another mode is entered: the orbit is forgotten.
+    pub fn clear(&mut self) {
+        self.plan = None;
+    }
+
+    /// DO_ORBIT with the vehicle in `x`, `in_air` or not, `in_mode` while orbiting (what the
+    /// request leaves unset is kept), within `motion`: the orbit is planned, for the mode to be
+    /// entered; refused on the ground and for a radius outside [1, 1000] m or a speed ≤ 0.
+    pub fn request(
+        &mut self,
+        req: OrbitRequest,
+        x: &VehicleState,
+        in_air: bool,
+        in_mode: bool,
+        motion: &MotionLimits,
+    ) -> Result<(), Outcome> {
+        if !in_air {
+            return Err(Outcome::TemporarilyRejected("Orbit: not in the air".into()));
         }
-        let running = self.orbit.filter(|_| self.mode == FlightMode::Orbit);
+        let running = self.plan.filter(|_| in_mode);
         let signed = req
             .radius_m
             .or(running.map(|o| if o.clockwise { o.radius_m } else { -o.radius_m }))
             .unwrap_or(DEFAULT_RADIUS_M);
         if !(ORBIT_RADIUS_M.0..=ORBIT_RADIUS_M.1).contains(&signed.abs()) {
-            return Outcome::Denied(format!(
+            return Err(Outcome::Denied(format!(
                 "Orbit: radius {signed} m outside [{}, {}] m",
                 ORBIT_RADIUS_M.0, ORBIT_RADIUS_M.1
-            ));
+            )));
         }
         let speed = req
             .speed_m_s
             .or(running.map(|o| o.speed_m_s))
             .unwrap_or(DEFAULT_SPEED_M_S);
         if speed <= 0.0 {
-            return Outcome::Denied(format!("Orbit: speed {speed} m/s"));
+            return Err(Outcome::Denied(format!("Orbit: speed {speed} m/s")));
         }
         let centre_ne = req
             .centre_ne_m
@@ -54,17 +75,22 @@ impl Commander {
             .unwrap_or((x.pos_w.x, x.pos_w.y));
         let centre_w = Vec3::new(centre_ne.0, centre_ne.1, req.centre_down_m.unwrap_or(x.pos_w.z));
         let yaw = req.yaw.or(running.map(|o| o.yaw)).unwrap_or_default();
-        self.orbit = Some(self.plan_orbit(centre_w, signed, speed, yaw, x));
-        self.enter(FlightMode::Orbit, x, t_s);
-        Outcome::Accepted
+        self.plan = Some(Self::plan(centre_w, signed, speed, yaw, x, motion));
+        Ok(())
     }
 
     /// An orbit around `centre_w` [m] of signed radius `signed_m` [m] at `speed_m_s` [m/s]
-    /// (capped at `MPC_XY_VEL_MAX` and by the centripetal acceleration), starting at the point
-    /// of the circle nearest to the vehicle.
-    fn plan_orbit(&self, centre_w: Vec3, signed_m: f64, speed_m_s: f64, yaw: OrbitYaw, x: &VehicleState) -> Orbit {
+    /// (capped at `MPC_XY_VEL_MAX` and by the centripetal acceleration of `lim`), starting at
+    /// the point of the circle nearest to the vehicle.
+    fn plan(
+        centre_w: Vec3,
+        signed_m: f64,
+        speed_m_s: f64,
+        yaw: OrbitYaw,
+        x: &VehicleState,
+        lim: &MotionLimits,
+    ) -> Orbit {
         let radius_m = signed_m.abs();
-        let lim = &self.params.motion;
         let (_, start_angle_rad) = Orbit::nearest_point(centre_w, radius_m, x.pos_w);
         Orbit {
             centre_w,
@@ -80,41 +106,56 @@ impl Commander {
         }
     }
 
-    /// Orbit mode's guidance on entry: the path to the start of the planned orbit (planned now,
-    /// PX4's default, when the mode was chosen without DO_ORBIT).
-    pub(super) fn orbit_approach(&mut self, x: &VehicleState, t_s: f64) -> Guidance {
-        let plan = match self.orbit {
+    /// Where orbit mode's approach path goes on entry, [m] and heading [rad]: the start of the
+    /// planned orbit (planned now, PX4's default, when the mode was chosen without DO_ORBIT).
+    pub fn approach(&mut self, x: &VehicleState, motion: &MotionLimits) -> (Vec3, f64) {
+        let plan = match self.plan {
             Some(plan) => plan,
             None => {
                 let centre_w = x.pos_w - Vec3::new(DEFAULT_RADIUS_M, 0.0, 0.0);
-                let plan = self.plan_orbit(centre_w, DEFAULT_RADIUS_M, DEFAULT_SPEED_M_S, OrbitYaw::default(), x);
-                self.orbit = Some(plan);
+                let plan = Self::plan(
+                    centre_w,
+                    DEFAULT_RADIUS_M,
+                    DEFAULT_SPEED_M_S,
+                    OrbitYaw::default(),
+                    x,
+                    motion,
+                );
+                self.plan = Some(plan);
                 plan
             }
         };
         let start = plan.setpoint(plan.start_s);
         let to_w = start.pos_w.unwrap_or(x.pos_w);
         let to_yaw = start.yaw_rad.unwrap_or(plan.initial_yaw_rad);
-        self.path_to(x, to_w, to_yaw, self.cruise_speed(), t_s)
+        (to_w, to_yaw)
     }
 
-    /// One orbit-mode tick, `dt_s` [s] after the last: once the approach path has ended, the
-    /// circle starts; on the circle an RC_CONTROLLED heading turns with the yaw stick.
-    pub(super) fn advance_orbit(&mut self, dt_s: f64, t_s: f64) {
-        match (self.guidance, self.orbit) {
-            (Guidance::Path { .. }, Some(plan)) if self.guidance.finished(t_s) => {
+    /// One orbit-mode tick flying `guidance`, `dt_s` [s] after the last: once the approach path
+    /// has ended, the circle starts; on the circle an RC_CONTROLLED heading turns with the live
+    /// yaw stick (`sticks`, shaped by `shaping`). The guidance to fly from now on, when it
+    /// changed.
+    pub fn advance(
+        &mut self,
+        guidance: Guidance,
+        sticks: impl FnOnce() -> Option<Sticks>,
+        shaping: &StickShaping,
+        dt_s: f64,
+        t_s: f64,
+    ) -> Option<Guidance> {
+        match (guidance, self.plan) {
+            (Guidance::Path { .. }, Some(plan)) if guidance.finished(t_s) => {
                 let orbit = Orbit { start_s: t_s, ..plan };
-                self.orbit = Some(orbit);
-                self.guidance = Guidance::Orbit(orbit);
+                self.plan = Some(orbit);
+                Some(Guidance::Orbit(orbit))
             }
             (Guidance::Orbit(orbit), _) if orbit.yaw == OrbitYaw::RcControlled => {
-                let sticks = self.manual.latest.filter(|_| self.sticks_alive(t_s));
-                let rate = sticks.map_or(0.0, |(s, _)| self.params.manual.shaping.yaw_rate(&s));
+                let rate = sticks().map_or(0.0, |s| shaping.yaw_rate(&s));
                 let orbit = orbit.steered(rate, dt_s);
-                self.orbit = Some(orbit);
-                self.guidance = Guidance::Orbit(orbit);
+                self.plan = Some(orbit);
+                Some(Guidance::Orbit(orbit))
             }
-            _ => {}
+            _ => None,
         }
     }
 }
@@ -124,6 +165,7 @@ mod tests {
     use super::super::script::Script;
     use super::super::{CommanderParams, FlightMode, Outcome, Request};
     use super::*;
+    use crate::math::Mat3;
 
     fn request(radius_m: f64, speed_m_s: f64, centre: (f64, f64)) -> Request {
         Request::Orbit(OrbitRequest {
@@ -246,5 +288,75 @@ mod tests {
         let (centre, radius) = s.c.orbit_status().expect("orbiting");
         assert_eq!((centre, radius), (here - Vec3::new(10.0, 0.0, 0.0), 10.0));
         assert!(((s.x.pos_w - centre).norm() - 10.0).abs() < 1e-6);
+    }
+
+    fn at(pos_w: Vec3) -> VehicleState {
+        VehicleState {
+            t_s: 0.0,
+            pos_w,
+            vel_w: Vec3::zeros(),
+            r_wb: Mat3::identity(),
+            omega_b: Vec3::zeros(),
+        }
+    }
+
+    #[test]
+    fn a_request_keeps_what_it_leaves_unset_of_the_running_orbit_and_checks_the_rest() {
+        let motion = MotionLimits::default();
+        let x = at(Vec3::new(0.0, 0.0, -5.0));
+        let mut o = OrbitMode::default();
+        let req = OrbitRequest {
+            radius_m: Some(-20.0),
+            centre_ne_m: Some((0.0, 40.0)),
+            ..Default::default()
+        };
+        assert!(matches!(
+            o.request(req, &x, false, false, &motion),
+            Err(Outcome::TemporarilyRejected(_))
+        ));
+        assert_eq!(o.request(req, &x, true, false, &motion), Ok(()));
+        assert_eq!(o.status(true), Some((Vec3::new(0.0, 40.0, -5.0), -20.0)));
+        assert_eq!(o.status(false), None, "not in orbit mode");
+        let faster = OrbitRequest {
+            speed_m_s: Some(3.0),
+            ..Default::default()
+        };
+        assert_eq!(o.request(faster, &x, true, true, &motion), Ok(()));
+        assert_eq!(o.status(true), Some((Vec3::new(0.0, 40.0, -5.0), -20.0)), "kept");
+        let tiny = OrbitRequest {
+            radius_m: Some(0.5),
+            ..Default::default()
+        };
+        assert!(matches!(
+            o.request(tiny, &x, true, true, &motion),
+            Err(Outcome::Denied(_))
+        ));
+        o.clear();
+        assert_eq!(o.status(true), None);
+    }
+
+    #[test]
+    fn the_circle_starts_once_the_approach_is_flown() {
+        let motion = MotionLimits::default();
+        let x = at(Vec3::new(0.0, 0.0, -5.0));
+        let mut o = OrbitMode::default();
+        let (to_w, _) = o.approach(&x, &motion);
+        assert!(
+            (to_w - x.pos_w).norm() < 1e-9,
+            "chosen as a mode: on the circle already"
+        );
+        let approach = Guidance::path(x.pos_w, to_w, 0.0, 0.0, &motion, 0.0);
+        let shaping = StickShaping::default();
+        let started = o.advance(approach, || None, &shaping, 0.01, 10.0);
+        assert!(
+            matches!(started, Some(Guidance::Orbit(orbit)) if orbit.start_s == 10.0),
+            "{started:?}"
+        );
+        let circling = started.unwrap_or(approach);
+        assert_eq!(
+            o.advance(circling, || None, &shaping, 0.01, 10.01),
+            None,
+            "no RC yaw: unchanged"
+        );
     }
 }

@@ -1,70 +1,93 @@
-//! The uploaded geofence and rally points in the commander, as PX4's navigator uses them: which
-//! zones of an uploaded fence count (`Geofence::_updateFence`), the arming refusal outside the
-//! fence (the commander's geofence pre-arm check) and where a return goes (`RTL_TYPE`,
-//! `RTL::findRtlDestination`). The breach failsafe itself runs with the others in `reactions.rs`.
+//! Home and the uploaded plans in the commander ([`Plans`]), as PX4's navigator uses them:
+//! which zones of an uploaded fence count (`Geofence::_updateFence`), the arming refusal outside
+//! the fence (the commander's geofence pre-arm check) and where a return goes (`RTL_TYPE`,
+//! `RTL::findRtlDestination`). The breach failsafe itself runs with the others
+//! ([`super::reactions::FailsafeState`]).
 
 use crate::control::VehicleState;
 use crate::math::Vec3;
 use crate::navigation::{Geofence, RallyPoints};
 
 use super::failsafe::fence_breach;
-use super::{Commander, Event, GeofenceAction, Outcome, RtlType};
+use super::{Event, FailsafeParams, GeofenceAction, RtlType};
 
 /// Announced for each uploaded zone home breaks (PX4's wording).
 pub const ZONE_WITHOUT_HOME: &str = "Geofence invalid, doesn't contain Home position";
 /// Announced for each uploaded zone the vehicle in flight breaks (PX4's wording).
 pub const ZONE_WITHOUT_VEHICLE: &str = "Geofence invalid, doesn't contain current vehicle position";
 
-impl Commander {
-    /// A new uploaded fence: a zone home breaks is left out, and so is, in flight with
-    /// `GF_ACTION` set, a zone the vehicle breaks now; each left-out zone is announced on the
-    /// next tick. Always accepted (the plan is stored as uploaded).
-    pub(super) fn set_geofence(&mut self, fence: Geofence, x: &VehicleState) -> Outcome {
+/// Home, the fence and the rally points.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub(super) struct Plans {
+    /// The local NED point a return goes back to [m].
+    home_w: Vec3,
+    /// The uploaded fence's zones that count (PX4 leaves out those home breaks).
+    geofence: Geofence,
+    /// The uploaded rally points.
+    rally: RallyPoints,
+}
+
+impl Plans {
+    /// Home [m].
+    pub fn home_w(&self) -> Vec3 {
+        self.home_w
+    }
+
+    /// Moves home to `home_w` [m].
+    pub fn set_home(&mut self, home_w: Vec3) {
+        self.home_w = home_w;
+    }
+
+    /// The fence's zones in force.
+    pub fn geofence(&self) -> &Geofence {
+        &self.geofence
+    }
+
+    /// A new uploaded fence with the vehicle in `x`: a zone home breaks is left out, and so is,
+    /// when `check_here` (in flight with `GF_ACTION` set), a zone the vehicle breaks now; the
+    /// announcements of the zones left out.
+    pub fn set_geofence(&mut self, fence: Geofence, x: &VehicleState, check_here: bool) -> Vec<Event> {
         let home = [self.home_w.x, self.home_w.y];
         let here = [x.pos_w.x, x.pos_w.y];
-        let check_here = self.params.failsafe.geofence_action != GeofenceAction::Disabled && self.in_air();
+        let mut left_out = Vec::new();
         let mut zones = Vec::with_capacity(fence.zones.len());
         for zone in fence.zones {
             if !zone.allows(home) {
-                self.pending.push(Event::Failsafe(ZONE_WITHOUT_HOME.into()));
+                left_out.push(Event::Failsafe(ZONE_WITHOUT_HOME.into()));
             } else if check_here && !zone.allows(here) {
-                self.pending.push(Event::Failsafe(ZONE_WITHOUT_VEHICLE.into()));
+                left_out.push(Event::Failsafe(ZONE_WITHOUT_VEHICLE.into()));
             } else {
                 zones.push(zone);
             }
         }
         self.geofence = Geofence { zones };
-        Outcome::Accepted
+        left_out
     }
 
-    /// New rally points. Always accepted.
-    pub(super) fn set_rally_points(&mut self, rally: RallyPoints) -> Outcome {
+    /// New rally points.
+    pub fn set_rally_points(&mut self, rally: RallyPoints) {
         self.rally = rally;
-        Outcome::Accepted
     }
 
     /// The geofence breach at the vehicle's position, if any (distance limits and the zones in
     /// force); `None` also while `GF_ACTION` is 0, which switches the geofence off (PX4's pre-arm
     /// check only looks while it is set).
-    pub(super) fn arming_fence_breach(&self, x: &VehicleState) -> Option<String> {
-        if self.params.failsafe.geofence_action == GeofenceAction::Disabled {
+    pub fn arming_fence_breach(&self, p: &FailsafeParams, x: &VehicleState) -> Option<String> {
+        if p.geofence_action == GeofenceAction::Disabled {
             return None;
         }
         let rel = x.pos_w - self.home_w;
-        fence_breach(
-            &self.params.failsafe,
-            [rel.x, rel.y, rel.z],
-            self.geofence.breach(&x.pos_w),
-        )
+        fence_breach(p, [rel.x, rel.y, rel.z], self.geofence.breach(&x.pos_w))
     }
 
-    /// Where a return from `from_w` [m] goes (horizontally, local NED) under `RTL_TYPE`: home, or
-    /// a rally point closer by more than 2 m and (while home is a choice) over 10 m from home;
-    /// type 1 prefers any rally point to home; type 5 knows only rally points and, without
-    /// one, lands where it is; type 6, without a battery time remaining, is type 0.
-    pub(super) fn rtl_destination(&self, from_w: &Vec3) -> Vec3 {
+    /// Where a return from `from_w` [m] goes (horizontally, local NED) under `RTL_TYPE`
+    /// `rtl_type`: home, or a rally point closer by more than 2 m and (while home is a choice)
+    /// over 10 m from home; type 1 prefers any rally point to home; type 5 knows only rally
+    /// points and, without one, lands where it is; type 6, without a battery time remaining, is
+    /// type 0.
+    pub fn rtl_destination(&self, from_w: &Vec3, rtl_type: RtlType) -> Vec3 {
         let home = self.home_w;
-        let rally = match self.params.rtl_type {
+        let rally = match rtl_type {
             RtlType::HomeOrRally | RtlType::Closest | RtlType::PrioritizeHome => {
                 let to_home = (from_w.xy() - home.xy()).norm();
                 self.rally.closest(from_w, to_home, Some(&home))
@@ -79,7 +102,7 @@ impl Commander {
 #[cfg(test)]
 mod tests {
     use super::super::script::{Script, GROUND_Z_M};
-    use super::super::{CommanderParams, FailsafeParams, FlightMode, Request};
+    use super::super::{CommanderParams, FlightMode, Outcome, Request};
     use super::*;
     use crate::navigation::geofence::{Shape, Zone};
 
@@ -175,7 +198,7 @@ mod tests {
             zones: vec![circle([100.0, 0.0], 10.0, true), circle([0.0, 0.0], 5.0, false)],
         };
         assert_eq!(s.request(Request::SetGeofence(far)), Outcome::Accepted);
-        assert!(s.c.geofence.is_empty());
+        assert!(s.c.plans.geofence.is_empty());
         assert_eq!(
             failsafes(&{
                 s.step();
@@ -191,7 +214,7 @@ mod tests {
             zones: vec![circle([0.0, 0.0], 5.0, true), circle([0.0, 0.0], 50.0, true)],
         };
         assert_eq!(s.request(Request::SetGeofence(here_out)), Outcome::Accepted);
-        assert_eq!(s.c.geofence.zones, vec![circle([0.0, 0.0], 50.0, true)]);
+        assert_eq!(s.c.plans.geofence.zones, vec![circle([0.0, 0.0], 50.0, true)]);
         s.step();
         assert_eq!(failsafes(&s), vec![ZONE_WITHOUT_VEHICLE]);
     }
@@ -205,7 +228,7 @@ mod tests {
         assert_eq!(s.request(Request::SetRallyPoints(rally)), Outcome::Accepted);
         let dest = |s: &mut Script, t: RtlType, from: Vec3| {
             s.c.params.rtl_type = t;
-            s.c.rtl_destination(&from)
+            s.c.plans.rtl_destination(&from, s.c.params.rtl_type)
         };
         let near_rally = Vec3::new(30.0, 0.0, -3.0);
         let near_home = Vec3::new(8.0, 0.0, -3.0);
@@ -230,5 +253,52 @@ mod tests {
         s.request(Request::SetRallyPoints(RallyPoints::default()));
         assert_eq!(dest(&mut s, RtlType::RallyOnly, near_home), near_home, "lands here");
         assert_eq!(dest(&mut s, RtlType::RallyFirst, near_home), Vec3::zeros());
+    }
+
+    #[test]
+    fn a_fence_keeps_the_zones_home_and_a_checked_vehicle_are_inside() {
+        let mut plans = Plans::default();
+        plans.set_home(Vec3::new(0.0, 0.0, 0.0));
+        let x = crate::control::VehicleState {
+            t_s: 0.0,
+            pos_w: Vec3::new(20.0, 0.0, -5.0),
+            vel_w: Vec3::zeros(),
+            r_wb: crate::math::Mat3::identity(),
+            omega_b: Vec3::zeros(),
+        };
+        let fence = || Geofence {
+            zones: vec![
+                circle([0.0, 0.0], 50.0, true),
+                circle([100.0, 0.0], 5.0, true),
+                circle([0.0, 0.0], 10.0, true),
+            ],
+        };
+        let notices = plans.set_geofence(fence(), &x, false);
+        assert_eq!(notices, vec![Event::Failsafe(ZONE_WITHOUT_HOME.into())]);
+        assert_eq!(plans.geofence().zones.len(), 2);
+        let notices = plans.set_geofence(fence(), &x, true);
+        assert_eq!(
+            notices,
+            vec![
+                Event::Failsafe(ZONE_WITHOUT_HOME.into()),
+                Event::Failsafe(ZONE_WITHOUT_VEHICLE.into())
+            ]
+        );
+        assert_eq!(plans.geofence().zones, vec![circle([0.0, 0.0], 50.0, true)]);
+        let p = FailsafeParams {
+            geofence_action: GeofenceAction::Hold,
+            ..Default::default()
+        };
+        assert_eq!(plans.arming_fence_breach(&p, &x), None);
+        let outside = crate::control::VehicleState {
+            pos_w: Vec3::new(60.0, 0.0, -5.0),
+            ..x
+        };
+        assert!(plans.arming_fence_breach(&p, &outside).is_some());
+        let off = FailsafeParams {
+            geofence_action: GeofenceAction::Disabled,
+            ..Default::default()
+        };
+        assert_eq!(plans.arming_fence_breach(&off, &outside), None, "GF_ACTION 0: off");
     }
 }

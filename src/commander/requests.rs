@@ -1,15 +1,22 @@
-//! [`Commander::request`]: each ground-station request to the part of the commander that
-//! handles it, and the small requests handled here: take-off, change speed (DO_CHANGE_SPEED),
-//! set home (DO_SET_HOME), set and start the mission, and the offboard setpoint store (the
-//! geofence and rally points go to `plans.rs`, DO_REPOSITION to `goto.rs`).
+//! What comes into the commander: [`Commander::request`] hands each ground-station request to
+//! the part that handles it (arming, plans, the mission run, the streams, orbit, follow-me,
+//! DO_REPOSITION) and applies its answer; the flight controller's failsafe checks
+//! ([`Commander::check_failsafes`]), rotor failures ([`Commander::rotor_failed`]) and the
+//! navigation estimate's validity ([`Commander::check_navigation`]) likewise.
 
 use crate::control::VehicleState;
-use crate::math::Vec3;
+use crate::math::{euler_zyx, Vec3};
+use crate::navigation::{Geofence, Guidance};
 
-use super::goto::RepositionTarget;
-use super::mission_run::MissionState;
+use super::arming::{Arming, ArmingChecks};
+use super::goto::{RepositionAction, RepositionTarget};
+use super::navigation_checks::PositionLoss;
 use super::offboard::OffboardTarget;
-use super::{Commander, FlightMode, InputStream, Outcome, Request};
+use super::reactions::Reaction;
+use super::{
+    Commander, Event, FailsafeAction, FlightMode, GeofenceAction, InputStream, LinkLossAction, NavValidity,
+    OrbitRequest, Outcome, Request, RotorLoss,
+};
 
 /// Highest take-off height accepted [m].
 const MAX_TAKEOFF_M: f64 = 1000.0;
@@ -27,28 +34,27 @@ impl Commander {
             Request::Land => self.set_mode(FlightMode::Land, x, t_s),
             Request::ReturnToLaunch => self.set_mode(FlightMode::ReturnToLaunch, x, t_s),
             Request::OffboardSetpoint { setpoint, body_frame } => {
-                self.offboard.latest = Some((OffboardTarget::Flat(setpoint, body_frame), t_s));
+                self.offboard.receive(OffboardTarget::Flat(setpoint, body_frame), t_s);
                 Outcome::Accepted
             }
             Request::OffboardAttitude(target) => {
-                self.offboard.latest = Some((OffboardTarget::Attitude(target), t_s));
+                self.offboard.receive(OffboardTarget::Attitude(target), t_s);
                 Outcome::Accepted
             }
             Request::StreamInWallTime { stream, alive } => {
                 match stream {
-                    InputStream::Offboard => self.offboard.alive_in_wall_time = alive,
-                    InputStream::ManualControl => self.manual.alive_in_wall_time = alive,
+                    InputStream::Offboard => self.offboard.set_alive_in_wall_time(alive),
+                    InputStream::ManualControl => self.manual.set_alive_in_wall_time(alive),
                 }
                 Outcome::Accepted
             }
-            Request::Orbit(orbit) => self.orbit(orbit, x, t_s),
+            Request::Orbit(orbit) => self.orbit_request(orbit, x, t_s),
             Request::FollowTarget { pos_w, vel_w } => {
-                self.follow_report(pos_w, vel_w, t_s);
+                self.follow.report(pos_w, vel_w, t_s, &self.params.follow);
                 Outcome::Accepted
             }
             Request::ManualControl(sticks) => {
-                self.manual.latest = Some((sticks, t_s));
-                self.manual.motion.sample(sticks, t_s);
+                self.manual.receive(sticks, t_s);
                 Outcome::Accepted
             }
             Request::SetMission(mission) => {
@@ -59,7 +65,10 @@ impl Commander {
                 Outcome::Accepted
             }
             Request::SetGeofence(fence) => self.set_geofence(fence, x),
-            Request::SetRallyPoints(rally) => self.set_rally_points(rally),
+            Request::SetRallyPoints(rally) => {
+                self.plans.set_rally_points(rally);
+                Outcome::Accepted
+            }
             Request::StartMission { first } => self.start_mission(first, x, t_s),
             Request::SetMissionCurrent { seq, reset } => self.set_mission_current(seq, reset),
             Request::Reposition {
@@ -89,7 +98,7 @@ impl Commander {
                 if !p.iter().all(|v| v.is_finite()) {
                     return Outcome::Denied("Set home refused: bad position".into());
                 }
-                self.home_w = p;
+                self.plans.set_home(p);
                 Outcome::Accepted
             }
             Request::GcsLinkLost => self.gcs_link_lost(x, t_s),
@@ -97,6 +106,39 @@ impl Commander {
                 Outcome::Denied("Failure injection is applied by the vehicle, not the commander".into())
             }
         }
+    }
+
+    /// ARM: the pre-arm checks of the mode (skipped when `force`), then arms and starts the
+    /// mode's guidance.
+    fn arm(&mut self, force: bool, x: &VehicleState, t_s: f64) -> Outcome {
+        if self.armed() {
+            return Outcome::Accepted;
+        }
+        if !force {
+            let checks = ArmingChecks {
+                navigation: self.navigation_refusal(self.mode, true),
+                outside_fence: self.plans.arming_fence_breach(&self.params.failsafe, x).is_some(),
+                has_mission: !self.mission.is_empty(),
+                offboard_alive: self.offboard_alive(t_s),
+                sticks: self.manual.mode_refusal(self.mode, t_s, true, &self.params.manual),
+            };
+            if let Some(refusal) = Arming::refusal(self.mode, checks) {
+                return refusal;
+            }
+        }
+        self.arming.arm(t_s, self.detector.landed());
+        self.manual.armed_at(t_s, &self.params.manual);
+        self.enter(self.mode, x, t_s);
+        Outcome::Accepted
+    }
+
+    /// DISARM: refused in the air unless `force`.
+    fn disarm_request(&mut self, force: bool) -> Outcome {
+        if self.in_air() && !force {
+            return Outcome::TemporarilyRejected("Disarm refused: vehicle in the air".into());
+        }
+        self.disarm();
+        Outcome::Accepted
     }
 
     /// NAV_TAKEOFF to `height_m` above home [m] (`None`: `MIS_TAKEOFF_ALT`) straight up from
@@ -119,105 +161,219 @@ impl Commander {
 
     /// MISSION_START from item `first`: a finished mission can be flown again.
     fn start_mission(&mut self, first: usize, x: &VehicleState, t_s: f64) -> Outcome {
-        if first >= self.mission.mission.len() {
+        if !self.mission.start_at(first) {
             return Outcome::Denied(format!("Mission start: no item {first}"));
         }
-        self.mission.seq = first;
-        if self.mission.state == MissionState::Complete {
-            self.mission.state = MissionState::NotStarted;
-        }
         self.set_mode(FlightMode::Mission, x, t_s)
+    }
+
+    /// MISSION_SET_CURRENT / DO_SET_MISSION_CURRENT: the mission goes on at `seq` (flown from
+    /// there at once in AUTO.MISSION; a DO_JUMP there is resolved as if reached).
+    fn set_mission_current(&mut self, seq: Option<usize>, reset: bool) -> Outcome {
+        let seq = seq.unwrap_or(self.mission.seq());
+        if self.mission.set_current(seq, reset) {
+            self.pending.push(Event::MissionCurrent(seq as u16));
+            Outcome::Accepted
+        } else {
+            let (_, len, _) = self.mission.progress();
+            Outcome::Denied(format!("Mission: no item {seq} (the mission has {len})"))
+        }
+    }
+
+    /// A new uploaded fence: the zones home (and, in flight with `GF_ACTION` set, the vehicle)
+    /// breaks are left out, each announced on the next tick. Always accepted (the plan is stored
+    /// as uploaded).
+    fn set_geofence(&mut self, fence: Geofence, x: &VehicleState) -> Outcome {
+        let check_here = self.params.failsafe.geofence_action != GeofenceAction::Disabled && self.in_air();
+        let left_out = self.plans.set_geofence(fence, x, check_here);
+        self.pending.extend(left_out);
+        Outcome::Accepted
+    }
+
+    /// DO_ORBIT: planned by the orbit mode, then flown in it.
+    fn orbit_request(&mut self, req: OrbitRequest, x: &VehicleState, t_s: f64) -> Outcome {
+        let (in_air, in_mode) = (self.in_air(), self.mode == FlightMode::Orbit);
+        match self.orbit.request(req, x, in_air, in_mode, &self.params.motion) {
+            Ok(()) => {
+                self.enter(FlightMode::Orbit, x, t_s);
+                Outcome::Accepted
+            }
+            Err(refusal) => refusal,
+        }
+    }
+
+    /// DO_REPOSITION to `target`, mode change asked with `change_mode` (`goto.rs`); only in the
+    /// air.
+    fn reposition(&mut self, target: RepositionTarget, change_mode: bool, x: &VehicleState, t_s: f64) -> Outcome {
+        if !self.in_air() {
+            return Outcome::TemporarilyRejected("Reposition refused: not flying".into());
+        }
+        let (horizontal, other) = (target.horizontal(), target.height_or_heading());
+        match RepositionAction::decide(self.mode, change_mode, horizontal, other) {
+            RepositionAction::Refused => Outcome::Denied(format!(
+                "Reposition refused: no mode change asked in {}",
+                self.mode.name()
+            )),
+            RepositionAction::Goto => self.fly_goto(target, x, t_s),
+            RepositionAction::Hold | RepositionAction::InHold => self.fly_in_hold(target, x, t_s),
+        }
+    }
+
+    /// AUTO.LOITER flies to `target` (unset coordinates: where the vehicle is) and holds there.
+    fn fly_in_hold(&mut self, target: RepositionTarget, x: &VehicleState, t_s: f64) -> Outcome {
+        let to = match target.point_from(x.pos_w) {
+            Ok(to) => to,
+            Err(refusal) => return refusal,
+        };
+        if let Some(refusal) = self.navigation_refusal(FlightMode::Loiter, false) {
+            return refusal;
+        }
+        self.enter(FlightMode::Loiter, x, t_s);
+        let yaw = target.yaw_rad.unwrap_or(euler_zyx(&x.r_wb).z);
+        let speed = target
+            .speed_m_s
+            .filter(|v| *v > 0.0)
+            .unwrap_or(self.paths().cruise_speed());
+        self.guidance = self.paths().path_to(x, to, yaw, speed, t_s);
+        Outcome::Accepted
+    }
+
+    /// GOTO flies to `target` (unset coordinates: those of the target flown, else where the
+    /// vehicle is), keeping the reference's motion when GOTO already flies.
+    fn fly_goto(&mut self, target: RepositionTarget, x: &VehicleState, t_s: f64) -> Outcome {
+        let running = match (self.mode, self.guidance) {
+            (FlightMode::Goto, Guidance::Track(track)) => Some(track),
+            _ => None,
+        };
+        let to = match target.point_from(running.map_or(x.pos_w, |t| t.leg.target_w)) {
+            Ok(to) => to,
+            Err(refusal) => return refusal,
+        };
+        if let Some(refusal) = self.navigation_refusal(FlightMode::Goto, false) {
+            return refusal;
+        }
+        let yaw = euler_zyx(&x.r_wb).z;
+        let heading = target.goto_heading(to, running, x, self.params.mission.accept_m);
+        if self.mode != FlightMode::Goto {
+            // A mode the pilot chose: a failsafe waiting in its hold gives way, as for a mode switch.
+            self.failsafe.give_way();
+            self.failsafe.end_blind_descent();
+            self.enter(FlightMode::Goto, x, t_s);
+        }
+        self.speed_override = target.speed_m_s.filter(|v| *v > 0.0);
+        let track = self.paths().goto_track(running, to, heading, x, yaw, t_s);
+        self.guidance = Guidance::Track(track);
+        Outcome::Accepted
+    }
+
+    /// Draws `power_w` [W] from the battery for `dt_s` [s], then runs the geofence and battery
+    /// failsafes for state `x` at `t_s` [s]: each announces itself and switches the mode (hold,
+    /// return, land) or terminates, which the next heartbeat shows.
+    pub fn check_failsafes(&mut self, x: &VehicleState, power_w: f64, dt_s: f64, t_s: f64) -> Vec<Event> {
+        self.failsafe.draw(power_w, dt_s);
+        let rel = x.pos_w - self.plans.home_w();
+        let in_air = self.in_air();
+        let fired = self.failsafe.check(
+            &self.params,
+            [rel.x, rel.y, rel.z],
+            self.plans.geofence(),
+            &x.pos_w,
+            in_air,
+        );
+        let mut events = Vec::new();
+        for failsafe in fired {
+            events.push(Event::Failsafe(failsafe.text));
+            let mode = failsafe.action.mode();
+            if failsafe.action == FailsafeAction::Terminate {
+                self.disarm();
+                events.push(Event::Disarmed("flight termination"));
+            }
+            // Never step back from landing to a return, nor restart a return or landing already
+            // running; a hold while in the hold mode stops what it was flying (a DO_REPOSITION).
+            match mode {
+                _ if self.mode == FlightMode::Land => {}
+                Some(mode) if mode != self.mode => self.fail_to(mode, x, t_s, &mut events),
+                Some(FlightMode::Loiter) => self.enter(FlightMode::Loiter, x, t_s),
+                _ => {}
+            }
+        }
+        events
+    }
+
+    /// A motor failed (`loss` says which and what the allocation did about it): announced
+    /// (critical) in any case; in flight `COM_ACT_FAIL_ACT` runs: nothing more (0, PX4's
+    /// default: the vehicle flies on in its mode), hold (1), land (2) or return (3), the last
+    /// two after the `COM_FAIL_ACT_T` hold, or flight termination (4: motors off at once). A
+    /// landing under way is never turned into a hold or a return.
+    pub fn rotor_failed(&mut self, loss: RotorLoss, x: &VehicleState, t_s: f64) -> Vec<Event> {
+        let action = self.params.actuator_failure_action;
+        let in_air = self.armed() && self.in_air();
+        let mut events = vec![Event::Failsafe(loss.announcement(action, in_air))];
+        if !in_air {
+            return events;
+        }
+        match action.reaction(self.mode) {
+            Reaction::Nothing => {}
+            Reaction::Hold => {
+                self.enter(FlightMode::Loiter, x, t_s);
+                events.push(Event::ModeChanged(FlightMode::Loiter));
+            }
+            Reaction::FailTo(mode) => self.fail_to(mode, x, t_s, &mut events),
+            Reaction::Terminate => {
+                self.disarm();
+                events.push(Event::Disarmed("flight termination"));
+            }
+        }
+        events
+    }
+
+    /// No GCS heartbeat for `COM_DL_LOSS_T`: runs `NAV_DLL_ACT` once if flying (hold, return,
+    /// land, or 5/6 motors off). Always accepted; a reaction is announced as an
+    /// [`Event::Failsafe`] of the next tick.
+    fn gcs_link_lost(&mut self, x: &VehicleState, t_s: f64) -> Outcome {
+        let action = self.params.link_loss_action;
+        if action == LinkLossAction::Disabled || !self.armed() || !self.in_air() {
+            return Outcome::Accepted;
+        }
+        let event = self.react_to_loss("GCS link", action, x, t_s);
+        self.pending.push(event);
+        Outcome::Accepted
+    }
+
+    /// Each tick, before the other failsafes: the estimate's validity `v` with the vehicle in
+    /// (estimated) state `x` at `t_s` [s]; what the commander did about it.
+    pub fn check_navigation(&mut self, v: NavValidity, x: &VehicleState, t_s: f64) -> Vec<Event> {
+        let mut events = Vec::new();
+        if let (Some(text), true) = (v.position_change(&self.nav), self.armed()) {
+            events.push(Event::Failsafe(text.into()));
+        }
+        self.nav = v;
+        if !self.armed() {
+            self.failsafe.end_blind_descent();
+            return events;
+        }
+        let (in_air, blind) = (self.in_air(), self.failsafe.descending_blind());
+        let lands = self.params.position_loss_lands;
+        match v.position_loss(self.mode, in_air, blind, || self.sticks_alive(t_s), lands) {
+            PositionLoss::Fly => {}
+            PositionLoss::Altitude => {
+                self.enter(FlightMode::Altitude, x, t_s);
+                events.push(Event::Failsafe(
+                    "No position estimate: switching to Altitude mode".into(),
+                ));
+                events.push(Event::ModeChanged(FlightMode::Altitude));
+            }
+            PositionLoss::Descend => {
+                self.failsafe.start_blind_descent();
+                self.enter(FlightMode::Land, x, t_s);
+                events.push(Event::Failsafe("No position estimate: descending".into()));
+                events.push(Event::ModeChanged(FlightMode::Land));
+            }
+        }
+        events
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::super::script::Script;
-    use super::super::{CommanderParams, FlightMode, MissionState, Outcome, Request};
-    use crate::math::Vec3;
-    use crate::navigation::{Mission, MissionItem};
-
-    #[test]
-    fn change_speed_refuses_bad_speeds_and_sets_the_cruise_speed() {
-        let mut s = Script::new(CommanderParams::default());
-        for v in [0.0, -1.0, f64::NAN, f64::INFINITY, 31.0] {
-            assert!(matches!(s.request(Request::ChangeSpeed(v)), Outcome::Denied(_)), "{v}");
-        }
-        assert_eq!(s.request(Request::ChangeSpeed(2.0)), Outcome::Accepted);
-        s.airborne(3.0);
-        // Flown in AUTO.LOITER (no mode change asked), at DO_CHANGE_SPEED's speed.
-        let in_hold = Request::Reposition {
-            north_m: Some(30.0),
-            east_m: Some(0.0),
-            down_m: None,
-            yaw_rad: None,
-            speed_m_s: None,
-            change_mode: false,
-        };
-        assert_eq!(s.request(in_hold), Outcome::Accepted);
-        assert_eq!(s.c.mode(), FlightMode::Loiter);
-        let mut fastest: f64 = 0.0;
-        assert!(s.fly_until(60.0, |s| {
-            fastest = fastest.max(s.x.vel_w.xy().norm());
-            (s.x.pos_w.x - 30.0).abs() < 1e-6
-        }));
-        assert!(
-            fastest <= 2.0 + 1e-9 && fastest > 1.9,
-            "DO_CHANGE_SPEED 2 m/s: {fastest} m/s"
-        );
-    }
-
-    #[test]
-    fn takeoff_set_home_and_failure_injection_check_their_values() {
-        let mut s = Script::new(CommanderParams::default());
-        for h in [0.0, -2.0, 1001.0] {
-            let takeoff = Request::Takeoff { height_m: Some(h) };
-            assert!(matches!(s.request(takeoff), Outcome::Denied(_)), "{h}");
-        }
-        let bad_home = Request::SetHome(Some(Vec3::new(f64::NAN, 0.0, 0.0)));
-        assert!(matches!(s.request(bad_home), Outcome::Denied(_)));
-        assert_eq!(s.c.home_w(), Vec3::zeros());
-        let inject = Request::InjectRotorFailure { rotor: 1, failed: true };
-        assert!(matches!(s.request(inject), Outcome::Denied(_)));
-        s.airborne(3.0);
-        assert_eq!(
-            s.request(Request::Takeoff { height_m: None }),
-            Outcome::TemporarilyRejected("Takeoff refused: already flying".into())
-        );
-        assert_eq!(s.request(Request::SetHome(None)), Outcome::Accepted);
-        assert_eq!(s.c.home_w(), s.x.pos_w, "home here");
-    }
-
-    #[test]
-    fn a_mission_is_stored_started_from_an_item_and_replacing_it_leaves_auto_mission() {
-        let mut s = Script::new(CommanderParams::default());
-        assert!(matches!(
-            s.request(Request::StartMission { first: 0 }),
-            Outcome::Denied(_)
-        ));
-        let wp = |north_m| MissionItem::Waypoint {
-            pos_w: Vec3::new(north_m, 0.0, -4.0),
-            hold_s: 0.0,
-            accept_m: Some(0.5),
-            yaw_rad: None,
-        };
-        let mission = Mission {
-            items: vec![wp(5.0), wp(10.0)],
-            ..Default::default()
-        };
-        assert_eq!(s.request(Request::SetMission(mission)), Outcome::Accepted);
-        assert_eq!(s.c.mission_progress(), (0, 2, MissionState::NotStarted));
-        assert!(matches!(
-            s.request(Request::StartMission { first: 2 }),
-            Outcome::Denied(_)
-        ));
-        assert_eq!(s.request(Request::StartMission { first: 1 }), Outcome::Accepted);
-        assert_eq!(s.c.mode(), FlightMode::Mission);
-        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
-        s.fly(3.0);
-        assert_eq!(s.c.mission_progress(), (1, 2, MissionState::Active));
-        assert_eq!(s.request(Request::SetMission(Mission::default())), Outcome::Accepted);
-        assert_eq!(s.c.mode(), FlightMode::Loiter);
-        assert_eq!(s.c.mission_progress(), (0, 0, MissionState::NoMission));
-    }
-}
+#[path = "requests_tests.rs"]
+mod tests;

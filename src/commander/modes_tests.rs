@@ -1,0 +1,136 @@
+//! Mode switches on a scripted vehicle: take-off, its speeds, landing, the modes that need
+//! something to fly.
+
+use super::super::script::{Script, GROUND_Z_M};
+use super::super::{CommanderParams, Event, FlightMode, LandedState, Outcome, Request};
+use crate::math::Vec3;
+
+#[test]
+fn takeoff_climbs_to_its_height_then_holds_there_in_auto_loiter() {
+    let mut s = Script::new(CommanderParams::default());
+    assert_eq!(s.request(Request::Takeoff { height_m: Some(5.0) }), Outcome::Accepted);
+    assert_eq!(s.c.mode(), FlightMode::Takeoff);
+    assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    assert!(s.fly_until(10.0, |s| s.c.landed_state() == LandedState::Takeoff));
+    assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
+    assert!((s.x.pos_w - Vec3::new(0.0, 0.0, -5.0)).norm() < 0.2, "{:?}", s.x.pos_w);
+    assert_eq!(s.c.landed_state(), LandedState::InAir);
+    let airborne = s.events.iter().position(|e| *e == Event::Airborne);
+    let loiter = s
+        .events
+        .iter()
+        .position(|e| *e == Event::ModeChanged(FlightMode::Loiter));
+    assert!(airborne.is_some() && airborne < loiter, "{:?}", s.events);
+    // Then it holds the take-off point.
+    assert!(s.fly(5.0).is_empty());
+    assert!((s.x.pos_w - Vec3::new(0.0, 0.0, -5.0)).norm() < 1e-9);
+}
+
+#[test]
+fn takeoff_climbs_at_px4s_takeoff_speed_then_at_the_auto_climb_speed() {
+    let mut s = Script::new(CommanderParams::default());
+    assert_eq!(s.request(Request::Takeoff { height_m: Some(100.0) }), Outcome::Accepted);
+    assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    let (mut low_peak, mut high_peak, mut acc_peak, mut t) = (0.0_f64, 0.0_f64, 0.0_f64, 0.0);
+    while s.c.mode() == FlightMode::Takeoff && t < 120.0 {
+        s.step();
+        t += super::super::script::DT_S;
+        let Some(sp) = s.last.as_ref().and_then(|tick| tick.setpoint) else {
+            continue;
+        };
+        let (height, up) = (GROUND_Z_M - s.x.pos_w.z, -sp.vel_w.unwrap_or_default().z);
+        if height < 9.0 {
+            low_peak = low_peak.max(up);
+            acc_peak = acc_peak.max(-sp.acc_w.unwrap_or_default().z);
+        } else {
+            high_peak = high_peak.max(up);
+        }
+    }
+    // MPC_TKO_SPEED 1.5 m/s reached in MPC_TKO_RAMP_T 3 s below MPC_LAND_ALT1 10 m, then
+    // MPC_Z_V_AUTO_UP 3 m/s: 10 m in ≈ 8 s, 90 m in ≈ 31 s (PX4 SITL: ≈ 40 s to 100 m).
+    assert!((low_peak - 1.5).abs() < 0.01, "{low_peak}");
+    assert!(acc_peak < 0.5 + 1e-9, "{acc_peak}");
+    assert!((high_peak - 3.0).abs() < 0.01, "{high_peak}");
+    assert!((36.0..45.0).contains(&t), "took {t} s");
+    assert!((s.x.pos_w.z - (GROUND_Z_M - 100.0)).abs() < 0.2, "{:?}", s.x.pos_w);
+}
+
+#[test]
+fn the_auto_vertical_speeds_are_kept_within_the_caps() {
+    let mut s = Script::new(CommanderParams::default());
+    s.c.params.auto_vertical.up_m_s = 5.0;
+    s.c.params.auto_vertical.down_m_s = 1.0;
+    let limits = s.c.paths().limits(5.0);
+    assert_eq!(
+        (limits.up_m_s, limits.down_m_s),
+        (3.0, 1.0),
+        "MPC_Z_VEL_MAX_UP caps MPC_Z_V_AUTO_UP"
+    );
+    s.c.params.auto_vertical.takeoff_ramp_s = 0.0;
+    assert_eq!(
+        s.c.paths().takeoff_limits(1.0).acc_up_m_s2,
+        4.0,
+        "no ramp: MPC_ACC_UP_MAX"
+    );
+    assert_eq!(s.c.paths().takeoff_limits(1.0).up_m_s, 1.5);
+    assert_eq!(s.c.paths().takeoff_limits(10.0).up_m_s, 3.0);
+}
+
+#[test]
+fn land_descends_lands_and_disarms_after_com_disarm_land() {
+    let mut s = Script::new(CommanderParams::default());
+    s.airborne(8.0);
+    assert_eq!(
+        s.request(Request::Reposition {
+            north_m: Some(3.0),
+            east_m: Some(-2.0),
+            down_m: None,
+            yaw_rad: None,
+            speed_m_s: None,
+            change_mode: true,
+        }),
+        Outcome::Accepted
+    );
+    s.fly(10.0);
+    assert_eq!(s.request(Request::Land), Outcome::Accepted);
+    assert_eq!(s.c.landed_state(), LandedState::Landing);
+    assert!(s.fly_until(60.0, |s| s.c.landed_state() == LandedState::OnGround));
+    let landed_s = s.t();
+    assert!(s.c.armed() && s.events.contains(&Event::Landed));
+    assert!(
+        (s.x.pos_w - Vec3::new(3.0, -2.0, GROUND_Z_M)).norm() < 1e-6,
+        "lands where it was"
+    );
+    assert!(s.until_disarmed(5.0));
+    let after_s = s.t() - landed_s;
+    assert!(
+        (after_s - 2.0).abs() < 0.05,
+        "COM_DISARM_LAND 2 s, disarmed after {after_s} s"
+    );
+    assert_eq!(s.events.last(), Some(&Event::Disarmed("landed")));
+    assert_eq!(s.c.mode(), FlightMode::Loiter);
+}
+
+#[test]
+fn mission_and_offboard_need_something_to_fly() {
+    let mut s = Script::new(CommanderParams::default());
+    let refused = |text: &str| Outcome::TemporarilyRejected(text.into());
+    assert_eq!(
+        s.request(Request::SetMode(FlightMode::Mission)),
+        refused("Mode AUTO.MISSION: no mission")
+    );
+    assert_eq!(
+        s.request(Request::SetMode(FlightMode::Offboard)),
+        refused("Mode OFFBOARD: no setpoint stream")
+    );
+    assert_eq!(s.c.mode(), FlightMode::Loiter);
+}
+
+#[test]
+fn auto_takeoff_selected_in_the_air_goes_to_mis_takeoff_alt() {
+    let mut s = Script::new(CommanderParams::default());
+    s.airborne(6.0);
+    assert_eq!(s.request(Request::SetMode(FlightMode::Takeoff)), Outcome::Accepted);
+    assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
+    assert!((s.x.pos_w.z + 2.5).abs() < 0.2, "MIS_TAKEOFF_ALT: {:?}", s.x.pos_w);
+}
