@@ -10,11 +10,11 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::control::{ControlInput, ControllerKind, FlatSetpoint, VehicleState};
-use rotorpilot::estimation::{ChebyshevDesign, WrenchObserver};
 use rotorpilot::flight::{FlightCore, SetpointFollower};
 use rotorpilot::lockstep::Lockstep;
 use rotorpilot::math::{UnitQuat, Vec3};
 use rotorpilot::sitl::{SensorModel, SimPlant};
+use rotorpilot::wrench_estimator::{ChebyshevDesign, WrenchObserver};
 
 fn state(k: u32) -> VehicleState {
     let a = 0.01 * f64::from(k % 100);

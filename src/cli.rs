@@ -6,8 +6,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 use rotorpilot::control::ControllerKind;
-use rotorpilot::estimation::ChebyshevDesign;
 use rotorpilot::runtime;
+use rotorpilot::wrench_estimator::ChebyshevDesign;
 
 /// MAVLink-speaking multirotor flight-controller emulator.
 #[derive(Debug, Parser)]
@@ -302,7 +302,7 @@ pub(crate) struct MonteCarloArgs {
     /// Heading of the hover setpoint: zero (north; the vehicle also turns by up to 180°) or
     /// initial (the run's initial heading).
     #[arg(long, default_value = "zero")]
-    pub(crate) heading: rotorpilot::montecarlo::Heading,
+    pub(crate) heading: rotorpilot::runners::montecarlo::Heading,
     /// Stop rotor ROTOR (1-based) SECONDS into every run (repeatable), e.g. `--fail-rotor 2@1`.
     #[arg(long = "fail-rotor", value_name = "ROTOR@SECONDS")]
     pub(crate) fail_rotor: Vec<rotorpilot::lockstep::ScheduledFailure>,

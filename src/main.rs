@@ -8,18 +8,18 @@ use clap::Parser;
 use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::allocation::Allocator;
 use rotorpilot::control::ControllerKind;
-use rotorpilot::estimation::log_replay::{parse_log, replay};
-use rotorpilot::estimation::ulog_log::parse_ulog;
-use rotorpilot::estimation::{ChebyshevDesign, WrenchObserver};
-use rotorpilot::fly::{fly, FlyOptions};
+use rotorpilot::guidance::Home;
 use rotorpilot::math::Vec3;
-use rotorpilot::navigation::Home;
 use rotorpilot::params::parse_param_file;
 use rotorpilot::report::{estimate_csv, AllocReport, EstimateReport, GainsReport};
+use rotorpilot::runners::fly::{fly, FlyOptions};
+use rotorpilot::runners::scenario_run::simulate_paced;
 use rotorpilot::runtime::log_place::{default_log_root, LogPlace};
 use rotorpilot::runtime::{self, RunConfig};
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::simulate_paced;
+use rotorpilot::wrench_estimator::log_replay::{parse_log, replay};
+use rotorpilot::wrench_estimator::ulog_log::parse_ulog;
+use rotorpilot::wrench_estimator::{ChebyshevDesign, WrenchObserver};
 
 mod cli;
 
@@ -292,9 +292,9 @@ fn execute(command: Command) -> Result<String, String> {
         } => {
             let airframe = AirframeSource::resolve(&airframe).map_err(|e| e.to_string())?;
             let mut options = if quick {
-                rotorpilot::bench::BenchOptions::quick(airframe)
+                rotorpilot::runners::bench::BenchOptions::quick(airframe)
             } else {
-                rotorpilot::bench::BenchOptions::full(airframe)
+                rotorpilot::runners::bench::BenchOptions::full(airframe)
             };
             if let Some(w) = window {
                 if !(w.is_finite() && w > 0.0) {
@@ -312,14 +312,14 @@ fn execute(command: Command) -> Result<String, String> {
                 options.first_count = n;
             }
             if logging {
-                let cost = rotorpilot::bench::logging_only(&options).map_err(|e| format!("bench: {e}"))?;
+                let cost = rotorpilot::runners::bench::logging_only(&options).map_err(|e| format!("bench: {e}"))?;
                 return if json {
                     serde_json::to_string(&cost).map_err(|e| e.to_string())
                 } else {
                     Ok(cost.to_text())
                 };
             }
-            let report = rotorpilot::bench::run(&options).map_err(|e| format!("bench: {e}"))?;
+            let report = rotorpilot::runners::bench::run(&options).map_err(|e| format!("bench: {e}"))?;
             if json {
                 serde_json::to_string(&report).map_err(|e| e.to_string())
             } else {
@@ -341,7 +341,7 @@ fn execute(command: Command) -> Result<String, String> {
 
 /// `rotorpilot sweep`: the plan, or the runs flown into `--out`, as JSON.
 fn sweep(a: &SweepArgs) -> Result<String, String> {
-    use rotorpilot::sweep_run::LoadedSweep;
+    use rotorpilot::runners::sweep_run::LoadedSweep;
     let loaded = LoadedSweep::load(&a.sweep).map_err(|e| e.to_string())?;
     let plan = loaded.plan();
     let Some(out) = &a.out else {
@@ -416,7 +416,7 @@ fn estimate(
 /// `rotorpilot montecarlo`: builds the campaign from the options, runs it, returns the table or
 /// JSON (the table ends with the wall time, which the JSON leaves out so it is reproducible).
 fn montecarlo(a: &MonteCarloArgs) -> Result<String, String> {
-    use rotorpilot::montecarlo::{self, Campaign, Criterion, EnvelopeOverrides};
+    use rotorpilot::runners::montecarlo::{self, Campaign, Criterion, EnvelopeOverrides};
     let controllers = match a.controller.as_str() {
         "all" => ControllerKind::ALL.to_vec(),
         name => vec![name
@@ -476,12 +476,12 @@ fn montecarlo(a: &MonteCarloArgs) -> Result<String, String> {
         results,
     } = montecarlo::fly(&campaign).map_err(|e| e.to_string())?;
     if let Some(dir) = &a.out {
-        use rotorpilot::montecarlo::rows;
+        use rotorpilot::runners::montecarlo::rows;
         use rotorpilot::sweep::results::columns;
         std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
         let axes = rows::axes(&campaign.controllers, &envelope);
         let rows = rows::rows(&campaign.controllers, campaign.seed, &draws, &results);
-        rotorpilot::sweep_run::parquet::write(&dir.join("results.parquet"), &columns(&axes, &rows))?;
+        rotorpilot::runners::sweep_run::parquet::write(&dir.join("results.parquet"), &columns(&axes, &rows))?;
         let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
         let path = dir.join("report.json");
         std::fs::write(&path, text + "\n").map_err(|e| format!("cannot write {}: {e}", path.display()))?;

@@ -4,10 +4,10 @@
 use crate::airframe::MAX_ROTORS;
 use crate::commander::{Commander, FlightMode, LandedState, MissionState, NavValidity};
 use crate::control::{FlatSetpoint, VehicleState};
-use crate::estimation::WrenchEstimate;
+use crate::guidance::Home;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::Home;
 use crate::sitl::PlantTruth;
+use crate::wrench_estimator::WrenchEstimate;
 
 /// The battery as its gauge reads it.
 #[derive(Debug, Clone, Copy, PartialEq)]

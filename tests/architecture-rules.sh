@@ -26,7 +26,7 @@ hits=$(code "$step" --include='*.rs' src tests benches | grep -vE '^src/(sitl|lo
 n=$(code "$step" src | grep -c '^src/lockstep/mod\.rs:' || true)
 [ "$n" -eq 1 ] || complain "src/lockstep/mod.rs must step the plant exactly once (Lockstep::step), found $n" ""
 
-pure="src/math.rs src/ulog src/rpy.rs src/flight src/lockstep src/sitl.rs src/commander src/mav src/params src/telemetry.rs src/scenario src/airframe src/allocation src/control src/estimation src/nav_filter src/navigation src/report src/montecarlo/envelope.rs src/montecarlo/authority.rs src/montecarlo/trial.rs src/montecarlo/judging.rs src/montecarlo/stats.rs src/montecarlo/report.rs firmware-sim/src"
+pure="src/math.rs src/ulog src/rpy.rs src/flight src/lockstep src/sitl.rs src/commander src/mav src/params src/telemetry.rs src/scenario src/airframe src/allocation src/control src/wrench_estimator src/nav_filter src/guidance src/report src/runners/montecarlo/envelope.rs src/runners/montecarlo/authority.rs src/runners/montecarlo/trial.rs src/runners/montecarlo/judging.rs src/runners/montecarlo/stats.rs src/runners/montecarlo/report.rs firmware-sim/src"
 for path in $pure; do
     [ -e "$path" ] || complain "pure-module list names a missing path" "$path"
 done
@@ -62,7 +62,7 @@ hits=$(find src -name '*.rs' ! -name '*_tests.rs' ! -name 'tests.rs' ! -path '*/
 [ -z "$hits" ] || complain "a type's impl is spread over more than three files" "$hits"
 
 # Parameters are declared once, as rows (src/params/rows/): nothing names them by position.
-hits=$(code 'PARAM_NAMES' --include='*.rs' src tests benches fuzz/fuzz_targets; code '\b(v|values)\[[0-9]+' src/params src/mav/params.rs)
+hits=$(code 'PARAM_NAMES' --include='*.rs' src tests benches fuzz/fuzz_targets; code '\b(v|values)\[[0-9]+' src/params src/mav/param_encoding.rs)
 [ -z "$hits" ] || complain "parameters are read and written through their rows, never by index" "$hits"
 
 # Documentation (docs/README.md §4): nothing points outside the repository; every docs/ citation

@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
+use rotorpilot::runners::scenario_run::{simulate, SimSummary};
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::{simulate, SimSummary};
 
 fn recover(airframe: &str, initial: &str) -> SimSummary {
     let text = format!(

@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
+use rotorpilot::runners::scenario_run::{simulate, SimSummary};
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::{simulate, SimSummary};
 
 /// `quad_x` from the ground to a hover at `position`, with the `extra` tables.
 fn scenario(duration_s: f64, position: [f64; 3], extra: &str) -> Result<Scenario, String> {

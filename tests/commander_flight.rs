@@ -103,7 +103,7 @@ fn wrong_state_requests_are_refused_and_idle_arming_times_out() {
 #[test]
 fn mission_takeoff_waypoints_and_land() {
     use rotorpilot::commander::MissionState;
-    use rotorpilot::navigation::{Mission, MissionItem};
+    use rotorpilot::guidance::{Mission, MissionItem};
 
     let mut sim = Sim::new("quad_x", CommanderParams::default());
     assert!(matches!(
@@ -152,7 +152,7 @@ fn mission_takeoff_waypoints_and_land() {
 
 #[test]
 fn mission_ending_in_return_to_launch() {
-    use rotorpilot::navigation::{Mission, MissionItem};
+    use rotorpilot::guidance::{Mission, MissionItem};
     let params = CommanderParams {
         rtl_return_alt_m: 5.0,
         ..Default::default()

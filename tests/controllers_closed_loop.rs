@@ -6,8 +6,8 @@ use std::path::Path;
 
 use rotorpilot::airframe::PRESETS;
 use rotorpilot::control::ControllerKind;
+use rotorpilot::runners::scenario_run::{simulate, SimSummary};
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::{simulate, SimSummary};
 
 fn fly(airframe: &str, kind: ControllerKind, trajectory: &str, duration_s: f64) -> SimSummary {
     let text = format!(

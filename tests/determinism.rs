@@ -4,9 +4,9 @@
 
 use std::path::{Path, PathBuf};
 
+use rotorpilot::runners::scenario_run::simulate_paced;
 use rotorpilot::runtime::Pace;
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::simulate_paced;
 
 fn run(seed: u64, pace: Pace, dir: &str) -> (Vec<u8>, PathBuf) {
     let text = format!(

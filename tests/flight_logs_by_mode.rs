@@ -15,8 +15,8 @@ use std::time::Duration;
 
 use mavlink::dialects::common::*;
 use rotorpilot::airframe::AirframeSource;
-use rotorpilot::bench::autopilot::InProcess;
 use rotorpilot::control::ControllerKind;
+use rotorpilot::runners::bench::autopilot::InProcess;
 use rotorpilot::runtime::log_place::LogPlace;
 use rotorpilot::runtime::RunConfig;
 use support::Autopilot;

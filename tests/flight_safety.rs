@@ -7,8 +7,8 @@
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::commander::{Event, FlightMode, LandedState, Outcome, Request};
 use rotorpilot::control::{ControllerKind, FlatSetpoint};
+use rotorpilot::guidance::{Home, Mission, MissionItem};
 use rotorpilot::math::{wrap_pi, Vec3};
-use rotorpilot::navigation::{Home, Mission, MissionItem};
 use rotorpilot::runtime::vehicle::{TickOutput, Vehicle};
 use rotorpilot::sitl::SensorModel;
 

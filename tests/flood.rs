@@ -17,10 +17,10 @@ use mavlink::dialects::common::{
     MavCmd, MavFrame, MavMessage, MavMissionType, MavModeFlag, MavParamType, MavResult, MavSysStatusSensor,
     PositionTargetTypemask, MISSION_COUNT_DATA, PARAM_SET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
-use rotorpilot::bench::autopilot::loopback_run;
-use rotorpilot::bench::client::BenchClient;
 use rotorpilot::mav::codec::{encode_v2, frame_v2};
 use rotorpilot::mav::gcs::gcs_header;
+use rotorpilot::runners::bench::autopilot::loopback_run;
+use rotorpilot::runners::bench::client::BenchClient;
 
 /// Sends of one command before the client gives up.
 const SENDS: usize = 12;

@@ -3,7 +3,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a failed set-up step should panic in a test
 
 use rotorpilot::airframe::{AirframeSource, PRESETS};
-use rotorpilot::fly::{fly, FlyOptions};
+use rotorpilot::runners::fly::{fly, FlyOptions};
 
 fn opts(duration_s: f64, seed: u64) -> FlyOptions {
     FlyOptions {

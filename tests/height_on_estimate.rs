@@ -9,8 +9,8 @@
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::commander::{FlightMode, Outcome, Request};
 use rotorpilot::control::ControllerKind;
+use rotorpilot::guidance::Home;
 use rotorpilot::lockstep::ScheduledSensorFailure;
-use rotorpilot::navigation::Home;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
 use rotorpilot::telemetry::Snapshot;

@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
+use rotorpilot::runners::scenario_run::{simulate, SimSummary};
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::{simulate, SimSummary};
 
 fn run(file: &str) -> SimSummary {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(file);

@@ -8,8 +8,8 @@ mod link_bench;
 use link_bench::*;
 use mavlink::dialects::common::*;
 use rotorpilot::commander::{Event, InputStream, Request};
+use rotorpilot::guidance::Sticks;
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
-use rotorpilot::navigation::Sticks;
 
 #[test]
 fn link_loss_needs_silence_in_wall_and_simulated_time_and_fires_once() {

@@ -9,12 +9,12 @@ use link_bench::*;
 use mavlink::dialects::common::*;
 use mavlink::Message;
 use rotorpilot::commander::{FlightMode, Outcome, Request};
+use rotorpilot::guidance::Home;
 use rotorpilot::mav::codec::frame_message;
 use rotorpilot::mav::gcs::{command_long, gcs_header};
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
 use rotorpilot::mav::signing::{Signing, SigningKey};
 use rotorpilot::mav::streams::LinkKind;
-use rotorpilot::navigation::Home;
 
 #[test]
 fn heartbeats_follow_wall_time_simulated_time_and_state_changes() {

@@ -7,8 +7,8 @@
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::commander::{FlightMode, Outcome, Request};
 use rotorpilot::control::ControllerKind;
+use rotorpilot::guidance::{Home, Mission, MissionItem};
 use rotorpilot::math::Vec3;
-use rotorpilot::navigation::{Home, Mission, MissionItem};
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
 

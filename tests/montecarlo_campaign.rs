@@ -6,10 +6,10 @@ use std::path::Path;
 
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
-use rotorpilot::montecarlo::trial::fly;
-use rotorpilot::montecarlo::{self, draws, Campaign, Criterion, Heading, TrialSetup};
+use rotorpilot::runners::montecarlo::trial::fly;
+use rotorpilot::runners::montecarlo::{self, draws, Campaign, Criterion, Heading, TrialSetup};
+use rotorpilot::runners::scenario_run::simulate;
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::simulate;
 
 fn quad_x() -> AirframeSource {
     AirframeSource::resolve("quad_x").unwrap()
@@ -56,11 +56,10 @@ yaw = {yaw_deg:?}
         scn.initial.vel_w = d.vel_w;
         scn.initial.q_wb = d.q_wb;
         scn.initial.omega_b = d.omega_b;
-        scn.trajectory =
-            rotorpilot::navigation::trajectory::Trajectory::Hover(rotorpilot::navigation::trajectory::Hover {
-                pos_w: nalgebra::Vector3::zeros(),
-                yaw_rad: setup.heading.setpoint_yaw_rad(d),
-            });
+        scn.trajectory = rotorpilot::guidance::trajectory::Trajectory::Hover(rotorpilot::guidance::trajectory::Hover {
+            pos_w: nalgebra::Vector3::zeros(),
+            yaw_rad: setup.heading.setpoint_yaw_rad(d),
+        });
         let sim = simulate(&scn, None).unwrap();
         let mc = fly(&setup, kind, d).unwrap();
         assert_eq!(sim.exit, "complete", "{kind:?}");

@@ -7,8 +7,8 @@
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::commander::{FlightMode, Outcome, Request};
 use rotorpilot::control::{ControllerKind, FlatSetpoint};
+use rotorpilot::guidance::Home;
 use rotorpilot::math::Vec3;
-use rotorpilot::navigation::Home;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
 

@@ -11,7 +11,7 @@ use link_bench::*;
 use mavlink::dialects::common::*;
 use rotorpilot::mav::ftp::{decode, Opcode, PackedValue, Payload, MAGIC, MAGIC_WITH_DEFAULTS};
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
-use rotorpilot::mav::params::packed_params;
+use rotorpilot::mav::param_encoding::packed_params;
 use rotorpilot::mav::streams::LinkKind;
 use rotorpilot::params::ParamTable;
 

@@ -10,8 +10,8 @@ mod link_bench;
 use link_bench::*;
 use mavlink::dialects::common::*;
 use rotorpilot::commander::{Event, FlightMode, MissionState as Progress, Outcome};
+use rotorpilot::guidance::Home;
 use rotorpilot::mav::link::VehicleReply;
-use rotorpilot::navigation::Home;
 
 const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
 const FENCE: MavMissionType = MavMissionType::MAV_MISSION_TYPE_FENCE;

@@ -9,8 +9,8 @@ mod link_bench;
 use link_bench::*;
 use mavlink::dialects::common::*;
 use rotorpilot::commander::{Outcome, Request};
+use rotorpilot::guidance::Home;
 use rotorpilot::mav::link::{ToVehicle, VehicleReply, VehicleRequest};
-use rotorpilot::navigation::Home;
 
 const FENCE: MavMissionType = MavMissionType::MAV_MISSION_TYPE_FENCE;
 const RALLY: MavMissionType = MavMissionType::MAV_MISSION_TYPE_RALLY;

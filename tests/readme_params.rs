@@ -7,7 +7,7 @@ use std::path::Path;
 
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
-use rotorpilot::navigation::Home;
+use rotorpilot::guidance::Home;
 use rotorpilot::params::markdown_table;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;

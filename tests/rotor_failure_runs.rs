@@ -8,10 +8,10 @@ use std::path::Path;
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::lockstep::ScheduledFailure;
-use rotorpilot::montecarlo::{self, Campaign, MonteCarloError};
+use rotorpilot::runners::montecarlo::{self, Campaign, MonteCarloError};
+use rotorpilot::runners::scenario_run::simulate_paced;
 use rotorpilot::runtime::Pace;
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::simulate_paced;
 
 /// A hexacopter hovering at 2 m whose rotor `rotor` stops at 1 s.
 fn hexa_losing(rotor: usize) -> Result<Scenario, String> {

@@ -8,9 +8,9 @@
 use mavlink::dialects::common::{GpsFixType, HighresImuUpdatedFlags, MavMessage, MavSysStatusSensor};
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
+use rotorpilot::guidance::Home;
 use rotorpilot::lockstep::ScheduledSensorFailure;
-use rotorpilot::mav::telemetry::{message, TelemetryStream};
-use rotorpilot::navigation::Home;
+use rotorpilot::mav::stream_messages::{message, TelemetryStream};
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
 use rotorpilot::telemetry::Snapshot;

@@ -9,7 +9,7 @@ mod flight_bench;
 
 use flight_bench::Sim;
 use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
-use rotorpilot::navigation::Sticks;
+use rotorpilot::guidance::Sticks;
 
 /// Joystick period [s] (50 Hz).
 const STICK_PERIOD_S: f64 = 0.02;

@@ -10,7 +10,7 @@ use std::process::Command;
 
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::record::Field;
-use rotorpilot::sweep_run::LoadedSweep;
+use rotorpilot::runners::sweep_run::LoadedSweep;
 
 /// A sweep over the homework's estimator hover, shortened to 1.5 s: 3 orders × 2 passband edges
 /// × 2 seeds; order 13 at 20 rad/s is unstable at 1 ms.

@@ -5,13 +5,13 @@
 
 use std::path::Path;
 
-use rotorpilot::estimation::log_replay::{parse_log, replay};
-use rotorpilot::estimation::ulog_log::parse_ulog;
-use rotorpilot::estimation::{ChebyshevDesign, WrenchObserver};
 use rotorpilot::math::{Vec3, GRAVITY_M_S2};
+use rotorpilot::runners::scenario_run::simulate_paced;
 use rotorpilot::runtime::Pace;
 use rotorpilot::scenario::Scenario;
-use rotorpilot::sim::simulate_paced;
+use rotorpilot::wrench_estimator::log_replay::{parse_log, replay};
+use rotorpilot::wrench_estimator::ulog_log::parse_ulog;
+use rotorpilot::wrench_estimator::{ChebyshevDesign, WrenchObserver};
 
 #[test]
 fn the_ulog_holds_the_run_csv_samples_and_the_estimator_recovers_ex4() {

@@ -9,7 +9,7 @@ use libfuzzer_sys::fuzz_target;
 use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::commander::Request;
 use rotorpilot::control::ControllerKind;
-use rotorpilot::navigation::Home;
+use rotorpilot::guidance::Home;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::{SensorModel, SimPlant};
 

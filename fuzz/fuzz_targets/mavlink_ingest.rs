@@ -19,7 +19,7 @@ use rotorpilot::mav::logs::MemLogStore;
 use rotorpilot::mav::signing::{Signing, SigningKey};
 use rotorpilot::mav::streams::LinkKind;
 use rotorpilot::mav::translate::Identity;
-use rotorpilot::navigation::Home;
+use rotorpilot::guidance::Home;
 use rotorpilot::params::{ParamTable, VehicleSettings};
 use rotorpilot::runtime::vehicle::DEFAULT_ESTIMATOR;
 use rotorpilot::telemetry::Snapshot;

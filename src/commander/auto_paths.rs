@@ -4,8 +4,8 @@
 //! return, mission, GOTO, orbit, follow-me) asks it for its limits and guidance.
 
 use crate::control::VehicleState;
+use crate::guidance::{DescentProfile, Guidance, MotionLimits, Track, TrackLeg};
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{DescentProfile, Guidance, MotionLimits, Track, TrackLeg};
 
 use super::CommanderParams;
 

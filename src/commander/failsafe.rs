@@ -4,9 +4,9 @@
 //! each with the action to take.
 
 use super::{GeofenceAction, LowBatteryAction};
+use crate::guidance::geofence::ZoneBreach;
+use crate::guidance::Geofence;
 use crate::math::Vec3;
-use crate::navigation::geofence::ZoneBreach;
-use crate::navigation::Geofence;
 
 /// A breach ends only once the vehicle is this far inside every limit again [m], so that a
 /// vehicle holding where it crossed a limit does not announce a new breach each time it
@@ -294,7 +294,7 @@ mod tests {
 
     #[test]
     fn an_uploaded_zone_breach_fires_once_until_well_inside_again() {
-        use crate::navigation::geofence::{Shape, Zone};
+        use crate::guidance::geofence::{Shape, Zone};
         let p = fence(GeofenceAction::Land);
         let zones = Geofence {
             zones: vec![

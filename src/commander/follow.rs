@@ -9,8 +9,8 @@
 //! `FLW_TGT_MAX_VEL`) through the POSCTL deadzone and expo, and only while the vehicle is within
 //! half a second of that speed of the value it flies to, so the setting never runs away from it.
 
+use crate::guidance::{FollowParams, FollowTarget, MotionLimits, SetpointLimiter, StickShaping, Sticks};
 use crate::math::{wrap_pi, Vec3};
-use crate::navigation::{FollowParams, FollowTarget, MotionLimits, SetpointLimiter, StickShaping, Sticks};
 
 use super::landing::FlightDemand;
 use super::Moment;
@@ -206,7 +206,7 @@ mod tests {
 
     #[test]
     fn the_sticks_adjust_height_distance_and_angle_and_never_take_over() {
-        use crate::navigation::Sticks;
+        use crate::guidance::Sticks;
         let mut s = Script::new(CommanderParams::default());
         s.airborne(5.0);
         assert_eq!(s.request(Request::SetMode(FlightMode::FollowTarget)), Outcome::Accepted);

@@ -25,8 +25,8 @@
 //! hold), GOTO holds where the vehicle is, as PX4's does. Pure.
 
 use crate::control::VehicleState;
+use crate::guidance::{Track, TrackLeg};
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Track, TrackLeg};
 
 use super::auto_paths::AutoPaths;
 use super::{FlightMode, Outcome};

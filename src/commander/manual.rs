@@ -14,8 +14,8 @@
 //! `COM_RC_OVERRIDE` allows it.
 
 use crate::control::AttitudeTarget;
+use crate::guidance::{MotionLimits, StickMotion, StickReference, Sticks};
 use crate::math::UnitQuat;
-use crate::navigation::{MotionLimits, StickMotion, StickReference, Sticks};
 
 use super::landing::FlightDemand;
 use super::{FlightMode, LinkLossAction, ManualParams, Moment, Outcome};

@@ -3,8 +3,8 @@
 
 use super::super::script::{Script, DT_S, GROUND_Z_M};
 use super::super::{CommanderParams, Event, FlightMode, ManualLossAction, Outcome, Request};
+use crate::guidance::Sticks;
 use crate::math::Vec3;
-use crate::navigation::Sticks;
 
 /// Sends `sticks` every step for `seconds` [s].
 fn hold_sticks(s: &mut Script, sticks: Sticks, seconds: f64) {

@@ -2,8 +2,8 @@
 //! it announces on its own, the landed state it reports and one tick's output.
 
 use crate::control::{AttitudeTarget, FlatSetpoint};
+use crate::guidance::{Geofence, Mission, OrbitYaw, RallyPoints, Sticks};
 use crate::math::Vec3;
-use crate::navigation::{Geofence, Mission, OrbitYaw, RallyPoints, Sticks};
 use crate::sensor_failure::SensorFailure;
 
 use super::FlightMode;

@@ -5,8 +5,8 @@
 //! the vehicle is within its acceptance radii (`NAV_ACC_RAD` or the item's, `NAV_MC_ALT_RAD`), as
 //! PX4's navigator does; the others are arrived at standing still.
 
+use crate::guidance::{Guidance, Mission, MissionItem, Track, TrackLeg};
 use crate::math::Vec3;
-use crate::navigation::{Guidance, Mission, MissionItem, Track, TrackLeg};
 
 use super::auto_paths::AutoPaths;
 use super::{Event, FlightMode, Moment};

@@ -50,7 +50,9 @@ mod actions;
 mod arming;
 mod auto_paths;
 mod battery;
+mod commander_params;
 mod failsafe;
+mod flight_mode;
 mod follow;
 mod goto;
 pub mod land_detector;
@@ -58,12 +60,10 @@ mod landing;
 mod manual;
 mod messages;
 mod mission_run;
-mod mode;
-mod modes;
+mod mode_switching;
 mod navigation_checks;
 mod offboard;
 mod orbit;
-mod params;
 mod plans;
 mod reactions;
 mod requests;
@@ -76,13 +76,13 @@ pub use actions::{
     OffboardLossAction, RtlType, UnknownAction,
 };
 pub use battery::{BatteryGauge, BatteryParams};
+pub use commander_params::{AutoVertical, CommanderParams, ManualParams, MissionParams};
 pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
+pub use flight_mode::{FlightMode, ModeRefusal};
 pub use land_detector::{LandDetectorParams, LandStage};
 pub use messages::{CommanderTick, Event, InputStream, LandedState, OrbitRequest, Outcome, Request};
 pub use mission_run::MissionState;
-pub use mode::{FlightMode, ModeRefusal};
 pub use navigation_checks::NavValidity;
-pub use params::{AutoVertical, CommanderParams, ManualParams, MissionParams};
 pub use reactions::{LossAllocation, RotorLoss};
 
 use arming::Arming;
@@ -98,8 +98,8 @@ use reactions::FailsafeState;
 use rtl::Rtl;
 
 use crate::control::{FlatSetpoint, VehicleState};
+use crate::guidance::Guidance;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::Guidance;
 
 /// Tick length assumed before the second tick [s].
 const DEFAULT_DT_S: f64 = 0.001;

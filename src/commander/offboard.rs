@@ -3,8 +3,8 @@
 //! rate targets flown as they come, and the stream's loss (`COM_OF_LOSS_T`, `COM_OBL_RC_ACT`).
 
 use crate::control::{AttitudeTarget, FlatSetpoint};
+use crate::guidance::{MotionLimits, SetpointLimiter};
 use crate::math::Vec3;
-use crate::navigation::{MotionLimits, SetpointLimiter};
 
 use super::landing::{asks_climb, FlightDemand};
 use super::{FlightMode, Moment, OffboardLossAction};

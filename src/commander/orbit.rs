@@ -8,8 +8,8 @@
 //! the heading on the circle at the stick modes' yaw rate; without sticks the heading holds.
 
 use crate::control::VehicleState;
+use crate::guidance::{Guidance, MotionLimits, Orbit, OrbitYaw, StickShaping, Sticks, ORBIT_RADIUS_M};
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Guidance, MotionLimits, Orbit, OrbitYaw, StickShaping, Sticks, ORBIT_RADIUS_M};
 
 use super::{OrbitRequest, Outcome};
 
@@ -231,7 +231,7 @@ mod tests {
 
     #[test]
     fn rc_controlled_yaw_turns_with_the_yaw_stick_and_holds_without() {
-        use crate::navigation::Sticks;
+        use crate::guidance::Sticks;
         let mut params = CommanderParams::default();
         // PX4 never hands an orbit to the pilot (ORBIT is not an auto control mode); here the
         // take-over is off so the stick only steers.

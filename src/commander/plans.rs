@@ -5,8 +5,8 @@
 //! ([`super::reactions::FailsafeState`]).
 
 use crate::control::VehicleState;
+use crate::guidance::{Geofence, RallyPoints};
 use crate::math::Vec3;
-use crate::navigation::{Geofence, RallyPoints};
 
 use super::failsafe::fence_breach;
 use super::{Event, FailsafeParams, GeofenceAction, RtlType};
@@ -104,7 +104,7 @@ mod tests {
     use super::super::script::{Script, GROUND_Z_M};
     use super::super::{CommanderParams, FlightMode, Outcome, Request};
     use super::*;
-    use crate::navigation::geofence::{Shape, Zone};
+    use crate::guidance::geofence::{Shape, Zone};
 
     fn circle(center: [f64; 2], radius_m: f64, inclusion: bool) -> Zone {
         Zone {

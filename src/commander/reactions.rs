@@ -6,8 +6,8 @@
 //! are values the commander applies.
 
 use crate::allocation::FailedRotors;
+use crate::guidance::Geofence;
 use crate::math::Vec3;
-use crate::navigation::Geofence;
 
 use super::{
     ActuatorFailureAction, BatteryGauge, CommanderParams, Failsafe, FailsafeAction, FailsafeMonitor, FlightMode,

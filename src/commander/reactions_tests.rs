@@ -4,8 +4,8 @@
 use super::super::script::Script;
 use super::super::{BatteryParams, Event, FailsafeParams, GeofenceAction, LowBatteryAction, Outcome, Request};
 use super::*;
+use crate::guidance::{Mission, MissionItem};
 use crate::math::Vec3;
-use crate::navigation::{Mission, MissionItem};
 
 fn failsafe_starting(s: &Script, prefix: &str) -> bool {
     s.events

@@ -5,8 +5,8 @@
 //! navigation estimate's validity ([`Commander::check_navigation`]) likewise.
 
 use crate::control::VehicleState;
+use crate::guidance::{Geofence, Guidance};
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::{Geofence, Guidance};
 
 use super::arming::{Arming, ArmingChecks};
 use super::goto::{RepositionAction, RepositionTarget};

@@ -3,8 +3,8 @@
 
 use super::super::script::Script;
 use super::super::{CommanderParams, FlightMode, MissionState, Outcome, Request};
+use crate::guidance::{Mission, MissionItem};
 use crate::math::Vec3;
-use crate::navigation::{Mission, MissionItem};
 
 #[test]
 fn change_speed_refuses_bad_speeds_and_sets_the_cruise_speed() {

@@ -24,8 +24,8 @@ use crate::math::Vec3;
 use super::auto_paths::AutoPaths;
 use super::plans::Plans;
 use super::{CommanderParams, Event};
-use crate::navigation::fence_path::{self, FencePath};
-use crate::navigation::{Geofence, Guidance, Track, TrackLeg};
+use crate::guidance::fence_path::{self, FencePath};
+use crate::guidance::{Geofence, Guidance, Track, TrackLeg};
 
 /// Where a return is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

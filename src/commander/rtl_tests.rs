@@ -3,9 +3,9 @@
 
 use super::super::script::{Script, GROUND_Z_M};
 use super::super::{CommanderParams, Event, FlightMode, GeofenceAction, Outcome, Request};
+use crate::guidance::geofence::{Shape, Zone};
+use crate::guidance::{Geofence, RallyPoints};
 use crate::math::Vec3;
-use crate::navigation::geofence::{Shape, Zone};
-use crate::navigation::{Geofence, RallyPoints};
 
 fn params() -> CommanderParams {
     CommanderParams {
@@ -292,7 +292,7 @@ fn at(pos_w: Vec3) -> crate::control::VehicleState {
 #[test]
 fn the_return_climbs_returns_then_descends_each_when_the_last_is_flown() {
     use super::{AutoPaths, Plans, Rtl, RtlPhase};
-    use crate::navigation::Guidance;
+    use crate::guidance::Guidance;
     let p = params();
     let paths = AutoPaths::new(&p, None, None, 0.0);
     let plans = Plans::default();

@@ -9,8 +9,8 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::allocation::Wrench;
-use crate::estimation::WrenchEstimate;
 use crate::math::{Mat3, Vec3};
+use crate::wrench_estimator::WrenchEstimate;
 
 use super::attitude_target::AttitudeTarget;
 use super::gains::{ControllerGains, VehicleModel};

@@ -3,8 +3,8 @@
 //! [`FlatSetpoint`], and bundles them with the rest of what a law reads in one tick
 //! ([`LawInput`]).
 
-use crate::estimation::WrenchEstimate;
 use crate::math::{euler_zyx, Vec3};
+use crate::wrench_estimator::WrenchEstimate;
 
 use super::gains::{ControlLimits, VehicleModel};
 use super::{FlatSetpoint, VehicleState};

@@ -17,9 +17,9 @@ use crate::control::{
     AttitudeTarget, ControlInput, ControlOutput, Controller, ControllerError, ControllerGains, ControllerKind,
     FlatSetpoint, VehicleModel, VehicleState,
 };
-use crate::estimation::{WrenchEstimate, WrenchObserver};
 use crate::math::{euler_zyx, Vec3};
 use crate::rpy;
+use crate::wrench_estimator::{WrenchEstimate, WrenchObserver};
 
 /// |cos θ| below which the estimator holds (RPY singularity of its momentum model) [-].
 const ESTIMATOR_COS_THETA_MIN: f64 = 1e-3;

@@ -4,12 +4,12 @@
 //! allocated around as the flight controller does. Pure.
 
 use crate::control::{FlatSetpoint, VehicleState};
-use crate::navigation::trajectory::Trajectory;
-use crate::navigation::ClimbProfile;
+use crate::guidance::trajectory::Trajectory;
+use crate::guidance::ClimbProfile;
 use crate::sitl::{EscReport, PlantTruth, Sensors};
 
-use super::navigator::Navigator;
 use super::rotor_monitor::RotorMonitor;
+use super::state_source::StateSource;
 use super::{Control, FlightCore, Pilot};
 
 /// Where the setpoint of every tick comes from.
@@ -47,7 +47,7 @@ pub struct SetpointFollower<S> {
     /// Where the setpoints come from.
     pub source: S,
     rotors: RotorMonitor,
-    nav: Navigator,
+    nav: StateSource,
 }
 
 impl<S: SetpointSource> SetpointFollower<S> {
@@ -58,7 +58,7 @@ impl<S: SetpointSource> SetpointFollower<S> {
             core,
             source,
             rotors,
-            nav: Navigator::default(),
+            nav: StateSource::default(),
         }
     }
 

@@ -15,7 +15,7 @@
 //! - [`flight_core`]: one control tick: estimator → controller → allocation → estimator.
 //! - [`controller`]: the flight controller.
 //! - [`follower`]: the bare flight core and its setpoint sources.
-//! - [`navigator`]: the state the controllers fly on: the state sensor's, or the navigation
+//! - [`state_source`]: the state the controllers fly on: the state sensor's, or the navigation
 //!   filter's estimate.
 //! - [`offboard_pilot`]: the flight controller in OFFBOARD along a setpoint source.
 //! - [`motor_failures`]: what the flight controller knows and does about failed motors:
@@ -24,15 +24,15 @@
 //! - [`snapshot`]: the telemetry snapshot of a tick (the one place it is built).
 //! - `stale_check`: a sensor whose readings repeat exactly is stuck (PX4's data validator).
 
-pub mod controller;
+pub mod flight_controller;
 pub mod flight_core;
 pub mod follower;
 pub mod motor_failures;
-pub mod navigator;
 pub mod offboard_pilot;
 pub mod rotor_monitor;
 pub mod snapshot;
 mod stale_check;
+pub mod state_source;
 
 use crate::allocation::RotorSpeeds;
 use crate::commander::Event;
@@ -40,12 +40,12 @@ use crate::control::{FlatSetpoint, VehicleState};
 use crate::params::ParamTable;
 use crate::sitl::{EscReport, PlantTruth, Sensors};
 
-pub use controller::{FlightController, Reply, AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
+pub use flight_controller::{FlightController, Reply, AUTOPILOT_TILT_MAX_DEG, DEFAULT_ESTIMATOR};
 pub use flight_core::{vehicle_model, CoreError, CoreStep, FlightCore};
 pub use follower::{SetpointFollower, SetpointSource};
 pub use motor_failures::{MotorChange, MotorFailureParams, MotorFailures};
-pub use navigator::Navigator;
 pub use offboard_pilot::OffboardPilot;
+pub use state_source::StateSource;
 
 /// What one control tick commands.
 #[derive(Debug, Clone, PartialEq)]

@@ -86,9 +86,9 @@ mod tests {
     use super::*;
     use crate::airframe::{Airframe, AirframeSource};
     use crate::control::{ControllerKind, FlatSetpoint};
+    use crate::guidance::Home;
     use crate::lockstep::Lockstep;
     use crate::math::Vec3;
-    use crate::navigation::Home;
     use crate::sitl::SimPlant;
 
     #[test]

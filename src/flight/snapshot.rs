@@ -63,7 +63,7 @@ impl FlightController {
                 consumed_mah: gauge.consumed_mah(&pack),
                 energy_j: gauge.used_j(),
             },
-            nav: self.navigator().snapshot(t_s, self.commander().navigation_armable()),
+            nav: self.state_source().snapshot(t_s, self.commander().navigation_armable()),
             truth: Some(*truth),
             ..Snapshot::initial(self.home())
         }

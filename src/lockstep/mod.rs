@@ -236,7 +236,7 @@ mod tests {
     use crate::commander::Event;
     use crate::control::{ControllerKind, FlatSetpoint};
     use crate::flight::{FlightCore, SetpointFollower};
-    use crate::navigation::Home;
+    use crate::guidance::Home;
 
     fn hover(preset: &str) -> Lockstep<SetpointFollower<FlatSetpoint>> {
         let src = AirframeSource::resolve(preset).unwrap();

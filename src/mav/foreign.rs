@@ -93,7 +93,7 @@ pub fn ekf_status_report(s: &Snapshot) -> ForeignMessage {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::navigation::Home;
+    use crate::guidance::Home;
     use crate::telemetry::FilterSnapshot;
 
     fn header() -> MavHeader {

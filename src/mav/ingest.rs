@@ -1,6 +1,6 @@
 //! One inbound message → what the link does with it (docs/mavlink.md §1–§9), decided without
-//! sockets, clocks or shared state. Pure: the link (`runtime::link`) matches on the
-//! [`Action`] and performs it; the fuzz target `mavlink_ingest` does the same without sockets.
+//! sockets, clocks or shared state. Pure: the link state machine ([`LinkMachine`](super::link::LinkMachine),
+//! `inbound.rs`) matches on the [`Action`] and carries it out; the fuzz target `mavlink_ingest` does the same without sockets.
 //!
 //! The decision functions are the protocol modules' own ([`decode_command`],
 //! [`decode_command_int`], the offboard decoders, [`decode_param_set`], …); this module only
@@ -11,12 +11,12 @@ use mavlink::dialects::common::{MavMessage, MavMissionResult, MavMissionType, Ma
 use mavlink::MavHeader;
 
 use crate::commander::Request;
-use crate::navigation::{Home, Sticks};
+use crate::guidance::{Home, Sticks};
 
 use super::logs::LogRequest;
 use super::mission_xfer::{mission_ack, uploadable, Ids};
 use super::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
-use super::params::{decode_param_set, name_of};
+use super::param_encoding::{decode_param_set, name_of};
 use super::services::{ping_reply, timesync_reply};
 use super::signing::SigningKey;
 use super::translate::{

@@ -3,8 +3,8 @@
 
 use mavlink::dialects::common::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
 
+use crate::guidance::{Home, Mission, MissionItem};
 use crate::math::Vec3;
-use crate::navigation::{Home, Mission, MissionItem};
 
 /// Why a mission was refused: the item and the result.
 #[derive(Debug, Clone, Copy, PartialEq)]

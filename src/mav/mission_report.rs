@@ -98,7 +98,7 @@ impl MissionReport {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::navigation::Home;
+    use crate::guidance::Home;
     use MavMissionState::*;
 
     fn snapshot(mode: FlightMode, seq: u16, total: u16, state: MissionState) -> Snapshot {

@@ -47,24 +47,24 @@ pub mod metadata;
 pub mod mission_items;
 pub mod mission_report;
 pub mod mission_xfer;
-pub mod modes;
 pub mod motor_outputs;
 mod nav_status;
 pub mod offboard;
 pub mod orbit;
-pub mod params;
+pub mod param_encoding;
 pub mod plan_items;
 pub mod plan_store;
 pub mod reposition;
 pub mod services;
 pub mod shell;
 pub mod signing;
+pub mod standard_modes;
 mod status;
+pub mod stream_messages;
 pub mod streams;
-pub mod telemetry;
 pub mod translate;
 
-/// The raw MAVLink types of the bench client's API ([`crate::bench::client`]): it is a ground
+/// The raw MAVLink types of the bench client's API ([`crate::runners::bench::client`]): it is a ground
 /// station, and the tests send and match arbitrary messages through it. The runtime never names
 /// them; it deals in [`link`]'s types.
 pub use mavlink::dialects::common::{MavCmd, MavMessage, MavResult};

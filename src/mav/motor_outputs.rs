@@ -65,7 +65,7 @@ pub(super) fn actuator_output_status(s: &Snapshot, time_usec: u64) -> MavMessage
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::navigation::Home;
+    use crate::guidance::Home;
 
     #[test]
     fn motor_outputs_go_out_as_px4_sitl_pwm_stopped_motors_at_900() {

@@ -16,7 +16,7 @@ use crate::telemetry::Snapshot;
 /// course, fix and satellites); without a GPS, the estimate. A receiver silent for a second is
 /// reported as PX4 does: no fix, accuracies, speed and course unknown (65535), satellites 255.
 pub(super) fn gps_raw_int(s: &Snapshot) -> MavMessage {
-    let time_usec = super::telemetry::time_usec(s);
+    let time_usec = super::stream_messages::time_usec(s);
     if s.nav.gps.is_some_and(|g| g.silent) {
         return MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
             time_usec,
@@ -76,7 +76,7 @@ fn course_cdeg(vel_w: &Vec3) -> u16 {
 /// ESTIMATOR_STATUS: the filter's validity flags, test ratios and accuracies (PX4's message);
 /// with the state sensor every estimate good and every ratio 0.
 pub(super) fn estimator_status(s: &Snapshot) -> MavMessage {
-    let time_usec = super::telemetry::time_usec(s);
+    let time_usec = super::stream_messages::time_usec(s);
     let Some(f) = s.nav.filter else {
         return MavMessage::ESTIMATOR_STATUS(ESTIMATOR_STATUS_DATA {
             time_usec,
@@ -120,7 +120,7 @@ pub(super) fn mag_and_baro(s: &Snapshot) -> (Vec3, f64, f64) {
 /// HIGHRES_IMU: the accelerometer (specific force), the gyroscope, the magnetometer and the
 /// barometer, with the fields that are new marked.
 pub(super) fn highres_imu(s: &Snapshot) -> MavMessage {
-    let time_usec = super::telemetry::time_usec(s);
+    let time_usec = super::stream_messages::time_usec(s);
     let (mag_b, pressure_hpa, temperature) = mag_and_baro(s);
     let alt = s.home.to_global(&s.pos_w).2;
     MavMessage::HIGHRES_IMU(HIGHRES_IMU_DATA {
@@ -165,7 +165,7 @@ pub(super) fn scaled_pressure(s: &Snapshot) -> Option<MavMessage> {
     }
     let (_, pressure_hpa, temperature_c) = mag_and_baro(s);
     Some(MavMessage::SCALED_PRESSURE(SCALED_PRESSURE_DATA {
-        time_boot_ms: super::telemetry::time_boot_ms(s),
+        time_boot_ms: super::stream_messages::time_boot_ms(s),
         press_abs: pressure_hpa as f32,
         temperature: (temperature_c * 100.0).round() as i16,
         ..Default::default()

@@ -8,8 +8,8 @@ use mavlink::dialects::common::{
 };
 
 use crate::control::{AttitudeTarget, FlatSetpoint};
+use crate::guidance::Home;
 use crate::math::{UnitQuat, Vec3};
-use crate::navigation::Home;
 
 const IGNORE_POS: u16 = 0b111;
 const IGNORE_VEL: u16 = 0b111 << 3;

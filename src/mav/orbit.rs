@@ -10,7 +10,7 @@
 use mavlink::dialects::common::{MavFrame, MavMessage, COMMAND_LONG_DATA, ORBIT_EXECUTION_STATUS_DATA};
 
 use crate::commander::{OrbitRequest, Outcome, Request};
-use crate::navigation::{Home, OrbitYaw};
+use crate::guidance::{Home, OrbitYaw};
 use crate::telemetry::Snapshot;
 
 use super::translate::CommandDecision;
@@ -55,7 +55,7 @@ pub fn orbit_execution_status(s: &Snapshot) -> Option<MavMessage> {
     let (centre_w, radius_m) = s.orbit?;
     let (lat, lon, alt) = s.home.to_global(&centre_w);
     Some(MavMessage::ORBIT_EXECUTION_STATUS(ORBIT_EXECUTION_STATUS_DATA {
-        time_usec: super::telemetry::time_usec(s),
+        time_usec: super::stream_messages::time_usec(s),
         radius: radius_m as f32,
         frame: MavFrame::MAV_FRAME_GLOBAL,
         x: (lat * 1e7).round() as i32,

@@ -14,9 +14,9 @@
 use mavlink::dialects::common::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
 
 use super::mission_items::ItemError;
+use crate::guidance::geofence::{Shape, Zone};
+use crate::guidance::{Geofence, Home, RallyPoints};
 use crate::math::Vec3;
-use crate::navigation::geofence::{Shape, Zone};
-use crate::navigation::{Geofence, Home, RallyPoints};
 
 /// The item's position in local NED [m] when its frame is a global one. Unlike a mission item, a
 /// zone may lie anywhere on Earth (PX4 takes MAVSDK's placeholder circle at 0°, 0°): only a

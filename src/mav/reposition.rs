@@ -8,7 +8,7 @@
 use mavlink::dialects::common::{MavFrame, COMMAND_INT_DATA, COMMAND_LONG_DATA};
 
 use crate::commander::{Outcome, Request};
-use crate::navigation::Home;
+use crate::guidance::Home;
 
 use super::translate::{on_earth, CommandDecision};
 

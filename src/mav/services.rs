@@ -7,7 +7,7 @@
 use mavlink::dialects::common::{MavMessage, MavProtocolCapability, AUTOPILOT_VERSION_DATA, PING_DATA, TIMESYNC_DATA};
 use mavlink::MavHeader;
 
-use super::telemetry::TelemetryStream;
+use super::stream_messages::TelemetryStream;
 use super::translate::Identity;
 
 /// A message sent on request.

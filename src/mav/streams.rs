@@ -2,7 +2,7 @@
 //! changed by SET_MESSAGE_INTERVAL and REQUEST_DATA_STREAM; given the time, which streams are
 //! due. Pure: the link passes the simulated time, in seconds.
 
-use super::telemetry::TelemetryStream;
+use super::stream_messages::TelemetryStream;
 
 /// Fastest stream period: one tick [s].
 const MIN_PERIOD_S: f64 = 0.001;

@@ -8,12 +8,12 @@ use mavlink::dialects::common::{MavCmd, MavMessage, COMMAND_INT_DATA, COMMAND_LO
 use mavlink::MavHeader;
 
 use crate::commander::{FlightMode, ModeRefusal, Outcome, Request};
-use crate::navigation::Home;
+use crate::guidance::Home;
 
 pub use super::identity::{command_ack, heartbeat, result_of, Identity};
 use super::services::one_shot;
 pub use super::services::OneShot;
-use super::telemetry::TelemetryStream;
+use super::stream_messages::TelemetryStream;
 
 /// Force-arm magic numbers in ARM_DISARM param2: the spec's and MAVProxy's.
 const FORCE_MAGIC: [f32; 2] = [21196.0, 2989.0];

@@ -6,7 +6,7 @@ use crate::math::Vec3;
 use super::covariance::{fuse_group, ScalarObservation};
 use super::error_state::ErrorStateFilter;
 use super::fusion::Fusion;
-use super::params::{NavParams, GPS_CTRL_FUSED, IMU_CTRL_GRAVITY};
+use super::nav_params::{NavParams, GPS_CTRL_FUSED, IMU_CTRL_GRAVITY};
 use super::state::ERR_POS;
 
 /// Time without horizontal aiding after which the status reports dead reckoning [s]
@@ -104,7 +104,7 @@ mod tests {
     use super::*;
     use crate::math::UnitQuat;
     use crate::nav_filter::alignment::initial_covariance;
-    use crate::nav_filter::params::HeightSource;
+    use crate::nav_filter::nav_params::HeightSource;
     use crate::nav_filter::state::Nominal;
 
     #[test]

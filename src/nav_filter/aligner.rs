@@ -8,7 +8,7 @@ use crate::math::{UnitQuat, Vec3, GRAVITY_M_S2};
 use super::alignment::{initial_covariance, tilt_from_accel, vertical_accel_bias, yaw_from_mag};
 use super::error_state::ErrorStateFilter;
 use super::fuse_mag::{heading_jacobian, tan_inclination};
-use super::params::{HeightSource, NavParams};
+use super::nav_params::{HeightSource, NavParams};
 use super::readings::ImuReading;
 use super::state::Nominal;
 

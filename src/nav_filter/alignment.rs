@@ -5,7 +5,7 @@
 
 use crate::math::{Mat3, UnitQuat, Vec3, GRAVITY_M_S2};
 
-use super::params::{HeightSource, NavParams};
+use super::nav_params::{HeightSource, NavParams};
 use super::state::{Covariance, ERR_ACCEL_BIAS, ERR_ATT, ERR_BARO_OFFSET, ERR_GYRO_BIAS, ERR_POS, ERR_VEL};
 
 /// Smallest horizontal share of the magnetic field that gives a heading [-].

@@ -9,8 +9,8 @@ use super::covariance::{self, fuse_group, Increments, ProcessNoise, ScalarObserv
 use super::delay_buffer::{DelayBuffer, PastState};
 use super::estimate::NavEstimate;
 use super::fusion::{Fusion, FusionOutcome};
+use super::nav_params::{HeightSource, NavParams};
 use super::output::{NavOutput, OutputLag};
-use super::params::{HeightSource, NavParams};
 use super::predict::{integrate, MAX_IMU_DT_S};
 use super::readings::ImuReading;
 use super::state::{part, rotate_world, Covariance, ErrorVector, Nominal, ERR_ATT, ERR_POS, ERR_VEL, STATE_DIM};

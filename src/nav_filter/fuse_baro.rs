@@ -8,7 +8,7 @@ use super::error_state::ErrorStateFilter;
 use super::fusion::{Fusion, FusionOutcome, SkipReason};
 use super::height::HeightSelection;
 use super::isa::pressure_altitude_m;
-use super::params::{HeightSource, NavParams};
+use super::nav_params::{HeightSource, NavParams};
 use super::readings::BaroReading;
 use super::reporting::FilterReport;
 use super::state::{ErrorVector, ERR_BARO_OFFSET, ERR_POS};

@@ -10,7 +10,7 @@ use super::delay_buffer::PastState;
 use super::error_state::ErrorStateFilter;
 use super::fusion::{Fusion, FusionOutcome, GpsFusion, SkipReason};
 use super::height::HeightSelection;
-use super::params::{HeightSource, NavParams, GPS_CTRL_FUSED};
+use super::nav_params::{HeightSource, NavParams, GPS_CTRL_FUSED};
 use super::readings::GpsReading;
 use super::reporting::FilterReport;
 use super::state::{ERR_POS, ERR_VEL};

@@ -7,7 +7,7 @@ use crate::math::{hat, Mat3, UnitQuat, Vec3, GRAVITY_M_S2};
 use super::covariance::{fuse_shaped, ScalarObservation};
 use super::error_state::ErrorStateFilter;
 use super::fusion::{Fusion, FusionOutcome, SkipReason};
-use super::params::{HeightSource, NavParams, IMU_CTRL_GRAVITY};
+use super::nav_params::{HeightSource, NavParams, IMU_CTRL_GRAVITY};
 use super::state::{ErrorVector, ERR_ATT};
 
 /// Decay time constant of the peak-holding filter on |f| whose value gates the fusion [s]

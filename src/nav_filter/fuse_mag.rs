@@ -9,7 +9,7 @@ use super::alignment::{yaw_from_mag, MIN_HORIZONTAL_FIELD_SHARE};
 use super::covariance::{fuse_shaped, ScalarObservation};
 use super::error_state::ErrorStateFilter;
 use super::fusion::{Fusion, FusionOutcome, SkipReason};
-use super::params::{HeightSource, NavParams, MAG_TYPE_NONE};
+use super::nav_params::{HeightSource, NavParams, MAG_TYPE_NONE};
 use super::readings::{finite3, MagReading};
 use super::reporting::FilterReport;
 use super::state::{ErrorVector, ERR_ATT, ERR_GYRO_BIAS};

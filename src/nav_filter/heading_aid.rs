@@ -13,7 +13,7 @@ use crate::math::{wrap_pi, Vec3};
 
 use super::covariance::uncorrelate;
 use super::error_state::{ErrorStateFilter, ImuInterval};
-use super::params::NavParams;
+use super::nav_params::NavParams;
 use super::state::ERR_ATT;
 use super::yaw_estimator::YawEstimator;
 
@@ -103,7 +103,7 @@ mod tests {
     use super::*;
     use crate::math::UnitQuat;
     use crate::nav_filter::alignment::initial_covariance;
-    use crate::nav_filter::params::HeightSource;
+    use crate::nav_filter::nav_params::HeightSource;
     use crate::nav_filter::state::Nominal;
 
     #[test]

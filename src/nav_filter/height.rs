@@ -8,7 +8,7 @@ use crate::math::Vec3;
 use super::covariance::{fuse_group, uncorrelate, ScalarObservation};
 use super::error_state::ErrorStateFilter;
 use super::fusion::{Fusion, FusionOutcome};
-use super::params::{HeightSource, NavParams};
+use super::nav_params::{HeightSource, NavParams};
 use super::reporting::FilterReport;
 use super::state::{ERR_BARO_OFFSET, ERR_POS};
 use super::status::ResetCounters;

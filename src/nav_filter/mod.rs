@@ -49,9 +49,9 @@ mod fusion;
 mod heading_aid;
 mod height;
 pub mod isa;
+mod nav_params;
 mod orchestration;
 mod output;
-mod params;
 mod predict;
 mod preflight;
 mod readings;
@@ -66,10 +66,10 @@ mod tests;
 pub use aiding::DEAD_RECKONING_AFTER_S;
 pub use estimate::NavEstimate;
 pub use fusion::{Fusion, FusionOutcome, GpsFusion, SkipReason};
-pub use output::NavOutput;
-pub use params::{
+pub use nav_params::{
     HeightSource, NavParams, NavParamsError, GPS_CTRL_FUSED, IMU_CTRL_GRAVITY, MAG_TYPE_NONE, MAX_DELAY_S,
 };
+pub use output::NavOutput;
 pub use preflight::PreflightFailure;
 pub use readings::{BaroReading, GpsReading, ImuReading, MagReading};
 pub use state::{

@@ -9,7 +9,7 @@ use super::alignment::initial_covariance;
 use super::fuse_baro::BaroAid;
 use super::fuse_mag::MagHeading;
 use super::fusion::{Fusion, GpsFusion, SkipReason};
-use super::params::HeightSource;
+use super::nav_params::HeightSource;
 use super::readings::{BaroReading, GpsReading, ImuReading, MagReading};
 use super::state::Nominal;
 use super::NavFilter;

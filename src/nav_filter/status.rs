@@ -4,7 +4,7 @@
 use crate::math::Vec3;
 
 use super::fusion::FusionOutcome;
-use super::params::HeightSource;
+use super::nav_params::HeightSource;
 
 /// Health of one sensor (docs/navigation_filter.md §13).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -143,7 +143,7 @@ impl ParamTable {
 mod tests {
     use super::*;
     use crate::control::{ControllerGains, ControllerKind};
-    use crate::estimation::ChebyshevDesign;
+    use crate::wrench_estimator::ChebyshevDesign;
 
     fn settings() -> VehicleSettings {
         VehicleSettings::new(ControllerKind::Geometric, ControllerGains::default(), None)

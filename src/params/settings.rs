@@ -4,10 +4,10 @@
 use crate::allocation::Airmode;
 use crate::commander::CommanderParams;
 use crate::control::{ControllerGains, ControllerKind};
-use crate::estimation::ChebyshevDesign;
 use crate::flight::MotorFailureParams;
 use crate::nav_filter::NavParams;
 use crate::ulog::LogMode;
+use crate::wrench_estimator::ChebyshevDesign;
 
 /// The settings the table describes, as the flight software uses them.
 #[derive(Debug, Clone, PartialEq)]

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use crate::estimation::log_replay::ReplayRow;
+use crate::wrench_estimator::log_replay::ReplayRow;
 
 /// Final external wrench: force world NED [N], torque body FRD [N·m].
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]

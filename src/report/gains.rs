@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::estimation::{estimator_gains, ChebyshevDesign, DesignError};
+use crate::wrench_estimator::{estimator_gains, ChebyshevDesign, DesignError};
 
 /// Estimator design: monic denominator, gains, poles and stability at Ts.
 #[derive(Debug, Clone, Serialize)]

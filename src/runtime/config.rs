@@ -8,7 +8,7 @@ use thiserror::Error;
 
 use crate::airframe::AirframeSource;
 use crate::control::ControllerKind;
-use crate::navigation::Home;
+use crate::guidance::Home;
 
 use super::impairment::{LinkCounts, LinkImpairment};
 use super::log_place::LogPlace;

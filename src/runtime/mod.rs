@@ -41,13 +41,13 @@ use std::time::Duration;
 
 use tokio::sync::{mpsc, watch};
 
+use crate::guidance::Home;
 use crate::math::Vec3;
 use crate::mav::link::{LinkConfig, LinkMachine};
 use crate::mav::logs::{LogStore, MemLogStore};
 use crate::mav::signing::Signing;
 use crate::mav::streams::LinkKind;
 use crate::mav::translate::Identity;
-use crate::navigation::Home;
 use crate::telemetry::Snapshot;
 
 pub use config::{Ready, RunConfig, RunReport, RuntimeError, VehicleLinkCounts, VehicleReady, DEFAULT_SPACING_M};

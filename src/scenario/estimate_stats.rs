@@ -3,8 +3,8 @@
 
 use serde::Serialize;
 
-use crate::estimation::WrenchEstimate;
 use crate::math::Vec3;
+use crate::wrench_estimator::WrenchEstimate;
 
 /// Passband time constants the estimator is given to settle before its errors count [-]:
 /// settle time = this / ω_p (docs/estimator.md §3).

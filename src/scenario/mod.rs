@@ -52,13 +52,13 @@ use thiserror::Error;
 
 use crate::airframe::{Airframe, AirframeSource};
 use crate::control::{ControllerGains, ControllerKind, DesiredRateMode};
-use crate::estimation::{ChebyshevDesign, WrenchObserver};
 use crate::flight::{vehicle_model, CoreError, FlightController, FlightCore};
+use crate::guidance::trajectory::Trajectory;
+use crate::guidance::Home;
 use crate::lockstep::{FailureSchedule, ScheduledFailure, ScheduledSensorFailure};
 use crate::math::{UnitQuat, Vec3};
-use crate::navigation::trajectory::Trajectory;
-use crate::navigation::Home;
 use crate::sitl::SensorModel;
+use crate::wrench_estimator::{ChebyshevDesign, WrenchObserver};
 
 pub use merge::merge_tables;
 

@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use crate::control::{ControllerKind, DesiredRateMode};
-use crate::navigation::trajectory::TrajectorySpec;
+use crate::guidance::trajectory::TrajectorySpec;
 
 /// Top level of a scenario file.
 #[derive(Debug, Deserialize)]

@@ -13,13 +13,13 @@
 //! Reading a ULog back (`estimate`) is `estimation::ulog_log`'s, with px4-ulog's parser.
 
 pub mod encoder;
-pub mod mode;
+pub mod log_mode;
 pub mod profile;
 pub mod recorder;
 pub mod topics;
 
 pub use encoder::ParamValue;
-pub use mode::{LogMode, LogSchedule};
+pub use log_mode::{LogMode, LogSchedule};
 pub use profile::Profile;
 pub use recorder::{micros, LogInfo, Recorder, RecorderSetup};
 pub use topics::Topic;

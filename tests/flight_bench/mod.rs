@@ -6,9 +6,9 @@ use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::commander::{Commander, CommanderParams, Event, Outcome, Request};
 use rotorpilot::control::ControllerKind;
 use rotorpilot::flight::FlightController;
+use rotorpilot::guidance::Home;
 use rotorpilot::lockstep::Lockstep;
 use rotorpilot::math::Vec3;
-use rotorpilot::navigation::Home;
 use rotorpilot::sitl::SimPlant;
 
 /// The flight controller flying the plant, and every event so far.

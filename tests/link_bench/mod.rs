@@ -5,12 +5,12 @@
 use mavlink::dialects::common::*;
 use mavlink::Message;
 use rotorpilot::control::{ControllerGains, ControllerKind};
+use rotorpilot::guidance::Home;
 use rotorpilot::mav::codec::{decode_datagram, encode_v2, Inbound};
 use rotorpilot::mav::gcs::{command_long, gcs_header};
 use rotorpilot::mav::link::{LinkConfig, LinkMachine, Now, ToVehicle};
 use rotorpilot::mav::streams::LinkKind;
 use rotorpilot::mav::translate::Identity;
-use rotorpilot::navigation::Home;
 use rotorpilot::params::{ParamTable, VehicleSettings};
 use rotorpilot::telemetry::Snapshot;
 

@@ -11,9 +11,9 @@ use mavlink::dialects::common::{
 };
 use mavlink::MavHeader;
 use rotorpilot::airframe::AirframeSource;
-use rotorpilot::bench::autopilot::InProcess;
-use rotorpilot::bench::client::{BenchClient, COMMAND_ATTEMPTS};
 use rotorpilot::control::ControllerKind;
+use rotorpilot::runners::bench::autopilot::InProcess;
+use rotorpilot::runners::bench::client::{BenchClient, COMMAND_ATTEMPTS};
 use rotorpilot::runtime::{Ready, RunConfig};
 use rotorpilot::sitl::SensorModel;
 

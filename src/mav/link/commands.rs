@@ -14,12 +14,12 @@ use mavlink::MavHeader;
 use super::boundary::{Token, VehicleRequest};
 use super::console::ShellSet;
 use super::effects::Effect;
+use super::param_service::ParamSet;
 use super::param_upload::UploadSet;
-use super::params::ParamSet;
 use super::{LinkKind, WARNING};
 use crate::commander::{Outcome, Request};
 use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
-use crate::mav::telemetry::{status_text, Outgoing};
+use crate::mav::stream_messages::{status_text, Outgoing};
 use crate::mav::translate::{command_ack, result_of};
 
 /// What the machine waits for from the vehicle.

@@ -13,7 +13,7 @@ use super::commands::Pending;
 use super::effects::Effect;
 use super::port::MAX_PEERS;
 use super::LinkKind;
-use crate::mav::params::param_value;
+use crate::mav::param_encoding::param_value;
 use crate::mav::shell::{self, frames, param_set_text, Context, LineBuffer, ShellOutcome, Typed, PROMPT};
 use crate::params::ParamTable;
 use crate::telemetry::Snapshot;
@@ -167,8 +167,8 @@ mod tests {
     use mavlink::dialects::common::{MavMessage, SerialControlDev};
 
     use super::*;
+    use crate::guidance::Home;
     use crate::mav::link::effects::testing::{param_names, sent, table};
-    use crate::navigation::Home;
 
     const GCS: LinkKind = LinkKind::Gcs;
 

@@ -11,7 +11,7 @@ use crate::commander::{Event, InputStream, LinkLossAction, Request};
 use crate::mav::foreign::ekf_status_report;
 use crate::mav::identity::heartbeat;
 use crate::mav::signing::unix_us_from_timestamp;
-use crate::mav::telemetry::{message, status_text, system_time, Outgoing, TelemetryStream};
+use crate::mav::stream_messages::{message, status_text, system_time, Outgoing, TelemetryStream};
 
 /// How often the link looks at what is due (wall time) [s].
 pub const DUTY_PERIOD_S: f64 = 0.005;

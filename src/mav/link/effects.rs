@@ -9,8 +9,8 @@ use mavlink::dialects::common::MavMessage;
 use super::boundary::{KeyToStore, VehicleRequest};
 use super::commands::Pending;
 use crate::mav::ftp::{ErrorCode, ParamUpload, Payload};
+use crate::mav::stream_messages::Outgoing;
 use crate::mav::streams::LinkKind;
-use crate::mav::telemetry::Outgoing;
 
 /// Where an answer goes: link, client address, client's MAVLink ids (system, component).
 pub(super) type Client<A> = (LinkKind, A, (u8, u8));
@@ -48,8 +48,8 @@ pub(super) mod testing {
 
     use super::Effect;
     use crate::control::{ControllerGains, ControllerKind};
+    use crate::mav::stream_messages::Outgoing;
     use crate::mav::streams::LinkKind;
-    use crate::mav::telemetry::Outgoing;
     use crate::params::{ParamTable, VehicleSettings};
 
     /// The table of a geometric controller with default gains.

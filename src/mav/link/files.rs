@@ -16,7 +16,7 @@ use super::LinkKind;
 use crate::mav::ftp::{ErrorCode, FtpServer, Payload, Storage, Vfs};
 use crate::mav::logs::LogStore;
 use crate::mav::metadata::{self, MetadataFiles};
-use crate::mav::params::packed_params;
+use crate::mav::param_encoding::packed_params;
 use crate::params::ParamTable;
 
 /// Wall time between two frames of a burst read [s].

@@ -17,10 +17,10 @@ use crate::mav::calibration;
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::CommandKey;
 use crate::mav::ingest::{ingest, Action};
-use crate::mav::modes::{available_modes, protocol_version};
 use crate::mav::services::autopilot_version;
 use crate::mav::signing::Verdict;
-use crate::mav::telemetry::{status_text, Outgoing};
+use crate::mav::standard_modes::{available_modes, protocol_version};
+use crate::mav::stream_messages::{status_text, Outgoing};
 use crate::mav::translate::{CommandDecision, OneShot};
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {

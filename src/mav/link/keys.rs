@@ -12,7 +12,7 @@ use super::boundary::KeyToStore;
 use super::effects::Effect;
 use super::{LinkKind, INFO, WARNING};
 use crate::mav::signing::{Signing, SigningKey, Verdict};
-use crate::mav::telemetry::status_text;
+use crate::mav::stream_messages::status_text;
 
 /// The signing of every link and the key file's answers awaited.
 #[derive(Debug)]

@@ -14,14 +14,14 @@ use super::commands::Pending;
 use super::effects::Effect;
 use super::{LinkKind, CRITICAL, WARNING};
 use crate::commander::Request;
+use crate::guidance::{Geofence, Home, Mission, RallyPoints};
 use crate::mav::ingest::MissionStep;
 use crate::mav::mission_items::{parse_mission, ItemError};
 use crate::mav::mission_report::MissionReport;
 use crate::mav::mission_xfer::{Completed, Ids, MissionTransfer, TIMEOUT_TEXT};
 use crate::mav::plan_items::{parse_fence, parse_rally};
 use crate::mav::plan_store::{plan_name, PlanStore, PLAN_TYPES};
-use crate::mav::telemetry::status_text;
-use crate::navigation::{Geofence, Home, Mission, RallyPoints};
+use crate::mav::stream_messages::status_text;
 use crate::telemetry::Snapshot;
 
 /// The commander request that puts plan `mission_type` of `items` in force, or why not.

@@ -48,8 +48,8 @@ mod inbound;
 mod keys;
 mod logs;
 mod mission;
+mod param_service;
 mod param_upload;
-mod params;
 mod port;
 
 use std::collections::VecDeque;
@@ -66,8 +66,8 @@ use crate::telemetry::Snapshot;
 use super::codec::frame_message;
 use super::ftp::Vfs;
 use super::metadata::MetadataFiles;
+use super::stream_messages::Outgoing;
 use super::streams::LinkKind;
-use super::telemetry::Outgoing;
 use super::translate::Identity;
 pub use boundary::{KeyToStore, LinkConfig, Now, Said, ToVehicle, Token, Transmit, VehicleReply, VehicleRequest};
 use commands::{AckOf, CommandService, Pending};
@@ -78,7 +78,7 @@ use keys::SigningKeys;
 use logs::LogService;
 pub use logs::{LOG_MESSAGES_AT_ONCE, LOG_MESSAGE_PERIOD_S};
 use mission::PlanService;
-use params::ParamService;
+use param_service::ParamService;
 use port::Port;
 pub use port::{HeldForClients, MAX_PEERS, PEER_EVICT_S, PEER_TIMEOUT_S};
 
@@ -182,7 +182,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// A notice of the runtime (the logger's "[logger] ./log/…" when a flight log begins),
     /// announced as an information STATUSTEXT to every target of every link.
     pub fn handle_notice(&mut self, now: Now, text: &str) {
-        self.broadcast(now, &super::telemetry::status_text(INFO, text));
+        self.broadcast(now, &super::stream_messages::status_text(INFO, text));
     }
 
     /// The vehicle's answer to the request `token` named.

@@ -22,7 +22,7 @@ use super::commands::Pending;
 use super::effects::{Client, Effect};
 use super::WARNING;
 use crate::mav::ftp::{ErrorCode, ParamUpload, Payload, EINVAL};
-use crate::mav::telemetry::status_text;
+use crate::mav::stream_messages::status_text;
 use crate::params::ParamError;
 
 /// PARAM_SETs of one upload waiting for the vehicle at once.

@@ -1,6 +1,6 @@
 use super::*;
 use crate::control::{ControllerGains, ControllerKind};
-use crate::navigation::Home;
+use crate::guidance::Home;
 use crate::params::VehicleSettings;
 
 fn table() -> ParamTable {

@@ -1,7 +1,7 @@
 //! The wrench estimator's Chebyshev design (`RP_EST_*`, docs/estimator.md §6): order 0 switches it off.
 
-use crate::estimation::{ChebyshevDesign, MAX_ORDER};
 use crate::params::{ParamDef, VehicleSettings};
+use crate::wrench_estimator::{ChebyshevDesign, MAX_ORDER};
 
 /// Ripple [dB] and passband edge [rad/s] shown while the estimator is off, and taken when an
 /// order switches it on before its ripple and edge are set (the homework's first design).

@@ -2,7 +2,7 @@
 //! fast, and how the target's reports are smoothed. MAVSDK's `follow_me.set_config` writes
 //! these with the wire types PX4 declares (REAL32, `FLW_TGT_ALT_M` INT32).
 
-use crate::navigation::FollowAltitude;
+use crate::guidance::FollowAltitude;
 use crate::params::ParamDef;
 
 /// Follow-me settings (appended after the stick rows).

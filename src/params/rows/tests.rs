@@ -1,7 +1,7 @@
 use super::*;
 use crate::control::{ControllerGains, ControllerKind};
-use crate::estimation::ChebyshevDesign;
 use crate::params::{ParamType, VehicleSettings};
+use crate::wrench_estimator::ChebyshevDesign;
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
 const WIRE_ORDER: [&str; 152] = [

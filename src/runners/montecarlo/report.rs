@@ -4,8 +4,8 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use crate::estimation::ChebyshevDesign;
 use crate::lockstep::ScheduledFailure;
+use crate::wrench_estimator::ChebyshevDesign;
 
 use super::envelope::Envelope;
 use super::stats::{Band, ControllerSummary};

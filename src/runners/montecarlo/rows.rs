@@ -111,8 +111,8 @@ pub fn rows(controllers: &[ControllerKind], seed: u64, draws: &[Draw], results: 
 mod tests {
     use super::*;
     use crate::lockstep::Exit;
-    use crate::montecarlo::envelope::draws;
-    use crate::montecarlo::TrialOutcome;
+    use crate::runners::montecarlo::envelope::draws;
+    use crate::runners::montecarlo::TrialOutcome;
     use crate::sweep::results::{columns, ColumnKind};
 
     #[test]

@@ -1,5 +1,5 @@
 use super::*;
-use crate::navigation::Home;
+use crate::guidance::Home;
 
 const MARGIN_M: f64 = 4.0;
 

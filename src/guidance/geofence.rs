@@ -149,7 +149,7 @@ fn in_polygon(vertices: &[Point2], p: Point2) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::navigation::Home;
+    use crate::guidance::Home;
 
     /// A 20 m square centred on home, and an L-shaped (concave) polygon.
     fn square(inclusion: bool) -> Zone {

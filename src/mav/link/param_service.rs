@@ -21,8 +21,8 @@ use super::param_upload::{UploadSet, Uploads};
 use super::port::MAX_PEERS;
 use super::{LinkKind, WARNING};
 use crate::mav::ftp::ParamUpload;
-use crate::mav::params::{hash_check, param_error_unknown, param_value, HASH_CHECK};
-use crate::mav::telemetry::status_text;
+use crate::mav::param_encoding::{hash_check, param_error_unknown, param_value, HASH_CHECK};
+use crate::mav::stream_messages::status_text;
 use crate::params::{ParamError, ParamTable};
 
 /// Wall time between two PARAM_VALUEs of a list [s].

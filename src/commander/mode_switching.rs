@@ -6,8 +6,8 @@
 //! (`MPC_XY_CRUISE` or DO_CHANGE_SPEED's), capped at `MPC_XY_VEL_MAX` ([`AutoPaths`]).
 
 use crate::control::VehicleState;
+use crate::guidance::Guidance;
 use crate::math::{euler_zyx, Vec3};
-use crate::navigation::Guidance;
 
 use super::auto_paths::AutoPaths;
 use super::follow::FollowCommand;
@@ -359,5 +359,5 @@ impl Commander {
 }
 
 #[cfg(test)]
-#[path = "modes_tests.rs"]
+#[path = "mode_switching_tests.rs"]
 mod tests;

@@ -6,10 +6,10 @@
 use serde::Serialize;
 
 use super::{BenchError, BenchOptions};
-use crate::sweep_run::LoadedSweep;
+use crate::runners::sweep_run::LoadedSweep;
 
 /// The Ex. 4 scenario the sweep varies.
-const EX4: &str = include_str!("../../scenarios/ex4_estimator.toml");
+const EX4: &str = include_str!("../../../scenarios/ex4_estimator.toml");
 
 /// Runs per second on one worker and on every core.
 #[derive(Debug, Clone, Copy, Serialize)]

@@ -11,11 +11,11 @@ use thiserror::Error;
 
 use crate::airframe::{Airframe, AirframeSource};
 use crate::control::{ControllerKind, FlatSetpoint};
-use crate::estimation::{ChebyshevDesign, DesignError, ObserverError, WrenchObserver};
 use crate::flight::{FlightCore, SetpointFollower};
 use crate::lockstep::{FailureSchedule, Guard, Lockstep, ScheduledFailure, SetupError};
 use crate::math::Vec3;
 use crate::sitl::{SensorModel, SimPlant};
+use crate::wrench_estimator::{ChebyshevDesign, DesignError, ObserverError, WrenchObserver};
 
 use super::envelope::Draw;
 use super::judging::Judge;

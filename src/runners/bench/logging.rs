@@ -12,13 +12,13 @@ use serde::Serialize;
 use super::{BenchError, BenchOptions};
 use crate::commander::Request;
 use crate::control::ControllerKind;
-use crate::fly::{fly, FlyOptions};
-use crate::navigation::Home;
+use crate::guidance::Home;
+use crate::runners::fly::{fly, FlyOptions};
+use crate::runners::scenario_run::simulate;
 use crate::runtime::flight_log;
 use crate::runtime::log_store::LogDir;
 use crate::runtime::vehicle::Vehicle;
 use crate::scenario::Scenario;
-use crate::sim::simulate;
 use crate::sitl::SensorModel;
 use crate::ulog::Profile;
 
@@ -26,7 +26,7 @@ use crate::ulog::Profile;
 const REALTIME_TICK_US: f64 = 1000.0;
 
 /// The Ex. 4 scenario `sim` is timed on.
-const EX4: &str = include_str!("../../scenarios/ex4_estimator.toml");
+const EX4: &str = include_str!("../../../scenarios/ex4_estimator.toml");
 
 /// One program timed with and without its log.
 #[derive(Debug, Clone, Copy, Serialize)]

@@ -20,9 +20,9 @@ use thiserror::Error;
 use crate::airframe::{Airframe, AirframeSource};
 use crate::allocation::Allocator;
 use crate::control::ControllerKind;
-use crate::estimation::ChebyshevDesign;
 use crate::flight::CoreError;
 use crate::lockstep::{ScheduledFailure, SetupError};
+use crate::wrench_estimator::ChebyshevDesign;
 
 pub use envelope::{draws, Draw, Envelope, EnvelopeError};
 pub use report::Report;

@@ -1,9 +1,9 @@
 //! Runs of one control law spread over worker threads by the engine sweeps use
-//! ([`crate::sweep_run::engine`]): a panicking run is counted instead of ending the campaign,
+//! ([`crate::runners::sweep_run::engine`]): a panicking run is counted instead of ending the campaign,
 //! and results are stored by run index, so the thread count never changes a report.
 
 use crate::control::ControllerKind;
-use crate::sweep_run::engine::map_guarded;
+use crate::runners::sweep_run::engine::map_guarded;
 
 use super::envelope::Draw;
 use super::stats::RunResult;
@@ -35,7 +35,7 @@ where
 mod tests {
     use super::*;
     use crate::lockstep::Exit;
-    use crate::montecarlo::envelope::{draws, Envelope};
+    use crate::runners::montecarlo::envelope::{draws, Envelope};
 
     fn outcome(ticks: u64) -> TrialOutcome {
         TrialOutcome {

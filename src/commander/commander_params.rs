@@ -1,6 +1,6 @@
 //! The commander's settings, with PX4's parameter names and defaults.
 
-use crate::navigation::{FollowParams, MotionLimits, StickShaping};
+use crate::guidance::{FollowParams, MotionLimits, StickShaping};
 
 use super::{
     ActuatorFailureAction, BatteryParams, FailsafeParams, LandDetectorParams, LinkLossAction, ManualInputMode,

@@ -1,6 +1,6 @@
 //! What the flight controller knows of its own state: the state sensor's reading as it is, or
 //! the navigation filter's estimate from the sensor suite (docs/navigation_filter.md). Pure: one
-//! [`Navigator::update`] per tick with that tick's readings.
+//! [`StateSource::update`] per tick with that tick's readings.
 
 use crate::commander::NavValidity;
 use crate::control::low_pass::LowPass3;
@@ -40,7 +40,7 @@ struct LatestReadings {
 
 /// The state sensor passed through, or the navigation filter.
 #[derive(Debug, Clone)]
-pub struct Navigator {
+pub struct StateSource {
     filter: NavFilter,
     /// The latest state flown on; `None` before the first tick.
     latest: Option<VehicleState>,
@@ -81,13 +81,13 @@ struct Announced {
 }
 
 /// A navigator with PX4's default filter settings.
-impl Default for Navigator {
+impl Default for StateSource {
     fn default() -> Self {
         Self::with_filter(NavFilter::default())
     }
 }
 
-impl Navigator {
+impl StateSource {
     fn with_filter(filter: NavFilter) -> Self {
         Self {
             filter,
@@ -263,7 +263,7 @@ impl Navigator {
     }
 }
 
-impl Navigator {
+impl StateSource {
     /// What the links report of the navigation at `t_s` [s]; `armable` is the commander's
     /// verdict on arming now.
     pub fn snapshot(&self, t_s: f64, armable: bool) -> NavSnapshot {

@@ -124,7 +124,7 @@ impl ChebyshevDesign {
     /// largest stable passband edge.
     ///
     /// ```
-    /// use rotorpilot::estimation::ChebyshevDesign;
+    /// use rotorpilot::wrench_estimator::ChebyshevDesign;
     /// let d = ChebyshevDesign { order: 1, ripple_db: 3.0, passband_rad_s: 2.0 };
     /// let k = d.gains(1e-3).unwrap();
     /// assert!((k[0] - 2.004754586015201).abs() < 1e-12);

@@ -223,8 +223,8 @@ pub fn replay(samples: &[LogSample], mut observer: WrenchObserver) -> Vec<Replay
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::estimation::ChebyshevDesign;
     use crate::math::GRAVITY_M_S2;
+    use crate::wrench_estimator::ChebyshevDesign;
 
     const HEADER: &str = "t,thrust,tau_x,tau_y,tau_z,vx,vy,vz,phi,theta,psi,phi_dot,theta_dot,psi_dot";
 

@@ -18,8 +18,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
+use crate::runners::scenario_run::simulate;
 use crate::scenario::Scenario;
-use crate::sim::simulate;
 use crate::sweep::metrics::{flatten, keep, select, Scalar};
 use crate::sweep::results::{columns, RunRow, Status};
 use crate::sweep::{Run, Sweep, SweepError};

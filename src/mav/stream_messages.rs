@@ -208,7 +208,7 @@ pub fn message(stream: TelemetryStream, s: &Snapshot) -> Option<MavMessage> {
         })
     };
     Some(match stream {
-        TelemetryStream::CurrentMode => super::modes::current_mode(s.mode),
+        TelemetryStream::CurrentMode => super::standard_modes::current_mode(s.mode),
         TelemetryStream::OrbitStatus => return super::orbit::orbit_execution_status(s),
         // Built by the link: the wall clock, a foreign dialect, the stored plans' ids.
         TelemetryStream::SystemTime | TelemetryStream::EkfStatusReport | TelemetryStream::MissionCurrent => {
@@ -360,8 +360,8 @@ pub fn message(stream: TelemetryStream, s: &Snapshot) -> Option<MavMessage> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::guidance::Home;
     use crate::math::Vec3;
-    use crate::navigation::Home;
     use mavlink::dialects::common::{MavSeverity, MavSysStatusSensor};
 
     fn snapshot() -> Snapshot {

@@ -214,7 +214,7 @@ fn stack(a: &Vec3, b: &Vec3) -> Vector6<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::estimation::ChebyshevDesign;
+    use crate::wrench_estimator::ChebyshevDesign;
 
     /// A vehicle held level by a thrust equal to the believed weight, pushed by `f_e` and
     /// `τ_e`, integrated exactly at Ts: the estimate must converge to (f_e, τ_e) and the mass

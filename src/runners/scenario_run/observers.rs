@@ -5,13 +5,13 @@
 
 use std::time::{Duration, Instant};
 
-use crate::estimation::WrenchEstimate;
 use crate::lockstep::{Exit, Observer, SnapshotReport, Tick, TickView};
 use crate::math::Vec3;
 use crate::runtime::pacer::{Pace, Pacer, Wait};
 use crate::scenario::estimate_stats::EstimateStats;
 use crate::scenario::summary::{RunStats, TickRecord};
 use crate::sitl::SimPlant;
+use crate::wrench_estimator::WrenchEstimate;
 
 use super::run_csv::RunCsv;
 use super::SimError;

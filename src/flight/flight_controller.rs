@@ -17,15 +17,15 @@ use std::sync::Arc;
 use crate::airframe::{Airframe, MAX_ROTORS};
 use crate::commander::{Commander, CommanderParams, Event, Outcome, Request};
 use crate::control::{ControllerKind, VehicleState};
-use crate::estimation::{ChebyshevDesign, WrenchObserver};
+use crate::guidance::Home;
 use crate::math::{Vec3, GRAVITY_M_S2};
-use crate::navigation::Home;
 use crate::params::{ParamError, ParamTable, VehicleSettings};
 use crate::sitl::{EscReport, PlantChange, PlantTruth, Sensors};
 use crate::telemetry::Snapshot;
+use crate::wrench_estimator::{ChebyshevDesign, WrenchObserver};
 
 use super::motor_failures::{MotorChange, MotorFailureParams, MotorFailures};
-use super::navigator::Navigator;
+use super::state_source::StateSource;
 use super::{Control, CoreError, FlightCore, Pilot};
 
 /// The estimator the autopilot starts with: the homework's first-order design (Chebyshev
@@ -66,7 +66,7 @@ pub struct FlightController {
     params: Arc<ParamTable>,
     motors: MotorFailures,
     motor_params: MotorFailureParams,
-    nav: Navigator,
+    nav: StateSource,
     home: Home,
     dt_s: f64,
     believed_mass_kg: f64,
@@ -115,7 +115,7 @@ impl FlightController {
             params: Arc::new(ParamTable::new(&settings)),
             motors,
             motor_params: settings.motors,
-            nav: Navigator::default(),
+            nav: StateSource::default(),
             home,
             dt_s,
             believed_mass_kg: airframe.mass_kg,
@@ -169,7 +169,7 @@ impl FlightController {
     }
 
     /// What the flight controller knows of its state.
-    pub fn navigator(&self) -> &Navigator {
+    pub fn state_source(&self) -> &StateSource {
         &self.nav
     }
 
