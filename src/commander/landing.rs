@@ -155,16 +155,9 @@ fn touch_down(x: &VehicleState) -> AttitudeTarget {
 mod tests {
     use super::super::{Commander, Event};
     use super::*;
-    use crate::math::Mat3;
 
     fn at(z: f64) -> VehicleState {
-        VehicleState {
-            t_s: 0.0,
-            pos_w: Vec3::new(0.0, 0.0, z),
-            vel_w: Vec3::zeros(),
-            r_wb: Mat3::identity(),
-            omega_b: Vec3::zeros(),
-        }
+        VehicleState::at_rest(0.0, Vec3::new(0.0, 0.0, z))
     }
 
     #[test]
