@@ -361,9 +361,9 @@ impl Pilot for FlightController {
         sensors: &Sensors,
         control: &Control,
         motor_speeds: &[f64],
-        truth: &PlantTruth,
+        truth: impl FnOnce() -> PlantTruth,
     ) -> Snapshot {
-        self.snapshot(t_s, sensors, control, motor_speeds, truth)
+        self.snapshot(t_s, sensors, control, motor_speeds, &truth())
     }
 
     fn params(&self) -> Option<&ParamTable> {

@@ -88,5 +88,13 @@ impl<S: SetpointSource> Pilot for SetpointFollower<S> {
         }
     }
 
-    fn report(&self, _t_s: f64, _sensors: &Sensors, _control: &Control, _motor_speeds: &[f64], _truth: &PlantTruth) {}
+    fn report(
+        &self,
+        _t_s: f64,
+        _sensors: &Sensors,
+        _control: &Control,
+        _motor_speeds: &[f64],
+        _truth: impl FnOnce() -> PlantTruth,
+    ) {
+    }
 }

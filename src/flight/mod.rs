@@ -85,15 +85,16 @@ pub trait Pilot {
     fn control(&mut self, t_s: f64, sensors: &Sensors, esc: &EscReport<'_>) -> Control;
 
     /// The tick's report once the plant has stepped with `control`, its rotors now turning at
-    /// `motor_speeds` [rad/s]; `truth` is the plant's exact state after the step, passed
-    /// through to telemetry and never an input of the flight controller.
+    /// `motor_speeds` [rad/s]; `truth` reads the plant's exact state after the step, for a
+    /// pilot that passes it through to telemetry (never an input of the flight controller; a
+    /// pilot that publishes nothing never reads it).
     fn report(
         &self,
         t_s: f64,
         sensors: &Sensors,
         control: &Control,
         motor_speeds: &[f64],
-        truth: &PlantTruth,
+        truth: impl FnOnce() -> PlantTruth,
     ) -> Self::Report;
 
     /// The parameter table, for a flight controller (a bare flight core has none).

@@ -71,7 +71,7 @@ impl<S: SetpointSource> Pilot for OffboardPilot<S> {
         sensors: &Sensors,
         control: &Control,
         motor_speeds: &[f64],
-        truth: &PlantTruth,
+        truth: impl FnOnce() -> PlantTruth,
     ) -> Snapshot {
         self.controller.report(t_s, sensors, control, motor_speeds, truth)
     }

@@ -11,8 +11,9 @@
 //! control_k  = pilot.control(t_k, sensors_k, esc)    rotor speeds, controller step, events
 //!                                                    (esc: failed rotors, electrical power)
 //! status_k   = plant.step(control_k.rotor_speeds(), dt)
-//! truth_k    = plant.truth()                         exact state after the step (logs, telemetry)
-//! report_k   = pilot.report(t_k, sensors_k, control_k, true motor speeds, truth_k)
+//! report_k   = pilot.report(t_k, sensors_k, control_k, true motor speeds, plant truth)
+//!                                                    (the truth read only by a pilot that
+//!                                                    publishes it: telemetry, never control)
 //! ```
 //!
 //! This is the only place outside `src/sitl.rs` that steps the plant
@@ -31,7 +32,7 @@ use crate::commander::{Outcome, Request};
 use crate::flight::{Control, CoreError, FlightController, Pilot};
 use crate::math::Vec3;
 use crate::params::ParamError;
-use crate::sitl::{PlantChange, PlantStatus, PlantTruth, Sensors, SimPlant, SitlError};
+use crate::sitl::{PlantChange, PlantStatus, Sensors, SimPlant, SitlError};
 
 pub use failure_schedule::{FailureSchedule, ScheduledFailure, ScheduledSensorFailure};
 pub use observer::{Guard, Observer};
@@ -89,8 +90,6 @@ pub struct Tick<R> {
     pub control: Control,
     /// The plant step's flags.
     pub status: PlantStatus,
-    /// The plant's exact state after the step (never the pilot's input).
-    pub truth: PlantTruth,
     /// The pilot's report after the plant step.
     pub report: R,
 }
@@ -176,17 +175,16 @@ impl<P: Pilot> Lockstep<P> {
         let sensors = self.plant.read_sensors();
         let control = self.pilot.control(t_s, &sensors, &self.plant.esc());
         let status = self.plant.step(control.rotor_speeds().as_slice(), self.dt_s);
-        let truth = self.plant.truth();
+        let plant = &self.plant;
         let report = self
             .pilot
-            .report(t_s, &sensors, &control, self.plant.motor_speeds(), &truth);
+            .report(t_s, &sensors, &control, plant.motor_speeds(), || plant.truth());
         self.tick += 1;
         Tick {
             t_s,
             sensors,
             control,
             status,
-            truth,
             report,
         }
     }

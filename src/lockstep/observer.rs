@@ -56,11 +56,11 @@ pub struct Guard {
 }
 
 impl<R> Observer<R> for Guard {
-    fn observe(&mut self, tick: &Tick<R>, _plant: &SimPlant) -> Option<Exit> {
+    fn observe(&mut self, tick: &Tick<R>, plant: &SimPlant) -> Option<Exit> {
         if tick.status.state_non_finite || tick.status.dt_rejected {
             return Some(Exit::PlantFault);
         }
-        let distance_m = tick.truth.pos_w.norm();
+        let distance_m = plant.truth().pos_w.norm();
         (distance_m.is_nan() || distance_m > self.fly_away_m).then_some(Exit::FlyAway)
     }
 }

@@ -68,7 +68,7 @@ impl<'a> TickView<'a> {
             events: &tick.control.events,
             snapshot: tick.report.snapshot(),
             motor_speeds: plant.motor_speeds(),
-            truth: tick.truth,
+            truth: plant.truth(),
         }
     }
 }

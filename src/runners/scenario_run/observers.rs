@@ -75,9 +75,9 @@ pub(super) struct EstimateTracker {
 }
 
 impl<R> Observer<R> for EstimateTracker {
-    fn observe(&mut self, tick: &Tick<R>, _plant: &SimPlant) -> Option<Exit> {
+    fn observe(&mut self, tick: &Tick<R>, plant: &SimPlant) -> Option<Exit> {
         self.last = tick.control.step.and_then(|s| s.estimate);
-        let truth = &tick.truth;
+        let truth = plant.truth();
         self.stats.add(
             tick.t_s,
             self.last.as_ref(),
