@@ -46,15 +46,14 @@ impl VehicleState {
         self.r_wb[(2, 2)].clamp(-1.0, 1.0).acos()
     }
 
-    /// True when every number is finite.
+    /// True when every number is finite (each fixed-size part checked on its own, which the
+    /// compiler unrolls: the check runs twice per control tick).
     pub fn is_finite(&self) -> bool {
+        let finite = |x: &f64| x.is_finite();
         self.t_s.is_finite()
-            && self
-                .pos_w
-                .iter()
-                .chain(self.vel_w.iter())
-                .chain(self.omega_b.iter())
-                .chain(self.r_wb.iter())
-                .all(|x| x.is_finite())
+            && self.pos_w.iter().all(finite)
+            && self.vel_w.iter().all(finite)
+            && self.omega_b.iter().all(finite)
+            && self.r_wb.iter().all(finite)
     }
 }

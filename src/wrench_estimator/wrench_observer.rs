@@ -139,11 +139,8 @@ impl WrenchObserver {
     /// tick's β_{k−1} (docs/estimator.md §6), before the controller runs. Non-finite input holds
     /// the previous estimate.
     pub fn observe(&mut self, vel_w: &Vec3, eta: &Vec3, eta_dot: &Vec3) -> WrenchEstimate {
-        let finite = vel_w
-            .iter()
-            .chain(eta.iter())
-            .chain(eta_dot.iter())
-            .all(|v| v.is_finite());
+        let all_finite = |v: &Vec3| v.iter().all(|c| c.is_finite());
+        let finite = all_finite(vel_w) && all_finite(eta) && all_finite(eta_dot);
         self.held = !finite;
         if !finite {
             self.pending = None;
