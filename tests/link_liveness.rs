@@ -70,19 +70,13 @@ fn the_offboard_stream_is_alive_for_the_commander_until_com_of_loss_t_of_wall_ti
             ..Default::default()
         })
     };
-    let wall = |alive| {
-        VehicleRequest::Commander(Request::StreamInWallTime {
-            stream: InputStream::Offboard,
-            alive,
-        })
-    };
+    let lost = VehicleRequest::Commander(Request::StreamLost(InputStream::Offboard));
     b.send(Api, SDK, setpoint());
     let asks: Vec<_> = b.asks().into_iter().map(|a| a.request).collect();
     assert!(matches!(
-        asks[0],
-        VehicleRequest::Commander(Request::OffboardSetpoint { .. })
+        asks[..],
+        [VehicleRequest::Commander(Request::OffboardSetpoint { .. })]
     ));
-    assert_eq!(asks[1], wall(true), "the stream started");
     // Simulated time racing ahead does not matter; wall time does.
     b.at(0.9, 40.0);
     b.send(Api, SDK, setpoint());
@@ -93,10 +87,7 @@ fn the_offboard_stream_is_alive_for_the_commander_until_com_of_loss_t_of_wall_ti
         "0.95 s of wall-time silence is within COM_OF_LOSS_T"
     );
     b.at(1.95, 80.0);
-    assert_eq!(
-        b.asks().into_iter().map(|a| a.request).collect::<Vec<_>>(),
-        vec![wall(false)]
-    );
+    assert_eq!(b.asks().into_iter().map(|a| a.request).collect::<Vec<_>>(), vec![lost]);
     b.at(5.0, 90.0);
     assert!(b.asks().is_empty(), "said once");
 }
@@ -119,12 +110,7 @@ fn sticks_of(asks: Vec<rotorpilot::mav::link::ToVehicle>) -> Vec<VehicleRequest>
 #[test]
 fn manual_control_is_flown_from_the_first_link_and_alive_until_com_rc_loss_t_of_wall_time_silence() {
     let mut b = Bench::new();
-    let wall = |alive| {
-        VehicleRequest::Commander(Request::StreamInWallTime {
-            stream: InputStream::ManualControl,
-            alive,
-        })
-    };
+    let lost = VehicleRequest::Commander(Request::StreamLost(InputStream::ManualControl));
     b.send(Gcs, QGC, joystick(1000, 500));
     let forward = Sticks {
         pitch: 1.0,
@@ -132,7 +118,7 @@ fn manual_control_is_flown_from_the_first_link_and_alive_until_com_rc_loss_t_of_
     };
     assert_eq!(
         sticks_of(b.asks()),
-        vec![VehicleRequest::Commander(Request::ManualControl(forward)), wall(true)]
+        vec![VehicleRequest::Commander(Request::ManualControl(forward))]
     );
     // COM_RC_IN_MODE 3 keeps the first source: MAVSDK's sticks on the API link are not flown.
     b.send(Api, SDK, joystick(-1000, 500));
@@ -143,7 +129,7 @@ fn manual_control_is_flown_from_the_first_link_and_alive_until_com_rc_loss_t_of_
     b.at(0.9, 60.0);
     assert!(b.asks().is_empty(), "0.45 s of silence is within COM_RC_LOSS_T");
     b.at(0.96, 60.0);
-    assert_eq!(sticks_of(b.asks()), vec![wall(false)]);
+    assert_eq!(sticks_of(b.asks()), vec![lost]);
     // A malformed axis is refused with the field named, never flown.
     b.send(Gcs, QGC, joystick(1001, 500));
     assert!(b.asks().is_empty());

@@ -36,7 +36,8 @@ const ARM_THROTTLE_MAX: f64 = 0.2;
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct ManualInput {
     latest: Option<(Sticks, f64)>,
-    alive_in_wall_time: bool,
+    /// The link declared the sticks silent (`COM_RC_LOSS_T`) since the latest sample.
+    silent: bool,
     at_arming: bool,
     lost: bool,
     /// POSCTL / ALTCTL reference (`None` until the mode's first tick).
@@ -65,37 +66,37 @@ impl ManualInput {
     /// A MANUAL_CONTROL sample arrived at `t_s` [s].
     pub fn receive(&mut self, sticks: Sticks, t_s: f64) {
         self.latest = Some((sticks, t_s));
+        self.silent = false;
         self.motion.sample(sticks, t_s);
     }
 
-    /// The link's word on the sticks' liveness in wall time.
-    pub fn set_alive_in_wall_time(&mut self, alive: bool) {
-        self.alive_in_wall_time = alive;
+    /// The link heard no sticks for `COM_RC_LOSS_T` ([`super::Request::StreamLost`]): they
+    /// are lost until the next sample.
+    pub fn set_silent(&mut self) {
+        self.silent = true;
     }
 
-    /// True when sticks arrived within `COM_RC_LOSS_T` of `t_s` [s] or the link says they are
-    /// alive in wall time.
-    pub fn alive(&self, t_s: f64, p: &ManualParams) -> bool {
-        self.latest
-            .is_some_and(|(_, t)| self.alive_in_wall_time || t_s - t < p.loss_s)
+    /// True when sticks arrived and the link has not declared them silent since.
+    pub fn alive(&self) -> bool {
+        self.latest.is_some() && !self.silent
     }
 
     /// The latest sticks while they are alive.
-    pub fn live(&self, t_s: f64, p: &ManualParams) -> Option<Sticks> {
-        self.latest.filter(|_| self.alive(t_s, p)).map(|(s, _)| s)
+    pub fn live(&self) -> Option<Sticks> {
+        self.latest.filter(|_| self.alive()).map(|(s, _)| s)
     }
 
     /// The sticks to fly: the latest while alive, else centred (hold).
-    fn sticks(&self, t_s: f64, p: &ManualParams) -> Sticks {
+    fn sticks(&self) -> Sticks {
         match self.latest {
-            Some((s, _)) if self.alive(t_s, p) => s,
+            Some((s, _)) if self.alive() => s,
             _ => Sticks::CENTRED,
         }
     }
 
-    /// The vehicle was armed at `t_s` [s]: whether the sticks were live then, no loss yet.
-    pub fn armed_at(&mut self, t_s: f64, p: &ManualParams) {
-        self.at_arming = self.alive(t_s, p);
+    /// The vehicle was armed: whether the sticks were live then, no loss yet.
+    pub fn armed_at(&mut self) {
+        self.at_arming = self.alive();
         self.lost = false;
     }
 
@@ -107,9 +108,9 @@ impl ManualInput {
 
     /// Why `mode` cannot be entered (or armed in) now: the modes flown by the sticks other than
     /// POSCTL (which holds without them) need live sticks.
-    pub fn mode_refusal(&self, mode: FlightMode, t_s: f64, arming: bool, p: &ManualParams) -> Option<Outcome> {
+    pub fn mode_refusal(&self, mode: FlightMode, arming: bool) -> Option<Outcome> {
         let needs_sticks = mode.flown_by_sticks() && mode != FlightMode::Position;
-        if needs_sticks && !self.alive(t_s, p) {
+        if needs_sticks && !self.alive() {
             let what = if arming {
                 "Arming denied".to_string()
             } else {
@@ -117,7 +118,7 @@ impl ManualInput {
             };
             return Some(Outcome::TemporarilyRejected(format!("{what}: no manual control input")));
         }
-        if arming && mode.manual_thrust() && self.sticks(t_s, p).throttle > ARM_THROTTLE_MAX {
+        if arming && mode.manual_thrust() && self.sticks().throttle > ARM_THROTTLE_MAX {
             return Some(Outcome::TemporarilyRejected("Arming denied: throttle above 20%".into()));
         }
         None
@@ -137,9 +138,9 @@ impl ManualInput {
             x,
             yaw_rad: yaw,
             dt_s,
-            t_s,
+            t_s: _,
         } = now;
-        let sticks = self.sticks(t_s, p);
+        let sticks = self.sticks();
         let shaping = p.shaping;
         match mode {
             FlightMode::Position | FlightMode::Altitude => {
@@ -181,11 +182,11 @@ impl ManualInput {
     /// reacted to once, when the sticks were live at arming or the mode is flown by them, with
     /// `NAV_RCL_ACT` unless `COM_RCL_EXCEPT` exempts the mode or the vehicle is on the ground; a
     /// stick mode that cannot fly without sticks holds whatever the action.
-    pub fn watch(&mut self, mode: FlightMode, t_s: f64, in_air: bool, p: &ManualParams) -> StickWatch {
+    pub fn watch(&mut self, mode: FlightMode, in_air: bool, p: &ManualParams) -> StickWatch {
         if self.latest.is_none() {
             return StickWatch::Quiet;
         }
-        if self.alive(t_s, p) {
+        if self.alive() {
             return StickWatch::Alive {
                 regained: std::mem::take(&mut self.lost),
             };

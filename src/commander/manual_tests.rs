@@ -228,34 +228,31 @@ fn a_loss_is_reported_once_then_the_return_and_exempt_modes_or_the_ground_run_no
     let p = CommanderParams::default().manual;
     let mut m = ManualInput::default();
     assert_eq!(
-        m.watch(FlightMode::Loiter, 0.0, true, &p),
+        m.watch(FlightMode::Loiter, true, &p),
         StickWatch::Quiet,
         "never any sticks"
     );
     m.receive(Sticks::CENTRED, 0.0);
-    m.armed_at(0.0, &p);
+    m.armed_at();
     assert_eq!(
-        m.watch(FlightMode::Loiter, 0.1, true, &p),
+        m.watch(FlightMode::Loiter, true, &p),
         StickWatch::Alive { regained: false }
     );
-    let lost_s = p.loss_s + 0.1;
+    // The link's word after COM_RC_LOSS_T of silence (Request::StreamLost).
+    m.set_silent();
     assert_eq!(
-        m.watch(FlightMode::Loiter, lost_s, true, &p),
+        m.watch(FlightMode::Loiter, true, &p),
         StickWatch::Lost(LinkLossAction::from(p.loss_action))
     );
+    assert_eq!(m.watch(FlightMode::Loiter, true, &p), StickWatch::Quiet, "once");
+    m.receive(Sticks::CENTRED, 1.0);
     assert_eq!(
-        m.watch(FlightMode::Loiter, lost_s + 0.1, true, &p),
-        StickWatch::Quiet,
-        "once"
-    );
-    m.receive(Sticks::CENTRED, lost_s + 0.2);
-    assert_eq!(
-        m.watch(FlightMode::Loiter, lost_s + 0.2, true, &p),
+        m.watch(FlightMode::Loiter, true, &p),
         StickWatch::Alive { regained: true }
     );
-    let later_s = lost_s + 0.3 + p.loss_s;
+    m.set_silent();
     assert_eq!(
-        m.watch(FlightMode::Stabilized, later_s, false, &p),
+        m.watch(FlightMode::Stabilized, false, &p),
         StickWatch::Lost(LinkLossAction::Disabled),
         "on the ground: announced only"
     );
@@ -264,23 +261,19 @@ fn a_loss_is_reported_once_then_the_return_and_exempt_modes_or_the_ground_run_no
 #[test]
 fn arming_in_a_manual_thrust_mode_needs_the_throttle_down() {
     use super::ManualInput;
-    let p = CommanderParams::default().manual;
     let mut m = ManualInput::default();
-    assert!(
-        m.mode_refusal(FlightMode::Stabilized, 0.0, true, &p).is_some(),
-        "no sticks"
-    );
+    assert!(m.mode_refusal(FlightMode::Stabilized, true).is_some(), "no sticks");
     assert_eq!(
-        m.mode_refusal(FlightMode::Position, 0.0, false, &p),
+        m.mode_refusal(FlightMode::Position, false),
         None,
         "POSCTL holds without"
     );
     m.receive(throttle(0.5), 0.0);
     assert_eq!(
-        m.mode_refusal(FlightMode::Stabilized, 0.0, true, &p),
+        m.mode_refusal(FlightMode::Stabilized, true),
         Some(Outcome::TemporarilyRejected("Arming denied: throttle above 20%".into()))
     );
-    assert_eq!(m.mode_refusal(FlightMode::Stabilized, 0.0, false, &p), None, "modes");
+    assert_eq!(m.mode_refusal(FlightMode::Stabilized, false), None, "modes");
     m.receive(throttle(0.0), 0.01);
-    assert_eq!(m.mode_refusal(FlightMode::Stabilized, 0.01, true, &p), None);
+    assert_eq!(m.mode_refusal(FlightMode::Stabilized, true), None);
 }

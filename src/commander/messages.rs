@@ -116,16 +116,10 @@ pub enum Request {
     SetHome(Option<Vec3>),
     /// No GCS heartbeat for `COM_DL_LOSS_T`: run `NAV_DLL_ACT` if flying.
     GcsLinkLost,
-    /// The link's word on a stream in wall time: `true` from its first message, `false` once
-    /// it was silent for its loss time (`COM_OF_LOSS_T`, `COM_RC_LOSS_T`) of wall time. While
-    /// it is alive the commander does not declare the stream lost, however fast simulated time
-    /// runs; the commander itself judges silence in simulated time only.
-    StreamInWallTime {
-        /// Which stream.
-        stream: InputStream,
-        /// The stream is alive in wall time.
-        alive: bool,
-    },
+    /// The link heard nothing of `stream` for its loss time (`COM_OF_LOSS_T`, `COM_RC_LOSS_T`)
+    /// by its rule (docs/mavlink.md §6): the stream is lost until its next message. The link
+    /// alone judges the liveness of what clients stream; the commander runs the reaction.
+    StreamLost(InputStream),
     /// MAV_CMD_DO_ORBIT: fly a circle; every `None` keeps the running orbit's value or takes
     /// the default.
     Orbit(OrbitRequest),
@@ -177,6 +171,16 @@ pub enum InputStream {
 }
 
 impl Request {
+    /// The input stream this request is a message of (offboard setpoints, sticks), whose
+    /// liveness the receiver judges ([`Request::StreamLost`]).
+    pub fn input_stream(&self) -> Option<InputStream> {
+        match self {
+            Self::OffboardSetpoint { .. } | Self::OffboardAttitude(_) => Some(InputStream::Offboard),
+            Self::ManualControl(_) => Some(InputStream::ManualControl),
+            _ => None,
+        }
+    }
+
     /// An offboard setpoint in the world frame (SET_POSITION_TARGET_LOCAL_NED in MAV_FRAME_LOCAL_NED).
     pub fn offboard(setpoint: FlatSetpoint) -> Self {
         Self::OffboardSetpoint {
@@ -198,7 +202,7 @@ impl Request {
             | Self::StartMission { .. }
             | Self::SetMissionCurrent { .. }
             | Self::GcsLinkLost
-            | Self::StreamInWallTime { .. }
+            | Self::StreamLost(_)
             | Self::InjectRotorFailure { .. }
             | Self::InjectSensorFailure(_) => true,
             Self::Takeoff { height_m } => opt(height_m),

@@ -32,22 +32,12 @@ impl Commander {
         self.nav.refusal(mode, arming, self.params.arm_without_gps)
     }
 
-    /// True when the sticks are alive at `t_s` [s].
-    pub(super) fn sticks_alive(&self, t_s: f64) -> bool {
-        self.manual.alive(t_s, &self.params.manual)
-    }
-
-    /// True when the offboard stream is alive at `t_s` [s].
-    pub(super) fn offboard_alive(&self, t_s: f64) -> bool {
-        self.offboard.alive(t_s, self.params.offboard_loss_s)
-    }
-
     /// A requested mode switch: AUTO.MISSION needs a mission, OFFBOARD a live setpoint stream,
     /// the stick modes but POSCTL live sticks, orbit, follow-me and GOTO the air (GOTO chosen so,
     /// without a target, holds where it is);
     /// AUTO.TAKEOFF without a target (or in the air) climbs to `MIS_TAKEOFF_ALT` from here.
     pub(super) fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
-        if let Some(refusal) = self.manual.mode_refusal(mode, t_s, false, &self.params.manual) {
+        if let Some(refusal) = self.manual.mode_refusal(mode, false) {
             return refusal;
         }
         if let Some(refusal) = self.navigation_refusal(mode, false) {
@@ -62,7 +52,7 @@ impl Commander {
             FlightMode::Mission if self.mission.is_empty() => {
                 Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into())
             }
-            FlightMode::Offboard if !self.offboard_alive(t_s) => {
+            FlightMode::Offboard if !self.offboard.alive() => {
                 Outcome::TemporarilyRejected("Mode OFFBOARD: no setpoint stream".into())
             }
             FlightMode::Orbit | FlightMode::FollowTarget | FlightMode::Goto if !self.in_air() => {
@@ -200,7 +190,7 @@ impl Commander {
     /// pilot's mode back), and a pilot taking over an AUTO mode.
     pub(super) fn watch_sticks(&mut self, x: &VehicleState, t_s: f64, events: &mut Vec<Event>) {
         let in_air = self.in_air();
-        match self.manual.watch(self.mode, t_s, in_air, &self.params.manual) {
+        match self.manual.watch(self.mode, in_air, &self.params.manual) {
             StickWatch::Quiet => {}
             StickWatch::Alive { regained } => {
                 if regained {
@@ -288,11 +278,11 @@ impl Commander {
     /// `COM_OBL_RC_ACT` took over.
     pub(super) fn offboard_command(&mut self, now: Moment, events: &mut Vec<Event>) -> Option<FlightDemand> {
         let (x, t_s) = (now.x, now.t_s);
-        let (landed, loss_s) = (self.detector.landed(), self.params.offboard_loss_s);
-        let command = self.offboard.command(now, landed, &self.params.motion, loss_s);
+        let landed = self.detector.landed();
+        let command = self.offboard.command(now, landed, &self.params.motion);
         if command.is_none() {
             events.push(Event::OffboardLost);
-            let sticks = self.sticks_alive(t_s);
+            let sticks = self.manual.alive();
             match self.params.offboard_loss_action.mode_on_loss(sticks) {
                 Some(mode) => {
                     self.enter(mode, x, t_s);
@@ -312,7 +302,7 @@ impl Commander {
         let (manual, p) = (&self.manual, &self.params.manual);
         if let Some(guidance) = self
             .orbit
-            .advance(self.guidance, || manual.live(t_s, p), &p.shaping, dt_s, t_s)
+            .advance(self.guidance, || manual.live(), &p.shaping, dt_s, t_s)
         {
             self.guidance = guidance;
         }
@@ -323,7 +313,7 @@ impl Commander {
         let x = now.x;
         let paths = paths_of!(self);
         let p = &self.params;
-        let sticks = self.manual.live(now.t_s, &p.manual);
+        let sticks = self.manual.live();
         let limits = || paths.limits(p.follow.max_speed_m_s);
         let home_w = self.plans.home_w();
         match self

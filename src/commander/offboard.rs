@@ -18,13 +18,14 @@ pub(super) enum OffboardTarget {
     Attitude(AttitudeTarget),
 }
 
-/// The offboard stream: its latest target with the simulated time it arrived, the link's word
-/// on its liveness in wall time, and the limiter the position / velocity targets are flown
+/// The offboard stream: its latest target with the simulated time it arrived, whether the link
+/// declared it lost since, and the limiter the position / velocity targets are flown
 /// through (`None` until the first tick in OFFBOARD).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct Offboard {
     latest: Option<(OffboardTarget, f64)>,
-    alive_in_wall_time: bool,
+    /// The link heard nothing of the stream for `COM_OF_LOSS_T` since the latest target.
+    lost: bool,
     limiter: Option<SetpointLimiter>,
 }
 
@@ -32,11 +33,13 @@ impl Offboard {
     /// A new target, arrived at `t_s` [s].
     pub fn receive(&mut self, target: OffboardTarget, t_s: f64) {
         self.latest = Some((target, t_s));
+        self.lost = false;
     }
 
-    /// The link's word on the stream's liveness in wall time.
-    pub fn set_alive_in_wall_time(&mut self, alive: bool) {
-        self.alive_in_wall_time = alive;
+    /// The link heard nothing of the stream for `COM_OF_LOSS_T` ([`super::Request::StreamLost`]):
+    /// it is lost until the next target.
+    pub fn set_lost(&mut self) {
+        self.lost = true;
     }
 
     /// The mode is entered or left: the reference starts again from the vehicle.
@@ -44,26 +47,22 @@ impl Offboard {
         self.limiter = None;
     }
 
-    /// True when an offboard setpoint arrived within `loss_s` (`COM_OF_LOSS_T`) [s] of `t_s`
-    /// [s], or the link says the stream is alive in wall time ([`super::Request::StreamInWallTime`]):
-    /// a ground station streaming in wall time does not lose offboard just because simulated
-    /// time runs faster, and a stream that stops is lost once it is silent in both clocks.
-    pub fn alive(&self, t_s: f64, loss_s: f64) -> bool {
-        self.latest
-            .is_some_and(|(_, t)| self.alive_in_wall_time || t_s - t < loss_s)
+    /// True when a target arrived and the link has not declared the stream lost since.
+    pub fn alive(&self) -> bool {
+        self.latest.is_some() && !self.lost
     }
 
-    /// One OFFBOARD tick `now`, `landed` the land detector's verdict, within `motion` and with
-    /// the stream lost after `loss_s` [s]: what to fly, or `None` when the stream is lost.
-    pub fn command(&mut self, now: Moment, landed: bool, motion: &MotionLimits, loss_s: f64) -> Option<FlightDemand> {
+    /// One OFFBOARD tick `now`, `landed` the land detector's verdict, within `motion`: what to
+    /// fly, or `None` when the stream is lost.
+    pub fn command(&mut self, now: Moment, landed: bool, motion: &MotionLimits) -> Option<FlightDemand> {
         let Moment {
             x,
             yaw_rad: yaw,
             dt_s,
-            t_s,
+            t_s: _,
         } = now;
         match self.latest {
-            Some((OffboardTarget::Flat(sp, body_frame), _)) if self.alive(t_s, loss_s) => {
+            Some((OffboardTarget::Flat(sp, body_frame), _)) if self.alive() => {
                 let raw = if body_frame { heading_to_world(sp, yaw) } else { sp };
                 let limiter = self.limiter.get_or_insert_with(|| SetpointLimiter::at(x));
                 if landed && !asks_climb(&raw, x) {
@@ -72,7 +71,7 @@ impl Offboard {
                 }
                 Some(FlightDemand::Flat(limiter.step(&raw, x, motion, dt_s)))
             }
-            Some((OffboardTarget::Attitude(target), _)) if self.alive(t_s, loss_s) => {
+            Some((OffboardTarget::Attitude(target), _)) if self.alive() => {
                 self.limiter = None;
                 Some(FlightDemand::Attitude(target))
             }
@@ -166,23 +165,26 @@ mod tests {
     }
 
     #[test]
-    fn a_stream_alive_in_wall_time_is_lost_only_once_silent_in_simulated_time_too() {
+    fn the_stream_is_lost_at_the_receivers_word_not_by_a_clock_of_the_commanders() {
         let mut s = Script::new(CommanderParams::default());
         s.airborne(3.0);
         let here = FlatSetpoint::hold(s.x.pos_w, 0.0);
         stream(&mut s, here, 0.1);
-        let wall = |alive| Request::StreamInWallTime {
-            stream: super::super::InputStream::Offboard,
-            alive,
-        };
-        assert_eq!(s.request(wall(true)), Outcome::Accepted);
         assert_eq!(s.request(Request::SetMode(FlightMode::Offboard)), Outcome::Accepted);
-        s.fly(3.0);
-        assert_eq!(s.c.mode(), FlightMode::Offboard, "alive in wall time");
+        // The last setpoint is older than COM_OF_LOSS_T in simulated time, but the receiver
+        // (here the script's link) has not declared the stream lost: it is flown.
+        let x = s.x;
+        s.c.update(&x, 1.0, s.t() + 3.0);
+        assert_eq!(
+            s.c.mode(),
+            FlightMode::Offboard,
+            "alive until the receiver says otherwise"
+        );
         s.events.clear();
-        assert_eq!(s.request(wall(false)), Outcome::Accepted);
+        let lost = Request::StreamLost(super::super::InputStream::Offboard);
+        assert_eq!(s.request(lost), Outcome::Accepted);
         s.step();
-        assert_eq!(s.events.first(), Some(&Event::OffboardLost), "silent in both clocks");
+        assert_eq!(s.events.first(), Some(&Event::OffboardLost));
         assert_eq!(s.c.mode(), FlightMode::Position);
     }
 
@@ -199,21 +201,13 @@ mod tests {
     }
 
     #[test]
-    fn the_stream_lives_com_of_loss_t_in_simulated_time_or_while_the_link_says_so() {
+    fn the_stream_lives_from_its_first_target_until_it_is_declared_lost() {
         let mut o = Offboard::default();
-        assert!(!o.alive(0.0, 1.0), "nothing received");
+        assert!(!o.alive(), "nothing received");
         let sp = FlatSetpoint::hold(Vec3::new(0.0, 0.0, -2.0), 0.0);
         o.receive(OffboardTarget::Flat(sp, false), 10.0);
-        assert!(o.alive(10.9, 1.0) && !o.alive(11.0, 1.0));
-        o.set_alive_in_wall_time(true);
-        assert!(o.alive(100.0, 1.0));
-        let x = VehicleState {
-            t_s: 0.0,
-            pos_w: Vec3::new(0.0, 0.0, -2.0),
-            vel_w: Vec3::zeros(),
-            r_wb: crate::math::Mat3::identity(),
-            omega_b: Vec3::zeros(),
-        };
+        assert!(o.alive());
+        let x = VehicleState::at_rest(0.0, Vec3::new(0.0, 0.0, -2.0));
         let motion = MotionLimits::default();
         let now = Moment {
             x: &x,
@@ -221,12 +215,12 @@ mod tests {
             dt_s: 0.01,
             t_s: 100.0,
         };
-        assert!(matches!(
-            o.command(now, false, &motion, 1.0),
-            Some(FlightDemand::Flat(_))
-        ));
-        o.set_alive_in_wall_time(false);
-        assert_eq!(o.command(now, false, &motion, 1.0), None, "lost");
+        assert!(matches!(o.command(now, false, &motion), Some(FlightDemand::Flat(_))));
+        o.set_lost();
+        assert!(!o.alive());
+        assert_eq!(o.command(now, false, &motion), None, "lost");
+        o.receive(OffboardTarget::Flat(sp, false), 101.0);
+        assert!(o.alive(), "alive again with the next target");
     }
 
     #[test]

@@ -41,10 +41,10 @@ impl Commander {
                 self.offboard.receive(OffboardTarget::Attitude(target), t_s);
                 Outcome::Accepted
             }
-            Request::StreamInWallTime { stream, alive } => {
+            Request::StreamLost(stream) => {
                 match stream {
-                    InputStream::Offboard => self.offboard.set_alive_in_wall_time(alive),
-                    InputStream::ManualControl => self.manual.set_alive_in_wall_time(alive),
+                    InputStream::Offboard => self.offboard.set_lost(),
+                    InputStream::ManualControl => self.manual.set_silent(),
                 }
                 Outcome::Accepted
             }
@@ -119,15 +119,15 @@ impl Commander {
                 navigation: self.navigation_refusal(self.mode, true),
                 outside_fence: self.plans.arming_fence_breach(&self.params.failsafe, x).is_some(),
                 has_mission: !self.mission.is_empty(),
-                offboard_alive: self.offboard_alive(t_s),
-                sticks: self.manual.mode_refusal(self.mode, t_s, true, &self.params.manual),
+                offboard_alive: self.offboard.alive(),
+                sticks: self.manual.mode_refusal(self.mode, true),
             };
             if let Some(refusal) = Arming::refusal(self.mode, checks) {
                 return refusal;
             }
         }
         self.arming.arm(t_s, self.detector.landed());
-        self.manual.armed_at(t_s, &self.params.manual);
+        self.manual.armed_at();
         self.enter(self.mode, x, t_s);
         Outcome::Accepted
     }
@@ -354,7 +354,7 @@ impl Commander {
         }
         let (in_air, blind) = (self.in_air(), self.failsafe.descending_blind());
         let lands = self.params.position_loss_lands;
-        match v.position_loss(self.mode, in_air, blind, || self.sticks_alive(t_s), lands) {
+        match v.position_loss(self.mode, in_air, blind, || self.manual.alive(), lands) {
             PositionLoss::Fly => {}
             PositionLoss::Altitude => {
                 self.enter(FlightMode::Altitude, x, t_s);

@@ -4,11 +4,13 @@
 //! [`PRESSED_THRUST`]) when the setpoint asks to go below; thrust over weight is 1 in the air and
 //! 0 with the motors off or an attitude target without thrust (the touch-down cut), when the
 //! vehicle drops to the ground; an attitude target with thrust holds the vehicle where it is. Each step is [`DT_S`] of
-//! simulated time: failsafes (with a set electrical power), then the commander's tick, as the
-//! runtime does.
+//! simulated time: the input streams' liveness as a link judges it (offboard setpoints and
+//! sticks, [`StreamLiveness`], in simulated time), failsafes (with a set electrical power), then
+//! the commander's tick, as the runtime does.
 
 use crate::control::VehicleState;
 use crate::math::{Mat3, UnitQuat, Vec3};
+use crate::mav::link::liveness::StreamLiveness;
 
 use super::{Commander, CommanderParams, CommanderTick, Event, FlightMode, Outcome, Request};
 
@@ -33,6 +35,8 @@ pub struct Script {
     thrust_over_weight: f64,
     /// The last tick's output.
     pub last: Option<CommanderTick>,
+    /// The link's view of the streams the script sends.
+    streams: StreamLiveness,
 }
 
 impl Script {
@@ -51,6 +55,7 @@ impl Script {
             events: Vec::new(),
             thrust_over_weight: 0.0,
             last: None,
+            streams: StreamLiveness::default(),
         }
     }
 
@@ -61,12 +66,20 @@ impl Script {
 
     /// Sends `request` now.
     pub fn request(&mut self, request: Request) -> Outcome {
-        self.c.request(request, &self.x, self.x.t_s)
+        let t_s = self.x.t_s;
+        if let Some(stream) = request.input_stream() {
+            self.streams.heard(stream, t_s, t_s);
+        }
+        self.c.request(request, &self.x, t_s)
     }
 
-    /// One step: failsafes, the commander's tick, the vehicle follows. Returns the step's events.
+    /// One step: the streams' loss, failsafes, the commander's tick, the vehicle follows.
+    /// Returns the step's events.
     pub fn step(&mut self) -> Vec<Event> {
         let t_s = self.x.t_s;
+        for stream in self.streams.lost(t_s, t_s, &self.c.params) {
+            self.c.request(Request::StreamLost(stream), &self.x, t_s);
+        }
         let power_w = if self.c.armed() { self.power_w } else { 0.0 };
         let mut events = self.c.check_failsafes(&self.x, power_w, DT_S, t_s);
         let tick = self.c.update(&self.x, self.thrust_over_weight, t_s);

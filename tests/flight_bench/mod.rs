@@ -9,12 +9,15 @@ use rotorpilot::flight::FlightController;
 use rotorpilot::guidance::Home;
 use rotorpilot::lockstep::Lockstep;
 use rotorpilot::math::Vec3;
+use rotorpilot::mav::link::liveness::StreamLiveness;
 use rotorpilot::sitl::SimPlant;
 
 /// The flight controller flying the plant, and every event so far.
 pub struct Sim {
     pub lockstep: Lockstep<FlightController>,
     pub events: Vec<Event>,
+    /// The liveness of the streams the test sends, judged as a link judges it (simulated time).
+    streams: StreamLiveness,
 }
 
 impl Sim {
@@ -39,6 +42,7 @@ impl Sim {
         Self {
             lockstep: Lockstep::new(fc, SimPlant::from_source(src, 0).unwrap(), 1e-3),
             events: Vec::new(),
+            streams: StreamLiveness::default(),
         }
     }
 
@@ -61,11 +65,20 @@ impl Sim {
     }
 
     pub fn request(&mut self, r: Request) -> Outcome {
+        if let Some(stream) = r.input_stream() {
+            let t_s = self.lockstep.time_s();
+            self.streams.heard(stream, t_s, t_s);
+        }
         self.lockstep.request(r)
     }
 
     pub fn run(&mut self, seconds: f64) {
         for _ in 0..(seconds * 1000.0).round() as u64 {
+            let t_s = self.lockstep.time_s();
+            let params = self.commander().params;
+            for stream in self.streams.lost(t_s, t_s, &params) {
+                self.lockstep.request(Request::StreamLost(stream));
+            }
             let tick = self.lockstep.step();
             self.events.extend(tick.control.events);
         }

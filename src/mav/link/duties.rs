@@ -6,8 +6,9 @@ use std::hash::Hash;
 
 use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
 
+use super::liveness::silent_for;
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
-use crate::commander::{Event, InputStream, LinkLossAction, Request};
+use crate::commander::{Event, LinkLossAction, Request};
 use crate::mav::foreign::ekf_status_report;
 use crate::mav::identity::heartbeat;
 use crate::mav::signing::unix_us_from_timestamp;
@@ -108,7 +109,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     }
 
     /// GCS link loss: after a ground station's HEARTBEAT was heard, `COM_DL_LOSS_T` of silence
-    /// in simulated time *and* in wall time runs `NAV_DLL_ACT` once per loss (the commander's
+    /// ([`silent_for`]: in simulated time *and* in wall time) runs `NAV_DLL_ACT` once per loss (the commander's
     /// reaction comes back as an [`Event::Failsafe`] through [`LinkMachine::handle_event`]). A ground station
     /// pacing itself in simulated time sees the same failsafe at any speed-up; one sending in
     /// wall time does not trip it just because simulated time runs faster.
@@ -116,10 +117,10 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         let commander = &self.params.current().commander;
         let (loss_s, action) = (commander.link_loss_s, commander.link_loss_action);
         let port = &mut self.ports[k];
-        let Some((heard_wall_s, heard_sim_s)) = port.gcs_heard else {
+        let Some(heard) = port.gcs_heard else {
             return;
         };
-        if now.wall_s - heard_wall_s < loss_s || now.sim_s - heard_sim_s < loss_s {
+        if !silent_for(now.wall_s, now.sim_s, heard, loss_s) {
             port.link_lost = false;
             return;
         }
@@ -134,35 +135,15 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         });
     }
 
-    /// A message of `stream` arrived: the stream is alive in wall time; the commander hears of
-    /// it when it starts ([`Request::StreamInWallTime`]).
-    pub(super) fn heard_stream(&mut self, stream: InputStream, now: Now) {
-        if self.stream_heard_wall_s[stream as usize].replace(now.wall_s).is_none() {
-            self.tell_stream(stream, true);
-        }
-    }
-
-    /// A stream's loss in wall time: its loss time (`COM_OF_LOSS_T`, `COM_RC_LOSS_T`) of
-    /// wall-time silence ends its liveness for the commander, which then judges it in simulated
-    /// time alone (so a stream is lost once it is silent in both clocks).
+    /// A stream's loss ([`StreamLiveness::lost`]): the commander runs the reaction
+    /// ([`Request::StreamLost`]).
     fn check_streams(&mut self, now: Now) {
         let commander = self.params.current().commander;
-        for (stream, loss_s) in [
-            (InputStream::Offboard, commander.offboard_loss_s),
-            (InputStream::ManualControl, commander.manual.loss_s),
-        ] {
-            let heard = &mut self.stream_heard_wall_s[stream as usize];
-            if heard.is_some_and(|heard| now.wall_s - heard >= loss_s) {
-                *heard = None;
-                self.tell_stream(stream, false);
-            }
+        for stream in self.streams.lost(now.wall_s, now.sim_s, &commander) {
+            self.to_vehicle.push_back(ToVehicle {
+                token: None,
+                request: VehicleRequest::Commander(Request::StreamLost(stream)),
+            });
         }
-    }
-
-    fn tell_stream(&mut self, stream: InputStream, alive: bool) {
-        self.to_vehicle.push_back(ToVehicle {
-            token: None,
-            request: VehicleRequest::Commander(Request::StreamInWallTime { stream, alive }),
-        });
     }
 }

@@ -12,7 +12,7 @@ use mavlink::MavHeader;
 use super::commands::{AckOf, Asker, Decided};
 use super::port::{HeldForClients, Port};
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
-use crate::commander::{InputStream, ManualInputMode, Request};
+use crate::commander::{ManualInputMode, Request};
 use crate::mav::calibration;
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::CommandKey;
@@ -121,18 +121,16 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             Action::Command { command, decision } => return self.command(now, link, from, header, &command, decision),
             // Setpoints and SET_MODE get no answer: the next heartbeat shows the result.
             Action::Request(request) => {
-                let stream = match request {
-                    Request::OffboardSetpoint { .. } | Request::OffboardAttitude(_) => Some(InputStream::Offboard),
-                    Request::ManualControl(_) if !self.flies_sticks_from(link) => return,
-                    Request::ManualControl(_) => Some(InputStream::ManualControl),
-                    _ => None,
-                };
+                if matches!(request, Request::ManualControl(_)) && !self.flies_sticks_from(link) {
+                    return;
+                }
+                let stream = request.input_stream();
                 self.to_vehicle.push_back(ToVehicle {
                     token: None,
                     request: VehicleRequest::Commander(request),
                 });
                 if let Some(stream) = stream {
-                    self.heard_stream(stream, now);
+                    self.streams.heard(stream, now.wall_s, now.sim_s);
                 }
                 Vec::new()
             }

@@ -46,6 +46,7 @@ mod effects;
 mod files;
 mod inbound;
 mod keys;
+pub mod liveness;
 mod logs;
 mod mission;
 mod param_service;
@@ -75,6 +76,7 @@ use console::Consoles;
 use effects::Effect;
 use files::Files;
 use keys::SigningKeys;
+use liveness::StreamLiveness;
 use logs::LogService;
 pub use logs::{LOG_MESSAGES_AT_ONCE, LOG_MESSAGE_PERIOD_S};
 use mission::PlanService;
@@ -110,8 +112,8 @@ pub struct LinkMachine<A> {
     logs: LogService<A>,
     /// The MAVLink shells of the clients that use one.
     consoles: Consoles<A>,
-    /// Wall time of the latest message of each [`InputStream`](crate::commander::InputStream) while it is alive in wall time [s].
-    stream_heard_wall_s: [Option<f64>; 2],
+    /// When the offboard setpoints and the sticks were last heard.
+    streams: StreamLiveness,
     /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
     sticks_from: Option<LinkKind>,
     next_duty_s: f64,
@@ -154,7 +156,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             files,
             logs: LogService::new(&kinds),
             consoles: Consoles::default(),
-            stream_heard_wall_s: [None; 2],
+            streams: StreamLiveness::default(),
             sticks_from: None,
             next_duty_s: 0.0,
             transmits: VecDeque::new(),
