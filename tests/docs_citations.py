@@ -11,6 +11,9 @@
 5. A note defines each equation number once, inside the top-level section S of its label.
 6. README.md stays short: at most 200 lines, and without the generated parameter table (which
    docs/parameters.md holds); everything else lives in docs/.
+7. A parameter's value stated beside its name in prose (`` `NAME` (0.5 s) `` or `` `NAME` = 2 ``,
+   outside an enumeration such as `(0 = off)`) is its default in the generated table of
+   docs/parameters.md, converted between the units both name (µs, ms, s; cm, m; %).
 
 Prints `file:line: problem` for each violation and exits 1 if there is any. Standard library only.
 """
@@ -40,6 +43,11 @@ HEADING = re.compile(rf"^#{{1,6}}\s+({NUM})\.?\s")
 LABEL = re.compile(r"\((\d+)\.(\d+)\)\s*$")
 README_MAX_LINES = 200
 PARAMS_MARKER = re.compile(r"<!--\s*params:(begin|end)")
+PARAM_ROW = re.compile(r"^\| `([A-Z][A-Z0-9_]+)` \| \w+ \| ([^|]+?) \| [^|]*? \| ([^|]*?) \|")
+PARAM_VALUE = re.compile(r"`([A-Z][A-Z0-9_]+)`\s*(?:\(|=\s*)(-?\d[\d ]*(?:\.\d+)?)(?![\d.]|\s*=)\s*([^\s,;)]*)")
+# (unit in the prose, unit of the table) -> factor from the first to the second.
+UNIT_FACTORS = {("s", "µs"): 1e6, ("ms", "µs"): 1e3, ("ms", "s"): 1e-3, ("µs", "s"): 1e-6,
+                ("m", "cm"): 100.0, ("cm", "m"): 0.01, ("%", ""): 0.01, ("%", "-"): 0.01}
 
 
 def repo_files():
@@ -188,6 +196,37 @@ def check_readme(text, problems):
             )
 
 
+def parameter_defaults(text):
+    """{name: (default, unit)} from the generated table of docs/parameters.md."""
+    table = {}
+    for line in text.splitlines():
+        m = PARAM_ROW.match(line)
+        if m:
+            table[m.group(1)] = (m.group(2).strip(), m.group(3).strip())
+    return table
+
+
+def check_defaults(name, number, line, defaults, problems):
+    """Rule 7 on one line of prose."""
+    for m in PARAM_VALUE.finditer(line):
+        param, value, unit = m.group(1), m.group(2).replace(" ", ""), m.group(3)
+        if param not in defaults:
+            continue
+        default, table_unit = defaults[param]
+        try:
+            expected, stated = float(default), float(value)
+        except ValueError:
+            continue
+        if unit and unit != table_unit:
+            factor = UNIT_FACTORS.get((unit, table_unit))
+            if factor is None:
+                continue
+            stated *= factor
+        if abs(stated - expected) > 1e-9 * max(1.0, abs(expected)):
+            problems.append(f"{name}:{number}: `{param}` stated as {value} {unit}, but its default is "
+                            f"{default} {table_unit} (docs/parameters.md)")
+
+
 def main():
     problems = []
     files = list(repo_files())
@@ -196,9 +235,13 @@ def main():
         for name, text in files
         if name.startswith("docs/") and name.endswith(".md") and "/" not in name[len("docs/"):]
     }
+    defaults = parameter_defaults(dict(files).get("docs/parameters.md", ""))
     for name, text in files:
+        prose = name.endswith(".md") and name != "docs/parameters.md"
         for number, line in enumerate(text.splitlines(), 1):
             check_line(name, number, line, notes, problems)
+            if prose:
+                check_defaults(name, number, line, defaults, problems)
         if name == "README.md":
             check_readme(text, problems)
     for p in problems:

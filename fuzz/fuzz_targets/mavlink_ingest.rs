@@ -10,6 +10,7 @@ use libfuzzer_sys::fuzz_target;
 
 use rotorpilot::commander::{Commander, Outcome};
 use rotorpilot::control::{ControllerGains, ControllerKind, VehicleState};
+use rotorpilot::guidance::Home;
 use rotorpilot::math::{UnitQuat, Vec3};
 use rotorpilot::mav::codec::{decode_datagram, frame_v2};
 use rotorpilot::mav::foreign::EKF_STATUS_REPORT_ID;
@@ -19,7 +20,6 @@ use rotorpilot::mav::logs::MemLogStore;
 use rotorpilot::mav::signing::{Signing, SigningKey};
 use rotorpilot::mav::streams::LinkKind;
 use rotorpilot::mav::translate::Identity;
-use rotorpilot::guidance::Home;
 use rotorpilot::params::{ParamTable, VehicleSettings};
 use rotorpilot::runtime::vehicle::DEFAULT_ESTIMATOR;
 use rotorpilot::telemetry::Snapshot;

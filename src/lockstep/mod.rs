@@ -189,11 +189,19 @@ impl<P: Pilot> Lockstep<P> {
         }
     }
 
+    /// One tick ([`Self::step`]) handed to `observer`: the tick, and the end of the run the
+    /// observer asks for, if it does. A runner that does something between ticks (the
+    /// autopilot applies requests) steps this way; [`Self::run`] is the same in a loop.
+    pub fn step_observed<O: Observer<P::Report>>(&mut self, observer: &mut O) -> (Tick<P::Report>, Option<Exit>) {
+        let tick = self.step();
+        let exit = observer.observe(&tick, &self.plant);
+        (tick, exit)
+    }
+
     /// Runs up to `ticks` ticks, handing each to `observer`, until it says stop.
     pub fn run<O: Observer<P::Report>>(&mut self, ticks: u64, observer: &mut O) -> Exit {
         for _ in 0..ticks {
-            let tick = self.step();
-            if let Some(exit) = observer.observe(&tick, &self.plant) {
+            if let (_, Some(exit)) = self.step_observed(observer) {
                 return exit;
             }
         }

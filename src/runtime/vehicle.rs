@@ -11,7 +11,7 @@ use crate::commander::{Event, Outcome, Request};
 use crate::control::ControllerKind;
 use crate::flight::FlightController;
 use crate::guidance::Home;
-use crate::lockstep::{Lockstep, ScheduledFailure, ScheduledSensorFailure, SetupError, TickView};
+use crate::lockstep::{Exit, Lockstep, Observer, ScheduledFailure, ScheduledSensorFailure, SetupError, Tick, TickView};
 use crate::params::{ParamError, ParamTable};
 use crate::sitl::{PlantTruth, SensorModel, SimPlant};
 use crate::telemetry::Snapshot;
@@ -145,32 +145,55 @@ impl Vehicle {
         self.lockstep.schedule_sensor_failure(failure)
     }
 
-    /// One tick ([`Lockstep::step`]), logged when a log is set: a file opens when the
-    /// [`LogSchedule`] asks for one (by default at arming) and closes after the tick at which it
-    /// no longer does (by default the disarming tick).
+    /// One tick ([`Lockstep::step_observed`]), watched by the flight logs when a log is set
+    /// ([`LogWatch`]).
     pub fn step(&mut self) -> TickOutput {
-        let tick = self.lockstep.step();
-        if let Some(log) = &mut self.log {
-            let params = self.lockstep.pilot().params();
-            let schedule = log
-                .schedule
-                .get_or_insert_with(|| LogSchedule::new(params.current().log_mode));
-            let wanted = schedule.wants_log(tick.report.armed);
-            if wanted && !log.stream.is_open() {
-                let now = std::time::SystemTime::now();
-                let mut info = self.log_info.clone();
-                info.utc_s = now.duration_since(std::time::UNIX_EPOCH).ok().map(|d| d.as_secs());
-                let params = log_params(params);
-                log.stream.open(UlogTarget::Flight(now), tick.t_s, &info, &params);
-            }
-            log.stream.record(&TickView::of(&tick, self.lockstep.plant()));
-            if !wanted && log.stream.is_open() {
-                log.stream.close();
-            }
-        }
+        let params = self.log.as_ref().map(|_| self.lockstep.pilot().shared_params());
+        let mut watch = match (&mut self.log, &params) {
+            (Some(logs), Some(params)) => Some(LogWatch {
+                logs,
+                params,
+                info: &self.log_info,
+            }),
+            _ => None,
+        };
+        let (tick, _) = self.lockstep.step_observed(&mut watch);
         TickOutput {
             snapshot: tick.report,
             events: tick.control.events,
         }
+    }
+}
+
+/// The flight logs watching one tick: a file opens when the [`LogSchedule`] asks for one (by
+/// default at arming), the tick is recorded, and the file closes after the tick at which the
+/// schedule no longer asks (by default the disarming tick).
+struct LogWatch<'a> {
+    logs: &'a mut FlightLogs,
+    /// The parameters as they are at this tick (`SDLOG_MODE`, and the values a new file lists).
+    params: &'a ParamTable,
+    info: &'a LogInfo,
+}
+
+impl Observer<Snapshot> for LogWatch<'_> {
+    fn observe(&mut self, tick: &Tick<Snapshot>, plant: &SimPlant) -> Option<Exit> {
+        let params = self.params;
+        let logs = &mut *self.logs;
+        let schedule = logs
+            .schedule
+            .get_or_insert_with(|| LogSchedule::new(params.current().log_mode));
+        let wanted = schedule.wants_log(tick.report.armed);
+        if wanted && !logs.stream.is_open() {
+            let now = std::time::SystemTime::now();
+            let mut info = self.info.clone();
+            info.utc_s = now.duration_since(std::time::UNIX_EPOCH).ok().map(|d| d.as_secs());
+            logs.stream
+                .open(UlogTarget::Flight(now), tick.t_s, &info, &log_params(params));
+        }
+        logs.stream.record(&TickView::of(tick, plant));
+        if !wanted && logs.stream.is_open() {
+            logs.stream.close();
+        }
+        None
     }
 }
