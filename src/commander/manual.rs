@@ -30,12 +30,11 @@ const OVERRIDE_OFFBOARD: u8 = 2;
 /// Arming in a mode where the throttle sets the thrust needs it below this [-].
 const ARM_THROTTLE_MAX: f64 = 0.2;
 
-/// The sticks: the latest sample with the simulated time it arrived, the link's word on their
-/// liveness in wall time, whether they were live at arming, whether their loss was reacted to,
-/// and what the stick modes fly from.
+/// The sticks: the latest sample, whether the link declared them silent since, whether they were
+/// live at arming, whether their loss was reacted to, and what the stick modes fly from.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct ManualInput {
-    latest: Option<(Sticks, f64)>,
+    latest: Option<Sticks>,
     /// The link declared the sticks silent (`COM_RC_LOSS_T`) since the latest sample.
     silent: bool,
     at_arming: bool,
@@ -65,7 +64,7 @@ pub(super) enum StickWatch {
 impl ManualInput {
     /// A MANUAL_CONTROL sample arrived at `t_s` [s].
     pub fn receive(&mut self, sticks: Sticks, t_s: f64) {
-        self.latest = Some((sticks, t_s));
+        self.latest = Some(sticks);
         self.silent = false;
         self.motion.sample(sticks, t_s);
     }
@@ -83,13 +82,13 @@ impl ManualInput {
 
     /// The latest sticks while they are alive.
     pub fn live(&self) -> Option<Sticks> {
-        self.latest.filter(|_| self.alive()).map(|(s, _)| s)
+        self.latest.filter(|_| self.alive())
     }
 
     /// The sticks to fly: the latest while alive, else centred (hold).
     fn sticks(&self) -> Sticks {
         match self.latest {
-            Some((s, _)) if self.alive() => s,
+            Some(s) if self.alive() => s,
             _ => Sticks::CENTRED,
         }
     }

@@ -18,21 +18,21 @@ pub(super) enum OffboardTarget {
     Attitude(AttitudeTarget),
 }
 
-/// The offboard stream: its latest target with the simulated time it arrived, whether the link
+/// The offboard stream: its latest target, whether the link
 /// declared it lost since, and the limiter the position / velocity targets are flown
 /// through (`None` until the first tick in OFFBOARD).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct Offboard {
-    latest: Option<(OffboardTarget, f64)>,
+    latest: Option<OffboardTarget>,
     /// The link heard nothing of the stream for `COM_OF_LOSS_T` since the latest target.
     lost: bool,
     limiter: Option<SetpointLimiter>,
 }
 
 impl Offboard {
-    /// A new target, arrived at `t_s` [s].
-    pub fn receive(&mut self, target: OffboardTarget, t_s: f64) {
-        self.latest = Some((target, t_s));
+    /// A new target.
+    pub fn receive(&mut self, target: OffboardTarget) {
+        self.latest = Some(target);
         self.lost = false;
     }
 
@@ -62,7 +62,7 @@ impl Offboard {
             t_s: _,
         } = now;
         match self.latest {
-            Some((OffboardTarget::Flat(sp, body_frame), _)) if self.alive() => {
+            Some(OffboardTarget::Flat(sp, body_frame)) if self.alive() => {
                 let raw = if body_frame { heading_to_world(sp, yaw) } else { sp };
                 let limiter = self.limiter.get_or_insert_with(|| SetpointLimiter::at(x));
                 if landed && !asks_climb(&raw, x) {
@@ -71,7 +71,7 @@ impl Offboard {
                 }
                 Some(FlightDemand::Flat(limiter.step(&raw, x, motion, dt_s)))
             }
-            Some((OffboardTarget::Attitude(target), _)) if self.alive() => {
+            Some(OffboardTarget::Attitude(target)) if self.alive() => {
                 self.limiter = None;
                 Some(FlightDemand::Attitude(target))
             }
@@ -205,7 +205,7 @@ mod tests {
         let mut o = Offboard::default();
         assert!(!o.alive(), "nothing received");
         let sp = FlatSetpoint::hold(Vec3::new(0.0, 0.0, -2.0), 0.0);
-        o.receive(OffboardTarget::Flat(sp, false), 10.0);
+        o.receive(OffboardTarget::Flat(sp, false));
         assert!(o.alive());
         let x = VehicleState::at_rest(0.0, Vec3::new(0.0, 0.0, -2.0));
         let motion = MotionLimits::default();
@@ -219,7 +219,7 @@ mod tests {
         o.set_lost();
         assert!(!o.alive());
         assert_eq!(o.command(now, false, &motion), None, "lost");
-        o.receive(OffboardTarget::Flat(sp, false), 101.0);
+        o.receive(OffboardTarget::Flat(sp, false));
         assert!(o.alive(), "alive again with the next target");
     }
 

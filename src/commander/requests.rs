@@ -34,11 +34,11 @@ impl Commander {
             Request::Land => self.set_mode(FlightMode::Land, x, t_s),
             Request::ReturnToLaunch => self.set_mode(FlightMode::ReturnToLaunch, x, t_s),
             Request::OffboardSetpoint { setpoint, body_frame } => {
-                self.offboard.receive(OffboardTarget::Flat(setpoint, body_frame), t_s);
+                self.offboard.receive(OffboardTarget::Flat(setpoint, body_frame));
                 Outcome::Accepted
             }
             Request::OffboardAttitude(target) => {
-                self.offboard.receive(OffboardTarget::Attitude(target), t_s);
+                self.offboard.receive(OffboardTarget::Attitude(target));
                 Outcome::Accepted
             }
             Request::StreamLost(stream) => {
