@@ -8,7 +8,7 @@ mod support;
 
 use std::time::Duration;
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavCmd, MavFrame, MavMessage, MavParamType, MavResult, PositionTargetTypemask, COMMAND_INT_DATA, PARAM_SET_DATA,
     SET_POSITION_TARGET_GLOBAL_INT_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };

@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavCmd, MavFrame, MavMessage, MavMissionType, MavModeFlag, MavParamType, MavResult, MavSysStatusSensor,
     PositionTargetTypemask, MISSION_COUNT_DATA, PARAM_SET_DATA, SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };

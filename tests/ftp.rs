@@ -7,7 +7,7 @@
 mod link_bench;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use rotorpilot::mav::crc32::crc32_part;
 use rotorpilot::mav::ftp::{Opcode, Payload};
 use rotorpilot::mav::streams::LinkKind;

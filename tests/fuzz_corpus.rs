@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     AttitudeTargetTypemask, MavCmd, MavDataStream, MavFrame, MavMessage, MavMissionType, MavModeFlag, MavParamType,
     MavType, PositionTargetTypemask, COMMAND_INT_DATA, FILE_TRANSFER_PROTOCOL_DATA, HEARTBEAT_DATA, MISSION_ACK_DATA,
     MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA, MISSION_REQUEST_INT_DATA, MISSION_REQUEST_LIST_DATA,

@@ -6,7 +6,7 @@
 mod link_bench;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use rotorpilot::commander::{Event, InputStream, Request};
 use rotorpilot::guidance::Sticks;
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};

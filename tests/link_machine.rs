@@ -6,7 +6,7 @@
 mod link_bench;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use mavlink::Message;
 use rotorpilot::commander::{FlightMode, Outcome, Request};
 use rotorpilot::guidance::Home;

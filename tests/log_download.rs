@@ -11,7 +11,7 @@ mod link_bench;
 use std::collections::BTreeMap;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use rotorpilot::mav::crc32::crc32_part;
 use rotorpilot::mav::ftp::{Opcode, Payload};
 use rotorpilot::mav::link::{LOG_MESSAGES_AT_ONCE, LOG_MESSAGE_PERIOD_S};

@@ -6,7 +6,7 @@ mod support;
 
 use std::time::Duration;
 
-use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavType, HEARTBEAT_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavResult, MavType, HEARTBEAT_DATA};
 use rotorpilot::mav::codec::encode_v2;
 use rotorpilot::mav::gcs::gcs_header;
 use support::Autopilot;

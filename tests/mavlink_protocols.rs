@@ -9,7 +9,7 @@ mod support;
 
 use std::time::{Duration, Instant};
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavCmd, MavFrame, MavMessage, MavMissionResult, MavMissionType, MavModeFlag, MavParamType, MavResult,
     PositionTargetTypemask, MISSION_COUNT_DATA, MISSION_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA,
     SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,

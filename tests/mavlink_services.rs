@@ -7,7 +7,7 @@ mod support;
 
 use std::time::{Duration, Instant};
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavCmd, MavMessage, MavMissionResult, MavMissionType, MavResult, MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA,
     MISSION_REQUEST_LIST_DATA,
 };

@@ -7,7 +7,7 @@
 mod link_bench;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
 
 /// `text` typed into the shell from QGC (RESPOND | EXCLUSIVE, as QGC and MAVSDK send it).

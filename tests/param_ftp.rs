@@ -8,7 +8,7 @@
 mod link_bench;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use rotorpilot::mav::ftp::{decode, Opcode, PackedValue, Payload, MAGIC, MAGIC_WITH_DEFAULTS};
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
 use rotorpilot::mav::param_encoding::packed_params;

@@ -8,7 +8,7 @@
 mod link_bench;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use rotorpilot::commander::{Event, FlightMode, MissionState as Progress, Outcome};
 use rotorpilot::guidance::Home;
 use rotorpilot::mav::link::VehicleReply;

@@ -7,7 +7,7 @@
 mod link_bench;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use rotorpilot::commander::{Outcome, Request};
 use rotorpilot::guidance::Home;
 use rotorpilot::mav::link::{ToVehicle, VehicleReply, VehicleRequest};

@@ -7,7 +7,7 @@
 mod link_bench;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use rotorpilot::commander::Request;
 use rotorpilot::mav::link::VehicleRequest;
 use rotorpilot::mav::streams::LinkKind;

@@ -6,7 +6,7 @@
 mod link_bench;
 
 use link_bench::*;
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use rotorpilot::commander::FlightMode;
 
 /// REQUEST_MESSAGE for message `id` with `param2`.

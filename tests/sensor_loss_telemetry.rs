@@ -5,7 +5,7 @@
 //! `fields_updated`, SCALED_PRESSURE, ESTIMATOR_STATUS's flags.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use mavlink::dialects::common::{GpsFixType, HighresImuUpdatedFlags, MavMessage, MavSysStatusSensor};
+use mavlink::dialects::ardupilotmega::{GpsFixType, HighresImuUpdatedFlags, MavMessage, MavSysStatusSensor};
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::control::ControllerKind;
 use rotorpilot::guidance::Home;

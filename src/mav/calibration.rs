@@ -11,7 +11,7 @@
 //! the reason, never stay silent. RC, airspeed and ESC calibration concern hardware this vehicle
 //! lacks: ACK UNSUPPORTED. Refused while armed (PX4: TEMPORARILY_REJECTED). Pure.
 
-use mavlink::dialects::common::COMMAND_LONG_DATA;
+use mavlink::dialects::ardupilotmega::COMMAND_LONG_DATA;
 
 use crate::commander::Outcome;
 
@@ -97,7 +97,7 @@ pub fn run(calibration: Calibration, armed: bool) -> Result<Vec<CalText>, Outcom
 mod tests {
     use super::*;
     use crate::mav::gcs::command_long;
-    use mavlink::dialects::common::MavCmd;
+    use mavlink::dialects::ardupilotmega::MavCmd;
 
     fn cal(params: [f32; 7]) -> Option<Calibration> {
         decode(&command_long((1, 1), MavCmd::MAV_CMD_PREFLIGHT_CALIBRATION, params))

@@ -5,7 +5,7 @@
 //! the crate's `MavCmd` enum does not know still yields its sender, target and id, so it can be
 //! answered with `MAV_RESULT_UNSUPPORTED`; [`unsupported_command_ack`] builds that reply by hand.
 
-use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, COMMAND_ACK_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavResult, COMMAND_ACK_DATA};
 use mavlink::{MAVLinkMessageRaw, MAVLinkV2MessageRaw, MavHeader, MavlinkVersion, Message};
 
 /// COMMAND_INT message id.
@@ -178,7 +178,7 @@ pub fn recompute_crc(raw: &mut MAVLinkV2MessageRaw) {
 mod tests {
     use super::*;
     use crate::mav::gcs::command_long;
-    use mavlink::dialects::common::HEARTBEAT_DATA;
+    use mavlink::dialects::ardupilotmega::HEARTBEAT_DATA;
 
     fn header(system_id: u32) -> MavHeader {
         MavHeader {

@@ -12,7 +12,7 @@
 
 use std::collections::HashMap;
 
-use mavlink::dialects::common::{MavCmd, MavResult, COMMAND_LONG_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavResult, COMMAND_LONG_DATA};
 use mavlink::MavHeader;
 
 /// How long a result is remembered [s].
@@ -128,7 +128,7 @@ impl DuplicateCache {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::common::MavCmd;
+    use mavlink::dialects::ardupilotmega::MavCmd;
 
     /// A second ground station (MAVSDK's system id).
     fn sender() -> MavHeader {

@@ -8,7 +8,7 @@
 //! generated from PX4's source). Everything this vehicle announces goes out as STATUSTEXT, which
 //! QGroundControl, MAVSDK and MAVProxy all show.
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavEventCurrentSequenceFlags, MavEventErrorReason, MavMessage, CURRENT_EVENT_SEQUENCE_DATA, REQUEST_EVENT_DATA,
     RESPONSE_EVENT_ERROR_DATA,
 };

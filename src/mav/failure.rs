@@ -6,7 +6,7 @@
 //! `FailureUnit` names is understood and answered as PX4 answers a unit its simulation does not
 //! model: COMMAND_ACK UNSUPPORTED, with a STATUSTEXT naming the unit. Pure.
 
-use mavlink::dialects::common::COMMAND_LONG_DATA;
+use mavlink::dialects::ardupilotmega::COMMAND_LONG_DATA;
 
 use super::translate::CommandDecision;
 use crate::commander::{Outcome, Request};
@@ -97,7 +97,7 @@ pub(super) fn inject_failure(cmd: &COMMAND_LONG_DATA) -> CommandDecision {
 mod tests {
     use super::*;
     use crate::mav::gcs::command_long;
-    use mavlink::dialects::common::MavCmd;
+    use mavlink::dialects::ardupilotmega::MavCmd;
 
     fn inject(unit: f32, kind: f32, instance: f32) -> CommandDecision {
         let params = [unit, kind, instance, 0.0, 0.0, 0.0, 0.0];

@@ -2,7 +2,7 @@
 //! target: the header a ground station sends with (255/190, docs/mavlink.md §1), COMMAND_LONG from
 //! its seven parameters, and which COMMAND_ACK answers a command (docs/mavlink.md §3.1). Pure.
 
-use mavlink::dialects::common::{MavCmd, MavMessage, MavResult, COMMAND_LONG_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavResult, COMMAND_LONG_DATA};
 use mavlink::MavHeader;
 
 /// System id of a ground station (QGC and MAVSDK use 255 … 245).
@@ -60,7 +60,7 @@ pub fn is_autopilot_heartbeat(sender: &MavHeader, message: &MavMessage) -> bool 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::common::COMMAND_ACK_DATA;
+    use mavlink::dialects::ardupilotmega::COMMAND_ACK_DATA;
 
     #[test]
     fn acks_count_from_the_target_system_or_any_for_a_broadcast() {

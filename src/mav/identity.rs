@@ -1,7 +1,7 @@
 //! Who the autopilot is on a link and how it answers: its identity and addressing rule
 //! (docs/mavlink.md §1, §3.1), its HEARTBEAT, and COMMAND_ACK with the MAV_RESULT of an outcome. Pure.
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavResult, MavState, MavType, COMMAND_ACK_DATA, HEARTBEAT_DATA,
 };
 use mavlink::MavHeader;

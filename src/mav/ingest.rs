@@ -7,7 +7,7 @@
 //! routes a message to them and applies the addressing rule of docs/mavlink.md §3.1 to the
 //! messages that carry a target.
 
-use mavlink::dialects::common::{MavMessage, MavMissionResult, MavMissionType, MavType, COMMAND_LONG_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, MavMissionResult, MavMissionType, MavType, COMMAND_LONG_DATA};
 use mavlink::MavHeader;
 
 use crate::commander::Request;
@@ -58,7 +58,7 @@ pub enum Action {
     /// LOG_REQUEST_LIST, LOG_REQUEST_DATA, LOG_REQUEST_END or LOG_ERASE addressed to us.
     Log(LogRequest),
     /// SERIAL_CONTROL for the shell device addressed to us (not a reply).
-    Shell(Box<mavlink::dialects::common::SERIAL_CONTROL_DATA>),
+    Shell(Box<mavlink::dialects::ardupilotmega::SERIAL_CONTROL_DATA>),
     /// PARAM_REQUEST_LIST: stream every parameter to the sender.
     ParamList,
     /// PARAM_REQUEST_READ: one parameter by `index`, or by `name` when no index is given.
@@ -98,9 +98,9 @@ pub enum Action {
 #[derive(Debug, Clone, PartialEq)]
 pub enum MissionStep {
     /// MISSION_COUNT: start (or, with 0, clear) an upload.
-    Count(mavlink::dialects::common::MISSION_COUNT_DATA),
+    Count(mavlink::dialects::ardupilotmega::MISSION_COUNT_DATA),
     /// MISSION_ITEM_INT of an upload.
-    Item(Box<mavlink::dialects::common::MISSION_ITEM_INT_DATA>),
+    Item(Box<mavlink::dialects::ardupilotmega::MISSION_ITEM_INT_DATA>),
     /// MISSION_CLEAR_ALL of the mission, fence or rally plan, or of all three (MAV_MISSION_TYPE_ALL).
     Clear(MavMissionType),
     /// MISSION_REQUEST_LIST: start a download of the mission, fence or rally plan.
@@ -117,7 +117,7 @@ pub enum MissionStep {
 /// FOLLOW_TARGET (it names no target: every vehicle hears it): the target's position (degE7,
 /// AMSL) and, when the capabilities' velocity bit (1) is set, its velocity; a position that is
 /// not a place is refused by name.
-fn follow_target(t: &mavlink::dialects::common::FOLLOW_TARGET_DATA, origin: &Home) -> Action {
+fn follow_target(t: &mavlink::dialects::ardupilotmega::FOLLOW_TARGET_DATA, origin: &Home) -> Action {
     let (lat, lon, alt) = (f64::from(t.lat) * 1e-7, f64::from(t.lon) * 1e-7, f64::from(t.alt));
     if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite()) {
         return Action::Refuse(format!("FOLLOW_TARGET: {lat}, {lon}, {alt} m is not a place"));
@@ -255,10 +255,10 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
         }
         MavMessage::SERIAL_CONTROL(m)
             if ours(m.target_system, m.target_component)
-                && m.device == mavlink::dialects::common::SerialControlDev::SERIAL_CONTROL_DEV_SHELL
+                && m.device == mavlink::dialects::ardupilotmega::SerialControlDev::SERIAL_CONTROL_DEV_SHELL
                 && !m
                     .flags
-                    .contains(mavlink::dialects::common::SerialControlFlag::SERIAL_CONTROL_FLAG_REPLY) =>
+                    .contains(mavlink::dialects::ardupilotmega::SerialControlFlag::SERIAL_CONTROL_FLAG_REPLY) =>
         {
             Action::Shell(Box::new(m.clone()))
         }
@@ -292,7 +292,7 @@ mod tests {
     use super::*;
     use crate::commander::FlightMode;
     use crate::mav::gcs::{command_long, gcs_header};
-    use mavlink::dialects::common::{
+    use mavlink::dialects::ardupilotmega::{
         MavCmd, MavFrame, PositionTargetTypemask, HEARTBEAT_DATA, MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA,
         MISSION_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA, SET_MODE_DATA,
         SET_POSITION_TARGET_LOCAL_NED_DATA,
@@ -367,7 +367,7 @@ mod tests {
             target_system: 1,
             target_component: 1,
             param_id: id.into(),
-            param_type: mavlink::dialects::common::MavParamType::MAV_PARAM_TYPE_INT32,
+            param_type: mavlink::dialects::ardupilotmega::MavParamType::MAV_PARAM_TYPE_INT32,
         };
         assert_eq!(
             run(MavMessage::PARAM_SET(set)),
@@ -431,7 +431,7 @@ mod tests {
         );
         let setup = |target_system, target_component| {
             run(MavMessage::SETUP_SIGNING(
-                mavlink::dialects::common::SETUP_SIGNING_DATA {
+                mavlink::dialects::ardupilotmega::SETUP_SIGNING_DATA {
                     initial_timestamp: 9,
                     target_system,
                     target_component,
@@ -460,7 +460,7 @@ mod tests {
     fn follow_target_reports_become_local_targets_and_bad_places_are_refused() {
         let home = Home::default();
         let report = |lat: f64, caps: u8| {
-            MavMessage::FOLLOW_TARGET(mavlink::dialects::common::FOLLOW_TARGET_DATA {
+            MavMessage::FOLLOW_TARGET(mavlink::dialects::ardupilotmega::FOLLOW_TARGET_DATA {
                 lat: (lat * 1e7).round() as i32,
                 lon: (home.lon_deg * 1e7).round() as i32,
                 alt: home.alt_amsl_m as f32,

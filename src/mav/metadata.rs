@@ -13,8 +13,8 @@
 //! (`generate_crc.py`), the general file's `fileCrc` over the `.xz` file it names. Pure.
 
 #[allow(deprecated)]
-use mavlink::dialects::common::COMPONENT_INFORMATION_DATA;
-use mavlink::dialects::common::{MavMessage, COMPONENT_METADATA_DATA};
+use mavlink::dialects::ardupilotmega::COMPONENT_INFORMATION_DATA;
+use mavlink::dialects::ardupilotmega::{MavMessage, COMPONENT_METADATA_DATA};
 use serde_json::{json, Map, Value};
 
 use super::crc32::crc32_part;

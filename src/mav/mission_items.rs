@@ -1,7 +1,7 @@
 //! MISSION_ITEM_INT ↔ [`MissionItem`] (docs/mavlink.md §7): supported commands and frames, values
 //! checked, each refusal with the MAV_MISSION_RESULT a client expects. Pure.
 
-use mavlink::dialects::common::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
 
 use crate::guidance::{Home, Mission, MissionItem};
 use crate::math::Vec3;

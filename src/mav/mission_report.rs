@@ -13,7 +13,7 @@
 //! "Reached" is PX4's `mission_result.seq_reached` as the MAVLink module last saw it: the latest
 //! MISSION_ITEM_REACHED, forgotten when another mission is stored (a new plan id). Pure.
 
-use mavlink::dialects::common::{MavMessage, MissionState as MavMissionState, MISSION_CURRENT_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, MissionState as MavMissionState, MISSION_CURRENT_DATA};
 
 use crate::commander::{FlightMode, MissionState};
 use crate::telemetry::Snapshot;

@@ -22,7 +22,7 @@
 //! another type is refused with UNSUPPORTED.
 //! Pure; `P` identifies a peer (an address in the runtime).
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavMessage, MavMissionResult, MavMissionType, MISSION_ACK_DATA, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA,
     MISSION_REQUEST_INT_DATA,
 };

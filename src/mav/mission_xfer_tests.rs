@@ -1,5 +1,5 @@
 use super::*;
-use mavlink::dialects::common::MavCmd;
+use mavlink::dialects::ardupilotmega::MavCmd;
 
 const GCS: Ids = (255, 190);
 const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;

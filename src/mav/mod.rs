@@ -14,8 +14,8 @@
 //! - [`logs`]: the flight logs (PX4's names, the store interface) and the log protocol.
 //! - [`duplicates`]: retransmitted commands; [`streams`]: per-link telemetry rates.
 //! - [`telemetry`] (with `status` and `nav_status`): the streamed messages built from a snapshot;
-//!   `nav_status`: GPS_RAW_INT, ESTIMATOR_STATUS and the raw sensors from the navigation;
-//!   [`foreign`]: messages of other dialects encoded by hand (EKF_STATUS_REPORT).
+//!   `nav_status`: GPS_RAW_INT, ESTIMATOR_STATUS, EKF_STATUS_REPORT and the raw sensors from the
+//!   navigation.
 //! - [`motor_outputs`]: the motor outputs as PX4 SITL reports them (PWM, 900 µs stopped).
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.
 //! - [`ftp`]: MAVLink FTP (payload, in-memory file system, server); [`metadata`]: the component
@@ -36,7 +36,6 @@ pub mod crc32;
 pub mod duplicates;
 pub mod events;
 pub mod failure;
-pub mod foreign;
 pub mod ftp;
 pub mod gcs;
 pub mod identity;
@@ -67,5 +66,5 @@ pub mod translate;
 /// The raw MAVLink types of the bench client's API ([`crate::runners::bench::client`]): it is a ground
 /// station, and the tests send and match arbitrary messages through it. The runtime never names
 /// them; it deals in [`link`]'s types.
-pub use mavlink::dialects::common::{MavCmd, MavMessage, MavResult};
+pub use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavResult};
 pub use mavlink::MavHeader;

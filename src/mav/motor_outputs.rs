@@ -2,7 +2,7 @@
 //! ACTUATOR_OUTPUT_STATUS): PWM in µs, 1000–2000 for a running motor, 900 (PX4's disarmed
 //! value) for one the flight controller stops. Pure.
 
-use mavlink::dialects::common::{MavMessage, ACTUATOR_OUTPUT_STATUS_DATA, SERVO_OUTPUT_RAW_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, ACTUATOR_OUTPUT_STATUS_DATA, SERVO_OUTPUT_RAW_DATA};
 
 use crate::telemetry::Snapshot;
 

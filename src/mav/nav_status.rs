@@ -3,9 +3,9 @@
 //! raw sensors. With the state sensor (no sensor suite) GPS_RAW_INT reports the estimate as a
 //! perfect 3D fix and ESTIMATOR_STATUS every estimate good. Pure.
 
-use mavlink::dialects::common::{
-    EstimatorStatusFlags, GpsFixType, HighresImuUpdatedFlags, MavMessage, ESTIMATOR_STATUS_DATA, GPS_RAW_INT_DATA,
-    HIGHRES_IMU_DATA, HIL_STATE_QUATERNION_DATA, SCALED_PRESSURE_DATA,
+use mavlink::dialects::ardupilotmega::{
+    EkfStatusFlags, EstimatorStatusFlags, GpsFixType, HighresImuUpdatedFlags, MavMessage, EKF_STATUS_REPORT_DATA,
+    ESTIMATOR_STATUS_DATA, GPS_RAW_INT_DATA, HIGHRES_IMU_DATA, HIL_STATE_QUATERNION_DATA, SCALED_PRESSURE_DATA,
 };
 
 use crate::math::Vec3;
@@ -200,4 +200,25 @@ pub(super) fn ground_truth(s: &Snapshot) -> Option<MavMessage> {
         yacc: whole(acc_b.y),
         zacc: whole(acc_b.z),
     }))
+}
+
+/// EKF_STATUS_REPORT (`ardupilotmega`) as ArduPilot fills it: the flags (the same bits as
+/// ESTIMATOR_STATUS's) and, for velocity, horizontal position, vertical position and compass, the
+/// square root of the test ratio ν² / (gate² S), which ground stations show against 0.5
+/// (warning) and 0.8 (bad); terrain and airspeed 0 (not estimated). With the state sensor every
+/// flag good and every value 0.
+pub(super) fn ekf_status_report(s: &Snapshot) -> MavMessage {
+    let (flags, [vel, pos_h, pos_v, mag, _height]) = match s.nav.filter {
+        Some(f) => (f.flags, f.test_ratios.map(|r| r.max(0.0).sqrt() as f32)),
+        None => (0x3FF & !0x80, [0.0; 5]),
+    };
+    MavMessage::EKF_STATUS_REPORT(EKF_STATUS_REPORT_DATA {
+        velocity_variance: vel,
+        pos_horiz_variance: pos_h,
+        pos_vert_variance: pos_v,
+        compass_variance: mag,
+        terrain_alt_variance: 0.0,
+        flags: EkfStatusFlags::from_bits_retain(flags),
+        airspeed_variance: 0.0,
+    })
 }

@@ -3,7 +3,7 @@
 //! X 1, Y 2, Z 4, VX 8, VY 16, VZ 32, AX 64, AY 128, AZ 256, FORCE 512, YAW 1024, YAW_RATE 2048.
 //! Pure.
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavFrame, SET_ATTITUDE_TARGET_DATA, SET_POSITION_TARGET_GLOBAL_INT_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
 
@@ -189,7 +189,7 @@ pub fn decode_attitude_target(m: &SET_ATTITUDE_TARGET_DATA) -> Result<AttitudeTa
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::common::PositionTargetTypemask;
+    use mavlink::dialects::ardupilotmega::PositionTargetTypemask;
 
     fn target(mask: u16, frame: MavFrame) -> SET_POSITION_TARGET_LOCAL_NED_DATA {
         SET_POSITION_TARGET_LOCAL_NED_DATA {
@@ -258,7 +258,7 @@ mod tests {
 
     #[test]
     fn attitude_targets_decode_with_mavsdk_masks() {
-        use mavlink::dialects::common::AttitudeTargetTypemask;
+        use mavlink::dialects::ardupilotmega::AttitudeTargetTypemask;
         let m = |mask: u8, q: [f32; 4], thrust: f32| SET_ATTITUDE_TARGET_DATA {
             q,
             body_roll_rate: 0.1,

@@ -7,7 +7,7 @@
 //! (or the vehicle's position and height for the centre). p4, MAVLink's number of turns, is not
 //! read, as PX4 does not read it: the orbit goes on until another mode is chosen.
 
-use mavlink::dialects::common::{MavFrame, MavMessage, COMMAND_LONG_DATA, ORBIT_EXECUTION_STATUS_DATA};
+use mavlink::dialects::ardupilotmega::{MavFrame, MavMessage, COMMAND_LONG_DATA, ORBIT_EXECUTION_STATUS_DATA};
 
 use crate::commander::{OrbitRequest, Outcome, Request};
 use crate::guidance::{Home, OrbitYaw};

@@ -6,7 +6,7 @@
 //! copy and stop the list (by a PARAM_SET of `_HASH_CHECK`). The same 4 value bytes and the
 //! airframe's defaults make the parameters of `@PARAM/param.pck` ([`packed_params`]). Pure.
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavMessage, MavParamError, MavParamType, PARAM_ERROR_DATA, PARAM_SET_DATA, PARAM_VALUE_DATA,
 };
 use mavlink::types::CharArray;

@@ -11,7 +11,7 @@
 //! GLOBAL_RELATIVE_ALT and their _INT forms; MISSION → UNSUPPORTED, others UNSUPPORTED_FRAME);
 //! another command is UNSUPPORTED.
 
-use mavlink::dialects::common::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
 
 use super::mission_items::ItemError;
 use crate::guidance::geofence::{Shape, Zone};

@@ -8,7 +8,7 @@
 //! goes out as `opaque_id` in the upload's final MISSION_ACK and in MISSION_COUNT of a download,
 //! and as `mission_id` / `fence_id` / `rally_points_id` in MISSION_CURRENT. Pure.
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavMessage, MavMissionResult, MavMissionType, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA,
 };
 
@@ -147,7 +147,7 @@ impl PlanStore {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::common::MavCmd;
+    use mavlink::dialects::ardupilotmega::MavCmd;
 
     const GCS: Ids = (255, 190);
     const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
@@ -192,7 +192,7 @@ mod tests {
     /// MISSION_ITEM_INT), then RETURN_TO_LAUNCH.
     fn two_items() -> Vec<MISSION_ITEM_INT_DATA> {
         let wp = MISSION_ITEM_INT_DATA {
-            frame: mavlink::dialects::common::MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+            frame: mavlink::dialects::ardupilotmega::MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
             command: MavCmd::MAV_CMD_NAV_WAYPOINT,
             autocontinue: 1,
             param2: 2.0,
@@ -203,7 +203,7 @@ mod tests {
             ..item(0, MavCmd::MAV_CMD_NAV_WAYPOINT)
         };
         let rtl = MISSION_ITEM_INT_DATA {
-            frame: mavlink::dialects::common::MavFrame::MAV_FRAME_MISSION,
+            frame: mavlink::dialects::ardupilotmega::MavFrame::MAV_FRAME_MISSION,
             autocontinue: 1,
             ..item(1, MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH)
         };

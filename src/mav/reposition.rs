@@ -5,7 +5,7 @@
 //! PX4's commander takes it; NaN means unset. What the flag then does is the commander's
 //! (`src/commander/goto.rs`). Pure.
 
-use mavlink::dialects::common::{MavFrame, COMMAND_INT_DATA, COMMAND_LONG_DATA};
+use mavlink::dialects::ardupilotmega::{MavFrame, COMMAND_INT_DATA, COMMAND_LONG_DATA};
 
 use crate::commander::{Outcome, Request};
 use crate::guidance::Home;
@@ -81,7 +81,7 @@ fn request(cmd: &COMMAND_LONG_DATA, xy: Option<(f64, f64)>, down: Option<f64>) -
 
 #[cfg(test)]
 mod tests {
-    use mavlink::dialects::common::MavCmd;
+    use mavlink::dialects::ardupilotmega::MavCmd;
 
     use super::*;
     use crate::mav::gcs::gcs_header;

@@ -4,7 +4,9 @@
 //! PING is deprecated in the spec, but MAVSDK sends one every 5 s to PX4 and expects the reply.
 #![allow(deprecated)]
 
-use mavlink::dialects::common::{MavMessage, MavProtocolCapability, AUTOPILOT_VERSION_DATA, PING_DATA, TIMESYNC_DATA};
+use mavlink::dialects::ardupilotmega::{
+    MavMessage, MavProtocolCapability, AUTOPILOT_VERSION_DATA, PING_DATA, TIMESYNC_DATA,
+};
 use mavlink::MavHeader;
 
 use super::stream_messages::TelemetryStream;

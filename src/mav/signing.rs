@@ -265,7 +265,7 @@ impl Signing {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::common::{MavCmd, MavMessage, COMMAND_LONG_DATA, HEARTBEAT_DATA};
+    use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, COMMAND_LONG_DATA, HEARTBEAT_DATA};
     use mavlink::Message;
 
     const NOW: u64 = 40_000_000_000;

@@ -5,8 +5,8 @@
 //! never an AVAILABLE_MODES_MONITOR to send (PX4 sends one only after a change). Pure.
 
 #[allow(deprecated)]
-use mavlink::dialects::common::PROTOCOL_VERSION_DATA;
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::PROTOCOL_VERSION_DATA;
+use mavlink::dialects::ardupilotmega::{
     MavMessage, MavModeProperty, MavStandardMode, AVAILABLE_MODES_DATA, CURRENT_MODE_DATA,
 };
 

@@ -2,7 +2,7 @@
 //! geofence health) and STATUSTEXT (MISSION_CURRENT, which needs the stored plans, is in
 //! `mission_report.rs`). Pure.
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavMessage, MavSeverity, MavSysStatusSensor, BATTERY_STATUS_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA,
 };
 

@@ -2,14 +2,13 @@
 //! messages (battery, SYS_STATUS, STATUSTEXT) are in `status.rs`; MISSION_CURRENT, which names the
 //! stored plans, in `mission_report.rs`. Pure.
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     MavFrame, MavLandedState, MavMessage, MavVtolState, PositionTargetTypemask, ATTITUDE_DATA,
     ATTITUDE_QUATERNION_DATA, ATTITUDE_TARGET_DATA, DEBUG_VECT_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA,
     HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, NAMED_VALUE_FLOAT_DATA, POSITION_TARGET_LOCAL_NED_DATA,
     SYSTEM_TIME_DATA, VFR_HUD_DATA,
 };
 
-use super::foreign::ForeignMessage;
 use crate::commander::LandedState;
 use crate::math::{UnitQuat, Vec3};
 use crate::telemetry::Snapshot;
@@ -73,7 +72,7 @@ pub enum TelemetryStream {
     /// as PX4 SITL streams it for MAVSDK's ground truth.
     GroundTruth,
     /// EKF_STATUS_REPORT (193, `ardupilotmega`): the same filter report as ArduPilot sends it,
-    /// for ground stations that read that one ([`super::foreign`]); [`message`] has none.
+    /// for ground stations that read that one.
     EkfStatusReport,
     /// SYSTEM_TIME (2): Unix time and time since boot; the link builds it from its wall clock
     /// ([`system_time`]), so [`message`] has none.
@@ -140,7 +139,7 @@ impl TelemetryStream {
             TelemetryStream::EstimatorStatus => 230,
             TelemetryStream::ScaledPressure => 29,
             TelemetryStream::GroundTruth => 115,
-            TelemetryStream::EkfStatusReport => super::foreign::EKF_STATUS_REPORT_ID,
+            TelemetryStream::EkfStatusReport => 193,
         }
     }
 }
@@ -184,17 +183,6 @@ fn global_int(s: &Snapshot, pos_w: &Vec3) -> [i32; 3] {
     ]
 }
 
-/// What a stream sends: a message of the common dialect, or one of another dialect encoded by
-/// hand.
-#[derive(Debug, Clone, PartialEq)]
-#[allow(clippy::large_enum_variant)] // built, sent and dropped at once: boxing would allocate per message
-pub enum Outgoing {
-    /// A common-dialect message.
-    Message(MavMessage),
-    /// A message the crate's dialect does not know (docs/mavlink.md §13.5).
-    Foreign(ForeignMessage),
-}
-
 /// The message of `stream` for snapshot `s`; `None` when there is nothing to report (no estimate).
 pub fn message(stream: TelemetryStream, s: &Snapshot) -> Option<MavMessage> {
     let time_usec = time_usec(s);
@@ -210,10 +198,9 @@ pub fn message(stream: TelemetryStream, s: &Snapshot) -> Option<MavMessage> {
     Some(match stream {
         TelemetryStream::CurrentMode => super::standard_modes::current_mode(s.mode),
         TelemetryStream::OrbitStatus => return super::orbit::orbit_execution_status(s),
-        // Built by the link: the wall clock, a foreign dialect, the stored plans' ids.
-        TelemetryStream::SystemTime | TelemetryStream::EkfStatusReport | TelemetryStream::MissionCurrent => {
-            return None
-        }
+        // Built by the link: the wall clock, the stored plans' ids.
+        TelemetryStream::SystemTime | TelemetryStream::MissionCurrent => return None,
+        TelemetryStream::EkfStatusReport => super::nav_status::ekf_status_report(s),
         TelemetryStream::EventSequence => super::events::current_event_sequence(),
         TelemetryStream::AttitudeQuaternion => {
             let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);
@@ -362,7 +349,7 @@ mod tests {
     use super::*;
     use crate::guidance::Home;
     use crate::math::Vec3;
-    use mavlink::dialects::common::{MavSeverity, MavSysStatusSensor};
+    use mavlink::dialects::ardupilotmega::{MavSeverity, MavSysStatusSensor};
 
     fn snapshot() -> Snapshot {
         Snapshot {

@@ -4,7 +4,7 @@
 //! `target_component ∈ {1, 0}` and it does not come from our own ids. NaN parameters mean
 //! "not set". Results map to MAV_RESULT with the refusal reason kept for STATUSTEXT.
 
-use mavlink::dialects::common::{MavCmd, MavMessage, COMMAND_INT_DATA, COMMAND_LONG_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, COMMAND_INT_DATA, COMMAND_LONG_DATA};
 use mavlink::MavHeader;
 
 use crate::commander::{FlightMode, ModeRefusal, Outcome, Request};
@@ -415,7 +415,7 @@ mod tests {
         let lat_e7 = (home.lat_deg * 1e7).round() as i32 + 900; // ≈ 10 m north
         let int = COMMAND_INT_DATA {
             command: MavCmd::MAV_CMD_DO_SET_HOME,
-            frame: mavlink::dialects::common::MavFrame::MAV_FRAME_GLOBAL,
+            frame: mavlink::dialects::ardupilotmega::MavFrame::MAV_FRAME_GLOBAL,
             x: lat_e7,
             y: (home.lon_deg * 1e7).round() as i32,
             z: (home.alt_amsl_m - 5.0) as f32,

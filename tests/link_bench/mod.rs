@@ -2,7 +2,7 @@
 //! bench the in-process link tests (`link_machine.rs`, `link_liveness.rs`) drive.
 #![allow(dead_code, deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-use mavlink::dialects::common::*;
+use mavlink::dialects::ardupilotmega::*;
 use mavlink::Message;
 use rotorpilot::control::{ControllerGains, ControllerKind};
 use rotorpilot::guidance::Home;

@@ -5,7 +5,7 @@
 use std::net::SocketAddr;
 use std::time::Duration;
 
-use mavlink::dialects::common::{
+use mavlink::dialects::ardupilotmega::{
     AttitudeTargetTypemask, MavCmd, MavFrame, MavMessage, MavMissionType, MavResult, MISSION_ITEM_INT_DATA,
     SET_ATTITUDE_TARGET_DATA,
 };

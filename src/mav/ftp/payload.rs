@@ -3,7 +3,7 @@
 //! padding, offset; little endian) and up to 239 data bytes; the opcodes and NAK error codes
 //! PX4's server uses. Pure.
 
-use mavlink::dialects::common::{MavMessage, FILE_TRANSFER_PROTOCOL_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, FILE_TRANSFER_PROTOCOL_DATA};
 
 /// Bytes of the FILE_TRANSFER_PROTOCOL payload.
 pub const PAYLOAD_LEN: usize = 251;

@@ -8,7 +8,7 @@
 
 use std::collections::HashMap;
 
-use mavlink::dialects::common::{MavCmd, MavMissionType, MavResult, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavMissionType, MavResult, MISSION_ITEM_INT_DATA};
 use mavlink::MavHeader;
 
 use super::boundary::{Token, VehicleRequest};
@@ -19,7 +19,7 @@ use super::param_upload::UploadSet;
 use super::{LinkKind, WARNING};
 use crate::commander::{Outcome, Request};
 use crate::mav::duplicates::{CommandKey, DuplicateCache, Seen};
-use crate::mav::stream_messages::{status_text, Outgoing};
+use crate::mav::stream_messages::status_text;
 use crate::mav::translate::{command_ack, result_of};
 
 /// What the machine waits for from the vehicle.
@@ -57,7 +57,7 @@ pub(super) enum AckOf {
 #[derive(Debug, Clone, PartialEq)]
 pub(super) enum Decided {
     /// Answered at once: the ACK, then these messages to the sender.
-    Answer(AckOf, Vec<Outgoing>),
+    Answer(AckOf, Vec<MavMessage>),
     /// For the vehicle: the ACK waits for its outcome.
     Execute(Request),
 }
@@ -175,7 +175,7 @@ impl<A: Copy> CommandService<A> {
 
 #[cfg(test)]
 mod tests {
-    use mavlink::dialects::common::{MavMessage, COMMAND_LONG_DATA};
+    use mavlink::dialects::ardupilotmega::{MavMessage, COMMAND_LONG_DATA};
 
     use super::*;
     use crate::mav::gcs::gcs_header;
@@ -199,7 +199,7 @@ mod tests {
     fn acks(out: &[Effect<u16>]) -> Vec<MavResult> {
         out.iter()
             .filter_map(|e| match e {
-                Effect::To(_, 7, Outgoing::Message(MavMessage::COMMAND_ACK(a))) => Some(a.result),
+                Effect::To(_, 7, MavMessage::COMMAND_ACK(a)) => Some(a.result),
                 _ => None,
             })
             .collect()

@@ -6,7 +6,7 @@
 //!
 //! [`Consoles`] owns the shells; it reads the table and the state it is handed.
 
-use mavlink::dialects::common::{SerialControlFlag, SERIAL_CONTROL_DATA};
+use mavlink::dialects::ardupilotmega::{SerialControlFlag, SERIAL_CONTROL_DATA};
 
 use super::boundary::VehicleRequest;
 use super::commands::Pending;
@@ -164,7 +164,7 @@ fn type_out<A: Copy>(link: LinkKind, to: A, ids: (u8, u8), text: &str) -> Vec<Ef
 
 #[cfg(test)]
 mod tests {
-    use mavlink::dialects::common::{MavMessage, SerialControlDev};
+    use mavlink::dialects::ardupilotmega::{MavMessage, SerialControlDev};
 
     use super::*;
     use crate::guidance::Home;

@@ -4,15 +4,14 @@
 
 use std::hash::Hash;
 
-use mavlink::dialects::common::{MavMessage, MISSION_ITEM_REACHED_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, MISSION_ITEM_REACHED_DATA};
 
 use super::liveness::silent_for;
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
 use crate::commander::{Event, LinkLossAction, Request};
-use crate::mav::foreign::ekf_status_report;
 use crate::mav::identity::heartbeat;
 use crate::mav::signing::unix_us_from_timestamp;
-use crate::mav::stream_messages::{message, status_text, system_time, Outgoing, TelemetryStream};
+use crate::mav::stream_messages::{message, status_text, system_time, TelemetryStream};
 
 /// How often the link looks at what is due (wall time) [s].
 pub const DUTY_PERIOD_S: f64 = 0.005;
@@ -65,7 +64,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             for stream in self.ports[k].streams.due(now.sim_s) {
                 if let Some(out) = self.stream_message(now, stream) {
                     for to in &targets {
-                        self.send_outgoing(now, link, *to, &out);
+                        self.send(now, link, *to, &out);
                     }
                 }
             }
@@ -74,17 +73,16 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// `stream`'s message now (streamed or asked for): from the snapshot, except SYSTEM_TIME,
     /// which comes from the wall clock the signing clock counts; `None` when there is none.
-    pub(super) fn stream_message(&self, now: Now, stream: TelemetryStream) -> Option<Outgoing> {
+    pub(super) fn stream_message(&self, now: Now, stream: TelemetryStream) -> Option<MavMessage> {
         match stream {
-            TelemetryStream::SystemTime => Some(Outgoing::Message(system_time(
+            TelemetryStream::SystemTime => Some(system_time(
                 unix_us_from_timestamp(self.keys.now(now.wall_s)),
                 &self.snapshot,
-            ))),
-            TelemetryStream::EkfStatusReport => Some(Outgoing::Foreign(ekf_status_report(&self.snapshot))),
-            TelemetryStream::MissionCurrent => Some(Outgoing::Message(
-                self.plans.mission_current(&self.snapshot, self.snapshot.mission_seq),
             )),
-            _ => message(stream, &self.snapshot).map(Outgoing::Message),
+            TelemetryStream::MissionCurrent => {
+                Some(self.plans.mission_current(&self.snapshot, self.snapshot.mission_seq))
+            }
+            _ => message(stream, &self.snapshot),
         }
     }
 

@@ -4,12 +4,11 @@
 //! wait for, and hands what one part decided for another to that part (an uploaded parameter
 //! file from FTP to the parameters, its answer back to FTP).
 
-use mavlink::dialects::common::MavMessage;
+use mavlink::dialects::ardupilotmega::MavMessage;
 
 use super::boundary::{KeyToStore, VehicleRequest};
 use super::commands::Pending;
 use crate::mav::ftp::{ErrorCode, ParamUpload, Payload};
-use crate::mav::stream_messages::Outgoing;
 use crate::mav::streams::LinkKind;
 
 /// Where an answer goes: link, client address, client's MAVLink ids (system, component).
@@ -17,11 +16,11 @@ pub(super) type Client<A> = (LinkKind, A, (u8, u8));
 
 /// One thing a part of the link decided.
 #[derive(Debug, Clone, PartialEq)]
-#[allow(clippy::large_enum_variant)] // carried out at once, as `Outgoing` is
+#[allow(clippy::large_enum_variant)] // carried out at once: boxing would allocate per message
 pub(super) enum Effect<A> {
-    /// A message (or a foreign frame) to one client on a link; a STATUSTEXT is also noted for
+    /// A message to one client on a link; a STATUSTEXT is also noted for
     /// the flight log.
-    To(LinkKind, A, Outgoing),
+    To(LinkKind, A, MavMessage),
     /// A message to every target of every link (an announcement, not noted).
     Everyone(MavMessage),
     /// A request for the vehicle; with a [`Pending`], its answer is awaited as that.
@@ -37,18 +36,17 @@ pub(super) enum Effect<A> {
 impl<A> Effect<A> {
     /// `msg` to `to` on `link`.
     pub fn send(link: LinkKind, to: A, msg: MavMessage) -> Self {
-        Self::To(link, to, Outgoing::Message(msg))
+        Self::To(link, to, msg)
     }
 }
 
 /// What the tests of the link's parts share: a parameter table and readers of effects.
 #[cfg(test)]
 pub(super) mod testing {
-    use mavlink::dialects::common::MavMessage;
+    use mavlink::dialects::ardupilotmega::MavMessage;
 
     use super::Effect;
     use crate::control::{ControllerGains, ControllerKind};
-    use crate::mav::stream_messages::Outgoing;
     use crate::mav::streams::LinkKind;
     use crate::params::{ParamTable, VehicleSettings};
 
@@ -65,7 +63,7 @@ pub(super) mod testing {
     pub fn sent<A: Copy>(out: &[Effect<A>]) -> Vec<(LinkKind, A, MavMessage)> {
         out.iter()
             .filter_map(|e| match e {
-                Effect::To(link, to, Outgoing::Message(m)) => Some((*link, *to, m.clone())),
+                Effect::To(link, to, m) => Some((*link, *to, m.clone())),
                 _ => None,
             })
             .collect()

@@ -9,7 +9,7 @@
 //! [`Files`] owns the file system and the FTP servers; the log protocol reads the flight logs
 //! through it ([`Files::log_store`]).
 
-use mavlink::dialects::common::MavMessage;
+use mavlink::dialects::ardupilotmega::MavMessage;
 
 use super::effects::{Client, Effect};
 use super::LinkKind;

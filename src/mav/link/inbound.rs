@@ -6,7 +6,7 @@
 
 use std::hash::Hash;
 
-use mavlink::dialects::common::{MavMessage, MavResult, COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, MavResult, COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA};
 use mavlink::MavHeader;
 
 use super::commands::{AckOf, Asker, Decided};
@@ -20,7 +20,7 @@ use crate::mav::ingest::{ingest, Action};
 use crate::mav::services::autopilot_version;
 use crate::mav::signing::Verdict;
 use crate::mav::standard_modes::{available_modes, protocol_version};
-use crate::mav::stream_messages::{status_text, Outgoing};
+use crate::mav::stream_messages::status_text;
 use crate::mav::translate::{CommandDecision, OneShot};
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
@@ -208,7 +208,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         let accepted = AckOf::Result(MavResult::MAV_RESULT_ACCEPTED);
         let denied = AckOf::Result(MavResult::MAV_RESULT_DENIED);
         let unsupported = AckOf::Result(MavResult::MAV_RESULT_UNSUPPORTED);
-        let common = |m: MavMessage| vec![Outgoing::Message(m)];
+        let common = |m: MavMessage| vec![m];
         match decision {
             CommandDecision::NotForUs | CommandDecision::Unsupported => Decided::Answer(unsupported, Vec::new()),
             CommandDecision::NotSimulated(why) => Decided::Answer(unsupported, common(status_text(WARNING, &why))),
@@ -217,7 +217,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 Ok(texts) => {
                     let said = texts.into_iter().map(|t| {
                         let severity = if t.critical { CRITICAL } else { INFO };
-                        Outgoing::Message(status_text(severity, &t.text))
+                        status_text(severity, &t.text)
                     });
                     Decided::Answer(accepted, said.collect())
                 }
@@ -229,9 +229,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     OneShot::ProtocolVersion => Some(common(protocol_version())),
                     OneShot::ComponentMetadata => Some(common(self.files.component_metadata(now.wall_s))),
                     OneShot::ComponentInformation => Some(common(self.files.component_information(now.wall_s))),
-                    OneShot::AvailableModes(index) => {
-                        available_modes(index).map(|ms| ms.into_iter().map(Outgoing::Message).collect())
-                    }
+                    OneShot::AvailableModes(index) => available_modes(index).map(|ms| ms.into_iter().collect()),
                     OneShot::TelemetryStream(stream) => self.stream_message(now, stream).map(|m| vec![m]),
                 };
                 match msgs {

@@ -10,7 +10,7 @@
 //! [`LogService`] owns the log server of each link; the logs are read from the store it is
 //! handed.
 
-use mavlink::dialects::common::MavMessage;
+use mavlink::dialects::ardupilotmega::MavMessage;
 
 use super::effects::Effect;
 use super::LinkKind;

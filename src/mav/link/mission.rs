@@ -7,7 +7,7 @@
 //! [`PlanService`] owns the stored plans, what MISSION_CURRENT remembers and the upload state
 //! of each link.
 
-use mavlink::dialects::common::{MavMessage, MavMissionResult, MavMissionType, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, MavMissionResult, MavMissionType, MISSION_ITEM_INT_DATA};
 
 use super::boundary::VehicleRequest;
 use super::commands::Pending;
@@ -195,7 +195,7 @@ fn on_link<A>(link: LinkKind, sent: Vec<(A, MavMessage)>) -> Vec<Effect<A>> {
 
 #[cfg(test)]
 mod tests {
-    use mavlink::dialects::common::{MavCmd, MavFrame, MISSION_COUNT_DATA};
+    use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MISSION_COUNT_DATA};
 
     use super::*;
     use crate::mav::link::effects::testing::{sent, texts};

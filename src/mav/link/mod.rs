@@ -57,7 +57,7 @@ use std::collections::VecDeque;
 use std::hash::Hash;
 use std::sync::Arc;
 
-use mavlink::dialects::common::{MavMessage, MavMissionType, MavSeverity, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, MavMissionType, MavSeverity, MISSION_ITEM_INT_DATA};
 use mavlink::{MAVLinkV2MessageRaw, MavHeader};
 
 use crate::commander::{Event, Outcome};
@@ -67,7 +67,6 @@ use crate::telemetry::Snapshot;
 use super::codec::frame_message;
 use super::ftp::Vfs;
 use super::metadata::MetadataFiles;
-use super::stream_messages::Outgoing;
 use super::streams::LinkKind;
 use super::translate::Identity;
 pub use boundary::{KeyToStore, LinkConfig, Now, Said, ToVehicle, Token, Transmit, VehicleReply, VehicleRequest};
@@ -337,7 +336,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     fn carry_out(&mut self, now: Now, effects: Vec<Effect<A>>) {
         for effect in effects {
             match effect {
-                Effect::To(link, to, out) => self.send_outgoing(now, link, to, &out),
+                Effect::To(link, to, out) => self.send(now, link, to, &out),
                 Effect::Everyone(msg) => self.broadcast(now, &msg),
                 Effect::Ask(pending, request) => {
                     let token = pending.map(|p| self.commands.expect(p));
@@ -367,15 +366,6 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             });
         }
         self.send_unlogged(now, link, to, msg);
-    }
-
-    /// Queues a stream's `out` to `to` on `link`: a common message as [`Self::send`] does, a
-    /// foreign one framed by hand (docs/mavlink.md §13.5).
-    fn send_outgoing(&mut self, now: Now, link: LinkKind, to: A, out: &Outgoing) {
-        match out {
-            Outgoing::Message(msg) => self.send(now, link, to, msg),
-            Outgoing::Foreign(m) => self.send_frame(now, link, to, |header| m.frame(header)),
-        }
     }
 
     /// [`Self::send`] without noting a STATUSTEXT for the flight log.

@@ -292,7 +292,7 @@ impl<A: Copy + PartialEq> ParamService<A> {
 
 #[cfg(test)]
 mod tests {
-    use mavlink::dialects::common::MavMessage;
+    use mavlink::dialects::ardupilotmega::MavMessage;
 
     use super::*;
     use crate::mav::gcs::gcs_header;

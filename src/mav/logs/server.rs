@@ -20,7 +20,7 @@
 //! - LOG_ERASE is the caller's (it deletes the store's logs and [`forget`](LogServer::forget)s
 //!   every link's snapshot); nothing answers it.
 
-use mavlink::dialects::common::{MavMessage, LOG_DATA_DATA, LOG_ENTRY_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, LOG_DATA_DATA, LOG_ENTRY_DATA};
 
 use super::store::{LogFile, LogStore};
 

@@ -15,7 +15,7 @@
 
 mod commands;
 
-use mavlink::dialects::common::{MavMessage, SerialControlDev, SerialControlFlag, SERIAL_CONTROL_DATA};
+use mavlink::dialects::ardupilotmega::{MavMessage, SerialControlDev, SerialControlFlag, SERIAL_CONTROL_DATA};
 
 pub use commands::{param_set_text, run, Context, ShellOutcome};
 
