@@ -8,6 +8,47 @@ use mavlink::MavHeader;
 
 use crate::commander::{FlightMode, Outcome};
 
+/// The autopilot a vehicle presents itself as on its links: the same commander, navigation and
+/// control behind PX4's face or ArduCopter's (docs/ardupilot.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Personality {
+    /// PX4 (MAV_AUTOPILOT_PX4): PX4's modes, streams, parameters and texts.
+    #[default]
+    Px4,
+    /// ArduCopter (MAV_AUTOPILOT_ARDUPILOTMEGA): Copter's mode numbers, GUIDED, streams only on
+    /// request, ArduPilot's parameter names and texts.
+    ArduPilot,
+}
+
+impl Personality {
+    /// The name `--autopilot` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Personality::Px4 => "px4",
+            Personality::ArduPilot => "ardupilot",
+        }
+    }
+}
+
+impl std::str::FromStr for Personality {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "px4" => Ok(Personality::Px4),
+            "ardupilot" | "arducopter" => Ok(Personality::ArduPilot),
+            other => Err(format!("unknown autopilot '{other}': px4 or ardupilot")),
+        }
+    }
+}
+
+impl std::fmt::Display for Personality {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Who we are on the link.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Identity {
@@ -17,6 +58,8 @@ pub struct Identity {
     pub component_id: u8,
     /// Vehicle type from the rotor count.
     pub mav_type: MavType,
+    /// The autopilot we present ourselves as.
+    pub personality: Personality,
 }
 
 impl Identity {
@@ -34,7 +77,13 @@ impl Identity {
             system_id,
             component_id: 1,
             mav_type,
+            personality: Personality::Px4,
         }
+    }
+
+    /// This identity presenting itself as `personality`.
+    pub fn with_personality(self, personality: Personality) -> Self {
+        Self { personality, ..self }
     }
 
     /// True when a message addressed to `target_system`/`target_component` from `sender` is ours.
