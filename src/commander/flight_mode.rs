@@ -35,6 +35,10 @@ pub enum FlightMode {
     /// GOTO (AUTO sub mode 21, PX4's multicopter Goto): fly to a DO_REPOSITION target, then hold
     /// there; entered only by DO_REPOSITION with the mode-change flag.
     Goto,
+    /// GUIDED (ArduCopter's, for the ArduPilot personality; PX4 has no such mode): hold, or
+    /// take off in place, or fly the latest guided target (position targets persist, velocity,
+    /// acceleration and attitude targets stop at their stream's loss); no failsafe on silence.
+    Guided,
 }
 
 /// Why a PX4 mode number cannot be flown.
@@ -96,7 +100,7 @@ const fn row(
 /// take-off 8, altitude hold 4, orbit 2; PX4 gives AUTO.LOITER, OFFBOARD, the manual-thrust
 /// modes and GOTO none), PX4's display name, its navigation state and its UI name. The one table
 /// behind every mapping below.
-const MODES: [ModeRow; 15] = [
+const MODES: [ModeRow; 16] = [
     row(
         FlightMode::Position,
         (MAIN_POSCTL, 0),
@@ -169,6 +173,9 @@ const MODES: [ModeRow; 15] = [
     ),
     // px4_custom_mode.h names sub mode 21 PX4_CUSTOM_SUB_MODE_GOTO, without AUTO_.
     row(FlightMode::Goto, (MAIN_AUTO, 21), None, "GOTO", None, "Goto"),
+    // No PX4 number selects GUIDED (OFFBOARD's row comes first); a PX4-faced vehicle never
+    // enters it, and would show it as OFFBOARD, the PX4 mode that flies external targets.
+    row(FlightMode::Guided, (MAIN_OFFBOARD, 0), None, "GUIDED", None, "Guided"),
 ];
 
 impl FlightMode {

@@ -307,6 +307,7 @@ impl Commander {
                 None
             }
             FlightMode::Offboard => self.offboard_command(now, &mut events),
+            FlightMode::Guided => self.guided_command(now, &mut events),
             FlightMode::Orbit => {
                 self.advance_orbit(dt_s, t_s);
                 None

@@ -14,6 +14,7 @@ use super::follow::FollowCommand;
 use super::landing::FlightDemand;
 use super::manual::StickWatch;
 use super::mission_run::MissionFlight;
+use super::offboard::GuidedStep;
 use super::reactions::{loss_text, FailTo, Reaction};
 use super::rtl::Rtl;
 use super::{paths_of, Commander, Event, FlightMode, LinkLossAction, Moment, Outcome};
@@ -84,6 +85,9 @@ impl Commander {
             self.orbit.clear();
         }
         self.follow.restart();
+        if mode == FlightMode::Guided {
+            self.offboard.clear();
+        }
         let yaw = euler_zyx(&x.r_wb).z;
         let on_ground = !self.in_air();
         let hold = Guidance::Hold {
@@ -214,20 +218,23 @@ impl Commander {
         }
     }
 
-    /// One AUTO.TAKEOFF tick: once the climb is over within [`TAKEOFF_ACCEPT_M`] of the target,
-    /// hold there in AUTO.LOITER.
+    /// One AUTO.TAKEOFF tick (or one of GUIDED's take-off): once the climb is over within
+    /// [`TAKEOFF_ACCEPT_M`] of the target, hold there, in AUTO.LOITER after AUTO.TAKEOFF, still in
+    /// GUIDED after a GUIDED take-off.
     pub(super) fn complete_takeoff(&mut self, x: &VehicleState, yaw: f64, t_s: f64, events: &mut Vec<Event>) {
         let near = self
             .takeoff_target_w
             .is_none_or(|p| (x.pos_w - p).norm() < TAKEOFF_ACCEPT_M);
         if self.guidance.finished(t_s) && near {
-            self.mode = FlightMode::Loiter;
             self.climbing_out = false;
             self.guidance = Guidance::Hold {
                 pos_w: self.takeoff_target_w.unwrap_or(x.pos_w),
                 yaw_rad: yaw,
             };
-            events.push(Event::ModeChanged(FlightMode::Loiter));
+            if self.mode == FlightMode::Takeoff {
+                self.mode = FlightMode::Loiter;
+                events.push(Event::ModeChanged(FlightMode::Loiter));
+            }
         }
     }
 
@@ -295,6 +302,32 @@ impl Commander {
             }
         }
         command
+    }
+
+    /// One GUIDED tick `now`: a take-off climb under way flies on (and holds at its top, still
+    /// in GUIDED); otherwise the latest guided target, or the hold the mode entered with; a
+    /// target whose stream went silent stops the vehicle where it is.
+    pub(super) fn guided_command(&mut self, now: Moment, events: &mut Vec<Event>) -> Option<FlightDemand> {
+        if self.climbing_out {
+            self.complete_takeoff(now.x, now.yaw_rad, now.t_s, events);
+            if self.climbing_out {
+                return None;
+            }
+        }
+        let landed = self.detector.landed();
+        match self.offboard.guided(now, landed, &self.params.motion) {
+            GuidedStep::Fly(command) => Some(command),
+            GuidedStep::Stop => {
+                if !landed {
+                    self.guidance = Guidance::Hold {
+                        pos_w: now.x.pos_w,
+                        yaw_rad: now.yaw_rad,
+                    };
+                }
+                None
+            }
+            GuidedStep::Nothing => None,
+        }
     }
 
     /// One orbit-mode tick, `dt_s` [s] after the last.

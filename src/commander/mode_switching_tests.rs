@@ -134,3 +134,73 @@ fn auto_takeoff_selected_in_the_air_goes_to_mis_takeoff_alt() {
     assert!(s.fly_until(20.0, |s| s.c.mode() == FlightMode::Loiter));
     assert!((s.x.pos_w.z + 2.5).abs() < 0.2, "MIS_TAKEOFF_ALT: {:?}", s.x.pos_w);
 }
+
+#[test]
+fn guided_takes_off_in_place_and_stays_in_guided() {
+    let mut s = Script::new(CommanderParams::default());
+    assert_eq!(s.request(Request::SetMode(FlightMode::Guided)), Outcome::Accepted);
+    assert!(
+        matches!(s.request(Request::Takeoff { height_m: Some(5.0) }), Outcome::Failed(_)),
+        "a GUIDED take-off needs the motors armed"
+    );
+    assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    assert!(
+        matches!(s.request(Request::Takeoff { height_m: Some(0.0) }), Outcome::Failed(_)),
+        "the target must be above the vehicle"
+    );
+    assert_eq!(s.request(Request::Takeoff { height_m: Some(5.0) }), Outcome::Accepted);
+    assert_eq!(s.c.mode(), FlightMode::Guided);
+    assert!(s.fly_until(20.0, |s| (s.x.pos_w.z + 5.0).abs() < 0.05
+        && s.c.landed_state() == LandedState::InAir));
+    assert!(s.c.in_air());
+    assert!(matches!(
+        s.request(Request::Takeoff { height_m: Some(8.0) }),
+        Outcome::Failed(_)
+    ));
+    s.fly(5.0);
+    assert_eq!(s.c.mode(), FlightMode::Guided, "{:?}", s.events);
+    assert!(
+        !s.events.iter().any(|e| matches!(e, Event::ModeChanged(_))),
+        "{:?}",
+        s.events
+    );
+    assert!((s.x.pos_w - Vec3::new(0.0, 0.0, -5.0)).norm() < 0.2, "{:?}", s.x.pos_w);
+}
+
+#[test]
+fn guided_position_targets_persist_and_velocity_targets_stop_when_their_stream_falls_silent() {
+    let mut s = Script::new(CommanderParams::default());
+    assert_eq!(s.request(Request::SetMode(FlightMode::Guided)), Outcome::Accepted);
+    assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    assert_eq!(s.request(Request::Takeoff { height_m: Some(4.0) }), Outcome::Accepted);
+    assert!(s.fly_until(20.0, |s| (s.x.pos_w.z + 4.0).abs() < 0.05));
+    s.fly(1.0);
+    // One position target, never repeated: flown to the end (ArduCopter's never time out).
+    let to = Vec3::new(6.0, -3.0, -4.0);
+    let goto = crate::control::FlatSetpoint {
+        pos_w: Some(to),
+        ..Default::default()
+    };
+    assert_eq!(s.request(Request::offboard(goto)), Outcome::Accepted);
+    assert!(s.fly_until(30.0, |s| (s.x.pos_w - to).norm() < 0.05), "{:?}", s.x.pos_w);
+    // A velocity target sent once: flown until its stream's loss, then the vehicle stops.
+    let east = crate::control::FlatSetpoint {
+        vel_w: Some(Vec3::new(0.0, 1.0, 0.0)),
+        ..Default::default()
+    };
+    assert_eq!(s.request(Request::offboard(east)), Outcome::Accepted);
+    s.fly(0.5);
+    assert!(s.x.vel_w.y > 0.5, "{:?}", s.x.vel_w);
+    let loss_s = s.c.params.offboard_loss_s;
+    s.fly(loss_s + 0.5);
+    let stopped_at = s.x.pos_w;
+    s.fly(3.0);
+    assert!(
+        (s.x.pos_w - stopped_at).norm() < 0.05,
+        "holds where it stopped: {:?}",
+        s.x.pos_w
+    );
+    assert!(stopped_at.y > to.y + 0.5, "it moved east first: {stopped_at:?}");
+    assert_eq!(s.c.mode(), FlightMode::Guided, "no failsafe in GUIDED: {:?}", s.events);
+    assert!(s.c.in_air());
+}

@@ -18,6 +18,17 @@ pub(super) enum OffboardTarget {
     Attitude(AttitudeTarget),
 }
 
+/// What GUIDED flies this tick ([`Offboard::guided`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum GuidedStep {
+    /// The latest target.
+    Fly(FlightDemand),
+    /// The target's stream went silent: stop and hold here.
+    Stop,
+    /// No target: the mode's own guidance (a hold, a take-off climb, idle on the ground).
+    Nothing,
+}
+
 /// The offboard stream: its latest target, whether the link
 /// declared it lost since, and the limiter the position / velocity targets are flown
 /// through (`None` until the first tick in OFFBOARD).
@@ -45,6 +56,32 @@ impl Offboard {
     /// The mode is entered or left: the reference starts again from the vehicle.
     pub fn restart(&mut self) {
         self.limiter = None;
+    }
+
+    /// Forgets the latest target (GUIDED starts from a hold, whatever came before).
+    pub fn clear(&mut self) {
+        *self = Self::default();
+    }
+
+    /// One GUIDED tick (ArduCopter's rules): the latest target flown as in OFFBOARD; a target of
+    /// position alone persists through the stream's silence (ArduCopter's position targets never
+    /// time out); any other target, once the link declares its stream lost (`GUID_TIMEOUT`), is
+    /// forgotten and the vehicle stops ([`GuidedStep::Stop`], once).
+    pub fn guided(&mut self, now: Moment, landed: bool, motion: &MotionLimits) -> GuidedStep {
+        match self.latest {
+            None => GuidedStep::Nothing,
+            Some(OffboardTarget::Flat(sp, _)) if self.lost && sp.vel_w.is_none() && sp.acc_w.is_none() => {
+                self.lost = false;
+                self.guided(now, landed, motion)
+            }
+            Some(_) if self.lost => {
+                self.clear();
+                GuidedStep::Stop
+            }
+            Some(_) => self
+                .command(now, landed, motion)
+                .map_or(GuidedStep::Nothing, GuidedStep::Fly),
+        }
     }
 
     /// True when a target arrived and the link has not declared the stream lost since.

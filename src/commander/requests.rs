@@ -144,6 +144,9 @@ impl Commander {
     /// NAV_TAKEOFF to `height_m` above home [m] (`None`: `MIS_TAKEOFF_ALT`) straight up from
     /// here; refused in the air and for heights outside (0, 1000] m.
     fn takeoff(&mut self, height_m: Option<f64>, x: &VehicleState, t_s: f64) -> Outcome {
+        if self.mode == FlightMode::Guided {
+            return self.guided_takeoff(height_m, x, t_s);
+        }
         if self.in_air() {
             return Outcome::TemporarilyRejected("Takeoff refused: already flying".into());
         }
@@ -156,6 +159,28 @@ impl Commander {
         }
         self.takeoff_target_w = Some(Vec3::new(x.pos_w.x, x.pos_w.y, -h));
         self.enter(FlightMode::Takeoff, x, t_s);
+        Outcome::Accepted
+    }
+
+    /// NAV_TAKEOFF in GUIDED (ArduCopter's user take-off): armed, on the ground, to a height
+    /// above the vehicle; climbs in place and holds at the top, staying in GUIDED.
+    fn guided_takeoff(&mut self, height_m: Option<f64>, x: &VehicleState, t_s: f64) -> Outcome {
+        let h = height_m.unwrap_or(self.params.takeoff_alt_m);
+        if !self.armed() {
+            return Outcome::Failed("Takeoff: not armed".into());
+        }
+        if self.in_air() {
+            return Outcome::Failed("Takeoff: already flying".into());
+        }
+        let above_home_m = self.plans.home_w().z - x.pos_w.z;
+        if !(h.is_finite() && h > above_home_m && h <= MAX_TAKEOFF_M) {
+            return Outcome::Failed(format!("Takeoff: {h} m is not above the vehicle"));
+        }
+        let target = Vec3::new(x.pos_w.x, x.pos_w.y, self.plans.home_w().z - h);
+        self.takeoff_target_w = Some(target);
+        self.climbing_out = true;
+        let yaw = crate::math::euler_zyx(&x.r_wb).z;
+        self.guidance = self.paths().climb_to(x, target, yaw, t_s);
         Outcome::Accepted
     }
 
