@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 use rotorpilot::control::ControllerKind;
+use rotorpilot::guidance::Home;
 use rotorpilot::runtime;
 use rotorpilot::wrench_estimator::ChebyshevDesign;
 
@@ -46,6 +47,11 @@ pub(crate) enum Command {
         /// Number of vehicles in this process (sysid, ports and seed count up from the first).
         #[arg(long, default_value_t = 1)]
         count: usize,
+        /// The autopilot each vehicle presents itself as: `px4` or `ardupilot` (ArduCopter's
+        /// modes, GUIDED, streams and parameters); one for every vehicle, or a comma-separated
+        /// list with one per vehicle (`--count 2 --autopilot px4,ardupilot`).
+        #[arg(long, default_value = "px4", value_delimiter = ',')]
+        autopilot: Vec<rotorpilot::mav::identity::Personality>,
         /// PX4 instance number of the first vehicle: shifts the default ports (18570, 14580,
         /// 14540) so several processes can share one machine.
         #[arg(long = "port-base", default_value_t = 0)]
@@ -417,5 +423,28 @@ impl LinkImpairmentArgs {
             self.link_seed,
         )
         .map_err(|e| e.to_string())
+    }
+}
+
+/// The comma-separated numbers `text` of `option`; an error names the option and `expected`.
+pub(crate) fn parse_numbers(option: &str, text: &str, expected: &str) -> Result<Vec<f64>, String> {
+    text.split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{option} {text:?}: {e}; expected {expected}"))
+}
+
+/// `LAT,LON,ALT` [deg, deg, m AMSL].
+pub(crate) fn parse_home(text: &str) -> Result<Home, String> {
+    let v = parse_numbers("--home", text, "LAT,LON,ALT")?;
+    match v[..] {
+        [lat, lon, alt] if lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite() => Ok(Home {
+            lat_deg: lat,
+            lon_deg: lon,
+            alt_amsl_m: alt,
+        }),
+        _ => Err(format!(
+            "--home {text:?}: expected LAT,LON,ALT with |LAT| ≤ 90 and |LON| ≤ 180"
+        )),
     }
 }

@@ -8,7 +8,6 @@ use clap::Parser;
 use rotorpilot::airframe::{Airframe, AirframeSource};
 use rotorpilot::allocation::Allocator;
 use rotorpilot::control::ControllerKind;
-use rotorpilot::guidance::Home;
 use rotorpilot::math::Vec3;
 use rotorpilot::params::parse_param_file;
 use rotorpilot::report::{estimate_csv, AllocReport, EstimateReport, GainsReport};
@@ -23,30 +22,7 @@ use rotorpilot::wrench_estimator::{ChebyshevDesign, WrenchObserver};
 
 mod cli;
 
-use cli::{Cli, Command, DesignArgs, MonteCarloArgs, SweepArgs};
-
-/// The comma-separated numbers `text` of `option`; an error names the option and `expected`.
-fn parse_numbers(option: &str, text: &str, expected: &str) -> Result<Vec<f64>, String> {
-    text.split(',')
-        .map(|s| s.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("{option} {text:?}: {e}; expected {expected}"))
-}
-
-/// `LAT,LON,ALT` [deg, deg, m AMSL].
-fn parse_home(text: &str) -> Result<Home, String> {
-    let v = parse_numbers("--home", text, "LAT,LON,ALT")?;
-    match v[..] {
-        [lat, lon, alt] if lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite() => Ok(Home {
-            lat_deg: lat,
-            lon_deg: lon,
-            alt_amsl_m: alt,
-        }),
-        _ => Err(format!(
-            "--home {text:?}: expected LAT,LON,ALT with |LAT| ≤ 90 and |LON| ≤ 180"
-        )),
-    }
-}
+use cli::{parse_home, parse_numbers, Cli, Command, DesignArgs, MonteCarloArgs, SweepArgs};
 
 /// Where `run` keeps its logs: `--log DIR`, none with `--no-log`, else the per-user default
 /// for the vehicles of PX4 instances `port_base` on (none, with a warning, when neither
@@ -132,6 +108,7 @@ fn execute(command: Command) -> Result<String, String> {
             bind_gcs,
             bind_api,
             count,
+            autopilot,
             port_base,
             spacing,
             speedup,
@@ -196,6 +173,7 @@ fn execute(command: Command) -> Result<String, String> {
                 log_profile,
                 params,
                 count,
+                personalities: autopilot,
                 spacing_m: spacing,
                 pace: speedup,
                 rotor_failures: fail_rotor,

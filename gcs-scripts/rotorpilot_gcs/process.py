@@ -148,7 +148,7 @@ class Autopilot:
               controller: str | None = None, speedup: float | str | None = None,
               params: Mapping[str, float] | None = None, log: bool | str | os.PathLike[str] | None = False,
               log_profile: str | None = None, count: int = 1, sensors: str | None = None,
-              args: Sequence[str] = (), env: Mapping[str, str] | None = None,
+              autopilot: str | Sequence[str] | None = None, args: Sequence[str] = (), env: Mapping[str, str] | None = None,
               duration: float | None = DEFAULT_DURATION_S, connect: bool = True, timeout: float = DEFAULT_TIMEOUT,
               workdir: str | os.PathLike[str] | None = None) -> Autopilot:
         """Starts ``rotorpilot run`` (`binary`: see `find_binary`) and waits for its ready line.
@@ -159,7 +159,9 @@ class Autopilot:
         realistic, as a ground station meets the vehicle: IMU, GPS, barometer and magnetometer
         through the navigation filter; ``"ideal"``: the exact state, armable at once, for a check
         of something other than what a ground station sees, such as a controller's precision) and
-        `log_profile` are its options of the same name;
+        `log_profile` are its options of the same name; `autopilot` is the personality,
+        ``"px4"`` (the binary's default) or ``"ardupilot"`` (ArduCopter's face: Copter modes,
+        GUIDED, streams only on request), or one per vehicle (``["px4", "ardupilot"]``);
         `params` sets parameters at start (``{"MPC_XY_VEL_MAX": 5}``, through ``--params``);
         `log`: False (the default here) passes ``--no-log``, so a scripted run leaves no log
         behind; True writes ``--log`` into the run directory's ``log/``; a directory: ``--log``
@@ -205,6 +207,10 @@ class Autopilot:
             raise UsageError("give the sensor model as sensors, not as --sensors in args")
         if sensors is not None:
             argv += ["--sensors", sensors]
+        if "--autopilot" in args:
+            raise UsageError("give the personality as autopilot, not as --autopilot in args")
+        if autopilot is not None:
+            argv += ["--autopilot", autopilot if isinstance(autopilot, str) else ",".join(autopilot)]
         if duration is not None:
             argv += ["--duration", f"{duration:g}"]
         conn = mavutil.mavlink_connection("udpin:127.0.0.1:0", source_system=GCS_SYSTEM, source_component=GCS_COMPONENT)

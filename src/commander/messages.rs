@@ -123,6 +123,14 @@ pub enum Request {
     /// MAV_CMD_DO_ORBIT: fly a circle; every `None` keeps the running orbit's value or takes
     /// the default.
     Orbit(OrbitRequest),
+    /// ArduCopter's CIRCLE: circle the point `radius_m` ahead of the vehicle (so it is on the
+    /// circle at once), clockwise, at `speed_m_s`; flown as an orbit.
+    Circle {
+        /// Radius [m].
+        radius_m: f64,
+        /// Speed along the circle [m/s].
+        speed_m_s: f64,
+    },
     /// A FOLLOW_TARGET report: where the target is and how it moves.
     FollowTarget {
         /// Target position, world NED [m].
@@ -210,6 +218,7 @@ impl Request {
             Self::OffboardAttitude(t) => t.is_finite(),
             Self::ManualControl(sticks) => sticks.is_finite(),
             Self::Orbit(orbit) => orbit.is_finite(),
+            Self::Circle { radius_m, speed_m_s } => radius_m.is_finite() && speed_m_s.is_finite(),
             Self::FollowTarget { pos_w, vel_w } => pos_w.iter().chain(vel_w.iter()).all(|v| v.is_finite()),
             Self::SetMission(m) => m.is_finite(),
             Self::SetGeofence(f) => f.is_finite(),

@@ -49,6 +49,18 @@ impl Commander {
                 Outcome::Accepted
             }
             Request::Orbit(orbit) => self.orbit_request(orbit, x, t_s),
+            Request::Circle { radius_m, speed_m_s } => {
+                let yaw = euler_zyx(&x.r_wb).z;
+                let ahead = (x.pos_w.x + radius_m * yaw.cos(), x.pos_w.y + radius_m * yaw.sin());
+                let circle = OrbitRequest {
+                    radius_m: Some(radius_m),
+                    speed_m_s: Some(speed_m_s),
+                    yaw: None,
+                    centre_ne_m: Some(ahead),
+                    centre_down_m: None,
+                };
+                self.orbit_request(circle, x, t_s)
+            }
             Request::FollowTarget { pos_w, vel_w } => {
                 self.follow.report(pos_w, vel_w, t_s, &self.params.follow);
                 Outcome::Accepted
@@ -179,7 +191,7 @@ impl Commander {
         let target = Vec3::new(x.pos_w.x, x.pos_w.y, self.plans.home_w().z - h);
         self.takeoff_target_w = Some(target);
         self.climbing_out = true;
-        let yaw = crate::math::euler_zyx(&x.r_wb).z;
+        let yaw = euler_zyx(&x.r_wb).z;
         self.guidance = self.paths().climb_to(x, target, yaw, t_s);
         Outcome::Accepted
     }

@@ -27,9 +27,12 @@
 //! - [`mission_xfer`], [`mission_items`]: the mission transfer protocol and item validation;
 //!   [`plan_items`]: fence and rally items; [`plan_store`]: the stored plans, their ids and
 //!   downloads; [`mission_report`]: MISSION_CURRENT (plan ids, PX4's mission mode and state).
+//! - [`ardupilot`]: the ArduCopter personality (Copter's modes, HEARTBEAT and the messages it
+//!   reads its own way).
 //! - [`gcs`]: the ground-station side (its header, COMMAND_LONG, which ACK answers a command)
 //!   for the bench client, the tests and the fuzz target.
 
+pub mod ardupilot;
 pub mod calibration;
 pub mod codec;
 pub mod crc32;

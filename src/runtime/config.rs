@@ -9,6 +9,7 @@ use thiserror::Error;
 use crate::airframe::AirframeSource;
 use crate::control::ControllerKind;
 use crate::guidance::Home;
+use crate::mav::identity::Personality;
 
 use super::impairment::{LinkCounts, LinkImpairment};
 use super::log_place::LogPlace;
@@ -50,6 +51,9 @@ pub struct RunConfig {
     pub params: Vec<(String, String, f64)>,
     /// Number of vehicles (1 or more).
     pub count: usize,
+    /// The autopilot each vehicle presents itself as (`--autopilot`): one for every vehicle, or
+    /// one per vehicle in order.
+    pub personalities: Vec<Personality>,
     /// Distance between neighbouring vehicles on the start grid [m].
     pub spacing_m: f64,
     /// Simulated against wall time.
@@ -88,6 +92,7 @@ impl RunConfig {
             log_profile: crate::ulog::Profile::Default,
             params: Vec::new(),
             count: 1,
+            personalities: vec![Personality::Px4],
             spacing_m: DEFAULT_SPACING_M,
             pace: Pace::Speedup(1.0),
             sensors: SensorModel::State,
@@ -95,6 +100,14 @@ impl RunConfig {
             rotor_failures: Vec::new(),
             signing_key: None,
             link_impairment: None,
+        }
+    }
+
+    /// The autopilot vehicle `i` presents itself as: the one given for all, or its own.
+    pub fn personality(&self, i: usize) -> Personality {
+        match self.personalities.as_slice() {
+            [one] => *one,
+            each => each.get(i).copied().unwrap_or_default(),
         }
     }
 }
@@ -119,6 +132,10 @@ pub enum RuntimeError {
     /// A `--params` value was refused.
     #[error("--params {0}")]
     Params(String),
+    /// `--autopilot` names neither one personality for every vehicle nor one per vehicle, or
+    /// ArduCopter's defaults do not fit the airframe.
+    #[error("--autopilot {0}")]
+    Personality(String),
     /// A `--fail-rotor` schedule does not fit the airframe.
     #[error("--fail-rotor {0}")]
     RotorFailure(String),
@@ -153,6 +170,8 @@ pub enum RuntimeError {
 pub struct VehicleReady {
     /// System id.
     pub sysid: u8,
+    /// The autopilot it presents itself as ("px4" or "ardupilot").
+    pub autopilot: Personality,
     /// Bound GCS address.
     pub gcs_bind: String,
     /// Bound API address.

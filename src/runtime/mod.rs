@@ -43,6 +43,8 @@ use tokio::sync::{mpsc, watch};
 
 use crate::guidance::Home;
 use crate::math::Vec3;
+use crate::mav::ardupilot::copter_params::copter_defaults;
+use crate::mav::identity::Personality;
 use crate::mav::link::{LinkConfig, LinkMachine};
 use crate::mav::logs::{LogStore, MemLogStore};
 use crate::mav::signing::Signing;
@@ -120,6 +122,14 @@ fn setup_vehicle(
         config.seed.wrapping_add(i as u64),
         config.dt_s,
     )?;
+    let personality = config.personality(i);
+    if personality == Personality::ArduPilot {
+        for (origin, name, value) in copter_defaults() {
+            vehicle
+                .set_param(name, value)
+                .map_err(|e| RuntimeError::Personality(format!("ardupilot: {origin}: {e}")))?;
+        }
+    }
     for (origin, name, value) in &config.params {
         vehicle
             .set_param(name, *value)
@@ -152,6 +162,7 @@ fn setup_vehicle(
     let (gcs_bind, api_bind) = sockets.local_addrs();
     let ready = VehicleReady {
         sysid,
+        autopilot: personality,
         gcs_bind,
         api_bind,
         gcs: config.gcs.to_string(),
@@ -165,7 +176,7 @@ fn setup_vehicle(
     let (replies_to, replies) = mpsc::unbounded_channel();
     let start = std::time::Instant::now();
     let machine = LinkMachine::new(LinkConfig {
-        identity: Identity::autopilot(sysid, vehicle.rotor_count()),
+        identity: Identity::autopilot(sysid, vehicle.rotor_count()).with_personality(personality),
         links: vec![(LinkKind::Gcs, config.gcs), (LinkKind::Api, api)],
         params: vehicle.shared_params(),
         snapshot: initial,
@@ -230,6 +241,13 @@ pub fn run(
     let stopped_already = rt.block_on(std::future::poll_fn(|cx| {
         std::task::Poll::Ready(shutdown.as_mut().poll(cx).is_ready())
     }));
+    let given = config.personalities.len();
+    if given != 1 && given != config.count.max(1) {
+        return Err(RuntimeError::Personality(format!(
+            "names {given} autopilots for {} vehicles: give one for all or one per vehicle",
+            config.count.max(1)
+        )));
+    }
     let signing = SigningSetup::load(config.signing_key.clone())?;
     let mut setups = Vec::with_capacity(config.count.max(1));
     for i in 0..config.count.max(1) {

@@ -9,7 +9,8 @@ use mavlink::dialects::ardupilotmega::{MavMessage, MISSION_ITEM_REACHED_DATA};
 use super::liveness::silent_for;
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
 use crate::commander::{Event, LinkLossAction, Request};
-use crate::mav::identity::heartbeat;
+use crate::mav::ardupilot::copter_modes::copter_heartbeat;
+use crate::mav::identity::{heartbeat, Personality};
 use crate::mav::signing::unix_us_from_timestamp;
 use crate::mav::stream_messages::{message, status_text, system_time, TelemetryStream};
 
@@ -91,7 +92,11 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// plus one right after arm, disarm or a mode change.
     fn heartbeat(&mut self, now: Now, k: usize, targets: &[A]) {
         let port = &mut self.ports[k];
-        let state = (self.snapshot.armed, self.snapshot.mode);
+        let state = (
+            self.snapshot.armed,
+            self.snapshot.mode,
+            self.mode_shown.number(self.snapshot.mode),
+        );
         let (wall_due, sim_due) = port.next_heartbeat;
         let changed = port.last_state.is_some_and(|s| s != state);
         if now.wall_s < wall_due && now.sim_s < sim_due && !changed {
@@ -100,7 +105,10 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         port.next_heartbeat = (now.wall_s + HEARTBEAT_PERIOD_S, now.sim_s + HEARTBEAT_PERIOD_S);
         port.last_state = Some(state);
         let link = port.kind;
-        let hb = heartbeat(&self.identity, state.0, state.1);
+        let hb = match self.identity.personality {
+            Personality::Px4 => heartbeat(&self.identity, state.0, state.1),
+            Personality::ArduPilot => copter_heartbeat(&self.identity, &self.snapshot, &self.mode_shown),
+        };
         for to in targets {
             self.send(now, link, *to, &hb);
         }

@@ -13,9 +13,11 @@ use super::commands::{AckOf, Asker, Decided};
 use super::port::{HeldForClients, Port};
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
 use crate::commander::{ManualInputMode, Request};
+use crate::mav::ardupilot::copter_ingest::{asked_mode, copter_ingest};
 use crate::mav::calibration;
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::CommandKey;
+use crate::mav::identity::Personality;
 use crate::mav::ingest::{ingest, Action};
 use crate::mav::services::autopilot_version;
 use crate::mav::signing::Verdict;
@@ -70,7 +72,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     if trusted {
                         self.heard(now, link, from);
                         let now_ns = (now.wall_s * 1e9) as i64;
-                        let action = ingest(&self.identity, &header, &message, &self.snapshot.home, now_ns);
+                        let action = self.ingest_as_personality(&header, &message, now_ns);
                         self.act(now, link, from, &header, action);
                     }
                 }
@@ -88,6 +90,21 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 Inbound::UnknownCommand { .. } | Inbound::Unparsable { .. } => {}
             }
         }
+    }
+
+    /// What the vehicle's personality does with `message`: ArduCopter's face decides first the
+    /// messages Copter reads its own way (and notes the mode a ground station asks for, which
+    /// the HEARTBEAT shows while the commander flies it); the rest as [`ingest`] decides.
+    fn ingest_as_personality(&mut self, header: &MavHeader, message: &MavMessage, now_ns: i64) -> Action {
+        if self.identity.personality == Personality::ArduPilot {
+            if let Some(number) = asked_mode(&self.identity, header, message) {
+                self.mode_shown.handle_asked(number);
+            }
+            if let Some(action) = copter_ingest(&self.identity, header, message, &self.snapshot) {
+                return action;
+            }
+        }
+        ingest(&self.identity, header, message, &self.snapshot.home, now_ns)
     }
 
     /// COMMAND_ACK UNSUPPORTED for a command id the dialect does not know (built from the raw id).

@@ -64,6 +64,7 @@ use crate::commander::{Event, Outcome};
 use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
+use super::ardupilot::copter_modes::ModeShown;
 use super::codec::frame_message;
 use super::ftp::Vfs;
 use super::metadata::MetadataFiles;
@@ -113,6 +114,8 @@ pub struct LinkMachine<A> {
     consoles: Consoles<A>,
     /// When the offboard setpoints and the sticks were last heard.
     streams: StreamLiveness,
+    /// The Copter mode number the HEARTBEAT shows (the ArduCopter personality).
+    mode_shown: ModeShown,
     /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
     sticks_from: Option<LinkKind>,
     next_duty_s: f64,
@@ -157,6 +160,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             consoles: Consoles::default(),
             streams: StreamLiveness::default(),
             sticks_from: None,
+            mode_shown: ModeShown::default(),
             next_duty_s: 0.0,
             transmits: VecDeque::new(),
             to_vehicle: VecDeque::new(),

@@ -42,8 +42,8 @@ pub(super) struct Port<A> {
     pub streams: StreamTable,
     /// Wall and simulated time of the next due heartbeat [s].
     pub next_heartbeat: (f64, f64),
-    /// Armed state and mode of the last heartbeat.
-    pub last_state: Option<(bool, FlightMode)>,
+    /// Armed state, mode and Copter mode number (ArduCopter personality) of the last heartbeat.
+    pub last_state: Option<(bool, FlightMode, u8)>,
     /// Wall and simulated time of the last ground-station HEARTBEAT on this link [s].
     pub gcs_heard: Option<(f64, f64)>,
     /// The link-loss action ran for the current silence.

@@ -1,0 +1,109 @@
+"""pymavlink scripts written for ArduCopter, unchanged, against `rotorpilot run --autopilot
+ardupilot` on its default configuration (realistic sensors): the heartbeat pymavlink's mode
+tables read, `set_mode('GUIDED')`, `arducopter_arm`, NAV_TAKEOFF in GUIDED, REQUEST_DATA_STREAM,
+and a mixed swarm in which each vehicle answers as its own autopilot. Judged from what the
+ground station is shown (heartbeats, GLOBAL_POSITION_INT, EKF_STATUS_REPORT)."""
+import time
+
+import pytest
+
+from rotorpilot_gcs import mavlink
+
+ARDUPILOT = pytest.mark.rotorpilot(autopilot="ardupilot", speedup=2)
+EKF_PRED_POS_HORIZ_ABS = 512
+
+
+def recv(conn, kinds, timeout=10.0, until=lambda m: True):
+    """The first message of `kinds` from the vehicle that satisfies `until`, within `timeout` [s]."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        m = conn.recv_match(type=kinds, blocking=True, timeout=0.2)
+        if m is not None and m.get_srcComponent() == 1 and until(m):
+            return m
+    raise AssertionError(f"no {kinds} within {timeout} s")
+
+
+def wait_armable(conn, timeout=60.0):
+    """DroneKit's `is_armable`: EKF_STATUS_REPORT with the predicted absolute position flag and a
+    GPS fix; returns when both are seen."""
+    recv(conn, "EKF_STATUS_REPORT", timeout, lambda m: m.flags & EKF_PRED_POS_HORIZ_ABS)
+    recv(conn, "GPS_RAW_INT", timeout, lambda m: m.fix_type > 1)
+
+
+def relative_alt_m(conn):
+    return recv(conn, "GLOBAL_POSITION_INT").relative_alt / 1000.0
+
+
+@ARDUPILOT
+def test_a_guided_takeoff_the_arducopter_way(autopilot_factory):
+    ap = autopilot_factory(connect=False)
+    conn = ap.vehicle.conn
+    hb = conn.wait_heartbeat(timeout=30)
+    assert hb.autopilot == mavlink.MAV_AUTOPILOT_ARDUPILOTMEGA and hb.type == mavlink.MAV_TYPE_QUADROTOR
+    assert hb.base_mode & mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
+    conn.target_system, conn.target_component = hb.get_srcSystem(), 0  # pymavlink's default component
+    mapping = conn.mode_mapping()
+    assert (mapping["GUIDED"], mapping["LAND"], mapping["RTL"], mapping["LOITER"]) == (4, 9, 6, 5)
+    # Copter's stream rates start at 0: nothing periodic but the heartbeat until asked.
+    heard = set()
+    deadline = time.monotonic() + 2.0
+    while time.monotonic() < deadline:
+        m = conn.recv_match(blocking=True, timeout=0.2)
+        if m is not None:
+            heard.add(m.get_type())
+    assert heard <= {"HEARTBEAT", "STATUSTEXT"}, heard
+    conn.mav.request_data_stream_send(conn.target_system, 0, mavlink.MAV_DATA_STREAM_ALL, 4, 1)
+    wait_armable(conn)
+    conn.set_mode("GUIDED")
+    hb = recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 4)
+    assert conn.flightmode == "GUIDED"
+    conn.arducopter_arm()
+    conn.motors_armed_wait()
+    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, 10)
+    ack = recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_NAV_TAKEOFF)
+    assert ack.result == mavlink.MAV_RESULT_ACCEPTED
+    assert recv(conn, "GLOBAL_POSITION_INT", 60, lambda m: m.relative_alt >= 9500)
+    hb = recv(conn, "HEARTBEAT", 5)
+    assert hb.custom_mode == 4 and hb.system_status == mavlink.MAV_STATE_ACTIVE, "still GUIDED, flying"
+    time.sleep(2.0)
+    assert 9.0 < relative_alt_m(conn) < 11.0, "holds the take-off height"
+    conn.set_mode("LAND")
+    recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 9)
+    recv(conn, "HEARTBEAT", 90, lambda m: not m.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
+    assert abs(relative_alt_m(conn)) < 0.5
+
+
+@ARDUPILOT
+def test_takeoff_outside_guided_fails_and_targets_are_ignored_there(autopilot_factory):
+    ap = autopilot_factory(connect=False)
+    conn = ap.vehicle.conn
+    hb = conn.wait_heartbeat(timeout=30)
+    conn.target_system, conn.target_component = hb.get_srcSystem(), 0
+    conn.mav.request_data_stream_send(conn.target_system, 0, mavlink.MAV_DATA_STREAM_ALL, 4, 1)
+    wait_armable(conn)
+    conn.set_mode("LOITER")
+    recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 5)
+    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, 10)
+    ack = recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_NAV_TAKEOFF)
+    assert ack.result == mavlink.MAV_RESULT_FAILED
+    conn.set_mode("POSHOLD")
+    assert recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 16)
+    assert conn.flightmode == "POSHOLD"
+    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_DO_SET_MODE, 0, 1, 14, 0, 0, 0, 0, 0)
+    ack = recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_DO_SET_MODE)
+    assert ack.result == mavlink.MAV_RESULT_FAILED, "FLIP is not emulated"
+    text = recv(conn, "STATUSTEXT", 5)
+    assert "FLIP" in text.text
+
+
+def test_a_mixed_swarm_answers_each_as_its_own_autopilot(autopilot_factory):
+    ap = autopilot_factory(count=2, autopilot=["px4", "ardupilot"], connect=False)
+    assert [v["autopilot"] for v in ap.vehicles] == ["px4", "ardupilot"]
+    conn = ap.vehicle.conn
+    seen = {}
+    deadline = time.monotonic() + 30
+    while len(seen) < 2 and time.monotonic() < deadline:
+        m = conn.recv_match(type="HEARTBEAT", blocking=True, timeout=0.5)
+        if m is not None:
+            seen[m.get_srcSystem()] = m.autopilot
+    assert seen == {1: mavlink.MAV_AUTOPILOT_PX4, 2: mavlink.MAV_AUTOPILOT_ARDUPILOTMEGA}

@@ -1,0 +1,16 @@
+//! The ArduCopter personality (docs/ardupilot.md): what a vehicle presented as ArduCopter
+//! (`--autopilot ardupilot`) says and understands where ArduCopter differs from PX4. The same
+//! commander, navigation and control fly it; only the face differs. Pure.
+//!
+//! # Layout
+//! - [`copter_modes`]: Copter's mode numbers and names, the commander mode flying each, the
+//!   number a HEARTBEAT shows ([`copter_modes::ModeShown`]) and Copter's HEARTBEAT.
+//! - [`copter_params`]: Copter's parameter names for the settings the vehicle has, their units
+//!   and Copter's defaults.
+//! - [`copter_ingest`]: the inbound messages Copter treats differently (mode changes by Copter
+//!   number, NAV_TAKEOFF in GUIDED, guided targets only in GUIDED), decided before the shared
+//!   [`ingest`](super::ingest::ingest).
+
+pub mod copter_ingest;
+pub mod copter_modes;
+pub mod copter_params;
