@@ -16,6 +16,8 @@
 //! - [`telemetry`] (with `status` and `nav_status`): the streamed messages built from a snapshot;
 //!   `nav_status`: GPS_RAW_INT, ESTIMATOR_STATUS, EKF_STATUS_REPORT and the raw sensors from the
 //!   navigation.
+//! - `ap_messages`: ArduCopter's own streamed messages (RAW_IMU, AHRS2, SIMSTATE, …) for the
+//!   ArduPilot personality.
 //! - [`motor_outputs`]: the motor outputs as PX4 SITL reports them (PWM, 900 µs stopped).
 //! - [`services`]: AUTOPILOT_VERSION, PING, TIMESYNC.
 //! - [`ftp`]: MAVLink FTP (payload, in-memory file system, server); [`metadata`]: the component
@@ -30,6 +32,7 @@
 //! - [`gcs`]: the ground-station side (its header, COMMAND_LONG, which ACK answers a command)
 //!   for the bench client, the tests and the fuzz target.
 
+mod ap_messages;
 pub mod calibration;
 pub mod codec;
 pub mod crc32;
