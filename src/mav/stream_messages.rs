@@ -77,11 +77,32 @@ pub enum TelemetryStream {
     /// SYSTEM_TIME (2): Unix time and time since boot; the link builds it from its wall clock
     /// ([`system_time`]), so [`message`] has none.
     SystemTime,
+    /// RAW_IMU (27, ArduPilot's RAW_SENSORS): accelerometer, gyroscope, magnetometer as integers.
+    RawImu,
+    /// POWER_STATUS (125, ArduPilot's EXTENDED_STATUS): the board's supply.
+    PowerStatus,
+    /// MEMINFO (152, ArduPilot's EXTENDED_STATUS): free memory.
+    Meminfo,
+    /// NAV_CONTROLLER_OUTPUT (62, ArduPilot's EXTENDED_STATUS): the target against the state.
+    NavControllerOutput,
+    /// POSITION_TARGET_GLOBAL_INT (87, ArduPilot's EXTENDED_STATUS): the position target, AMSL.
+    PositionTargetGlobal,
+    /// RC_CHANNELS (65, ArduPilot's RC_CHANNELS): the RC receiver (none here).
+    RcChannels,
+    /// SIMSTATE (164, ArduPilot's EXTRA1): the simulator's truth, as ArduPilot SITL sends it.
+    Simstate,
+    /// AHRS2 (178, ArduPilot's EXTRA1): attitude and place of the estimate.
+    Ahrs2,
+    /// AHRS (163, ArduPilot's EXTRA3): ArduPilot's DCM figures (none run here: zeros).
+    Ahrs,
+    /// VIBRATION (241, ArduPilot's EXTRA3): accelerometer vibration and clipping.
+    Vibration,
 }
 
 impl TelemetryStream {
-    /// Every stream.
-    pub const ALL: [TelemetryStream; 27] = [
+    /// Every stream: PX4's first, then the ArduPilot-only ones
+    /// ([`ardupilot_only`](TelemetryStream::ardupilot_only)).
+    pub const ALL: [TelemetryStream; 37] = [
         TelemetryStream::HighresImu,
         TelemetryStream::SysStatus,
         TelemetryStream::ExtendedSysState,
@@ -109,6 +130,16 @@ impl TelemetryStream {
         TelemetryStream::ScaledPressure,
         TelemetryStream::GroundTruth,
         TelemetryStream::EkfStatusReport,
+        TelemetryStream::RawImu,
+        TelemetryStream::PowerStatus,
+        TelemetryStream::Meminfo,
+        TelemetryStream::NavControllerOutput,
+        TelemetryStream::PositionTargetGlobal,
+        TelemetryStream::RcChannels,
+        TelemetryStream::Simstate,
+        TelemetryStream::Ahrs2,
+        TelemetryStream::Ahrs,
+        TelemetryStream::Vibration,
     ];
 
     /// MAVLink message id.
@@ -140,6 +171,16 @@ impl TelemetryStream {
             TelemetryStream::ScaledPressure => 29,
             TelemetryStream::GroundTruth => 115,
             TelemetryStream::EkfStatusReport => 193,
+            TelemetryStream::RawImu => 27,
+            TelemetryStream::PowerStatus => 125,
+            TelemetryStream::Meminfo => 152,
+            TelemetryStream::NavControllerOutput => 62,
+            TelemetryStream::PositionTargetGlobal => 87,
+            TelemetryStream::RcChannels => 65,
+            TelemetryStream::Simstate => 164,
+            TelemetryStream::Ahrs2 => 178,
+            TelemetryStream::Ahrs => 163,
+            TelemetryStream::Vibration => 241,
         }
     }
 }
@@ -201,6 +242,16 @@ pub fn message(stream: TelemetryStream, s: &Snapshot) -> Option<MavMessage> {
         // Built by the link: the wall clock, the stored plans' ids.
         TelemetryStream::SystemTime | TelemetryStream::MissionCurrent => return None,
         TelemetryStream::EkfStatusReport => super::nav_status::ekf_status_report(s),
+        TelemetryStream::RawImu
+        | TelemetryStream::PowerStatus
+        | TelemetryStream::Meminfo
+        | TelemetryStream::NavControllerOutput
+        | TelemetryStream::PositionTargetGlobal
+        | TelemetryStream::RcChannels
+        | TelemetryStream::Simstate
+        | TelemetryStream::Ahrs2
+        | TelemetryStream::Ahrs
+        | TelemetryStream::Vibration => return super::ardupilot::copter_messages::message(stream, s),
         TelemetryStream::EventSequence => super::events::current_event_sequence(),
         TelemetryStream::AttitudeQuaternion => {
             let q = UnitQuat::from_euler_angles(s.eta.x, s.eta.y, s.eta.z);

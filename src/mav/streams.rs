@@ -1,7 +1,9 @@
-//! Per-link telemetry rates (docs/mavlink.md §5): PX4 SITL defaults for the GCS and API links,
-//! changed by SET_MESSAGE_INTERVAL and REQUEST_DATA_STREAM; given the time, which streams are
-//! due. Pure: the link passes the simulated time, in seconds.
+//! Per-link telemetry rates (docs/mavlink.md §5): PX4 SITL defaults for the GCS and API links, or
+//! ArduCopter's (nothing until asked, docs/mavlink.md §5.1), changed by SET_MESSAGE_INTERVAL and
+//! REQUEST_DATA_STREAM (each personality's groups); given the time, which streams are due. Pure:
+//! the link passes the simulated time, in seconds.
 
+use super::identity::Personality;
 use super::stream_messages::TelemetryStream;
 
 /// Fastest stream period: one tick [s].
@@ -16,7 +18,7 @@ pub enum LinkKind {
     Api,
 }
 
-/// Default rate [Hz] of `stream` on a link of `kind`; 0 = off (docs/mavlink.md §5).
+/// PX4's default rate [Hz] of `stream` on a link of `kind`; 0 = off (docs/mavlink.md §5).
 pub fn default_rate_hz(kind: LinkKind, stream: TelemetryStream) -> f64 {
     use TelemetryStream::*;
     let (gcs, api) = match stream {
@@ -42,6 +44,9 @@ pub fn default_rate_hz(kind: LinkKind, stream: TelemetryStream) -> f64 {
         // ArduPilot's message: off unless asked for (REQUEST_DATA_STREAM, SET_MESSAGE_INTERVAL).
         EkfStatusReport => (0.0, 0.0),
         SystemTime => (0.0, 1.0),
+        // ArduPilot's own messages: never on a PX4-faced link (not in its table).
+        RawImu | PowerStatus | Meminfo | NavControllerOutput | PositionTargetGlobal | RcChannels | Simstate | Ahrs2
+        | Ahrs | Vibration => (0.0, 0.0),
         EventSequence => (
             1.0 / super::events::CURRENT_SEQUENCE_PERIOD_S,
             1.0 / super::events::CURRENT_SEQUENCE_PERIOD_S,
@@ -50,6 +55,52 @@ pub fn default_rate_hz(kind: LinkKind, stream: TelemetryStream) -> f64 {
     match kind {
         LinkKind::Gcs => gcs,
         LinkKind::Api => api,
+    }
+}
+
+/// The default rate [Hz] of `stream` on a `kind` link of a vehicle presenting itself as
+/// `personality`: PX4's ([`default_rate_hz`]), or 0 (off) for ArduCopter, whose stream rates
+/// (SRn_*) default to 0.
+fn default_rate(personality: Personality, kind: LinkKind, stream: TelemetryStream) -> f64 {
+    match personality {
+        Personality::Px4 => default_rate_hz(kind, stream),
+        Personality::ArduPilot => 0.0,
+    }
+}
+
+/// The REQUEST_DATA_STREAM group (MAV_DATA_STREAM id) of `stream` on an ArduCopter-faced link
+/// (docs/mavlink.md §5.1): RAW_SENSORS 1, EXTENDED_STATUS 2, RC_CHANNELS 3, POSITION 6, EXTRA1 10,
+/// EXTRA2 11, EXTRA3 12; `None` for a message in no group (asked for only by SET_MESSAGE_INTERVAL).
+/// RAW_CONTROLLER (4) is empty for Copter; PARAMS (5) holds no stream here.
+pub fn ardupilot_group(stream: TelemetryStream) -> Option<u8> {
+    use TelemetryStream::*;
+    Some(match stream {
+        RawImu | ScaledPressure => 1,
+        SysStatus | PowerStatus | Meminfo | MissionCurrent | GpsRawInt | NavControllerOutput | PositionTargetGlobal => {
+            2
+        }
+        ServoOutputRaw | RcChannels => 3,
+        GlobalPosition | LocalPosition => 6,
+        Attitude | Simstate | Ahrs2 => 10,
+        VfrHud => 11,
+        Ahrs | SystemTime | BatteryStatus | EkfStatusReport | Vibration => 12,
+        _ => return None,
+    })
+}
+
+/// The REQUEST_DATA_STREAM groups of a PX4-faced link, as MAVProxy asks for them: ALL (0) is
+/// every stream of the link.
+fn px4_group(stream_id: u8) -> &'static [TelemetryStream] {
+    use TelemetryStream::*;
+    match stream_id {
+        0 => &TelemetryStream::ALL,
+        1 => &[HighresImu, ScaledPressure],
+        2 => &[SysStatus, ExtendedSysState, GpsRawInt, MissionCurrent],
+        6 => &[GlobalPosition, LocalPosition],
+        10 => &[Attitude],
+        11 => &[VfrHud],
+        12 => &[BatteryStatus, EkfStatusReport],
+        _ => &[],
     }
 }
 
@@ -68,37 +119,48 @@ struct RateEntry {
 #[derive(Debug, Clone, PartialEq)]
 pub struct StreamTable {
     kind: LinkKind,
+    personality: Personality,
     entries: Vec<RateEntry>,
 }
 
 impl StreamTable {
-    /// The default table of a `kind` link.
-    pub fn new(kind: LinkKind) -> Self {
+    /// The default table of a `kind` link of a vehicle presenting itself as `personality`: PX4's
+    /// streams at PX4's defaults ([`default_rate_hz`]), or every stream off for ArduCopter (its
+    /// stream rates default to 0: nothing periodic but the heartbeat until a ground station asks).
+    pub fn new(kind: LinkKind, personality: Personality) -> Self {
         Self {
             kind,
+            personality,
             entries: TelemetryStream::ALL
-                .iter()
-                .map(|&stream| RateEntry {
+                .into_iter()
+                .filter(|s| personality == Personality::ArduPilot || !s.ardupilot_only())
+                .map(|stream| RateEntry {
                     stream,
-                    period_s: period(default_rate_hz(kind, stream)),
+                    period_s: period(default_rate(personality, kind, stream)),
                     next_s: 0.0,
                 })
                 .collect(),
         }
     }
 
+    /// Whether this link streams `stream` at all (SET_MESSAGE_INTERVAL, REQUEST_MESSAGE): a
+    /// PX4-faced link not ArduPilot's own messages.
+    pub fn offers(&self, stream: TelemetryStream) -> bool {
+        self.entries.iter().any(|e| e.stream == stream)
+    }
+
     /// SET_MESSAGE_INTERVAL: `interval_us` −1 off, 0 default, else the period (clamped to one tick).
     pub fn set_interval(&mut self, message_id: u32, interval_us: f32) -> Result<(), NotStreamable> {
-        let kind = self.kind;
         if !interval_us.is_finite() || !self.entries.iter().any(|e| e.stream.message_id() == message_id) {
             return Err(NotStreamable);
         }
+        let (kind, personality) = (self.kind, self.personality);
         // DEBUG_VECT carries two streams (EXT_F, EXT_T): both follow its interval.
         for e in self.entries.iter_mut().filter(|e| e.stream.message_id() == message_id) {
             e.period_s = if interval_us < 0.0 {
                 None
             } else if interval_us == 0.0 {
-                period(default_rate_hz(kind, e.stream))
+                period(default_rate(personality, kind, e.stream))
             } else {
                 Some((f64::from(interval_us) * 1e-6).max(MIN_PERIOD_S))
             };
@@ -114,20 +176,15 @@ impl StreamTable {
     }
 
     /// REQUEST_DATA_STREAM (MAVProxy): the group `stream_id` at `rate_hz`, or off when `start`
-    /// is false (docs/mavlink.md §5; ALL = 0).
+    /// is false or the rate 0 (docs/mavlink.md §5; ALL = 0); the groups are the personality's
+    /// ([`ardupilot_group`] for ArduCopter); an unknown group changes nothing. No reply.
     pub fn request_data_stream(&mut self, stream_id: u8, rate_hz: u16, start: bool) {
-        use TelemetryStream::*;
-        let group: &[TelemetryStream] = match stream_id {
-            0 => &TelemetryStream::ALL,
-            1 => &[HighresImu, ScaledPressure],
-            2 => &[SysStatus, ExtendedSysState, GpsRawInt, MissionCurrent],
-            6 => &[GlobalPosition, LocalPosition],
-            10 => &[Attitude],
-            11 => &[VfrHud],
-            12 => &[BatteryStatus, EkfStatusReport],
-            _ => &[],
+        let personality = self.personality;
+        let in_group = |stream: TelemetryStream| match personality {
+            Personality::Px4 => px4_group(stream_id).contains(&stream),
+            Personality::ArduPilot => ardupilot_group(stream).is_some_and(|group| stream_id == 0 || group == stream_id),
         };
-        for e in self.entries.iter_mut().filter(|e| group.contains(&e.stream)) {
+        for e in self.entries.iter_mut().filter(|e| in_group(e.stream)) {
             e.period_s = if start && rate_hz > 0 {
                 period(f64::from(rate_hz))
             } else {
@@ -173,16 +230,16 @@ mod tests {
 
     #[test]
     fn defaults_differ_per_link_and_rates_hold() {
-        let mut gcs = StreamTable::new(LinkKind::Gcs);
+        let mut gcs = StreamTable::new(LinkKind::Gcs, Personality::Px4);
         assert_eq!(count(&mut gcs, TelemetryStream::Attitude, 10.0), 150);
         assert_eq!(gcs.interval_us(31), Some(-1), "ATTITUDE_QUATERNION off on the GCS link");
-        let mut api = StreamTable::new(LinkKind::Api);
+        let mut api = StreamTable::new(LinkKind::Api, Personality::Px4);
         assert_eq!(count(&mut api, TelemetryStream::GlobalPosition, 2.0), 100);
     }
 
     #[test]
     fn set_message_interval_and_request_data_stream() {
-        let mut t = StreamTable::new(LinkKind::Gcs);
+        let mut t = StreamTable::new(LinkKind::Gcs, Personality::Px4);
         t.set_interval(32, 20_000.0).unwrap();
         assert_eq!(t.interval_us(32), Some(20_000));
         assert_eq!(count(&mut t, TelemetryStream::LocalPosition, 1.0), 50);
@@ -197,5 +254,132 @@ mod tests {
         assert_eq!(t.interval_us(30), Some(250_000));
         t.request_data_stream(0, 0, false);
         assert_eq!(t.interval_us(33), Some(-1));
+    }
+
+    /// The streams of `t` on at `rate_hz` (interval 1/rate), and whether every other is off.
+    fn on_at(t: &StreamTable, rate_hz: f64) -> (Vec<TelemetryStream>, bool) {
+        let want = (1e6 / rate_hz).round() as i32;
+        let mut on = Vec::new();
+        let mut others_off = true;
+        for stream in TelemetryStream::ALL.into_iter().filter(|s| t.offers(*s)) {
+            match t.interval_us(stream.message_id()) {
+                Some(i) if i == want => on.push(stream),
+                Some(-1) => {}
+                _ => others_off = false,
+            }
+        }
+        (on, others_off)
+    }
+
+    fn ardupilot() -> StreamTable {
+        StreamTable::new(LinkKind::Gcs, Personality::ArduPilot)
+    }
+
+    #[test]
+    fn an_ardupilot_link_sends_nothing_until_asked() {
+        for kind in [LinkKind::Gcs, LinkKind::Api] {
+            let mut t = StreamTable::new(kind, Personality::ArduPilot);
+            let mut now = 0.0;
+            while now < 10.0 {
+                assert!(t.due(now).is_empty(), "{kind:?} at {now} s");
+                now += 0.005;
+            }
+            assert!(
+                TelemetryStream::ALL.iter().all(|s| t.offers(*s)),
+                "every message on request"
+            );
+        }
+        let mut t = ardupilot();
+        t.set_interval(178, 100_000.0).unwrap();
+        assert_eq!(
+            count(&mut t, TelemetryStream::Ahrs2, 1.0),
+            10,
+            "SET_MESSAGE_INTERVAL as on PX4"
+        );
+        t.set_interval(178, 0.0).unwrap();
+        assert_eq!(t.interval_us(178), Some(-1), "the default is off");
+    }
+
+    #[test]
+    fn ardupilot_groups_hold_copters_messages() {
+        use TelemetryStream::*;
+        let groups: [(u8, &[TelemetryStream]); 12] = [
+            (1, &[RawImu, ScaledPressure]),
+            (
+                2,
+                &[
+                    SysStatus,
+                    GpsRawInt,
+                    MissionCurrent,
+                    PowerStatus,
+                    Meminfo,
+                    NavControllerOutput,
+                    PositionTargetGlobal,
+                ],
+            ),
+            (3, &[ServoOutputRaw, RcChannels]),
+            (4, &[]),
+            (5, &[]),
+            (6, &[LocalPosition, GlobalPosition]),
+            (7, &[]),
+            (10, &[Attitude, Simstate, Ahrs2]),
+            (11, &[VfrHud]),
+            (12, &[SystemTime, BatteryStatus, EkfStatusReport, Ahrs, Vibration]),
+            (13, &[]),
+            (200, &[]),
+        ];
+        let sorted = |mut v: Vec<u32>| {
+            v.sort_unstable();
+            v
+        };
+        let mut all = Vec::new();
+        for (id, expected) in groups {
+            let mut t = ardupilot();
+            t.request_data_stream(id, 4, true);
+            let (on, others_off) = on_at(&t, 4.0);
+            assert!(others_off, "group {id}: nothing else on");
+            let ids = |v: &[TelemetryStream]| sorted(v.iter().map(|s| s.message_id()).collect());
+            assert_eq!(ids(&on), ids(expected), "group {id}");
+            all.extend_from_slice(expected);
+            t.request_data_stream(id, 4, false);
+            assert!(on_at(&t, 4.0).0.is_empty(), "group {id} stopped");
+        }
+        // ALL: every group at 4 Hz, nothing else (no PX4-only message).
+        let mut t = ardupilot();
+        t.request_data_stream(0, 4, true);
+        let (on, others_off) = on_at(&t, 4.0);
+        assert!(others_off);
+        assert_eq!(on.len(), all.len());
+        assert!(all.iter().all(|s| on.contains(s)));
+        for px4_only in [
+            ExtendedSysState,
+            HighresImu,
+            CurrentMode,
+            HomePosition,
+            EventSequence,
+            AttitudeQuaternion,
+        ] {
+            assert!(!on.contains(&px4_only), "{px4_only:?}");
+        }
+        assert_eq!(count(&mut t, Ahrs2, 2.0), 8, "4 Hz");
+        // A stop, and a start at rate 0, turn them off.
+        t.request_data_stream(10, 0, true);
+        assert_eq!(t.interval_us(30), Some(-1));
+        assert_eq!(t.interval_us(33), Some(250_000), "the other groups stay");
+        t.request_data_stream(0, 4, false);
+        assert!(on_at(&t, 4.0).0.is_empty());
+        assert_eq!(count(&mut t, GlobalPosition, 2.0), 0);
+    }
+
+    #[test]
+    fn a_px4_link_keeps_px4s_streams() {
+        let t = StreamTable::new(LinkKind::Gcs, Personality::Px4);
+        let offered: Vec<TelemetryStream> = TelemetryStream::ALL.into_iter().filter(|s| t.offers(*s)).collect();
+        assert_eq!(offered, TelemetryStream::ALL[..27], "PX4's streams, in PX4's order");
+        let mut t = StreamTable::new(LinkKind::Api, Personality::Px4);
+        assert_eq!(t.set_interval(178, 100_000.0), Err(NotStreamable), "no AHRS2 on PX4");
+        t.request_data_stream(0, 4, true);
+        assert_eq!(t.interval_us(245), Some(250_000), "PX4's ALL: EXTENDED_SYS_STATE too");
+        assert_eq!(t.interval_us(27), None);
     }
 }

@@ -5,6 +5,8 @@
 //! # Layout
 //! - [`copter_modes`]: Copter's mode numbers and names, the commander mode flying each, the
 //!   number a HEARTBEAT shows ([`copter_modes::ModeShown`]) and Copter's HEARTBEAT.
+//! - [`copter_messages`]: Copter's own streamed messages (RAW_IMU, AHRS, AHRS2, SIMSTATE,
+//!   VIBRATION, …), built from the snapshot.
 //! - [`copter_params`]: Copter's parameter names for the settings the vehicle has, their units
 //!   and Copter's defaults.
 //! - [`copter_ingest`]: the inbound messages Copter treats differently (mode changes by Copter
@@ -12,5 +14,6 @@
 //!   [`ingest`](super::ingest::ingest).
 
 pub mod copter_ingest;
+pub mod copter_messages;
 pub mod copter_modes;
 pub mod copter_params;

@@ -12,7 +12,7 @@ use mavlink::MavHeader;
 use super::commands::{AckOf, Asker, Decided};
 use super::port::{HeldForClients, Port};
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
-use crate::commander::{ManualInputMode, Request};
+use crate::commander::{ManualInputMode, Outcome, Request};
 use crate::mav::ardupilot::copter_ingest::{asked_mode, copter_ingest};
 use crate::mav::calibration;
 use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
@@ -240,6 +240,13 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 }
             },
             CommandDecision::Refuse(outcome) => Decided::Answer(AckOf::Outcome(outcome), Vec::new()),
+            CommandDecision::Reply(OneShot::TelemetryStream(stream))
+                if !self.port(link).is_some_and(|p| p.streams.offers(stream)) =>
+            {
+                // ArduPilot's own messages on a PX4-faced link: refused as any unknown message.
+                let why = format!("Message {} not available", stream.message_id());
+                Decided::Answer(AckOf::Outcome(Outcome::Denied(why)), Vec::new())
+            }
             CommandDecision::Reply(one_shot) => {
                 let msgs = match one_shot {
                     OneShot::AutopilotVersion => Some(common(autopilot_version(&self.identity))),

@@ -141,7 +141,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .links
             .iter()
             .enumerate()
-            .map(|(id, (kind, remote))| Port::new(*kind, *remote, id as u8))
+            .map(|(id, (kind, remote))| Port::new(*kind, *remote, id as u8, config.identity.personality))
             .collect();
         let kinds: Vec<LinkKind> = config.links.iter().map(|(kind, _)| *kind).collect();
         let files = Files::new(&config.params, metadata, &kinds, config.logs);

@@ -7,6 +7,7 @@ use std::collections::HashMap;
 use std::hash::Hash;
 
 use crate::commander::FlightMode;
+use crate::mav::identity::Personality;
 use crate::mav::streams::{LinkKind, StreamTable};
 
 /// Learned peers are forgotten after this much wall-clock silence [s].
@@ -51,14 +52,16 @@ pub(super) struct Port<A> {
 }
 
 impl<A: Copy + Eq + Hash> Port<A> {
-    pub fn new(kind: LinkKind, remote: A, link_id: u8) -> Self {
+    /// A `kind` link to `remote` with signature link id `link_id`, its telemetry rates those of
+    /// a vehicle presenting itself as `personality`.
+    pub fn new(kind: LinkKind, remote: A, link_id: u8, personality: Personality) -> Self {
         Self {
             kind,
             remote,
             link_id,
             peers: HashMap::new(),
             sequence: 0,
-            streams: StreamTable::new(kind),
+            streams: StreamTable::new(kind, personality),
             next_heartbeat: (0.0, 0.0),
             last_state: None,
             gcs_heard: None,
@@ -138,7 +141,7 @@ mod tests {
 
     #[test]
     fn peers_expire_and_the_remote_stays() {
-        let mut port = Port::new(LinkKind::Gcs, 1u16, 0);
+        let mut port = Port::new(LinkKind::Gcs, 1u16, 0, Personality::Px4);
         port.heard(2, 0.0);
         port.heard(1, 0.0);
         assert!(port.expire(5.0).is_empty());
@@ -152,7 +155,7 @@ mod tests {
 
     #[test]
     fn the_peer_table_is_bounded_and_keeps_peers_that_keep_talking() {
-        let mut port = Port::new(LinkKind::Gcs, 0u16, 0);
+        let mut port = Port::new(LinkKind::Gcs, 0u16, 0, Personality::Px4);
         // A ground station with a 1 Hz heartbeat, then 5 000 addresses writing once each.
         port.heard(1, 0.0);
         let mut evicted = Vec::new();
@@ -173,7 +176,7 @@ mod tests {
 
     #[test]
     fn sequence_wraps() {
-        let mut port = Port::new(LinkKind::Api, 0u8, 1);
+        let mut port = Port::new(LinkKind::Api, 0u8, 1, Personality::Px4);
         for k in 0..=255u8 {
             assert_eq!(port.next_sequence(), k);
         }
