@@ -73,6 +73,67 @@ def test_a_guided_takeoff_the_arducopter_way(autopilot_factory):
     assert abs(relative_alt_m(conn)) < 0.5
 
 
+def north_of_home(conn, metres):
+    """(lat, lon) [degE7] `metres` north of home, from HOME_POSITION."""
+    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_GET_HOME_POSITION, 0, 0, 0, 0, 0, 0, 0, 0)
+    home = recv(conn, "HOME_POSITION", 10)
+    return home.latitude + round(metres / 111_320.0 * 1e7), home.longitude
+
+
+def metres_north(conn, lat_e7):
+    m = recv(conn, "GLOBAL_POSITION_INT")
+    return (m.lat - lat_e7) * 111_320.0 / 1e7, m
+
+
+@pytest.mark.rotorpilot(autopilot="ardupilot", speedup=4)
+def test_guided_goto_speed_heading_and_reposition_as_dronekit_and_mavproxy_send_them(autopilot_factory):
+    ap = autopilot_factory(connect=False)
+    conn = ap.vehicle.conn
+    hb = conn.wait_heartbeat(timeout=30)
+    conn.target_system, conn.target_component = hb.get_srcSystem(), 0
+    conn.mav.request_data_stream_send(conn.target_system, 0, mavlink.MAV_DATA_STREAM_ALL, 10, 1)
+    wait_armable(conn)
+    conn.set_mode("GUIDED")
+    recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 4)
+    conn.arducopter_arm()
+    conn.motors_armed_wait()
+    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, 10)
+    recv(conn, "GLOBAL_POSITION_INT", 60, lambda m: m.relative_alt >= 9500)
+    # DroneKit: vehicle.airspeed = 3 (DO_CHANGE_SPEED p1 0), then simple_goto (MISSION_ITEM current 2).
+    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_DO_CHANGE_SPEED, 0, 0, 3, -1, 0, 0, 0, 0)
+    assert recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_DO_CHANGE_SPEED).result == 0
+    lat, lon = north_of_home(conn, 30.0)
+    conn.mav.mission_item_send(conn.target_system, 0, 0, mavlink.MAV_FRAME_GLOBAL_RELATIVE_ALT,
+                               mavlink.MAV_CMD_NAV_WAYPOINT, 2, 0, 0, 0, 0, 0, lat / 1e7, lon / 1e7, 15)
+    home_lat = lat - round(30.0 / 111_320.0 * 1e7)
+    cruise = []  # ground speeds on the middle of the leg [m/s]
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        north, m = metres_north(conn, home_lat)
+        if 8.0 < north < 22.0:
+            cruise.append(recv(conn, "VFR_HUD").groundspeed)
+        if north > 29.0 and abs(m.relative_alt / 1000.0 - 15.0) < 0.5:
+            break
+    else:
+        raise AssertionError(f"never reached the go-to point: {north:.1f} m north, {m.relative_alt} mm up")
+    cruise.sort()
+    assert cruise and 2.7 < cruise[len(cruise) // 2] < 3.3, f"flew at DO_CHANGE_SPEED's 3 m/s: {cruise}"
+    # CONDITION_YAW to 90° absolute: the heading follows and the vehicle stays put.
+    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_CONDITION_YAW, 0, 90, 20, 1, 0, 0, 0, 0)
+    assert recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_CONDITION_YAW).result == 0
+    assert recv(conn, "VFR_HUD", 20, lambda m: abs(m.heading - 90) <= 2)
+    # MAVProxy's `guided LAT LON ALT` from LOITER: DO_REPOSITION with the mode-change flag.
+    conn.set_mode("LOITER")
+    recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 5)
+    conn.mav.command_int_send(conn.target_system, 0, mavlink.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+                              mavlink.MAV_CMD_DO_REPOSITION, 0, 0, -1, 1, 0, 0, home_lat, lon, 12)
+    ack = recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_DO_REPOSITION)
+    assert ack.result == mavlink.MAV_RESULT_ACCEPTED
+    assert recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 4), "back in GUIDED"
+    assert recv(conn, "GLOBAL_POSITION_INT", 60,
+                lambda m: abs((m.lat - home_lat) * 111_320.0 / 1e7) < 1.0 and abs(m.relative_alt - 12000) < 500)
+
+
 @ARDUPILOT
 def test_takeoff_outside_guided_fails_and_targets_are_ignored_there(autopilot_factory):
     ap = autopilot_factory(connect=False)

@@ -41,6 +41,20 @@ pub enum Request {
         /// Target height above home [m].
         height_m: Option<f64>,
     },
+    /// ArduCopter's CONDITION_YAW in GUIDED: turn to heading `yaw_rad` [rad] and keep it (the
+    /// latest guided target's heading, or the hold's).
+    TurnTo {
+        /// Heading [rad].
+        yaw_rad: f64,
+    },
+    /// ArduCopter's DO_REPOSITION: fly to `pos_w` [m, world NED] in GUIDED (switching to GUIDED
+    /// first when in another mode), heading `yaw_rad` [rad] (`None`: the current one).
+    GuidedGoto {
+        /// Target position, world NED [m].
+        pos_w: Vec3,
+        /// Heading [rad].
+        yaw_rad: Option<f64>,
+    },
     /// NAV_LAND here.
     Land,
     /// NAV_RETURN_TO_LAUNCH.
@@ -232,6 +246,8 @@ impl Request {
                 ..
             } => [north_m, east_m, down_m, yaw_rad, speed_m_s].iter().all(|v| opt(v)),
             Self::ChangeSpeed(v) => v.is_finite(),
+            Self::TurnTo { yaw_rad } => yaw_rad.is_finite(),
+            Self::GuidedGoto { pos_w, yaw_rad } => pos_w.iter().all(|v| v.is_finite()) && opt(yaw_rad),
             Self::SetHome(p) => p.as_ref().is_none_or(|p| p.iter().all(|c| c.is_finite())),
         }
     }

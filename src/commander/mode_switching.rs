@@ -315,7 +315,11 @@ impl Commander {
             }
         }
         let landed = self.detector.landed();
-        match self.offboard.guided(now, landed, &self.params.motion) {
+        // Guided targets fly at the cruise speed (WPNAV_SPEED, or DO_CHANGE_SPEED's) and the
+        // AUTO climb and descent speeds, as ArduCopter's waypoint controller flies them.
+        let paths = self.paths();
+        let motion = paths.limits(paths.cruise_speed());
+        match self.offboard.guided(now, landed, &motion) {
             GuidedStep::Fly(command) => Some(command),
             GuidedStep::Stop => {
                 if !landed {

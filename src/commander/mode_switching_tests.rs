@@ -203,4 +203,22 @@ fn guided_position_targets_persist_and_velocity_targets_stop_when_their_stream_f
     assert!(stopped_at.y > to.y + 0.5, "it moved east first: {stopped_at:?}");
     assert_eq!(s.c.mode(), FlightMode::Guided, "no failsafe in GUIDED: {:?}", s.events);
     assert!(s.c.in_air());
+    // CONDITION_YAW turns the hold to its heading and keeps it there.
+    assert_eq!(s.request(Request::TurnTo { yaw_rad: 1.5 }), Outcome::Accepted);
+    s.fly(5.0);
+    let yaw = crate::math::euler_zyx(&s.x.r_wb).z;
+    assert!((yaw - 1.5).abs() < 0.01, "{yaw}");
+    assert!(
+        (s.x.pos_w - stopped_at).norm() < 0.05,
+        "turned in place: {:?}",
+        s.x.pos_w
+    );
+    assert!(matches!(
+        s.request(Request::SetMode(FlightMode::Loiter)),
+        Outcome::Accepted
+    ));
+    assert!(matches!(
+        s.request(Request::TurnTo { yaw_rad: 0.0 }),
+        Outcome::Failed(_)
+    ));
 }

@@ -84,6 +84,19 @@ impl Offboard {
         }
     }
 
+    /// The latest position / velocity target keeps heading `yaw_rad` [rad] from now on; false
+    /// when there is none (an attitude target, or nothing).
+    pub fn turn_to(&mut self, yaw_rad: f64) -> bool {
+        match &mut self.latest {
+            Some(OffboardTarget::Flat(sp, _)) => {
+                sp.yaw_rad = Some(yaw_rad);
+                sp.yaw_rate_rad_s = None;
+                true
+            }
+            _ => false,
+        }
+    }
+
     /// True when a target arrived and the link has not declared the stream lost since.
     pub fn alive(&self) -> bool {
         self.latest.is_some() && !self.lost

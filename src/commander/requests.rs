@@ -4,7 +4,7 @@
 //! ([`Commander::check_failsafes`]), rotor failures ([`Commander::rotor_failed`]) and the
 //! navigation estimate's validity ([`Commander::check_navigation`]) likewise.
 
-use crate::control::VehicleState;
+use crate::control::{FlatSetpoint, VehicleState};
 use crate::guidance::{Geofence, Guidance};
 use crate::math::{euler_zyx, Vec3};
 
@@ -32,6 +32,8 @@ impl Commander {
             Request::SetMode(mode) => self.set_mode(mode, x, t_s),
             Request::Takeoff { height_m } => self.takeoff(height_m, x, t_s),
             Request::Land => self.set_mode(FlightMode::Land, x, t_s),
+            Request::TurnTo { yaw_rad } => self.turn_to(yaw_rad),
+            Request::GuidedGoto { pos_w, yaw_rad } => self.guided_goto(pos_w, yaw_rad, x, t_s),
             Request::ReturnToLaunch => self.set_mode(FlightMode::ReturnToLaunch, x, t_s),
             Request::OffboardSetpoint { setpoint, body_frame } => {
                 self.offboard.receive(OffboardTarget::Flat(setpoint, body_frame));
@@ -193,6 +195,36 @@ impl Commander {
         self.climbing_out = true;
         let yaw = euler_zyx(&x.r_wb).z;
         self.guidance = self.paths().climb_to(x, target, yaw, t_s);
+        Outcome::Accepted
+    }
+
+    /// CONDITION_YAW in GUIDED: the latest guided target, or the hold, takes heading `yaw_rad`.
+    fn turn_to(&mut self, yaw_rad: f64) -> Outcome {
+        if self.mode != FlightMode::Guided {
+            return Outcome::Failed(format!("Condition yaw: only in GUIDED (mode {})", self.mode.name()));
+        }
+        if !self.offboard.turn_to(yaw_rad) {
+            if let Guidance::Hold { pos_w, .. } = self.guidance {
+                self.guidance = Guidance::Hold { pos_w, yaw_rad };
+            }
+        }
+        Outcome::Accepted
+    }
+
+    /// DO_REPOSITION as ArduCopter flies it: GUIDED (entered if need be) with a position target.
+    fn guided_goto(&mut self, pos_w: Vec3, yaw_rad: Option<f64>, x: &VehicleState, t_s: f64) -> Outcome {
+        if self.mode != FlightMode::Guided {
+            let entered = self.set_mode(FlightMode::Guided, x, t_s);
+            if entered != Outcome::Accepted {
+                return entered;
+            }
+        }
+        let target = FlatSetpoint {
+            pos_w: Some(pos_w),
+            yaw_rad,
+            ..Default::default()
+        };
+        self.offboard.receive(OffboardTarget::Flat(target, false));
         Outcome::Accepted
     }
 

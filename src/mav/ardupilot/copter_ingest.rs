@@ -42,9 +42,20 @@ pub fn copter_ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, st
                 }
             })
         }
-        MavMessage::COMMAND_LONG(c) if ours(c.target_system, c.target_component) => command(c, state),
+        MavMessage::COMMAND_LONG(c) if ours(c.target_system, c.target_component) => {
+            if c.command == MavCmd::MAV_CMD_DO_REPOSITION {
+                let decision = crate::mav::reposition::decode_long(c, &state.home);
+                return Some(reposition(c.clone(), decision, state));
+            }
+            command(c, state)
+        }
         MavMessage::COMMAND_INT(c) if ours(c.target_system, c.target_component) => {
-            command(&command_int_as_long(c), state)
+            let long = command_int_as_long(c);
+            if c.command == MavCmd::MAV_CMD_DO_REPOSITION {
+                let decision = crate::mav::reposition::decode_int(c, &long, &state.home);
+                return Some(reposition(long, decision, state));
+            }
+            command(&long, state)
         }
         MavMessage::SET_POSITION_TARGET_LOCAL_NED(t) if ours(t.target_system, t.target_component) && !guided => {
             Some(Action::Ignore)
@@ -116,11 +127,67 @@ fn command(c: &COMMAND_LONG_DATA, state: &Snapshot) -> Option<Action> {
             height_m: Some(f64::from(c.param7)),
         }),
         MavCmd::MAV_CMD_NAV_LOITER_UNLIM => CommandDecision::Execute(Request::SetMode(FlightMode::Position)),
+        MavCmd::MAV_CMD_CONDITION_YAW => condition_yaw(c, state.eta.z),
         _ => return None,
     };
     Some(Action::Command {
         command: c.clone(),
         decision,
+    })
+}
+
+/// DO_REPOSITION as Copter reads it (MAVProxy's `guided LAT LON ALT`), from the target PX4's
+/// decoding found: in GUIDED, or with the mode-change flag (then entering GUIDED), the vehicle
+/// flies to it in GUIDED (unset coordinates: the current ones); in another mode without the flag,
+/// DENIED.
+fn reposition(command: COMMAND_LONG_DATA, decision: CommandDecision, state: &Snapshot) -> Action {
+    let decision = match decision {
+        CommandDecision::Execute(Request::Reposition {
+            north_m,
+            east_m,
+            down_m,
+            yaw_rad,
+            change_mode,
+            ..
+        }) => {
+            if state.mode != FlightMode::Guided && !change_mode {
+                CommandDecision::Refuse(Outcome::Denied(format!(
+                    "Reposition: not in GUIDED (mode {}) and no mode change asked",
+                    state.mode.name()
+                )))
+            } else {
+                let here = state.pos_w;
+                let pos_w = crate::math::Vec3::new(
+                    north_m.unwrap_or(here.x),
+                    east_m.unwrap_or(here.y),
+                    down_m.unwrap_or(here.z),
+                );
+                CommandDecision::Execute(Request::GuidedGoto { pos_w, yaw_rad })
+            }
+        }
+        other => other,
+    };
+    Action::Command { command, decision }
+}
+
+/// CONDITION_YAW as Copter reads it: p1 the heading [deg, 0–360], p3 the direction of a relative
+/// turn (−1 anti-clockwise, else clockwise), p4 1 for a turn relative to the heading `yaw_rad`
+/// [rad], 0 for an absolute heading; out of range FAILED. The rate (p2) is the vehicle's own.
+fn condition_yaw(c: &COMMAND_LONG_DATA, yaw_rad: f64) -> CommandDecision {
+    let (angle, direction, relative) = (c.param1, c.param3, c.param4);
+    if !((0.0..=360.0).contains(&angle) && (relative == 0.0 || relative == 1.0)) {
+        return CommandDecision::Refuse(Outcome::Failed(format!(
+            "Condition yaw: angle {angle} (0-360), relative {relative} (0 or 1)"
+        )));
+    }
+    let angle_rad = f64::from(angle).to_radians();
+    let target = if relative == 1.0 {
+        yaw_rad + if direction < 0.0 { -angle_rad } else { angle_rad }
+    } else {
+        angle_rad
+    };
+    CommandDecision::Execute(Request::TurnTo {
+        yaw_rad: crate::math::wrap_pi(target),
     })
 }
 
@@ -254,6 +321,60 @@ mod tests {
         });
         assert_eq!(run(target.clone(), FlightMode::Loiter), Some(Action::Ignore));
         assert_eq!(run(target, FlightMode::Guided), None, "decoded as PX4 decodes it");
+    }
+
+    #[test]
+    fn reposition_flies_in_guided_and_needs_the_mode_change_flag_elsewhere() {
+        let home = Home::default();
+        let p = [
+            -1.0,
+            1.0,
+            0.0,
+            f32::NAN,
+            (home.lat_deg + 1e-4) as f32,
+            home.lon_deg as f32,
+            (home.alt_amsl_m + 30.0) as f32,
+        ];
+        let decide = |p: [f32; 7], mode| match run(long(MavCmd::MAV_CMD_DO_REPOSITION, p), mode) {
+            Some(Action::Command { decision, .. }) => decision,
+            other => panic!("{other:?}"),
+        };
+        let CommandDecision::Execute(Request::GuidedGoto { pos_w, yaw_rad: None }) = decide(p, FlightMode::Loiter)
+        else {
+            panic!("not a guided go-to");
+        };
+        assert!(
+            (pos_w.x - 11.1).abs() < 0.6 && (pos_w.z + 30.0).abs() < 0.01,
+            "{pos_w:?}"
+        );
+        let without_flag = [p[0], 0.0, p[2], p[3], p[4], p[5], p[6]];
+        assert!(matches!(
+            decide(without_flag, FlightMode::Loiter),
+            CommandDecision::Refuse(Outcome::Denied(_))
+        ));
+        assert!(matches!(
+            decide(without_flag, FlightMode::Guided),
+            CommandDecision::Execute(Request::GuidedGoto { .. })
+        ));
+    }
+
+    #[test]
+    fn condition_yaw_turns_to_an_absolute_or_relative_heading() {
+        let yaw = |p: [f32; 7]| match run(long(MavCmd::MAV_CMD_CONDITION_YAW, p), FlightMode::Guided) {
+            Some(Action::Command {
+                decision: CommandDecision::Execute(Request::TurnTo { yaw_rad }),
+                ..
+            }) => Some(yaw_rad.to_degrees().round()),
+            _ => None,
+        };
+        assert_eq!(yaw([90.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]), Some(90.0));
+        assert_eq!(yaw([270.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]), Some(-90.0));
+        assert_eq!(
+            yaw([30.0, 10.0, -1.0, 1.0, 0.0, 0.0, 0.0]),
+            Some(-30.0),
+            "relative to north"
+        );
+        assert_eq!(yaw([400.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]), None);
     }
 
     #[test]

@@ -10,8 +10,8 @@ use mavlink::dialects::ardupilotmega::{
     SIMSTATE_DATA, VIBRATION_DATA,
 };
 
-use crate::mav::stream_messages::{time_boot_ms, time_usec, TelemetryStream};
 use crate::math::{euler_zyx, Vec3, GRAVITY_M_S2};
+use crate::mav::stream_messages::{time_boot_ms, time_usec, TelemetryStream};
 use crate::telemetry::Snapshot;
 
 /// Standard gravity [m/s²]: the g of MAVLink's milli-g (RAW_IMU's accelerations).
@@ -401,8 +401,7 @@ mod tests {
                 thrust_fraction: 0.456,
                 ..snapshot()
             };
-            let Some(MavMessage::VFR_HUD(v)) = crate::mav::stream_messages::message(TelemetryStream::VfrHud, &s)
-            else {
+            let Some(MavMessage::VFR_HUD(v)) = crate::mav::stream_messages::message(TelemetryStream::VfrHud, &s) else {
                 panic!("wrong message");
             };
             assert_eq!(v.heading, heading, "yaw {yaw} rad");
