@@ -148,7 +148,8 @@ class Autopilot:
               controller: str | None = None, speedup: float | str | None = None,
               params: Mapping[str, float] | None = None, log: bool | str | os.PathLike[str] | None = False,
               log_profile: str | None = None, count: int = 1, sensors: str | None = None,
-              autopilot: str | Sequence[str] | None = None, args: Sequence[str] = (), env: Mapping[str, str] | None = None,
+              autopilot: str | Sequence[str] | None = None, args: Sequence[str] = (),
+              env: Mapping[str, str] | None = None,
               duration: float | None = DEFAULT_DURATION_S, connect: bool = True, timeout: float = DEFAULT_TIMEOUT,
               workdir: str | os.PathLike[str] | None = None) -> Autopilot:
         """Starts ``rotorpilot run`` (`binary`: see `find_binary`) and waits for its ready line.
