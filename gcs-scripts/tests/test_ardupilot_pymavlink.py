@@ -58,6 +58,7 @@ def test_a_guided_takeoff_the_arducopter_way(autopilot_factory):
     hb = recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 4)
     assert conn.flightmode == "GUIDED"
     conn.arducopter_arm()
+    assert recv(conn, "STATUSTEXT", 10, lambda m: m.text == "Arming motors")
     conn.motors_armed_wait()
     conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, 10)
     ack = recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_NAV_TAKEOFF)
@@ -69,7 +70,8 @@ def test_a_guided_takeoff_the_arducopter_way(autopilot_factory):
     assert 9.0 < relative_alt_m(conn) < 11.0, "holds the take-off height"
     conn.set_mode("LAND")
     recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 9)
-    recv(conn, "HEARTBEAT", 90, lambda m: not m.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
+    assert recv(conn, "STATUSTEXT", 90, lambda m: m.text == "Disarming motors")
+    recv(conn, "HEARTBEAT", 10, lambda m: not m.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
     assert abs(relative_alt_m(conn)) < 0.5
 
 
@@ -147,6 +149,12 @@ def test_takeoff_outside_guided_fails_and_targets_are_ignored_there(autopilot_fa
     conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, 10)
     ack = recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_NAV_TAKEOFF)
     assert ack.result == mavlink.MAV_RESULT_FAILED
+    conn.set_mode("LAND")
+    recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 9)
+    conn.arducopter_arm()
+    ack = recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_COMPONENT_ARM_DISARM)
+    assert ack.result == mavlink.MAV_RESULT_FAILED
+    assert recv(conn, "STATUSTEXT", 5).text == "Arm: LAND mode not armable"
     conn.set_mode("POSHOLD")
     assert recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 16)
     assert conn.flightmode == "POSHOLD"

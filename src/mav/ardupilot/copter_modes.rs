@@ -124,6 +124,11 @@ impl ModeShown {
         }
     }
 
+    /// The Copter mode number asked for last, if any.
+    pub fn asked(&self) -> Option<u32> {
+        self.asked.map(u32::from)
+    }
+
     /// The Copter number of the commander's `mode`. Modes no Copter number selects show as the
     /// Copter mode that flies them so: PX4's take-off, GOTO and OFFBOARD as GUIDED (Copter takes
     /// off, repositions and follows external targets in GUIDED), AUTO.READY as BRAKE, MANUAL

@@ -9,6 +9,8 @@
 //!   VIBRATION, …), built from the snapshot.
 //! - [`copter_params`]: Copter's parameter names for the settings the vehicle has, their units
 //!   and Copter's defaults.
+//! - [`copter_texts`]: what Copter says where PX4 says it otherwise ("PreArm: …", "Mode change
+//!   to … failed", "Arming motors").
 //! - [`copter_ingest`]: the inbound messages Copter treats differently (mode changes by Copter
 //!   number, NAV_TAKEOFF in GUIDED, guided targets only in GUIDED), decided before the shared
 //!   [`ingest`](super::ingest::ingest).
@@ -17,3 +19,4 @@ pub mod copter_ingest;
 pub mod copter_messages;
 pub mod copter_modes;
 pub mod copter_params;
+pub mod copter_texts;

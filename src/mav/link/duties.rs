@@ -48,6 +48,11 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             return;
         }
         self.next_duty_s = now.wall_s + DUTY_PERIOD_S;
+        if self.identity.personality == Personality::ArduPilot {
+            if let Some(text) = self.armed_notices.handle_state(&self.snapshot) {
+                self.broadcast(now, &status_text(INFO, text));
+            }
+        }
         self.check_streams(now);
         for k in 0..self.ports.len() {
             let link = self.ports[k].kind;

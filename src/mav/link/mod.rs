@@ -65,8 +65,10 @@ use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::ardupilot::copter_modes::ModeShown;
+use super::ardupilot::copter_texts::{copter_announces, copter_outcome, ArmedNotices};
 use super::codec::frame_message;
 use super::ftp::Vfs;
+use super::identity::Personality;
 use super::metadata::MetadataFiles;
 use super::streams::LinkKind;
 use super::translate::Identity;
@@ -116,6 +118,8 @@ pub struct LinkMachine<A> {
     streams: StreamLiveness,
     /// The Copter mode number the HEARTBEAT shows (the ArduCopter personality).
     mode_shown: ModeShown,
+    /// "Arming motors" / "Disarming motors" (the ArduCopter personality).
+    armed_notices: ArmedNotices,
     /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
     sticks_from: Option<LinkKind>,
     next_duty_s: f64,
@@ -161,6 +165,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             streams: StreamLiveness::default(),
             sticks_from: None,
             mode_shown: ModeShown::default(),
+            armed_notices: ArmedNotices::default(),
             next_duty_s: 0.0,
             transmits: VecDeque::new(),
             to_vehicle: VecDeque::new(),
@@ -180,6 +185,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// A commander event, announced to every target of every link.
     pub fn handle_event(&mut self, now: Now, event: Event) {
+        if self.identity.personality == Personality::ArduPilot && !copter_announces(&event) {
+            return;
+        }
         let msg = self.announcement(&event);
         self.broadcast(now, &msg);
     }
@@ -197,6 +205,13 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 let outcome = match reply {
                     VehicleReply::Outcome(outcome) => outcome,
                     _ => Outcome::TemporarilyRejected("Vehicle busy".into()),
+                };
+                let outcome = match self.identity.personality {
+                    Personality::Px4 => outcome,
+                    Personality::ArduPilot => {
+                        let shown = self.mode_shown.number(self.snapshot.mode);
+                        copter_outcome(asker.command, (self.mode_shown.asked(), shown), outcome)
+                    }
                 };
                 self.commands.answer(now.wall_s, asker, AckOf::Outcome(outcome))
             }
