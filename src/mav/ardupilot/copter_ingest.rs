@@ -2,31 +2,46 @@
 //! before the shared [`ingest`](crate::mav::ingest::ingest), which handles the rest: mode changes
 //! by Copter number (SET_MODE, DO_SET_MODE), NAV_TAKEOFF only in GUIDED with p7 above home,
 //! NAV_LOITER_UNLIM as LOITER, guided targets (SET_POSITION_TARGET_*, SET_ATTITUDE_TARGET, a
-//! MISSION_ITEM with `current` = 2) obeyed only in GUIDED and silently ignored elsewhere. Pure.
+//! MISSION_ITEM with `current` = 2) obeyed only in GUIDED and silently ignored elsewhere; the
+//! mission numbered from 1 (docs/ardupilot.md §6): MISSION_ITEM as an upload item,
+//! MISSION_SET_CURRENT, DO_SET_MISSION_CURRENT and MISSION_START naming the commander's item
+//! seq − 1, and AUTO refused armed on the ground unless the mission starts with a take-off. Pure.
 
 use mavlink::dialects::ardupilotmega::{
-    MavCmd, MavFrame, MavMessage, MavMissionResult, MavMissionType, COMMAND_LONG_DATA, MISSION_ITEM_INT_DATA,
+    MavCmd, MavFrame, MavMessage, MavMissionResult, MavMissionType, MavSeverity, COMMAND_LONG_DATA,
+    MISSION_ITEM_INT_DATA,
 };
 use mavlink::MavHeader;
 
+use super::copter_mission::{commander_index, item_int, starts_with_takeoff, AUTO, MISSING_TAKEOFF};
 use super::copter_modes::mode_request;
-use crate::commander::{FlightMode, Outcome, Request};
+use crate::commander::{FlightMode, LandedState, Outcome, Request};
 use crate::control::FlatSetpoint;
 use crate::mav::identity::Identity;
-use crate::mav::ingest::Action;
+use crate::mav::ingest::{Action, MissionStep};
 use crate::mav::mission_xfer::mission_ack;
-use crate::mav::translate::{command_int_as_long, CommandDecision};
+use crate::mav::stream_messages::status_text;
+use crate::mav::translate::{command_int_as_long, decode_command, CommandDecision};
 use crate::telemetry::Snapshot;
 
 /// MAV_MODE_FLAG_CUSTOM_MODE_ENABLED: DO_SET_MODE p1 and SET_MODE `base_mode` must carry it.
 const CUSTOM_MODE: u32 = 1;
 
-/// What the ArduCopter face does with `message` from `sender` when the vehicle is in `state`;
-/// `None`: what [`ingest`](crate::mav::ingest::ingest) decides.
+/// What the ArduCopter face does with `message` from `sender` when the vehicle is in `state`
+/// with the stored `mission` (as uploaded, item 0 the home slot); `None`: what
+/// [`ingest`](crate::mav::ingest::ingest) decides.
 #[allow(deprecated)]
-pub fn copter_ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, state: &Snapshot) -> Option<Action> {
+pub fn copter_ingest(
+    id: &Identity,
+    sender: &MavHeader,
+    message: &MavMessage,
+    state: &Snapshot,
+    mission: &[MISSION_ITEM_INT_DATA],
+) -> Option<Action> {
     let ours = |target_system: u8, target_component: u8| id.accepts(sender, target_system, target_component);
     let guided = state.mode == FlightMode::Guided;
+    let ids = (sender.system_id as u8, sender.component_id);
+    let on = Facts { state, mission };
     match message {
         MavMessage::SET_MODE(m) if m.target_system == id.system_id => {
             Some(if u32::from(m.base_mode.bits()) & CUSTOM_MODE == 0 {
@@ -34,6 +49,11 @@ pub fn copter_ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, st
                     "Set mode: base mode {} without the custom mode flag",
                     m.base_mode.bits()
                 ))
+            } else if m.custom_mode == AUTO && on.auto_refused() {
+                Action::Reply(Box::new(status_text(
+                    MavSeverity::MAV_SEVERITY_CRITICAL,
+                    MISSING_TAKEOFF,
+                )))
             } else {
                 match mode_request(m.custom_mode) {
                     Ok(request) => Action::Request(request),
@@ -42,9 +62,9 @@ pub fn copter_ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, st
                 }
             })
         }
-        MavMessage::COMMAND_LONG(c) if ours(c.target_system, c.target_component) => command(c, state),
+        MavMessage::COMMAND_LONG(c) if ours(c.target_system, c.target_component) => command(id, sender, c, on),
         MavMessage::COMMAND_INT(c) if ours(c.target_system, c.target_component) => {
-            command(&command_int_as_long(c), state)
+            command(id, sender, &command_int_as_long(c), on)
         }
         MavMessage::SET_POSITION_TARGET_LOCAL_NED(t) if ours(t.target_system, t.target_component) && !guided => {
             Some(Action::Ignore)
@@ -56,18 +76,21 @@ pub fn copter_ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, st
             Some(Action::Ignore)
         }
         MavMessage::MISSION_ITEM(m) if ours(m.target_system, m.target_component) && m.current == 2 => {
-            let item = MISSION_ITEM_INT_DATA {
-                x: (f64::from(m.x) * 1e7).round() as i32,
-                y: (f64::from(m.y) * 1e7).round() as i32,
-                z: m.z,
-                frame: m.frame,
-                command: m.command,
-                ..Default::default()
-            };
-            Some(guided_goto(sender, &item, state))
+            Some(guided_goto(sender, &item_int(m), state))
         }
         MavMessage::MISSION_ITEM_INT(m) if ours(m.target_system, m.target_component) && m.current == 2 => {
             Some(guided_goto(sender, m, state))
+        }
+        // DroneKit uploads with MISSION_ITEM (float degrees): an item of the upload as any other.
+        MavMessage::MISSION_ITEM(m) if ours(m.target_system, m.target_component) => Some(Action::Mission {
+            ids,
+            step: MissionStep::Item(Box::new(item_int(m))),
+        }),
+        MavMessage::MISSION_SET_CURRENT(m) if ours(m.target_system, m.target_component) => {
+            Some(Action::Request(Request::SetMissionCurrent {
+                seq: Some(commander_index(usize::from(m.seq))),
+                reset: false,
+            }))
         }
         _ => None,
     }
@@ -90,12 +113,41 @@ pub fn asked_mode(id: &Identity, sender: &MavHeader, message: &MavMessage) -> Op
         {
             number(c.param2)
         }
+        // MISSION_START switches to AUTO.
+        MavMessage::COMMAND_LONG(c)
+            if c.command == MavCmd::MAV_CMD_MISSION_START
+                && id.accepts(sender, c.target_system, c.target_component) =>
+        {
+            Some(AUTO)
+        }
+        MavMessage::COMMAND_INT(c)
+            if c.command == MavCmd::MAV_CMD_MISSION_START
+                && id.accepts(sender, c.target_system, c.target_component) =>
+        {
+            Some(AUTO)
+        }
         _ => None,
     }
 }
 
+/// What a command's decision reads: the vehicle's state and its stored mission (as uploaded).
+#[derive(Clone, Copy)]
+struct Facts<'a> {
+    state: &'a Snapshot,
+    mission: &'a [MISSION_ITEM_INT_DATA],
+}
+
+impl Facts<'_> {
+    /// ArduCopter refuses AUTO armed on the ground when the mission does not start with a
+    /// take-off (`ModeAuto::init`).
+    fn auto_refused(self) -> bool {
+        self.state.armed && self.state.landed == LandedState::OnGround && !starts_with_takeoff(self.mission)
+    }
+}
+
 /// The commands Copter reads its own way; `None` for the others.
-fn command(c: &COMMAND_LONG_DATA, state: &Snapshot) -> Option<Action> {
+fn command(id: &Identity, sender: &MavHeader, c: &COMMAND_LONG_DATA, on: Facts) -> Option<Action> {
+    let state = on.state;
     let decision = match c.command {
         MavCmd::MAV_CMD_DO_SET_MODE if (c.param1 as u32) & CUSTOM_MODE == 0 => CommandDecision::Refuse(
             Outcome::Denied(format!("Set mode: p1 {} without the custom mode flag", c.param1)),
@@ -103,9 +155,31 @@ fn command(c: &COMMAND_LONG_DATA, state: &Snapshot) -> Option<Action> {
         MavCmd::MAV_CMD_DO_SET_MODE if !(c.param2 >= 0.0 && c.param2.fract() == 0.0) => {
             CommandDecision::Refuse(Outcome::Denied(format!("Set mode: mode {} is not a number", c.param2)))
         }
+        MavCmd::MAV_CMD_DO_SET_MODE if c.param2 as u32 == AUTO && on.auto_refused() => {
+            CommandDecision::Critical(MISSING_TAKEOFF.into())
+        }
         MavCmd::MAV_CMD_DO_SET_MODE => match mode_request(c.param2 as u32) {
             Ok(request) => CommandDecision::Execute(request),
             Err(refusal) => CommandDecision::Refuse(refusal),
+        },
+        // The mission's seqs count the home slot: the commander's item is seq − 1.
+        MavCmd::MAV_CMD_MISSION_START => match decode_command(id, sender, c, &state.home) {
+            CommandDecision::Execute(_) if on.auto_refused() => CommandDecision::Critical(MISSING_TAKEOFF.into()),
+            CommandDecision::Execute(Request::StartMission { first }) => {
+                CommandDecision::Execute(Request::StartMission {
+                    first: commander_index(first),
+                })
+            }
+            other => other,
+        },
+        MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT => match decode_command(id, sender, c, &state.home) {
+            CommandDecision::Execute(Request::SetMissionCurrent { seq, reset }) => {
+                CommandDecision::Execute(Request::SetMissionCurrent {
+                    seq: seq.map(commander_index),
+                    reset,
+                })
+            }
+            other => other,
         },
         // Copter's user take-off: p7 above home [m], in GUIDED (the commander checks the rest:
         // armed, on the ground, above the vehicle).
@@ -165,7 +239,7 @@ mod tests {
     use crate::mav::gcs::{command_long, gcs_header};
     use crate::mav::identity::Personality;
     use mavlink::dialects::ardupilotmega::{
-        MavModeFlag, MISSION_ITEM_DATA, SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
+        MavModeFlag, MISSION_ITEM_DATA, MISSION_SET_CURRENT_DATA, SET_MODE_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
     };
 
     fn id() -> Identity {
@@ -175,7 +249,7 @@ mod tests {
     fn run(message: MavMessage, mode: FlightMode) -> Option<Action> {
         let mut state = Snapshot::initial(Home::default());
         state.mode = mode;
-        copter_ingest(&id(), &gcs_header(0), &message, &state)
+        copter_ingest(&id(), &gcs_header(0), &message, &state, &[])
     }
 
     fn long(command: MavCmd, p: [f32; 7]) -> MavMessage {
@@ -283,5 +357,109 @@ mod tests {
             matches!(run(item, FlightMode::Loiter), Some(Action::Reply(_))),
             "MISSION_ACK ERROR outside GUIDED"
         );
+    }
+
+    #[test]
+    fn mission_seqs_count_the_home_slot_and_mission_items_upload() {
+        let state = Snapshot::initial(Home::default());
+        let at = |message| copter_ingest(&id(), &gcs_header(0), &message, &state, &[]);
+        let upload = MavMessage::MISSION_ITEM(MISSION_ITEM_DATA {
+            target_system: 1,
+            seq: 2,
+            x: 47.5,
+            command: MavCmd::MAV_CMD_NAV_WAYPOINT,
+            ..Default::default()
+        });
+        let Some(Action::Mission {
+            ids: (255, 190),
+            step: MissionStep::Item(item),
+        }) = at(upload)
+        else {
+            panic!("an upload item");
+        };
+        assert_eq!((item.seq, item.x), (2, 475_000_000));
+        let set_current = |seq| {
+            at(MavMessage::MISSION_SET_CURRENT(MISSION_SET_CURRENT_DATA {
+                seq,
+                target_system: 1,
+                target_component: 1,
+            }))
+        };
+        let current = |seq| {
+            Some(Action::Request(Request::SetMissionCurrent {
+                seq: Some(seq),
+                reset: false,
+            }))
+        };
+        assert_eq!(set_current(3), current(2));
+        assert_eq!(set_current(0), current(0), "home names the first item");
+        let decided = |command, p1: f32| match at(long(command, [p1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])) {
+            Some(Action::Command { decision, .. }) => decision,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            decided(MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT, 4.0),
+            CommandDecision::Execute(Request::SetMissionCurrent {
+                seq: Some(3),
+                reset: false
+            })
+        );
+        assert_eq!(
+            decided(MavCmd::MAV_CMD_MISSION_START, 0.0),
+            CommandDecision::Execute(Request::StartMission { first: 0 })
+        );
+        assert_eq!(
+            decided(MavCmd::MAV_CMD_MISSION_START, 2.0),
+            CommandDecision::Execute(Request::StartMission { first: 1 })
+        );
+        let start = long(MavCmd::MAV_CMD_MISSION_START, [0.0; 7]);
+        assert_eq!(asked_mode(&id(), &gcs_header(0), &start), Some(AUTO));
+    }
+
+    #[test]
+    fn auto_armed_on_the_ground_needs_a_takeoff_first() {
+        let item = |seq, command| MISSION_ITEM_INT_DATA {
+            seq,
+            command,
+            ..Default::default()
+        };
+        let home = item(0, MavCmd::MAV_CMD_NAV_WAYPOINT);
+        let no_takeoff = [home.clone(), item(1, MavCmd::MAV_CMD_NAV_WAYPOINT)];
+        let takeoff = [home, item(1, MavCmd::MAV_CMD_NAV_TAKEOFF)];
+        let mut state = Snapshot::initial(Home::default());
+        state.mode = FlightMode::Guided;
+        state.armed = true;
+        let auto = long(MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let decided = |state: &Snapshot, mission: &[MISSION_ITEM_INT_DATA], message: &MavMessage| match copter_ingest(
+            &id(),
+            &gcs_header(0),
+            message,
+            state,
+            mission,
+        ) {
+            Some(Action::Command { decision, .. }) => decision,
+            other => panic!("{other:?}"),
+        };
+        let refused = CommandDecision::Critical(MISSING_TAKEOFF.into());
+        assert_eq!(decided(&state, &no_takeoff, &auto), refused);
+        let start = long(MavCmd::MAV_CMD_MISSION_START, [0.0; 7]);
+        assert_eq!(decided(&state, &no_takeoff, &start), refused);
+        let flies = CommandDecision::Execute(Request::SetMode(FlightMode::Mission));
+        assert_eq!(decided(&state, &takeoff, &auto), flies);
+        state.landed = LandedState::InAir;
+        assert_eq!(decided(&state, &no_takeoff, &auto), flies, "in the air");
+        state.landed = LandedState::OnGround;
+        state.armed = false;
+        assert_eq!(decided(&state, &no_takeoff, &auto), flies, "disarmed");
+        state.armed = true;
+        let set_mode = MavMessage::SET_MODE(SET_MODE_DATA {
+            custom_mode: 3,
+            target_system: 1,
+            base_mode: MavModeFlag::from_bits_retain(1),
+        });
+        let Some(Action::Reply(said)) = copter_ingest(&id(), &gcs_header(0), &set_mode, &state, &no_takeoff) else {
+            panic!("a critical text")
+        };
+        assert!(matches!(*said, MavMessage::STATUSTEXT(ref t) if t.severity == MavSeverity::MAV_SEVERITY_CRITICAL));
     }
 }

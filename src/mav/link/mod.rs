@@ -154,7 +154,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             keys: SigningKeys::new(config.signing, config.signing_epoch, config.key_store),
             commands: CommandService::new(&kinds),
             parameters: ParamService::default(),
-            plans: PlanService::new(&kinds),
+            plans: PlanService::new(&kinds, config.identity.personality),
             files,
             logs: LogService::new(&kinds),
             consoles: Consoles::default(),
