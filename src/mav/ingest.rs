@@ -111,6 +111,9 @@ pub enum MissionStep {
         seq: u16,
         /// The plan asked for.
         mission_type: MavMissionType,
+        /// Asked with MISSION_REQUEST_INT (false: MISSION_REQUEST, which ArduCopter answers with
+        /// MISSION_ITEM; PX4 answers both with MISSION_ITEM_INT).
+        int_form: bool,
     },
 }
 
@@ -189,12 +192,14 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
             mission(MissionStep::RequestItem {
                 seq: m.seq,
                 mission_type: m.mission_type,
+                int_form: true,
             })
         }
         MavMessage::MISSION_REQUEST(m) if ours(m.target_system, m.target_component) => {
             mission(MissionStep::RequestItem {
                 seq: m.seq,
                 mission_type: m.mission_type,
+                int_form: false,
             })
         }
         MavMessage::MISSION_SET_CURRENT(m) if ours(m.target_system, m.target_component) => {

@@ -11,10 +11,20 @@
 //!   what it was (UNKNOWN before the vehicle's first state).
 //!
 //! "Reached" is PX4's `mission_result.seq_reached` as the MAVLink module last saw it: the latest
-//! MISSION_ITEM_REACHED, forgotten when another mission is stored (a new plan id). Pure.
+//! MISSION_ITEM_REACHED, forgotten when another mission is stored (a new plan id).
+//!
+//! ArduCopter's face (docs/ardupilot.md §6, `GCS_MAVLINK::send_mission_current`) numbers the
+//! items from 1 (slot 0 is home): MISSION_CURRENT and MISSION_ITEM_REACHED carry the
+//! commander's item + 1 (MISSION_CURRENT 0 without a mission); the total counts the flown items
+//! (0 without), the state is Copter's (NOT_STARTED while stopped, ACTIVE while running,
+//! COMPLETE), and the mode 1 in AUTO, 0 otherwise. Pure.
 
-use mavlink::dialects::ardupilotmega::{MavMessage, MissionState as MavMissionState, MISSION_CURRENT_DATA};
+use mavlink::dialects::ardupilotmega::{
+    MavMessage, MissionState as MavMissionState, MISSION_CURRENT_DATA, MISSION_ITEM_REACHED_DATA,
+};
 
+use super::ardupilot::copter_mission::link_seq;
+use super::identity::Personality;
 use crate::commander::{FlightMode, MissionState};
 use crate::telemetry::Snapshot;
 
@@ -32,23 +42,38 @@ pub struct MissionReport {
     state: MavMissionState,
     reached: Option<u16>,
     mission_id: u32,
+    /// Whose face the reports show (PX4's or ArduCopter's).
+    personality: Personality,
 }
 
 impl Default for MissionReport {
+    /// PX4's.
     fn default() -> Self {
+        Self::new(Personality::Px4)
+    }
+}
+
+impl MissionReport {
+    /// Nothing known yet, reported as `personality` reports.
+    pub fn new(personality: Personality) -> Self {
         Self {
             mode: 0,
             state: MavMissionState::MISSION_STATE_UNKNOWN,
             reached: None,
             mission_id: 0,
+            personality,
         }
     }
-}
 
-impl MissionReport {
-    /// Mission item `seq` was reached (MISSION_ITEM_REACHED).
-    pub fn handle_reached(&mut self, seq: u16) {
+    /// The commander's mission item `seq` was reached: noted, and the MISSION_ITEM_REACHED
+    /// that announces it (ArduCopter's numbered from 1).
+    pub fn handle_reached(&mut self, seq: u16) -> MavMessage {
         self.reached = Some(seq);
+        let seq = match self.personality {
+            Personality::Px4 => seq,
+            Personality::ArduPilot => link_seq(seq),
+        };
+        MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq })
     }
 
     /// The vehicle's latest state `s` with the stored plans' `ids`: the mode and state again.
@@ -77,8 +102,12 @@ impl MissionReport {
         };
     }
 
-    /// MISSION_CURRENT for item `seq` of the mission in `s`, naming the plans by `ids`.
+    /// MISSION_CURRENT for the commander's item `seq` of the mission in `s`, naming the plans
+    /// by `ids`.
     pub fn mission_current(&self, s: &Snapshot, seq: u16, ids: PlanIds) -> MavMessage {
+        if self.personality == Personality::ArduPilot {
+            return copter_mission_current(s, seq, ids);
+        }
         MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
             seq,
             total: if s.mission_total == 0 {
@@ -93,6 +122,26 @@ impl MissionReport {
             rally_points_id: ids.rally,
         })
     }
+}
+
+/// ArduCopter's MISSION_CURRENT for the commander's item `seq` of the mission in `s`.
+fn copter_mission_current(s: &Snapshot, seq: u16, ids: PlanIds) -> MavMessage {
+    let none = s.mission_total == 0 || s.mission_state == MissionState::NoMission;
+    let mission_state = match s.mission_state {
+        _ if none => MavMissionState::MISSION_STATE_NO_MISSION,
+        MissionState::Active => MavMissionState::MISSION_STATE_ACTIVE,
+        MissionState::Complete => MavMissionState::MISSION_STATE_COMPLETE,
+        _ => MavMissionState::MISSION_STATE_NOT_STARTED,
+    };
+    MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
+        seq: if none { 0 } else { link_seq(seq) },
+        total: if none { 0 } else { s.mission_total },
+        mission_state,
+        mission_mode: u8::from(s.mode == FlightMode::Mission),
+        mission_id: ids.mission,
+        fence_id: ids.fence,
+        rally_points_id: ids.rally,
+    })
 }
 
 #[cfg(test)]
@@ -204,5 +253,50 @@ mod tests {
         let left = snapshot(FlightMode::Loiter, 2, 4, MissionState::Paused);
         r.handle_state(&left, ids);
         assert_eq!(current(&r, &left, ids).mission_state, MISSION_STATE_ACTIVE);
+    }
+
+    #[test]
+    fn arducopter_numbers_from_1_and_reports_its_own_states() {
+        let ids = PlanIds {
+            mission: 9,
+            ..PlanIds::default()
+        };
+        let mut r = MissionReport::new(Personality::ArduPilot);
+        let step = |r: &mut MissionReport, mode, seq, total, state| {
+            let s = snapshot(mode, seq, total, state);
+            r.handle_state(&s, ids);
+            let m = current(r, &s, ids);
+            (m.seq, m.total, m.mission_state, m.mission_mode)
+        };
+        assert_eq!(
+            step(&mut r, FlightMode::Loiter, 0, 0, MissionState::NoMission),
+            (0, 0, MISSION_STATE_NO_MISSION, 0)
+        );
+        assert_eq!(
+            step(&mut r, FlightMode::Loiter, 0, 5, MissionState::NotStarted),
+            (1, 5, MISSION_STATE_NOT_STARTED, 0)
+        );
+        assert_eq!(
+            step(&mut r, FlightMode::Mission, 2, 5, MissionState::Active),
+            (3, 5, MISSION_STATE_ACTIVE, 1)
+        );
+        assert_eq!(
+            step(&mut r, FlightMode::Position, 2, 5, MissionState::Paused),
+            (3, 5, MISSION_STATE_NOT_STARTED, 0)
+        );
+        assert_eq!(
+            step(&mut r, FlightMode::Loiter, 4, 5, MissionState::Complete),
+            (5, 5, MISSION_STATE_COMPLETE, 0),
+            "on the last item seq == total"
+        );
+        assert_eq!(
+            r.handle_reached(4),
+            MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: 5 })
+        );
+        // PX4 reports the commander's numbers.
+        assert_eq!(
+            MissionReport::default().handle_reached(4),
+            MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: 4 })
+        );
     }
 }

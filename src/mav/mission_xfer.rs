@@ -20,12 +20,18 @@
 //! fence (1) and the rally points (2) are plans of their own, uploaded and cleared alike (as PX4
 //! stores them); MISSION_CLEAR_ALL of MAV_MISSION_TYPE_ALL clears all three, and an upload of
 //! another type is refused with UNSUPPORTED.
+//! ArduCopter's face (docs/ardupilot.md §6) asks for the items of a mission upload with
+//! MISSION_REQUEST (the non-INT message, all DroneKit answers) and asks again after
+//! [`COPTER_RETRY_S`]; fence and rally uploads go as PX4's.
 //! Pure; `P` identifies a peer (an address in the runtime).
 
 use mavlink::dialects::ardupilotmega::{
     MavMessage, MavMissionResult, MavMissionType, MISSION_ACK_DATA, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA,
     MISSION_REQUEST_INT_DATA,
 };
+
+use super::ardupilot::copter_mission::COPTER_RETRY_S;
+use super::identity::Personality;
 
 /// Re-request a missing item after this long [s] (PX4's `MAVLINK_MISSION_RETRY_TIMEOUT_DEFAULT`).
 pub const RETRY_S: f64 = 0.25;
@@ -84,13 +90,24 @@ struct Answered<P> {
 pub struct MissionTransfer<P> {
     state: State<P>,
     answered: Option<Answered<P>>,
+    /// Whose face the requests show (PX4's or ArduCopter's).
+    personality: Personality,
 }
 
 impl<P> Default for MissionTransfer<P> {
+    /// PX4's.
     fn default() -> Self {
+        Self::new(Personality::Px4)
+    }
+}
+
+impl<P> MissionTransfer<P> {
+    /// No upload, with `personality`'s requests.
+    pub fn new(personality: Personality) -> Self {
         Self {
             state: State::Idle,
             answered: None,
+            personality,
         }
     }
 }
@@ -116,13 +133,38 @@ pub fn mission_ack(ids: Ids, mission_type: MavMissionType, result: MavMissionRes
     })
 }
 
-fn request(ids: Ids, mission_type: MavMissionType, seq: u16) -> MavMessage {
+/// True when uploads of plan `mission_type` go as ArduCopter runs them (its mission only).
+fn copter(personality: Personality, mission_type: MavMissionType) -> bool {
+    personality == Personality::ArduPilot && mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION
+}
+
+/// The request for item `seq` of plan `mission_type` to `ids`: MISSION_REQUEST_INT as PX4 asks,
+/// MISSION_REQUEST for ArduCopter's mission.
+#[allow(deprecated)] // MISSION_REQUEST: what ArduPilot sends and DroneKit answers
+fn request(personality: Personality, ids: Ids, mission_type: MavMissionType, seq: u16) -> MavMessage {
+    if copter(personality, mission_type) {
+        return MavMessage::MISSION_REQUEST(mavlink::dialects::ardupilotmega::MISSION_REQUEST_DATA {
+            seq,
+            target_system: ids.0,
+            target_component: ids.1,
+            mission_type,
+        });
+    }
     MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
         seq,
         target_system: ids.0,
         target_component: ids.1,
         mission_type,
     })
+}
+
+/// How long a request for an item of plan `mission_type` waits before it is sent again [s].
+fn retry_s(personality: Personality, mission_type: MavMissionType) -> f64 {
+    if copter(personality, mission_type) {
+        COPTER_RETRY_S
+    } else {
+        RETRY_S
+    }
 }
 
 impl<P: Copy + PartialEq> MissionTransfer<P> {
@@ -174,7 +216,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
             requested_at_s: now_s,
             heard_at_s: now_s,
         };
-        (vec![(peer, request(ids, mission_type, 0))], None)
+        (vec![(peer, request(self.personality, ids, mission_type, 0))], None)
     }
 
     /// MISSION_ITEM_INT from `peer`.
@@ -194,6 +236,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
                 return (vec![(peer, a.ack.clone())], None);
             }
         }
+        let personality = self.personality;
         let State::Receiving {
             peer: from,
             ids,
@@ -218,12 +261,12 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
         if m.seq > next || m.seq >= *count {
             // The item asked for was lost: ask for it again now.
             *requested_at_s = now_s;
-            return (vec![(peer, request(*ids, *mission_type, next))], None);
+            return (vec![(peer, request(personality, *ids, *mission_type, next))], None);
         }
         items.push(m.clone());
         *requested_at_s = now_s;
         if items.len() < usize::from(*count) {
-            return (vec![(peer, request(*ids, *mission_type, next + 1))], None);
+            return (vec![(peer, request(personality, *ids, *mission_type, next + 1))], None);
         }
         let (ids, mission_type, items) = (*ids, *mission_type, std::mem::take(items));
         self.state = State::Validating {
@@ -285,6 +328,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
     /// Re-requests a missing item, or drops an upload whose client fell silent (the caller
     /// tells the client [`TIMEOUT_TEXT`] when this returns true).
     pub fn tick(&mut self, now_s: f64) -> (Vec<(P, MavMessage)>, bool) {
+        let personality = self.personality;
         let State::Receiving {
             peer,
             ids,
@@ -301,11 +345,14 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
             self.state = State::Idle;
             return (Vec::new(), true);
         }
-        if now_s - *requested_at_s < RETRY_S {
+        if now_s - *requested_at_s < retry_s(personality, *mission_type) {
             return (Vec::new(), false);
         }
         *requested_at_s = now_s;
-        (vec![(*peer, request(*ids, *mission_type, items.len() as u16))], false)
+        (
+            vec![(*peer, request(personality, *ids, *mission_type, items.len() as u16))],
+            false,
+        )
     }
 
     /// The peer of the upload in progress.

@@ -204,3 +204,38 @@ fn fence_and_rally_uploads_run_as_their_own_type() {
     assert_eq!((typed(&out[0].1), done), (Some((all, unsupported)), None));
     assert!(!x.busy());
 }
+
+#[test]
+#[allow(deprecated)] // MISSION_REQUEST: what ArduCopter asks with
+fn arducopter_asks_for_mission_items_with_mission_request_each_second() {
+    use crate::mav::identity::Personality;
+    let copter_requested = |out: &[(u8, MavMessage)]| match out.first() {
+        Some((7, MavMessage::MISSION_REQUEST(r))) => Some((r.seq, r.target_system, r.target_component)),
+        _ => None,
+    };
+    let mut x = MissionTransfer::<u8>::new(Personality::ArduPilot);
+    let (out, _) = x.on_count(7, GCS, &count(3), 0.0);
+    assert_eq!(copter_requested(&out), Some((0, 255, 190)), "to whoever sent the count");
+    assert_eq!(copter_requested(&x.on_item(7, &item(0), 0.1).0), Some((1, 255, 190)));
+    // A lost item is asked for again after a second, not 250 ms.
+    assert!(x.tick(0.9).0.is_empty());
+    assert_eq!(copter_requested(&x.tick(1.1).0), Some((1, 255, 190)));
+    assert!(x.tick(1.6).0.is_empty());
+    assert_eq!(
+        copter_requested(&x.on_item(7, &item(2), 1.7).0),
+        Some((1, 255, 190)),
+        "a gap"
+    );
+    assert_eq!(copter_requested(&x.on_item(7, &item(1), 1.8).0), Some((2, 255, 190)));
+    let (_, done) = x.on_item(7, &item(2), 1.9);
+    assert!(matches!(done, Some(Completed::Items(MISSION, ref v)) if v.len() == 3));
+    // A fence upload is asked for as PX4 asks, every 250 ms.
+    x.finish(MavMissionResult::MAV_MISSION_ACCEPTED, 0);
+    let fence = MISSION_COUNT_DATA {
+        mission_type: MavMissionType::MAV_MISSION_TYPE_FENCE,
+        ..count(1)
+    };
+    let (out, _) = x.on_count(7, GCS, &fence, 2.0);
+    assert!(matches!(out[0].1, MavMessage::MISSION_REQUEST_INT(ref r) if r.seq == 0));
+    assert!(matches!(x.tick(2.3).0[..], [(7, MavMessage::MISSION_REQUEST_INT(_))]));
+}

@@ -6,14 +6,21 @@
 //! A plan's id is PX4's (`MavlinkMissionManager::crc32_for_mission_item`): [`crc32_part`] chained
 //! from 0 over each item's packed 32-byte `CrcMissionItem_t` in upload order, 0 for no plan. It
 //! goes out as `opaque_id` in the upload's final MISSION_ACK and in MISSION_COUNT of a download,
-//! and as `mission_id` / `fence_id` / `rally_points_id` in MISSION_CURRENT. Pure.
+//! and as `mission_id` / `fence_id` / `rally_points_id` in MISSION_CURRENT.
+//!
+//! ArduCopter's face (docs/ardupilot.md §6) downloads its mission with the home slot: item 0 is
+//! the vehicle's home whatever was uploaded there, the count is at least 1 (home alone), and an
+//! item is answered in the form it was asked for (MISSION_REQUEST → MISSION_ITEM). Pure.
 
 use mavlink::dialects::ardupilotmega::{
     MavMessage, MavMissionResult, MavMissionType, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA,
 };
 
+use super::ardupilot::copter_mission::{home_item, item_float};
 use super::crc32::crc32_part;
+use super::identity::Personality;
 use super::mission_xfer::{mission_ack, Ids};
+use crate::guidance::Home;
 
 /// The plans a vehicle stores, by type, each with its id.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -22,6 +29,8 @@ pub struct PlanStore {
     fence: Vec<MISSION_ITEM_INT_DATA>,
     rally: Vec<MISSION_ITEM_INT_DATA>,
     ids: PlanIds,
+    /// Whose face the downloads show (PX4's or ArduCopter's).
+    personality: Personality,
 }
 
 /// The ids of the stored plans (0: none stored).
@@ -81,6 +90,19 @@ pub fn plan_name(mission_type: MavMissionType) -> &'static str {
 }
 
 impl PlanStore {
+    /// No plan, downloaded as `personality` answers.
+    pub fn new(personality: Personality) -> Self {
+        Self {
+            personality,
+            ..Self::default()
+        }
+    }
+
+    /// True when downloads of plan `mission_type` go as ArduCopter answers them (its mission).
+    fn copter(&self, mission_type: MavMissionType) -> bool {
+        self.personality == Personality::ArduPilot && mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION
+    }
+
     /// The items of plan `mission_type` (none for a type not stored).
     pub fn items(&self, mission_type: MavMissionType) -> &[MISSION_ITEM_INT_DATA] {
         match mission_type {
@@ -118,10 +140,15 @@ impl PlanStore {
     }
 
     /// MISSION_COUNT of plan `mission_type` for a download, addressed to `ids`, with the plan's
-    /// id as `opaque_id`.
+    /// id as `opaque_id`; ArduCopter's mission counts its home slot (1 with nothing uploaded).
     pub fn download_count(&self, ids: Ids, mission_type: MavMissionType) -> MavMessage {
+        let stored = self.items(mission_type).len() as u16;
         MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
-            count: self.items(mission_type).len() as u16,
+            count: if self.copter(mission_type) {
+                stored.max(1)
+            } else {
+                stored
+            },
             target_system: ids.0,
             target_component: ids.1,
             mission_type,
@@ -130,16 +157,36 @@ impl PlanStore {
     }
 
     /// Item `seq` of plan `mission_type` addressed to `ids`, or a MISSION_ACK(INVALID_SEQUENCE)
-    /// of that type.
-    pub fn download_item(&self, ids: Ids, mission_type: MavMissionType, seq: u16) -> MavMessage {
-        match self.items(mission_type).get(usize::from(seq)) {
-            Some(item) => MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
-                target_system: ids.0,
-                target_component: ids.1,
-                mission_type,
-                ..item.clone()
-            }),
-            None => mission_ack(ids, mission_type, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE),
+    /// of that type. PX4 answers with MISSION_ITEM_INT; ArduCopter's mission answers item 0
+    /// with `home` and each item in the form asked for: MISSION_ITEM_INT for a
+    /// MISSION_REQUEST_INT (`int_form`), MISSION_ITEM otherwise.
+    #[allow(deprecated)] // MISSION_ITEM: what DroneKit downloads
+    pub fn download_item(
+        &self,
+        ids: Ids,
+        mission_type: MavMissionType,
+        seq: u16,
+        int_form: bool,
+        home: &Home,
+    ) -> MavMessage {
+        let copter = self.copter(mission_type);
+        let item = match (copter, seq) {
+            (true, 0) => Some(home_item(home)),
+            _ => self.items(mission_type).get(usize::from(seq)).cloned(),
+        };
+        let Some(item) = item else {
+            return mission_ack(ids, mission_type, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE);
+        };
+        let item = MISSION_ITEM_INT_DATA {
+            target_system: ids.0,
+            target_component: ids.1,
+            mission_type,
+            ..item
+        };
+        if copter && !int_form {
+            MavMessage::MISSION_ITEM(item_float(&item))
+        } else {
+            MavMessage::MISSION_ITEM_INT(item)
         }
     }
 }
@@ -147,7 +194,7 @@ impl PlanStore {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::ardupilotmega::MavCmd;
+    use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame};
 
     const GCS: Ids = (255, 190);
     const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
@@ -283,21 +330,30 @@ mod tests {
             "none stored"
         );
         assert_eq!(typed(&store.download_count(GCS, RALLY)), Some((RALLY, 1)));
-        let rally0 = store.download_item(GCS, RALLY, 0);
+        let rally0 = store.download_item(GCS, RALLY, 0, false, &Home::default());
         assert!(
             matches!(rally0, MavMessage::MISSION_ITEM_INT(ref i) if i.command == MavCmd::MAV_CMD_NAV_RALLY_POINT && i.target_system == 255)
         );
         assert_eq!(typed(&rally0), Some((RALLY, 0)));
         let invalid = MavMissionResult::MAV_MISSION_INVALID_SEQUENCE as u32;
-        assert_eq!(typed(&store.download_item(GCS, RALLY, 1)), Some((RALLY, invalid)));
-        assert_eq!(typed(&store.download_item(GCS, FENCE, 0)), Some((FENCE, invalid)));
+        assert_eq!(
+            typed(&store.download_item(GCS, RALLY, 1, false, &Home::default())),
+            Some((RALLY, invalid))
+        );
+        assert_eq!(
+            typed(&store.download_item(GCS, FENCE, 0, false, &Home::default())),
+            Some((FENCE, invalid))
+        );
         // A stored item answers with the type asked for, whatever it was uploaded with.
         let stray = MISSION_ITEM_INT_DATA {
             mission_type: FENCE,
             ..item(0, MavCmd::MAV_CMD_NAV_WAYPOINT)
         };
         store.set(MISSION, vec![stray]);
-        assert_eq!(typed(&store.download_item(GCS, MISSION, 0)), Some((MISSION, 0)));
+        assert_eq!(
+            typed(&store.download_item(GCS, MISSION, 0, false, &Home::default())),
+            Some((MISSION, 0))
+        );
         store.set(
             MavMissionType::MAV_MISSION_TYPE_ALL,
             vec![item(0, MavCmd::MAV_CMD_NAV_LAND)],
@@ -307,5 +363,73 @@ mod tests {
             (plan_name(FENCE), plan_name(RALLY), plan_name(MISSION)),
             ("Fence", "Rally", "Mission")
         );
+    }
+
+    #[test]
+    #[allow(deprecated)] // MISSION_ITEM: what DroneKit downloads
+    fn arducopter_downloads_its_mission_with_home_in_slot_0_in_the_form_asked_for() {
+        let home = Home {
+            lat_deg: -35.363_261,
+            lon_deg: 149.165_23,
+            alt_amsl_m: 584.0,
+        };
+        let mut store = PlanStore::new(Personality::ArduPilot);
+        let count = |store: &PlanStore, t| match store.download_count(GCS, t) {
+            MavMessage::MISSION_COUNT(c) => c.count,
+            _ => u16::MAX,
+        };
+        assert_eq!(count(&store, MISSION), 1, "home alone");
+        assert_eq!(count(&store, FENCE), 0, "no home slot in a fence");
+        let MavMessage::MISSION_ITEM(h) = store.download_item(GCS, MISSION, 0, false, &home) else {
+            panic!("MISSION_REQUEST is answered with MISSION_ITEM")
+        };
+        assert_eq!(
+            (h.seq, h.command, h.frame),
+            (0, MavCmd::MAV_CMD_NAV_WAYPOINT, MavFrame::MAV_FRAME_GLOBAL)
+        );
+        assert_eq!(
+            (h.x, h.y, h.z, h.target_system),
+            (home.lat_deg as f32, home.lon_deg as f32, 584.0, 255)
+        );
+        let uploaded = MISSION_ITEM_INT_DATA {
+            frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+            x: -353_632_610,
+            y: 1_491_652_300,
+            z: 5.0,
+            ..item(0, MavCmd::MAV_CMD_NAV_TAKEOFF)
+        };
+        let wp = MISSION_ITEM_INT_DATA {
+            x: -353_640_000,
+            ..item(1, MavCmd::MAV_CMD_NAV_WAYPOINT)
+        };
+        store.set(MISSION, vec![uploaded, wp]);
+        assert_eq!(count(&store, MISSION), 2);
+        let MavMessage::MISSION_ITEM_INT(h) = store.download_item(GCS, MISSION, 0, true, &home) else {
+            panic!("MISSION_REQUEST_INT is answered with MISSION_ITEM_INT")
+        };
+        assert_eq!(
+            (h.command, h.x, h.y, h.z),
+            (MavCmd::MAV_CMD_NAV_WAYPOINT, -353_632_610, 1_491_652_300, 584.0)
+        );
+        let MavMessage::MISSION_ITEM(w) = store.download_item(GCS, MISSION, 1, false, &home) else {
+            panic!()
+        };
+        assert_eq!(
+            (w.seq, w.command, w.x),
+            (1, MavCmd::MAV_CMD_NAV_WAYPOINT, -35.364f64 as f32)
+        );
+        let invalid = MavMissionResult::MAV_MISSION_INVALID_SEQUENCE as u32;
+        assert_eq!(
+            typed(&store.download_item(GCS, MISSION, 2, false, &home)),
+            Some((MISSION, invalid))
+        );
+        // PX4 answers every request with MISSION_ITEM_INT and has no home slot.
+        let mut px4 = PlanStore::default();
+        assert_eq!(count(&px4, MISSION), 0);
+        px4.set(MISSION, store.items(MISSION).to_vec());
+        assert!(matches!(
+            px4.download_item(GCS, MISSION, 0, false, &home),
+            MavMessage::MISSION_ITEM_INT(ref i) if i.command == MavCmd::MAV_CMD_NAV_TAKEOFF
+        ));
     }
 }

@@ -27,6 +27,9 @@ pub enum CommandDecision {
     Execute(Request),
     /// Refused before execution (bad parameters, unknown mode), with the reason.
     Refuse(Outcome),
+    /// Refused as FAILED, the reason said in a critical STATUSTEXT (ArduCopter's refusal to
+    /// enter a mode, "Auto: Missing Takeoff Cmd").
+    Critical(String),
     /// A command this emulator does not implement.
     Unsupported,
     /// Understood, but about something this emulator does not simulate: ACK UNSUPPORTED and a

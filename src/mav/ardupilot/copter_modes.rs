@@ -4,7 +4,7 @@
 
 use mavlink::dialects::ardupilotmega::{MavAutopilot, MavMessage, MavModeFlag, MavState, HEARTBEAT_DATA};
 
-use crate::commander::{FlightMode, LandedState, Outcome, Request};
+use crate::commander::{FlightMode, LandedState, MissionState, Outcome, Request};
 use crate::mav::identity::Identity;
 use crate::telemetry::Snapshot;
 
@@ -150,6 +150,16 @@ impl ModeShown {
             .find(|m| m.flown_as == shown_as)
             .map_or(0, |m| m.number)
     }
+
+    /// The Copter number the HEARTBEAT shows for `state`: [`Self::number`] of its mode, except
+    /// that a mission flown to its end in AUTO stays AUTO (ArduCopter loiters in AUTO there;
+    /// the commander holds in its hold mode).
+    pub fn shown(&self, state: &Snapshot) -> u8 {
+        if self.asked == Some(3) && state.mode == FlightMode::Loiter && state.mission_state == MissionState::Complete {
+            return 3;
+        }
+        self.number(state.mode)
+    }
 }
 
 /// ArduCopter's HEARTBEAT for `state` (ArduCopter `GCS_MAVLink_Copter.cpp`): autopilot
@@ -178,7 +188,7 @@ pub fn copter_heartbeat(id: &Identity, state: &Snapshot, shown: &ModeShown) -> M
         MavState::MAV_STATE_ACTIVE
     };
     MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-        custom_mode: u32::from(shown.number(state.mode)),
+        custom_mode: u32::from(shown.shown(state)),
         mavtype: id.mav_type,
         autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
         base_mode: base,
@@ -273,5 +283,30 @@ mod tests {
         assert_eq!(hb(&s).system_status, MavState::MAV_STATE_CRITICAL);
         s.nav.validity.attitude = false;
         assert_eq!(hb(&s).system_status, MavState::MAV_STATE_BOOT);
+    }
+
+    #[test]
+    fn a_mission_flown_to_its_end_in_auto_stays_auto() {
+        let mut s = Snapshot::initial(Home::default());
+        s.mode = FlightMode::Loiter;
+        s.mission_state = MissionState::Complete;
+        let mut shown = ModeShown::default();
+        assert_eq!(shown.shown(&s), 17, "not asked for AUTO: PX4's hold is BRAKE");
+        shown.handle_asked(3);
+        assert_eq!(shown.shown(&s), 3, "the mission ended in AUTO");
+        s.mission_state = MissionState::Paused;
+        assert_eq!(shown.shown(&s), 17, "the hold for another reason");
+        s.mission_state = MissionState::Complete;
+        s.mode = FlightMode::Land;
+        assert_eq!(shown.shown(&s), 9);
+        s.mode = FlightMode::Loiter;
+        shown.handle_asked(5);
+        assert_eq!(shown.shown(&s), 17, "LOITER asked for since");
+        let id = Identity::autopilot(1, 4).with_personality(Personality::ArduPilot);
+        shown.handle_asked(3);
+        let MavMessage::HEARTBEAT(hb) = copter_heartbeat(&id, &s, &shown) else {
+            unreachable!()
+        };
+        assert_eq!(hb.custom_mode, 3);
     }
 }

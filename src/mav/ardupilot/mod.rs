@@ -14,9 +14,12 @@
 //! - [`copter_ingest`]: the inbound messages Copter treats differently (mode changes by Copter
 //!   number, NAV_TAKEOFF in GUIDED, guided targets only in GUIDED), decided before the shared
 //!   [`ingest`](super::ingest::ingest).
+//! - [`copter_mission`]: the mission plan as Copter numbers it (item 0 is home, flown items
+//!   from 1), MISSION_ITEM ↔ MISSION_ITEM_INT, AUTO's take-off rule.
 
 pub mod copter_ingest;
 pub mod copter_messages;
+pub mod copter_mission;
 pub mod copter_modes;
 pub mod copter_params;
 pub mod copter_texts;

@@ -4,7 +4,7 @@
 
 use std::hash::Hash;
 
-use mavlink::dialects::ardupilotmega::{MavMessage, MISSION_ITEM_REACHED_DATA};
+use mavlink::dialects::ardupilotmega::MavMessage;
 
 use super::liveness::silent_for;
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
@@ -23,10 +23,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// The message announcing `event` (a reached item is remembered for MISSION_CURRENT).
     pub(super) fn announcement(&mut self, event: &Event) -> MavMessage {
         match event {
-            Event::MissionItemReached(seq) => {
-                self.plans.handle_reached(*seq);
-                MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: *seq })
-            }
+            Event::MissionItemReached(seq) => self.plans.handle_reached(*seq),
             Event::MissionCurrent(seq) => self.plans.mission_current(&self.snapshot, *seq),
             Event::Failsafe(text) | Event::Notice { text, critical: true } => status_text(CRITICAL, text),
             Event::Navigation { text, warning: true } => status_text(WARNING, text),
@@ -100,7 +97,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         let state = (
             self.snapshot.armed,
             self.snapshot.mode,
-            self.mode_shown.number(self.snapshot.mode),
+            self.mode_shown.shown(&self.snapshot),
         );
         let (wall_due, sim_due) = port.next_heartbeat;
         let changed = port.last_state.is_some_and(|s| s != state);

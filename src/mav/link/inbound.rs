@@ -6,7 +6,9 @@
 
 use std::hash::Hash;
 
-use mavlink::dialects::ardupilotmega::{MavMessage, MavResult, COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA};
+use mavlink::dialects::ardupilotmega::{
+    MavMessage, MavMissionType, MavResult, COMMAND_LONG_DATA, MESSAGE_INTERVAL_DATA,
+};
 use mavlink::MavHeader;
 
 use super::commands::{AckOf, Asker, Decided};
@@ -100,7 +102,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             if let Some(number) = asked_mode(&self.identity, header, message) {
                 self.mode_shown.handle_asked(number);
             }
-            if let Some(action) = copter_ingest(&self.identity, header, message, &self.snapshot) {
+            let mission = self.plans.items(MavMissionType::MAV_MISSION_TYPE_MISSION);
+            if let Some(action) = copter_ingest(&self.identity, header, message, &self.snapshot, mission) {
                 return action;
             }
         }
@@ -247,6 +250,10 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 let why = format!("Message {} not available", stream.message_id());
                 Decided::Answer(AckOf::Outcome(Outcome::Denied(why)), Vec::new())
             }
+            CommandDecision::Critical(why) => Decided::Answer(
+                AckOf::Result(MavResult::MAV_RESULT_FAILED),
+                common(status_text(CRITICAL, &why)),
+            ),
             CommandDecision::Reply(one_shot) => {
                 let msgs = match one_shot {
                     OneShot::AutopilotVersion => Some(common(autopilot_version(&self.identity))),

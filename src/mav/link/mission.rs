@@ -5,16 +5,20 @@
 //! [`PlanStore`](crate::mav::plan_store::PlanStore); a clear empties both, per type.
 //!
 //! [`PlanService`] owns the stored plans, what MISSION_CURRENT remembers and the upload state
-//! of each link.
+//! of each link, each with the vehicle's personality: ArduCopter's mission keeps home in slot 0
+//! and the commander flies items 1.. (docs/ardupilot.md §6); a stored upload is announced with
+//! "Flight plan received" before its MISSION_ACK.
 
 use mavlink::dialects::ardupilotmega::{MavMessage, MavMissionResult, MavMissionType, MISSION_ITEM_INT_DATA};
 
 use super::boundary::VehicleRequest;
 use super::commands::Pending;
 use super::effects::Effect;
-use super::{LinkKind, CRITICAL, WARNING};
+use super::{LinkKind, CRITICAL, INFO, WARNING};
 use crate::commander::Request;
 use crate::guidance::{Geofence, Home, Mission, RallyPoints};
+use crate::mav::ardupilot::copter_mission::{flown_items, link_seq, PLAN_RECEIVED};
+use crate::mav::identity::Personality;
 use crate::mav::ingest::MissionStep;
 use crate::mav::mission_items::{parse_mission, ItemError};
 use crate::mav::mission_report::MissionReport;
@@ -24,8 +28,11 @@ use crate::mav::plan_store::{plan_name, PlanStore, PLAN_TYPES};
 use crate::mav::stream_messages::status_text;
 use crate::telemetry::Snapshot;
 
-/// The commander request that puts plan `mission_type` of `items` in force, or why not.
+/// The commander request that puts plan `mission_type` of `items` in force, or why not (the
+/// refused item by its uploaded seq). ArduCopter's mission flies items 1.. (item 0 is home,
+/// stored but neither flown nor checked).
 fn plan_request(
+    personality: Personality,
     mission_type: MavMissionType,
     items: &[MISSION_ITEM_INT_DATA],
     home: &Home,
@@ -33,6 +40,13 @@ fn plan_request(
     Ok(match mission_type {
         MavMissionType::MAV_MISSION_TYPE_FENCE => Request::SetGeofence(parse_fence(items, home)?),
         MavMissionType::MAV_MISSION_TYPE_RALLY => Request::SetRallyPoints(parse_rally(items, home)?),
+        _ if personality == Personality::ArduPilot => {
+            let flown = parse_mission(&flown_items(items), home).map_err(|e| ItemError {
+                seq: link_seq(e.seq),
+                ..e
+            })?;
+            Request::SetMission(flown)
+        }
         _ => Request::SetMission(parse_mission(items, home)?),
     })
 }
@@ -55,15 +69,18 @@ pub(super) struct PlanService<A> {
     report: MissionReport,
     /// The upload in progress on each link.
     transfers: Vec<(LinkKind, MissionTransfer<A>)>,
+    /// Whose face the protocol shows (PX4's or ArduCopter's).
+    personality: Personality,
 }
 
 impl<A: Copy + PartialEq> PlanService<A> {
-    /// No plan, no upload, on `links`.
-    pub fn new(links: &[LinkKind]) -> Self {
+    /// No plan, no upload, on `links`, as `personality` runs the protocol.
+    pub fn new(links: &[LinkKind], personality: Personality) -> Self {
         Self {
-            plans: PlanStore::default(),
-            report: MissionReport::default(),
-            transfers: links.iter().map(|l| (*l, MissionTransfer::default())).collect(),
+            plans: PlanStore::new(personality),
+            report: MissionReport::new(personality),
+            transfers: links.iter().map(|l| (*l, MissionTransfer::new(personality))).collect(),
+            personality,
         }
     }
 
@@ -81,12 +98,12 @@ impl<A: Copy + PartialEq> PlanService<A> {
         self.report.handle_state(snapshot, self.plans.ids());
     }
 
-    /// Mission item `seq` was reached.
-    pub fn handle_reached(&mut self, seq: u16) {
-        self.report.handle_reached(seq);
+    /// The commander's mission item `seq` was reached: the MISSION_ITEM_REACHED announcing it.
+    pub fn handle_reached(&mut self, seq: u16) -> MavMessage {
+        self.report.handle_reached(seq)
     }
 
-    /// MISSION_CURRENT for `snapshot` with current item `seq`.
+    /// MISSION_CURRENT for `snapshot` with the commander's current item `seq`.
     pub fn mission_current(&self, snapshot: &Snapshot, seq: u16) -> MavMessage {
         self.report.mission_current(snapshot, seq, self.plans.ids())
     }
@@ -108,27 +125,34 @@ impl<A: Copy + PartialEq> PlanService<A> {
             MissionStep::Item(m) => transfer.on_item(from, &m, wall_s),
             MissionStep::Clear(t) => transfer.on_clear(from, ids, t),
             MissionStep::RequestList(t) => (vec![(from, self.plans.download_count(ids, t))], None),
-            MissionStep::RequestItem { seq, mission_type } => {
-                (vec![(from, self.plans.download_item(ids, mission_type, seq))], None)
+            MissionStep::RequestItem {
+                seq,
+                mission_type,
+                int_form,
+            } => {
+                let item = self.plans.download_item(ids, mission_type, seq, int_form, home);
+                (vec![(from, item)], None)
             }
         };
         let mut out = on_link(link, sent);
         match completed {
-            Some(Completed::Items(mission_type, items)) => match plan_request(mission_type, &items, home) {
-                Ok(request) => {
-                    let pending = Pending::Mission {
-                        link,
-                        mission_type,
-                        items,
-                    };
-                    out.push(Effect::Ask(Some(pending), VehicleRequest::Commander(request)));
+            Some(Completed::Items(mission_type, items)) => {
+                match plan_request(self.personality, mission_type, &items, home) {
+                    Ok(request) => {
+                        let pending = Pending::Mission {
+                            link,
+                            mission_type,
+                            items,
+                        };
+                        out.push(Effect::Ask(Some(pending), VehicleRequest::Commander(request)));
+                    }
+                    Err(e) => {
+                        let why = format!("{} item {} refused: {:?}", plan_name(mission_type), e.seq, e.result);
+                        out.push(Effect::send(link, from, status_text(WARNING, &why)));
+                        out.extend(self.finish_upload(link, e.result, 0));
+                    }
                 }
-                Err(e) => {
-                    let why = format!("{} item {} refused: {:?}", plan_name(mission_type), e.seq, e.result);
-                    out.push(Effect::send(link, from, status_text(WARNING, &why)));
-                    out.extend(self.finish_upload(link, e.result, 0));
-                }
-            },
+            }
             Some(Completed::Cleared(cleared)) => {
                 for t in PLAN_TYPES
                     .into_iter()
@@ -145,7 +169,8 @@ impl<A: Copy + PartialEq> PlanService<A> {
 
     /// The vehicle's answer to a validated upload of plan `mission_type` on `link` (`taken`
     /// false: it could not be reached): stored and ACCEPTED with the plan's id once it took the
-    /// plan, MISSION_ERROR otherwise.
+    /// plan (ArduCopter's mission announced with [`PLAN_RECEIVED`] first), MISSION_ERROR
+    /// otherwise.
     pub fn taken(
         &mut self,
         link: LinkKind,
@@ -153,14 +178,22 @@ impl<A: Copy + PartialEq> PlanService<A> {
         items: Vec<MISSION_ITEM_INT_DATA>,
         taken: bool,
     ) -> Vec<Effect<A>> {
+        let mut out = Vec::new();
         let (result, id) = match taken {
             false => (MavMissionResult::MAV_MISSION_ERROR, 0),
             true => {
                 self.plans.set(mission_type, items);
+                let client = self.transfer(link).and_then(|t| t.client());
+                if let (Personality::ArduPilot, MavMissionType::MAV_MISSION_TYPE_MISSION, Some(to)) =
+                    (self.personality, mission_type, client)
+                {
+                    out.push(Effect::send(link, to, status_text(INFO, PLAN_RECEIVED)));
+                }
                 (MavMissionResult::MAV_MISSION_ACCEPTED, self.plans.id(mission_type))
             }
         };
-        self.finish_upload(link, result, id)
+        out.extend(self.finish_upload(link, result, id));
+        out
     }
 
     /// The upload's MISSION_ACK on `link` with `result` and `opaque_id`.
@@ -241,7 +274,7 @@ mod tests {
     #[test]
     fn an_upload_is_asked_of_the_vehicle_and_stored_once_taken() {
         let home = Home::default();
-        let mut p = PlanService::new(&[GCS]);
+        let mut p = PlanService::new(&[GCS], Personality::Px4);
         let out = p.step(0.0, (GCS, 5u16, IDS), count(1), &home);
         assert!(matches!(sent(&out)[0].2, MavMessage::MISSION_REQUEST_INT(ref r) if r.seq == 0));
         let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
@@ -263,7 +296,7 @@ mod tests {
     #[test]
     fn an_unreached_vehicle_errs_a_clear_empties_and_silence_times_out() {
         let home = Home::default();
-        let mut p = PlanService::new(&[GCS]);
+        let mut p = PlanService::new(&[GCS], Personality::Px4);
         p.step(0.0, (GCS, 5u16, IDS), count(1), &home);
         let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
         let Some(Effect::Ask(Some(Pending::Mission { items, .. }), _)) = out.into_iter().next() else {
@@ -283,5 +316,46 @@ mod tests {
         assert!(texts(&p.tick(2.0 + PROTOCOL_TIMEOUT_S / 2.0, GCS)).is_empty());
         assert_eq!(texts(&p.tick(2.0 + PROTOCOL_TIMEOUT_S, GCS)), vec![TIMEOUT_TEXT]);
         assert!(p.tick(10.0, LinkKind::Api).is_empty(), "no such link");
+    }
+
+    #[test]
+    #[allow(deprecated)] // MISSION_REQUEST: what ArduCopter asks with
+    fn arducopter_flies_items_1_on_and_says_the_plan_was_received() {
+        let home = Home::default();
+        let mut p = PlanService::new(&[GCS], Personality::ArduPilot);
+        let out = p.step(0.0, (GCS, 5u16, IDS), count(3), &home);
+        assert!(matches!(sent(&out)[0].2, MavMessage::MISSION_REQUEST(ref r) if r.seq == 0));
+        p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
+        p.step(0.2, (GCS, 5, IDS), waypoint(1), &home);
+        let out = p.step(0.3, (GCS, 5, IDS), waypoint(2), &home);
+        let [Effect::Ask(Some(Pending::Mission { items, .. }), VehicleRequest::Commander(Request::SetMission(m)))] =
+            &out[..]
+        else {
+            panic!("{out:?}");
+        };
+        assert_eq!((m.len(), items.len()), (2, 3), "items 1 and 2 flown, all three stored");
+        let out = p.taken(GCS, MISSION, items.clone(), true);
+        assert_eq!(texts(&out), vec![PLAN_RECEIVED]);
+        let said = sent(&out);
+        assert!(
+            matches!(said[0].2, MavMessage::STATUSTEXT(_)),
+            "the text before the ACK"
+        );
+        assert_eq!(ack(&out).map(|a| a.0), Some(MavMissionResult::MAV_MISSION_ACCEPTED));
+        // A bad item is named by its uploaded seq.
+        p.step(1.0, (GCS, 5, IDS), count(2), &home);
+        p.step(1.1, (GCS, 5, IDS), waypoint(0), &home);
+        let MissionStep::Item(mut far) = waypoint(1) else {
+            unreachable!()
+        };
+        far.x = 0;
+        let out = p.step(1.2, (GCS, 5, IDS), MissionStep::Item(far), &home);
+        assert_eq!(texts(&out), vec!["Mission item 1 refused: MAV_MISSION_INVALID_PARAM5"]);
+        // A home slot alone empties the mission.
+        p.step(2.0, (GCS, 5, IDS), count(1), &home);
+        let out = p.step(2.1, (GCS, 5, IDS), waypoint(0), &home);
+        assert!(
+            matches!(&out[..], [Effect::Ask(_, VehicleRequest::Commander(Request::SetMission(m)))] if m.is_empty())
+        );
     }
 }

@@ -158,7 +158,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             keys: SigningKeys::new(config.signing, config.signing_epoch, config.key_store),
             commands: CommandService::new(&kinds),
             parameters: ParamService::default(),
-            plans: PlanService::new(&kinds),
+            plans: PlanService::new(&kinds, config.identity.personality),
             files,
             logs: LogService::new(&kinds),
             consoles: Consoles::default(),
@@ -209,7 +209,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 let outcome = match self.identity.personality {
                     Personality::Px4 => outcome,
                     Personality::ArduPilot => {
-                        let shown = self.mode_shown.number(self.snapshot.mode);
+                        let shown = self.mode_shown.shown(&self.snapshot);
                         copter_outcome(asker.command, (self.mode_shown.asked(), shown), outcome)
                     }
                 };
