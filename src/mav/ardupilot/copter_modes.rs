@@ -113,6 +113,8 @@ pub fn mode_request(number: u32) -> Result<Request, Outcome> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct ModeShown {
     asked: Option<u8>,
+    /// The number shown while the vehicle was last armed.
+    armed_shown: Option<u8>,
 }
 
 impl ModeShown {
@@ -121,6 +123,14 @@ impl ModeShown {
     pub fn handle_asked(&mut self, number: u32) {
         if let Some(mode) = CopterMode::by_number(number) {
             self.asked = Some(mode.number);
+        }
+    }
+
+    /// The vehicle's latest `state`: while armed, the number shown is remembered (a landing that
+    /// ends in the commander's hold keeps showing it, [`Self::shown`]).
+    pub fn handle_state(&mut self, state: &Snapshot) {
+        if state.armed {
+            self.armed_shown = Some(self.shown(state));
         }
     }
 
@@ -153,12 +163,18 @@ impl ModeShown {
 
     /// The Copter number the HEARTBEAT shows for `state`: [`Self::number`] of its mode, except
     /// that a mission flown to its end in AUTO stays AUTO (ArduCopter loiters in AUTO there;
-    /// the commander holds in its hold mode).
+    /// the commander holds in its hold mode), and that a vehicle disarmed after a landing stays
+    /// in the mode it landed in (RTL, LAND, AUTO …: ArduCopter keeps the mode; the commander
+    /// falls back to its hold unless BRAKE was asked for).
     pub fn shown(&self, state: &Snapshot) -> u8 {
-        if self.asked == Some(3) && state.mode == FlightMode::Loiter && state.mission_state == MissionState::Complete {
+        let hold = state.mode == FlightMode::Loiter;
+        if self.asked == Some(3) && hold && state.mission_state == MissionState::Complete {
             return 3;
         }
-        self.number(state.mode)
+        match self.armed_shown {
+            Some(landed_in) if hold && !state.armed && self.asked != Some(17) => landed_in,
+            _ => self.number(state.mode),
+        }
     }
 }
 
@@ -256,6 +272,27 @@ mod tests {
         shown.handle_asked(21);
         assert_eq!(shown.number(FlightMode::ReturnToLaunch), 21);
         assert_eq!(shown.number(FlightMode::Position), 5);
+    }
+
+    #[test]
+    fn a_vehicle_disarmed_after_landing_stays_in_the_mode_it_landed_in() {
+        let mut shown = ModeShown::default();
+        let mut s = Snapshot::initial(Home::default());
+        shown.handle_state(&s);
+        assert_eq!(shown.shown(&s), 17, "never armed: the hold is BRAKE");
+        shown.handle_asked(4);
+        s.mode = FlightMode::Guided;
+        s.armed = true;
+        shown.handle_state(&s);
+        s.mode = FlightMode::ReturnToLaunch;
+        shown.handle_state(&s);
+        assert_eq!(shown.shown(&s), 6);
+        s.mode = FlightMode::Loiter;
+        s.armed = false;
+        shown.handle_state(&s);
+        assert_eq!(shown.shown(&s), 6, "landed and disarmed in RTL");
+        shown.handle_asked(17);
+        assert_eq!(shown.shown(&s), 17, "BRAKE asked for");
     }
 
     #[test]

@@ -180,6 +180,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     pub fn handle_state(&mut self, snapshot: impl Into<Arc<Snapshot>>) {
         let snapshot = snapshot.into();
         self.plans.handle_state(&snapshot);
+        if self.identity.personality == Personality::ArduPilot {
+            self.mode_shown.handle_state(&snapshot);
+        }
         self.snapshot = snapshot;
     }
 
