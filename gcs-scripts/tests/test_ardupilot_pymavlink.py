@@ -165,6 +165,38 @@ def test_takeoff_outside_guided_fails_and_targets_are_ignored_there(autopilot_fa
     assert "FLIP" in text.text
 
 
+@ARDUPILOT
+def test_parameters_by_copter_name_as_dronekit_and_pymavlink_fetch_and_set_them(autopilot_factory):
+    """DroneKit's connect (PARAM_REQUEST_LIST, every index until the count) and its
+    `vehicle.parameters['WPNAV_SPEED'] = 500` (PARAM_SET REAL32, waiting for the echo):
+    Copter's banner, Copter's names and units, plain numbers (docs/ardupilot.md §5.1)."""
+    ap = autopilot_factory(connect=False)
+    conn = ap.vehicle.conn
+    hb = conn.wait_heartbeat(timeout=30)
+    conn.target_system, conn.target_component = hb.get_srcSystem(), 0
+    conn.param_fetch_all()
+    banner = recv(conn, "STATUSTEXT", 10, lambda m: m.text.startswith("ArduCopter V4.5"))
+    assert recv(conn, "STATUSTEXT", 5).text == "Frame: QUAD/X", banner.text
+    values = {}
+    while True:
+        m = recv(conn, "PARAM_VALUE", 10)
+        values[m.param_index] = (m.param_id, m.param_value, m.param_type)
+        if len(values) == m.param_count:
+            break
+    names = {name: (value, kind) for name, value, kind in values.values()}
+    assert names["WPNAV_SPEED"] == (1000.0, mavlink.MAV_PARAM_TYPE_REAL32), "cm/s"
+    assert names["RTL_ALT"] == (1500.0, mavlink.MAV_PARAM_TYPE_INT32), "a number, not PX4's bytes"
+    assert names["DISARM_DELAY"] == (10.0, mavlink.MAV_PARAM_TYPE_INT8)
+    assert "MPC_XY_CRUISE" not in names and "_HASH_CHECK" not in names
+    conn.param_set_send("WPNAV_SPEED", 500)
+    echo = recv(conn, "PARAM_VALUE", 10, lambda m: m.param_id == "WPNAV_SPEED")
+    assert echo.param_value == 500.0
+    conn.param_set_send("MPC_XY_CRUISE", 2)
+    conn.mav.param_request_read_send(conn.target_system, 0, b"WPNAV_SPEED", -1)
+    read = recv(conn, "PARAM_VALUE", 10)
+    assert (read.param_id, read.param_value) == ("WPNAV_SPEED", 500.0), "a PX4 name is no name"
+
+
 def test_a_mixed_swarm_answers_each_as_its_own_autopilot(autopilot_factory):
     ap = autopilot_factory(count=2, autopilot=["px4", "ardupilot"], connect=False)
     assert [v["autopilot"] for v in ap.vehicles] == ["px4", "ardupilot"]

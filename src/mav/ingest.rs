@@ -3,7 +3,7 @@
 //! `inbound.rs`) matches on the [`Action`] and carries it out; the fuzz target `mavlink_ingest` does the same without sockets.
 //!
 //! The decision functions are the protocol modules' own ([`decode_command`],
-//! [`decode_command_int`], the offboard decoders, [`decode_param_set`], …); this module only
+//! [`decode_command_int`], the offboard decoders, [`decode_param_set_as`], …); this module only
 //! routes a message to them and applies the addressing rule of docs/mavlink.md §3.1 to the
 //! messages that carry a target.
 
@@ -16,7 +16,7 @@ use crate::guidance::{Home, Sticks};
 use super::logs::LogRequest;
 use super::mission_xfer::{mission_ack, uploadable, Ids};
 use super::offboard::{decode_attitude_target, decode_global_target, decode_local_target};
-use super::param_encoding::{decode_param_set, name_of};
+use super::param_encoding::{decode_param_set_as, name_of};
 use super::services::{ping_reply, timesync_reply};
 use super::signing::SigningKey;
 use super::translate::{
@@ -252,7 +252,7 @@ pub fn ingest(id: &Identity, sender: &MavHeader, message: &MavMessage, origin: &
             index: usize::try_from(r.param_index).ok(),
         },
         MavMessage::PARAM_SET(set) if ours(set.target_system, set.target_component) => {
-            let (name, value) = decode_param_set(set);
+            let (name, value) = decode_param_set_as(id.personality, set);
             Action::ParamSet { name, value }
         }
         MavMessage::FILE_TRANSFER_PROTOCOL(f) if ours(f.target_system, f.target_component) => {

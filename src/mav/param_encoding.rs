@@ -4,7 +4,11 @@
 //! PX4's `_HASH_CHECK`: a PARAM_VALUE sent before a list, whose value is a CRC-32 over every
 //! parameter's name and 4 value bytes in index order, so QGroundControl can load its cached
 //! copy and stop the list (by a PARAM_SET of `_HASH_CHECK`). The same 4 value bytes and the
-//! airframe's defaults make the parameters of `@PARAM/param.pck` ([`packed_params`]). Pure.
+//! airframe's defaults make the parameters of `@PARAM/param.pck` ([`packed_params`]).
+//!
+//! A vehicle presented as ArduCopter shows the same table through
+//! [`CopterParamView`]: the `*_as` functions take the personality and choose the face (PX4's
+//! exactly as above, or ArduCopter's names, units and plain numeric values). Pure.
 
 use mavlink::dialects::ardupilotmega::{
     MavMessage, MavParamError, MavParamType, PARAM_ERROR_DATA, PARAM_SET_DATA, PARAM_VALUE_DATA,
@@ -12,8 +16,10 @@ use mavlink::dialects::ardupilotmega::{
 use mavlink::types::CharArray;
 use mavlink::MavHeader;
 
+use super::ardupilot::copter_param_face::{copter_param_set, CopterParamView};
 use super::crc32::crc32_part;
 use super::ftp::{PackedParam, PackedValue};
+use super::identity::Personality;
 use crate::params::{ParamTable, ParamType};
 
 /// `value` of a parameter of type `kind` as the wire carries it: an INT32 as its integer, a
@@ -55,6 +61,42 @@ pub fn param_value(table: &ParamTable, index: usize) -> Option<MavMessage> {
         param_id: param_id(def.name),
         param_type,
     }))
+}
+
+/// PARAM_VALUE for the parameter at `index` as `personality` sends it in a list or a read by
+/// index (its own index in the message), or `None` past the end.
+pub fn param_value_as(personality: Personality, table: &ParamTable, index: usize) -> Option<MavMessage> {
+    match personality {
+        Personality::Px4 => param_value(table, index),
+        Personality::ArduPilot => CopterParamView::new(table).param_value(index, index as u16),
+    }
+}
+
+/// PARAM_VALUE announcing the parameter at `index` after a change, as `personality` sends it
+/// (PX4: as in a list; ArduCopter: index −1, sent as 65535).
+pub fn announced_value(personality: Personality, table: &ParamTable, index: usize) -> Option<MavMessage> {
+    match personality {
+        Personality::Px4 => param_value(table, index),
+        Personality::ArduPilot => CopterParamView::new(table).param_value(index, u16::MAX),
+    }
+}
+
+/// The parameters of `@PARAM/param.pck` as `personality` packs them ([`packed_params`] or
+/// [`CopterParamView::packed`]).
+pub fn packed_params_as(personality: Personality, table: &ParamTable) -> Vec<PackedParam> {
+    match personality {
+        Personality::Px4 => packed_params(table),
+        Personality::ArduPilot => CopterParamView::new(table).packed(),
+    }
+}
+
+/// Name and value of a PARAM_SET as `personality` reads it ([`decode_param_set`], or
+/// ArduCopter's plain float).
+pub fn decode_param_set_as(personality: Personality, set: &PARAM_SET_DATA) -> (String, f64) {
+    match personality {
+        Personality::Px4 => decode_param_set(set),
+        Personality::ArduPilot => copter_param_set(set),
+    }
 }
 
 /// The name of PX4's parameter hash.
@@ -115,7 +157,8 @@ pub fn name_of(id: &CharArray<16>) -> String {
     String::from_utf8_lossy(&bytes[..end]).into_owned()
 }
 
-fn param_id(name: &str) -> CharArray<16> {
+/// `name` as a 16-byte, NUL-padded `param_id` (cut at 16 bytes).
+pub fn param_id(name: &str) -> CharArray<16> {
     let mut bytes = [0u8; 16];
     for (b, c) in bytes.iter_mut().zip(name.bytes()) {
         *b = c;

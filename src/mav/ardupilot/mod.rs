@@ -8,7 +8,10 @@
 //! - [`copter_messages`]: Copter's own streamed messages (RAW_IMU, AHRS, AHRS2, SIMSTATE,
 //!   VIBRATION, …), built from the snapshot.
 //! - [`copter_params`]: Copter's parameter names for the settings the vehicle has, their units
-//!   and Copter's defaults.
+//!   and storage types, and Copter's defaults.
+//! - [`copter_param_face`]: [`copter_param_face::CopterParamView`], the one parameter table
+//!   under those names (PARAM_VALUE, PARAM_SET, `@PARAM/param.pck`), and the banner said before
+//!   a parameter list.
 //! - [`copter_texts`]: what Copter says where PX4 says it otherwise ("PreArm: …", "Mode change
 //!   to … failed", "Arming motors").
 //! - [`copter_ingest`]: the inbound messages Copter treats differently (mode changes by Copter
@@ -21,5 +24,6 @@ pub mod copter_ingest;
 pub mod copter_messages;
 pub mod copter_mission;
 pub mod copter_modes;
+pub mod copter_param_face;
 pub mod copter_params;
 pub mod copter_texts;

@@ -5,8 +5,9 @@
 //! may follow the values), the number of entries in the file, and a total: on a download the
 //! number of parameters the vehicle has, on an upload the length of the file in bytes. Then one
 //! entry per parameter, in wire order, each perhaps preceded by zero bytes of padding:
-//! - a type byte: the low nibble the value's type (1 int8, 2 int16, 3 int32, 4 float), bit 4
-//!   set when the parameter's default follows its value;
+//! - a type byte: the low nibble the value's type (1 int8, 2 int16, 3 int32, 4 float: PX4
+//!   serves only the last two, ArduPilot all four), bit 4 set when the parameter's default
+//!   follows its value;
 //! - a name byte: the number of leading characters shared with the previous entry's name in the
 //!   low nibble, the number of new characters minus one in the high nibble (a name repeated whole
 //!   is sent as sharing all but its last character);
@@ -41,6 +42,10 @@ const HAS_DEFAULT: u8 = 0x10;
 /// A parameter value as the packed file (and PARAM_VALUE) carries it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PackedValue {
+    /// An 8-bit signed integer (ArduPilot's AP_Int8; PX4 has none).
+    Int8(i8),
+    /// A 16-bit signed integer (ArduPilot's AP_Int16; PX4 has none).
+    Int16(i16),
     /// A 32-bit signed integer (MAV_PARAM_TYPE_INT32).
     Int32(i32),
     /// A 32-bit float (MAV_PARAM_TYPE_REAL32).
@@ -48,10 +53,12 @@ pub enum PackedValue {
 }
 
 impl PackedValue {
-    /// The 4 value bytes as a little-endian word: the integer's two's complement or the float's
-    /// IEEE-754 bits.
+    /// The value bytes as a little-endian word: the integer's two's complement (sign-extended
+    /// from int8 and int16) or the float's IEEE-754 bits.
     pub fn bits(self) -> u32 {
         match self {
+            Self::Int8(v) => i32::from(v) as u32,
+            Self::Int16(v) => i32::from(v) as u32,
             Self::Int32(v) => v as u32,
             Self::Float(v) => v.to_bits(),
         }
@@ -60,6 +67,8 @@ impl PackedValue {
     /// The value as a number, as a PARAM_SET of this type decodes it.
     pub fn as_f64(self) -> f64 {
         match self {
+            Self::Int8(v) => f64::from(v),
+            Self::Int16(v) => f64::from(v),
             Self::Int32(v) => f64::from(v),
             Self::Float(v) => f64::from(v),
         }
@@ -68,13 +77,29 @@ impl PackedValue {
     /// The type nibble.
     fn type_nibble(self) -> u8 {
         match self {
+            Self::Int8(_) => TYPE_INT8,
+            Self::Int16(_) => TYPE_INT16,
             Self::Int32(_) => TYPE_INT32,
             Self::Float(_) => TYPE_FLOAT,
         }
     }
+
+    /// Bytes of the value in a packed file (1, 2 or 4).
+    fn len(self) -> usize {
+        match self {
+            Self::Int8(_) => 1,
+            Self::Int16(_) => 2,
+            Self::Int32(_) | Self::Float(_) => 4,
+        }
+    }
+
+    /// The value's bytes in a packed file, little endian.
+    fn write(self, out: &mut Vec<u8>) {
+        out.extend_from_slice(&self.bits().to_le_bytes()[..self.len()]);
+    }
 }
 
-/// One parameter of a download: name, value and default.
+/// One parameter of a download: name, value and default (of the same type).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PackedParam {
     /// Name (1 to [`NAME_MAX`] ASCII characters).
@@ -246,7 +271,7 @@ pub fn encode(params: &[PackedParam], query: Query, block: usize) -> Result<Vec<
     for p in &params[start..start + num] {
         let (common, new) = prefix(previous, &p.name).ok_or_else(|| PckError::Name(p.name.clone()))?;
         let default = (with_defaults && p.default.bits() != p.value.bits()).then_some(p.default);
-        let data_len = 4 * (1 + usize::from(default.is_some()));
+        let data_len = p.value.len() * (1 + usize::from(default.is_some()));
         // Zero bytes first, so that the value (and default) lie within one block.
         let end_in_block = (out.len() + 2 + new + data_len) % block;
         if end_in_block > 0 && end_in_block < data_len {
@@ -256,9 +281,9 @@ pub fn encode(params: &[PackedParam], query: Query, block: usize) -> Result<Vec<
         out.push(p.value.type_nibble() | flag);
         out.push(common as u8 | (((new - 1) as u8) << 4));
         out.extend_from_slice(&p.name.as_bytes()[common..]);
-        out.extend_from_slice(&p.value.bits().to_le_bytes());
+        p.value.write(&mut out);
         if let Some(d) = default {
-            out.extend_from_slice(&d.bits().to_le_bytes());
+            d.write(&mut out);
         }
         previous = &p.name;
     }

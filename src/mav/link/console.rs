@@ -13,7 +13,8 @@ use super::commands::Pending;
 use super::effects::Effect;
 use super::port::MAX_PEERS;
 use super::LinkKind;
-use crate::mav::param_encoding::param_value;
+use crate::mav::identity::Personality;
+use crate::mav::param_encoding::announced_value;
 use crate::mav::shell::{self, frames, param_set_text, Context, LineBuffer, ShellOutcome, Typed, PROMPT};
 use crate::params::ParamTable;
 use crate::telemetry::Snapshot;
@@ -46,11 +47,24 @@ impl<A> ShellSet<A> {
 #[derive(Debug)]
 pub(super) struct Consoles<A> {
     shells: Vec<Console<A>>,
+    /// Whose PARAM_VALUE announces a `param set` (the shell itself speaks PX4's names).
+    personality: Personality,
 }
 
 impl<A> Default for Consoles<A> {
+    /// PX4's.
     fn default() -> Self {
-        Self { shells: Vec::new() }
+        Self::new(Personality::Px4)
+    }
+}
+
+impl<A> Consoles<A> {
+    /// No shell yet; a `param set` announced as `personality` announces a change.
+    pub fn new(personality: Personality) -> Self {
+        Self {
+            shells: Vec::new(),
+            personality,
+        }
     }
 }
 
@@ -144,7 +158,7 @@ impl<A: Copy + PartialEq> Consoles<A> {
         let ShellSet { link, to, ids, name } = set;
         let mut out = Vec::new();
         if let Ok(index) = result {
-            if let Some(msg) = param_value(after, index) {
+            if let Some(msg) = announced_value(self.personality, after, index) {
                 out.extend(targets.into_iter().map(|t| Effect::send(link, t, msg.clone())));
             }
         }

@@ -4,7 +4,8 @@
 //! burst reads paced at one frame per [`FTP_BURST_PERIOD_S`] of wall time to the client that
 //! asked; COMPONENT_METADATA / COMPONENT_INFORMATION carry the general metadata file's CRC.
 //! `@PARAM/param.pck` packs the parameter table the link holds (the vehicle's, shared; packed
-//! again at the first FTP request after it changed); an uploaded one goes to `param_upload.rs`.
+//! again at the first FTP request after it changed) under the personality's names (PX4's, or
+//! ArduCopter's names, units and storage types); an uploaded one goes to `param_upload.rs`.
 //!
 //! [`Files`] owns the file system and the FTP servers; the log protocol reads the flight logs
 //! through it ([`Files::log_store`]).
@@ -14,9 +15,10 @@ use mavlink::dialects::ardupilotmega::MavMessage;
 use super::effects::{Client, Effect};
 use super::LinkKind;
 use crate::mav::ftp::{ErrorCode, FtpServer, Payload, Storage, Vfs};
+use crate::mav::identity::Personality;
 use crate::mav::logs::LogStore;
 use crate::mav::metadata::{self, MetadataFiles};
-use crate::mav::param_encoding::packed_params;
+use crate::mav::param_encoding::packed_params_as;
 use crate::params::ParamTable;
 
 /// Wall time between two frames of a burst read [s].
@@ -42,12 +44,21 @@ pub(super) struct Files<A> {
     general_crc: u32,
     /// The parameter table changed since [`Storage::params`] was packed from it.
     params_stale: bool,
+    /// Whose names and types `@PARAM/param.pck` packs.
+    personality: Personality,
 }
 
 impl<A: Copy> Files<A> {
     /// The file system with the component metadata of `params` (`built` when the caller made
-    /// them already) and the flight logs of `logs`, an FTP server per link of `links`.
-    pub fn new(params: &ParamTable, built: Option<MetadataFiles>, links: &[LinkKind], logs: Box<dyn LogStore>) -> Self {
+    /// them already) and the flight logs of `logs`, an FTP server per link of `links`, the
+    /// parameters packed as `personality` shows them.
+    pub fn new(
+        params: &ParamTable,
+        built: Option<MetadataFiles>,
+        links: &[LinkKind],
+        logs: Box<dyn LogStore>,
+        personality: Personality,
+    ) -> Self {
         let mut vfs = Vfs::default();
         // The metadata paths are fixed and outside the scratch area, and the files are compressed
         // in memory: installing them cannot fail.
@@ -66,12 +77,13 @@ impl<A: Copy> Files<A> {
             })
             .collect();
         let mut fs = Storage::new(vfs, logs);
-        fs.params = packed_params(params);
+        fs.params = packed_params_as(personality, params);
         Self {
             fs,
             links: ftp,
             general_crc,
             params_stale: false,
+            personality,
         }
     }
 
@@ -113,13 +125,14 @@ impl<A: Copy> Files<A> {
             fs,
             links,
             params_stale,
+            personality,
             ..
         } = self;
         let Some(ftp) = links.iter_mut().find(|l| l.link == link) else {
             return Vec::new();
         };
         if std::mem::take(params_stale) {
-            fs.params = packed_params(params);
+            fs.params = packed_params_as(*personality, params);
         }
         match ftp.server.handle(fs, &Payload::decode(payload), wall_s) {
             Some(reply) => vec![Effect::send(link, from, reply.message(ids))],
@@ -207,7 +220,13 @@ mod tests {
     #[test]
     fn a_burst_goes_to_its_client_one_frame_per_period() {
         let params = table();
-        let mut f = Files::new(&params, None, &[LinkKind::Api], Box::new(MemLogStore::default()));
+        let mut f = Files::new(
+            &params,
+            None,
+            &[LinkKind::Api],
+            Box::new(MemLogStore::default()),
+            Personality::Px4,
+        );
         assert_ne!(f.component_metadata(0.0), f.component_information(0.0));
         let open = f.ftp(
             0.0,
@@ -230,7 +249,13 @@ mod tests {
     #[test]
     fn an_uploaded_parameter_file_goes_to_the_parameters_and_its_answer_back() {
         let params = table();
-        let mut f = Files::new(&params, None, &[LinkKind::Api], Box::new(MemLogStore::default()));
+        let mut f = Files::new(
+            &params,
+            None,
+            &[LinkKind::Api],
+            Box::new(MemLogStore::default()),
+            Personality::Px4,
+        );
         let create = f.ftp(
             0.0,
             CLIENT,

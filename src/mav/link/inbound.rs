@@ -179,7 +179,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 Vec::new()
             }
             Action::ParamRead { name, index } => self.parameters.read((link, from, header), &name, index, &self.params),
-            Action::ParamSet { name, value } => self.parameters.set(link, from, header, name, value),
+            Action::ParamSet { name, value } => self.parameters.set((link, from, header), name, value, &self.params),
             Action::Mission { ids, step } => self
                 .plans
                 .step(now.wall_s, (link, from, ids), step, &self.snapshot.home),

@@ -27,8 +27,8 @@
 //! - `inbound.rs`: a datagram → frames → signing verdict → [`ingest`](super::ingest::ingest) →
 //!   which part handles it; the decision on a new command.
 //! - `commands.rs`: `CommandService`: duplicate commands, their one ACK, the awaited requests.
-//! - `params.rs`: `ParamService`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ, PARAM_SET and
-//!   its echo, changes announced.
+//! - `param_service.rs`: `ParamService`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ,
+//!   PARAM_SET and its echo, changes announced, as PX4 or as ArduCopter speaks them.
 //! - `param_upload.rs`: `Uploads`: an uploaded `@PARAM/param.pck` applied as PARAM_SETs.
 //! - `mission.rs`: `PlanService`: the mission protocol against the stored plans (mission,
 //!   fence, rally).
@@ -148,7 +148,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             .map(|(id, (kind, remote))| Port::new(*kind, *remote, id as u8, config.identity.personality))
             .collect();
         let kinds: Vec<LinkKind> = config.links.iter().map(|(kind, _)| *kind).collect();
-        let files = Files::new(&config.params, metadata, &kinds, config.logs);
+        let personality = config.identity.personality;
+        let files = Files::new(&config.params, metadata, &kinds, config.logs, personality);
         Self {
             identity: config.identity,
             ports,
@@ -157,11 +158,11 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             snapshot: config.snapshot,
             keys: SigningKeys::new(config.signing, config.signing_epoch, config.key_store),
             commands: CommandService::new(&kinds),
-            parameters: ParamService::default(),
+            parameters: ParamService::new(&config.identity),
             plans: PlanService::new(&kinds, config.identity.personality),
             files,
             logs: LogService::new(&kinds),
-            consoles: Consoles::default(),
+            consoles: Consoles::new(personality),
             streams: StreamLiveness::default(),
             sticks_from: None,
             mode_shown: ModeShown::default(),
@@ -365,7 +366,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     self.to_vehicle.push_back(ToVehicle { token, request });
                 }
                 Effect::Upload(client, upload) => {
-                    let more = self.parameters.start_upload(client, upload);
+                    let more = self.parameters.start_upload(client, upload, &self.params);
                     self.carry_out(now, more);
                 }
                 Effect::UploadAnswer(client, request, result) => {

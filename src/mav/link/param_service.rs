@@ -7,11 +7,18 @@
 //! unknown name gets PARAM_ERROR. As PX4 does, a changed parameter is sent again 5 ms later to
 //! every peer of every link, so that every ground station and every client plugin that did not
 //! ask (MAVSDK's Failure plugin follows `SYS_FAILURE_EN` that way) learns the new value.
-
+//!
+//! A vehicle presented as ArduCopter speaks it as ArduCopter does (docs/ardupilot.md §5.1),
+//! through [`CopterParamView`]: Copter's banner (STATUSTEXTs) instead of the hash before a list;
+//! Copter's names, units and plain numeric values; a read by name answered with index −1; a set
+//! echoed once to every peer of every link with index −1; an unknown name (a PX4 name Copter
+//! shows otherwise, `_HASH_CHECK`) answered with nothing; a value the setting cannot take
+//! refused as PX4's are, in Copter's unit, before the vehicle is asked.
 //!
 //! [`ParamService`] owns the lists being streamed, the changes not yet announced and the
 //! parameter files being applied; it reads the table it is handed (the vehicle's, shared).
 
+use mavlink::dialects::ardupilotmega::MavMessage;
 use mavlink::MavHeader;
 
 use super::boundary::VehicleRequest;
@@ -19,9 +26,13 @@ use super::commands::Pending;
 use super::effects::{Client, Effect};
 use super::param_upload::{UploadSet, Uploads};
 use super::port::MAX_PEERS;
-use super::{LinkKind, WARNING};
+use super::{LinkKind, INFO, WARNING};
+use crate::mav::ardupilot::copter_param_face::{banner, CopterParamView};
 use crate::mav::ftp::ParamUpload;
-use crate::mav::param_encoding::{hash_check, param_error_unknown, param_value, HASH_CHECK};
+use crate::mav::identity::{Identity, Personality};
+use crate::mav::param_encoding::{
+    announced_value, hash_check, param_error_unknown, param_value, param_value_as, HASH_CHECK,
+};
 use crate::mav::stream_messages::status_text;
 use crate::params::{ParamError, ParamTable};
 
@@ -65,8 +76,8 @@ impl ChangedParams {
 pub(super) struct ParamList<A> {
     pub link: LinkKind,
     pub to: A,
-    /// The `_HASH_CHECK` is still to be sent (it goes first).
-    hash_pending: bool,
+    /// What goes first is still to be sent: PX4's `_HASH_CHECK`, ArduCopter's banner.
+    opening: bool,
     /// Index of the next parameter.
     next: usize,
     /// Wall time the next one is due [s].
@@ -79,7 +90,7 @@ impl<A> ParamList<A> {
         Self {
             link,
             to,
-            hash_pending: true,
+            opening: true,
             next: 0,
             next_s: now_s,
         }
@@ -111,14 +122,36 @@ pub(super) struct ParamService<A> {
     changed: ChangedParams,
     /// The parameter files uploaded over FTP and being applied.
     uploads: Uploads<A>,
+    /// The autopilot whose protocol is spoken.
+    personality: Personality,
+    /// What ArduCopter says before a list (nothing for PX4).
+    banner: Vec<String>,
 }
 
 impl<A> Default for ParamService<A> {
+    /// PX4's.
     fn default() -> Self {
         Self {
             lists: Vec::new(),
             changed: ChangedParams::default(),
             uploads: Uploads::default(),
+            personality: Personality::Px4,
+            banner: Vec::new(),
+        }
+    }
+}
+
+impl<A> ParamService<A> {
+    /// The protocol of the autopilot `identity` presents (its banner from the vehicle type).
+    pub fn new(identity: &Identity) -> Self {
+        let banner = match identity.personality {
+            Personality::Px4 => Vec::new(),
+            Personality::ArduPilot => banner(identity.mav_type).to_vec(),
+        };
+        Self {
+            personality: identity.personality,
+            banner,
+            ..Self::default()
         }
     }
 }
@@ -160,7 +193,7 @@ impl<A: Copy + PartialEq> ParamService<A> {
     pub fn announce_changed(&mut self, wall_s: f64, params: &ParamTable) -> Vec<Effect<A>> {
         let due = self.changed.take_due(wall_s);
         due.into_iter()
-            .filter_map(|index| param_value(params, index))
+            .filter_map(|index| announced_value(self.personality, params, index))
             .map(Effect::Everyone)
             .collect()
     }
@@ -170,20 +203,26 @@ impl<A: Copy + PartialEq> ParamService<A> {
         let mut out = Vec::new();
         for list in &mut self.lists {
             while list.next_s <= wall_s {
-                let msg = if std::mem::take(&mut list.hash_pending) {
-                    hash_check(params)
+                if std::mem::take(&mut list.opening) {
+                    match self.personality {
+                        Personality::Px4 => out.push(Effect::send(list.link, list.to, hash_check(params))),
+                        Personality::ArduPilot => out.extend(
+                            self.banner
+                                .iter()
+                                .map(|text| Effect::send(list.link, list.to, status_text(INFO, text))),
+                        ),
+                    }
                 } else {
-                    let Some(msg) = param_value(params, list.next) else {
+                    let Some(msg) = param_value_as(self.personality, params, list.next) else {
                         break;
                     };
                     list.next += 1;
-                    msg
-                };
-                out.push(Effect::send(list.link, list.to, msg));
+                    out.push(Effect::send(list.link, list.to, msg));
+                }
                 list.next_s += PARAM_LIST_PERIOD_S;
             }
         }
-        self.lists.retain(|l| l.hash_pending || l.next < params.len());
+        self.lists.retain(|l| l.opening || l.next < params.len());
         out
     }
 
@@ -195,6 +234,14 @@ impl<A: Copy + PartialEq> ParamService<A> {
         index: Option<usize>,
         params: &ParamTable,
     ) -> Vec<Effect<A>> {
+        if self.personality == Personality::ArduPilot {
+            let view = CopterParamView::new(params);
+            let found = match index {
+                Some(i) => view.param_value(i, i as u16),
+                None => view.index_of(name).and_then(|i| view.param_value(i, u16::MAX)),
+            };
+            return found.into_iter().map(|msg| Effect::send(link, to, msg)).collect();
+        }
         let found = match index {
             None if name == HASH_CHECK => Some(hash_check(params)),
             _ => index
@@ -208,24 +255,50 @@ impl<A: Copy + PartialEq> ParamService<A> {
         )]
     }
 
-    /// PARAM_SET from `to` on `link`: asks the vehicle, which answers at its next tick;
-    /// `_HASH_CHECK`, whatever its value, stops the lists streaming to the sender and is not
-    /// answered (as PX4 does).
-    pub fn set(&mut self, link: LinkKind, to: A, header: &MavHeader, name: String, value: f64) -> Vec<Effect<A>> {
-        if name == HASH_CHECK {
-            self.lists.retain(|l| !(l.link == link && l.to == to));
-            return Vec::new();
-        }
-        let set = ParamSet {
-            link,
-            to,
-            header: *header,
-            name: name.clone(),
+    /// PARAM_SET from `to` on `link`, `params` the table as it is: asks the vehicle, which
+    /// answers at its next tick; `_HASH_CHECK`, whatever its value, stops the lists streaming to
+    /// the sender and is not answered (as PX4 does). ArduCopter asks for the setting behind a
+    /// Copter name, refuses a value the setting cannot take at once and ignores a name it does
+    /// not have.
+    pub fn set(
+        &mut self,
+        (link, to, header): (LinkKind, A, &MavHeader),
+        name: String,
+        value: f64,
+        params: &ParamTable,
+    ) -> Vec<Effect<A>> {
+        let ask = |setting: String, value: f64| {
+            let set = ParamSet {
+                link,
+                to,
+                header: *header,
+                name: name.clone(),
+            };
+            vec![Effect::Ask(
+                Some(Pending::Param(set)),
+                VehicleRequest::SetParam { name: setting, value },
+            )]
         };
-        vec![Effect::Ask(
-            Some(Pending::Param(set)),
-            VehicleRequest::SetParam { name, value },
-        )]
+        match self.personality {
+            Personality::Px4 if name == HASH_CHECK => {
+                self.lists.retain(|l| !(l.link == link && l.to == to));
+                Vec::new()
+            }
+            Personality::Px4 => ask(name.clone(), value),
+            Personality::ArduPilot => {
+                let view = CopterParamView::new(params);
+                match view.setting_for(&name, value) {
+                    None => Vec::new(),
+                    Some(Ok((setting, value))) => ask(setting.to_string(), value),
+                    Some(Err(why)) => {
+                        let current = view.index_of(&name).and_then(|i| view.param_value(i, u16::MAX));
+                        let mut out: Vec<Effect<A>> = current.map(|m| Effect::send(link, to, m)).into_iter().collect();
+                        out.push(Effect::send(link, to, status_text(WARNING, &why)));
+                        out
+                    }
+                }
+            }
+        }
     }
 
     /// The vehicle's answer to `set` at wall time `wall_s` [s] (`None`: it was busy), with the
@@ -238,6 +311,9 @@ impl<A: Copy + PartialEq> ParamService<A> {
         params: &ParamTable,
         mut targets: Vec<A>,
     ) -> Vec<Effect<A>> {
+        if self.personality == Personality::ArduPilot {
+            return copter_set_done(set, result, params, &targets);
+        }
         let ParamSet { link, to, header, name } = set;
         let mut out = Vec::new();
         match result {
@@ -269,10 +345,27 @@ impl<A: Copy + PartialEq> ParamService<A> {
         out
     }
 
-    /// A parameter file `client` uploaded: refused when malformed, else its parameters asked of
-    /// the vehicle.
-    pub fn start_upload(&mut self, client: Client<A>, upload: ParamUpload) -> Vec<Effect<A>> {
-        self.uploads.start(client, upload)
+    /// A parameter file `client` uploaded, `params` the table as it is: refused when
+    /// malformed, else its parameters asked of the vehicle (ArduCopter's names as their
+    /// settings).
+    pub fn start_upload(&mut self, client: Client<A>, upload: ParamUpload, params: &ParamTable) -> Vec<Effect<A>> {
+        match self.personality {
+            Personality::Px4 => self
+                .uploads
+                .start(client, upload, |name, value| Ok((name.to_string(), value))),
+            Personality::ArduPilot => {
+                let view = CopterParamView::new(params);
+                self.uploads
+                    .start(client, upload, |name, value| match view.setting_for(name, value) {
+                        None => Err(ParamError::Unknown(name.to_string(), String::new())),
+                        Some(Ok((setting, value))) => Ok((setting.to_string(), value)),
+                        Some(Err(reason)) => Err(ParamError::Invalid {
+                            name: name.to_string(),
+                            reason,
+                        }),
+                    })
+            }
+        }
     }
 
     /// The vehicle's answer to one parameter of an upload at wall time `wall_s` [s]; a set one
@@ -290,97 +383,44 @@ impl<A: Copy + PartialEq> ParamService<A> {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use mavlink::dialects::ardupilotmega::MavMessage;
-
-    use super::*;
-    use crate::mav::gcs::gcs_header;
-    use crate::mav::link::effects::testing::{param_names, sent, table, texts};
-
-    const GCS: LinkKind = LinkKind::Gcs;
-
-    #[test]
-    fn a_list_sends_the_hash_first_then_one_value_per_period_and_ends() {
-        let params = table();
-        let mut p = ParamService::default();
-        p.request_list(GCS, 5u16, 1.0);
-        assert_eq!(p.next_due_s(), Some(1.0));
-        let first = p.stream_lists(1.0, &params);
-        assert_eq!(param_names(&first), vec![HASH_CHECK]);
-        let more = p.stream_lists(1.0 + 2.5 * PARAM_LIST_PERIOD_S, &params);
-        assert_eq!(param_names(&more).len(), 2, "one value per period of wall time");
-        let rest = p.stream_lists(1e3, &params);
-        assert_eq!(param_names(&rest).len(), params.len() - 2);
-        assert_eq!(p.list_count(), 0, "a sent list is done");
-        assert_eq!(p.next_due_s(), None);
+/// The vehicle's answer to an ArduCopter PARAM_SET (docs/ardupilot.md §5.1): the new value to
+/// every peer of every link (and the sender) once, index −1; a refusal as PX4's, named by the
+/// Copter name; an unknown name nothing.
+fn copter_set_done<A: Copy + PartialEq>(
+    set: ParamSet<A>,
+    result: Option<Result<usize, ParamError>>,
+    params: &ParamTable,
+    targets: &[A],
+) -> Vec<Effect<A>> {
+    let ParamSet { link, to, name, .. } = set;
+    let view = CopterParamView::new(params);
+    let value = |index: usize| -> Option<MavMessage> { view.param_value(index, u16::MAX) };
+    let mut out = Vec::new();
+    match result {
+        Some(Ok(index)) => {
+            if let Some(msg) = value(index) {
+                if !targets.contains(&to) {
+                    out.push(Effect::send(link, to, msg.clone()));
+                }
+                out.push(Effect::Everyone(msg));
+            }
+        }
+        Some(Err(ParamError::Unknown(..))) => {}
+        refused => {
+            if let Some(msg) = view.index_of(&name).and_then(value) {
+                out.push(Effect::send(link, to, msg));
+            }
+            let why = match refused {
+                Some(Err(ParamError::Invalid { reason, .. })) => format!("{name}: {reason}"),
+                Some(Err(e)) => e.to_string(),
+                _ => "Vehicle busy".to_string(),
+            };
+            out.push(Effect::send(link, to, status_text(WARNING, &why)));
+        }
     }
-
-    #[test]
-    fn the_hash_check_stops_a_list_and_forgotten_clients_lose_theirs() {
-        let mut p = ParamService::default();
-        p.request_list(GCS, 5u16, 0.0);
-        p.request_list(GCS, 6u16, 0.0);
-        assert!(p.set(GCS, 5, &gcs_header(0), HASH_CHECK.into(), 1.0).is_empty());
-        assert_eq!(p.list_count(), 1);
-        p.keep_clients(GCS, &[7]);
-        assert_eq!(p.list_count(), 0);
-    }
-
-    #[test]
-    fn a_set_is_asked_echoed_to_the_link_and_announced_to_every_link_later() {
-        let mut params = table();
-        let mut p = ParamService::default();
-        let out = p.set(GCS, 5u16, &gcs_header(0), "MIS_TAKEOFF_ALT".into(), 5.0);
-        let [Effect::Ask(Some(Pending::Param(set)), VehicleRequest::SetParam { name, value })] = &out[..] else {
-            panic!("{out:?}");
-        };
-        assert_eq!((name.as_str(), *value), ("MIS_TAKEOFF_ALT", 5.0));
-        let result = params.set("MIS_TAKEOFF_ALT", 5.0, 1e-3);
-        let echo = p.set_done(1.0, set.clone(), Some(result), &params, vec![1, 2]);
-        let to: Vec<u16> = sent(&echo).iter().map(|(_, to, _)| *to).collect();
-        assert_eq!(to, vec![1, 2, 5], "the link's targets and the sender");
-        assert!(p.announce_changed(1.001, &params).is_empty());
-        assert_eq!(p.next_due_s(), Some(1.0 + PARAM_CHANGE_DELAY_S));
-        let later = p.announce_changed(1.0 + PARAM_CHANGE_DELAY_S, &params);
-        assert!(matches!(&later[..], [Effect::Everyone(MavMessage::PARAM_VALUE(_))]));
-    }
-
-    #[test]
-    fn a_refused_or_unknown_set_says_why_to_the_sender() {
-        let mut params = table();
-        let mut p = ParamService::default();
-        let set = |name: &str| ParamSet {
-            link: GCS,
-            to: 5u16,
-            header: gcs_header(0),
-            name: name.into(),
-        };
-        let refused = params.set("MIS_TAKEOFF_ALT", -1e9, 1e-3);
-        let out = p.set_done(0.0, set("MIS_TAKEOFF_ALT"), Some(refused), &params, vec![1]);
-        assert_eq!(param_names(&out), vec!["MIS_TAKEOFF_ALT"], "the unchanged value");
-        assert_eq!(texts(&out).len(), 1);
-        let out = p.set_done(0.0, set("NOPE"), Some(params.set("NOPE", 1.0, 1e-3)), &params, vec![1]);
-        assert!(matches!(sent(&out)[0].2, MavMessage::PARAM_ERROR(_)));
-        assert_eq!(texts(&out), vec!["Unknown parameter NOPE"]);
-        let out = p.set_done(0.0, set("MIS_TAKEOFF_ALT"), None, &params, vec![1]);
-        assert_eq!(texts(&out), vec!["Vehicle busy"]);
-        assert_eq!(p.next_due_s(), None, "nothing changed");
-    }
-
-    #[test]
-    fn a_read_by_name_or_index_and_an_unknown_name() {
-        let params = table();
-        let p = ParamService::<u16>::default();
-        let header = gcs_header(0);
-        let by_name = p.read((GCS, 5, &header), "MIS_TAKEOFF_ALT", None, &params);
-        assert_eq!(param_names(&by_name), vec!["MIS_TAKEOFF_ALT"]);
-        assert_eq!(param_names(&p.read((GCS, 5, &header), "", Some(0), &params)).len(), 1);
-        assert_eq!(
-            param_names(&p.read((GCS, 5, &header), HASH_CHECK, None, &params)),
-            vec![HASH_CHECK]
-        );
-        let unknown = p.read((GCS, 5, &header), "NOPE", None, &params);
-        assert!(matches!(sent(&unknown)[0].2, MavMessage::PARAM_ERROR(_)));
-    }
+    out
 }
+
+#[cfg(test)]
+#[path = "param_service_tests.rs"]
+mod tests;

@@ -77,8 +77,14 @@ impl<A: Copy> Uploads<A> {
     }
 
     /// The upload of `client` whose TerminateSession came: refused when malformed, else its
-    /// parameters asked of the vehicle.
-    pub fn start(&mut self, client: Client<A>, upload: ParamUpload) -> Vec<Effect<A>> {
+    /// parameters asked of the vehicle as `setting` names them (the setting and its value for a
+    /// file's name and value; unknown or refused, counted as the vehicle's answers are).
+    pub fn start(
+        &mut self,
+        client: Client<A>,
+        upload: ParamUpload,
+        setting: impl Fn(&str, f64) -> Result<(String, f64), ParamError>,
+    ) -> Vec<Effect<A>> {
         let ParamUpload { request, parsed } = upload;
         let entries = match parsed {
             Ok(entries) => entries,
@@ -92,14 +98,22 @@ impl<A: Copy> Uploads<A> {
         };
         let id = self.next_id;
         self.next_id += 1;
+        let (mut queue, mut unknown, mut refused) = (VecDeque::new(), Vec::new(), Vec::new());
+        for (name, v) in entries {
+            match setting(&name, v.as_f64()) {
+                Ok(set) => queue.push_back(set),
+                Err(ParamError::Unknown(name, _)) => unknown.push(name),
+                Err(e) => refused.push(e.to_string()),
+            }
+        }
         self.list.push(Upload {
             id,
             client,
             request,
-            queue: entries.into_iter().map(|(name, v)| (name, v.as_f64())).collect(),
+            queue,
             in_flight: 0,
-            unknown: Vec::new(),
-            refused: Vec::new(),
+            unknown,
+            refused,
         });
         self.pump(id)
     }
@@ -176,6 +190,10 @@ mod tests {
 
     const CLIENT: Client<u16> = (LinkKind::Api, 3, (1, 1));
 
+    fn as_named(name: &str, value: f64) -> Result<(String, f64), ParamError> {
+        Ok((name.to_string(), value))
+    }
+
     fn upload(parsed: Result<Vec<(String, PackedValue)>, PckError>) -> ParamUpload {
         ParamUpload {
             request: Payload::request(Opcode::TerminateSession, 9, 0, 0, &[]),
@@ -198,7 +216,7 @@ mod tests {
         let entries = (0..UPLOAD_WINDOW + 3)
             .map(|k| (format!("P{k}"), PackedValue::Float(k as f32)))
             .collect();
-        let mut waiting = asks(&u.start(CLIENT, upload(Ok(entries))));
+        let mut waiting = asks(&u.start(CLIENT, upload(Ok(entries)), as_named));
         assert_eq!(waiting.len(), UPLOAD_WINDOW);
         let mut last = Vec::new();
         let mut asked = waiting.len();
@@ -227,14 +245,14 @@ mod tests {
     #[test]
     fn a_malformed_file_sets_nothing_and_is_refused() {
         let mut u = Uploads::default();
-        let out = u.start(CLIENT, upload(Err(PckError::Query("x".into()))));
+        let out = u.start(CLIENT, upload(Err(PckError::Query("x".into()))), as_named);
         assert!(asks(&out).is_empty());
         assert_eq!(texts(&out), vec!["param.pck: bad query: x"]);
         assert!(matches!(
             out.last(),
             Some(Effect::UploadAnswer(CLIENT, _, Err(ErrorCode::FailErrno(EINVAL))))
         ));
-        let out = u.start(CLIENT, upload(Ok(Vec::new())));
+        let out = u.start(CLIENT, upload(Ok(Vec::new())), as_named);
         assert!(
             matches!(&out[..], [Effect::UploadAnswer(CLIENT, _, Ok(()))]),
             "an empty file"

@@ -1,0 +1,264 @@
+//! The parameter protocol of an ArduCopter-faced vehicle (docs/ardupilot.md §5.1) through the
+//! shipped link machine with virtual clocks: a list opens with Copter's banner and shows every
+//! parameter once under Copter's names and units; a set by Copter name asks the vehicle for the
+//! setting behind it and echoes the Copter value; reads by name and by index; unknown names are
+//! ignored; `@PARAM/param.pck` packs Copter's names; a PX4-faced vehicle is unchanged.
+#![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
+
+mod link_bench;
+
+use std::sync::Arc;
+
+use link_bench::*;
+use mavlink::dialects::ardupilotmega::*;
+use rotorpilot::mav::ftp::{decode, Opcode, PackedValue, Payload, MAGIC_WITH_DEFAULTS};
+use rotorpilot::mav::identity::Personality;
+use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
+use rotorpilot::mav::streams::LinkKind;
+use rotorpilot::mav::translate::Identity;
+use rotorpilot::params::ParamTable;
+
+/// The table of the bench with `MPC_XY_CRUISE` at 10 m/s (ArduCopter's 1000 cm/s).
+fn cruising() -> ParamTable {
+    let mut t = table();
+    t.set("MPC_XY_CRUISE", 10.0, 1e-3).unwrap();
+    t
+}
+
+fn bench(personality: Personality) -> Bench {
+    Bench::with(|c| {
+        c.identity = Identity::autopilot(1, 4).with_personality(personality);
+        c.params = Arc::new(cruising());
+    })
+}
+
+fn request_list() -> MavMessage {
+    MavMessage::PARAM_REQUEST_LIST(PARAM_REQUEST_LIST_DATA {
+        target_system: 1,
+        target_component: 1,
+    })
+}
+
+fn request_read(name: &str, index: i16) -> MavMessage {
+    MavMessage::PARAM_REQUEST_READ(PARAM_REQUEST_READ_DATA {
+        param_index: index,
+        target_system: 1,
+        target_component: 1,
+        param_id: param_id(name),
+    })
+}
+
+fn name(v: &PARAM_VALUE_DATA) -> String {
+    v.param_id.to_str().unwrap_or_default().to_string()
+}
+
+/// What went out from `from_s` to `to_s` of wall time, a millisecond at a time, in order.
+fn run(b: &mut Bench, from_s: f64, to_s: f64) -> Vec<(LinkKind, u16, MavMessage)> {
+    let mut out = Vec::new();
+    let mut wall_s = from_s;
+    while wall_s < to_s {
+        wall_s += 0.001;
+        b.at(wall_s, wall_s);
+        out.extend(b.out());
+    }
+    out
+}
+
+/// The texts of the STATUSTEXTs and the PARAM_VALUEs among `out`, in order.
+fn texts_and_values(out: &[(LinkKind, u16, MavMessage)]) -> (Vec<String>, Vec<PARAM_VALUE_DATA>) {
+    let (mut texts, mut values) = (Vec::new(), Vec::new());
+    for (_, _, m) in out {
+        match m {
+            MavMessage::STATUSTEXT(t) => texts.push(t.text.to_str().unwrap_or_default().to_string()),
+            MavMessage::PARAM_VALUE(v) => values.push(v.clone()),
+            _ => {}
+        }
+    }
+    (texts, values)
+}
+
+#[test]
+fn a_list_opens_with_the_banner_and_shows_every_parameter_once_under_copter_names() {
+    let mut b = bench(Personality::ArduPilot);
+    let n = table().len();
+    b.send(Gcs, QGC, request_list());
+    let out = run(&mut b, 0.0, 0.5);
+    assert!(out
+        .iter()
+        .all(|(l, to, m)| matches!(m, MavMessage::HEARTBEAT(_)) || (*l, *to) == (Gcs, QGC)));
+    let (texts, values) = texts_and_values(&out);
+    assert_eq!(texts, vec!["ArduCopter V4.5.7 (rotorpilot)", "Frame: QUAD/X"]);
+    let first_value = out.iter().position(|(_, _, m)| matches!(m, MavMessage::PARAM_VALUE(_)));
+    let last_text = out.iter().rposition(|(_, _, m)| matches!(m, MavMessage::STATUSTEXT(_)));
+    assert!(last_text < first_value, "the banner goes first");
+    assert_eq!(values.len(), n, "every parameter once, no _HASH_CHECK");
+    for (i, v) in values.iter().enumerate() {
+        assert_eq!((v.param_index as usize, v.param_count as usize), (i, n));
+    }
+    let names: Vec<String> = values.iter().map(name).collect();
+    let speed = values.iter().find(|v| name(v) == "WPNAV_SPEED").unwrap();
+    assert_eq!(speed.param_value, 1000.0, "cm/s");
+    assert_eq!(speed.param_type, MavParamType::MAV_PARAM_TYPE_REAL32);
+    for px4 in ["MPC_XY_CRUISE", "RTL_RETURN_ALT", "_HASH_CHECK"] {
+        assert!(!names.iter().any(|n| n == px4), "{px4}");
+    }
+    // Integers are plain numbers: DISARM_DELAY an INT8 of 10, COM_RC_IN_MODE an INT32 of 3.
+    let delay = values.iter().find(|v| name(v) == "DISARM_DELAY").unwrap();
+    assert_eq!(delay.param_type, MavParamType::MAV_PARAM_TYPE_INT8);
+    assert_eq!(delay.param_value, 10.0);
+    let rc_in = values.iter().find(|v| name(v) == "COM_RC_IN_MODE").unwrap();
+    assert_eq!(
+        (rc_in.param_value, rc_in.param_type),
+        (3.0, MavParamType::MAV_PARAM_TYPE_INT32)
+    );
+}
+
+#[test]
+fn a_set_by_copter_name_asks_for_the_setting_and_echoes_the_copter_value() {
+    let mut b = bench(Personality::ArduPilot);
+    b.send(Gcs, OTHER, gcs_heartbeat());
+    b.send(Gcs, QGC, param_set("WPNAV_SPEED", 500.0));
+    let asks = b.asks();
+    assert_eq!(asks.len(), 1);
+    assert_eq!(
+        asks[0].request,
+        VehicleRequest::SetParam {
+            name: "MPC_XY_CRUISE".into(),
+            value: 5.0
+        }
+    );
+    let mut after = cruising();
+    let result = after.set("MPC_XY_CRUISE", 5.0, 1e-3);
+    let reply = VehicleReply::Param {
+        result,
+        table: Arc::new(after),
+    };
+    b.m.handle_reply(b.now, asks[0].token.unwrap(), reply);
+    let out = b.out();
+    let mut to: Vec<(LinkKind, u16)> = named(&out, "PARAM_VALUE").iter().map(|e| (e.0, e.1)).collect();
+    to.sort_unstable_by_key(|t| (t.0 == Api, t.1));
+    assert_eq!(
+        to,
+        vec![(Gcs, QGC), (Gcs, OTHER), (Api, SDK)],
+        "once to every peer of every link"
+    );
+    let MavMessage::PARAM_VALUE(echo) = &named(&out, "PARAM_VALUE")[0].2 else {
+        unreachable!()
+    };
+    assert_eq!((name(echo).as_str(), echo.param_value), ("WPNAV_SPEED", 500.0));
+    assert_eq!(echo.param_index, u16::MAX, "index -1, as ArduCopter announces a set");
+    let at = b.now.wall_s;
+    let later = run(&mut b, at, at + 0.05);
+    assert!(named(&later, "PARAM_VALUE").is_empty(), "no second announcement");
+    // A read afterwards: by name (index -1) and by index, from the vehicle's new table.
+    b.send(Gcs, QGC, request_read("WPNAV_SPEED", -1));
+    let out = b.out();
+    let [(_, QGC, MavMessage::PARAM_VALUE(by_name))] = &out[..] else {
+        panic!("{out:?}");
+    };
+    assert_eq!((by_name.param_value, by_name.param_index), (500.0, u16::MAX));
+    let index = table().index_of("MPC_XY_CRUISE").unwrap() as i16;
+    b.send(Gcs, QGC, request_read("", index));
+    let out = b.out();
+    let [(_, QGC, MavMessage::PARAM_VALUE(by_index))] = &out[..] else {
+        panic!("{out:?}");
+    };
+    assert_eq!(name(by_index), "WPNAV_SPEED");
+    assert_eq!((by_index.param_value, by_index.param_index), (500.0, index as u16));
+}
+
+#[test]
+fn unknown_names_get_nothing_and_bad_values_are_refused_in_copter_units() {
+    let mut b = bench(Personality::ArduPilot);
+    for unknown in ["MPC_XY_CRUISE", "_HASH_CHECK", "SYSID_THISMAV", "SR0_EXTRA1"] {
+        b.send(Gcs, QGC, param_set(unknown, 1.0));
+        b.send(Gcs, QGC, request_read(unknown, -1));
+        assert!(b.out().is_empty(), "{unknown}");
+        assert!(b.asks().is_empty(), "{unknown}");
+    }
+    b.send(Gcs, QGC, param_set("WPNAV_SPEED", 5000.0));
+    assert!(b.asks().is_empty(), "refused before the vehicle is asked");
+    let out = b.out();
+    let [(_, QGC, MavMessage::PARAM_VALUE(v)), (_, QGC, MavMessage::STATUSTEXT(t))] = &out[..] else {
+        panic!("{out:?}");
+    };
+    assert_eq!(v.param_value, 1000.0, "unchanged");
+    assert_eq!(t.text.to_str().unwrap(), "WPNAV_SPEED: 5000 outside [50, 3000]");
+    // An integer parameter set by its plain number (not PX4's bytes).
+    b.send(Gcs, QGC, param_set("RTL_ALT", 2000.0));
+    let asks = b.asks();
+    assert_eq!(
+        asks[0].request,
+        VehicleRequest::SetParam {
+            name: "RTL_RETURN_ALT".into(),
+            value: 20.0
+        }
+    );
+}
+
+#[test]
+fn the_packed_parameter_file_carries_copter_names_types_and_defaults() {
+    let mut b = bench(Personality::ArduPilot);
+    let open = Payload::request(Opcode::OpenFileRO, 0, 0, 0, b"@PARAM/param.pck?withdefaults=1");
+    b.send(Api, SDK, open.message((1, 1)));
+    let opened = ftp_replies(&mut b).remove(0);
+    let size = opened.data_u32().unwrap() as usize;
+    let mut bytes = Vec::new();
+    let mut k = 2;
+    while bytes.len() < size {
+        let read = Payload::request(Opcode::ReadFile, k, opened.session, bytes.len() as u32, &[0; 239]);
+        b.send(Api, SDK, read.message((1, 1)));
+        let reply = ftp_replies(&mut b).remove(0);
+        assert_eq!(reply.opcode, 128, "{reply:?}");
+        bytes.extend(reply.data);
+        k += 2;
+    }
+    let file = decode(&bytes).unwrap();
+    assert_eq!(file.magic, MAGIC_WITH_DEFAULTS);
+    assert_eq!(
+        (file.entries.len(), usize::from(file.total)),
+        (table().len(), table().len())
+    );
+    let find = |n: &str| file.entries.iter().find(|e| e.name == n);
+    let speed = find("WPNAV_SPEED").unwrap();
+    assert_eq!(speed.value, PackedValue::Float(1000.0));
+    assert_eq!(speed.default, None, "Copter's default is the value");
+    let delay = find("DISARM_DELAY").unwrap();
+    assert_eq!(delay.value, PackedValue::Int32(10), "an int8, widened by the reader");
+    assert!(find("MPC_XY_CRUISE").is_none());
+}
+
+fn ftp_replies(b: &mut Bench) -> Vec<Payload> {
+    b.out()
+        .into_iter()
+        .filter_map(|(_, _, m)| match m {
+            MavMessage::FILE_TRANSFER_PROTOCOL(f) => Some(Payload::decode(&f.payload)),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn a_px4_vehicle_keeps_px4_names_bytes_and_hash() {
+    let mut b = bench(Personality::Px4);
+    b.send(Gcs, QGC, request_list());
+    let (texts, values) = texts_and_values(&run(&mut b, 0.0, 0.5));
+    assert!(texts.is_empty(), "no banner");
+    assert_eq!(values.len(), table().len() + 1);
+    assert_eq!(name(&values[0]), "_HASH_CHECK");
+    let cruise = values.iter().find(|v| name(v) == "MPC_XY_CRUISE").unwrap();
+    assert_eq!(cruise.param_value, 10.0);
+    assert!(!values.iter().any(|v| name(v) == "WPNAV_SPEED"));
+    let rc_in = values.iter().find(|v| name(v) == "COM_RC_IN_MODE").unwrap();
+    assert_eq!(rc_in.param_value.to_bits(), 3, "INT32 byte-wise");
+    b.send(Gcs, QGC, param_set("WPNAV_SPEED", 500.0));
+    let asks = b.asks();
+    assert_eq!(
+        asks[0].request,
+        VehicleRequest::SetParam {
+            name: "WPNAV_SPEED".into(),
+            value: 500.0
+        },
+        "a name the vehicle answers is unknown"
+    );
+}
