@@ -15,6 +15,7 @@ use mavlink::MavHeader;
 
 use super::copter_mission::{commander_index, item_int, starts_with_takeoff, AUTO, MISSING_TAKEOFF};
 use super::copter_modes::mode_request;
+use super::copter_targets::{copter_global_target, copter_local_target};
 use crate::commander::{FlightMode, LandedState, Outcome, Request};
 use crate::control::FlatSetpoint;
 use crate::mav::identity::Identity;
@@ -77,12 +78,16 @@ pub fn copter_ingest(
             }
             command(id, sender, &long, on)
         }
-        MavMessage::SET_POSITION_TARGET_LOCAL_NED(t) if ours(t.target_system, t.target_component) && !guided => {
-            Some(Action::Ignore)
-        }
-        MavMessage::SET_POSITION_TARGET_GLOBAL_INT(t) if ours(t.target_system, t.target_component) && !guided => {
-            Some(Action::Ignore)
-        }
+        MavMessage::SET_POSITION_TARGET_LOCAL_NED(t) if ours(t.target_system, t.target_component) => Some(if guided {
+            copter_local_target(t, state)
+        } else {
+            Action::Ignore
+        }),
+        MavMessage::SET_POSITION_TARGET_GLOBAL_INT(t) if ours(t.target_system, t.target_component) => Some(if guided {
+            copter_global_target(t, state)
+        } else {
+            Action::Ignore
+        }),
         MavMessage::SET_ATTITUDE_TARGET(t) if ours(t.target_system, t.target_component) && !guided => {
             Some(Action::Ignore)
         }

@@ -12,6 +12,8 @@
 //! - [`copter_param_face`]: [`copter_param_face::CopterParamView`], the one parameter table
 //!   under those names (PARAM_VALUE, PARAM_SET, `@PARAM/param.pck`), and the banner said before
 //!   a parameter list.
+//! - [`copter_targets`]: GUIDED's position targets as Copter reads them (offset and body frames,
+//!   the force bit, a stop for what it cannot fly).
 //! - [`copter_texts`]: what Copter says where PX4 says it otherwise ("PreArm: …", "Mode change
 //!   to … failed", "Arming motors").
 //! - [`copter_ingest`]: the inbound messages Copter treats differently (mode changes by Copter
@@ -26,4 +28,5 @@ pub mod copter_mission;
 pub mod copter_modes;
 pub mod copter_param_face;
 pub mod copter_params;
+pub mod copter_targets;
 pub mod copter_texts;
