@@ -9,6 +9,8 @@ use mavlink::dialects::ardupilotmega::{
 };
 use mavlink::MavHeader;
 
+use super::ardupilot::copter_param_face::COPTER_RELEASE;
+use super::identity::Personality;
 use super::stream_messages::TelemetryStream;
 use super::translate::Identity;
 
@@ -49,22 +51,42 @@ pub(super) fn one_shot(id: f32, param2: f32) -> Option<OneShot> {
 /// AUTOPILOT_VERSION (docs/mavlink.md §4): MISSION_INT, COMMAND_INT, PARAM_ENCODE_BYTEWISE,
 /// SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED / _GLOBAL_INT, MAVLINK2, FTP (served by
 /// [`super::ftp`]) and the fence and rally plans (MISSION_FENCE, MISSION_RALLY, as PX4); the
-/// version packs 0.1.0 as a
-/// release (type byte 255); `uid` is unique per system id.
+/// version packs 0.1.0 as a release (type byte 255); `uid` is unique per system id. Presented as
+/// ArduCopter (docs/ardupilot.md §1): Copter's capabilities (MISSION_FLOAT, parameters cast, not
+/// byte-wise, FLIGHT_TERMINATION) and its release, [`COPTER_RELEASE`].
 pub fn autopilot_version(id: &Identity) -> MavMessage {
+    use MavProtocolCapability as C;
+    let common = C::MAV_PROTOCOL_CAPABILITY_MISSION_INT
+        | C::MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+        | C::MAV_PROTOCOL_CAPABILITY_SET_ATTITUDE_TARGET
+        | C::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED
+        | C::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_GLOBAL_INT
+        | C::MAV_PROTOCOL_CAPABILITY_MAVLINK2
+        | C::MAV_PROTOCOL_CAPABILITY_FTP
+        | C::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
+        | C::MAV_PROTOCOL_CAPABILITY_MISSION_RALLY;
+    let (capabilities, flight_sw_version) = match id.personality {
+        Personality::Px4 => (
+            common | C::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_BYTEWISE,
+            (1 << 16) | 255,
+        ),
+        // ArduCopter: floats in MISSION_ITEM, parameters cast, flight termination; its release as
+        // major.minor.patch, official (255).
+        Personality::ArduPilot => {
+            let (major, minor, patch) = COPTER_RELEASE;
+            (
+                common
+                    | C::MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT
+                    | C::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST
+                    | C::MAV_PROTOCOL_CAPABILITY_FLIGHT_TERMINATION,
+                (u32::from(major) << 24) | (u32::from(minor) << 16) | (u32::from(patch) << 8) | 255,
+            )
+        }
+    };
     MavMessage::AUTOPILOT_VERSION(AUTOPILOT_VERSION_DATA {
-        capabilities: MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_INT
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_COMMAND_INT
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_BYTEWISE
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_ATTITUDE_TARGET
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_GLOBAL_INT
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_FTP
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
-            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_RALLY,
+        capabilities,
         uid: 0x5250_0000_0000_0000 | u64::from(id.system_id),
-        flight_sw_version: (1 << 16) | 255,
+        flight_sw_version,
         ..Default::default()
     })
 }
@@ -140,6 +162,17 @@ mod tests {
 
     #[test]
     fn autopilot_version_advertises_mavlink2_and_ftp() {
+        let copter = Identity::autopilot(2, 4).with_personality(Personality::ArduPilot);
+        let MavMessage::AUTOPILOT_VERSION(v) = autopilot_version(&copter) else {
+            panic!("not AUTOPILOT_VERSION");
+        };
+        assert_eq!(v.flight_sw_version, 0x0405_07FF, "4.5.7, official");
+        assert!(v
+            .capabilities
+            .contains(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST));
+        assert!(!v
+            .capabilities
+            .contains(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_BYTEWISE));
         let MavMessage::AUTOPILOT_VERSION(v) = autopilot_version(&Identity::autopilot(2, 4)) else {
             panic!("not a version");
         };

@@ -14,8 +14,12 @@ use crate::mav::ftp::{PackedParam, PackedValue};
 use crate::mav::param_encoding::{name_of, param_id, wire_value};
 use crate::params::{ParamTable, ParamType};
 
-/// The firmware line of the banner: the ArduCopter release the emulator presents itself as
-/// (4.5.7, the last 4.5), with `rotorpilot` where a build would show its git hash.
+/// The ArduCopter release the emulator presents itself as (major, minor, patch: 4.5.7, the last
+/// 4.5), in the banner and AUTOPILOT_VERSION.
+pub const COPTER_RELEASE: (u8, u8, u8) = (4, 5, 7);
+
+/// The firmware line of the banner: [`COPTER_RELEASE`], with `rotorpilot` where a build would
+/// show its git hash.
 pub const COPTER_VERSION: &str = "ArduCopter V4.5.7 (rotorpilot)";
 
 /// The STATUSTEXTs (INFO) ArduCopter sends before a parameter list: its firmware line
@@ -322,6 +326,11 @@ mod tests {
         assert_eq!(
             banner(MavType::MAV_TYPE_QUADROTOR),
             [COPTER_VERSION.to_string(), "Frame: QUAD/X".to_string()]
+        );
+        let (major, minor, patch) = COPTER_RELEASE;
+        assert_eq!(
+            COPTER_VERSION,
+            format!("ArduCopter V{major}.{minor}.{patch} (rotorpilot)")
         );
         assert_eq!(banner(MavType::MAV_TYPE_HEXAROTOR)[1], "Frame: HEXA/X");
         assert_eq!(banner(MavType::MAV_TYPE_OCTOROTOR)[1], "Frame: OCTA/X");
