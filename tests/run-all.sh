@@ -49,7 +49,7 @@ status=0
 for run in "-n 2 gcs-scripts/tests --ignore=$examples" "$examples"; do
     code=0
     # shellcheck disable=SC2086
-    "$venv/bin/python" -m pytest -q $run || code=$?
+    "$venv/bin/python" -m pytest -q --durations=15 $run || code=$?
     if [ "$code" -eq 5 ]; then
         echo "pytest collected no tests ($run): failing" >&2
         exit 1
