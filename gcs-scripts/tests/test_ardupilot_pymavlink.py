@@ -137,7 +137,7 @@ def test_guided_goto_speed_heading_and_reposition_as_dronekit_and_mavproxy_send_
 
 
 @ARDUPILOT
-def test_takeoff_outside_guided_fails_and_targets_are_ignored_there(autopilot_factory):
+def test_user_takeoff_in_loiter_refusals_and_mode_names(autopilot_factory):
     ap = autopilot_factory(connect=False)
     conn = ap.vehicle.conn
     hb = conn.wait_heartbeat(timeout=30)
@@ -148,7 +148,20 @@ def test_takeoff_outside_guided_fails_and_targets_are_ignored_there(autopilot_fa
     recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 5)
     conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, 10)
     ack = recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_NAV_TAKEOFF)
-    assert ack.result == mavlink.MAV_RESULT_FAILED
+    assert ack.result == mavlink.MAV_RESULT_FAILED, "not armed"
+    # Copter's user take-off in LOITER: it climbs in place and stays in LOITER.
+    conn.arducopter_arm()
+    conn.motors_armed_wait()
+    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, 6)
+    ack = recv(conn, "COMMAND_ACK", 10, lambda m: m.command == mavlink.MAV_CMD_NAV_TAKEOFF)
+    assert ack.result == mavlink.MAV_RESULT_ACCEPTED
+    assert recv(conn, "GLOBAL_POSITION_INT", 60, lambda m: m.relative_alt >= 5700)
+    time.sleep(1.0)
+    assert 5.5 < relative_alt_m(conn) < 6.5 and recv(conn, "HEARTBEAT", 5).custom_mode == 5
+    conn.set_mode("BRAKE")
+    recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 17)
+    conn.set_mode("LAND")
+    recv(conn, "HEARTBEAT", 90, lambda m: not m.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
     conn.set_mode("LAND")
     recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 9)
     conn.arducopter_arm()

@@ -55,6 +55,13 @@ pub enum Request {
         /// Heading [rad].
         yaw_rad: Option<f64>,
     },
+    /// ArduCopter's user take-off (NAV_TAKEOFF in GUIDED, LOITER, POSHOLD or ALT_HOLD): climb in
+    /// place to `height_m` above home [m] and stay in the mode (armed, on the ground, in GUIDED,
+    /// POSCTL or ALTCTL, to a height above the vehicle).
+    UserTakeoff {
+        /// Target height above home [m].
+        height_m: f64,
+    },
     /// NAV_LAND here.
     Land,
     /// NAV_RETURN_TO_LAUNCH.
@@ -247,6 +254,7 @@ impl Request {
             } => [north_m, east_m, down_m, yaw_rad, speed_m_s].iter().all(|v| opt(v)),
             Self::ChangeSpeed(v) => v.is_finite(),
             Self::TurnTo { yaw_rad } => yaw_rad.is_finite(),
+            Self::UserTakeoff { height_m } => height_m.is_finite(),
             Self::GuidedGoto { pos_w, yaw_rad } => pos_w.iter().all(|v| v.is_finite()) && opt(yaw_rad),
             Self::SetHome(p) => p.as_ref().is_none_or(|p| p.iter().all(|c| c.is_finite())),
         }

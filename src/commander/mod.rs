@@ -317,6 +317,11 @@ impl Commander {
                 self.advance_goto();
                 None
             }
+            // A user take-off in a stick mode climbs first; the sticks fly from its top.
+            mode if mode.flown_by_sticks() && self.climbing_out => {
+                self.complete_takeoff(x, yaw, t_s, &mut events);
+                None
+            }
             mode if mode.flown_by_sticks() => Some(self.stick_command(now)),
             _ => None,
         };

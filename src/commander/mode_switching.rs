@@ -218,9 +218,9 @@ impl Commander {
         }
     }
 
-    /// One AUTO.TAKEOFF tick (or one of GUIDED's take-off): once the climb is over within
+    /// One AUTO.TAKEOFF tick (or one of a user take-off's): once the climb is over within
     /// [`TAKEOFF_ACCEPT_M`] of the target, hold there, in AUTO.LOITER after AUTO.TAKEOFF, still in
-    /// GUIDED after a GUIDED take-off.
+    /// its mode after a user take-off (GUIDED holds; a stick mode flies its sticks from there).
     pub(super) fn complete_takeoff(&mut self, x: &VehicleState, yaw: f64, t_s: f64, events: &mut Vec<Event>) {
         let near = self
             .takeoff_target_w
@@ -235,6 +235,8 @@ impl Commander {
                 self.mode = FlightMode::Loiter;
                 events.push(Event::ModeChanged(FlightMode::Loiter));
             }
+            // A stick mode's reference starts again from the top of the climb.
+            self.manual.restart();
         }
     }
 

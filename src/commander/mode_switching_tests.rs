@@ -140,21 +140,21 @@ fn guided_takes_off_in_place_and_stays_in_guided() {
     let mut s = Script::new(CommanderParams::default());
     assert_eq!(s.request(Request::SetMode(FlightMode::Guided)), Outcome::Accepted);
     assert!(
-        matches!(s.request(Request::Takeoff { height_m: Some(5.0) }), Outcome::Failed(_)),
+        matches!(s.request(Request::UserTakeoff { height_m: 5.0 }), Outcome::Failed(_)),
         "a GUIDED take-off needs the motors armed"
     );
     assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
     assert!(
-        matches!(s.request(Request::Takeoff { height_m: Some(0.0) }), Outcome::Failed(_)),
+        matches!(s.request(Request::UserTakeoff { height_m: 0.0 }), Outcome::Failed(_)),
         "the target must be above the vehicle"
     );
-    assert_eq!(s.request(Request::Takeoff { height_m: Some(5.0) }), Outcome::Accepted);
+    assert_eq!(s.request(Request::UserTakeoff { height_m: 5.0 }), Outcome::Accepted);
     assert_eq!(s.c.mode(), FlightMode::Guided);
     assert!(s.fly_until(20.0, |s| (s.x.pos_w.z + 5.0).abs() < 0.05
         && s.c.landed_state() == LandedState::InAir));
     assert!(s.c.in_air());
     assert!(matches!(
-        s.request(Request::Takeoff { height_m: Some(8.0) }),
+        s.request(Request::UserTakeoff { height_m: 8.0 }),
         Outcome::Failed(_)
     ));
     s.fly(5.0);
@@ -172,7 +172,7 @@ fn guided_position_targets_persist_and_velocity_targets_stop_when_their_stream_f
     let mut s = Script::new(CommanderParams::default());
     assert_eq!(s.request(Request::SetMode(FlightMode::Guided)), Outcome::Accepted);
     assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
-    assert_eq!(s.request(Request::Takeoff { height_m: Some(4.0) }), Outcome::Accepted);
+    assert_eq!(s.request(Request::UserTakeoff { height_m: 4.0 }), Outcome::Accepted);
     assert!(s.fly_until(20.0, |s| (s.x.pos_w.z + 4.0).abs() < 0.05));
     s.fly(1.0);
     // One position target, never repeated: flown to the end (ArduCopter's never time out).
@@ -221,4 +221,26 @@ fn guided_position_targets_persist_and_velocity_targets_stop_when_their_stream_f
         s.request(Request::TurnTo { yaw_rad: 0.0 }),
         Outcome::Failed(_)
     ));
+}
+
+#[test]
+fn a_user_takeoff_in_position_mode_climbs_then_holds_on_the_sticks_reference() {
+    let mut s = Script::new(CommanderParams::default());
+    assert_eq!(s.request(Request::SetMode(FlightMode::Position)), Outcome::Accepted);
+    assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    assert_eq!(s.request(Request::UserTakeoff { height_m: 6.0 }), Outcome::Accepted);
+    assert!(s.fly_until(20.0, |s| (s.x.pos_w.z + 6.0).abs() < 0.05));
+    s.fly(5.0);
+    assert_eq!(s.c.mode(), FlightMode::Position, "{:?}", s.events);
+    assert!(
+        (s.x.pos_w - Vec3::new(0.0, 0.0, -6.0)).norm() < 0.2,
+        "held the top: {:?}",
+        s.x.pos_w
+    );
+    assert_eq!(s.request(Request::SetMode(FlightMode::Loiter)), Outcome::Accepted);
+    s.fly(1.0);
+    assert!(
+        matches!(s.request(Request::UserTakeoff { height_m: 9.0 }), Outcome::Failed(_)),
+        "not in BRAKE"
+    );
 }

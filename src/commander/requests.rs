@@ -33,6 +33,7 @@ impl Commander {
             Request::Takeoff { height_m } => self.takeoff(height_m, x, t_s),
             Request::Land => self.set_mode(FlightMode::Land, x, t_s),
             Request::TurnTo { yaw_rad } => self.turn_to(yaw_rad),
+            Request::UserTakeoff { height_m } => self.user_takeoff(height_m, x, t_s),
             Request::GuidedGoto { pos_w, yaw_rad } => self.guided_goto(pos_w, yaw_rad, x, t_s),
             Request::ReturnToLaunch => self.set_mode(FlightMode::ReturnToLaunch, x, t_s),
             Request::OffboardSetpoint { setpoint, body_frame } => {
@@ -158,9 +159,6 @@ impl Commander {
     /// NAV_TAKEOFF to `height_m` above home [m] (`None`: `MIS_TAKEOFF_ALT`) straight up from
     /// here; refused in the air and for heights outside (0, 1000] m.
     fn takeoff(&mut self, height_m: Option<f64>, x: &VehicleState, t_s: f64) -> Outcome {
-        if self.mode == FlightMode::Guided {
-            return self.guided_takeoff(height_m, x, t_s);
-        }
         if self.in_air() {
             return Outcome::TemporarilyRejected("Takeoff refused: already flying".into());
         }
@@ -176,10 +174,16 @@ impl Commander {
         Outcome::Accepted
     }
 
-    /// NAV_TAKEOFF in GUIDED (ArduCopter's user take-off): armed, on the ground, to a height
-    /// above the vehicle; climbs in place and holds at the top, staying in GUIDED.
-    fn guided_takeoff(&mut self, height_m: Option<f64>, x: &VehicleState, t_s: f64) -> Outcome {
-        let h = height_m.unwrap_or(self.params.takeoff_alt_m);
+    /// ArduCopter's user take-off: in GUIDED, POSCTL (LOITER, POSHOLD) or ALTCTL (ALT_HOLD),
+    /// armed, on the ground, to a height above the vehicle; climbs in place and holds at the top,
+    /// staying in the mode.
+    fn user_takeoff(&mut self, h: f64, x: &VehicleState, t_s: f64) -> Outcome {
+        if !matches!(
+            self.mode,
+            FlightMode::Guided | FlightMode::Position | FlightMode::Altitude
+        ) {
+            return Outcome::Failed(format!("Takeoff: mode {} takes no user take-off", self.mode.name()));
+        }
         if !self.armed() {
             return Outcome::Failed("Takeoff: not armed".into());
         }

@@ -197,13 +197,10 @@ fn command(id: &Identity, sender: &MavHeader, c: &COMMAND_LONG_DATA, on: Facts) 
             }
             other => other,
         },
-        // Copter's user take-off: p7 above home [m], in GUIDED (the commander checks the rest:
-        // armed, on the ground, above the vehicle).
-        MavCmd::MAV_CMD_NAV_TAKEOFF if state.mode != FlightMode::Guided => CommandDecision::Refuse(Outcome::Failed(
-            format!("Takeoff: not in GUIDED (mode {})", state.mode.name()),
-        )),
-        MavCmd::MAV_CMD_NAV_TAKEOFF => CommandDecision::Execute(Request::Takeoff {
-            height_m: Some(f64::from(c.param7)),
+        // Copter's user take-off: p7 above home [m]; the commander checks the mode (GUIDED,
+        // LOITER, POSHOLD, ALT_HOLD), the motors, the ground and the height.
+        MavCmd::MAV_CMD_NAV_TAKEOFF => CommandDecision::Execute(Request::UserTakeoff {
+            height_m: f64::from(c.param7),
         }),
         MavCmd::MAV_CMD_NAV_LOITER_UNLIM => CommandDecision::Execute(Request::SetMode(FlightMode::Position)),
         MavCmd::MAV_CMD_CONDITION_YAW => condition_yaw(c, state.eta.z),

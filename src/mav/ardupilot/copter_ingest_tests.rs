@@ -77,18 +77,11 @@ fn modes_change_by_copter_number_as_pymavlink_and_mavproxy_send_them() {
 }
 
 #[test]
-fn takeoff_only_in_guided_and_targets_ignored_elsewhere() {
+fn takeoff_is_a_user_takeoff_above_home_and_targets_are_ignored_outside_guided() {
     let takeoff = long(MavCmd::MAV_CMD_NAV_TAKEOFF, [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 10.0]);
     assert!(matches!(
-        run(takeoff.clone(), FlightMode::Loiter),
-        Some(Action::Command {
-            decision: CommandDecision::Refuse(Outcome::Failed(_)),
-            ..
-        })
-    ));
-    assert!(matches!(
         run(takeoff, FlightMode::Guided),
-        Some(Action::Command { decision: CommandDecision::Execute(Request::Takeoff { height_m: Some(h) }), .. }) if h == 10.0
+        Some(Action::Command { decision: CommandDecision::Execute(Request::UserTakeoff { height_m }), .. }) if height_m == 10.0
     ));
     let target = MavMessage::SET_POSITION_TARGET_LOCAL_NED(SET_POSITION_TARGET_LOCAL_NED_DATA {
         target_system: 1,
