@@ -1,7 +1,8 @@
-//! What ArduCopter says where PX4 says it otherwise (docs/ardupilot.md §6): the refusal of an
+//! What ArduCopter says where PX4 says it otherwise (docs/ardupilot.md §2): the refusal of an
 //! arming ("PreArm: …", FAILED) or of a mode change ("Mode change to GUIDED failed: …", FAILED),
-//! "Arming motors" / "Disarming motors" when the armed state changes, and the commander's own
-//! announcements Copter makes none of (mode changes, take-off and landing detected). Pure.
+//! "Arming motors" / "Disarming motors" when the armed state changes, "PreArm: …" every 30 s
+//! while a check fails, and the commander's own announcements Copter makes none of (mode
+//! changes, take-off and landing detected). Pure.
 
 use mavlink::dialects::ardupilotmega::MavCmd;
 
@@ -86,6 +87,43 @@ impl ArmedNotices {
     }
 }
 
+/// How often Copter repeats a failing pre-arm check [s] (`AP_Arming`'s display period).
+pub const PREARM_PERIOD_S: f64 = 30.0;
+
+/// Copter's periodic "PreArm: …" while disarmed and a check fails: the first failing check of
+/// the navigation estimate, at once and then every [`PREARM_PERIOD_S`] of simulated time.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PreArmNotices {
+    next_s: Option<f64>,
+}
+
+impl PreArmNotices {
+    /// The text to say at simulated time `now_s` [s] for `state`, if one is due.
+    pub fn handle_state(&mut self, now_s: f64, state: &Snapshot) -> Option<String> {
+        let v = &state.nav.validity;
+        let failing = if state.armed || state.nav.armable {
+            None
+        } else if !v.attitude {
+            Some("EKF attitude is bad")
+        } else if !v.horizontal {
+            Some("Need Position Estimate")
+        } else if !v.vertical {
+            Some("Need Alt Estimate")
+        } else {
+            v.unstable
+        };
+        let Some(failing) = failing else {
+            self.next_s = None;
+            return None;
+        };
+        if self.next_s.is_some_and(|next| now_s < next) {
+            return None;
+        }
+        self.next_s = Some(now_s + PREARM_PERIOD_S);
+        Some(format!("PreArm: {failing}"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -123,6 +161,29 @@ mod tests {
             copter_outcome(ARM, (None, 9), refused("Arming denied: not in AUTO.LAND")),
             Outcome::Failed("Arm: LAND mode not armable".into())
         );
+    }
+
+    #[test]
+    fn a_failing_prearm_check_is_said_at_once_then_every_30_s() {
+        let mut notices = PreArmNotices::default();
+        let mut s = Snapshot::initial(Home::default());
+        s.nav.armable = false;
+        s.nav.validity.horizontal = false;
+        assert_eq!(
+            notices.handle_state(0.0, &s).as_deref(),
+            Some("PreArm: Need Position Estimate")
+        );
+        assert_eq!(notices.handle_state(29.0, &s), None);
+        assert!(notices.handle_state(30.0, &s).is_some());
+        s.nav.armable = true;
+        assert_eq!(notices.handle_state(31.0, &s), None);
+        s.nav.armable = false;
+        assert!(
+            notices.handle_state(32.0, &s).is_some(),
+            "a new failure is said at once"
+        );
+        s.armed = true;
+        assert_eq!(notices.handle_state(100.0, &s), None);
     }
 
     #[test]

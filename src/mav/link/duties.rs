@@ -49,6 +49,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             if let Some(text) = self.armed_notices.handle_state(&self.snapshot) {
                 self.broadcast(now, &status_text(INFO, text));
             }
+            if let Some(text) = self.prearm_notices.handle_state(now.sim_s, &self.snapshot) {
+                self.broadcast(now, &status_text(CRITICAL, &text));
+            }
         }
         self.check_streams(now);
         for k in 0..self.ports.len() {

@@ -65,7 +65,7 @@ use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::ardupilot::copter_modes::ModeShown;
-use super::ardupilot::copter_texts::{copter_announces, copter_outcome, ArmedNotices};
+use super::ardupilot::copter_texts::{copter_announces, copter_outcome, ArmedNotices, PreArmNotices};
 use super::codec::frame_message;
 use super::ftp::Vfs;
 use super::identity::Personality;
@@ -120,6 +120,8 @@ pub struct LinkMachine<A> {
     mode_shown: ModeShown,
     /// "Arming motors" / "Disarming motors" (the ArduCopter personality).
     armed_notices: ArmedNotices,
+    /// "PreArm: …" every 30 s while a check fails (the ArduCopter personality).
+    prearm_notices: PreArmNotices,
     /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
     sticks_from: Option<LinkKind>,
     next_duty_s: f64,
@@ -167,6 +169,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             sticks_from: None,
             mode_shown: ModeShown::default(),
             armed_notices: ArmedNotices::default(),
+            prearm_notices: PreArmNotices::default(),
             next_duty_s: 0.0,
             transmits: VecDeque::new(),
             to_vehicle: VecDeque::new(),
