@@ -51,6 +51,9 @@ fn plan_request(
     })
 }
 
+/// The mission plan's type.
+const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
+
 /// The commander request that empties plan `mission_type`.
 fn empty_plan(mission_type: MavMissionType) -> Request {
     match mission_type {
@@ -145,6 +148,24 @@ impl<A: Copy + PartialEq> PlanService<A> {
                             items,
                         };
                         out.push(Effect::Ask(Some(pending), VehicleRequest::Commander(request)));
+                    }
+                    // ArduCopter stores a mission as sent (it checks items as it flies them): the
+                    // plan is kept and ACKed, the commander gets none to fly (AUTO is refused),
+                    // never a flight to a point it refused (below home, say).
+                    Err(e) if self.personality == Personality::ArduPilot && mission_type == MISSION => {
+                        let result = format!("{:?}", e.result);
+                        let result = result.trim_start_matches("MAV_MISSION_");
+                        let why = format!("Mission stored, not flown: item {} {result}", e.seq);
+                        out.push(Effect::send(link, from, status_text(WARNING, &why)));
+                        let pending = Pending::Mission {
+                            link,
+                            mission_type,
+                            items,
+                        };
+                        out.push(Effect::Ask(
+                            Some(pending),
+                            VehicleRequest::Commander(empty_plan(mission_type)),
+                        ));
                     }
                     Err(e) => {
                         let why = format!("{} item {} refused: {:?}", plan_name(mission_type), e.seq, e.result);
@@ -350,7 +371,15 @@ mod tests {
         };
         far.x = 0;
         let out = p.step(1.2, (GCS, 5, IDS), MissionStep::Item(far), &home);
-        assert_eq!(texts(&out), vec!["Mission item 1 refused: MAV_MISSION_INVALID_PARAM5"]);
+        assert_eq!(texts(&out), vec!["Mission stored, not flown: item 1 INVALID_PARAM5_X"]);
+        let [_, Effect::Ask(Some(Pending::Mission { items, .. }), VehicleRequest::Commander(Request::SetMission(m)))] =
+            &out[..]
+        else {
+            panic!("{out:?}");
+        };
+        assert!(m.is_empty() && items.len() == 2, "stored as sent, none flown");
+        let out = p.taken(GCS, MISSION, items.clone(), true);
+        assert_eq!(ack(&out).map(|a| a.0), Some(MavMissionResult::MAV_MISSION_ACCEPTED));
         // A home slot alone empties the mission.
         p.step(2.0, (GCS, 5, IDS), count(1), &home);
         let out = p.step(2.1, (GCS, 5, IDS), waypoint(0), &home);
