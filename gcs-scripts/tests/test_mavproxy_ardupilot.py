@@ -3,8 +3,11 @@ ardupilot` on its default configuration as its users type it: `mode GUIDED`, `ar
 `takeoff 10`, `wp load` of a QGC WPL 110 file, `mode AUTO`, `mode RTL`, then the landing and the
 disarm. Judged from MAVProxy's console and from the vehicle's tlog (what a ground station was
 shown: heartbeats, GLOBAL_POSITION_INT, MISSION_CURRENT, STATUSTEXT). Runs in its own network
-namespace, so MAVProxy's fixed port 14550 is used as it is."""
+namespace, so MAVProxy's fixed port 14550 is used as it is. And MAVProxy's first step, the
+parameters downloaded as `@PARAM/param.pck` over MAVLink FTP under the random session number it
+picks, as against ArduCopter: every parameter, no fallback to PARAM_REQUEST_LIST."""
 import pathlib
+import re
 import subprocess
 import sys
 
@@ -82,3 +85,38 @@ wait $vehicle
     assert last is not None and abs(last) < 0.3 and not armed[-1], (last, armed[-1])
     assert seqs[-3:] == [1, 2, 3], f"items 1 to 3 flown, item 0 is home: {seqs}"
     assert "Flight plan received" in texts
+
+
+# The vehicle's parameter count, asked on the API link (a PARAM_REQUEST_READ of index 0).
+COUNT = """
+from pymavlink import mavutil
+conn = mavutil.mavlink_connection("udpin:127.0.0.1:14540")
+conn.wait_heartbeat(timeout=10)
+conn.mav.param_request_read_send(1, 1, b"", 0)
+m = conn.recv_match(type="PARAM_VALUE", blocking=True, timeout=10)
+print("vehicle param_count", m.param_count)
+"""
+
+
+@pytest.mark.skipif(not can_unshare(), reason="needs unshare -n (root)")
+def test_mavproxy_downloads_the_parameters_over_ftp_under_its_own_session(rotorpilot_bin, tmp_path):
+    (tmp_path / "count.py").write_text(COUNT)
+    script = f"""
+ip link set lo up
+{rotorpilot_bin} run --autopilot ardupilot --bind-gcs 127.0.0.1:0 --bind-api 127.0.0.1:0 --no-log > /dev/null 2>&1 &
+vehicle=$!
+sleep 0.5
+timeout 15 {sys.executable} {MAVPROXY} --master=udpin:127.0.0.1:14550 --non-interactive --state-basedir={tmp_path} 2>&1
+{sys.executable} {tmp_path}/count.py 2>&1
+kill -INT $vehicle
+wait $vehicle
+"""
+    run = subprocess.run(["unshare", "-n", "bash", "-c", script], capture_output=True, text=True, timeout=60,
+                         check=False, cwd=tmp_path)
+    out = run.stdout + run.stderr
+    assert "FTP: request timed out" not in out, out
+    received = re.search(r"Received (\d+) parameters \(ftp\)", out)
+    assert received, f"no download over FTP:\n{out}"
+    count = re.search(r"vehicle param_count (\d+)", out)
+    assert count, f"the vehicle's count was not read:\n{out}"
+    assert int(received.group(1)) == int(count.group(1)) > 100, (received.group(0), count.group(0))

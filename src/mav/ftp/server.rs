@@ -9,6 +9,10 @@
 //! one data reply after another with consecutive sequence numbers, and a NAK EOF after the
 //! last byte. Pure: the caller passes the time and paces the burst.
 //!
+//! Sessions are numbered by a [`SessionRule`]: PX4's (the server picks a free slot and names it
+//! in the open's ACK) or ArduPilot's (one file open at a time, under the number the client
+//! chose; see the rule's docs for what was checked in ArduPilot's source).
+//!
 //! `@PARAM/param.pck` (`param_file.rs`) opens as PX4 opens it: for reading, a snapshot of the
 //! vehicle's parameters ([`Storage::params`]); for writing, an upload held in the session. The
 //! TerminateSession of an upload is not answered at once: the file, read, is handed out
@@ -18,6 +22,7 @@
 use super::param_file::ParamFile;
 use super::param_pck::{is_param_path, parse_upload, PackedValue, PckError};
 use super::payload::{ErrorCode, Opcode, Payload, DATA_MAX, EINVAL};
+use super::session_rule::{SessionRule, ARDUPILOT_TAKEOVER_S};
 use super::storage::Storage;
 use super::vfs::Entry;
 
@@ -79,6 +84,10 @@ struct Burst {
 /// The FTP server of one link.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct FtpServer {
+    /// How sessions are numbered.
+    rule: SessionRule,
+    /// The client's number of the open file under ArduPilot's rule (the file is `sessions[0]`).
+    current: Option<u8>,
     sessions: [Option<Session>; MAX_SESSIONS],
     /// The last reply when it had at most 4 data bytes (sent again for a repeated request).
     last_reply: Option<Payload>,
@@ -92,10 +101,24 @@ pub struct FtpServer {
 }
 
 impl FtpServer {
+    /// A server with no session open that numbers sessions by `rule`.
+    pub fn new(rule: SessionRule) -> Self {
+        Self {
+            rule,
+            ..Self::default()
+        }
+    }
+
+    /// How this server numbers its sessions.
+    pub fn rule(&self) -> SessionRule {
+        self.rule
+    }
+
     /// The reply to `req` at `now_s` [s] against `fs`; `None` when none is due now: a burst
     /// started (its frames come from [`burst_frame`](Self::burst_frame)), or an upload waits for
     /// the vehicle ([`take_upload`](Self::take_upload)).
     pub fn handle(&mut self, fs: &mut Storage, req: &Payload, now_s: f64) -> Option<Payload> {
+        let idle_s = now_s - self.last_activity_s;
         self.last_activity_s = now_s;
         if self.awaiting == Some(req.seq) && req.opcode == Opcode::TerminateSession as u8 {
             return None;
@@ -104,11 +127,12 @@ impl FtpServer {
             Err(ErrorCode::InvalidDataSize)
         } else {
             if let Some(last) = &self.last_reply {
-                if req.seq.wrapping_add(1) == last.seq {
+                let same_session = self.rule == SessionRule::Px4 || last.session == req.session;
+                if req.seq.wrapping_add(1) == last.seq && same_session {
                     return Some(last.clone());
                 }
             }
-            self.work(fs, req)
+            self.work(fs, req, idle_s)
         };
         self.last_reply = None;
         let reply = match result {
@@ -152,7 +176,8 @@ impl FtpServer {
         let mut frame = Payload::request(Opcode::Ack, burst.seq, burst.session, burst.offset, &[]);
         frame.req_opcode = Opcode::BurstReadFile as u8;
         burst.seq = burst.seq.wrapping_add(1);
-        let session = self.sessions.get(usize::from(burst.session)).and_then(Option::as_ref);
+        let slot = self.rule.slot(burst.session);
+        let session = self.sessions.get(slot).and_then(Option::as_ref);
         let error = match session.map(|s| s.read(fs, burst.offset, DATA_MAX)) {
             None => Some(ErrorCode::InvalidSession),
             Some(Err(e)) => Some(e),
@@ -174,10 +199,12 @@ impl FtpServer {
         Some(frame)
     }
 
-    /// Closes every session after [`SESSION_IDLE_S`] without activity by `now_s` [s].
+    /// Closes every session after [`SESSION_IDLE_S`] without activity by `now_s` [s] (PX4's
+    /// rule; ArduPilot's keeps the file open until another session takes its place).
     pub fn expire(&mut self, now_s: f64) {
-        if self.sessions.iter().any(Option::is_some) && now_s - self.last_activity_s > SESSION_IDLE_S {
-            *self = Self::default();
+        let idle = now_s - self.last_activity_s > SESSION_IDLE_S;
+        if self.rule == SessionRule::Px4 && self.sessions.iter().any(Option::is_some) && idle {
+            *self = Self::new(self.rule);
         }
     }
 
@@ -187,18 +214,71 @@ impl FtpServer {
         }
     }
 
-    /// The open session `id`.
+    /// The open session `id` (under ArduPilot's rule, once [`Self::gate`] passed the request:
+    /// the open file).
     fn session(&self, id: u8) -> Result<&Session, ErrorCode> {
         self.sessions
-            .get(usize::from(id))
+            .get(self.rule.slot(id))
             .and_then(Option::as_ref)
-            .ok_or(ErrorCode::InvalidSession)
+            .ok_or(self.rule.not_open())
     }
 
-    /// Opens `path` in a free session: ACK with the session id and the file size.
-    fn open(&mut self, fs: &mut Storage, req: &Payload, write: Option<bool>) -> Result<Option<Payload>, ErrorCode> {
-        let free = self.sessions.iter().position(Option::is_none);
-        let id = free.ok_or(ErrorCode::NoSessionsAvailable)?;
+    /// Closes every session.
+    fn close_all(&mut self) {
+        self.sessions = Default::default();
+        self.current = None;
+        self.burst = None;
+    }
+
+    /// ArduPilot's check of a request's session number against the open file's, before the
+    /// request runs (`idle_s` [s] since the last activity): `Ok(Some)` answers it at once (a
+    /// TerminateSession or ResetSessions of another session), `Ok(None)` lets it run (it names
+    /// the open file, or none is open, or the open one was idle long enough to be closed).
+    fn gate(&mut self, req: &Payload, idle_s: f64) -> Result<Option<Payload>, ErrorCode> {
+        if self.current.is_none() || self.current == Some(req.session) {
+            return Ok(None);
+        }
+        let ends = [Opcode::TerminateSession as u8, Opcode::ResetSessions as u8];
+        if ends.contains(&req.opcode) {
+            return Ok(Some(req.ack(Vec::new())));
+        }
+        if idle_s < ARDUPILOT_TAKEOVER_S {
+            return Err(ErrorCode::InvalidSession);
+        }
+        self.close_all();
+        Ok(None)
+    }
+
+    /// The slot an open takes: a free one (PX4), or the one file's when nothing is open
+    /// (ArduPilot; an OpenFileRO replaces a file idle for `idle_s` > [`ARDUPILOT_TAKEOVER_S`]).
+    fn free_slot(&mut self, read: bool, idle_s: f64) -> Result<usize, ErrorCode> {
+        match self.rule {
+            SessionRule::Px4 => self
+                .sessions
+                .iter()
+                .position(Option::is_none)
+                .ok_or(ErrorCode::NoSessionsAvailable),
+            SessionRule::ArduPilot => {
+                if self.current.is_some() && read && idle_s > ARDUPILOT_TAKEOVER_S {
+                    self.close_all();
+                }
+                match self.current {
+                    Some(_) => Err(ErrorCode::Fail),
+                    None => Ok(0),
+                }
+            }
+        }
+    }
+
+    /// Opens `path` in a free session: ACK with the session number and the file size.
+    fn open(
+        &mut self,
+        fs: &mut Storage,
+        req: &Payload,
+        write: Option<bool>,
+        idle_s: f64,
+    ) -> Result<Option<Payload>, ErrorCode> {
+        let id = self.free_slot(write.is_none(), idle_s)?;
         let raw = req.path().ok_or(ErrorCode::Fail)?;
         let session = match write {
             None if is_param_path(raw) => Session::Params(ParamFile::open_read(raw, &fs.params)?),
@@ -215,12 +295,21 @@ impl FtpServer {
         let size = u32::try_from(session.size(fs)?).unwrap_or(u32::MAX);
         self.sessions[id] = Some(session);
         let mut reply = req.ack(size.to_le_bytes().to_vec());
-        reply.session = id as u8;
+        match self.rule {
+            SessionRule::Px4 => reply.session = id as u8,
+            SessionRule::ArduPilot => self.current = Some(req.session),
+        }
         Ok(Some(reply))
     }
 
-    /// One request's reply, `None` for a burst, or why it failed.
-    fn work(&mut self, fs: &mut Storage, req: &Payload) -> Result<Option<Payload>, ErrorCode> {
+    /// One request's reply, `None` for a burst, or why it failed; `idle_s` [s] since the last
+    /// activity before it.
+    fn work(&mut self, fs: &mut Storage, req: &Payload, idle_s: f64) -> Result<Option<Payload>, ErrorCode> {
+        if self.rule == SessionRule::ArduPilot {
+            if let Some(reply) = self.gate(req, idle_s)? {
+                return Ok(Some(reply));
+            }
+        }
         let path = || req.path().ok_or(ErrorCode::Fail);
         let done = |_| Ok(Some(req.ack(Vec::new())));
         let Some(opcode) = Opcode::from_u8(req.opcode) else {
@@ -229,8 +318,14 @@ impl FtpServer {
         match opcode {
             Opcode::None => done(()),
             Opcode::TerminateSession => {
-                self.session(req.session)?;
-                let closed = self.sessions[usize::from(req.session)].take();
+                if self.rule == SessionRule::Px4 {
+                    self.session(req.session)?;
+                }
+                let closed = self
+                    .sessions
+                    .get_mut(self.rule.slot(req.session))
+                    .and_then(Option::take);
+                self.current = None;
                 if self.burst.as_ref().is_some_and(|b| b.session == req.session) {
                     self.burst = None;
                 }
@@ -245,14 +340,13 @@ impl FtpServer {
                 done(())
             }
             Opcode::ResetSessions => {
-                self.sessions = Default::default();
-                self.burst = None;
+                self.close_all();
                 done(())
             }
             Opcode::ListDirectory => Ok(Some(req.ack(list_data(&fs.list(path()?)?, req.offset)?))),
-            Opcode::OpenFileRO => self.open(fs, req, None),
-            Opcode::CreateFile => self.open(fs, req, Some(true)),
-            Opcode::OpenFileWO => self.open(fs, req, Some(false)),
+            Opcode::OpenFileRO => self.open(fs, req, None, idle_s),
+            Opcode::CreateFile => self.open(fs, req, Some(true), idle_s),
+            Opcode::OpenFileWO => self.open(fs, req, Some(false), idle_s),
             Opcode::ReadFile => {
                 let session = self.session(req.session)?;
                 Ok(Some(req.ack(session.read(fs, req.offset, usize::from(req.size))?)))
@@ -268,9 +362,11 @@ impl FtpServer {
             }
             Opcode::WriteFile => {
                 self.session(req.session)?;
-                let written = match &mut self.sessions[usize::from(req.session)] {
-                    Some(Session::File { path, write: true }) => fs.vfs.write(path, req.offset as usize, &req.data)?,
-                    Some(Session::Params(file)) => file.write(req.offset, &req.data)?,
+                let written = match self.sessions.get_mut(self.rule.slot(req.session)) {
+                    Some(Some(Session::File { path, write: true })) => {
+                        fs.vfs.write(path, req.offset as usize, &req.data)?
+                    }
+                    Some(Some(Session::Params(file))) => file.write(req.offset, &req.data)?,
                     _ => return Err(ErrorCode::FileProtected),
                 };
                 Ok(Some(req.ack((written as u32).to_le_bytes().to_vec())))
@@ -319,3 +415,7 @@ fn list_data(entries: &[Entry], offset: u32) -> Result<Vec<u8>, ErrorCode> {
 #[cfg(test)]
 #[path = "server_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "server_ardupilot_tests.rs"]
+mod ardupilot_tests;

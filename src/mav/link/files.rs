@@ -5,7 +5,8 @@
 //! asked; COMPONENT_METADATA / COMPONENT_INFORMATION carry the general metadata file's CRC.
 //! `@PARAM/param.pck` packs the parameter table the link holds (the vehicle's, shared; packed
 //! again at the first FTP request after it changed) under the personality's names (PX4's, or
-//! ArduCopter's names, units and storage types); an uploaded one goes to `param_upload.rs`.
+//! ArduCopter's names, units and storage types); an uploaded one goes to `param_upload.rs`. The
+//! servers number sessions as the personality's autopilot does ([`SessionRule`]).
 //!
 //! [`Files`] owns the file system and the FTP servers; the log protocol reads the flight logs
 //! through it ([`Files::log_store`]).
@@ -14,7 +15,7 @@ use mavlink::dialects::ardupilotmega::MavMessage;
 
 use super::effects::{Client, Effect};
 use super::LinkKind;
-use crate::mav::ftp::{ErrorCode, FtpServer, Payload, Storage, Vfs};
+use crate::mav::ftp::{ErrorCode, FtpServer, Payload, SessionRule, Storage, Vfs};
 use crate::mav::identity::Personality;
 use crate::mav::logs::LogStore;
 use crate::mav::metadata::{self, MetadataFiles};
@@ -71,7 +72,7 @@ impl<A: Copy> Files<A> {
             .iter()
             .map(|link| FtpLink {
                 link: *link,
-                server: FtpServer::default(),
+                server: FtpServer::new(session_rule(personality)),
                 client: None,
                 next_s: 0.0,
             })
@@ -190,6 +191,16 @@ impl<A: Copy> Files<A> {
     /// COMPONENT_INFORMATION at wall time `wall_s` [s].
     pub fn component_information(&self, wall_s: f64) -> MavMessage {
         metadata::component_information(self.general_crc, (wall_s * 1e3) as u32)
+    }
+}
+
+/// How the FTP servers of a vehicle presented as `personality` number their sessions: PX4's
+/// slots, or ArduPilot's (the client's number, one file at a time), so that MAVProxy's transfers,
+/// which match replies by the random session number they sent, work against ArduCopter.
+fn session_rule(personality: Personality) -> SessionRule {
+    match personality {
+        Personality::Px4 => SessionRule::Px4,
+        Personality::ArduPilot => SessionRule::ArduPilot,
     }
 }
 
