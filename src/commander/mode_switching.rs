@@ -307,9 +307,13 @@ impl Commander {
     }
 
     /// One GUIDED tick `now`: a take-off climb under way flies on (and holds at its top, still
-    /// in GUIDED); otherwise the latest guided target, or the hold the mode entered with; a
-    /// target whose stream went silent stops the vehicle where it is.
+    /// in GUIDED) until a guided target arrives; otherwise the latest guided target, or the hold
+    /// the mode entered with; a target whose stream went silent stops the vehicle where it is.
     pub(super) fn guided_command(&mut self, now: Moment, events: &mut Vec<Event>) -> Option<FlightDemand> {
+        if self.climbing_out && self.offboard.has_target() {
+            // A target ends the take-off at once (ArduCopter's set_destination).
+            self.climbing_out = false;
+        }
         if self.climbing_out {
             self.complete_takeoff(now.x, now.yaw_rad, now.t_s, events);
             if self.climbing_out {

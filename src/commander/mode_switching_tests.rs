@@ -244,3 +244,22 @@ fn a_user_takeoff_in_position_mode_climbs_then_holds_on_the_sticks_reference() {
         "not in BRAKE"
     );
 }
+
+#[test]
+fn a_guided_target_ends_a_guided_takeoff_at_once() {
+    let mut s = Script::new(CommanderParams::default());
+    assert_eq!(s.request(Request::SetMode(FlightMode::Guided)), Outcome::Accepted);
+    assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    assert_eq!(s.request(Request::UserTakeoff { height_m: 10.0 }), Outcome::Accepted);
+    assert!(s.fly_until(20.0, |s| s.x.pos_w.z < -8.0));
+    let to = Vec3::new(20.0, 0.0, -9.0);
+    let goto = crate::control::FlatSetpoint {
+        pos_w: Some(to),
+        ..Default::default()
+    };
+    assert_eq!(s.request(Request::offboard(goto)), Outcome::Accepted);
+    s.fly(0.5);
+    assert!(s.x.pos_w.x > 0.05, "on its way at once: {:?}", s.x.pos_w);
+    assert!(s.fly_until(30.0, |s| (s.x.pos_w - to).norm() < 0.05));
+    assert_eq!(s.c.landed_state(), LandedState::InAir, "the take-off is over");
+}

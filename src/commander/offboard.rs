@@ -58,6 +58,11 @@ impl Offboard {
         self.limiter = None;
     }
 
+    /// True when a target arrived since the last [`Offboard::clear`].
+    pub fn has_target(&self) -> bool {
+        self.latest.is_some()
+    }
+
     /// Forgets the latest target (GUIDED starts from a hold, whatever came before).
     pub fn clear(&mut self) {
         *self = Self::default();

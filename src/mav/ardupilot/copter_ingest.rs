@@ -15,7 +15,7 @@ use mavlink::MavHeader;
 
 use super::copter_mission::{commander_index, item_int, starts_with_takeoff, AUTO, MISSING_TAKEOFF};
 use super::copter_modes::mode_request;
-use super::copter_targets::{copter_global_target, copter_local_target};
+use super::copter_targets::{copter_attitude_target, copter_global_target, copter_local_target};
 use crate::commander::{FlightMode, LandedState, Outcome, Request};
 use crate::control::FlatSetpoint;
 use crate::mav::identity::Identity;
@@ -88,9 +88,11 @@ pub fn copter_ingest(
         } else {
             Action::Ignore
         }),
-        MavMessage::SET_ATTITUDE_TARGET(t) if ours(t.target_system, t.target_component) && !guided => {
-            Some(Action::Ignore)
-        }
+        MavMessage::SET_ATTITUDE_TARGET(t) if ours(t.target_system, t.target_component) => Some(if guided {
+            copter_attitude_target(t, state)
+        } else {
+            Action::Ignore
+        }),
         MavMessage::MISSION_ITEM(m) if ours(m.target_system, m.target_component) && m.current == 2 => {
             Some(guided_goto(sender, &item_int(m), state))
         }

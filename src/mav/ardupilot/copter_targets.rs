@@ -6,14 +6,15 @@
 //! (Copter re-enters GUIDED's hold) rather than by a refusal. Pure.
 
 use mavlink::dialects::ardupilotmega::{
-    MavFrame, PositionTargetTypemask, SET_POSITION_TARGET_GLOBAL_INT_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
+    MavFrame, PositionTargetTypemask, SET_ATTITUDE_TARGET_DATA, SET_POSITION_TARGET_GLOBAL_INT_DATA,
+    SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
 
 use crate::commander::Request;
 use crate::control::FlatSetpoint;
 use crate::math::wrap_pi;
 use crate::mav::ingest::Action;
-use crate::mav::offboard::{decode_global_target, decode_local_target, DecodedOffboard};
+use crate::mav::offboard::{decode_attitude_target, decode_global_target, decode_local_target, DecodedOffboard};
 use crate::telemetry::Snapshot;
 
 /// The type-mask bits of the position, the acceleration, the force flag and the yaw.
@@ -103,6 +104,16 @@ pub fn copter_global_target(m: &SET_POSITION_TARGET_GLOBAL_INT_DATA, state: &Sna
     fly(decode_global_target(&t, &state.home), state)
 }
 
+/// SET_ATTITUDE_TARGET in GUIDED, in `state`: decoded as PX4's offboard decodes it; one Copter
+/// cannot fly (a partial rate mask, a quaternion that is no rotation) stops the vehicle where it
+/// is, silently, as Copter does.
+pub fn copter_attitude_target(m: &SET_ATTITUDE_TARGET_DATA, state: &Snapshot) -> Action {
+    match decode_attitude_target(m) {
+        Ok(target) => Action::Request(Request::OffboardAttitude(target)),
+        Err(_) => stop(state),
+    }
+}
+
 #[cfg(test)]
 #[allow(deprecated)] // the body frames DroneKit sends
 mod tests {
@@ -173,6 +184,20 @@ mod tests {
         ));
         let v = sp.vel_w.unwrap_or_default();
         assert!((v - Vec3::new(0.0, 1.0, 0.0)).norm() < 1e-6, "{v:?}");
+    }
+
+    #[test]
+    fn an_attitude_target_copter_cannot_fly_stops_the_vehicle_silently() {
+        // DroneKit's set_attitude_target sends type_mask 0b100: only the yaw rate ignored.
+        let partial = SET_ATTITUDE_TARGET_DATA {
+            type_mask: mavlink::dialects::ardupilotmega::AttitudeTargetTypemask::from_bits_retain(0b100),
+            q: [1.0, 0.0, 0.0, 0.0],
+            thrust: 0.5,
+            target_system: 1,
+            ..Default::default()
+        };
+        let sp = setpoint(copter_attitude_target(&partial, &state()));
+        assert_eq!(sp.pos_w, Some(state().pos_w));
     }
 
     #[test]

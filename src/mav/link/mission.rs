@@ -74,6 +74,8 @@ pub(super) struct PlanService<A> {
     transfers: Vec<(LinkKind, MissionTransfer<A>)>,
     /// Whose face the protocol shows (PX4's or ArduCopter's).
     personality: Personality,
+    /// Where home is now (DO_SET_HOME moves it), geodetic: ArduCopter's item 0.
+    home_now: Home,
 }
 
 impl<A: Copy + PartialEq> PlanService<A> {
@@ -84,6 +86,7 @@ impl<A: Copy + PartialEq> PlanService<A> {
             report: MissionReport::new(personality),
             transfers: links.iter().map(|l| (*l, MissionTransfer::new(personality))).collect(),
             personality,
+            home_now: Home::default(),
         }
     }
 
@@ -99,6 +102,12 @@ impl<A: Copy + PartialEq> PlanService<A> {
     /// The vehicle's latest state (MISSION_CURRENT follows its mission).
     pub fn handle_state(&mut self, snapshot: &Snapshot) {
         self.report.handle_state(snapshot, self.plans.ids());
+        let (lat_deg, lon_deg, alt_amsl_m) = snapshot.home.to_global(&snapshot.home_w);
+        self.home_now = Home {
+            lat_deg,
+            lon_deg,
+            alt_amsl_m,
+        };
     }
 
     /// The commander's mission item `seq` was reached: the MISSION_ITEM_REACHED announcing it.
@@ -133,7 +142,9 @@ impl<A: Copy + PartialEq> PlanService<A> {
                 mission_type,
                 int_form,
             } => {
-                let item = self.plans.download_item(ids, mission_type, seq, int_form, home);
+                let item = self
+                    .plans
+                    .download_item(ids, mission_type, seq, int_form, &self.home_now);
                 (vec![(from, item)], None)
             }
         };
@@ -385,6 +396,35 @@ mod tests {
         let out = p.step(2.1, (GCS, 5, IDS), waypoint(0), &home);
         assert!(
             matches!(&out[..], [Effect::Ask(_, VehicleRequest::Commander(Request::SetMission(m)))] if m.is_empty())
+        );
+    }
+
+    #[test]
+    #[allow(deprecated)] // MISSION_ITEM: DroneKit's download
+    fn arducopters_item_0_is_where_home_is_now() {
+        let origin = Home::default();
+        let mut p = PlanService::<u16>::new(&[GCS], Personality::ArduPilot);
+        let mut s = Snapshot::initial(origin);
+        s.home_w = crate::math::Vec3::new(111.0, 0.0, -20.0);
+        p.handle_state(&s);
+        let ask = MissionStep::RequestItem {
+            seq: 0,
+            mission_type: MISSION,
+            int_form: false,
+        };
+        let out = p.step(0.0, (GCS, 5, IDS), ask, &origin);
+        let [Effect::To(_, _, MavMessage::MISSION_ITEM(item))] = &out[..] else {
+            panic!("{out:?}");
+        };
+        assert!(
+            (f64::from(item.x) - origin.lat_deg - 0.000_998).abs() < 2e-5,
+            "{} moved north",
+            item.x
+        );
+        assert!(
+            (f64::from(item.z) - origin.alt_amsl_m - 20.0).abs() < 0.01,
+            "{}",
+            item.z
         );
     }
 }

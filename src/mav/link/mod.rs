@@ -200,8 +200,12 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     }
 
     /// A notice of the runtime (the logger's "[logger] ./log/…" when a flight log begins),
-    /// announced as an information STATUSTEXT to every target of every link.
+    /// announced as an information STATUSTEXT to every target of every link (not by a vehicle
+    /// presented as ArduCopter, which says nothing of its logs).
     pub fn handle_notice(&mut self, now: Now, text: &str) {
+        if self.identity.personality == Personality::ArduPilot {
+            return; // ArduCopter says nothing of its logs.
+        }
         self.broadcast(now, &super::stream_messages::status_text(INFO, text));
     }
 
