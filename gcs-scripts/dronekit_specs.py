@@ -318,7 +318,6 @@ def check_mission_import_export(tel, seen, summary, out, work):
 # vehicle does not meet yet).
 
 
-NOT_YET = "docs/ardupilot.md, 'Not emulated yet'"
 SPECS = {
     "simple_goto": {"lands": True, "disarms": True, "settle_s": 200, "check": check_simple_goto},
     "guided_set_speed_yaw": {
@@ -333,18 +332,9 @@ SPECS = {
         "check": check_guided_set_speed_yaw,
     },
     "set_attitude_target": {
-        "expect": "pending",
         "lands": True,
         "disarms": True,
         "settle_s": 120,
-        "why": f"SET_ATTITUDE_TARGET's thrust as a climb rate ({NOT_YET})",
-        "pending": {
-            "climbs to 2.5 m and holds": (
-                "the vehicle reads thrust as a fraction of the rotors' maximum: 0.7 and 0.6 climb at up to 4 m/s "
-                "and the hold's 0.5 keeps climbing, to about 18 m; ArduCopter reads 0.5 as 'hold the height', "
-                "0.7 as a 1 m/s climb (WPNAV_SPEED_UP 2.5 m/s at thrust 1)"
-            ),
-        },
         "check": check_set_attitude_target,
     },
     "channel_overrides": {

@@ -62,6 +62,10 @@ pub enum Request {
         /// Target height above home [m].
         height_m: f64,
     },
+    /// ArduCopter's SET_ATTITUDE_TARGET in GUIDED: lean by `roll_rad` / `pitch_rad` [rad] at heading
+    /// `yaw_rad` [rad] and climb at `climb` ∈ [−1, 1] of the AUTO descent / climb speed (the
+    /// thrust read as a climb rate: 0.5 ↦ 0, holding the height), kept as the latest target.
+    GuidedLean(Lean),
     /// NAV_LAND here.
     Land,
     /// NAV_RETURN_TO_LAUNCH.
@@ -190,6 +194,28 @@ impl OrbitRequest {
     }
 }
 
+/// ArduCopter's attitude target in GUIDED ([`Request::GuidedLean`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lean {
+    /// Roll [rad].
+    pub roll_rad: f64,
+    /// Pitch [rad].
+    pub pitch_rad: f64,
+    /// Heading [rad].
+    pub yaw_rad: f64,
+    /// Climb demand ∈ [−1, 1]: a fraction of the AUTO climb (> 0) or descent (< 0) speed.
+    pub climb: f64,
+}
+
+impl Lean {
+    /// True when every number is finite.
+    pub fn is_finite(&self) -> bool {
+        [self.roll_rad, self.pitch_rad, self.yaw_rad, self.climb]
+            .iter()
+            .all(|v| v.is_finite())
+    }
+}
+
 /// A stream of messages whose silence the vehicle reacts to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum InputStream {
@@ -204,7 +230,9 @@ impl Request {
     /// liveness the receiver judges ([`Request::StreamLost`]).
     pub fn input_stream(&self) -> Option<InputStream> {
         match self {
-            Self::OffboardSetpoint { .. } | Self::OffboardAttitude(_) => Some(InputStream::Offboard),
+            Self::OffboardSetpoint { .. } | Self::OffboardAttitude(_) | Self::GuidedLean(_) => {
+                Some(InputStream::Offboard)
+            }
             Self::ManualControl(_) => Some(InputStream::ManualControl),
             _ => None,
         }
@@ -254,6 +282,7 @@ impl Request {
             } => [north_m, east_m, down_m, yaw_rad, speed_m_s].iter().all(|v| opt(v)),
             Self::ChangeSpeed(v) => v.is_finite(),
             Self::TurnTo { yaw_rad } => yaw_rad.is_finite(),
+            Self::GuidedLean(lean) => lean.is_finite(),
             Self::UserTakeoff { height_m } => height_m.is_finite(),
             Self::GuidedGoto { pos_w, yaw_rad } => pos_w.iter().all(|v| v.is_finite()) && opt(yaw_rad),
             Self::SetHome(p) => p.as_ref().is_none_or(|p| p.iter().all(|c| c.is_finite())),

@@ -80,7 +80,7 @@ pub use commander_params::{AutoVertical, CommanderParams, ManualParams, MissionP
 pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
 pub use flight_mode::{FlightMode, ModeRefusal};
 pub use land_detector::{LandDetectorParams, LandStage};
-pub use messages::{CommanderTick, Event, InputStream, LandedState, OrbitRequest, Outcome, Request};
+pub use messages::{CommanderTick, Event, InputStream, LandedState, Lean, OrbitRequest, Outcome, Request};
 pub use mission_run::MissionState;
 pub use navigation_checks::NavValidity;
 pub use reactions::{LossAllocation, RotorLoss};

@@ -263,3 +263,40 @@ fn a_guided_target_ends_a_guided_takeoff_at_once() {
     assert!(s.fly_until(30.0, |s| (s.x.pos_w - to).norm() < 0.05));
     assert_eq!(s.c.landed_state(), LandedState::InAir, "the take-off is over");
 }
+
+#[test]
+fn a_guided_lean_climbs_at_its_share_of_the_climb_speed_and_holds_the_height_at_half_thrust() {
+    let mut s = Script::new(CommanderParams::default());
+    assert_eq!(s.request(Request::SetMode(FlightMode::Guided)), Outcome::Accepted);
+    assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+    let lean = |climb| {
+        Request::GuidedLean(super::super::Lean {
+            roll_rad: 0.0,
+            pitch_rad: 0.0,
+            yaw_rad: 0.0,
+            climb,
+        })
+    };
+    let stream = |s: &mut Script, climb: f64, seconds: f64| {
+        for _ in 0..(seconds / super::super::script::DT_S).round() as usize {
+            assert_eq!(s.request(lean(climb)), Outcome::Accepted);
+            s.step();
+        }
+    };
+    stream(&mut s, 0.4, 3.0);
+    let up = s.c.params.auto_vertical.up_m_s;
+    assert!((s.x.vel_w.z + 0.4 * up).abs() < 1e-6, "{} at 40 % of {up}", s.x.vel_w.z);
+    assert!(s.c.in_air());
+    let z = s.x.pos_w.z;
+    stream(&mut s, 0.0, 2.0);
+    assert!(
+        (s.x.pos_w.z - z).abs() < 0.05 * up,
+        "half thrust holds the height: {} vs {z}",
+        s.x.pos_w.z
+    );
+    // Silence: the vehicle stops where it is, still in GUIDED.
+    s.fly(s.c.params.offboard_loss_s + 1.0);
+    let here = s.x.pos_w;
+    s.fly(2.0);
+    assert!((s.x.pos_w - here).norm() < 0.01 && s.c.mode() == FlightMode::Guided);
+}

@@ -7,7 +7,7 @@ use crate::guidance::{MotionLimits, SetpointLimiter};
 use crate::math::Vec3;
 
 use super::landing::{asks_climb, FlightDemand};
-use super::{FlightMode, Moment, OffboardLossAction};
+use super::{FlightMode, Lean, Moment, OffboardLossAction};
 
 /// The latest offboard target.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -16,6 +16,8 @@ pub(super) enum OffboardTarget {
     Flat(FlatSetpoint, bool),
     /// Attitude or rates with thrust.
     Attitude(AttitudeTarget),
+    /// ArduCopter's attitude with a climb rate (GUIDED).
+    Lean(Lean),
 }
 
 /// What GUIDED flies this tick ([`Offboard::guided`]).
@@ -130,6 +132,14 @@ impl Offboard {
                 self.limiter = None;
                 Some(FlightDemand::Attitude(target))
             }
+            Some(OffboardTarget::Lean(lean)) if self.alive() => {
+                self.limiter = None;
+                Some(if landed && lean.climb <= 0.0 {
+                    FlightDemand::Idle
+                } else {
+                    FlightDemand::Flat(lean_setpoint(&lean, x, motion))
+                })
+            }
             _ => None,
         }
     }
@@ -151,6 +161,28 @@ impl OffboardLossAction {
             OffboardLossAction::Hold => Some(FlightMode::Loiter),
             OffboardLossAction::Terminate | OffboardLossAction::Disarm => None,
         }
+    }
+}
+
+/// ArduCopter's lean with a climb rate as a setpoint: the tilt as the horizontal acceleration it
+/// gives at the target heading ψ (a_fwd = −g tan θ, a_right = g tan φ, turned by ψ into north and
+/// east), the vehicle's own horizontal velocity (so only that acceleration acts across), and the
+/// climb demand times the climb or descent speed of `motion` as the vertical velocity.
+fn lean_setpoint(lean: &Lean, x: &crate::control::VehicleState, motion: &MotionLimits) -> FlatSetpoint {
+    let g = crate::math::GRAVITY_M_S2;
+    let (fwd, right) = (-g * lean.pitch_rad.tan(), g * lean.roll_rad.tan());
+    let (s, c) = lean.yaw_rad.sin_cos();
+    let climb = lean.climb.clamp(-1.0, 1.0);
+    let vz = if climb >= 0.0 {
+        -climb * motion.up_m_s
+    } else {
+        -climb * motion.down_m_s
+    };
+    FlatSetpoint {
+        vel_w: Some(Vec3::new(x.vel_w.x, x.vel_w.y, vz)),
+        acc_w: Some(Vec3::new(c * fwd - s * right, s * fwd + c * right, 0.0)),
+        yaw_rad: Some(lean.yaw_rad),
+        ..Default::default()
     }
 }
 

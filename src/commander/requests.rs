@@ -44,6 +44,10 @@ impl Commander {
                 self.offboard.receive(OffboardTarget::Attitude(target));
                 Outcome::Accepted
             }
+            Request::GuidedLean(lean) => {
+                self.offboard.receive(OffboardTarget::Lean(lean));
+                Outcome::Accepted
+            }
             Request::StreamLost(stream) => {
                 match stream {
                     InputStream::Offboard => self.offboard.set_lost(),

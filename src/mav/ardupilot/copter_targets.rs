@@ -10,8 +10,8 @@ use mavlink::dialects::ardupilotmega::{
     SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
 
-use crate::commander::Request;
-use crate::control::FlatSetpoint;
+use crate::commander::{Lean, Request};
+use crate::control::{AttitudeTarget, FlatSetpoint};
 use crate::math::wrap_pi;
 use crate::mav::ingest::Action;
 use crate::mav::offboard::{decode_attitude_target, decode_global_target, decode_local_target, DecodedOffboard};
@@ -104,12 +104,27 @@ pub fn copter_global_target(m: &SET_POSITION_TARGET_GLOBAL_INT_DATA, state: &Sna
     fly(decode_global_target(&t, &state.home), state)
 }
 
-/// SET_ATTITUDE_TARGET in GUIDED, in `state`: decoded as PX4's offboard decodes it; one Copter
-/// cannot fly (a partial rate mask, a quaternion that is no rotation) stops the vehicle where it
-/// is, silently, as Copter does.
+/// SET_ATTITUDE_TARGET in GUIDED, in `state`, as Copter reads it: an attitude with its thrust
+/// read as a climb rate (0.5 holds the height, 1 climbs at `WPNAV_SPEED_UP`, 0 descends at
+/// `WPNAV_SPEED_DN`: climb = 2 (thrust − 0.5)), flown as a lean ([`Request::GuidedLean`]); rates
+/// alone as PX4's offboard flies them; one Copter cannot fly (a partial rate mask, a quaternion
+/// that is no rotation, no thrust) stops the vehicle where it is, silently, as Copter does.
 pub fn copter_attitude_target(m: &SET_ATTITUDE_TARGET_DATA, state: &Snapshot) -> Action {
     match decode_attitude_target(m) {
-        Ok(target) => Action::Request(Request::OffboardAttitude(target)),
+        Ok(AttitudeTarget {
+            q_wb: Some(q),
+            thrust_fraction,
+            ..
+        }) => {
+            let (roll_rad, pitch_rad, yaw_rad) = q.euler_angles();
+            Action::Request(Request::GuidedLean(Lean {
+                roll_rad,
+                pitch_rad,
+                yaw_rad,
+                climb: 2.0 * (thrust_fraction - 0.5),
+            }))
+        }
+        Ok(rates) => Action::Request(Request::OffboardAttitude(rates)),
         Err(_) => stop(state),
     }
 }
@@ -198,6 +213,27 @@ mod tests {
         };
         let sp = setpoint(copter_attitude_target(&partial, &state()));
         assert_eq!(sp.pos_w, Some(state().pos_w));
+    }
+
+    #[test]
+    fn an_attitude_target_is_a_lean_whose_thrust_is_a_climb_rate() {
+        let pitch_forward = crate::math::UnitQuat::from_euler_angles(0.0, -0.1, 1.0);
+        let q = pitch_forward.coords;
+        let m = SET_ATTITUDE_TARGET_DATA {
+            type_mask: mavlink::dialects::ardupilotmega::AttitudeTargetTypemask::from_bits_retain(0b111),
+            q: [q.w as f32, q.x as f32, q.y as f32, q.z as f32],
+            thrust: 0.7,
+            target_system: 1,
+            ..Default::default()
+        };
+        let Action::Request(Request::GuidedLean(lean)) = copter_attitude_target(&m, &state()) else {
+            panic!("not a lean");
+        };
+        assert!(
+            (lean.pitch_rad + 0.1).abs() < 1e-6 && (lean.yaw_rad - 1.0).abs() < 1e-6,
+            "{lean:?}"
+        );
+        assert!((lean.climb - 0.4).abs() < 1e-6, "thrust 0.7 is 40 % of the climb speed");
     }
 
     #[test]
