@@ -15,8 +15,6 @@ EXAMPLES = HERE / "tests" / "third_party" / "dronekit_examples"
 # ArduPilot SITL's default home (CMAC): the examples' absolute coordinates are near it.
 HOME = (-35.363261, 149.165230, 584.0)
 CONNECT = "udpin:127.0.0.1:14550"
-# An example still running this long after printing a traceback is stopped [s].
-RAISED_GRACE_S = 8.0
 # ArduCopter's HEARTBEAT custom_mode numbers.
 STABILIZE, AUTO, GUIDED, RTL, LAND, GUIDED_NOGPS, SMART_RTL = 0, 3, 4, 6, 9, 20, 21
 RETURNING = (RTL, LAND, SMART_RTL)

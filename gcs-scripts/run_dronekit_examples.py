@@ -13,7 +13,7 @@ commit) as published, with dronekit2 3.0.0, the maintained fork (gcs-scripts/req
 
 Each example runs as a user runs it: `python3 NAME.py --connect udpin:127.0.0.1:14550` in a scratch
 copy of its directory (so mission_import_export finds mpmission.txt and writes its export there,
-create_attribute imports my_vehicle.py). An example that raises is given RAISED_GRACE_S to exit;
+create_attribute imports my_vehicle.py). An example that raises is given example_runs.RAISED_GRACE_S to exit;
 one still running after its time-out is stopped with Ctrl-C (SIGINT to its process group). When
 the example has left the vehicle returning or landing (RTL, LAND), the runner watches the
 vehicle's HEARTBEAT on the freed port 14550, as a user watches the ground station after the
@@ -47,24 +47,21 @@ usage: run_dronekit_examples.py [EXAMPLE ...] [--speedup X] [--timeout S] [--kee
        run_dronekit_examples.py --rejudge DIR    (the runs kept in DIR judged again, nothing flown)
 """
 
-import argparse
 import json
-import os
 import pathlib
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
 import threading
 import time
 
+import example_runs as runs
 import tlog_judge as judge
 from dronekit_seen import (
     CONNECT,
     EXAMPLES,
     HOME,
-    RAISED_GRACE_S,
     RETURNING,
     Seen,
 )
@@ -136,25 +133,7 @@ def fly_inside(example, spec, log_dir, work_dir, speedup, timeout_s):
         reader = threading.Thread(target=lambda: lines.extend(iter(run.stdout.readline, "")), daemon=True)
         reader.start()
         started = time.monotonic()
-        raised_at, code = None, None
-        while code is None:
-            time.sleep(0.2)
-            if run.poll() is not None:
-                code = run.returncode
-            elif time.monotonic() - started > timeout_s:
-                code = 124
-            elif raised_at is None and any("Traceback (most recent call last)" in line for line in lines):
-                raised_at = time.monotonic()
-            elif raised_at is not None and time.monotonic() - raised_at > RAISED_GRACE_S:
-                code = "raised"
-        if run.poll() is None:
-            os.killpg(run.pid, signal.SIGINT)  # Ctrl-C: the whole foreground group
-            try:
-                run.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                os.killpg(run.pid, signal.SIGKILL)
-                run.wait()
-            lines.append(f"\n[stopped with Ctrl-C after {time.monotonic() - started:.0f} s]\n")
+        code = runs.watch(run, lines, started, timeout_s)
         reader.join(timeout=5)
         if spec.get("settle_s"):
             watched = settle(float(spec["settle_s"]) / float(speedup))
@@ -162,11 +141,7 @@ def fly_inside(example, spec, log_dir, work_dir, speedup, timeout_s):
         time.sleep(spec.get("linger_s", 0.0))
         output = "".join(lines)
     finally:
-        vehicle.send_signal(signal.SIGINT)
-        try:
-            vehicle.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            vehicle.kill()
+        runs.stop(vehicle)
     return code, output
 
 
@@ -285,40 +260,10 @@ def rejudge(kept):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("examples", nargs="*", help="example names (default: all)")
-    p.add_argument("--speedup", default="1", help="rotorpilot --speedup (default 1; an example's SPECS may override)")
-    p.add_argument("--timeout", type=float, default=300.0, help="wall seconds per example (default 300)")
-    p.add_argument("--keep", help="copy each flight's logs, work directory and output to KEEP/EXAMPLE")
-    p.add_argument("--rejudge", metavar="KEPT", help="judge the runs kept in KEPT again, flying nothing")
-    p.add_argument("--inside", help=argparse.SUPPRESS)
-    p.add_argument("--log-dir", help=argparse.SUPPRESS)
-    p.add_argument("--work-dir", help=argparse.SUPPRESS)
-    args = p.parse_args()
-    if args.inside:
-        code, output = fly_inside(
-            args.inside, SPECS.get(args.inside, {}), args.log_dir, args.work_dir, args.speedup, args.timeout
-        )
-        sys.stdout.write(f"exit {code}\n{output}")
-        return 0
-    if args.rejudge:
-        verdicts = list(rejudge(args.rejudge))
-        for verdict in verdicts:
-            print(json.dumps(verdict, ensure_ascii=False), flush=True)
-        return 1 if any(not v["ok"] for v in verdicts) else 0
+    runner = runs.Runner(specs=SPECS, default_timeout_s=300.0, fly=fly, fly_inside=fly_inside, rejudge=rejudge)
     known = sorted(d.name for d in EXAMPLES.iterdir() if (d / f"{d.name}.py").exists())
-    names = args.examples or known
-    unknown = [n for n in names if n not in known]
-    if unknown:
-        p.error(f"unknown example(s) {unknown}; known: {known}")
-    failed = 0
-    for name in names:
-        verdict = fly(name, args.speedup, args.timeout, args.keep)
-        print(json.dumps(verdict, ensure_ascii=False), flush=True)
-        failed += not verdict["ok"]
-    return 1 if failed else 0
+    return runs.main(__doc__.split("\n")[0], known, runner)
 
 
 if __name__ == "__main__":
     sys.exit(main())
-

@@ -41,20 +41,18 @@ usage: run_mavsdk_examples.py [EXAMPLE ...] [--speedup X] [--timeout S] [--keep 
        (no EXAMPLE: every example in tests/third_party/mavsdk_examples/; needs root for unshare -n)
        run_mavsdk_examples.py --rejudge DIR    (the runs kept in DIR judged again, nothing flown)
 """
-import argparse
 import json
-import os
 import pathlib
 import random
 import re
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
 import threading
 import time
 
+import example_runs as runs
 import tlog_judge as judge
 import tlog_yaw as yaw
 from rotorpilot_gcs import find_binary
@@ -75,8 +73,6 @@ from tlog_yaw import Phase
 HERE = pathlib.Path(__file__).resolve().parent
 EXAMPLES = HERE / "tests" / "third_party" / "mavsdk_examples"
 ROOT = HERE.parent
-# An example still running this long after printing a traceback is stopped [s].
-RAISED_GRACE_S = 8.0
 
 
 def binary():
@@ -293,41 +289,13 @@ def fly_inside(example, spec, log_dir, work_dir, speedup, timeout_s):
                     break
                 time.sleep(1)
         limit = spec.get("run_for") or timeout_s
-        raised_at = None
-        code = None
-        while code is None:
-            time.sleep(0.2)
-            if run.poll() is not None:
-                code = run.returncode
-            elif time.monotonic() - started > limit:
-                code = "running" if spec.get("run_for") else 124
-            elif raised_at is None and any("Traceback (most recent call last)" in line for line in lines):
-                raised_at = time.monotonic()
-            elif raised_at is not None and time.monotonic() - raised_at > RAISED_GRACE_S:
-                # mavsdk keeps the process alive after an uncaught exception: Ctrl-C, as a user would.
-                code = "raised"
-        if run.poll() is None:
-            os.killpg(run.pid, signal.SIGINT)  # Ctrl-C: the whole foreground group
-            try:
-                run.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                os.killpg(run.pid, signal.SIGKILL)
-                run.wait()
-            lines.append(f"\n[stopped with Ctrl-C after {time.monotonic() - started:.0f} s]")
+        code = runs.watch(run, lines, started, limit, over="running" if spec.get("run_for") else 124)
         reader.join(timeout=5)
         output = "".join(lines)
     finally:
         if server is not None:
-            server.send_signal(signal.SIGINT)
-            try:
-                server.wait(timeout=5)
-            except subprocess.TimeoutExpired:
-                server.kill()
-        vehicle.send_signal(signal.SIGINT)
-        try:
-            vehicle.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            vehicle.kill()
+            runs.stop(server, 5)
+        runs.stop(vehicle)
     return code, output
 
 
@@ -439,36 +407,8 @@ def rejudge(kept):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("examples", nargs="*", help="example names (default: all)")
-    p.add_argument("--speedup", default="1", help="rotorpilot --speedup (default 1)")
-    p.add_argument("--timeout", type=float, default=240.0, help="seconds per example (default 240)")
-    p.add_argument("--keep", help="copy each flight's logs and output to KEEP/EXAMPLE")
-    p.add_argument("--rejudge", metavar="KEPT", help="judge the runs kept in KEPT again, flying nothing")
-    p.add_argument("--inside", help=argparse.SUPPRESS)
-    p.add_argument("--log-dir", help=argparse.SUPPRESS)
-    p.add_argument("--work-dir", help=argparse.SUPPRESS)
-    args = p.parse_args()
-    if args.inside:
-        code, output = fly_inside(args.inside, SPECS.get(args.inside, {}), args.log_dir, args.work_dir,
-                                  args.speedup, args.timeout)
-        sys.stdout.write(f"exit {code}\n{output}")
-        return 0
-    if args.rejudge:
-        verdicts = list(rejudge(args.rejudge))
-        for verdict in verdicts:
-            print(json.dumps(verdict, ensure_ascii=False), flush=True)
-        return 1 if any(not v["ok"] for v in verdicts) else 0
-    names = args.examples or sorted(f.stem for f in EXAMPLES.glob("*.py"))
-    unknown = [n for n in names if not (EXAMPLES / f"{n}.py").exists()]
-    if unknown:
-        p.error(f"unknown example(s) {unknown}; known: {sorted(f.stem for f in EXAMPLES.glob('*.py'))}")
-    failed = 0
-    for name in names:
-        verdict = fly(name, args.speedup, args.timeout, args.keep)
-        print(json.dumps(verdict, ensure_ascii=False), flush=True)
-        failed += not verdict["ok"]
-    return 1 if failed else 0
+    runner = runs.Runner(specs=SPECS, default_timeout_s=240.0, fly=fly, fly_inside=fly_inside, rejudge=rejudge)
+    return runs.main(__doc__.split("\n")[0], sorted(f.stem for f in EXAMPLES.glob("*.py")), runner)
 
 
 if __name__ == "__main__":
