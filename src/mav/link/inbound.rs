@@ -180,9 +180,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             }
             Action::ParamRead { name, index } => self.parameters.read((link, from, header), &name, index, &self.params),
             Action::ParamSet { name, value } => self.parameters.set((link, from, header), name, value, &self.params),
-            Action::Mission { ids, step } => self
-                .plans
-                .step(now.wall_s, (link, from, ids), step, &self.snapshot.home),
+            Action::Mission { ids, step } => self.plans.step(now.wall_s, (link, from, ids), step, &self.snapshot),
             Action::SetupSigning { key, initial_timestamp } => {
                 self.keys
                     .setup((link, from), key, initial_timestamp, self.snapshot.armed)

@@ -74,8 +74,6 @@ pub(super) struct PlanService<A> {
     transfers: Vec<(LinkKind, MissionTransfer<A>)>,
     /// Whose face the protocol shows (PX4's or ArduCopter's).
     personality: Personality,
-    /// Where home is now (DO_SET_HOME moves it), geodetic: ArduCopter's item 0.
-    home_now: Home,
 }
 
 impl<A: Copy + PartialEq> PlanService<A> {
@@ -86,7 +84,6 @@ impl<A: Copy + PartialEq> PlanService<A> {
             report: MissionReport::new(personality),
             transfers: links.iter().map(|l| (*l, MissionTransfer::new(personality))).collect(),
             personality,
-            home_now: Home::default(),
         }
     }
 
@@ -102,12 +99,6 @@ impl<A: Copy + PartialEq> PlanService<A> {
     /// The vehicle's latest state (MISSION_CURRENT follows its mission).
     pub fn handle_state(&mut self, snapshot: &Snapshot) {
         self.report.handle_state(snapshot, self.plans.ids());
-        let (lat_deg, lon_deg, alt_amsl_m) = snapshot.home.to_global(&snapshot.home_w);
-        self.home_now = Home {
-            lat_deg,
-            lon_deg,
-            alt_amsl_m,
-        };
     }
 
     /// The commander's mission item `seq` was reached: the MISSION_ITEM_REACHED announcing it.
@@ -121,14 +112,16 @@ impl<A: Copy + PartialEq> PlanService<A> {
     }
 
     /// One mission-protocol step from `from` (MAVLink ids `ids`) on `link` at wall time
-    /// `wall_s` [s]; a complete upload is validated against `home` and asked of the vehicle.
+    /// `wall_s` [s], the vehicle in `state`; a complete upload is validated against its home (the
+    /// local origin) and asked of the vehicle; ArduCopter's item 0 is where home is now.
     pub fn step(
         &mut self,
         wall_s: f64,
         (link, from, ids): (LinkKind, A, Ids),
         step: MissionStep,
-        home: &Home,
+        state: &Snapshot,
     ) -> Vec<Effect<A>> {
+        let home = &state.home;
         let Some((_, transfer)) = self.transfers.iter_mut().find(|(l, _)| *l == link) else {
             return Vec::new();
         };
@@ -142,9 +135,13 @@ impl<A: Copy + PartialEq> PlanService<A> {
                 mission_type,
                 int_form,
             } => {
-                let item = self
-                    .plans
-                    .download_item(ids, mission_type, seq, int_form, &self.home_now);
+                let (lat_deg, lon_deg, alt_amsl_m) = home.to_global(&state.home_w);
+                let home_now = Home {
+                    lat_deg,
+                    lon_deg,
+                    alt_amsl_m,
+                };
+                let item = self.plans.download_item(ids, mission_type, seq, int_form, &home_now);
                 (vec![(from, item)], None)
             }
         };
@@ -307,9 +304,9 @@ mod tests {
     fn an_upload_is_asked_of_the_vehicle_and_stored_once_taken() {
         let home = Home::default();
         let mut p = PlanService::new(&[GCS], Personality::Px4);
-        let out = p.step(0.0, (GCS, 5u16, IDS), count(1), &home);
+        let out = p.step(0.0, (GCS, 5u16, IDS), count(1), &Snapshot::initial(home));
         assert!(matches!(sent(&out)[0].2, MavMessage::MISSION_REQUEST_INT(ref r) if r.seq == 0));
-        let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
+        let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &Snapshot::initial(home));
         let [Effect::Ask(Some(Pending::Mission { items, .. }), VehicleRequest::Commander(Request::SetMission(_)))] =
             &out[..]
         else {
@@ -321,7 +318,12 @@ mod tests {
         assert_eq!(result, MavMissionResult::MAV_MISSION_ACCEPTED);
         assert_eq!(p.items(MISSION).len(), 1);
         assert_ne!(id, 0, "the plan's id");
-        let out = p.step(0.2, (GCS, 5, IDS), MissionStep::RequestList(MISSION), &home);
+        let out = p.step(
+            0.2,
+            (GCS, 5, IDS),
+            MissionStep::RequestList(MISSION),
+            &Snapshot::initial(home),
+        );
         assert!(matches!(sent(&out)[0].2, MavMessage::MISSION_COUNT(ref c) if c.count == 1));
     }
 
@@ -329,8 +331,8 @@ mod tests {
     fn an_unreached_vehicle_errs_a_clear_empties_and_silence_times_out() {
         let home = Home::default();
         let mut p = PlanService::new(&[GCS], Personality::Px4);
-        p.step(0.0, (GCS, 5u16, IDS), count(1), &home);
-        let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
+        p.step(0.0, (GCS, 5u16, IDS), count(1), &Snapshot::initial(home));
+        let out = p.step(0.1, (GCS, 5, IDS), waypoint(0), &Snapshot::initial(home));
         let Some(Effect::Ask(Some(Pending::Mission { items, .. }), _)) = out.into_iter().next() else {
             panic!("asked of the vehicle");
         };
@@ -338,13 +340,18 @@ mod tests {
         assert_eq!(ack(&out).map(|a| a.0), Some(MavMissionResult::MAV_MISSION_ERROR));
         assert!(p.items(MISSION).is_empty());
 
-        let out = p.step(1.0, (GCS, 5, IDS), MissionStep::Clear(MISSION), &home);
+        let out = p.step(
+            1.0,
+            (GCS, 5, IDS),
+            MissionStep::Clear(MISSION),
+            &Snapshot::initial(home),
+        );
         assert!(
             out.iter().any(|e| matches!(e, Effect::Ask(None, _))),
             "the vehicle's plan emptied"
         );
 
-        p.step(2.0, (GCS, 5, IDS), count(2), &home);
+        p.step(2.0, (GCS, 5, IDS), count(2), &Snapshot::initial(home));
         assert!(texts(&p.tick(2.0 + PROTOCOL_TIMEOUT_S / 2.0, GCS)).is_empty());
         assert_eq!(texts(&p.tick(2.0 + PROTOCOL_TIMEOUT_S, GCS)), vec![TIMEOUT_TEXT]);
         assert!(p.tick(10.0, LinkKind::Api).is_empty(), "no such link");
@@ -355,11 +362,11 @@ mod tests {
     fn arducopter_flies_items_1_on_and_says_the_plan_was_received() {
         let home = Home::default();
         let mut p = PlanService::new(&[GCS], Personality::ArduPilot);
-        let out = p.step(0.0, (GCS, 5u16, IDS), count(3), &home);
+        let out = p.step(0.0, (GCS, 5u16, IDS), count(3), &Snapshot::initial(home));
         assert!(matches!(sent(&out)[0].2, MavMessage::MISSION_REQUEST(ref r) if r.seq == 0));
-        p.step(0.1, (GCS, 5, IDS), waypoint(0), &home);
-        p.step(0.2, (GCS, 5, IDS), waypoint(1), &home);
-        let out = p.step(0.3, (GCS, 5, IDS), waypoint(2), &home);
+        p.step(0.1, (GCS, 5, IDS), waypoint(0), &Snapshot::initial(home));
+        p.step(0.2, (GCS, 5, IDS), waypoint(1), &Snapshot::initial(home));
+        let out = p.step(0.3, (GCS, 5, IDS), waypoint(2), &Snapshot::initial(home));
         let [Effect::Ask(Some(Pending::Mission { items, .. }), VehicleRequest::Commander(Request::SetMission(m)))] =
             &out[..]
         else {
@@ -375,13 +382,13 @@ mod tests {
         );
         assert_eq!(ack(&out).map(|a| a.0), Some(MavMissionResult::MAV_MISSION_ACCEPTED));
         // A bad item is named by its uploaded seq.
-        p.step(1.0, (GCS, 5, IDS), count(2), &home);
-        p.step(1.1, (GCS, 5, IDS), waypoint(0), &home);
+        p.step(1.0, (GCS, 5, IDS), count(2), &Snapshot::initial(home));
+        p.step(1.1, (GCS, 5, IDS), waypoint(0), &Snapshot::initial(home));
         let MissionStep::Item(mut far) = waypoint(1) else {
             unreachable!()
         };
         far.x = 0;
-        let out = p.step(1.2, (GCS, 5, IDS), MissionStep::Item(far), &home);
+        let out = p.step(1.2, (GCS, 5, IDS), MissionStep::Item(far), &Snapshot::initial(home));
         assert_eq!(texts(&out), vec!["Mission stored, not flown: item 1 INVALID_PARAM5_X"]);
         let [_, Effect::Ask(Some(Pending::Mission { items, .. }), VehicleRequest::Commander(Request::SetMission(m)))] =
             &out[..]
@@ -392,8 +399,8 @@ mod tests {
         let out = p.taken(GCS, MISSION, items.clone(), true);
         assert_eq!(ack(&out).map(|a| a.0), Some(MavMissionResult::MAV_MISSION_ACCEPTED));
         // A home slot alone empties the mission.
-        p.step(2.0, (GCS, 5, IDS), count(1), &home);
-        let out = p.step(2.1, (GCS, 5, IDS), waypoint(0), &home);
+        p.step(2.0, (GCS, 5, IDS), count(1), &Snapshot::initial(home));
+        let out = p.step(2.1, (GCS, 5, IDS), waypoint(0), &Snapshot::initial(home));
         assert!(
             matches!(&out[..], [Effect::Ask(_, VehicleRequest::Commander(Request::SetMission(m)))] if m.is_empty())
         );
@@ -406,13 +413,12 @@ mod tests {
         let mut p = PlanService::<u16>::new(&[GCS], Personality::ArduPilot);
         let mut s = Snapshot::initial(origin);
         s.home_w = crate::math::Vec3::new(111.0, 0.0, -20.0);
-        p.handle_state(&s);
         let ask = MissionStep::RequestItem {
             seq: 0,
             mission_type: MISSION,
             int_form: false,
         };
-        let out = p.step(0.0, (GCS, 5, IDS), ask, &origin);
+        let out = p.step(0.0, (GCS, 5, IDS), ask, &s);
         let [Effect::To(_, _, MavMessage::MISSION_ITEM(item))] = &out[..] else {
             panic!("{out:?}");
         };
