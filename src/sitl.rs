@@ -7,22 +7,46 @@
 //! `firmware_sim`. The plant is stepped in one place only: [`crate::lockstep::Lockstep::step`].
 
 use firmware_sim::{
-    rand_chacha_seed, ChaCha8Rng, GpsFix, ParamsError, Plant, PlantParams, RigidBodyState, SensorReadings, SensorSuite,
-    StepStatus,
+    rand_chacha_seed, ChaCha8Rng, EarthField, EarthFieldError, GeoSite, GpsFix, ParamsError, Plant, PlantParams,
+    RigidBodyState, SensorReadings, SensorSuite, StepStatus,
 };
 use thiserror::Error;
 
 use crate::airframe::AirframeSource;
 use crate::control::VehicleState;
+use crate::guidance::Home;
 use crate::math::{UnitQuat, Vec3};
 use crate::nav_filter::{BaroReading, GpsReading, ImuReading, MagReading};
 use crate::params::WindParams;
 use crate::sensor_failure::SensorFailure;
 
-/// The plant refused the airframe.
+/// The plant refused the airframe, or the home.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("plant: {0}")]
-pub struct SitlError(#[from] pub ParamsError);
+pub enum SitlError {
+    /// The airframe file's plant tables.
+    #[error("plant: {0}")]
+    Params(#[from] ParamsError),
+    /// No Earth field at home: the World Magnetic Model covers heights from −1 km to 850 km.
+    #[error("plant: the magnetometer's field at home: {0}")]
+    EarthField(#[from] EarthFieldError),
+}
+
+/// `home` as the plant's place.
+fn site(home: &Home) -> GeoSite {
+    GeoSite {
+        lat_deg: home.lat_deg,
+        lon_deg: home.lon_deg,
+        alt_m: home.alt_amsl_m,
+    }
+}
+
+/// The World Magnetic Model's declination at `home` [rad] (east of true north positive), the
+/// field the plant's magnetometer reads there unless the airframe file fixes it
+/// (docs/model.md §10.5); `None` where the model gives none. What the navigation filter's
+/// geo look-up finds (docs/navigation_filter.md §10, eq. (10.5)).
+pub fn magnetic_declination_rad(home: &Home) -> Option<f64> {
+    EarthField::at(&site(home)).ok().map(|f| f.declination_rad)
+}
 
 /// Plant step flags as the flight controller sees them.
 pub type PlantStatus = StepStatus;
@@ -180,10 +204,17 @@ impl PlantTruth {
 }
 
 impl SimPlant {
-    /// Builds the plant from an airframe text with sensor noise seeded by `seed`.
+    /// Builds the plant at PX4's default home ([`Home::default`]) from an airframe text with
+    /// sensor noise seeded by `seed`.
     pub fn from_source(src: &AirframeSource, seed: u64) -> Result<Self, SitlError> {
+        Self::at_home(src, &Home::default(), seed)
+    }
+
+    /// Builds the plant at `home` (its magnetometer reads the World Magnetic Model's field
+    /// there; docs/model.md §10.5) from an airframe text with sensor noise seeded by `seed`.
+    pub fn at_home(src: &AirframeSource, home: &Home, seed: u64) -> Result<Self, SitlError> {
         let params = PlantParams::from_toml_str(&src.text, &src.origin)?;
-        let suite = SensorSuite::new(params.sensors, seed);
+        let suite = SensorSuite::new(params.sensors, &site(home), seed)?;
         let mut plant = Plant::new(params);
         plant.seed_wind(seed);
         Ok(Self {

@@ -44,6 +44,7 @@ pub use params::{ParamsError, PlantParams};
 pub use plant::{Plant, StepStatus, TruthState};
 pub use rand_chacha::ChaCha8Rng;
 pub use rigid_body::RigidBodyState;
+pub use sensors::earth_field::{EarthField, EarthFieldError, GeoSite};
 pub use sensors::{
     BaroConfig, BaroSample, GpsConfig, GpsFix, GpsSample, ImuConfig, ImuSample, MagConfig, MagSample, NoiseParams,
     SensorErrors, SensorFault, SensorReadings, SensorSample, SensorSuite, SensorSuiteConfig, SensorUnit,

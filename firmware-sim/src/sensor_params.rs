@@ -126,19 +126,24 @@ fn baro(check: &Checker, f: Option<&FileBaro>, d: BaroConfig) -> Result<BaroConf
 
 fn mag(check: &Checker, f: Option<&FileMag>, d: MagConfig) -> Result<MagConfig, ParamsError> {
     let Some(f) = f else { return Ok(d) };
-    let angle = |v: Option<f64>, default_rad: f64, field: &str, limit: f64| match v {
-        Some(_) => within(check, v, 0.0, field, -limit, limit).map(f64::to_radians),
+    // A part the file gives replaces the World Magnetic Model's at home (docs/model.md §10.5).
+    let angle = |v: Option<f64>, default_rad: Option<f64>, field: &str, limit: f64| match v {
+        Some(_) => within(check, v, 0.0, field, -limit, limit).map(|deg| Some(deg.to_radians())),
         None => Ok(default_rad),
     };
     let declination_rad = angle(f.declination, d.declination_rad, "mag.declination", 180.0)?;
     let inclination_rad = angle(f.inclination, d.inclination_rad, "mag.inclination", 90.0)?;
+    let strength_gauss = match f.strength {
+        Some(x) => Some(positive(check, x, "plant.sensors.mag.strength")?),
+        None => d.strength_gauss,
+    };
     let bias_b_gauss = match f.bias.clone() {
         Some(v) => vec3(check, v, "plant.sensors.mag.bias")?,
         None => d.bias_b_gauss,
     };
     Ok(MagConfig {
         rate_hz: within(check, f.rate, d.rate_hz, "mag.rate", f64::MIN_POSITIVE, MAX_RATE_HZ)?,
-        strength_gauss: value(check, f.strength, d.strength_gauss, "mag.strength", positive)?,
+        strength_gauss,
         declination_rad,
         inclination_rad,
         noise_gauss: value(check, f.noise, d.noise_gauss, "mag.noise", non_negative)?,
@@ -204,8 +209,12 @@ mod tests {
             (p.gps.latency_s, p.gps.satellites, p.gps.rate_hz),
             (0.2, 3, t.gps.rate_hz)
         );
-        assert_eq!(p.mag.declination_rad, (-10.0f64).to_radians());
-        assert_eq!(p.mag.inclination_rad, t.mag.inclination_rad);
+        assert_eq!(p.mag.declination_rad, Some((-10.0f64).to_radians()));
+        assert_eq!(
+            (p.mag.inclination_rad, p.mag.strength_gauss),
+            (None, None),
+            "the model's at home"
+        );
         assert_eq!(p.mag.bias_b_gauss, Vector3::new(0.01, 0.0, -0.02));
         assert_eq!(
             (p.imu.gyro_noise_rad_s, p.imu.accel_noise_m_s2),

@@ -6,7 +6,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use firmware_sim::{Plant, PlantParams, SensorFault, SensorSuite, SensorSuiteConfig, SensorUnit, TruthState};
+use firmware_sim::{GeoSite, Plant, PlantParams, SensorFault, SensorSuite, SensorSuiteConfig, SensorUnit, TruthState};
 
 struct Counting;
 
@@ -68,7 +68,7 @@ fn reading_the_suite_never_allocates() {
         SensorFault::INTERMITTENT,
     ];
     for config in [SensorSuiteConfig::typical(), SensorSuiteConfig::ideal()] {
-        let mut suite = SensorSuite::new(config, 1);
+        let mut suite = SensorSuite::new(config, &GeoSite::PX4_DEFAULT_HOME, 1).unwrap();
         let mut delivered = 0usize;
         let n = allocations_during(|| {
             for (phase, fault) in faults.iter().enumerate() {

@@ -115,7 +115,7 @@ impl FlightController {
             params: Arc::new(ParamTable::new(&settings)),
             motors,
             motor_params: settings.motors,
-            nav: StateSource::default(),
+            nav: StateSource::at(&home),
             home,
             dt_s,
             believed_mass_kg: airframe.mass_kg,

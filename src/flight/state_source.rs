@@ -5,6 +5,7 @@
 use crate::commander::NavValidity;
 use crate::control::low_pass::LowPass3;
 use crate::control::VehicleState;
+use crate::guidance::Home;
 use crate::math::Mat3;
 use crate::nav_filter::{
     BaroReading, GpsReading, HeightSource, MagReading, NavFilter, NavParams, NavParamsError, NavStatus,
@@ -80,14 +81,24 @@ struct Announced {
     height: Option<HeightSource>,
 }
 
-/// A navigator with PX4's default filter settings.
+/// A navigator with PX4's default filter settings at PX4's default home, where the plant is by
+/// default.
 impl Default for StateSource {
     fn default() -> Self {
-        Self::with_filter(NavFilter::default())
+        Self::at(&Home::default())
     }
 }
 
 impl StateSource {
+    /// A navigator with PX4's default filter settings at `home`: the filter knows the World
+    /// Magnetic Model's declination there, as PX4's looks it up at its GNSS origin
+    /// (docs/navigation_filter.md §10, eq. (10.5)).
+    pub fn at(home: &Home) -> Self {
+        let mut filter = NavFilter::default();
+        filter.set_geo_declination(crate::sitl::magnetic_declination_rad(home));
+        Self::with_filter(filter)
+    }
+
     fn with_filter(filter: NavFilter) -> Self {
         Self {
             filter,
@@ -116,9 +127,16 @@ impl StateSource {
         self.status = Some(self.filter.status());
     }
 
-    /// A navigator whose filter, when the sensor suite is read, has `params`.
+    /// A navigator whose filter, when the sensor suite is read, has `params` (and no World
+    /// Magnetic Model declination: `EKF2_MAG_DECL` is the declination).
     pub fn new(params: NavParams) -> Result<Self, NavParamsError> {
         Ok(Self::with_filter(NavFilter::new(params)?))
+    }
+
+    /// The declination the filter's magnetometer heading uses [rad]
+    /// ([`NavFilter::declination_rad`]).
+    pub fn declination_rad(&self) -> f64 {
+        self.filter.declination_rad()
     }
 
     /// The filter's settings.

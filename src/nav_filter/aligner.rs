@@ -125,18 +125,19 @@ pub(super) struct AlignmentOutcome {
 }
 
 impl Alignment {
-    /// Ends the alignment: attitude from the window's means, gyro bias from the mean rate, the
-    /// accelerometer bias along gravity from the mean specific force's magnitude, state at the
-    /// origin and at rest, initial covariance (for `active_height`), barometric altitude of the
-    /// origin (docs/navigation_filter.md §11, eqs. (11.1)–(11.3), (11.6)).
+    /// Ends the alignment: attitude from the window's means (the yaw with declination `decl`
+    /// [rad]), gyro bias from the mean rate, the accelerometer bias along gravity from the mean
+    /// specific force's magnitude, state at the origin and at rest, initial covariance (for
+    /// `active_height`), barometric altitude of the origin
+    /// (docs/navigation_filter.md §11, eqs. (11.1)–(11.3), (11.6)).
     pub fn finish(
         &mut self,
         core: &mut ErrorStateFilter,
         params: &NavParams,
+        decl: f64,
         active_height: HeightSource,
     ) -> AlignmentOutcome {
         let (roll, pitch) = tilt_from_accel(&self.aligner.mean_accel_b());
-        let decl = params.mag_declination_rad;
         let mean_mag = self.aligner.mean_mag_b();
         let yaw = mean_mag.and_then(|m| yaw_from_mag(roll, pitch, &m, decl));
         let q_wb = UnitQuat::from_euler_angles(roll, pitch, yaw.unwrap_or(0.0));
@@ -214,7 +215,7 @@ mod tests {
         a.aligner.add_baro(100.0);
         a.aligner.add_baro(102.0);
         let mut core = ErrorStateFilter::new();
-        let out = a.finish(&mut core, &params, HeightSource::Gps);
+        let out = a.finish(&mut core, &params, params.mag_declination_rad, HeightSource::Gps);
         assert!(a.aligned);
         assert_eq!(out.baro_origin_m, Some(101.0));
         assert!(!out.yaw_aligned && out.tan_inclination.is_none(), "no magnetometer");

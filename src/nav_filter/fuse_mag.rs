@@ -73,12 +73,14 @@ impl MagHeading {
     /// Fuses one magnetometer sample of an aligned filter as a heading
     /// (docs/navigation_filter.md §10, eqs. (10.1)–(10.4)); the first sample after an
     /// alignment without one sets the yaw (docs/navigation_filter.md §11, eq. (11.4)).
-    /// `active_height` is the height source the covariance prediction works with.
+    /// `decl` is the declination in use [rad] (docs/navigation_filter.md §10, eq. (10.5)),
+    /// `active_height` the height source the covariance prediction works with.
     pub fn fuse(
         &mut self,
         mag: &MagReading,
         core: &mut ErrorStateFilter,
         params: &NavParams,
+        decl: f64,
         active_height: HeightSource,
         report: &mut FilterReport,
     ) -> Fusion {
@@ -89,7 +91,7 @@ impl MagHeading {
             self.tan_inclination = tan_inclination(&core.x.q_wb, &mag.field_b);
         }
         let (true, Some(tan_incl)) = (self.yaw_aligned, self.tan_inclination) else {
-            return if self.reset_yaw(&mag.field_b, core, params, report) {
+            return if self.reset_yaw(&mag.field_b, core, params, decl, report) {
                 Fusion {
                     outcome: FusionOutcome::Reset,
                     test_ratio: 0.0,
@@ -101,7 +103,6 @@ impl MagHeading {
         let Some(past) = core.past(mag.t_s - params.mag_delay_s) else {
             return Fusion::skipped(SkipReason::Stale);
         };
-        let decl = params.mag_declination_rad;
         let Some(innovation) = heading_innovation(&past.q_wb, &mag.field_b, decl) else {
             return Fusion::skipped(SkipReason::Geometry);
         };
@@ -116,19 +117,20 @@ impl MagHeading {
         )
     }
 
-    /// Sets the yaw from one magnetometer sample `field_b` [gauss], keeping roll and pitch; the
-    /// attitude rows of P turn with the yaw change, the yaw row restarts as at alignment and a
-    /// yaw reset is counted (docs/navigation_filter.md §11, eqs. (11.4)–(11.5)). False when the
-    /// field gives no heading.
+    /// Sets the yaw from one magnetometer sample `field_b` [gauss] with declination `decl` [rad],
+    /// keeping roll and pitch; the attitude rows of P turn with the yaw change, the yaw row
+    /// restarts as at alignment and a yaw reset is counted
+    /// (docs/navigation_filter.md §11, eqs. (11.4)–(11.5)). False when the field gives no heading.
     pub fn reset_yaw(
         &mut self,
         field_b: &Vec3,
         core: &mut ErrorStateFilter,
         params: &NavParams,
+        decl: f64,
         report: &mut FilterReport,
     ) -> bool {
         let (roll, pitch, yaw) = core.x.q_wb.euler_angles();
-        let Some(new_yaw) = yaw_from_mag(roll, pitch, field_b, params.mag_declination_rad) else {
+        let Some(new_yaw) = yaw_from_mag(roll, pitch, field_b, decl) else {
             return false;
         };
         let Some(tan_incl) = self.tan_inclination.or_else(|| tan_inclination(&core.x.q_wb, field_b)) else {
@@ -137,10 +139,7 @@ impl MagHeading {
         core.turn_yaw(wrap_pi(new_yaw - yaw), params);
         report.resets.yaw = report.resets.yaw.saturating_add(1);
         self.tan_inclination = Some(tan_incl);
-        core.yaw_covariance_from_heading(
-            &heading_jacobian(params.mag_declination_rad, tan_incl),
-            params.heading_noise_rad,
-        );
+        core.yaw_covariance_from_heading(&heading_jacobian(decl, tan_incl), params.heading_noise_rad);
         self.yaw_aligned = true;
         true
     }
@@ -237,7 +236,7 @@ mod tests {
         let p =
             crate::nav_filter::alignment::initial_covariance(f.params(), HeightSource::Gps, &UnitQuat::identity(), 1.0);
         f.core.restart(crate::nav_filter::state::Nominal::default(), p);
-        let decl = f.params().mag_declination_rad;
+        let decl = f.declination_rad();
         let field_w = Vec3::new(0.21 * decl.cos(), 0.21 * decl.sin(), 0.43);
         let q_true = UnitQuat::from_euler_angles(0.0, 0.0, 0.1);
         let fusion = f.fuse_mag(&MagReading {
@@ -269,13 +268,13 @@ mod tests {
             field_b: q_true.inverse() * field_w,
         };
         assert_eq!(MagHeading::unusable(&reading, &params), None);
-        let f = mag.fuse(&reading, &mut core, &params, HeightSource::Gps, &mut report);
+        let f = mag.fuse(&reading, &mut core, &params, decl, HeightSource::Gps, &mut report);
         assert_eq!(f.outcome, FusionOutcome::Reset);
         assert!(mag.yaw_aligned && mag.tan_inclination.is_some());
         assert_eq!(report.resets.yaw, 1);
         assert!((core.x.q_wb.euler_angles().2 - 0.7).abs() < 1e-9);
         // The next sample is fused as a heading.
-        let f = mag.fuse(&reading, &mut core, &params, HeightSource::Gps, &mut report);
+        let f = mag.fuse(&reading, &mut core, &params, decl, HeightSource::Gps, &mut report);
         assert_eq!(f.outcome, FusionOutcome::Fused);
         assert!(mag.lost(10.0, 1.0), "fusing is the caller's to record");
         mag.track.record(0.0, f.outcome);

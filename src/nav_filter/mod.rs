@@ -67,7 +67,8 @@ pub use aiding::DEAD_RECKONING_AFTER_S;
 pub use estimate::NavEstimate;
 pub use fusion::{Fusion, FusionOutcome, GpsFusion, SkipReason};
 pub use nav_params::{
-    HeightSource, NavParams, NavParamsError, GPS_CTRL_FUSED, IMU_CTRL_GRAVITY, MAG_TYPE_NONE, MAX_DELAY_S,
+    HeightSource, NavParams, NavParamsError, DECL_TYPE_USE_GEO, GPS_CTRL_FUSED, IMU_CTRL_GRAVITY, MAG_TYPE_NONE,
+    MAX_DELAY_S,
 };
 pub use output::NavOutput;
 pub use preflight::PreflightFailure;
@@ -95,6 +96,8 @@ use reporting::FilterReport;
 #[derive(Debug, Clone)]
 pub struct NavFilter {
     params: NavParams,
+    /// The World Magnetic Model's declination at home [rad], once known (PX4's geo look-up).
+    geo_declination_rad: Option<f64>,
     /// Nominal state, covariance, state history, output lag.
     core: ErrorStateFilter,
     /// The alignment at rest (docs/navigation_filter.md §11).
@@ -136,6 +139,7 @@ impl NavFilter {
     fn unchecked(params: NavParams) -> Self {
         Self {
             params,
+            geo_declination_rad: None,
             core: ErrorStateFilter::new(),
             alignment: Alignment::default(),
             gnss: GnssAid::default(),
@@ -168,6 +172,22 @@ impl NavFilter {
     /// The parameters in use.
     pub fn params(&self) -> &NavParams {
         &self.params
+    }
+
+    /// Gives the World Magnetic Model's declination at home `declination_rad` [rad] (`None`:
+    /// the model gives none there), as PX4's filter looks it up at its GNSS origin.
+    pub fn set_geo_declination(&mut self, declination_rad: Option<f64>) {
+        self.geo_declination_rad = declination_rad;
+    }
+
+    /// The declination the magnetometer's heading uses [rad]
+    /// (docs/navigation_filter.md §10, eq. (10.5)): the World Magnetic Model's at home when `EKF2_DECL_TYPE` bit 0 asks for it and
+    /// the model gives one, else `EKF2_MAG_DECL`, as PX4's `Ekf::getMagDeclination`.
+    pub fn declination_rad(&self) -> f64 {
+        match self.geo_declination_rad {
+            Some(d) if self.params.decl_type & DECL_TYPE_USE_GEO != 0 => d,
+            _ => self.params.mag_declination_rad,
+        }
     }
 
     /// The current navigation solution (docs/navigation_filter.md §1, eqs. (1.1)–(1.2)).

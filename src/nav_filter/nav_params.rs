@@ -76,10 +76,14 @@ pub struct NavParams {
     pub heading_noise_rad: f64,
     /// Magnetic heading innovation gate [SD] (`EKF2_MAG_GATE` 3).
     pub mag_gate_sd: f64,
-    /// Magnetic declination, east of true north positive [rad] (`EKF2_MAG_DECL`): 3.27°, the
-    /// value at PX4's default home (PX4 looks it up in its World Magnetic Model table at the
-    /// home position; the simulated field at the default home has this declination).
+    /// Magnetic declination, east of true north positive [rad] (`EKF2_MAG_DECL` 0): used when
+    /// `decl_type` does not ask for the World Magnetic Model's, or the model gives none
+    /// (docs/navigation_filter.md §10, eq. (10.5)).
     pub mag_declination_rad: f64,
+    /// Declination handling (`EKF2_DECL_TYPE` 3, a bitmask): bit 0 takes the World Magnetic
+    /// Model's declination at home instead of `mag_declination_rad`; bit 1 (PX4 saves the
+    /// declination to `EKF2_MAG_DECL` at disarm) is accepted and not acted on.
+    pub decl_type: u8,
     /// Height reference (`EKF2_HGT_REF`, GNSS).
     pub height_ref: HeightSource,
     /// Time without a fused height sample after which the active height source is replaced
@@ -117,6 +121,8 @@ pub struct NavParams {
 pub const IMU_CTRL_GRAVITY: u8 = 1 << 2;
 /// `EKF2_GPS_CTRL` bits of the parts rotorpilot fuses: horizontal position, height, velocity.
 pub const GPS_CTRL_FUSED: u8 = 0b111;
+/// `EKF2_DECL_TYPE` bit taking the declination from the World Magnetic Model at home.
+pub const DECL_TYPE_USE_GEO: u8 = 1;
 /// `EKF2_MAG_TYPE` value for "no magnetometer fusion".
 pub const MAG_TYPE_NONE: u8 = 5;
 
@@ -146,7 +152,8 @@ impl Default for NavParams {
             mag_delay_s: 0.0,
             heading_noise_rad: 0.3,
             mag_gate_sd: 3.0,
-            mag_declination_rad: 3.27_f64.to_radians(),
+            mag_declination_rad: 0.0,
+            decl_type: 3,
             height_ref: HeightSource::Gps,
             height_timeout_s: 5.0,
             noaid_timeout_s: 5.0,
@@ -187,7 +194,7 @@ impl NavParams {
     /// Checks every field against its range (docs/navigation_filter.md §4, §7).
     pub fn validate(&self) -> Result<(), NavParamsError> {
         let big = 1e6;
-        let checks: [(&'static str, f64, f64, f64); 34] = [
+        let checks: [(&'static str, f64, f64, f64); 35] = [
             ("predict_period_s", self.predict_period_s, 1e-3, 0.02),
             ("accel_noise_m_s2", self.accel_noise_m_s2, 1e-6, 10.0),
             ("gyro_noise_rad_s", self.gyro_noise_rad_s, 1e-7, 1.0),
@@ -227,6 +234,7 @@ impl NavParams {
             ("gravity_noise_g", self.gravity_noise_g, 0.1, 10.0),
             ("gps_ctrl", f64::from(self.gps_ctrl), 0.0, 15.0),
             ("mag_type", f64::from(self.mag_type), 0.0, 6.0),
+            ("decl_type", f64::from(self.decl_type), 0.0, 3.0),
         ];
         for (name, value, min, max) in checks {
             if !(value.is_finite() && value >= min && value <= max) {
@@ -255,7 +263,11 @@ mod tests {
             (p.gps_delay_s, p.noaid_timeout_s, p.predict_period_s),
             (0.110, 5.0, 0.01)
         );
-        assert!((p.mag_declination_rad.to_degrees() - 3.27).abs() < 1e-12);
+        assert_eq!(
+            (p.mag_declination_rad, p.decl_type),
+            (0.0, 3),
+            "the model's declination by default"
+        );
     }
 
     #[test]

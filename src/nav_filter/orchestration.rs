@@ -50,7 +50,10 @@ impl NavFilter {
 
     /// Ends the alignment and hands what it found to the aids (docs/navigation_filter.md §11).
     fn finish_alignment(&mut self) {
-        let found = self.alignment.finish(&mut self.core, &self.params, self.height.active);
+        let decl = self.declination_rad();
+        let found = self
+            .alignment
+            .finish(&mut self.core, &self.params, decl, self.height.active);
         self.mag.yaw_aligned = found.yaw_aligned;
         self.mag.tan_inclination = found.tan_inclination;
         self.baro.origin_m = found.baro_origin_m;
@@ -183,8 +186,10 @@ impl NavFilter {
             self.alignment.aligner.add_mag(&mag.field_b);
             Fusion::skipped(SkipReason::NotAligned)
         } else {
+            let decl = self.declination_rad();
+            let height = self.height.active;
             self.mag
-                .fuse(mag, &mut self.core, &self.params, self.height.active, &mut self.report)
+                .fuse(mag, &mut self.core, &self.params, decl, height, &mut self.report)
         };
         self.mag.track.record(self.core.t_s, f.outcome);
         f

@@ -67,7 +67,7 @@ impl Vehicle {
         if sensors == SensorModel::Suite {
             controller.expect_sensor_suite();
         }
-        let plant = SimPlant::from_source(src, seed)?.with_sensor_model(sensors);
+        let plant = SimPlant::at_home(src, &home, seed)?.with_sensor_model(sensors);
         for w in plant.warnings() {
             tracing::warn!("{w}");
         }

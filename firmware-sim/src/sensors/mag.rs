@@ -1,9 +1,9 @@
 //! The magnetometer: a constant Earth field rotated into body FRD, with white noise and a
 //! constant hard-iron bias (docs/model.md §10.5, eqs. (10.12)–(10.14)).
 //!
-//! The field is fixed by its strength, declination D (east of true north) and inclination I
-//! (below the horizontal); the defaults are PX4's World Magnetic Model table at PX4's default home
-//! near Zurich (47.397742° N, 8.545594° E).
+//! The field is the World Magnetic Model's at the vehicle's home ([`super::earth_field`];
+//! docs/model.md §10.5, eq. (10.19)), fixed for the run; an airframe file may fix its strength, declination D (east of
+//! true north) or inclination I (below the horizontal) instead.
 //!
 //! Faults (docs/model.md §10.6): `Wrong` adds 0.3 G on every axis, as a magnet or a current-
 //! carrying wire next to the compass would; `Garbage` draws every axis uniformly over ±4 G
@@ -12,6 +12,7 @@
 use nalgebra::Vector3;
 use rand_chacha::ChaCha8Rng;
 
+use super::earth_field::{EarthField, EarthFieldError, GeoSite};
 use super::fault_layer::{FaultCtx, Reading};
 use super::gauss::{gaussian3, uniform3};
 use super::schedule::RateSchedule;
@@ -27,12 +28,12 @@ pub const MAG_FULL_SCALE_GAUSS: f64 = 4.0;
 pub struct MagConfig {
     /// Sample rate [Hz].
     pub rate_hz: f64,
-    /// Earth field strength F [gauss].
-    pub strength_gauss: f64,
-    /// Declination D, positive east of true north [rad].
-    pub declination_rad: f64,
-    /// Inclination I, positive below the horizontal [rad].
-    pub inclination_rad: f64,
+    /// Earth field strength F [gauss]; `None`: the World Magnetic Model's at home.
+    pub strength_gauss: Option<f64>,
+    /// Declination D, positive east of true north [rad]; `None`: the model's at home.
+    pub declination_rad: Option<f64>,
+    /// Inclination I, positive below the horizontal [rad]; `None`: the model's at home.
+    pub inclination_rad: Option<f64>,
     /// White noise, standard deviation per axis [gauss].
     pub noise_gauss: f64,
     /// Constant hard-iron bias in body FRD [gauss].
@@ -40,16 +41,16 @@ pub struct MagConfig {
 }
 
 impl MagConfig {
-    /// 50 Hz at PX4's default home: F = 0.482 G, D = 3.27°, I = 63.14°, bilinear interpolation
-    /// of the WMM-2020 grid that PX4 ships (epoch 2023.6). Noise 0.02 G per axis, PX4 SITL's
-    /// horizontal figure (EKF2_MAG_NOISE = 0.05 G is the estimator's cautious one); no hard-iron
-    /// bias, as PX4 SITL by default (a calibrated compass).
+    /// 50 Hz in the World Magnetic Model's field at home (at PX4's default home F = 0.483 G,
+    /// D = 3.42°, I = 63.50°). Noise 0.02 G per axis, PX4 SITL's horizontal figure
+    /// (EKF2_MAG_NOISE = 0.05 G is the estimator's cautious one); no hard-iron bias, as PX4 SITL
+    /// by default (a calibrated compass).
     pub fn typical() -> Self {
         Self {
             rate_hz: 50.0,
-            strength_gauss: 0.482,
-            declination_rad: 3.27f64.to_radians(),
-            inclination_rad: 63.14f64.to_radians(),
+            strength_gauss: None,
+            declination_rad: None,
+            inclination_rad: None,
             noise_gauss: 0.02,
             bias_b_gauss: Vector3::zeros(),
         }
@@ -64,11 +65,23 @@ impl MagConfig {
         }
     }
 
-    /// The Earth field in world NED [gauss] (docs/model.md §10.5, eq. (10.12)).
-    pub fn earth_field_w(&self) -> Vector3<f64> {
-        let (si, ci) = self.inclination_rad.sin_cos();
-        let (sd, cd) = self.declination_rad.sin_cos();
-        Vector3::new(ci * cd, ci * sd, si) * self.strength_gauss
+    /// The Earth field this magnetometer reads at `home`: the World Magnetic Model's there
+    /// (docs/model.md §10.5, eq. (10.19)), with the parts this configuration fixes in place of the
+    /// model's (no look-up when it fixes all three).
+    pub fn field_at(&self, home: &GeoSite) -> Result<EarthField, EarthFieldError> {
+        let model = match (self.strength_gauss, self.declination_rad, self.inclination_rad) {
+            (Some(strength_gauss), Some(declination_rad), Some(inclination_rad)) => EarthField {
+                strength_gauss,
+                declination_rad,
+                inclination_rad,
+            },
+            _ => EarthField::at(home)?,
+        };
+        Ok(EarthField {
+            strength_gauss: self.strength_gauss.unwrap_or(model.strength_gauss),
+            declination_rad: self.declination_rad.unwrap_or(model.declination_rad),
+            inclination_rad: self.inclination_rad.unwrap_or(model.inclination_rad),
+        })
     }
 }
 
@@ -122,11 +135,11 @@ pub(crate) struct MagModel {
 }
 
 impl MagModel {
-    /// A magnetometer in the configured field.
-    pub(crate) fn new(config: MagConfig, rng: ChaCha8Rng) -> Self {
+    /// A magnetometer in the Earth field `field`.
+    pub(crate) fn new(config: MagConfig, field: &EarthField, rng: ChaCha8Rng) -> Self {
         Self {
             config,
-            field_w: config.earth_field_w(),
+            field_w: field.field_w(),
             rng,
             schedule: RateSchedule::new(config.rate_hz),
         }
@@ -155,32 +168,68 @@ mod tests {
     use crate::sensors::test_support::{tick_s, truth_at, vec_stats};
     use nalgebra::UnitQuaternion;
 
+    const HOME: GeoSite = GeoSite::PX4_DEFAULT_HOME;
+
     #[test]
-    fn field_has_the_configured_strength_declination_and_inclination() {
-        let c = MagConfig::typical();
-        let m = c.earth_field_w();
-        assert!((m.norm() - 0.482).abs() < 1e-12);
-        // docs/model.md §10.5, eq. (10.14).
-        assert!((m.y.atan2(m.x) - 3.27f64.to_radians()).abs() < 1e-12);
-        assert!((m.z.atan2(m.xy().norm()) - 63.14f64.to_radians()).abs() < 1e-12);
-        assert!(m.z > 0.0, "points down in the northern hemisphere");
+    fn field_is_the_models_at_home_unless_fixed() {
+        let model = EarthField::at(&HOME).unwrap();
+        assert_eq!(MagConfig::typical().field_at(&HOME).unwrap(), model);
+        let cmac = GeoSite {
+            lat_deg: -35.363261,
+            lon_deg: 149.165230,
+            alt_m: 584.0,
+        };
+        let down_under = MagConfig::typical().field_at(&cmac).unwrap();
+        assert!(down_under.field_w().z < 0.0, "points up in the southern hemisphere");
+        // docs/model.md §10.5, eq. (10.14): one part fixed, the others the model's.
+        let c = MagConfig {
+            declination_rad: Some(-0.2),
+            ..MagConfig::typical()
+        };
+        let f = c.field_at(&HOME).unwrap();
+        assert_eq!(f.declination_rad, -0.2);
+        assert_eq!(
+            (f.strength_gauss, f.inclination_rad),
+            (model.strength_gauss, model.inclination_rad)
+        );
+        // All three fixed: no look-up, so no place is needed.
+        let fixed = MagConfig {
+            strength_gauss: Some(0.5),
+            declination_rad: Some(0.1),
+            inclination_rad: Some(1.0),
+            ..MagConfig::typical()
+        };
+        let nowhere = GeoSite {
+            lat_deg: f64::NAN,
+            ..HOME
+        };
+        assert_eq!(
+            fixed.field_at(&nowhere),
+            Ok(EarthField {
+                strength_gauss: 0.5,
+                declination_rad: 0.1,
+                inclination_rad: 1.0
+            })
+        );
+        assert!(MagConfig::typical().field_at(&nowhere).is_err());
     }
 
     #[test]
     fn ideal_magnetometer_reads_the_field_in_body_axes_at_fifty_hertz() {
         let c = MagConfig::ideal();
-        let mut mag = MagModel::new(c, seeded_stream(1, 5));
+        let field = c.field_at(&HOME).unwrap();
+        let mut mag = MagModel::new(c, &field, seeded_stream(1, 5));
         let yaw = 30f64.to_radians();
         let mut n = 0;
         for i in 0..10_000 {
             let mut truth = truth_at(tick_s(i));
             truth.body.q_wb = UnitQuaternion::from_euler_angles(0.0, 0.0, yaw);
             if let Some(s) = mag.read(&truth) {
-                assert_eq!(s.field_b, truth.body.q_wb.inverse_transform_vector(&c.earth_field_w()));
+                assert_eq!(s.field_b, truth.body.q_wb.inverse_transform_vector(&field.field_w()));
                 // Heading from the level body field: ψ = D − atan2(m_y, m_x).
-                let heading = c.declination_rad - s.field_b.y.atan2(s.field_b.x);
+                let heading = field.declination_rad - s.field_b.y.atan2(s.field_b.x);
                 assert!((heading - yaw).abs() < 1e-12);
-                assert!((s.field_b.norm() - c.strength_gauss).abs() < 1e-12);
+                assert!((s.field_b.norm() - field.strength_gauss).abs() < 1e-12);
                 n += 1;
             }
         }
@@ -195,8 +244,9 @@ mod tests {
             bias_b_gauss: bias,
             ..MagConfig::ideal()
         };
-        let mut mag = MagModel::new(config, seeded_stream(3, 5));
-        let field_w = config.earth_field_w();
+        let field = config.field_at(&HOME).unwrap();
+        let mut mag = MagModel::new(config, &field, seeded_stream(3, 5));
+        let field_w = field.field_w();
         let errors: Vec<Vector3<f64>> = (0..30_000)
             .map(|k| mag.read(&truth_at(k as f64 / 50.0)).unwrap().field_b - field_w - bias)
             .collect();

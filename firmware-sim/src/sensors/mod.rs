@@ -12,6 +12,8 @@
 //!
 //! - `state.rs`: the state sensor.
 //! - `gauss.rs`: Box–Muller normals and uniforms from ChaCha8 streams, shared by every model.
+//! - [`earth_field`]: the World Magnetic Model's field at a place ([`earth_field::EarthField`]),
+//!   the field the magnetometer reads.
 //! - [`imu`], [`gps`], [`baro`], [`mag`]: one model per sensor with its configuration, sample
 //!   type and the meaning of its `Wrong` and `Garbage` faults.
 //! - [`fault`]: [`SensorUnit`], [`SensorFault`]; `fault_layer.rs` applies a fault to a model's
@@ -20,6 +22,7 @@
 //! - `ring.rs`, `schedule.rs`: a fixed ring buffer and the k / rate sampling grid.
 
 pub mod baro;
+pub mod earth_field;
 pub mod fault;
 mod fault_layer;
 pub(crate) mod gauss;

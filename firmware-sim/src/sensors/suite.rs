@@ -10,7 +10,8 @@
 //! ```
 //! use firmware_sim::{Plant, PlantParams, SensorSuite, SensorFault, SensorUnit, DEFAULT_DT_S};
 //! let params = PlantParams::from_toml_str(include_str!("../../../airframes/quad_x.toml"), "quad_x").unwrap();
-//! let mut sensors = SensorSuite::new(params.sensors, 42);
+//! let home = firmware_sim::GeoSite::PX4_DEFAULT_HOME;
+//! let mut sensors = SensorSuite::new(params.sensors, &home, 42).unwrap();
 //! let plant = Plant::new(params);
 //! sensors.set_fault(SensorUnit::Gps, SensorFault::Off);
 //! let readings = sensors.read(&plant.truth());
@@ -18,6 +19,7 @@
 //! ```
 
 use super::baro::{BaroConfig, BaroModel, BaroSample};
+use super::earth_field::{EarthFieldError, GeoSite};
 use super::fault::{SensorFault, SensorUnit};
 use super::fault_layer::FaultLayer;
 use super::gauss::seeded_stream;
@@ -120,12 +122,15 @@ pub struct SensorSuite {
 }
 
 impl SensorSuite {
-    /// Healthy sensors drawing from ChaCha8 streams of `seed`: turn-on biases and the GPS's
-    /// initial wandering error are drawn here.
-    pub fn new(config: SensorSuiteConfig, seed: u64) -> Self {
+    /// Healthy sensors at `home` (the magnetometer reads the Earth field there,
+    /// [`super::MagConfig::field_at`]) drawing from ChaCha8 streams of `seed`: turn-on biases and
+    /// the GPS's initial wandering error are drawn here. Fails when the World Magnetic Model
+    /// cannot give the field at `home`.
+    pub fn new(config: SensorSuiteConfig, home: &GeoSite, seed: u64) -> Result<Self, EarthFieldError> {
+        let mag_field = config.mag.field_at(home)?;
         let fault_rng = |unit: SensorUnit| seeded_stream(seed, STREAM_FAULT_BASE + u64::from(unit.failure_unit()));
         let imu_rate_hz = 1.0 / DEFAULT_DT_S;
-        Self {
+        Ok(Self {
             config,
             imu: ImuModel::new(
                 config.imu,
@@ -134,7 +139,7 @@ impl SensorSuite {
             ),
             gps: GpsModel::new(config.gps, seeded_stream(seed, STREAM_GPS)),
             baro: BaroModel::new(config.baro, seeded_stream(seed, STREAM_BARO)),
-            mag: MagModel::new(config.mag, seeded_stream(seed, STREAM_MAG)),
+            mag: MagModel::new(config.mag, &mag_field, seeded_stream(seed, STREAM_MAG)),
             gyro_fault: FaultLayer::new(
                 SensorUnit::Gyro,
                 imu_rate_hz,
@@ -165,7 +170,7 @@ impl SensorSuite {
                 fault_rng(SensorUnit::Mag),
                 MagSample::ZERO,
             ),
-        }
+        })
     }
 
     /// The readings of this plant tick; call once per tick, with time increasing. The IMU samples

@@ -27,15 +27,17 @@ fn run(suite: &mut SensorSuite, range: std::ops::Range<u64>) -> Vec<SensorReadin
     range.map(|i| suite.read(&flying(i))).collect()
 }
 
+const HOME: GeoSite = GeoSite::PX4_DEFAULT_HOME;
+
 fn typical(seed: u64) -> SensorSuite {
-    SensorSuite::new(SensorSuiteConfig::typical(), seed)
+    SensorSuite::new(SensorSuiteConfig::typical(), &HOME, seed).unwrap()
 }
 
 #[test]
 fn ideal_suite_reads_exact_truth_derived_values_at_the_configured_rates() {
     let config = SensorSuiteConfig::ideal();
-    let mut suite = SensorSuite::new(config, 3);
-    let field_w = config.mag.earth_field_w();
+    let mut suite = SensorSuite::new(config, &HOME, 3).unwrap();
+    let field_w = config.mag.field_at(&HOME).unwrap().field_w();
     let mut counts = [0usize; 4];
     for i in 0..10_000 {
         let truth = flying(i);

@@ -1,7 +1,7 @@
 //! Convergence from the alignment, tracking with ideal sensors, and the benefit of fusing
 //! GNSS at its time of validity (docs/navigation_filter.md §7, §11, §15).
 
-use super::truth::{Motion, SimulatedErrors, Truth};
+use super::truth::{Motion, SimulatedErrors, Truth, DECLINATION_RAD};
 use super::{errors, run, Faults};
 use crate::math::Vec3;
 use crate::nav_filter::{NavFilter, NavParams, SourceHealth};
@@ -57,8 +57,10 @@ fn converges_from_alignment_with_biases_and_noise() {
 #[test]
 fn converges_with_px4_default_tuning() {
     let e = SimulatedErrors::realistic();
+    // The declination PX4 would look up where the simulated field is.
     let params = NavParams {
         baro_noise_m: 1.0,
+        mag_declination_rad: DECLINATION_RAD,
         ..NavParams::default()
     };
     let w = worst_after(params, e, Motion::curves(), 2, 60.0, 120.0);

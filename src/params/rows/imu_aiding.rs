@@ -1,6 +1,6 @@
 //! Which aids the navigation filter uses (PX4's `EKF2_IMU_CTRL`, `EKF2_GRAV_NOISE`,
-//! `EKF2_GPS_CTRL`, `EKF2_MAG_TYPE`) and whether arming needs a position (`COM_ARM_WO_GPS`)
-//! (docs/navigation_filter.md §6, §10, §20).
+//! `EKF2_GPS_CTRL`, `EKF2_MAG_TYPE`), whether arming needs a position (`COM_ARM_WO_GPS`) and
+//! where the declination comes from (`EKF2_DECL_TYPE`) (docs/navigation_filter.md §6, §10, §20).
 
 use crate::params::ParamDef;
 
@@ -62,5 +62,18 @@ pub(super) static AIDING_SOURCES: &[ParamDef] = &[
         Commander,
         "Arming without a position estimate in the modes that need none: 0 refused, 1 allowed",
         flag commander.arm_without_gps
+    ),
+    row!(
+        "EKF2_DECL_TYPE",
+        Int32,
+        [0.0, 3.0],
+        "",
+        NavFilter,
+        "Declination handling, a bitmask: 1 the World Magnetic Model's at home (else EKF2_MAG_DECL), 2 save to EKF2_MAG_DECL at disarm (not acted on)",
+        |s| f64::from(s.nav.decl_type),
+        |s, v| {
+            s.nav.decl_type = v as u8;
+            Ok(())
+        }
     ),
 ];

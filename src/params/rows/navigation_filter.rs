@@ -58,7 +58,7 @@ pub(super) static NAV_FILTER: &[ParamDef] = &[
         [-180.0, 180.0],
         "deg",
         NavFilter,
-        "Magnetic declination at home (east positive)",
+        "Magnetic declination (east positive), used when EKF2_DECL_TYPE bit 0 is clear",
         degrees nav.mag_declination_rad
     ),
     row!(
