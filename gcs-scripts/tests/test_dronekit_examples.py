@@ -84,8 +84,10 @@ def test_dronekit_examples_fly_unchanged(rotorpilot_bin):
     perf = verdicts["performance_test"]["values"]
     assert perf["roi_sent"] >= 100 and perf["roi_acks"] >= perf["roi_sent"] - 1, perf
     assert perf["max_interval_s"] < 1.0, perf
-    # create_attribute: RAW_IMU through the custom attribute, about -1 g on z at rest.
+    # create_attribute: RAW_IMU through the custom attribute, about -1 g on z at rest, and the
+    # World Magnetic Model's field at CMAC pointing up (-531 mgauss on z, level).
     imu = verdicts["create_attribute"]["values"]
     assert imu["raw_imu_lines"] >= 15 and -1100 <= imu["zacc_mg"] <= -900, imu
+    assert -580 <= imu["zmag_mgauss"] <= -480, imu
     # channel_overrides: the example ends cleanly and its first override reaches the vehicle.
     assert verdicts["channel_overrides"]["values"]["overrides_received"] >= 1, verdicts["channel_overrides"]
