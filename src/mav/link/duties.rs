@@ -52,6 +52,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             if let Some(text) = self.prearm_notices.handle_state(now.sim_s, &self.snapshot) {
                 self.broadcast(now, &status_text(CRITICAL, &text));
             }
+            self.rc_duty(now);
         }
         self.check_streams(now);
         for k in 0..self.ports.len() {
@@ -85,6 +86,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 unix_us_from_timestamp(self.keys.now(now.wall_s)),
                 &self.snapshot,
             )),
+            TelemetryStream::RcChannels if self.identity.personality == Personality::ArduPilot => {
+                Some(self.rc_channels(now))
+            }
             TelemetryStream::MissionCurrent => {
                 Some(self.plans.mission_current(&self.snapshot, self.snapshot.mission_seq))
             }
