@@ -1,4 +1,4 @@
-//! The RC receiver of an ArduCopter-faced vehicle (docs/ardupilot.md §4) through the shipped link
+//! The RC receiver of an ArduCopter-faced vehicle (docs/ardupilot.md §8) through the shipped link
 //! machine with virtual time: RC_CHANNELS shows SITL's resting channels and each override for
 //! RC_OVERRIDE_TIME, the stick channels reach the commander as its manual input at 50 Hz, the
 //! boot mode STABILIZE is asked for, Copter's throttle rules for arming and mode changes; a

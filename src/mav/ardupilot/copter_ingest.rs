@@ -5,7 +5,9 @@
 //! MISSION_ITEM with `current` = 2) obeyed only in GUIDED and silently ignored elsewhere; the
 //! mission numbered from 1 (docs/ardupilot.md §6): MISSION_ITEM as an upload item,
 //! MISSION_SET_CURRENT, DO_SET_MISSION_CURRENT and MISSION_START naming the commander's item
-//! seq − 1, and AUTO refused armed on the ground unless the mission starts with a take-off. Pure.
+//! seq − 1, and AUTO refused armed on the ground unless the mission starts with a take-off;
+//! RC_CHANNELS_OVERRIDE for the RC receiver, and Copter's throttle rules for arming and for
+//! STABILIZE and ACRO (docs/ardupilot.md §8). Pure.
 
 use mavlink::dialects::ardupilotmega::{
     MavCmd, MavFrame, MavMessage, MavMissionResult, MavMissionType, MavSeverity, COMMAND_LONG_DATA,

@@ -1,4 +1,4 @@
-//! ArduCopter SITL's RC receiver (docs/ardupilot.md §4): 16 channels resting at SITL's values,
+//! ArduCopter SITL's RC receiver (docs/ardupilot.md §8): 16 channels resting at SITL's values,
 //! each overridden by RC_CHANNELS_OVERRIDE (or MANUAL_CONTROL, which Copter turns into overrides
 //! of the stick channels) for `RC_OVERRIDE_TIME` after its last override, the RC_CHANNELS the
 //! vehicle reports, and the sticks the channels give the commander. Pure: time is a value
@@ -111,7 +111,7 @@ impl CopterReceiver {
     /// The sticks the commander flies at `t_s` [s], `in_air` or not: the stick channels as
     /// [`Sticks::from_rc`] reads them, except a throttle channel without an override in force,
     /// which rests at its minimum on the ground (as SITL's) and centred in the air (holds the
-    /// height: the emulator's safety rule, docs/ardupilot.md §4).
+    /// height: the emulator's safety rule, docs/ardupilot.md §8).
     pub fn sticks(&self, t_s: f64, in_air: bool) -> Sticks {
         let [roll, pitch, throttle, yaw] = self.stick_channels(t_s);
         let mut sticks = Sticks::from_rc(roll, pitch, throttle, yaw);

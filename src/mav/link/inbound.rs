@@ -103,7 +103,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 self.mode_shown.handle_asked(number);
             }
             let mission = self.plans.items(MavMissionType::MAV_MISSION_TYPE_MISSION);
-            let throttle = self.rc_throttle(now);
+            let throttle = self.rc.throttle(now.sim_s, &self.snapshot);
             if let Some(action) = copter_ingest(&self.identity, header, message, &self.snapshot, mission, throttle) {
                 return action;
             }
@@ -148,7 +148,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 if let (Request::ManualControl(sticks), Personality::ArduPilot) = (&request, self.identity.personality)
                 {
                     // ArduCopter reads MANUAL_CONTROL as overrides of its stick channels.
-                    return self.rc_manual_control(now, *sticks);
+                    let request = self.rc.handle_sticks(*sticks, now.sim_s, &self.snapshot);
+                    return self.ask_commander(now, [request]);
                 }
                 let stream = request.input_stream();
                 self.to_vehicle.push_back(ToVehicle {
@@ -161,8 +162,8 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 Vec::new()
             }
             Action::RcOverride(o) => {
-                self.rc_override(now, &o);
-                Vec::new()
+                let request = self.rc.handle_override(&o, now.sim_s, &self.snapshot);
+                return self.ask_commander(now, [request]);
             }
             Action::Refuse(why) => return self.send(now, link, from, &status_text(WARNING, &why)),
             Action::Reply(msg) => return self.send(now, link, from, &msg),
