@@ -138,7 +138,7 @@ pub fn by_setting(setting: &str) -> Option<&'static CopterParam> {
 
 /// Settings without a Copter name that ArduCopter's behaviour fixes: (why, setting, value).
 const BEHAVIOUR: [(&str, &str, f64); 1] = [
-    // Copter's RC never takes over GUIDED, AUTO or RTL (docs/ardupilot.md §4).
+    // Copter's RC never takes over GUIDED, AUTO or RTL (docs/ardupilot.md §8).
     ("ArduCopter has no stick take-over", "COM_RC_OVERRIDE", 0.0),
 ];
 
