@@ -341,13 +341,6 @@ SPECS = {
     "channel_overrides": {
         "linger_s": 1.5,
         "check": check_channel_overrides,
-        "gaps": {
-            "override shown in RC_CHANNELS": (
-                "RC_CHANNELS_OVERRIDE is not obeyed (the vehicle takes sticks as MANUAL_CONTROL): RC_CHANNELS "
-                "stays at 0 channels, each UINT16_MAX; ArduCopter reads an override as the channel's input for "
-                "RC_OVERRIDE_TIME (3 s) and reports it in RC_CHANNELS"
-            ),
-        },
     },
     "create_attribute": {
         "check": check_create_attribute,
@@ -370,12 +363,6 @@ SPECS = {
             "KeyError: 'THR_MIN' against ArduCopter 4.5 as here"
         ),
         "check": check_vehicle_state,
-        "gaps": {
-            "STABILIZE set": (
-                "DO_SET_MODE STABILIZE is FAILED ('Mode change to STABILIZE failed: no manual control') while "
-                "disarmed; ArduCopter changes mode while disarmed without checks (and without RC)"
-            ),
-        },
     },
     "mission_basic": {"lands": True, "disarms": True, "settle_s": 200, "check": check_mission_basic},
     "mission_import_export": {"check": check_mission_import_export},

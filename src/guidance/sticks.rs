@@ -1,4 +1,4 @@
-//! Stick input (MANUAL_CONTROL, a joystick or QGroundControl's virtual one) and how PX4's stick
+//! Stick input (MANUAL_CONTROL, a joystick or QGroundControl's virtual one; ArduCopter's RC channels) and how PX4's stick
 //! modes read it: the deadzone and expo curves of position and altitude control, the throttle
 //! curve of the modes where the throttle stick sets the thrust, and the stick → attitude and
 //! stick → body-rate maps of STABILIZED and ACRO. Pure.
@@ -63,6 +63,20 @@ impl Sticks {
             throttle: axis("z", z, 0.5)?.max(0.0),
             yaw: axis("r", r, 0.0)?,
         })
+    }
+
+    /// The sticks of RC channels 1–4 (RCMAP's order: roll, pitch, throttle, yaw) [µs], read
+    /// over the standard 1000–2000 µs travel: roll and yaw right of 1500 positive, pitch below
+    /// 1500 forward (nose down, as ArduPilot's pitch channel reads), throttle 1000 at 0 and 2000
+    /// at 1; a value beyond the travel reads as its end.
+    pub fn from_rc(roll_us: u16, pitch_us: u16, throttle_us: u16, yaw_us: u16) -> Self {
+        let centred = |us: u16| ((f64::from(us) - 1500.0) / 500.0).clamp(-1.0, 1.0);
+        Self {
+            roll: centred(roll_us),
+            pitch: -centred(pitch_us),
+            yaw: centred(yaw_us),
+            throttle: ((f64::from(throttle_us) - 1000.0) / 1000.0).clamp(0.0, 1.0),
+        }
     }
 
     /// True when every number is finite.

@@ -40,6 +40,8 @@ pub enum Action {
     },
     /// A commander request that gets no ACK: an offboard setpoint, MANUAL_CONTROL or SET_MODE.
     Request(Request),
+    /// RC_CHANNELS_OVERRIDE addressed to an ArduCopter-faced vehicle: for its RC receiver.
+    RcOverride(Box<mavlink::dialects::ardupilotmega::RC_CHANNELS_OVERRIDE_DATA>),
     /// A refused message: announce the reason to the sender in a STATUSTEXT warning.
     Refuse(String),
     /// Reply to the sender with this message (PING, TIMESYNC, mission-type refusals).

@@ -5,7 +5,9 @@
 //! MISSION_ITEM with `current` = 2) obeyed only in GUIDED and silently ignored elsewhere; the
 //! mission numbered from 1 (docs/ardupilot.md §6): MISSION_ITEM as an upload item,
 //! MISSION_SET_CURRENT, DO_SET_MISSION_CURRENT and MISSION_START naming the commander's item
-//! seq − 1, and AUTO refused armed on the ground unless the mission starts with a take-off. Pure.
+//! seq − 1, and AUTO refused armed on the ground unless the mission starts with a take-off;
+//! RC_CHANNELS_OVERRIDE for the RC receiver, and Copter's throttle rules for arming and for
+//! STABILIZE and ACRO (docs/ardupilot.md §8). Pure.
 
 use mavlink::dialects::ardupilotmega::{
     MavCmd, MavFrame, MavMessage, MavMissionResult, MavMissionType, MavSeverity, COMMAND_LONG_DATA,
@@ -14,7 +16,7 @@ use mavlink::dialects::ardupilotmega::{
 use mavlink::MavHeader;
 
 use super::copter_mission::{commander_index, item_int, starts_with_takeoff, AUTO, MISSING_TAKEOFF};
-use super::copter_modes::mode_request;
+use super::copter_modes::{mode_request, CopterMode};
 use super::copter_targets::{copter_attitude_target, copter_global_target, copter_local_target};
 use crate::commander::{FlightMode, LandedState, Outcome, Request};
 use crate::control::FlatSetpoint;
@@ -29,7 +31,8 @@ use crate::telemetry::Snapshot;
 const CUSTOM_MODE: u32 = 1;
 
 /// What the ArduCopter face does with `message` from `sender` when the vehicle is in `state`
-/// with the stored `mission` (as uploaded, item 0 the home slot); `None`: what
+/// with the stored `mission` (as uploaded, item 0 the home slot) and its RC receiver's
+/// `throttle` (the throttle stick the vehicle flies, [0, 1]); `None`: what
 /// [`ingest`](crate::mav::ingest::ingest) decides.
 #[allow(deprecated)]
 pub fn copter_ingest(
@@ -38,11 +41,16 @@ pub fn copter_ingest(
     message: &MavMessage,
     state: &Snapshot,
     mission: &[MISSION_ITEM_INT_DATA],
+    throttle: f64,
 ) -> Option<Action> {
     let ours = |target_system: u8, target_component: u8| id.accepts(sender, target_system, target_component);
     let guided = state.mode == FlightMode::Guided;
     let ids = (sender.system_id as u8, sender.component_id);
-    let on = Facts { state, mission };
+    let on = Facts {
+        state,
+        mission,
+        throttle,
+    };
     match message {
         MavMessage::SET_MODE(m) if m.target_system == id.system_id => {
             Some(if u32::from(m.base_mode.bits()) & CUSTOM_MODE == 0 {
@@ -55,6 +63,8 @@ pub fn copter_ingest(
                     MavSeverity::MAV_SEVERITY_CRITICAL,
                     MISSING_TAKEOFF,
                 )))
+            } else if let Some(why) = on.throttle_refusal(m.custom_mode) {
+                Action::Refuse(why)
             } else {
                 match mode_request(m.custom_mode) {
                     Ok(request) => Action::Request(request),
@@ -62,6 +72,9 @@ pub fn copter_ingest(
                     Err(other) => Action::Refuse(format!("{other:?}")),
                 }
             })
+        }
+        MavMessage::RC_CHANNELS_OVERRIDE(o) if ours(o.target_system, o.target_component) => {
+            Some(Action::RcOverride(Box::new(o.clone())))
         }
         MavMessage::COMMAND_LONG(c) if ours(c.target_system, c.target_component) => {
             if c.command == MavCmd::MAV_CMD_DO_REPOSITION {
@@ -148,11 +161,31 @@ pub fn asked_mode(id: &Identity, sender: &MavHeader, message: &MavMessage) -> Op
     }
 }
 
-/// What a command's decision reads: the vehicle's state and its stored mission (as uploaded).
+/// What a command's decision reads: the vehicle's state, its stored mission (as uploaded) and
+/// the throttle stick it flies [0, 1].
 #[derive(Clone, Copy)]
 struct Facts<'a> {
     state: &'a Snapshot,
     mission: &'a [MISSION_ITEM_INT_DATA],
+    throttle: f64,
+}
+
+/// The throttle's centre band ends here: above it the pilot asks for a climb (`THR_DZ` 100 of
+/// the throttle's 1000 above mid-stick) [-].
+const THROTTLE_CLIMB: f64 = 0.6;
+/// The throttle channel at its minimum: within `RC3_DZ` (30 µs) of 1000 µs [-].
+const THROTTLE_MIN: f64 = 0.03;
+/// Copter's non-take-off throttle, as a stick: half the hover throttle, the mid-stick [-].
+const THROTTLE_NON_TAKEOFF: f64 = 0.25;
+/// Below the centre band the throttle of STABILIZE or ACRO would drop the vehicle [-].
+const THROTTLE_HOLDS: f64 = 0.4;
+/// MAV_CMD_COMPONENT_ARM_DISARM p2's force.
+const FORCE_ARM: f32 = 21196.0;
+
+/// Whether the commander's `mode` is flown with the throttle as the thrust (Copter's manual
+/// throttle modes STABILIZE and ACRO).
+fn manual_throttle(mode: FlightMode) -> bool {
+    matches!(mode, FlightMode::Stabilized | FlightMode::Acro | FlightMode::Manual)
 }
 
 impl Facts<'_> {
@@ -160,6 +193,34 @@ impl Facts<'_> {
     /// take-off (`ModeAuto::init`).
     fn auto_refused(self) -> bool {
         self.state.armed && self.state.landed == LandedState::OnGround && !starts_with_takeoff(self.mission)
+    }
+
+    /// Copter's throttle rule for arming (`AP_Arming_Copter::arm_checks`): outside GUIDED and
+    /// AUTO, a throttle above the centre band, or off its minimum in STABILIZE and ACRO, is
+    /// "Throttle too high".
+    fn arming_refusal(self) -> Option<Outcome> {
+        let mode = self.state.mode;
+        let exempt = matches!(mode, FlightMode::Guided | FlightMode::Mission);
+        let high = self.throttle > THROTTLE_CLIMB || (manual_throttle(mode) && self.throttle > THROTTLE_MIN);
+        (!exempt && high).then(|| Outcome::Failed("Arm: Throttle too high".into()))
+    }
+
+    /// The throttle rules of a change to Copter mode `number`: armed on the ground, a manual
+    /// throttle mode entered from another with the throttle above Copter's non-take-off throttle
+    /// is "throttle too high" (`Copter::set_mode`); in the air, with the throttle below the
+    /// centre band, "throttle too low" (the emulator's: it would drop the vehicle).
+    fn throttle_refusal(self, number: u32) -> Option<String> {
+        let mode = CopterMode::by_number(number)?;
+        let state = self.state;
+        if !state.armed || !manual_throttle(mode.flown_as) || manual_throttle(state.mode) {
+            return None;
+        }
+        let why = if state.landed == LandedState::OnGround {
+            (self.throttle > THROTTLE_NON_TAKEOFF).then_some("throttle too high")
+        } else {
+            (self.throttle < THROTTLE_HOLDS).then_some("throttle too low")
+        }?;
+        Some(format!("Mode change to {} failed: {why}", mode.name))
     }
 }
 
@@ -176,9 +237,14 @@ fn command(id: &Identity, sender: &MavHeader, c: &COMMAND_LONG_DATA, on: Facts) 
         MavCmd::MAV_CMD_DO_SET_MODE if c.param2 as u32 == AUTO && on.auto_refused() => {
             CommandDecision::Critical(MISSING_TAKEOFF.into())
         }
-        MavCmd::MAV_CMD_DO_SET_MODE => match mode_request(c.param2 as u32) {
-            Ok(request) => CommandDecision::Execute(request),
-            Err(refusal) => CommandDecision::Refuse(refusal),
+        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM if c.param1 == 1.0 && c.param2 != FORCE_ARM => match on.arming_refusal() {
+            Some(refusal) => CommandDecision::Refuse(refusal),
+            None => return None,
+        },
+        MavCmd::MAV_CMD_DO_SET_MODE => match (on.throttle_refusal(c.param2 as u32), mode_request(c.param2 as u32)) {
+            (Some(why), _) => CommandDecision::Refuse(Outcome::Failed(why)),
+            (None, Ok(request)) => CommandDecision::Execute(request),
+            (None, Err(refusal)) => CommandDecision::Refuse(refusal),
         },
         // The mission's seqs count the home slot: the commander's item is seq − 1.
         MavCmd::MAV_CMD_MISSION_START => match decode_command(id, sender, c, &state.home) {

@@ -17,7 +17,7 @@ fn id() -> Identity {
 fn run(message: MavMessage, mode: FlightMode) -> Option<Action> {
     let mut state = Snapshot::initial(Home::default());
     state.mode = mode;
-    copter_ingest(&id(), &gcs_header(0), &message, &state, &[])
+    copter_ingest(&id(), &gcs_header(0), &message, &state, &[], 0.0)
 }
 
 fn long(command: MavCmd, p: [f32; 7]) -> MavMessage {
@@ -182,7 +182,7 @@ fn a_mission_item_with_current_2_is_a_guided_goto() {
 #[test]
 fn mission_seqs_count_the_home_slot_and_mission_items_upload() {
     let state = Snapshot::initial(Home::default());
-    let at = |message| copter_ingest(&id(), &gcs_header(0), &message, &state, &[]);
+    let at = |message| copter_ingest(&id(), &gcs_header(0), &message, &state, &[], 0.0);
     let upload = MavMessage::MISSION_ITEM(MISSION_ITEM_DATA {
         target_system: 1,
         seq: 2,
@@ -256,6 +256,7 @@ fn auto_armed_on_the_ground_needs_a_takeoff_first() {
         message,
         state,
         mission,
+        0.0,
     ) {
         Some(Action::Command { decision, .. }) => decision,
         other => panic!("{other:?}"),
@@ -277,7 +278,7 @@ fn auto_armed_on_the_ground_needs_a_takeoff_first() {
         target_system: 1,
         base_mode: MavModeFlag::from_bits_retain(1),
     });
-    let Some(Action::Reply(said)) = copter_ingest(&id(), &gcs_header(0), &set_mode, &state, &no_takeoff) else {
+    let Some(Action::Reply(said)) = copter_ingest(&id(), &gcs_header(0), &set_mode, &state, &no_takeoff, 0.0) else {
         panic!("a critical text")
     };
     assert!(matches!(*said, MavMessage::STATUSTEXT(ref t) if t.severity == MavSeverity::MAV_SEVERITY_CRITICAL));

@@ -1,13 +1,13 @@
 //! ArduCopter's own telemetry from a [`Snapshot`] (docs/mavlink.md §5.1): the messages of its
 //! stream groups that PX4 never sends (RAW_IMU, POWER_STATUS, MEMINFO, NAV_CONTROLLER_OUTPUT,
-//! POSITION_TARGET_GLOBAL_INT, RC_CHANNELS, SIMSTATE, AHRS2, AHRS, VIBRATION), filled from what
-//! the snapshot has; the figures it has not are constants or zeros, each said where it is built.
+//! POSITION_TARGET_GLOBAL_INT, SIMSTATE, AHRS2, AHRS, VIBRATION), filled from what
+//! the snapshot has (RC_CHANNELS is the RC receiver's, `copter_rc`); the figures it has not are constants or zeros, each said where it is built.
 //! Pure.
 
 use mavlink::dialects::ardupilotmega::{
     MavFrame, MavMessage, MavPowerStatus, PositionTargetTypemask, AHRS2_DATA, AHRS_DATA, MEMINFO_DATA,
-    NAV_CONTROLLER_OUTPUT_DATA, POSITION_TARGET_GLOBAL_INT_DATA, POWER_STATUS_DATA, RAW_IMU_DATA, RC_CHANNELS_DATA,
-    SIMSTATE_DATA, VIBRATION_DATA,
+    NAV_CONTROLLER_OUTPUT_DATA, POSITION_TARGET_GLOBAL_INT_DATA, POWER_STATUS_DATA, RAW_IMU_DATA, SIMSTATE_DATA,
+    VIBRATION_DATA,
 };
 
 use crate::math::{euler_zyx, Vec3, GRAVITY_M_S2};
@@ -52,7 +52,6 @@ pub(in crate::mav) fn message(stream: TelemetryStream, s: &Snapshot) -> Option<M
         TelemetryStream::Meminfo => meminfo(),
         TelemetryStream::NavControllerOutput => nav_controller_output(s),
         TelemetryStream::PositionTargetGlobal => return position_target_global_int(s),
-        TelemetryStream::RcChannels => rc_channels(s),
         TelemetryStream::Simstate => return simstate(s),
         TelemetryStream::Ahrs2 => ahrs2(s),
         TelemetryStream::Ahrs => ahrs(),
@@ -171,35 +170,6 @@ fn position_target_global_int(s: &Snapshot) -> Option<MavMessage> {
     ))
 }
 
-/// RC_CHANNELS: the vehicle has no RC receiver (sticks come as MANUAL_CONTROL), so no channel
-/// (count 0, each UINT16_MAX: "unused") and RSSI 0.
-fn rc_channels(s: &Snapshot) -> MavMessage {
-    let unused = u16::MAX;
-    MavMessage::RC_CHANNELS(RC_CHANNELS_DATA {
-        time_boot_ms: time_boot_ms(s),
-        chan1_raw: unused,
-        chan2_raw: unused,
-        chan3_raw: unused,
-        chan4_raw: unused,
-        chan5_raw: unused,
-        chan6_raw: unused,
-        chan7_raw: unused,
-        chan8_raw: unused,
-        chan9_raw: unused,
-        chan10_raw: unused,
-        chan11_raw: unused,
-        chan12_raw: unused,
-        chan13_raw: unused,
-        chan14_raw: unused,
-        chan15_raw: unused,
-        chan16_raw: unused,
-        chan17_raw: unused,
-        chan18_raw: unused,
-        chancount: 0,
-        rssi: 0,
-    })
-}
-
 /// SIMSTATE, the simulator's truth as ArduPilot SITL sends it: the true roll, pitch, yaw [rad],
 /// the true specific force in the body FRD frame (what a perfect accelerometer reads:
 /// R_wbᵀ (a_w − g e_z)) [m/s²], the true body rates [rad/s], the true latitude and longitude
@@ -291,7 +261,7 @@ mod tests {
             let expected = stream.ardupilot_only()
                 && !matches!(
                     stream,
-                    TelemetryStream::PositionTargetGlobal | TelemetryStream::Simstate
+                    TelemetryStream::PositionTargetGlobal | TelemetryStream::Simstate | TelemetryStream::RcChannels
                 );
             assert_eq!(built, expected, "{stream:?}");
         }
@@ -413,10 +383,7 @@ mod tests {
     #[test]
     fn constants_and_absent_hardware_are_reported_plainly() {
         let s = snapshot();
-        let MavMessage::RC_CHANNELS(rc) = build(TelemetryStream::RcChannels, &s) else {
-            panic!("wrong message");
-        };
-        assert_eq!((rc.chancount, rc.rssi, rc.chan1_raw), (0, 0, u16::MAX));
+        assert_eq!(message(TelemetryStream::RcChannels, &s), None, "the RC receiver's");
         let MavMessage::MEMINFO(m) = build(TelemetryStream::Meminfo, &s) else {
             panic!("wrong message");
         };

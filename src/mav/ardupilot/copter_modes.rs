@@ -162,12 +162,17 @@ impl ModeShown {
     }
 
     /// The Copter number the HEARTBEAT shows for `state`: [`Self::number`] of its mode, except
-    /// that a mission flown to its end in AUTO stays AUTO (ArduCopter loiters in AUTO there;
-    /// the commander holds in its hold mode), and that a vehicle disarmed after a landing stays
-    /// in the mode it landed in (RTL, LAND, AUTO …: ArduCopter keeps the mode; the commander
-    /// falls back to its hold unless BRAKE was asked for).
+    /// that the commander's boot hold shows as STABILIZE (Copter's boot mode, asked for at boot:
+    /// never armed, no mode asked for), that a mission flown to its end in AUTO stays AUTO
+    /// (ArduCopter loiters in AUTO there; the commander holds in its hold mode), and that a
+    /// vehicle disarmed after a landing stays in the mode it landed in (RTL, LAND, AUTO …:
+    /// ArduCopter keeps the mode; the commander falls back to its hold unless BRAKE was asked
+    /// for).
     pub fn shown(&self, state: &Snapshot) -> u8 {
         let hold = state.mode == FlightMode::Loiter;
+        if hold && !state.armed && self.asked.is_none() && self.armed_shown.is_none() {
+            return 0;
+        }
         if self.asked == Some(3) && hold && state.mission_state == MissionState::Complete {
             return 3;
         }
@@ -279,7 +284,7 @@ mod tests {
         let mut shown = ModeShown::default();
         let mut s = Snapshot::initial(Home::default());
         shown.handle_state(&s);
-        assert_eq!(shown.shown(&s), 17, "never armed: the hold is BRAKE");
+        assert_eq!(shown.shown(&s), 0, "booted: STABILIZE");
         shown.handle_asked(4);
         s.mode = FlightMode::Guided;
         s.armed = true;
@@ -328,6 +333,8 @@ mod tests {
         s.mode = FlightMode::Loiter;
         s.mission_state = MissionState::Complete;
         let mut shown = ModeShown::default();
+        assert_eq!(shown.shown(&s), 0, "booted: STABILIZE");
+        shown.handle_asked(17);
         assert_eq!(shown.shown(&s), 17, "not asked for AUTO: PX4's hold is BRAKE");
         shown.handle_asked(3);
         assert_eq!(shown.shown(&s), 3, "the mission ended in AUTO");

@@ -136,13 +136,24 @@ pub fn by_setting(setting: &str) -> Option<&'static CopterParam> {
     COPTER_PARAMS.iter().find(|p| p.setting == setting)
 }
 
+/// Settings without a Copter name that ArduCopter's behaviour fixes: (why, setting, value).
+const BEHAVIOUR: [(&str, &str, f64); 1] = [
+    // Copter's RC never takes over GUIDED, AUTO or RTL (docs/ardupilot.md §8).
+    ("ArduCopter has no stick take-over", "COM_RC_OVERRIDE", 0.0),
+];
+
 /// Copter's defaults as settings: (where they come from, setting name, value in the setting's
 /// unit), to apply to a vehicle presented as ArduCopter before any user parameter.
 pub fn copter_defaults() -> impl Iterator<Item = (String, &'static str, f64)> {
-    COPTER_PARAMS.iter().filter_map(|p| {
+    let named = COPTER_PARAMS.iter().filter_map(|p| {
         let default = p.default?;
         Some((format!("ArduCopter's {} default", p.name), p.setting, default / p.scale))
-    })
+    });
+    named.chain(
+        BEHAVIOUR
+            .iter()
+            .map(|(why, setting, value)| (why.to_string(), *setting, *value)),
+    )
 }
 
 #[cfg(test)]
@@ -174,6 +185,7 @@ mod tests {
         assert_eq!(get("RTL_RETURN_ALT"), 15.0, "RTL_ALT 1500 cm");
         assert_eq!(get("COM_OF_LOSS_T"), 3.0, "GUID_TIMEOUT 3 s");
         assert_eq!(get("MPC_TILTMAX_AIR"), 30.0, "ANGLE_MAX 3000 cdeg");
+        assert_eq!(get("COM_RC_OVERRIDE"), 0.0, "no stick take-over");
     }
 
     #[test]

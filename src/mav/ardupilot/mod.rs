@@ -12,6 +12,8 @@
 //! - [`copter_param_face`]: [`copter_param_face::CopterParamView`], the one parameter table
 //!   under those names (PARAM_VALUE, PARAM_SET, `@PARAM/param.pck`), and the banner said before
 //!   a parameter list.
+//! - [`copter_rc`]: SITL's RC receiver ([`copter_rc::CopterReceiver`]): its channels, their
+//!   overrides (RC_CHANNELS_OVERRIDE), RC_CHANNELS and the sticks they give the commander.
 //! - [`copter_targets`]: GUIDED's position targets as Copter reads them (offset and body frames,
 //!   the force bit, a stop for what it cannot fly).
 //! - [`copter_texts`]: what Copter says where PX4 says it otherwise ("PreArm: …", "Mode change
@@ -28,5 +30,6 @@ pub mod copter_mission;
 pub mod copter_modes;
 pub mod copter_param_face;
 pub mod copter_params;
+pub mod copter_rc;
 pub mod copter_targets;
 pub mod copter_texts;

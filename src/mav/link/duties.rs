@@ -52,6 +52,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             if let Some(text) = self.prearm_notices.handle_state(now.sim_s, &self.snapshot) {
                 self.broadcast(now, &status_text(CRITICAL, &text));
             }
+            let asked = self.mode_shown.asked().is_some();
+            let requests = self.rc.duty(now.sim_s, &self.snapshot, asked);
+            self.ask_commander(now, requests);
         }
         self.check_streams(now);
         for k in 0..self.ports.len() {
@@ -85,6 +88,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 unix_us_from_timestamp(self.keys.now(now.wall_s)),
                 &self.snapshot,
             )),
+            TelemetryStream::RcChannels if self.identity.personality == Personality::ArduPilot => {
+                Some(self.rc.rc_channels(now.sim_s, &self.snapshot))
+            }
             TelemetryStream::MissionCurrent => {
                 Some(self.plans.mission_current(&self.snapshot, self.snapshot.mission_seq))
             }
@@ -144,6 +150,20 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             token: None,
             request: VehicleRequest::Commander(Request::GcsLinkLost),
         });
+    }
+
+    /// `requests` to the commander, no answer awaited; stick samples are heard as the stick
+    /// stream.
+    pub(super) fn ask_commander(&mut self, now: Now, requests: impl IntoIterator<Item = Request>) {
+        for request in requests {
+            if let Some(stream) = request.input_stream() {
+                self.streams.heard(stream, now.wall_s, now.sim_s);
+            }
+            self.to_vehicle.push_back(ToVehicle {
+                token: None,
+                request: VehicleRequest::Commander(request),
+            });
+        }
     }
 
     /// A stream's loss ([`StreamLiveness::lost`]): the commander runs the reaction

@@ -73,8 +73,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     self.record(header, &message);
                     if trusted {
                         self.heard(now, link, from);
-                        let now_ns = (now.wall_s * 1e9) as i64;
-                        let action = self.ingest_as_personality(&header, &message, now_ns);
+                        let action = self.ingest_as_personality(now, &header, &message);
                         self.act(now, link, from, &header, action);
                     }
                 }
@@ -97,13 +96,15 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// What the vehicle's personality does with `message`: ArduCopter's face decides first the
     /// messages Copter reads its own way (and notes the mode a ground station asks for, which
     /// the HEARTBEAT shows while the commander flies it); the rest as [`ingest`] decides.
-    fn ingest_as_personality(&mut self, header: &MavHeader, message: &MavMessage, now_ns: i64) -> Action {
+    fn ingest_as_personality(&mut self, now: Now, header: &MavHeader, message: &MavMessage) -> Action {
+        let now_ns = (now.wall_s * 1e9) as i64;
         if self.identity.personality == Personality::ArduPilot {
             if let Some(number) = asked_mode(&self.identity, header, message) {
                 self.mode_shown.handle_asked(number);
             }
             let mission = self.plans.items(MavMissionType::MAV_MISSION_TYPE_MISSION);
-            if let Some(action) = copter_ingest(&self.identity, header, message, &self.snapshot, mission) {
+            let throttle = self.rc.throttle(now.sim_s, &self.snapshot);
+            if let Some(action) = copter_ingest(&self.identity, header, message, &self.snapshot, mission, throttle) {
                 return action;
             }
         }
@@ -144,6 +145,12 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 if matches!(request, Request::ManualControl(_)) && !self.flies_sticks_from(link) {
                     return;
                 }
+                if let (Request::ManualControl(sticks), Personality::ArduPilot) = (&request, self.identity.personality)
+                {
+                    // ArduCopter reads MANUAL_CONTROL as overrides of its stick channels.
+                    let request = self.rc.handle_sticks(*sticks, now.sim_s, &self.snapshot);
+                    return self.ask_commander(now, [request]);
+                }
                 let stream = request.input_stream();
                 self.to_vehicle.push_back(ToVehicle {
                     token: None,
@@ -153,6 +160,10 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     self.streams.heard(stream, now.wall_s, now.sim_s);
                 }
                 Vec::new()
+            }
+            Action::RcOverride(o) => {
+                let request = self.rc.handle_override(&o, now.sim_s, &self.snapshot);
+                return self.ask_commander(now, [request]);
             }
             Action::Refuse(why) => return self.send(now, link, from, &status_text(WARNING, &why)),
             Action::Reply(msg) => return self.send(now, link, from, &msg),

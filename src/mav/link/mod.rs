@@ -52,6 +52,7 @@ mod mission;
 mod param_service;
 mod param_upload;
 mod port;
+mod rc_feed;
 
 use std::collections::VecDeque;
 use std::hash::Hash;
@@ -85,6 +86,7 @@ use mission::PlanService;
 use param_service::ParamService;
 use port::Port;
 pub use port::{HeldForClients, MAX_PEERS, PEER_EVICT_S, PEER_TIMEOUT_S};
+use rc_feed::RcFeed;
 
 const INFO: MavSeverity = MavSeverity::MAV_SEVERITY_INFO;
 const WARNING: MavSeverity = MavSeverity::MAV_SEVERITY_WARNING;
@@ -124,6 +126,8 @@ pub struct LinkMachine<A> {
     prearm_notices: PreArmNotices,
     /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
     sticks_from: Option<LinkKind>,
+    /// The RC receiver and the boot mode (the ArduCopter personality).
+    rc: RcFeed,
     next_duty_s: f64,
     transmits: VecDeque<Transmit<A>>,
     to_vehicle: VecDeque<ToVehicle>,
@@ -167,6 +171,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             consoles: Consoles::new(personality),
             streams: StreamLiveness::default(),
             sticks_from: None,
+            rc: RcFeed::new(),
             mode_shown: ModeShown::default(),
             armed_notices: ArmedNotices::default(),
             prearm_notices: PreArmNotices::default(),
