@@ -1,15 +1,18 @@
 //! The one parameter table as ArduCopter shows it (docs/ardupilot.md §5.1): a view, never a
 //! second table of values. Index `i` is the table's parameter `i`; a setting that
 //! [`COPTER_PARAMS`](super::copter_params::COPTER_PARAMS) names is shown under its Copter name,
-//! in Copter's unit (value × scale) and storage type, and is not found under its PX4 name; the
-//! others keep their own names and types. PARAM_VALUE carries the value as a number cast to
-//! float (ArduPilot's `cast_to_float`: an INT32 of 1 is 1.0, not PX4's bytes), and a PARAM_SET's
-//! float is the number, converted back (÷ scale) to the setting. Before a parameter list
-//! ArduCopter says its banner ([`banner`]). Pure.
+//! in Copter's unit (value × scale, or Copter's code) and storage type, and is not found under
+//! its PX4 name; the others keep their own names and types. After the table come the
+//! parameters the link holds ([`LinkParams`]: `SYSID_THISMAV`, `SRn_*`), read from the link.
+//! PARAM_VALUE carries the value as a number cast to float (ArduPilot's `cast_to_float`: an
+//! INT32 of 1 is 1.0, not PX4's bytes), and a PARAM_SET's float is the number, converted back
+//! (÷ scale, or the setting's code) to the setting. Before a parameter list ArduCopter says its
+//! banner ([`banner`]). Pure.
 
 use mavlink::dialects::ardupilotmega::{MavMessage, MavParamType, MavType, PARAM_SET_DATA, PARAM_VALUE_DATA};
 
-use super::copter_params::{by_name, by_setting, CopterType};
+use super::copter_link_params::{LinkParams, LinkSet};
+use super::copter_params::{by_name, by_setting, Conversion, CopterType};
 use crate::mav::ftp::{PackedParam, PackedValue};
 use crate::mav::param_encoding::{name_of, param_id, wire_value};
 use crate::params::{ParamTable, ParamType};
@@ -44,15 +47,24 @@ pub fn copter_param_set(set: &PARAM_SET_DATA) -> (String, f64) {
 }
 
 /// One parameter as ArduCopter shows it.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct CopterValue {
     /// Copter's name, or the setting's own.
-    pub name: &'static str,
+    pub name: String,
     /// The value as Copter stores it, in Copter's unit.
     pub value: PackedValue,
     /// Its default, of the same type: Copter's where the personality applies it, else the
     /// airframe's.
     pub default: PackedValue,
+}
+
+/// What a PARAM_SET by Copter's name asks for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CopterSet {
+    /// The vehicle sets this setting to this value (the setting's unit).
+    Setting(&'static str, f64),
+    /// The link changes what it holds.
+    Link(LinkSet),
 }
 
 /// The MAV_PARAM_TYPE of a stored value.
@@ -65,54 +77,71 @@ fn mav_type_of(value: PackedValue) -> MavParamType {
     }
 }
 
-/// The parameter table under ArduCopter's names, units and types (borrowed, not copied).
+/// The code a setting value Copter has no code for shows as (docs/ardupilot.md §5).
+const NO_COPTER_CODE: f64 = -1.0;
+
+/// The parameter table under ArduCopter's names, units and types, then what the link holds
+/// (borrowed, not copied).
 #[derive(Debug, Clone, Copy)]
 pub struct CopterParamView<'a> {
     table: &'a ParamTable,
+    link: &'a LinkParams,
 }
 
 impl<'a> CopterParamView<'a> {
-    /// The view of `table`.
-    pub fn new(table: &'a ParamTable) -> Self {
-        Self { table }
+    /// The view of `table` and of what the link holds, `link`.
+    pub fn new(table: &'a ParamTable, link: &'a LinkParams) -> Self {
+        Self { table, link }
     }
 
-    /// Number of parameters: the table's.
+    /// Number of parameters: the table's and the link's.
     pub fn len(&self) -> usize {
-        self.table.len()
+        self.table.len() + self.link.len()
     }
 
-    /// True when the table is empty (never, in practice).
+    /// True when there is nothing to show (never, in practice).
     pub fn is_empty(&self) -> bool {
-        self.table.is_empty()
+        self.len() == 0
     }
 
-    /// The parameter at `index` as Copter shows it, or `None` past the end.
+    /// The parameter at `index` as Copter shows it, or `None` past the end. A setting value
+    /// Copter has no code for shows as −1.
     pub fn get(&self, index: usize) -> Option<CopterValue> {
-        let (def, value) = self.table.get(index)?;
+        let Some((def, value)) = self.table.get(index) else {
+            let k = index - self.table.len();
+            let (value, default) = self.link.value(k)?;
+            let name = self.link.param(k)?.name();
+            return Some(CopterValue { name, value, default });
+        };
         let default = self.table.default_value(index).unwrap_or(value);
         Some(match by_setting(def.name) {
-            Some(p) => CopterValue {
-                name: p.name,
-                value: p.kind.stored(value * p.scale),
-                default: p.kind.stored(p.default.unwrap_or(default * p.scale)),
-            },
+            Some(p) => {
+                let shown = |v: f64| p.conv.to_copter(v).unwrap_or(NO_COPTER_CODE);
+                CopterValue {
+                    name: p.name.to_string(),
+                    value: p.kind.stored(shown(value)),
+                    default: p.kind.stored(p.default.unwrap_or_else(|| shown(default))),
+                }
+            }
             None => CopterValue {
-                name: def.name,
+                name: def.name.to_string(),
                 value: wire_value(def.kind, value),
                 default: wire_value(def.kind, default),
             },
         })
     }
 
-    /// Index of the parameter Copter calls `name`: a Copter name's setting, or a setting without
-    /// a Copter name by its own; `None` for anything else, the PX4 name of a setting that has a
-    /// Copter name included.
+    /// Index of the parameter Copter calls `name`: a Copter name's setting, a setting without
+    /// a Copter name by its own, or what the link holds; `None` for anything else, the PX4 name
+    /// of a setting that has a Copter name included.
     pub fn index_of(&self, name: &str) -> Option<usize> {
         match by_name(name) {
             Some(p) => self.table.index_of(p.setting),
             None if by_setting(name).is_some() => None,
-            None => self.table.index_of(name),
+            None => self
+                .table
+                .index_of(name)
+                .or_else(|| Some(self.table.len() + self.link.index_of(name)?)),
         }
     }
 
@@ -125,33 +154,45 @@ impl<'a> CopterParamView<'a> {
             param_value: v.value.as_f64() as f32,
             param_count: self.len() as u16,
             param_index,
-            param_id: param_id(v.name),
+            param_id: param_id(&v.name),
             param_type: mav_type_of(v.value),
         }))
     }
 
-    /// What a PARAM_SET of `name` to `value` (the float as sent, in Copter's unit) asks of the
-    /// table: the setting and its value (÷ scale), an integer type's value cast as Copter casts
-    /// it ([`CopterType::from_set`]); `None` for a name Copter does not have; a refusal, in
-    /// Copter's unit, for a value the setting cannot take (`WPNAV_SPEED: 5000 outside [50,
-    /// 3000]`).
-    pub fn setting_for(&self, name: &str, value: f64) -> Option<Result<(&'static str, f64), String>> {
-        let (def, _) = self.table.get(self.index_of(name)?)?;
-        let (scale, kind) = match by_name(name) {
-            Some(p) => (p.scale, p.kind),
-            None if def.kind == ParamType::Int32 => (1.0, CopterType::Int32),
-            None => (1.0, CopterType::Float),
+    /// What a PARAM_SET of `name` to `value` (the float as sent, in Copter's unit) asks: the
+    /// setting and its value (÷ scale, or the setting's code), an integer type's value cast as
+    /// Copter casts it ([`CopterType::from_set`]), or a change of what the link holds; `None`
+    /// for a name Copter does not have; a refusal, in Copter's unit, for a value the setting
+    /// cannot take (`WPNAV_SPEED: 5000 outside [50, 3000]`, `FS_GCS_ENABLE: 3 not emulated (0,
+    /// 1, 5 or 7)`).
+    pub fn setting_for(&self, name: &str, value: f64) -> Option<Result<CopterSet, String>> {
+        let index = self.index_of(name)?;
+        let Some((def, _)) = self.table.get(index) else {
+            return Some(self.link.set(index - self.table.len(), value)?.map(CopterSet::Link));
+        };
+        let (conv, kind) = match by_name(name) {
+            Some(p) => (p.conv, p.kind),
+            None if def.kind == ParamType::Int32 => (Conversion::Scale(1.0), CopterType::Int32),
+            None => (Conversion::Scale(1.0), CopterType::Float),
         };
         let copter = kind.from_set(value);
-        let setting = copter / scale;
+        if !copter.is_finite() {
+            return Some(Err(format!("{name}: {value} is not a number")));
+        }
+        let setting = match conv.to_setting(copter) {
+            Ok(setting) => setting,
+            Err(why) => return Some(Err(format!("{name}: {why}"))),
+        };
         Some(match def.check(setting) {
-            Ok(()) => Ok((def.name, setting)),
-            Err(_) if !copter.is_finite() => Err(format!("{name}: {value} is not a number")),
-            Err(_) if setting < def.min || setting > def.max => Err(format!(
-                "{name}: {copter} outside [{}, {}]",
-                (def.min * scale) as f32,
-                (def.max * scale) as f32
-            )),
+            Ok(()) => Ok(CopterSet::Setting(def.name, setting)),
+            Err(_) if setting < def.min || setting > def.max => {
+                let limit = |v: f64| conv.to_copter(v).unwrap_or(v) as f32;
+                Err(format!(
+                    "{name}: {copter} outside [{}, {}]",
+                    limit(def.min),
+                    limit(def.max)
+                ))
+            }
             Err(reason) => Err(format!("{name}: {reason}")),
         })
     }
@@ -162,7 +203,7 @@ impl<'a> CopterParamView<'a> {
         (0..self.len())
             .filter_map(|i| self.get(i))
             .map(|v| PackedParam {
-                name: v.name.to_string(),
+                name: v.name,
                 value: v.value,
                 default: v.default,
             })
@@ -175,6 +216,7 @@ mod tests {
     use super::*;
     use crate::control::{ControllerGains, ControllerKind};
     use crate::mav::ardupilot::copter_params::{copter_defaults, COPTER_PARAMS};
+    use crate::mav::ardupilot::copter_streams::{CopterGroup, GROUP_COUNT};
     use crate::params::VehicleSettings;
 
     fn table() -> ParamTable {
@@ -184,6 +226,12 @@ mod tests {
             None,
         ))
     }
+
+    /// A vehicle with system id 1 and one link whose groups are all off.
+    static LINK: LinkParams = LinkParams {
+        system_id: 1,
+        stream_rates: Vec::new(),
+    };
 
     fn value(view: &CopterParamView, name: &str) -> PARAM_VALUE_DATA {
         let i = view.index_of(name).unwrap_or(usize::MAX);
@@ -197,32 +245,34 @@ mod tests {
     fn every_name_scale_and_type_round_trips() {
         let mut t = table();
         t.set("MPC_XY_CRUISE", 10.0, 1e-3).unwrap();
-        let view = CopterParamView::new(&t);
-        assert_eq!(view.len(), t.len());
+        let view = CopterParamView::new(&t, &LINK);
+        assert_eq!(view.len(), t.len() + 1, "the table, then SYSID_THISMAV");
         let v = value(&view, "WPNAV_SPEED");
         assert_eq!((name_of(&v.param_id).as_str(), v.param_value), ("WPNAV_SPEED", 1000.0));
         assert_eq!(v.param_type, MavParamType::MAV_PARAM_TYPE_REAL32);
         assert_eq!(v.param_index as usize, t.index_of("MPC_XY_CRUISE").unwrap());
         assert_eq!(view.index_of("MPC_XY_CRUISE"), None, "not under its PX4 name");
         assert_eq!(view.setting_for("MPC_XY_CRUISE", 5.0), None);
-        assert_eq!(view.setting_for("WPNAV_SPEED", 500.0), Some(Ok(("MPC_XY_CRUISE", 5.0))));
+        assert_eq!(
+            view.setting_for("WPNAV_SPEED", 500.0),
+            Some(Ok(CopterSet::Setting("MPC_XY_CRUISE", 5.0)))
+        );
         for p in &COPTER_PARAMS {
             let i = view.index_of(p.name).unwrap();
             let shown = view.get(i).unwrap();
             assert_eq!(shown.name, p.name);
             let (def, setting) = t.get(i).unwrap();
             assert_eq!(def.name, p.setting);
-            let back = view.setting_for(p.name, shown.value.as_f64()).unwrap().unwrap();
-            let tolerance = if p.kind.is_integer() {
-                0.5 / p.scale
-            } else {
-                1e-6 * setting.abs()
+            let Some(Ok(CopterSet::Setting(name, back))) = view.setting_for(p.name, shown.value.as_f64()) else {
+                panic!("{}: not set back", p.name);
             };
-            assert!(
-                (back.1 - setting).abs() <= tolerance,
-                "{}: {back:?} vs {setting}",
-                p.name
-            );
+            let tolerance = match (p.conv, p.kind.is_integer()) {
+                (Conversion::Scale(scale), true) => 0.5 / scale,
+                (Conversion::Scale(_), false) => 1e-6 * setting.abs(),
+                (Conversion::Codes(_), _) => 0.0,
+            };
+            assert_eq!(name, p.setting);
+            assert!((back - setting).abs() <= tolerance, "{}: {back} vs {setting}", p.name);
             assert_eq!(mav_type_of(shown.value), p.kind.mav_type(), "{}", p.name);
         }
         // Settings without a Copter name keep their own name and type.
@@ -236,7 +286,7 @@ mod tests {
         t.set("RP_CTRL", 1.0, 1e-3).unwrap();
         t.set("COM_DISARM_PRFLT", 7.0, 1e-3).unwrap();
         t.set("MPC_TILTMAX_AIR", 45.0, 1e-3).unwrap();
-        let view = CopterParamView::new(&t);
+        let view = CopterParamView::new(&t, &LINK);
         let ctrl = value(&view, "RP_CTRL");
         assert_eq!(ctrl.param_value, 1.0, "1.0, not the denormal of PX4's bytes");
         assert_ne!(ctrl.param_value.to_bits(), 1);
@@ -259,29 +309,25 @@ mod tests {
             param_type: MavParamType::MAV_PARAM_TYPE_INT32,
         };
         assert_eq!(copter_param_set(&set), ("RP_CTRL".to_string(), 1.0));
-        assert_eq!(view.setting_for("RP_CTRL", 1.0), Some(Ok(("RP_CTRL", 1.0))));
+        assert_eq!(
+            view.setting_for("RP_CTRL", 1.0),
+            Some(Ok(CopterSet::Setting("RP_CTRL", 1.0)))
+        );
         assert_eq!(
             view.setting_for("LAND_SPEED", 49.999),
-            Some(Ok(("MPC_LAND_SPEED", 0.5)))
+            Some(Ok(CopterSet::Setting("MPC_LAND_SPEED", 0.5)))
         );
     }
 
     #[test]
     fn unknown_names_and_refused_values() {
         let t = table();
-        let view = CopterParamView::new(&t);
-        for unknown in [
-            "NOPE",
-            "SYSID_THISMAV",
-            "SR0_EXTRA1",
-            "_HASH_CHECK",
-            "RTL_RETURN_ALT",
-            "",
-        ] {
+        let view = CopterParamView::new(&t, &LINK);
+        for unknown in ["NOPE", "SR0_EXTRA1", "_HASH_CHECK", "RTL_RETURN_ALT", ""] {
             assert_eq!(view.index_of(unknown), None, "{unknown}");
             assert_eq!(view.setting_for(unknown, 1.0), None, "{unknown}");
         }
-        assert!(view.param_value(t.len(), 0).is_none());
+        assert!(view.param_value(t.len() + 1, 0).is_none());
         assert_eq!(
             view.setting_for("WPNAV_SPEED", 5000.0),
             Some(Err("WPNAV_SPEED: 5000 outside [50, 3000]".into()))
@@ -290,11 +336,88 @@ mod tests {
             view.setting_for("WPNAV_RADIUS", 1.0),
             Some(Err("WPNAV_RADIUS: 1 outside [5, 20000]".into()))
         );
-        assert_eq!(view.setting_for("WPNAV_RADIUS", 5.0), Some(Ok(("NAV_ACC_RAD", 0.05))));
+        assert_eq!(
+            view.setting_for("WPNAV_RADIUS", 5.0),
+            Some(Ok(CopterSet::Setting("NAV_ACC_RAD", 0.05)))
+        );
         assert_eq!(
             view.setting_for("RTL_ALT", f64::NAN),
             Some(Err("RTL_ALT: NaN is not a number".into()))
         );
+        // Copter codes without a behaviour here are refused with the codes allowed.
+        for (name, value, why) in [
+            ("FS_GCS_ENABLE", 3.0, "FS_GCS_ENABLE: 3 not emulated (0, 1, 5 or 7)"),
+            ("FENCE_ACTION", 5.0, "FENCE_ACTION: 5 not emulated (0, 1, 2 or 4)"),
+            ("ARMING_CHECK", 65470.0, "ARMING_CHECK: 65470 not emulated (0 or 1)"),
+            ("BATT_FS_CRT_ACT", 5.0, "BATT_FS_CRT_ACT: 5 not emulated (0, 1 or 2)"),
+        ] {
+            assert_eq!(view.setting_for(name, value), Some(Err(why.into())), "{name}");
+            assert!(why.len() <= 50, "{why}: a STATUSTEXT holds 50 bytes");
+        }
+        assert_eq!(
+            view.setting_for("FS_GCS_ENABLE", 1.0),
+            Some(Ok(CopterSet::Setting("NAV_DLL_ACT", 2.0)))
+        );
+        assert_eq!(
+            view.setting_for("FS_GCS_TIMEOUT", 2.0),
+            Some(Err("FS_GCS_TIMEOUT: 2 outside [5, 300]".into()))
+        );
+    }
+
+    #[test]
+    fn codes_show_as_copter_and_what_copter_lacks_as_minus_one() {
+        let mut t = table();
+        t.set("NAV_DLL_ACT", 3.0, 1e-3).unwrap();
+        t.set("GF_ACTION", 4.0, 1e-3).unwrap();
+        let view = CopterParamView::new(&t, &LINK);
+        let fs = value(&view, "FS_GCS_ENABLE");
+        assert_eq!(
+            (fs.param_value, fs.param_type),
+            (5.0, MavParamType::MAV_PARAM_TYPE_INT8)
+        );
+        assert_eq!(value(&view, "FENCE_ACTION").param_value, -1.0, "PX4's terminate");
+        let checks = value(&view, "ARMING_CHECK");
+        assert_eq!(
+            (checks.param_value, checks.param_type),
+            (1.0, MavParamType::MAV_PARAM_TYPE_INT32)
+        );
+    }
+
+    #[test]
+    fn what_the_link_holds_follows_the_table() {
+        let t = table();
+        let mut rates = [0; GROUP_COUNT];
+        rates[CopterGroup::Position.index()] = 4;
+        let link = LinkParams {
+            system_id: 3,
+            stream_rates: vec![rates, [0; GROUP_COUNT]],
+        };
+        let view = CopterParamView::new(&t, &link);
+        assert_eq!(view.len(), t.len() + 21);
+        assert_eq!(view.index_of("SYSID_THISMAV"), Some(t.len()));
+        let sysid = value(&view, "SYSID_THISMAV");
+        assert_eq!(
+            (sysid.param_value, sysid.param_type, sysid.param_index as usize),
+            (3.0, MavParamType::MAV_PARAM_TYPE_INT16, t.len())
+        );
+        assert_eq!(value(&view, "SR0_POSITION").param_value, 4.0);
+        assert_eq!(value(&view, "SR1_POSITION").param_value, 0.0);
+        assert_eq!(view.index_of("SR2_POSITION"), None);
+        assert_eq!(
+            view.setting_for("SR0_POSITION", 2.0),
+            Some(Ok(CopterSet::Link(LinkSet::StreamRate {
+                link: 0,
+                group: CopterGroup::Position,
+                rate_hz: 2
+            })))
+        );
+        assert_eq!(
+            view.setting_for("SYSID_THISMAV", 4.0),
+            Some(Err("SYSID_THISMAV: fixed at start (--sysid)".into()))
+        );
+        let packed = view.packed();
+        assert_eq!(packed.len(), view.len());
+        assert_eq!(packed[t.len()].default, PackedValue::Int16(1), "Copter's default id");
     }
 
     #[test]
@@ -303,8 +426,8 @@ mod tests {
         for (_, setting, v) in copter_defaults() {
             t.set(setting, v, 1e-3).unwrap();
         }
-        let packed = CopterParamView::new(&t).packed();
-        assert_eq!(packed.len(), t.len());
+        let packed = CopterParamView::new(&t, &LINK).packed();
+        assert_eq!(packed.len(), t.len() + 1);
         let find = |name: &str| packed.iter().find(|p| p.name == name).cloned().unwrap();
         let speed = find("WPNAV_SPEED");
         assert_eq!(
@@ -317,7 +440,9 @@ mod tests {
             (PackedValue::Int8(10), PackedValue::Int8(10))
         );
         let fence = find("FENCE_RADIUS");
-        assert_eq!(fence.default, PackedValue::Float(0.0), "the setting's own default");
+        assert_eq!(fence.default, PackedValue::Float(300.0), "Copter's default");
+        let capacity = find("BATT_CAPACITY");
+        assert_eq!(capacity.default, capacity.value, "the airframe's pack");
         assert!(packed.iter().all(|p| p.name != "MPC_XY_CRUISE"));
     }
 

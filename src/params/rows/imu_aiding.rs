@@ -1,6 +1,7 @@
 //! Which aids the navigation filter uses (PX4's `EKF2_IMU_CTRL`, `EKF2_GRAV_NOISE`,
 //! `EKF2_GPS_CTRL`, `EKF2_MAG_TYPE`) and whether arming needs a position (`COM_ARM_WO_GPS`)
-//! (docs/navigation_filter.md §6, §10, §20).
+//! (docs/navigation_filter.md §6, §10, §20); the switches of the pre-arm checks and of the
+//! geofence (`RP_ARM_CHECKS`, `RP_GF_ENABLE`, ArduCopter's `ARMING_CHECK` and `FENCE_ENABLE`).
 
 use crate::params::ParamDef;
 
@@ -62,5 +63,28 @@ pub(super) static AIDING_SOURCES: &[ParamDef] = &[
         Commander,
         "Arming without a position estimate in the modes that need none: 0 refused, 1 allowed",
         flag commander.arm_without_gps
+    ),
+];
+
+/// The switches ArduCopter's `ARMING_CHECK` and `FENCE_ENABLE` set (appended after the aiding
+/// sources).
+pub(super) static SWITCHES: &[ParamDef] = &[
+    row!(
+        "RP_ARM_CHECKS",
+        Int32,
+        [0.0, 1.0],
+        "",
+        Commander,
+        "1: arming checks the sticks (present, throttle low) and the geofence first; 0 skips them (the estimate and the mode's needs are always checked)",
+        flag commander.arming_checks
+    ),
+    row!(
+        "RP_GF_ENABLE",
+        Int32,
+        [0.0, 1.0],
+        "",
+        Failsafe,
+        "1: the geofence (GF_MAX_* limits, uploaded zones) is checked before arming and acted on; 0: off",
+        flag commander.failsafe.geofence_enabled
     ),
 ];
