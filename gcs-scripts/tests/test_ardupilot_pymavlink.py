@@ -303,10 +303,11 @@ def guided_takeoff(conn, height_m, rate_hz=10):
 
 @ARDUPILOT
 def test_fence_enable_0_flies_past_the_fence_and_1_returns(autopilot_factory):
-    """FENCE_ENABLE 0 (Copter's default): above FENCE_ALT_MAX without a breach; 1: the breach
-    shows (CRITICAL) and FENCE_ACTION 1 returns (the heartbeat shows RTL)."""
-    conn = connect(autopilot_factory(connect=False))
-    assert param_set(conn, "FENCE_ALT_MAX", 6).param_value == 6.0
+    """FENCE_ENABLE 0 (Copter's default): above FENCE_ALT_MAX (6 m, by its Copter name in the
+    `--params` file) without a breach; 1: the breach shows (CRITICAL) and FENCE_ACTION 1 returns
+    (the heartbeat shows RTL)."""
+    conn = connect(autopilot_factory(connect=False, params={"FENCE_ALT_MAX": 6}))
+    assert param(conn, "FENCE_ALT_MAX").param_value == 6.0
     guided_takeoff(conn, 10)
     time.sleep(1.0)
     hb = recv(conn, "HEARTBEAT", 5)

@@ -63,6 +63,18 @@ pub enum LinkSet {
     },
 }
 
+/// True for a name of what the link holds, on any link (`SYSID_THISMAV`, `SR0_POSITION`,
+/// `SR5_ADSB`).
+pub fn is_link_param(name: &str) -> bool {
+    let stream_rate = || {
+        let rest = name.strip_prefix("SR")?;
+        let (n, suffix) = rest.split_once('_')?;
+        let numbered = !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit());
+        Some(numbered && CopterGroup::ALL.iter().any(|g| g.suffix() == suffix))
+    };
+    name == SYSID_THISMAV || stream_rate() == Some(true)
+}
+
 /// Both are AP_Int16 in Copter.
 const KIND: CopterType = CopterType::Int16;
 
@@ -185,5 +197,15 @@ mod tests {
             Some(Err("SYSID_THISMAV: fixed at start (--sysid)".into()))
         );
         assert_eq!(p.set(21, 1.0), None);
+    }
+
+    #[test]
+    fn link_names_are_known_on_any_link() {
+        for name in ["SYSID_THISMAV", "SR0_POSITION", "SR6_ADSB", "SR12_EXTRA1"] {
+            assert!(is_link_param(name), "{name}");
+        }
+        for name in ["SR_POSITION", "SRX_POSITION", "SR0_NOPE", "SR0POSITION", "WPNAV_SPEED"] {
+            assert!(!is_link_param(name), "{name}");
+        }
     }
 }
