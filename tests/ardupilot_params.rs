@@ -413,7 +413,7 @@ fn failsafe_codes_map_onto_the_settings_and_the_others_are_refused() {
     for (param, value, setting, setting_value) in [
         ("FENCE_ENABLE", 1.0, "RP_GF_ENABLE", 1.0),
         ("ARMING_CHECK", 0.0, "RP_ARM_CHECKS", 0.0),
-        ("FS_THR_ENABLE", 5.0, "NAV_RCL_ACT", 3.0),
+        ("FS_THR_ENABLE", 3.0, "NAV_RCL_ACT", 3.0),
         ("BATT_FS_CRT_ACT", 2.0, "COM_LOW_BAT_ACT", 3.0),
         ("FS_EKF_ACTION", 2.0, "COM_POSCTL_NAVL", 0.0),
     ] {

@@ -182,13 +182,21 @@ const fn codes(
 
 use CopterType::{Float, Int16, Int32, Int8};
 
-/// Copter's failsafe actions that have one here (`FS_GCS_ENABLE`, `FS_THR_ENABLE`) against
-/// `NAV_DLL_ACT`'s and `NAV_RCL_ACT`'s codes (the same codes): RTL is the return, Land the
-/// landing, Brake or Land the hold.
-const LOSS_ACTIONS: &[(i32, i32, &str)] = &[
+/// `FS_GCS_ENABLE`'s actions that have one here against `NAV_DLL_ACT`'s codes: RTL is the
+/// return, Land the landing, Brake or Land the hold.
+const GCS_LOSS_ACTIONS: &[(i32, i32, &str)] = &[
     (0, 0, "disabled"),
     (1, 2, "RTL"),
     (5, 3, "land"),
+    (7, 1, "brake or land"),
+];
+
+/// `FS_THR_ENABLE`'s against `NAV_RCL_ACT`'s (the codes of `NAV_DLL_ACT`): as
+/// [`GCS_LOSS_ACTIONS`], but Copter's Land is 3 here (its 5 is SmartRTL or Land).
+const STICK_LOSS_ACTIONS: &[(i32, i32, &str)] = &[
+    (0, 0, "disabled"),
+    (1, 2, "RTL"),
+    (3, 3, "land"),
     (7, 1, "brake or land"),
 ];
 
@@ -236,9 +244,9 @@ pub const COPTER_PARAMS: [CopterParam; 22] = [
     ),
     param("FENCE_ALT_MAX", "GF_MAX_VER_DIST", 1.0, Float, Some(100.0)),
     param("FENCE_RADIUS", "GF_MAX_HOR_DIST", 1.0, Float, Some(300.0)),
-    codes("FS_GCS_ENABLE", "NAV_DLL_ACT", LOSS_ACTIONS, 0),
+    codes("FS_GCS_ENABLE", "NAV_DLL_ACT", GCS_LOSS_ACTIONS, 0),
     param("FS_GCS_TIMEOUT", "COM_DL_LOSS_T", 1.0, Float, Some(5.0)),
-    codes("FS_THR_ENABLE", "NAV_RCL_ACT", LOSS_ACTIONS, 1),
+    codes("FS_THR_ENABLE", "NAV_RCL_ACT", STICK_LOSS_ACTIONS, 1),
     codes(
         "FS_EKF_ACTION",
         "COM_POSCTL_NAVL",
@@ -371,6 +379,11 @@ mod tests {
         assert_eq!(fs_gcs.to_copter(5.0), None, "PX4's terminate has no Copter code");
         assert_eq!(fs_gcs.to_setting(3.0), Err("3 not emulated (0, 1, 5 or 7)".into()));
         assert_eq!(fs_gcs.choices(), "0 disabled, 1 RTL, 5 land, 7 brake or land");
+        let fs_thr = by_name("FS_THR_ENABLE")
+            .map(|p| p.conv)
+            .unwrap_or(Conversion::Scale(1.0));
+        assert_eq!(fs_thr.to_setting(3.0), Ok(3.0), "Copter's throttle failsafe lands at 3");
+        assert!(fs_thr.to_setting(5.0).is_err(), "its 5 is SmartRTL or Land");
         let speed = Conversion::Scale(100.0);
         assert_eq!((speed.to_setting(500.0), speed.to_copter(5.0)), (Ok(5.0), Some(500.0)));
         assert_eq!((speed.choices(), speed.allowed()), (String::new(), String::new()));
