@@ -86,14 +86,14 @@ fn mavproxys_parameter_download_is_answered_under_its_random_session() {
     let session = random_session();
     let file = decode(&download(&mut b, session, 0)).unwrap();
     assert_eq!(file.magic, MAGIC_WITH_DEFAULTS);
-    assert_eq!(
-        (file.entries.len(), usize::from(file.total)),
-        (table().len(), table().len())
-    );
+    // The table, then what the link holds: SYSID_THISMAV and SR0_*, SR1_* of the two links.
+    let count = table().len() + 1 + 2 * 10;
+    assert_eq!((file.entries.len(), usize::from(file.total)), (count, count));
+    assert!(file.entries.iter().any(|e| e.name == "SR1_ADSB"));
     // MAVProxy's next transfer takes the next number; 0 and 255 are numbers like any other.
     for (k, next) in [session.wrapping_add(1), 0, 255].into_iter().enumerate() {
         let again = download(&mut b, next, 10 + 10 * k as u16);
-        assert_eq!(decode(&again).unwrap().entries.len(), table().len(), "session {next}");
+        assert_eq!(decode(&again).unwrap().entries.len(), count, "session {next}");
     }
 }
 

@@ -2,7 +2,10 @@
 //! shipped link machine with virtual clocks: a list opens with Copter's banner and shows every
 //! parameter once under Copter's names and units; a set by Copter name asks the vehicle for the
 //! setting behind it and echoes the Copter value; reads by name and by index; unknown names are
-//! ignored; `@PARAM/param.pck` packs Copter's names; a PX4-faced vehicle is unchanged.
+//! ignored; `@PARAM/param.pck` packs Copter's names; the failsafe enums map onto the settings'
+//! codes and Copter codes without a behaviour are refused; `SRn_*` are the links' stream group
+//! rates (a set changes the rate on the wire) and `SYSID_THISMAV` the system id; a PX4-faced
+//! vehicle is unchanged.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
 mod link_bench;
@@ -85,11 +88,14 @@ fn param_asks(b: &mut Bench) -> Vec<ToVehicle> {
         .filter(|a| !matches!(a.request, VehicleRequest::Commander(_)))
         .collect()
 }
+/// What the link holds after the table: SYSID_THISMAV, then SR0_* and SR1_* of the bench's two
+/// links.
+const LINK_HELD: usize = 1 + 2 * 10;
 
 #[test]
 fn a_list_opens_with_the_banner_and_shows_every_parameter_once_under_copter_names() {
     let mut b = bench(Personality::ArduPilot);
-    let n = table().len();
+    let n = table().len() + LINK_HELD;
     b.send(Gcs, QGC, request_list());
     let out = run(&mut b, 0.0, 0.5);
     assert!(out
@@ -105,6 +111,11 @@ fn a_list_opens_with_the_banner_and_shows_every_parameter_once_under_copter_name
         assert_eq!((v.param_index as usize, v.param_count as usize), (i, n));
     }
     let names: Vec<String> = values.iter().map(name).collect();
+    assert_eq!(
+        names[table().len()..][..3],
+        ["SYSID_THISMAV", "SR0_RAW_SENS", "SR0_EXT_STAT"]
+    );
+    assert_eq!(names.last().map(String::as_str), Some("SR1_ADSB"));
     let speed = values.iter().find(|v| name(v) == "WPNAV_SPEED").unwrap();
     assert_eq!(speed.param_value, 1000.0, "cm/s");
     assert_eq!(speed.param_type, MavParamType::MAV_PARAM_TYPE_REAL32);
@@ -179,7 +190,7 @@ fn a_set_by_copter_name_asks_for_the_setting_and_echoes_the_copter_value() {
 #[test]
 fn unknown_names_get_nothing_and_bad_values_are_refused_in_copter_units() {
     let mut b = bench(Personality::ArduPilot);
-    for unknown in ["MPC_XY_CRUISE", "_HASH_CHECK", "SYSID_THISMAV", "SR0_EXTRA1"] {
+    for unknown in ["MPC_XY_CRUISE", "_HASH_CHECK", "SR2_EXTRA1", "NAV_DLL_ACT"] {
         b.send(Gcs, QGC, param_set(unknown, 1.0));
         b.send(Gcs, QGC, request_read(unknown, -1));
         assert!(b.out().is_empty(), "{unknown}");
@@ -224,10 +235,8 @@ fn the_packed_parameter_file_carries_copter_names_types_and_defaults() {
     }
     let file = decode(&bytes).unwrap();
     assert_eq!(file.magic, MAGIC_WITH_DEFAULTS);
-    assert_eq!(
-        (file.entries.len(), usize::from(file.total)),
-        (table().len(), table().len())
-    );
+    let count = table().len() + LINK_HELD;
+    assert_eq!((file.entries.len(), usize::from(file.total)), (count, count));
     let find = |n: &str| file.entries.iter().find(|e| e.name == n);
     let speed = find("WPNAV_SPEED").unwrap();
     assert_eq!(speed.value, PackedValue::Float(1000.0));
@@ -235,6 +244,198 @@ fn the_packed_parameter_file_carries_copter_names_types_and_defaults() {
     let delay = find("DISARM_DELAY").unwrap();
     assert_eq!(delay.value, PackedValue::Int32(10), "an int8, widened by the reader");
     assert!(find("MPC_XY_CRUISE").is_none());
+    let sysid = find("SYSID_THISMAV").unwrap();
+    assert_eq!(
+        (sysid.value, sysid.default),
+        (PackedValue::Int32(1), None),
+        "an int16, Copter's 1"
+    );
+    assert_eq!(find("SR0_POSITION").unwrap().value, PackedValue::Int32(0));
+}
+
+/// The only PARAM_VALUE among `out`, and where it went.
+fn values_of(out: &[(LinkKind, u16, MavMessage)]) -> Vec<(LinkKind, u16, PARAM_VALUE_DATA)> {
+    out.iter()
+        .filter_map(|(l, to, m)| match m {
+            MavMessage::PARAM_VALUE(v) => Some((*l, *to, v.clone())),
+            _ => None,
+        })
+        .collect()
+}
+
+fn texts_of(out: &[(LinkKind, u16, MavMessage)]) -> Vec<String> {
+    texts_and_values(out).0
+}
+
+fn request_data_stream(stream: MavDataStream, rate_hz: u16) -> MavMessage {
+    MavMessage::REQUEST_DATA_STREAM(REQUEST_DATA_STREAM_DATA {
+        req_message_rate: rate_hz,
+        target_system: 1,
+        target_component: 1,
+        req_stream_id: stream,
+        start_stop: 1,
+    })
+}
+
+/// GLOBAL_POSITION_INTs on `link` during the second of both clocks from `from_s`, 5 ms a step.
+fn positions_in_a_second(b: &mut Bench, link: LinkKind, from_s: f64) -> usize {
+    let times = (0..200).map(|k| from_s + f64::from(k) * 0.005).map(|t| (t, t));
+    b.count_sent("GLOBAL_POSITION_INT", link, times)
+}
+
+#[test]
+fn stream_rates_are_the_links_sr_parameters() {
+    let mut b = bench(Personality::ArduPilot);
+    b.send(Gcs, QGC, gcs_heartbeat());
+    b.send(Gcs, QGC, request_read("SR0_POSITION", -1));
+    let read = values_of(&b.out());
+    assert_eq!(read.len(), 1);
+    assert_eq!(
+        (read[0].2.param_value, read[0].2.param_type),
+        (0.0, MavParamType::MAV_PARAM_TYPE_INT16),
+        "Copter's SRn_* are 0"
+    );
+    // MAVProxy's REQUEST_DATA_STREAM ALL shows in SR0_* (not SR1_*, another link; not PARAMS).
+    b.send(Gcs, QGC, request_data_stream(MavDataStream::MAV_DATA_STREAM_ALL, 4));
+    for (param, rate) in [
+        ("SR0_POSITION", 4.0),
+        ("SR0_EXTRA3", 4.0),
+        ("SR0_PARAMS", 0.0),
+        ("SR1_POSITION", 0.0),
+    ] {
+        b.send(Gcs, QGC, request_read(param, -1));
+        assert_eq!(values_of(&b.out())[0].2.param_value, rate, "{param}");
+    }
+    assert_eq!(positions_in_a_second(&mut b, Gcs, 0.0), 4);
+    // A set of SR0_POSITION sets the group's rate on the wire, without asking the vehicle.
+    b.send(Gcs, QGC, param_set("SR0_POSITION", 10.0));
+    assert!(param_asks(&mut b).is_empty());
+    let echo = values_of(&b.out());
+    let mut to: Vec<(LinkKind, u16)> = echo.iter().map(|e| (e.0, e.1)).collect();
+    to.sort_unstable_by_key(|t| (t.0 == Api, t.1));
+    assert_eq!(
+        to,
+        vec![(Gcs, QGC), (Api, SDK)],
+        "announced to every peer of every link"
+    );
+    assert_eq!(
+        (name(&echo[0].2).as_str(), echo[0].2.param_value),
+        ("SR0_POSITION", 10.0)
+    );
+    assert_eq!(echo[0].2.param_index, u16::MAX);
+    assert_eq!(positions_in_a_second(&mut b, Gcs, 1.0), 10);
+    assert_eq!(
+        positions_in_a_second(&mut b, Api, 2.0),
+        0,
+        "SR1_POSITION is another link's"
+    );
+    b.send(Api, SDK, param_set("SR1_POSITION", 2.0));
+    b.out();
+    assert_eq!(positions_in_a_second(&mut b, Api, 3.0), 2);
+    b.send(Gcs, QGC, param_set("SR0_POSITION", 0.0));
+    b.out();
+    assert_eq!(positions_in_a_second(&mut b, Gcs, 4.0), 0);
+    // A rate Copter's INT16 cannot hold is refused, the value as it is.
+    b.send(Gcs, QGC, param_set("SR0_POSITION", -1.0));
+    let out = b.out();
+    assert_eq!(values_of(&out)[0].2.param_value, 0.0);
+    assert_eq!(texts_of(&out), vec!["SR0_POSITION: -1 outside [0, 32767]"]);
+}
+
+#[test]
+fn sysid_thismav_shows_the_system_id_and_cannot_change_it() {
+    let mut b = Bench::with(|c| {
+        c.identity = Identity::autopilot(7, 4).with_personality(Personality::ArduPilot);
+        c.params = Arc::new(cruising());
+    });
+    let read_sysid = MavMessage::PARAM_REQUEST_READ(PARAM_REQUEST_READ_DATA {
+        param_index: -1,
+        target_system: 7,
+        target_component: 1,
+        param_id: param_id("SYSID_THISMAV"),
+    });
+    b.send(Gcs, QGC, read_sysid.clone());
+    let read = values_of(&b.out());
+    assert_eq!(
+        (read[0].2.param_value, read[0].2.param_type),
+        (7.0, MavParamType::MAV_PARAM_TYPE_INT16)
+    );
+    let set = |value: f32| {
+        MavMessage::PARAM_SET(PARAM_SET_DATA {
+            param_value: value,
+            target_system: 7,
+            target_component: 1,
+            param_id: param_id("SYSID_THISMAV"),
+            param_type: MavParamType::MAV_PARAM_TYPE_INT16,
+        })
+    };
+    b.send(Gcs, QGC, set(3.0));
+    let out = b.out();
+    assert_eq!(values_of(&out)[0].2.param_value, 7.0, "unchanged");
+    assert_eq!(texts_of(&out), vec!["SYSID_THISMAV: fixed at start (--sysid)"]);
+    b.send(Gcs, QGC, set(7.0));
+    let out = b.out();
+    assert_eq!(values_of(&out)[0].2.param_value, 7.0, "the id it has: echoed");
+    assert!(texts_of(&out).is_empty());
+    assert!(param_asks(&mut b).is_empty());
+}
+
+#[test]
+fn failsafe_codes_map_onto_the_settings_and_the_others_are_refused() {
+    let mut b = bench(Personality::ArduPilot);
+    // FS_GCS_ENABLE 1 (RTL) is NAV_DLL_ACT 2 (return), as the setting's code.
+    b.send(Gcs, QGC, param_set("FS_GCS_ENABLE", 1.0));
+    let asks = param_asks(&mut b);
+    assert_eq!(
+        asks[0].request,
+        VehicleRequest::SetParam {
+            name: "NAV_DLL_ACT".into(),
+            value: 2.0
+        }
+    );
+    let mut after = cruising();
+    let result = after.set("NAV_DLL_ACT", 2.0, 1e-3);
+    let reply = VehicleReply::Param {
+        result,
+        table: Arc::new(after),
+    };
+    b.m.handle_reply(b.now, asks[0].token.unwrap(), reply);
+    let echo = values_of(&b.out());
+    assert_eq!(
+        (name(&echo[0].2).as_str(), echo[0].2.param_value),
+        ("FS_GCS_ENABLE", 1.0)
+    );
+    assert_eq!(echo[0].2.param_type, MavParamType::MAV_PARAM_TYPE_INT8);
+    // SmartRTL-or-RTL has no behaviour of its own here: refused, the value as it is.
+    for (param, value, why) in [
+        ("FS_GCS_ENABLE", 3.0, "FS_GCS_ENABLE: 3 not emulated (0, 1, 5 or 7)"),
+        ("FENCE_ACTION", 3.0, "FENCE_ACTION: 3 not emulated (0, 1, 2 or 4)"),
+        ("ARMING_CHECK", 64.0, "ARMING_CHECK: 64 not emulated (0 or 1)"),
+    ] {
+        b.send(Gcs, QGC, param_set(param, value));
+        assert!(param_asks(&mut b).is_empty(), "{param}");
+        let out = b.out();
+        assert_eq!(values_of(&out).len(), 1, "{param}: the value as it is");
+        assert_eq!(texts_of(&out), vec![why]);
+    }
+    for (param, value, setting, setting_value) in [
+        ("FENCE_ENABLE", 1.0, "RP_GF_ENABLE", 1.0),
+        ("ARMING_CHECK", 0.0, "RP_ARM_CHECKS", 0.0),
+        ("FS_THR_ENABLE", 3.0, "NAV_RCL_ACT", 3.0),
+        ("BATT_FS_CRT_ACT", 2.0, "COM_LOW_BAT_ACT", 3.0),
+        ("FS_EKF_ACTION", 2.0, "COM_POSCTL_NAVL", 0.0),
+    ] {
+        b.send(Gcs, QGC, param_set(param, value));
+        let asks = param_asks(&mut b);
+        assert_eq!(
+            asks[0].request,
+            VehicleRequest::SetParam {
+                name: setting.into(),
+                value: setting_value
+            },
+            "{param}"
+        );
+    }
 }
 
 fn ftp_replies(b: &mut Bench) -> Vec<Payload> {

@@ -221,3 +221,114 @@ def test_a_mixed_swarm_answers_each_as_its_own_autopilot(autopilot_factory):
         if m is not None:
             seen[m.get_srcSystem()] = m.autopilot
     assert seen == {1: mavlink.MAV_AUTOPILOT_PX4, 2: mavlink.MAV_AUTOPILOT_ARDUPILOTMEGA}
+
+
+def connect(ap):
+    """pymavlink's connection to the GCS link (Copter's SR0), aimed at the vehicle."""
+    conn = ap.vehicle.conn
+    hb = conn.wait_heartbeat(timeout=30)
+    conn.target_system, conn.target_component = hb.get_srcSystem(), 0
+    return conn
+
+
+def param(conn, name):
+    """PARAM_REQUEST_READ by name (pymavlink's `param_fetch_one`): the PARAM_VALUE answered."""
+    conn.param_fetch_one(name)
+    return recv(conn, "PARAM_VALUE", 10, lambda m: m.param_id == name)
+
+
+def param_set(conn, name, value):
+    """pymavlink's `param_set_send`: the echo, or for a refusal (the value as it is, then a
+    STATUSTEXT) the text."""
+    conn.param_set_send(name, value)
+    echo = recv(conn, "PARAM_VALUE", 10, lambda m: m.param_id == name)
+    try:
+        return recv(conn, "STATUSTEXT", 0.5, lambda m: m.text.startswith(f"{name}:")).text
+    except AssertionError:
+        return echo
+
+
+def position_rate_hz(conn, seconds=3.0):
+    """The rate of GLOBAL_POSITION_INT [Hz of simulated time] over `seconds` of wall time."""
+    stamps = []
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        m = conn.recv_match(type="GLOBAL_POSITION_INT", blocking=True, timeout=0.2)
+        if m is not None:
+            stamps.append(m.time_boot_ms)
+    if len(stamps) < 2:
+        return 0.0
+    return (len(stamps) - 1) / ((stamps[-1] - stamps[0]) / 1000.0)
+
+
+@ARDUPILOT
+def test_sr_rates_sysid_and_failsafe_codes_as_parameters(autopilot_factory):
+    """SR0_* are the GCS link's stream group rates (docs/ardupilot.md §5.2): 0 until asked, what
+    REQUEST_DATA_STREAM set, and a set of SR0_POSITION changes GLOBAL_POSITION_INT's rate on the
+    wire. SYSID_THISMAV is the system id; a Copter code without a behaviour is refused."""
+    conn = connect(autopilot_factory(connect=False))
+    sr = param(conn, "SR0_POSITION")
+    assert (sr.param_value, sr.param_type) == (0.0, mavlink.MAV_PARAM_TYPE_INT16)
+    assert position_rate_hz(conn, 1.0) == 0.0, "Copter's SRn_* start at 0"
+    conn.mav.request_data_stream_send(conn.target_system, 0, mavlink.MAV_DATA_STREAM_ALL, 4, 1)
+    assert param(conn, "SR0_POSITION").param_value == 4.0
+    assert param(conn, "SR0_PARAMS").param_value == 0.0, "ALL leaves PARAMS alone"
+    assert param(conn, "SR1_POSITION").param_value == 0.0, "the API link's"
+    assert 3.5 < position_rate_hz(conn) < 4.5
+    echo = param_set(conn, "SR0_POSITION", 10)
+    assert (echo.param_value, echo.param_type) == (10.0, mavlink.MAV_PARAM_TYPE_INT16)
+    assert 9.0 < position_rate_hz(conn) < 11.0
+    assert param_set(conn, "SR0_POSITION", 0).param_value == 0.0
+    assert position_rate_hz(conn, 1.0) == 0.0
+    sysid = param(conn, "SYSID_THISMAV")
+    assert (sysid.param_value, sysid.param_type) == (1.0, mavlink.MAV_PARAM_TYPE_INT16)
+    assert param_set(conn, "SYSID_THISMAV", 5) == "SYSID_THISMAV: fixed at start (--sysid)"
+    assert param_set(conn, "FS_GCS_ENABLE", 3) == "FS_GCS_ENABLE: 3 not emulated (0, 1, 5 or 7)"
+    assert param(conn, "FS_GCS_ENABLE").param_value == 0.0, "unchanged"
+    assert param(conn, "FENCE_ENABLE").param_value == 0.0, "Copter's fence is off"
+    assert param(conn, "FENCE_ALT_MAX").param_value == 100.0
+    assert param(conn, "FENCE_RADIUS").param_value == 300.0
+
+
+def guided_takeoff(conn, height_m, rate_hz=10):
+    conn.mav.request_data_stream_send(conn.target_system, 0, mavlink.MAV_DATA_STREAM_ALL, rate_hz, 1)
+    wait_armable(conn)
+    conn.set_mode("GUIDED")
+    recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 4)
+    conn.arducopter_arm()
+    conn.motors_armed_wait()
+    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, height_m)
+    recv(conn, "GLOBAL_POSITION_INT", 60, lambda m: m.relative_alt >= (height_m - 0.5) * 1000)
+
+
+@ARDUPILOT
+def test_fence_enable_0_flies_past_the_fence_and_1_returns(autopilot_factory):
+    """FENCE_ENABLE 0 (Copter's default): above FENCE_ALT_MAX (6 m, by its Copter name in the
+    `--params` file) without a breach; 1: the breach shows (CRITICAL) and FENCE_ACTION 1 returns
+    (the heartbeat shows RTL)."""
+    conn = connect(autopilot_factory(connect=False, params={"FENCE_ALT_MAX": 6}))
+    assert param(conn, "FENCE_ALT_MAX").param_value == 6.0
+    guided_takeoff(conn, 10)
+    time.sleep(1.0)
+    hb = recv(conn, "HEARTBEAT", 5)
+    assert (hb.custom_mode, hb.system_status) == (4, mavlink.MAV_STATE_ACTIVE), "no fence: still GUIDED"
+    assert param_set(conn, "FENCE_ENABLE", 1).param_value == 1.0
+    assert recv(conn, "HEARTBEAT", 10, lambda m: m.system_status == mavlink.MAV_STATE_CRITICAL)
+    recv(conn, "HEARTBEAT", 20, lambda m: m.custom_mode == 6)
+
+
+@ARDUPILOT
+def test_fs_gcs_enable_1_returns_when_the_ground_station_falls_silent(autopilot_factory):
+    """FS_GCS_ENABLE 1 (RTL) is NAV_DLL_ACT 2: the GCS heartbeat heard once in the air, then
+    silence past FS_GCS_TIMEOUT, and the vehicle returns (the heartbeat shows RTL)."""
+    ap = autopilot_factory(connect=False)
+    conn = connect(ap)
+    echo = param_set(conn, "FS_GCS_ENABLE", 1)
+    assert (echo.param_value, echo.param_type) == (1.0, mavlink.MAV_PARAM_TYPE_INT8)
+    assert param_set(conn, "FS_GCS_TIMEOUT", 5).param_value == 5.0
+    guided_takeoff(conn, 5)
+    ap.vehicle.set_heartbeats(False)  # the package's GCS heartbeat stops: the link falls silent
+    ap.vehicle.send_heartbeat()
+    lost = recv(conn, "STATUSTEXT", 20, lambda m: "link lost" in m.text)
+    assert "returning" in lost.text
+    recv(conn, "HEARTBEAT", 20, lambda m: m.custom_mode == 6)

@@ -122,6 +122,10 @@ pub struct CommanderParams {
     /// (`COM_ARM_WO_GPS`: 0 a valid position is required to arm in any mode, 1 allowed;
     /// default 1).
     pub arm_without_gps: bool,
+    /// Arming checks the sticks and the geofence first (`RP_ARM_CHECKS` 1, the default); 0
+    /// skips them, as ArduCopter's `ARMING_CHECK` 0 keeps only its mandatory checks: the
+    /// estimate and the mode's needs are always checked.
+    pub arming_checks: bool,
     /// Offboard-loss action (`COM_OBL_RC_ACT`: 0–2 hold position (no RC), 3 return, 4 land,
     /// 5 hold (AUTO.LOITER), 6 terminate, 7 disarm; default 0).
     pub offboard_loss_action: OffboardLossAction,
@@ -196,6 +200,7 @@ impl Default for CommanderParams {
             offboard_loss_action: OffboardLossAction::Position,
             position_loss_lands: false,
             arm_without_gps: true,
+            arming_checks: true,
             manual: ManualParams::default(),
             follow: FollowParams::default(),
             mission: MissionParams::default(),

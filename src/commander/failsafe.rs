@@ -16,6 +16,10 @@ pub const FENCE_CLEAR_MARGIN_M: f64 = 1.0;
 /// Failsafe settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FailsafeParams {
+    /// The geofence is on (`RP_GF_ENABLE` 1, the default): its limits and uploaded zones are
+    /// checked before arming and acted on in flight; 0 switches all of it off (ArduCopter's
+    /// `FENCE_ENABLE` 0).
+    pub geofence_enabled: bool,
     /// Geofence breach action (`GF_ACTION`: 0 none, 1 warning, 2 hold, 3 return, 4 terminate,
     /// 5 land; default 2).
     pub geofence_action: GeofenceAction,
@@ -37,6 +41,7 @@ pub struct FailsafeParams {
 impl Default for FailsafeParams {
     fn default() -> Self {
         Self {
+            geofence_enabled: true,
             geofence_action: GeofenceAction::Hold,
             geofence_max_hor_m: 0.0,
             geofence_max_ver_m: 0.0,
@@ -158,6 +163,9 @@ impl FailsafeMonitor {
 /// Inside every limit by [`FENCE_CLEAR_MARGIN_M`]: below the distance limits by the margin, and
 /// every point at the margin around `pos_w` (eight directions) inside the fence.
 fn well_inside(p: &FailsafeParams, rel_home_w: [f64; 3], fence: &Geofence, pos_w: &Vec3) -> bool {
+    if !p.geofence_enabled {
+        return true;
+    }
     let m = FENCE_CLEAR_MARGIN_M;
     let horizontal = rel_home_w[0].hypot(rel_home_w[1]);
     let height = -rel_home_w[2];
@@ -171,9 +179,12 @@ fn well_inside(p: &FailsafeParams, rel_home_w: [f64; 3], fence: &Geofence, pos_w
 }
 
 /// The announcement of a geofence breach at `rel_home_w` [m] from home (NED) with the uploaded
-/// fence's verdict `zone`, or `None` inside every limit: `GF_MAX_HOR_DIST` and `GF_MAX_VER_DIST`
+/// fence's verdict `zone`, or `None` inside every limit or with the fence off (`RP_GF_ENABLE` 0): `GF_MAX_HOR_DIST` and `GF_MAX_VER_DIST`
 /// first (0 = no limit), then the zones (PX4 `Geofence::checkPointAgainstAllGeofences`).
 pub fn fence_breach(p: &FailsafeParams, rel_home_w: [f64; 3], zone: Option<ZoneBreach>) -> Option<String> {
+    if !p.geofence_enabled {
+        return None;
+    }
     let horizontal = rel_home_w[0].hypot(rel_home_w[1]);
     let height = -rel_home_w[2];
     if (p.geofence_max_hor_m > 0.0 && horizontal > p.geofence_max_hor_m)
@@ -276,6 +287,24 @@ mod tests {
         );
         let mut ground = FailsafeMonitor::default();
         assert!(ground.check(&p, [20.0, 0.0, 0.0], 1.0, false).is_empty());
+    }
+
+    #[test]
+    fn a_fence_switched_off_is_neither_breached_nor_acted_on() {
+        let off = FailsafeParams {
+            geofence_enabled: false,
+            ..fence(GeofenceAction::Return)
+        };
+        assert_eq!(fence_breach(&off, [20.0, 0.0, -9.0], None), None);
+        let mut m = FailsafeMonitor::default();
+        assert_eq!(
+            m.check(&fence(GeofenceAction::Return), [20.0, 0.0, -4.0], 1.0, true)
+                .len(),
+            1
+        );
+        assert!(m.geofence_breached());
+        assert!(m.check(&off, [20.0, 0.0, -4.0], 1.0, true).is_empty(), "RP_GF_ENABLE 0");
+        assert!(!m.geofence_breached(), "switched off: no breach reported");
     }
 
     #[test]

@@ -109,6 +109,30 @@ fn the_stick_modes_but_posctl_need_sticks_and_manual_thrust_needs_the_throttle_d
 }
 
 #[test]
+fn rp_arm_checks_0_skips_the_stick_checks_but_not_the_modes_needs() {
+    let params = CommanderParams {
+        arming_checks: false,
+        ..CommanderParams::default()
+    };
+    let mut s = Script::new(params);
+    assert_eq!(s.request(Request::SetMode(FlightMode::Position)), Outcome::Accepted);
+    hold_sticks(&mut s, throttle(0.6), 0.1);
+    assert_eq!(s.request(Request::SetMode(FlightMode::Stabilized)), Outcome::Accepted);
+    assert_eq!(
+        s.request(Request::Arm { force: false }),
+        Outcome::Accepted,
+        "throttle up: ARMING_CHECK 0"
+    );
+    assert_eq!(s.request(Request::Disarm { force: true }), Outcome::Accepted);
+    assert_eq!(s.request(Request::SetMode(FlightMode::Land)), Outcome::Accepted);
+    assert_eq!(
+        s.request(Request::Arm { force: false }),
+        Outcome::TemporarilyRejected("Arming denied: not in AUTO.LAND".into()),
+        "the mode's needs stay (Copter: mode not armable)"
+    );
+}
+
+#[test]
 fn stick_loss_runs_nav_rcl_act_once_and_the_return_of_the_sticks_is_announced() {
     let mut s = position_flight(4.0);
     s.events.clear();

@@ -300,5 +300,14 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(plans.arming_fence_breach(&off, &outside), None, "GF_ACTION 0: off");
+        let switched_off = FailsafeParams {
+            geofence_enabled: false,
+            ..p
+        };
+        assert_eq!(
+            plans.arming_fence_breach(&switched_off, &outside),
+            None,
+            "RP_GF_ENABLE 0: off"
+        );
     }
 }

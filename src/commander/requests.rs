@@ -134,12 +134,14 @@ impl Commander {
             return Outcome::Accepted;
         }
         if !force {
+            // RP_ARM_CHECKS 0 keeps the mandatory checks only: the estimate and the mode's needs.
+            let all = self.params.arming_checks;
             let checks = ArmingChecks {
                 navigation: self.navigation_refusal(self.mode, true),
-                outside_fence: self.plans.arming_fence_breach(&self.params.failsafe, x).is_some(),
+                outside_fence: all && self.plans.arming_fence_breach(&self.params.failsafe, x).is_some(),
                 has_mission: !self.mission.is_empty(),
                 offboard_alive: self.offboard.alive(),
-                sticks: self.manual.mode_refusal(self.mode, true),
+                sticks: self.manual.mode_refusal(self.mode, true).filter(|_| all),
             };
             if let Some(refusal) = Arming::refusal(self.mode, checks) {
                 return refusal;
@@ -261,7 +263,8 @@ impl Commander {
     /// breaks are left out, each announced on the next tick. Always accepted (the plan is stored
     /// as uploaded).
     fn set_geofence(&mut self, fence: Geofence, x: &VehicleState) -> Outcome {
-        let check_here = self.params.failsafe.geofence_action != GeofenceAction::Disabled && self.in_air();
+        let fs = &self.params.failsafe;
+        let check_here = fs.geofence_enabled && fs.geofence_action != GeofenceAction::Disabled && self.in_air();
         let left_out = self.plans.set_geofence(fence, x, check_here);
         self.pending.extend(left_out);
         Outcome::Accepted

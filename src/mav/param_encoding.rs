@@ -7,8 +7,8 @@
 //! airframe's defaults make the parameters of `@PARAM/param.pck` ([`packed_params`]).
 //!
 //! A vehicle presented as ArduCopter shows the same table through
-//! [`CopterParamView`]: the `*_as` functions take the personality and choose the face (PX4's
-//! exactly as above, or ArduCopter's names, units and plain numeric values). Pure.
+//! [`CopterParamView`]: [`Shown`] takes the personality and chooses the face (PX4's exactly as
+//! above, or ArduCopter's names, units and plain numeric values, and what the link holds). Pure.
 
 use mavlink::dialects::ardupilotmega::{
     MavMessage, MavParamError, MavParamType, PARAM_ERROR_DATA, PARAM_SET_DATA, PARAM_VALUE_DATA,
@@ -16,6 +16,7 @@ use mavlink::dialects::ardupilotmega::{
 use mavlink::types::CharArray;
 use mavlink::MavHeader;
 
+use super::ardupilot::copter_link_params::LinkParams;
 use super::ardupilot::copter_param_face::{copter_param_set, CopterParamView};
 use super::crc32::crc32_part;
 use super::ftp::{PackedParam, PackedValue};
@@ -63,30 +64,56 @@ pub fn param_value(table: &ParamTable, index: usize) -> Option<MavMessage> {
     }))
 }
 
-/// PARAM_VALUE for the parameter at `index` as `personality` sends it in a list or a read by
-/// index (its own index in the message), or `None` past the end.
-pub fn param_value_as(personality: Personality, table: &ParamTable, index: usize) -> Option<MavMessage> {
-    match personality {
-        Personality::Px4 => param_value(table, index),
-        Personality::ArduPilot => CopterParamView::new(table).param_value(index, index as u16),
-    }
+/// The parameters as a personality shows them: PX4's table, or ArduCopter's view of the table
+/// and of what the link holds (`link`, unused for PX4).
+#[derive(Debug, Clone, Copy)]
+pub struct Shown<'a> {
+    /// Whose face.
+    pub personality: Personality,
+    /// The one parameter table.
+    pub table: &'a ParamTable,
+    /// What the link holds (`SYSID_THISMAV`, `SRn_*`), shown by ArduCopter after the table.
+    pub link: &'a LinkParams,
 }
 
-/// PARAM_VALUE announcing the parameter at `index` after a change, as `personality` sends it
-/// (PX4: as in a list; ArduCopter: index −1, sent as 65535).
-pub fn announced_value(personality: Personality, table: &ParamTable, index: usize) -> Option<MavMessage> {
-    match personality {
-        Personality::Px4 => param_value(table, index),
-        Personality::ArduPilot => CopterParamView::new(table).param_value(index, u16::MAX),
+impl Shown<'_> {
+    /// Number of parameters shown.
+    pub fn len(&self) -> usize {
+        match self.personality {
+            Personality::Px4 => self.table.len(),
+            Personality::ArduPilot => CopterParamView::new(self.table, self.link).len(),
+        }
     }
-}
 
-/// The parameters of `@PARAM/param.pck` as `personality` packs them ([`packed_params`] or
-/// [`CopterParamView::packed`]).
-pub fn packed_params_as(personality: Personality, table: &ParamTable) -> Vec<PackedParam> {
-    match personality {
-        Personality::Px4 => packed_params(table),
-        Personality::ArduPilot => CopterParamView::new(table).packed(),
+    /// True when nothing is shown (never, in practice).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// PARAM_VALUE for the parameter at `index` as sent in a list or a read by index (its own
+    /// index in the message), or `None` past the end.
+    pub fn param_value(&self, index: usize) -> Option<MavMessage> {
+        match self.personality {
+            Personality::Px4 => param_value(self.table, index),
+            Personality::ArduPilot => CopterParamView::new(self.table, self.link).param_value(index, index as u16),
+        }
+    }
+
+    /// PARAM_VALUE announcing the parameter at `index` after a change (PX4: as in a list;
+    /// ArduCopter: index −1, sent as 65535).
+    pub fn announced_value(&self, index: usize) -> Option<MavMessage> {
+        match self.personality {
+            Personality::Px4 => param_value(self.table, index),
+            Personality::ArduPilot => CopterParamView::new(self.table, self.link).param_value(index, u16::MAX),
+        }
+    }
+
+    /// The parameters of `@PARAM/param.pck` ([`packed_params`] or [`CopterParamView::packed`]).
+    pub fn packed(&self) -> Vec<PackedParam> {
+        match self.personality {
+            Personality::Px4 => packed_params(self.table),
+            Personality::ArduPilot => CopterParamView::new(self.table, self.link).packed(),
+        }
     }
 }
 

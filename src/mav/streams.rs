@@ -1,8 +1,11 @@
 //! Per-link telemetry rates (docs/mavlink.md §5): PX4 SITL defaults for the GCS and API links, or
 //! ArduCopter's (nothing until asked, docs/mavlink.md §5.1), changed by SET_MESSAGE_INTERVAL and
-//! REQUEST_DATA_STREAM (each personality's groups); given the time, which streams are due. Pure:
-//! the link passes the simulated time, in seconds.
+//! REQUEST_DATA_STREAM (each personality's groups); an ArduCopter-faced link also keeps the rate
+//! of each of Copter's groups ([`CopterGroup`]), which its `SRn_*` parameters show and set
+//! (docs/ardupilot.md §5.2); given the time, which streams are due. Pure: the link passes the
+//! simulated time, in seconds.
 
+use super::ardupilot::copter_streams::{CopterGroup, GROUP_COUNT};
 use super::identity::Personality;
 use super::stream_messages::TelemetryStream;
 
@@ -68,26 +71,6 @@ fn default_rate(personality: Personality, kind: LinkKind, stream: TelemetryStrea
     }
 }
 
-/// The REQUEST_DATA_STREAM group (MAV_DATA_STREAM id) of `stream` on an ArduCopter-faced link
-/// (docs/mavlink.md §5.1): RAW_SENSORS 1, EXTENDED_STATUS 2, RC_CHANNELS 3, POSITION 6, EXTRA1 10,
-/// EXTRA2 11, EXTRA3 12; `None` for a message in no group (asked for only by SET_MESSAGE_INTERVAL).
-/// RAW_CONTROLLER (4) is empty for Copter; PARAMS (5) holds no stream here.
-pub fn ardupilot_group(stream: TelemetryStream) -> Option<u8> {
-    use TelemetryStream::*;
-    Some(match stream {
-        RawImu | ScaledPressure => 1,
-        SysStatus | PowerStatus | Meminfo | MissionCurrent | GpsRawInt | NavControllerOutput | PositionTargetGlobal => {
-            2
-        }
-        ServoOutputRaw | RcChannels => 3,
-        GlobalPosition | LocalPosition => 6,
-        Attitude | Simstate | Ahrs2 => 10,
-        VfrHud => 11,
-        Ahrs | SystemTime | BatteryStatus | EkfStatusReport | Vibration => 12,
-        _ => return None,
-    })
-}
-
 /// The REQUEST_DATA_STREAM groups of a PX4-faced link, as MAVProxy asks for them: ALL (0) is
 /// every stream of the link.
 fn px4_group(stream_id: u8) -> &'static [TelemetryStream] {
@@ -121,6 +104,9 @@ pub struct StreamTable {
     kind: LinkKind,
     personality: Personality,
     entries: Vec<RateEntry>,
+    /// The rate of each of Copter's groups [Hz] as last set (REQUEST_DATA_STREAM, `SRn_*`);
+    /// all 0 (Copter's defaults) and unused on a PX4-faced link.
+    group_hz: [u16; GROUP_COUNT],
 }
 
 impl StreamTable {
@@ -140,6 +126,7 @@ impl StreamTable {
                     next_s: 0.0,
                 })
                 .collect(),
+            group_hz: [0; GROUP_COUNT],
         }
     }
 
@@ -177,19 +164,44 @@ impl StreamTable {
 
     /// REQUEST_DATA_STREAM (MAVProxy): the group `stream_id` at `rate_hz`, or off when `start`
     /// is false or the rate 0 (docs/mavlink.md §5; ALL = 0); the groups are the personality's
-    /// ([`ardupilot_group`] for ArduCopter); an unknown group changes nothing. No reply.
+    /// ([`CopterGroup::requested`] for ArduCopter, whose group rates it sets); an unknown group
+    /// changes nothing. No reply.
     pub fn request_data_stream(&mut self, stream_id: u8, rate_hz: u16, start: bool) {
-        let personality = self.personality;
-        let in_group = |stream: TelemetryStream| match personality {
-            Personality::Px4 => px4_group(stream_id).contains(&stream),
-            Personality::ArduPilot => ardupilot_group(stream).is_some_and(|group| stream_id == 0 || group == stream_id),
-        };
-        for e in self.entries.iter_mut().filter(|e| in_group(e.stream)) {
-            e.period_s = if start && rate_hz > 0 {
-                period(f64::from(rate_hz))
-            } else {
-                None
-            };
+        let rate_hz = if start { rate_hz } else { 0 };
+        match self.personality {
+            Personality::Px4 => {
+                let group = px4_group(stream_id);
+                for e in self.entries.iter_mut().filter(|e| group.contains(&e.stream)) {
+                    e.period_s = period(f64::from(rate_hz));
+                    e.next_s = 0.0;
+                }
+            }
+            Personality::ArduPilot => {
+                for group in CopterGroup::requested(stream_id) {
+                    self.set_group_rate(group, rate_hz);
+                }
+            }
+        }
+    }
+
+    /// The rate of Copter's `group` [Hz] as last set (0: off), what `SRn_*` shows.
+    pub fn group_rate(&self, group: CopterGroup) -> u16 {
+        self.group_hz[group.index()]
+    }
+
+    /// Sets Copter's `group` to `rate_hz` (0: off), as a PARAM_SET of its `SRn_*` parameter and
+    /// REQUEST_DATA_STREAM do: every message of the group at that rate.
+    pub fn set_group_rate(&mut self, group: CopterGroup, rate_hz: u16) {
+        if self.personality != Personality::ArduPilot {
+            return;
+        }
+        self.group_hz[group.index()] = rate_hz;
+        for e in self
+            .entries
+            .iter_mut()
+            .filter(|e| CopterGroup::of_stream(e.stream) == Some(group))
+        {
+            e.period_s = period(f64::from(rate_hz));
             e.next_s = 0.0;
         }
     }
@@ -369,6 +381,31 @@ mod tests {
         t.request_data_stream(0, 4, false);
         assert!(on_at(&t, 4.0).0.is_empty());
         assert_eq!(count(&mut t, GlobalPosition, 2.0), 0);
+    }
+
+    #[test]
+    fn an_ardupilot_link_keeps_the_rate_of_each_group() {
+        let mut t = ardupilot();
+        assert!(
+            CopterGroup::ALL.iter().all(|g| t.group_rate(*g) == 0),
+            "Copter's SRn_* are 0"
+        );
+        t.request_data_stream(0, 4, true);
+        assert_eq!(t.group_rate(CopterGroup::Position), 4);
+        assert_eq!(t.group_rate(CopterGroup::Adsb), 4);
+        assert_eq!(t.group_rate(CopterGroup::Params), 0, "ALL leaves PARAMS alone");
+        t.set_group_rate(CopterGroup::Position, 2);
+        assert_eq!(t.interval_us(33), Some(500_000), "GLOBAL_POSITION_INT at SRn_POSITION");
+        assert_eq!(t.interval_us(32), Some(500_000));
+        assert_eq!(t.interval_us(30), Some(250_000), "EXTRA1 stays");
+        t.request_data_stream(6, 9, false);
+        assert_eq!((t.group_rate(CopterGroup::Position), t.interval_us(33)), (0, Some(-1)));
+        // SET_MESSAGE_INTERVAL changes a message, not its group's rate (as Copter).
+        t.set_interval(30, 100_000.0).unwrap();
+        assert_eq!(t.group_rate(CopterGroup::Extra1), 4);
+        let mut px4 = StreamTable::new(LinkKind::Gcs, Personality::Px4);
+        px4.set_group_rate(CopterGroup::Position, 2);
+        assert_eq!(px4.interval_us(33), Some(200_000), "no Copter groups on PX4");
     }
 
     #[test]

@@ -43,6 +43,7 @@ use tokio::sync::{mpsc, watch};
 
 use crate::guidance::Home;
 use crate::math::Vec3;
+use crate::mav::ardupilot::copter_param_face::copter_file_param;
 use crate::mav::ardupilot::copter_params::copter_defaults;
 use crate::mav::identity::Personality;
 use crate::mav::link::{LinkConfig, LinkMachine};
@@ -131,9 +132,15 @@ fn setup_vehicle(
         }
     }
     for (origin, name, value) in &config.params {
-        vehicle
-            .set_param(name, *value)
-            .map_err(|e| RuntimeError::Params(format!("{origin}: {e}")))?;
+        let refused = |e: String| RuntimeError::Params(format!("{origin}: {e}"));
+        // ArduCopter's names too, for a vehicle presented as ArduCopter (docs/ardupilot.md §5.3).
+        let (name, value) = match personality {
+            Personality::ArduPilot => copter_file_param(vehicle.params(), name, *value)
+                .map_err(refused)?
+                .unwrap_or((name.as_str(), *value)),
+            Personality::Px4 => (name.as_str(), *value),
+        };
+        vehicle.set_param(name, value).map_err(|e| refused(e.to_string()))?;
     }
     for failure in &config.rotor_failures {
         vehicle

@@ -1,16 +1,16 @@
 //! ArduCopter's parameters for the settings the vehicle has (docs/ardupilot.md §5): each Copter
 //! name is one underlying setting of the one parameter declaration (`src/params/`), in Copter's
-//! unit (a pure scale of the setting's), stored as Copter stores it, with Copter's default where
-//! it applies. A vehicle presented as ArduCopter starts from these defaults where they differ
-//! from PX4's; [`CopterParamView`](super::copter_param_face::CopterParamView) shows the table
-//! under these names. Pure.
+//! unit (a pure scale of the setting's) or Copter's codes (an enum table against the setting's,
+//! [`Conversion`]), stored as Copter stores it, with Copter's default where it applies. A
+//! vehicle presented as ArduCopter starts from these defaults where they differ from PX4's;
+//! [`CopterParamView`](super::copter_param_face::CopterParamView) shows the table under these
+//! names. What the link holds (`SYSID_THISMAV`, the `SRn_*` stream rates) is not a setting:
+//! [`copter_link_params`](super::copter_link_params). Pure.
 //!
-//! Left out on purpose: Copter parameters without a setting here (`SYSID_THISMAV`: the system
-//! id is fixed at start; `ARMING_CHECK`, `FENCE_ENABLE`, `RTL_ALT_FINAL`, the `SRn_*` stream
-//! rates, which are the link's, not settings), enums that do not map one to one
-//! (`FS_GCS_ENABLE` against `NAV_DLL_ACT`, `FENCE_ACTION` against `GF_ACTION`), a second name
-//! for a setting that has one (`LAND_SPEED_HIGH` is `WPNAV_SPEED_DN`'s `MPC_Z_V_AUTO_DN`), and
-//! constants of the emulator (`CIRCLE_RADIUS`, `CIRCLE_RATE`).
+//! Left out on purpose: Copter parameters without a setting here (`RTL_ALT_FINAL`,
+//! `FENCE_TYPE`: each limit is on while not 0; `BATT_FS_LOW_ACT`: the low level only warns),
+//! a second name for a setting that has one (`LAND_SPEED_HIGH` is `WPNAV_SPEED_DN`'s
+//! `MPC_Z_V_AUTO_DN`), and constants of the emulator (`CIRCLE_RADIUS`, `CIRCLE_RATE`).
 
 use mavlink::dialects::ardupilotmega::MavParamType;
 
@@ -70,15 +70,78 @@ impl CopterType {
     }
 }
 
-/// One Copter parameter: its name, the setting it is, and how its unit relates to the setting's.
+/// How a Copter value relates to its setting's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Conversion {
+    /// A pure scale: Copter units per unit of the setting (100 for cm against m).
+    Scale(f64),
+    /// An enum of Copter's codes against the setting's: `(Copter code, setting code, Copter's
+    /// meaning)`, one to one; Copter codes not listed have no behaviour here and are refused.
+    Codes(&'static [(i32, i32, &'static str)]),
+}
+
+impl Conversion {
+    /// The setting's `value` in Copter's unit; `None` for a setting code Copter has no code for
+    /// (reachable only under the setting's own name: the shell, a `--params` file).
+    pub fn to_copter(self, value: f64) -> Option<f64> {
+        match self {
+            Self::Scale(scale) => Some(value * scale),
+            Self::Codes(codes) => codes
+                .iter()
+                .find(|(_, setting, _)| f64::from(*setting) == value)
+                .map(|(copter, _, _)| f64::from(*copter)),
+        }
+    }
+
+    /// Copter's `value` (a PARAM_SET's number, already cut to the type) as the setting's; a
+    /// code without a behaviour here is refused with the codes allowed (`3 not emulated (0, 1,
+    /// 5 or 7)`).
+    pub fn to_setting(self, value: f64) -> Result<f64, String> {
+        match self {
+            Self::Scale(scale) => Ok(value / scale),
+            Self::Codes(codes) => codes
+                .iter()
+                .find(|(copter, _, _)| f64::from(*copter) == value)
+                .map(|(_, setting, _)| f64::from(*setting))
+                .ok_or_else(|| format!("{value} not emulated ({})", self.allowed())),
+        }
+    }
+
+    /// The Copter codes allowed, short enough for a STATUSTEXT (`0, 1, 5 or 7`); empty for a
+    /// scale.
+    pub fn allowed(self) -> String {
+        let Self::Codes(codes) = self else {
+            return String::new();
+        };
+        let all: Vec<String> = codes.iter().map(|(c, _, _)| c.to_string()).collect();
+        match all.split_last() {
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+            None => String::new(),
+        }
+    }
+
+    /// The Copter codes allowed with their meanings (`0 disabled, 1 RTL`); empty for a scale.
+    pub fn choices(self) -> String {
+        match self {
+            Self::Scale(_) => String::new(),
+            Self::Codes(codes) => {
+                let all: Vec<String> = codes.iter().map(|(c, _, label)| format!("{c} {label}")).collect();
+                all.join(", ")
+            }
+        }
+    }
+}
+
+/// One Copter parameter: its name, the setting it is, and how its value relates to the setting's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CopterParam {
     /// Copter's name (4.5/4.6 spelling, as DroneKit and MAVProxy scripts use it).
     pub name: &'static str,
-    /// The underlying setting's (PX4) name in the parameter declaration.
+    /// The underlying setting's name in the parameter declaration.
     pub setting: &'static str,
-    /// Copter units per unit of the setting (100 for cm against m).
-    pub scale: f64,
+    /// Copter's value against the setting's.
+    pub conv: Conversion,
     /// How Copter stores it.
     pub kind: CopterType,
     /// Copter's default, in Copter's unit, when a vehicle presented as ArduCopter starts from it
@@ -96,17 +159,50 @@ const fn param(
     CopterParam {
         name,
         setting,
-        scale,
+        conv: Conversion::Scale(scale),
         kind,
         default,
     }
 }
 
+const fn codes(
+    name: &'static str,
+    setting: &'static str,
+    codes: &'static [(i32, i32, &'static str)],
+    default: i32,
+) -> CopterParam {
+    CopterParam {
+        name,
+        setting,
+        conv: Conversion::Codes(codes),
+        kind: CopterType::Int8,
+        default: Some(default as f64),
+    }
+}
+
 use CopterType::{Float, Int16, Int32, Int8};
 
+/// `FS_GCS_ENABLE`'s actions that have one here against `NAV_DLL_ACT`'s codes: RTL is the
+/// return, Land the landing, Brake or Land the hold.
+const GCS_LOSS_ACTIONS: &[(i32, i32, &str)] = &[
+    (0, 0, "disabled"),
+    (1, 2, "RTL"),
+    (5, 3, "land"),
+    (7, 1, "brake or land"),
+];
+
+/// `FS_THR_ENABLE`'s against `NAV_RCL_ACT`'s (the codes of `NAV_DLL_ACT`): as
+/// [`GCS_LOSS_ACTIONS`], but Copter's Land is 3 here (its 5 is SmartRTL or Land).
+const STICK_LOSS_ACTIONS: &[(i32, i32, &str)] = &[
+    (0, 0, "disabled"),
+    (1, 2, "RTL"),
+    (3, 3, "land"),
+    (7, 1, "brake or land"),
+];
+
 /// The Copter parameters the vehicle has (ArduCopter `Parameters.cpp`, `AC_WPNav.cpp`,
-/// `AC_Fence.cpp`, `AP_BattMonitor_Params.cpp`, `config.h`).
-pub const COPTER_PARAMS: [CopterParam; 14] = [
+/// `AC_Fence.cpp`, `AP_Arming.cpp`, `AP_BattMonitor_Params.cpp`, `config.h`, `defines.h`).
+pub const COPTER_PARAMS: [CopterParam; 22] = [
     param("WPNAV_SPEED", "MPC_XY_CRUISE", 100.0, Float, Some(1000.0)),
     param("WPNAV_SPEED_UP", "MPC_Z_V_AUTO_UP", 100.0, Float, Some(250.0)),
     param("WPNAV_SPEED_DN", "MPC_Z_V_AUTO_DN", 100.0, Float, Some(150.0)),
@@ -118,10 +214,51 @@ pub const COPTER_PARAMS: [CopterParam; 14] = [
     param("ANGLE_MAX", "MPC_TILTMAX_AIR", 100.0, Int16, Some(3000.0)),
     param("DISARM_DELAY", "COM_DISARM_PRFLT", 1.0, Int8, Some(10.0)),
     param("GUID_TIMEOUT", "COM_OF_LOSS_T", 1.0, Float, Some(3.0)),
-    // Copter's fence is off until FENCE_ENABLE (not emulated); here 0 is "no limit" and a
-    // limit set is flown at once, so Copter's 100 m and 300 m are not applied.
-    param("FENCE_ALT_MAX", "GF_MAX_VER_DIST", 1.0, Float, None),
-    param("FENCE_RADIUS", "GF_MAX_HOR_DIST", 1.0, Float, None),
+    // ARMING_CHECK is a bitmask: 1 (all) and 0 (only the mandatory checks) have a behaviour.
+    CopterParam {
+        kind: Int32,
+        ..codes(
+            "ARMING_CHECK",
+            "RP_ARM_CHECKS",
+            &[(0, 0, "mandatory checks only"), (1, 1, "all")],
+            1,
+        )
+    },
+    // Copter's fence is off until enabled, then flies its 100 m and 300 m limits.
+    codes(
+        "FENCE_ENABLE",
+        "RP_GF_ENABLE",
+        &[(0, 0, "disabled"), (1, 1, "enabled")],
+        0,
+    ),
+    codes(
+        "FENCE_ACTION",
+        "GF_ACTION",
+        &[
+            (0, 1, "report only"),
+            (1, 3, "RTL or land"),
+            (2, 5, "always land"),
+            (4, 2, "brake or land"),
+        ],
+        1,
+    ),
+    param("FENCE_ALT_MAX", "GF_MAX_VER_DIST", 1.0, Float, Some(100.0)),
+    param("FENCE_RADIUS", "GF_MAX_HOR_DIST", 1.0, Float, Some(300.0)),
+    codes("FS_GCS_ENABLE", "NAV_DLL_ACT", GCS_LOSS_ACTIONS, 0),
+    param("FS_GCS_TIMEOUT", "COM_DL_LOSS_T", 1.0, Float, Some(5.0)),
+    codes("FS_THR_ENABLE", "NAV_RCL_ACT", STICK_LOSS_ACTIONS, 1),
+    codes(
+        "FS_EKF_ACTION",
+        "COM_POSCTL_NAVL",
+        &[(1, 1, "land"), (2, 0, "altitude hold")],
+        1,
+    ),
+    codes(
+        "BATT_FS_CRT_ACT",
+        "COM_LOW_BAT_ACT",
+        &[(0, 0, "none"), (1, 2, "land"), (2, 3, "RTL")],
+        0,
+    ),
     // The pack is the airframe's.
     param("BATT_CAPACITY", "BAT1_CAPACITY", 1.0, Int32, None),
 ];
@@ -146,8 +283,9 @@ const BEHAVIOUR: [(&str, &str, f64); 1] = [
 /// unit), to apply to a vehicle presented as ArduCopter before any user parameter.
 pub fn copter_defaults() -> impl Iterator<Item = (String, &'static str, f64)> {
     let named = COPTER_PARAMS.iter().filter_map(|p| {
-        let default = p.default?;
-        Some((format!("ArduCopter's {} default", p.name), p.setting, default / p.scale))
+        // Every default is one of its codes (a test checks it).
+        let default = p.conv.to_setting(p.default?).ok()?;
+        Some((format!("ArduCopter's {} default", p.name), p.setting, default))
     });
     named.chain(
         BEHAVIOUR
@@ -170,6 +308,12 @@ mod tests {
     #[test]
     fn every_copter_parameter_is_a_setting_and_its_default_is_valid() {
         let mut table = table();
+        let with_default = COPTER_PARAMS.iter().filter(|p| p.default.is_some()).count();
+        assert_eq!(
+            copter_defaults().count(),
+            with_default + BEHAVIOUR.len(),
+            "every default is a code"
+        );
         for (origin, setting, value) in copter_defaults() {
             if let Err(e) = table.set(setting, value, 0.0) {
                 panic!("{origin}: {e}");
@@ -186,6 +330,13 @@ mod tests {
         assert_eq!(get("COM_OF_LOSS_T"), 3.0, "GUID_TIMEOUT 3 s");
         assert_eq!(get("MPC_TILTMAX_AIR"), 30.0, "ANGLE_MAX 3000 cdeg");
         assert_eq!(get("COM_RC_OVERRIDE"), 0.0, "no stick take-over");
+        assert_eq!(get("RP_GF_ENABLE"), 0.0, "FENCE_ENABLE 0");
+        assert_eq!(get("GF_ACTION"), 3.0, "FENCE_ACTION 1: RTL");
+        assert_eq!((get("GF_MAX_VER_DIST"), get("GF_MAX_HOR_DIST")), (100.0, 300.0));
+        assert_eq!(get("NAV_DLL_ACT"), 0.0, "FS_GCS_ENABLE 0");
+        assert_eq!(get("NAV_RCL_ACT"), 2.0, "FS_THR_ENABLE 1: RTL");
+        assert_eq!(get("COM_DL_LOSS_T"), 5.0, "FS_GCS_TIMEOUT 5 s");
+        assert_eq!(get("RP_ARM_CHECKS"), 1.0, "ARMING_CHECK 1");
     }
 
     #[test]
@@ -193,7 +344,6 @@ mod tests {
         let table = table();
         for (i, p) in COPTER_PARAMS.iter().enumerate() {
             assert!(p.name.len() <= 16, "{}", p.name);
-            assert!(p.scale > 0.0, "{}", p.name);
             let Some((def, _)) = table.index_of(p.setting).and_then(|k| table.get(k)) else {
                 panic!("{}: no setting {}", p.name, p.setting);
             };
@@ -209,13 +359,50 @@ mod tests {
                 Int32 => f64::from(i32::MAX),
                 Float => f64::INFINITY,
             };
-            assert!(def.max * p.scale <= limit, "{}", p.name);
-            assert!(def.kind == ParamType::Real32 || p.scale == 1.0, "{}", p.name);
+            match p.conv {
+                Conversion::Scale(scale) => {
+                    assert!(scale > 0.0, "{}", p.name);
+                    assert!(def.max * scale <= limit, "{}", p.name);
+                    assert!(def.kind == ParamType::Real32 || scale == 1.0, "{}", p.name);
+                }
+                Conversion::Codes(codes) => {
+                    assert!(p.kind.is_integer(), "{}", p.name);
+                    assert!(def.choices.is_some() || def.max == 1.0, "{}: codes or a flag", p.name);
+                    for (k, (copter, setting, _)) in codes.iter().enumerate() {
+                        assert!(f64::from(*copter).abs() <= limit, "{}", p.name);
+                        assert_eq!(def.check(f64::from(*setting)), Ok(()), "{}: {setting}", p.name);
+                        for (c, s, _) in &codes[k + 1..] {
+                            assert!(c != copter && s != setting, "{}: one to one", p.name);
+                        }
+                    }
+                }
+            }
             assert_eq!(by_name(p.name), Some(p));
             assert_eq!(by_setting(p.setting), Some(p));
         }
         assert_eq!(by_name("MPC_XY_CRUISE"), None);
         assert_eq!(by_setting("WPNAV_SPEED"), None);
+    }
+
+    #[test]
+    fn codes_convert_both_ways_and_refuse_what_has_no_behaviour() {
+        let fs_gcs = by_name("FS_GCS_ENABLE")
+            .map(|p| p.conv)
+            .unwrap_or(Conversion::Scale(1.0));
+        assert_eq!(fs_gcs.to_setting(1.0), Ok(2.0), "RTL is the return");
+        assert_eq!(fs_gcs.to_setting(5.0), Ok(3.0), "land");
+        assert_eq!(fs_gcs.to_copter(1.0), Some(7.0), "the hold is brake or land");
+        assert_eq!(fs_gcs.to_copter(5.0), None, "PX4's terminate has no Copter code");
+        assert_eq!(fs_gcs.to_setting(3.0), Err("3 not emulated (0, 1, 5 or 7)".into()));
+        assert_eq!(fs_gcs.choices(), "0 disabled, 1 RTL, 5 land, 7 brake or land");
+        let fs_thr = by_name("FS_THR_ENABLE")
+            .map(|p| p.conv)
+            .unwrap_or(Conversion::Scale(1.0));
+        assert_eq!(fs_thr.to_setting(3.0), Ok(3.0), "Copter's throttle failsafe lands at 3");
+        assert!(fs_thr.to_setting(5.0).is_err(), "its 5 is SmartRTL or Land");
+        let speed = Conversion::Scale(100.0);
+        assert_eq!((speed.to_setting(500.0), speed.to_copter(5.0)), (Ok(5.0), Some(500.0)));
+        assert_eq!((speed.choices(), speed.allowed()), (String::new(), String::new()));
     }
 
     #[test]

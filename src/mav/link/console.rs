@@ -13,8 +13,7 @@ use super::commands::Pending;
 use super::effects::Effect;
 use super::port::MAX_PEERS;
 use super::LinkKind;
-use crate::mav::identity::Personality;
-use crate::mav::param_encoding::announced_value;
+use crate::mav::param_encoding::Shown;
 use crate::mav::shell::{self, frames, param_set_text, Context, LineBuffer, ShellOutcome, Typed, PROMPT};
 use crate::params::ParamTable;
 use crate::telemetry::Snapshot;
@@ -47,24 +46,12 @@ impl<A> ShellSet<A> {
 #[derive(Debug)]
 pub(super) struct Consoles<A> {
     shells: Vec<Console<A>>,
-    /// Whose PARAM_VALUE announces a `param set` (the shell itself speaks PX4's names).
-    personality: Personality,
 }
 
 impl<A> Default for Consoles<A> {
-    /// PX4's.
+    /// No shell yet.
     fn default() -> Self {
-        Self::new(Personality::Px4)
-    }
-}
-
-impl<A> Consoles<A> {
-    /// No shell yet; a `param set` announced as `personality` announces a change.
-    pub fn new(personality: Personality) -> Self {
-        Self {
-            shells: Vec::new(),
-            personality,
-        }
+        Self { shells: Vec::new() }
     }
 }
 
@@ -145,24 +132,26 @@ impl<A: Copy + PartialEq> Consoles<A> {
         out
     }
 
-    /// The vehicle's answer to a shell's `param set`: `result`, the table `before` and `after`
-    /// it, and the `targets` of the shell's link (which get the new PARAM_VALUE).
+    /// The vehicle's answer to a shell's `param set`: `result`, the table `before` and the
+    /// parameters `after` it as the vehicle shows them (the shell itself speaks the settings'
+    /// own names; the announcement is the personality's), and the `targets` of the shell's link
+    /// (which get the new PARAM_VALUE).
     pub fn set_done(
         &self,
         set: ShellSet<A>,
         result: Result<usize, String>,
         before: &ParamTable,
-        after: &ParamTable,
+        after: Shown<'_>,
         targets: Vec<A>,
     ) -> Vec<Effect<A>> {
         let ShellSet { link, to, ids, name } = set;
         let mut out = Vec::new();
         if let Ok(index) = result {
-            if let Some(msg) = announced_value(self.personality, after, index) {
+            if let Some(msg) = after.announced_value(index) {
                 out.extend(targets.into_iter().map(|t| Effect::send(link, t, msg.clone())));
             }
         }
-        let text = param_set_text(before, after, &name, result.map(|_| ()));
+        let text = param_set_text(before, after.table, &name, result.map(|_| ()));
         out.extend(type_out(link, to, ids, &format!("{text}{PROMPT}")));
         out
     }
@@ -178,6 +167,8 @@ fn type_out<A: Copy>(link: LinkKind, to: A, ids: (u8, u8), text: &str) -> Vec<Ef
 
 #[cfg(test)]
 mod tests {
+    use crate::mav::ardupilot::copter_link_params::LinkParams;
+    use crate::mav::identity::Personality;
     use mavlink::dialects::ardupilotmega::{MavMessage, SerialControlDev};
 
     use super::*;
@@ -240,7 +231,13 @@ mod tests {
         assert_eq!(*value, 4.5);
         let mut after = table();
         let index = after.set("MIS_TAKEOFF_ALT", 4.5, 1e-3).map_err(|e| e.to_string());
-        let done = c.set_done(set.clone(), index, &params, &after, vec![5, 6]);
+        let held = LinkParams::default();
+        let shown = Shown {
+            personality: Personality::Px4,
+            table: &after,
+            link: &held,
+        };
+        let done = c.set_done(set.clone(), index, &params, shown, vec![5, 6]);
         assert_eq!(param_names(&done), vec!["MIS_TAKEOFF_ALT"; 2], "to the link's targets");
         assert_eq!(said(&done), "MIS_TAKEOFF_ALT: curr: 2.5000 -> new: 4.5000\npxh> ");
     }

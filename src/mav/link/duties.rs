@@ -33,9 +33,10 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// Everything due by `now`.
     pub fn handle_timeout(&mut self, now: Now) {
-        let lists = self.parameters.stream_lists(now.wall_s, &self.params);
+        let held = self.link_params();
+        let lists = self.parameters.stream_lists(now.wall_s, &self.params, &held);
         self.carry_out(now, lists);
-        let changed = self.parameters.announce_changed(now.wall_s, &self.params);
+        let changed = self.parameters.announce_changed(now.wall_s, &self.params, &held);
         self.carry_out(now, changed);
         let bursts = self.files.stream_bursts(now.wall_s);
         self.carry_out(now, bursts);

@@ -8,6 +8,7 @@ use mavlink::dialects::ardupilotmega::MavMessage;
 
 use super::boundary::{KeyToStore, VehicleRequest};
 use super::commands::Pending;
+use crate::mav::ardupilot::copter_link_params::LinkSet;
 use crate::mav::ftp::{ErrorCode, ParamUpload, Payload};
 use crate::mav::streams::LinkKind;
 
@@ -31,6 +32,9 @@ pub(super) enum Effect<A> {
     UploadAnswer(Client<A>, Payload, Result<(), ErrorCode>),
     /// A key (or its removal) for the key file.
     Store(KeyToStore),
+    /// A PARAM_SET of what the link holds (ArduCopter's `SRn_*`, `SYSID_THISMAV`) from a client
+    /// on a link, parameter `index` of the view: carried out by the link, then announced.
+    LinkSet((LinkKind, A), LinkSet, usize),
 }
 
 impl<A> Effect<A> {

@@ -19,7 +19,7 @@ use crate::mav::ftp::{ErrorCode, FtpServer, Payload, SessionRule, Storage, Vfs};
 use crate::mav::identity::Personality;
 use crate::mav::logs::LogStore;
 use crate::mav::metadata::{self, MetadataFiles};
-use crate::mav::param_encoding::packed_params_as;
+use crate::mav::param_encoding::Shown;
 use crate::params::ParamTable;
 
 /// Wall time between two frames of a burst read [s].
@@ -43,16 +43,15 @@ pub(super) struct Files<A> {
     links: Vec<FtpLink<A>>,
     /// CRC-32 of the general metadata file.
     general_crc: u32,
-    /// The parameter table changed since [`Storage::params`] was packed from it.
+    /// The parameters changed since [`Storage::params`] was packed from them (or were never
+    /// packed).
     params_stale: bool,
-    /// Whose names and types `@PARAM/param.pck` packs.
-    personality: Personality,
 }
 
 impl<A: Copy> Files<A> {
     /// The file system with the component metadata of `params` (`built` when the caller made
-    /// them already) and the flight logs of `logs`, an FTP server per link of `links`, the
-    /// parameters packed as `personality` shows them.
+    /// them already) and the flight logs of `logs`, an FTP server per link of `links` numbering
+    /// sessions as `personality`'s autopilot does.
     pub fn new(
         params: &ParamTable,
         built: Option<MetadataFiles>,
@@ -77,14 +76,12 @@ impl<A: Copy> Files<A> {
                 next_s: 0.0,
             })
             .collect();
-        let mut fs = Storage::new(vfs, logs);
-        fs.params = packed_params_as(personality, params);
         Self {
-            fs,
+            // `@PARAM/param.pck` is packed at the first request, with what the link holds then.
+            fs: Storage::new(vfs, logs),
             links: ftp,
             general_crc,
-            params_stale: false,
-            personality,
+            params_stale: true,
         }
     }
 
@@ -120,20 +117,19 @@ impl<A: Copy> Files<A> {
         wall_s: f64,
         (link, from, ids): Client<A>,
         payload: &[u8; 251],
-        params: &ParamTable,
+        shown: Shown<'_>,
     ) -> Vec<Effect<A>> {
         let Self {
             fs,
             links,
             params_stale,
-            personality,
             ..
         } = self;
         let Some(ftp) = links.iter_mut().find(|l| l.link == link) else {
             return Vec::new();
         };
         if std::mem::take(params_stale) {
-            fs.params = packed_params_as(*personality, params);
+            fs.params = shown.packed();
         }
         match ftp.server.handle(fs, &Payload::decode(payload), wall_s) {
             Some(reply) => vec![Effect::send(link, from, reply.message(ids))],
@@ -207,6 +203,7 @@ fn session_rule(personality: Personality) -> SessionRule {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mav::ardupilot::copter_link_params::LinkParams;
     use crate::mav::ftp::Opcode;
     use crate::mav::link::effects::testing::{sent, table};
     use crate::mav::logs::MemLogStore;
@@ -222,6 +219,19 @@ mod tests {
                 _ => None,
             })
             .collect()
+    }
+
+    /// `params` as PX4 shows them.
+    fn shown(params: &ParamTable) -> Shown<'_> {
+        static HELD: LinkParams = LinkParams {
+            system_id: 1,
+            stream_rates: Vec::new(),
+        };
+        Shown {
+            personality: Personality::Px4,
+            table: params,
+            link: &HELD,
+        }
     }
 
     fn request(op: Opcode, seq: u16, session: u8, data: &[u8]) -> [u8; 251] {
@@ -243,17 +253,17 @@ mod tests {
             0.0,
             CLIENT,
             &request(Opcode::OpenFileRO, 0, 0, b"@PARAM/param.pck"),
-            &params,
+            shown(&params),
         );
         assert_eq!(replies(&open)[0].opcode, ACK);
-        let burst = f.ftp(0.0, CLIENT, &request(Opcode::BurstReadFile, 2, 0, &[]), &params);
+        let burst = f.ftp(0.0, CLIENT, &request(Opcode::BurstReadFile, 2, 0, &[]), shown(&params));
         assert!(burst.is_empty(), "a burst answers from the timer");
         assert_eq!(f.next_due_s(), Some(0.0));
         let frames = f.stream_bursts(2.5 * FTP_BURST_PERIOD_S);
         assert_eq!(replies(&frames).len(), 3, "one frame per period, to the client");
         let other = (LinkKind::Gcs, 9, (1, 1));
         assert!(f
-            .ftp(0.0, other, &request(Opcode::ListDirectory, 0, 0, b"/"), &params)
+            .ftp(0.0, other, &request(Opcode::ListDirectory, 0, 0, b"/"), shown(&params))
             .is_empty());
     }
 
@@ -271,14 +281,14 @@ mod tests {
             0.0,
             CLIENT,
             &request(Opcode::CreateFile, 0, 0, b"@PARAM/param.pck\0"),
-            &params,
+            shown(&params),
         );
         let session = replies(&create)[0].session;
         let out = f.ftp(
             0.0,
             CLIENT,
             &request(Opcode::TerminateSession, 2, session, &[]),
-            &params,
+            shown(&params),
         );
         let [Effect::Upload(client, upload)] = &out[..] else {
             panic!("{out:?}");

@@ -21,6 +21,7 @@ use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_
 use crate::mav::duplicates::CommandKey;
 use crate::mav::identity::Personality;
 use crate::mav::ingest::{ingest, Action};
+use crate::mav::param_encoding::Shown;
 use crate::mav::services::autopilot_version;
 use crate::mav::signing::Verdict;
 use crate::mav::standard_modes::{available_modes, protocol_version};
@@ -175,9 +176,19 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 if let Some(port) = self.port(link) {
                     port.streams.request_data_stream(stream_id, rate_hz, start);
                 }
+                // ArduCopter's `@PARAM/param.pck` shows the group rates (SRn_*).
+                self.files.params_changed();
                 Vec::new()
             }
-            Action::Ftp(payload) => self.files.ftp(now.wall_s, (link, from, ids), &payload, &self.params),
+            Action::Ftp(payload) => {
+                let held = self.link_params();
+                let shown = Shown {
+                    personality: self.identity.personality,
+                    table: &self.params,
+                    link: &held,
+                };
+                self.files.ftp(now.wall_s, (link, from, ids), &payload, shown)
+            }
             Action::Log(request) => {
                 let store = self.files.log_store();
                 self.logs.request(now.wall_s, link, from, request, store)
@@ -189,8 +200,16 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 self.parameters.request_list(link, from, now.wall_s);
                 Vec::new()
             }
-            Action::ParamRead { name, index } => self.parameters.read((link, from, header), &name, index, &self.params),
-            Action::ParamSet { name, value } => self.parameters.set((link, from, header), name, value, &self.params),
+            Action::ParamRead { name, index } => {
+                let held = self.link_params();
+                self.parameters
+                    .read((link, from, header), &name, index, (&self.params, &held))
+            }
+            Action::ParamSet { name, value } => {
+                let held = self.link_params();
+                self.parameters
+                    .set((link, from, header), name, value, (&self.params, &held))
+            }
             Action::Mission { ids, step } => self.plans.step(now.wall_s, (link, from, ids), step, &self.snapshot),
             Action::SetupSigning { key, initial_timestamp } => {
                 self.keys

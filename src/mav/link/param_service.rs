@@ -27,12 +27,11 @@ use super::effects::{Client, Effect};
 use super::param_upload::{UploadSet, Uploads};
 use super::port::MAX_PEERS;
 use super::{LinkKind, INFO, WARNING};
-use crate::mav::ardupilot::copter_param_face::{banner, CopterParamView};
+use crate::mav::ardupilot::copter_link_params::LinkParams;
+use crate::mav::ardupilot::copter_param_face::{banner, CopterParamView, CopterSet};
 use crate::mav::ftp::ParamUpload;
 use crate::mav::identity::{Identity, Personality};
-use crate::mav::param_encoding::{
-    announced_value, hash_check, param_error_unknown, param_value, param_value_as, HASH_CHECK,
-};
+use crate::mav::param_encoding::{hash_check, param_error_unknown, param_value, Shown, HASH_CHECK};
 use crate::mav::stream_messages::status_text;
 use crate::params::{ParamError, ParamTable};
 
@@ -157,6 +156,15 @@ impl<A> ParamService<A> {
 }
 
 impl<A: Copy + PartialEq> ParamService<A> {
+    /// The parameters as this personality shows them: `params`, and what the link holds, `link`.
+    fn shown<'a>(&self, params: &'a ParamTable, link: &'a LinkParams) -> Shown<'a> {
+        Shown {
+            personality: self.personality,
+            table: params,
+            link,
+        }
+    }
+
     /// Parameter lists being sent.
     pub fn list_count(&self) -> usize {
         self.lists.len()
@@ -188,18 +196,21 @@ impl<A: Copy + PartialEq> ParamService<A> {
         self.lists.push(ParamList::new(link, from, wall_s));
     }
 
-    /// The changed parameters' PARAM_VALUEs of `params` to every peer of every link, once due
-    /// at wall time `wall_s` [s].
-    pub fn announce_changed(&mut self, wall_s: f64, params: &ParamTable) -> Vec<Effect<A>> {
+    /// The changed parameters' PARAM_VALUEs of `params` (and `link`, what the link holds) to
+    /// every peer of every link, once due at wall time `wall_s` [s].
+    pub fn announce_changed(&mut self, wall_s: f64, params: &ParamTable, link: &LinkParams) -> Vec<Effect<A>> {
+        let shown = self.shown(params, link);
         let due = self.changed.take_due(wall_s);
         due.into_iter()
-            .filter_map(|index| announced_value(self.personality, params, index))
+            .filter_map(|index| shown.announced_value(index))
             .map(Effect::Everyone)
             .collect()
     }
 
-    /// The PARAM_VALUEs of `params` of every list that are due by wall time `wall_s` [s].
-    pub fn stream_lists(&mut self, wall_s: f64, params: &ParamTable) -> Vec<Effect<A>> {
+    /// The PARAM_VALUEs of `params` (and `link`, what the link holds) of every list that are due
+    /// by wall time `wall_s` [s].
+    pub fn stream_lists(&mut self, wall_s: f64, params: &ParamTable, link: &LinkParams) -> Vec<Effect<A>> {
+        let shown = self.shown(params, link);
         let mut out = Vec::new();
         for list in &mut self.lists {
             while list.next_s <= wall_s {
@@ -213,7 +224,7 @@ impl<A: Copy + PartialEq> ParamService<A> {
                         ),
                     }
                 } else {
-                    let Some(msg) = param_value_as(self.personality, params, list.next) else {
+                    let Some(msg) = shown.param_value(list.next) else {
                         break;
                     };
                     list.next += 1;
@@ -222,20 +233,22 @@ impl<A: Copy + PartialEq> ParamService<A> {
                 list.next_s += PARAM_LIST_PERIOD_S;
             }
         }
-        self.lists.retain(|l| l.opening || l.next < params.len());
+        let count = shown.len();
+        self.lists.retain(|l| l.opening || l.next < count);
         out
     }
 
-    /// PARAM_REQUEST_READ of `params` from `to` on `link`: by `index`, or by `name` without one.
+    /// PARAM_REQUEST_READ of `params` (and `held`, what the link holds) from `to` on `link`: by
+    /// `index`, or by `name` without one.
     pub fn read(
         &self,
         (link, to, header): (LinkKind, A, &MavHeader),
         name: &str,
         index: Option<usize>,
-        params: &ParamTable,
+        (params, held): (&ParamTable, &LinkParams),
     ) -> Vec<Effect<A>> {
         if self.personality == Personality::ArduPilot {
-            let view = CopterParamView::new(params);
+            let view = CopterParamView::new(params, held);
             let found = match index {
                 Some(i) => view.param_value(i, i as u16),
                 None => view.index_of(name).and_then(|i| view.param_value(i, u16::MAX)),
@@ -255,17 +268,18 @@ impl<A: Copy + PartialEq> ParamService<A> {
         )]
     }
 
-    /// PARAM_SET from `to` on `link`, `params` the table as it is: asks the vehicle, which
-    /// answers at its next tick; `_HASH_CHECK`, whatever its value, stops the lists streaming to
-    /// the sender and is not answered (as PX4 does). ArduCopter asks for the setting behind a
-    /// Copter name, refuses a value the setting cannot take at once and ignores a name it does
-    /// not have.
+    /// PARAM_SET from `to` on `link`, `params` the table as it is and `held` what the link
+    /// holds: asks the vehicle, which answers at its next tick; `_HASH_CHECK`, whatever its
+    /// value, stops the lists streaming to the sender and is not answered (as PX4 does).
+    /// ArduCopter asks for the setting behind a Copter name, asks the link to change what it
+    /// holds (`SRn_*`), refuses a value the setting cannot take at once and ignores a name it
+    /// does not have.
     pub fn set(
         &mut self,
         (link, to, header): (LinkKind, A, &MavHeader),
         name: String,
         value: f64,
-        params: &ParamTable,
+        (params, held): (&ParamTable, &LinkParams),
     ) -> Vec<Effect<A>> {
         let ask = |setting: String, value: f64| {
             let set = ParamSet {
@@ -286,10 +300,14 @@ impl<A: Copy + PartialEq> ParamService<A> {
             }
             Personality::Px4 => ask(name.clone(), value),
             Personality::ArduPilot => {
-                let view = CopterParamView::new(params);
+                let view = CopterParamView::new(params, held);
                 match view.setting_for(&name, value) {
                     None => Vec::new(),
-                    Some(Ok((setting, value))) => ask(setting.to_string(), value),
+                    Some(Ok(CopterSet::Setting(setting, value))) => ask(setting.to_string(), value),
+                    Some(Ok(CopterSet::Link(change))) => {
+                        let index = view.index_of(&name).unwrap_or(usize::MAX);
+                        vec![Effect::LinkSet((link, to), change, index)]
+                    }
                     Some(Err(why)) => {
                         let current = view.index_of(&name).and_then(|i| view.param_value(i, u16::MAX));
                         let mut out: Vec<Effect<A>> = current.map(|m| Effect::send(link, to, m)).into_iter().collect();
@@ -302,17 +320,18 @@ impl<A: Copy + PartialEq> ParamService<A> {
     }
 
     /// The vehicle's answer to `set` at wall time `wall_s` [s] (`None`: it was busy), with the
-    /// table `params` after it and the `targets` of the set's link.
+    /// table `params` after it (and `held`, what the link holds) and the `targets` of the set's
+    /// link.
     pub fn set_done(
         &mut self,
         wall_s: f64,
         set: ParamSet<A>,
         result: Option<Result<usize, ParamError>>,
-        params: &ParamTable,
+        (params, held): (&ParamTable, &LinkParams),
         mut targets: Vec<A>,
     ) -> Vec<Effect<A>> {
         if self.personality == Personality::ArduPilot {
-            return copter_set_done(set, result, params, &targets);
+            return copter_set_done(set, result, CopterParamView::new(params, held), &targets);
         }
         let ParamSet { link, to, header, name } = set;
         let mut out = Vec::new();
@@ -345,20 +364,28 @@ impl<A: Copy + PartialEq> ParamService<A> {
         out
     }
 
-    /// A parameter file `client` uploaded, `params` the table as it is: refused when
-    /// malformed, else its parameters asked of the vehicle (ArduCopter's names as their
-    /// settings).
-    pub fn start_upload(&mut self, client: Client<A>, upload: ParamUpload, params: &ParamTable) -> Vec<Effect<A>> {
+    /// A parameter file `client` uploaded, `params` the table as it is (and `held`, what the
+    /// link holds): refused when malformed, else its parameters asked of the vehicle
+    /// (ArduCopter's names as their settings; what the link holds is skipped as unknown: it is
+    /// set by PARAM_SET only).
+    pub fn start_upload(
+        &mut self,
+        client: Client<A>,
+        upload: ParamUpload,
+        (params, held): (&ParamTable, &LinkParams),
+    ) -> Vec<Effect<A>> {
         match self.personality {
             Personality::Px4 => self
                 .uploads
                 .start(client, upload, |name, value| Ok((name.to_string(), value))),
             Personality::ArduPilot => {
-                let view = CopterParamView::new(params);
+                let view = CopterParamView::new(params, held);
                 self.uploads
                     .start(client, upload, |name, value| match view.setting_for(name, value) {
                         None => Err(ParamError::Unknown(name.to_string(), String::new())),
-                        Some(Ok((setting, value))) => Ok((setting.to_string(), value)),
+                        Some(Ok(CopterSet::Setting(setting, value))) => Ok((setting.to_string(), value)),
+                        // What the link holds is skipped (set by PARAM_SET only).
+                        Some(Ok(CopterSet::Link(_))) => Err(ParamError::Unknown(name.to_string(), String::new())),
                         Some(Err(reason)) => Err(ParamError::Invalid {
                             name: name.to_string(),
                             reason,
@@ -389,11 +416,10 @@ impl<A: Copy + PartialEq> ParamService<A> {
 fn copter_set_done<A: Copy + PartialEq>(
     set: ParamSet<A>,
     result: Option<Result<usize, ParamError>>,
-    params: &ParamTable,
+    view: CopterParamView<'_>,
     targets: &[A],
 ) -> Vec<Effect<A>> {
     let ParamSet { link, to, name, .. } = set;
-    let view = CopterParamView::new(params);
     let value = |index: usize| -> Option<MavMessage> { view.param_value(index, u16::MAX) };
     let mut out = Vec::new();
     match result {

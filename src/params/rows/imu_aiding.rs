@@ -1,6 +1,8 @@
 //! Which aids the navigation filter uses (PX4's `EKF2_IMU_CTRL`, `EKF2_GRAV_NOISE`,
-//! `EKF2_GPS_CTRL`, `EKF2_MAG_TYPE`), whether arming needs a position (`COM_ARM_WO_GPS`) and
-//! where the declination comes from (`EKF2_DECL_TYPE`) (docs/navigation_filter.md §6, §10, §20).
+//! `EKF2_GPS_CTRL`, `EKF2_MAG_TYPE`), whether arming needs a position (`COM_ARM_WO_GPS`),
+//! where the declination comes from (`EKF2_DECL_TYPE`) (docs/navigation_filter.md §6, §10, §20);
+//! the switches of the pre-arm checks and of the geofence (`RP_ARM_CHECKS`, `RP_GF_ENABLE`,
+//! ArduCopter's `ARMING_CHECK` and `FENCE_ENABLE`).
 
 use crate::params::ParamDef;
 
@@ -75,5 +77,28 @@ pub(super) static AIDING_SOURCES: &[ParamDef] = &[
             s.nav.decl_type = v as u8;
             Ok(())
         }
+    ),
+];
+
+/// The switches ArduCopter's `ARMING_CHECK` and `FENCE_ENABLE` set (appended after the aiding
+/// sources).
+pub(super) static SWITCHES: &[ParamDef] = &[
+    row!(
+        "RP_ARM_CHECKS",
+        Int32,
+        [0.0, 1.0],
+        "",
+        Commander,
+        "1: arming checks the sticks (present, throttle low) and the geofence first; 0 skips them (the estimate and the mode's needs are always checked)",
+        flag commander.arming_checks
+    ),
+    row!(
+        "RP_GF_ENABLE",
+        Int32,
+        [0.0, 1.0],
+        "",
+        Failsafe,
+        "1: the geofence (GF_MAX_* limits, uploaded zones) is checked before arming and acted on; 0: off",
+        flag commander.failsafe.geofence_enabled
     ),
 ];

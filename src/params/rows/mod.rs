@@ -15,7 +15,7 @@
 //! - `navigation_filter.rs`: the navigation filter (EKF2_*).
 //! - `logger.rs`: the flight logs (SDLOG_MODE).
 //! - `imu_aiding.rs`: which aids the navigation filter uses (gravity vector, GNSS,
-//!   magnetometer) and arming without GPS.
+//!   magnetometer), arming without GPS, the switches of the pre-arm checks and the geofence.
 //! - `motors.rs`: motor failures: the reaction, the ESC check, the allocation around them.
 
 /// Declares one [`ParamDef`](super::ParamDef): name, wire type, `[min, max]`, unit, scope
@@ -111,7 +111,7 @@ mod sticks;
 use super::ParamDef;
 
 /// The groups in wire order.
-static GROUPS: [&[ParamDef]; 31] = [
+static GROUPS: [&[ParamDef]; 32] = [
     flight::TAKEOFF_AND_RETURN,
     control::LAW,
     estimator::DESIGN,
@@ -143,6 +143,7 @@ static GROUPS: [&[ParamDef]; 31] = [
     flight::AUTO_VERTICAL,
     flight::RETURN_APPROACH,
     imu_aiding::AIDING_SOURCES,
+    imu_aiding::SWITCHES,
 ];
 
 /// Every parameter, in wire order. Decoding applies the rows in this order, so a row may rely

@@ -4,7 +4,7 @@ use crate::params::{ParamType, VehicleSettings};
 use crate::wrench_estimator::ChebyshevDesign;
 
 /// The wire order before the rows were declared: index `i` must stay parameter `i`.
-const WIRE_ORDER: [&str; 153] = [
+const WIRE_ORDER: [&str; 155] = [
     "MIS_TAKEOFF_ALT",
     "MPC_Z_VEL_MAX_UP",
     "MPC_LAND_SPEED",
@@ -158,6 +158,8 @@ const WIRE_ORDER: [&str; 153] = [
     "EKF2_MAG_TYPE",
     "COM_ARM_WO_GPS",
     "EKF2_DECL_TYPE",
+    "RP_ARM_CHECKS",
+    "RP_GF_ENABLE",
 ];
 
 fn settings() -> VehicleSettings {
