@@ -6,7 +6,7 @@ use crate::guidance::{Geofence, Mission, OrbitYaw, RallyPoints, Sticks};
 use crate::math::Vec3;
 use crate::sensor_failure::SensorFailure;
 
-use super::FlightMode;
+use super::{FailsafeCause, FlightMode};
 
 /// MAVLink landed state (EXTENDED_SYS_STATE).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -318,8 +318,9 @@ pub enum Event {
     Airborne,
     /// Offboard setpoints stopped for `COM_OF_LOSS_T`; the vehicle holds position.
     OffboardLost,
-    /// A geofence or battery failsafe triggered (the announcement).
-    Failsafe(String),
+    /// A failsafe triggered or ended: what it is about (for a face that words failsafes its own
+    /// way) and the commander's announcement.
+    Failsafe(FailsafeCause, String),
     /// The navigation's sensors changed: a sensor lost (`warning`) or back, the height source
     /// switched (the announcement).
     Navigation {
@@ -346,7 +347,7 @@ impl Event {
     /// or a critical notice, warning (4) for a lost sensor, information (6) for the rest.
     pub fn severity(&self) -> u8 {
         match self {
-            Self::Failsafe(_) | Self::Notice { critical: true, .. } => 2,
+            Self::Failsafe(..) | Self::Notice { critical: true, .. } => 2,
             Self::Navigation { warning: true, .. } => 4,
             _ => 6,
         }
@@ -360,7 +361,7 @@ impl Event {
             Self::Landed => "Landing detected".to_string(),
             Self::Airborne => "Takeoff detected".to_string(),
             Self::OffboardLost => "Offboard lost".to_string(),
-            Self::Failsafe(text) | Self::Navigation { text, .. } | Self::Notice { text, .. } => text.clone(),
+            Self::Failsafe(_, text) | Self::Navigation { text, .. } | Self::Notice { text, .. } => text.clone(),
             Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
             Self::MissionCurrent(seq) => format!("Mission item {seq}"),
         }

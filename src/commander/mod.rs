@@ -77,7 +77,9 @@ pub use actions::{
 };
 pub use battery::{BatteryGauge, BatteryParams};
 pub use commander_params::{AutoVertical, CommanderParams, ManualParams, MissionParams};
-pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
+pub use failsafe::{
+    BatteryLevel, Failsafe, FailsafeAction, FailsafeCause, FailsafeMonitor, FailsafeParams, FenceLimits,
+};
 pub use flight_mode::{FlightMode, ModeRefusal};
 pub use land_detector::{LandDetectorParams, LandStage};
 pub use messages::{CommanderTick, Event, InputStream, LandedState, Lean, OrbitRequest, Outcome, Request};
@@ -456,8 +458,8 @@ mod tests {
     #[test]
     fn events_of_a_request_come_first_in_the_next_tick_even_disarmed() {
         let mut s = Script::new(CommanderParams::default());
-        s.c.pending.push(Event::Failsafe("queued".into()));
-        assert_eq!(s.step(), vec![Event::Failsafe("queued".into())]);
+        s.c.pending.push(Event::Failsafe(FailsafeCause::Other, "queued".into()));
+        assert_eq!(s.step(), vec![Event::Failsafe(FailsafeCause::Other, "queued".into())]);
         assert!(s.step().is_empty(), "announced once");
     }
 }

@@ -5,6 +5,7 @@
 //! landing after the `COM_FAIL_ACT_T` hold, a termination. Paths fly at the cruise speed
 //! (`MPC_XY_CRUISE` or DO_CHANGE_SPEED's), capped at `MPC_XY_VEL_MAX` ([`AutoPaths`]).
 
+use super::FailsafeCause;
 use crate::control::VehicleState;
 use crate::guidance::Guidance;
 use crate::math::{euler_zyx, Vec3};
@@ -171,7 +172,13 @@ impl Commander {
 
     /// Runs a loss `action` (hold, return, land, or 5/6 motors off; the caller has checked the
     /// vehicle flies) for the lost stream `what`; the announcement.
-    pub(super) fn react_to_loss(&mut self, what: &str, action: LinkLossAction, x: &VehicleState, t_s: f64) -> Event {
+    pub(super) fn react_to_loss(
+        &mut self,
+        (what, cause): (&str, FailsafeCause),
+        action: LinkLossAction,
+        x: &VehicleState,
+        t_s: f64,
+    ) -> Event {
         let mut events = Vec::new();
         match action.reaction() {
             Reaction::Hold => self.enter(FlightMode::Loiter, x, t_s),
@@ -179,7 +186,7 @@ impl Commander {
             Reaction::Terminate => self.disarm(),
             Reaction::Nothing => {}
         }
-        Event::Failsafe(loss_text(what, action))
+        Event::Failsafe(cause, loss_text(what, action))
     }
 
     /// Carries out a delayed failsafe once its hold is over.
@@ -198,7 +205,7 @@ impl Commander {
             StickWatch::Quiet => {}
             StickWatch::Alive { regained } => {
                 if regained {
-                    events.push(Event::Failsafe("Manual control regained".into()));
+                    events.push(Event::Failsafe(FailsafeCause::Other, "Manual control regained".into()));
                     if let Some(resume) = self.failsafe.cancel(self.mode) {
                         self.enter(resume, x, t_s);
                         events.push(Event::ModeChanged(resume));
@@ -207,12 +214,15 @@ impl Commander {
                 let (in_air, delayed) = (self.in_air(), self.failsafe.delayed());
                 if self.manual.takes_over(self.mode, in_air, delayed, &self.params.manual) {
                     self.enter(FlightMode::Position, x, t_s);
-                    events.push(Event::Failsafe("Pilot took over using sticks".into()));
+                    events.push(Event::Failsafe(
+                        FailsafeCause::Other,
+                        "Pilot took over using sticks".into(),
+                    ));
                     events.push(Event::ModeChanged(FlightMode::Position));
                 }
             }
             StickWatch::Lost(action) => {
-                let announced = self.react_to_loss("Manual control", action, x, t_s);
+                let announced = self.react_to_loss(("Manual control", FailsafeCause::Other), action, x, t_s);
                 events.push(announced);
             }
         }

@@ -5,6 +5,7 @@
 //! it as AUTO.LAND), or with `COM_POSCTL_NAVL` = 0 and live sticks in POSCTL falls back to
 //! ALTCTL. The height and the attitude still come from the estimate. Pure.
 
+use super::FailsafeCause;
 use super::{FlightMode, Outcome};
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::Vec3;
@@ -69,11 +70,11 @@ pub(super) enum PositionLoss {
 impl NavValidity {
     /// The announcement of a change of the horizontal estimate from `before` to `self`, if it
     /// changed.
-    pub(super) fn position_change(&self, before: &NavValidity) -> Option<&'static str> {
+    pub(super) fn position_change(&self, before: &NavValidity) -> Option<(FailsafeCause, &'static str)> {
         (self.horizontal != before.horizontal).then_some(if self.horizontal {
-            "Position estimate valid again"
+            (FailsafeCause::PositionRegained, "Position estimate valid again")
         } else {
-            "Position estimate lost"
+            (FailsafeCause::PositionLost, "Position estimate lost")
         })
     }
 
@@ -225,8 +226,11 @@ mod tests {
         assert_eq!(
             events,
             vec![
-                Event::Failsafe("Position estimate lost".into()),
-                Event::Failsafe("No position estimate: descending".into()),
+                Event::Failsafe(FailsafeCause::PositionLost, "Position estimate lost".into()),
+                Event::Failsafe(
+                    FailsafeCause::PositionAction(FlightMode::Land),
+                    "No position estimate: descending".into()
+                ),
                 Event::ModeChanged(FlightMode::Land)
             ]
         );

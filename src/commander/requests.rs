@@ -4,6 +4,7 @@
 //! ([`Commander::check_failsafes`]), rotor failures ([`Commander::rotor_failed`]) and the
 //! navigation estimate's validity ([`Commander::check_navigation`]) likewise.
 
+use super::FailsafeCause;
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::guidance::{Geofence, Guidance};
 use crate::math::{euler_zyx, Vec3};
@@ -359,7 +360,7 @@ impl Commander {
         );
         let mut events = Vec::new();
         for failsafe in fired {
-            events.push(Event::Failsafe(failsafe.text));
+            events.push(Event::Failsafe(failsafe.cause, failsafe.text));
             let mode = failsafe.action.mode();
             if failsafe.action == FailsafeAction::Terminate {
                 self.disarm();
@@ -385,7 +386,7 @@ impl Commander {
     pub fn rotor_failed(&mut self, loss: RotorLoss, x: &VehicleState, t_s: f64) -> Vec<Event> {
         let action = self.params.actuator_failure_action;
         let in_air = self.armed() && self.in_air();
-        let mut events = vec![Event::Failsafe(loss.announcement(action, in_air))];
+        let mut events = vec![Event::Failsafe(FailsafeCause::Other, loss.announcement(action, in_air))];
         if !in_air {
             return events;
         }
@@ -412,7 +413,7 @@ impl Commander {
         if action == LinkLossAction::Disabled || !self.armed() || !self.in_air() {
             return Outcome::Accepted;
         }
-        let event = self.react_to_loss("GCS link", action, x, t_s);
+        let event = self.react_to_loss(("GCS link", FailsafeCause::GcsLink), action, x, t_s);
         self.pending.push(event);
         Outcome::Accepted
     }
@@ -421,8 +422,8 @@ impl Commander {
     /// (estimated) state `x` at `t_s` [s]; what the commander did about it.
     pub fn check_navigation(&mut self, v: NavValidity, x: &VehicleState, t_s: f64) -> Vec<Event> {
         let mut events = Vec::new();
-        if let (Some(text), true) = (v.position_change(&self.nav), self.armed()) {
-            events.push(Event::Failsafe(text.into()));
+        if let (Some((cause, text)), true) = (v.position_change(&self.nav), self.armed()) {
+            events.push(Event::Failsafe(cause, text.into()));
         }
         self.nav = v;
         if !self.armed() {
@@ -436,6 +437,7 @@ impl Commander {
             PositionLoss::Altitude => {
                 self.enter(FlightMode::Altitude, x, t_s);
                 events.push(Event::Failsafe(
+                    FailsafeCause::PositionAction(FlightMode::Altitude),
                     "No position estimate: switching to Altitude mode".into(),
                 ));
                 events.push(Event::ModeChanged(FlightMode::Altitude));
@@ -443,7 +445,10 @@ impl Commander {
             PositionLoss::Descend => {
                 self.failsafe.start_blind_descent();
                 self.enter(FlightMode::Land, x, t_s);
-                events.push(Event::Failsafe("No position estimate: descending".into()));
+                events.push(Event::Failsafe(
+                    FailsafeCause::PositionAction(FlightMode::Land),
+                    "No position estimate: descending".into(),
+                ));
                 events.push(Event::ModeChanged(FlightMode::Land));
             }
         }

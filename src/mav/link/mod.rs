@@ -65,6 +65,7 @@ use crate::commander::{Event, Outcome};
 use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
+use super::ardupilot::copter_failsafes::CopterFailsafes;
 use super::ardupilot::copter_modes::ModeShown;
 use super::ardupilot::copter_texts::{copter_announces, copter_outcome, ArmedNotices, PreArmNotices};
 use super::codec::frame_message;
@@ -124,6 +125,8 @@ pub struct LinkMachine<A> {
     armed_notices: ArmedNotices,
     /// "PreArm: …" every 30 s while a check fails (the ArduCopter personality).
     prearm_notices: PreArmNotices,
+    /// Copter's failsafe texts and whether one is active (the ArduCopter personality).
+    copter_failsafes: CopterFailsafes,
     /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
     sticks_from: Option<LinkKind>,
     /// The RC receiver and the boot mode (the ArduCopter personality).
@@ -175,6 +178,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             mode_shown: ModeShown::default(),
             armed_notices: ArmedNotices::default(),
             prearm_notices: PreArmNotices::default(),
+            copter_failsafes: CopterFailsafes::default(),
             next_duty_s: 0.0,
             transmits: VecDeque::new(),
             to_vehicle: VecDeque::new(),
@@ -195,10 +199,19 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.snapshot = snapshot;
     }
 
-    /// A commander event, announced to every target of every link.
+    /// A commander event, announced to every target of every link (a vehicle presented as
+    /// ArduCopter says its failsafes in Copter's words, and not what Copter does not say).
     pub fn handle_event(&mut self, now: Now, event: Event) {
-        if self.identity.personality == Personality::ArduPilot && !copter_announces(&event) {
-            return;
+        if self.identity.personality == Personality::ArduPilot {
+            if let Some(said) = self.copter_failsafes.handle_event(&event, &self.snapshot) {
+                for (severity, text) in said {
+                    self.broadcast(now, &super::stream_messages::status_text(severity, &text));
+                }
+                return;
+            }
+            if !copter_announces(&event) {
+                return;
+            }
         }
         let msg = self.announcement(&event);
         self.broadcast(now, &msg);
