@@ -36,6 +36,10 @@ pub enum Request {
     },
     /// Switch mode.
     SetMode(FlightMode),
+    /// ArduCopter's mode change (`Copter::set_mode`): armed, as [`Request::SetMode`]; disarmed,
+    /// the mode is entered without the checks of what it needs to fly (a position, a mission),
+    /// which arming in it then makes.
+    SelectMode(FlightMode),
     /// NAV_TAKEOFF to `height_m` above home [m] (`None`: `MIS_TAKEOFF_ALT`).
     Takeoff {
         /// Target height above home [m].
@@ -137,6 +141,15 @@ pub enum Request {
     /// DO_CHANGE_SPEED: horizontal speed of the AUTO modes [m/s] until changed again (a GOTO
     /// target forgets it); GOTO flies it at once, within `MPC_XY_CRUISE`.
     ChangeSpeed(f64),
+    /// DO_CHANGE_SPEED's climb (`up`) or descent speed of the AUTO paths and guided targets
+    /// [m/s] (ArduCopter's speed types 2 and 3), until changed again; within
+    /// `MPC_Z_VEL_MAX_UP` / `_DN`.
+    ChangeVerticalSpeed {
+        /// The climb speed (else the descent speed).
+        up: bool,
+        /// The speed [m/s].
+        speed_m_s: f64,
+    },
     /// DO_SET_HOME: the local NED point RTL returns to [m]; `None`: the current position.
     SetHome(Option<Vec3>),
     /// No GCS heartbeat for `COM_DL_LOSS_T`: run `NAV_DLL_ACT` if flying.
@@ -254,6 +267,7 @@ impl Request {
             Self::Arm { .. }
             | Self::Disarm { .. }
             | Self::SetMode(_)
+            | Self::SelectMode(_)
             | Self::Land
             | Self::ReturnToLaunch
             | Self::StartMission { .. }
@@ -281,6 +295,7 @@ impl Request {
                 ..
             } => [north_m, east_m, down_m, yaw_rad, speed_m_s].iter().all(|v| opt(v)),
             Self::ChangeSpeed(v) => v.is_finite(),
+            Self::ChangeVerticalSpeed { speed_m_s, .. } => speed_m_s.is_finite(),
             Self::TurnTo { yaw_rad } => yaw_rad.is_finite(),
             Self::GuidedLean(lean) => lean.is_finite(),
             Self::UserTakeoff { height_m } => height_m.is_finite(),

@@ -112,7 +112,7 @@ macro_rules! paths_of {
     ($c:expr) => {
         $crate::commander::auto_paths::AutoPaths::new(
             &$c.params,
-            $c.speed_override,
+            ($c.speed_override, $c.vertical_speeds),
             $c.detector.ground_z_m(),
             $c.plans.home_w().z,
         )
@@ -146,6 +146,8 @@ pub struct Commander {
     takeoff_target_w: Option<Vec3>,
     /// DO_CHANGE_SPEED's (or a reposition's) horizontal speed [m/s].
     speed_override: Option<f64>,
+    /// DO_CHANGE_SPEED's climb and descent speeds (ArduCopter's types 2 and 3) [m/s].
+    vertical_speeds: (Option<f64>, Option<f64>),
     arming: Arming,
     rtl: Rtl,
     offboard: Offboard,
@@ -173,6 +175,7 @@ impl Commander {
             guidance: Guidance::Idle,
             takeoff_target_w: None,
             speed_override: None,
+            vertical_speeds: (None, None),
             arming: Arming::default(),
             rtl: Rtl::default(),
             offboard: Offboard::default(),

@@ -39,10 +39,16 @@ impl Commander {
     /// without a target, holds where it is);
     /// AUTO.TAKEOFF without a target (or in the air) climbs to `MIS_TAKEOFF_ALT` from here.
     pub(super) fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
+        self.switch_mode(mode, x, t_s, true)
+    }
+
+    /// [`Self::set_mode`]; without `checked`, the navigation estimate and the mission are not
+    /// checked (ArduCopter's mode change while disarmed: arming checks them).
+    pub(super) fn switch_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64, checked: bool) -> Outcome {
         if let Some(refusal) = self.manual.mode_refusal(mode, false) {
             return refusal;
         }
-        if let Some(refusal) = self.navigation_refusal(mode, false) {
+        if let Some(refusal) = self.navigation_refusal(mode, false).filter(|_| checked) {
             return refusal;
         }
         if mode != FlightMode::Land {
@@ -51,7 +57,7 @@ impl Commander {
         // The pilot chose a mode: a failsafe waiting in its hold gives way (PX4).
         self.failsafe.give_way();
         match mode {
-            FlightMode::Mission if self.mission.is_empty() => {
+            FlightMode::Mission if checked && self.mission.is_empty() => {
                 Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into())
             }
             FlightMode::Offboard if !self.offboard.alive() => {

@@ -31,6 +31,10 @@ impl Commander {
             Request::Arm { force } => self.arm(force, x, t_s),
             Request::Disarm { force } => self.disarm_request(force),
             Request::SetMode(mode) => self.set_mode(mode, x, t_s),
+            Request::SelectMode(mode) => {
+                let checked = self.armed();
+                self.switch_mode(mode, x, t_s, checked)
+            }
             Request::Takeoff { height_m } => self.takeoff(height_m, x, t_s),
             Request::Land => self.set_mode(FlightMode::Land, x, t_s),
             Request::TurnTo { yaw_rad } => self.turn_to(yaw_rad),
@@ -111,6 +115,14 @@ impl Commander {
                     return Outcome::Denied(format!("Change speed refused: {v} m/s"));
                 }
                 self.speed_override = Some(v);
+                Outcome::Accepted
+            }
+            Request::ChangeVerticalSpeed { up, speed_m_s } => {
+                if !(speed_m_s.is_finite() && speed_m_s > 0.0 && speed_m_s <= MAX_SPEED_M_S) {
+                    return Outcome::Denied(format!("Change speed refused: {speed_m_s} m/s"));
+                }
+                let speeds = &mut self.vertical_speeds;
+                *(if up { &mut speeds.0 } else { &mut speeds.1 }) = Some(speed_m_s);
                 Outcome::Accepted
             }
             Request::SetHome(p) => {

@@ -294,7 +294,7 @@ fn the_return_climbs_returns_then_descends_each_when_the_last_is_flown() {
     use super::{AutoPaths, Plans, Rtl, RtlPhase};
     use crate::guidance::Guidance;
     let p = params();
-    let paths = AutoPaths::new(&p, None, None, 0.0);
+    let paths = AutoPaths::new(&p, (None, (None, None)), None, 0.0);
     let plans = Plans::default();
     let mut rtl = Rtl::default();
     rtl.start();

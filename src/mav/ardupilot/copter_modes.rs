@@ -83,14 +83,14 @@ impl CopterMode {
 
     /// The commander request that selects it: CIRCLE circles the point `CIRCLE_RADIUS` ahead
     /// (so the vehicle is on its circle at once) at `CIRCLE_RATE`; every other mode is a switch
-    /// to the mode that flies it.
+    /// to the mode that flies it, as Copter changes modes (checked armed, not disarmed).
     pub fn request(self) -> Request {
         match self.number {
             7 => Request::Circle {
                 radius_m: CIRCLE_RADIUS_M,
                 speed_m_s: CIRCLE_RADIUS_M * CIRCLE_RATE_DEG_S.to_radians(),
             },
-            _ => Request::SetMode(self.flown_as),
+            _ => Request::SelectMode(self.flown_as),
         }
     }
 }
@@ -245,8 +245,8 @@ mod tests {
         ];
         let all: Vec<(u8, &str)> = CopterMode::all().iter().map(|m| (m.number, m.name)).collect();
         assert_eq!(all, table);
-        assert_eq!(mode_request(4), Ok(Request::SetMode(FlightMode::Guided)));
-        assert_eq!(mode_request(17), Ok(Request::SetMode(FlightMode::Loiter)));
+        assert_eq!(mode_request(4), Ok(Request::SelectMode(FlightMode::Guided)));
+        assert_eq!(mode_request(17), Ok(Request::SelectMode(FlightMode::Loiter)));
         assert!(matches!(mode_request(7), Ok(Request::Circle { radius_m, .. }) if radius_m == 10.0));
         assert_eq!(
             mode_request(14),

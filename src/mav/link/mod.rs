@@ -58,7 +58,7 @@ use std::collections::VecDeque;
 use std::hash::Hash;
 use std::sync::Arc;
 
-use mavlink::dialects::ardupilotmega::{MavMessage, MavMissionType, MavSeverity, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavMissionType, MavSeverity, MISSION_ITEM_INT_DATA};
 use mavlink::{MAVLinkV2MessageRaw, MavHeader};
 
 use crate::commander::{Event, Outcome};
@@ -243,6 +243,17 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     }
                 };
                 self.commands.answer(now.wall_s, asker, AckOf::Outcome(outcome))
+            }
+            Some(Pending::SetMode(client)) => {
+                let outcome = match reply {
+                    VehicleReply::Outcome(outcome) => outcome,
+                    _ => Outcome::TemporarilyRejected("Vehicle busy".into()),
+                };
+                let shown = self.mode_shown.shown(&self.snapshot);
+                let asked = (self.mode_shown.asked(), shown);
+                let outcome = copter_outcome(MavCmd::MAV_CMD_DO_SET_MODE, asked, outcome);
+                self.answer_set_mode(now, client, AckOf::Outcome(outcome));
+                Vec::new()
             }
             Some(Pending::Param(set)) => {
                 let result = self.take_table(reply);
