@@ -17,7 +17,7 @@ const NOTICE: MavSeverity = MavSeverity::MAV_SEVERITY_NOTICE;
 const CRITICAL: MavSeverity = MavSeverity::MAV_SEVERITY_CRITICAL;
 
 /// One STATUSTEXT to say: its severity and text.
-pub type Said = (MavSeverity, String);
+pub type Spoken = (MavSeverity, String);
 
 /// The failsafes Copter has announced and which of them are still active.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -41,7 +41,7 @@ impl CopterFailsafes {
     /// What Copter says for the commander's `event` with the vehicle in `state`: `Some` of its
     /// texts (none: it says nothing) for a failsafe Copter
     /// words itself, `None` for every other event.
-    pub fn handle_event(&mut self, event: &Event, state: &Snapshot) -> Option<Vec<Said>> {
+    pub fn handle_event(&mut self, event: &Event, state: &Snapshot) -> Option<Vec<Spoken>> {
         let Event::Failsafe(cause, _) = event else {
             return None;
         };
@@ -92,7 +92,7 @@ impl CopterFailsafes {
     /// The link's verdict on the ground station: `lost` while its heartbeat has been silent for
     /// `COM_DL_LOSS_T` with `NAV_DLL_ACT` set (Copter's `FS_GCS_ENABLE`); "GCS Failsafe" when
     /// it is lost, "GCS Failsafe Cleared" when it is heard again (armed or not, as Copter).
-    pub fn handle_gcs(&mut self, lost: bool) -> Option<Said> {
+    pub fn handle_gcs(&mut self, lost: bool) -> Option<Spoken> {
         if lost == self.gcs {
             return None;
         }
@@ -105,7 +105,7 @@ impl CopterFailsafes {
     }
 
     /// The vehicle's latest `state`: "Fence breach cleared" once a breach announced is over.
-    pub fn handle_state(&mut self, state: &Snapshot) -> Option<Said> {
+    pub fn handle_state(&mut self, state: &Snapshot) -> Option<Spoken> {
         if !self.fence || state.geofence_breached {
             return None;
         }
@@ -145,7 +145,7 @@ mod tests {
     use super::*;
     use crate::guidance::Home;
 
-    fn texts(said: Option<Vec<Said>>) -> Vec<String> {
+    fn texts(said: Option<Vec<Spoken>>) -> Vec<String> {
         said.unwrap_or_default().into_iter().map(|(_, t)| t).collect()
     }
 

@@ -319,9 +319,9 @@ fn change_speed(c: &COMMAND_LONG_DATA, state: &Snapshot) -> CommandDecision {
         return CommandDecision::Refuse(Outcome::Denied(format!("Change speed: {} m/s", c.param2)));
     }
     let up = match c.param1 {
-        t if t == 0.0 || t == 1.0 => return CommandDecision::Execute(Request::ChangeSpeed(speed)),
-        t if t == 2.0 => true,
-        t if t == 3.0 => false,
+        0.0 | 1.0 => return CommandDecision::Execute(Request::ChangeSpeed(speed)),
+        2.0 => true,
+        3.0 => false,
         t => return CommandDecision::Refuse(Outcome::Denied(format!("Change speed: speed type {t}"))),
     };
     if !matches!(state.mode, FlightMode::Guided | FlightMode::Mission) {
