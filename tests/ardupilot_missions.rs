@@ -387,7 +387,7 @@ fn auto_on_the_ground_needs_a_takeoff_and_stays_auto_at_the_missions_end() {
     let asks: Vec<_> = b.asks().into_iter().map(|a| a.request).collect();
     assert_eq!(
         asks,
-        vec![VehicleRequest::Commander(Request::SetMode(FlightMode::Mission))]
+        vec![VehicleRequest::Commander(Request::SelectMode(FlightMode::Mission))]
     );
     // The mission flown to its end: the commander holds, the HEARTBEAT still says AUTO.
     b.state.mode = FlightMode::Loiter;

@@ -239,7 +239,7 @@ fn picked<T>(events: &[Event], pick: impl Fn(&Event) -> Option<T>) -> Vec<T> {
 
 fn failsafe_texts(events: &[Event]) -> Vec<String> {
     picked(events, |e| match e {
-        Event::Failsafe(text) => Some(text.clone()),
+        Event::Failsafe(_, text) => Some(text.clone()),
         _ => None,
     })
 }
@@ -393,7 +393,7 @@ fn gcs_link_loss_runs_nav_dll_act_in_flight_only() {
         let announced = sim
             .events
             .iter()
-            .any(|e| matches!(e, Event::Failsafe(t) if t.starts_with("GCS link lost")));
+            .any(|e| matches!(e, Event::Failsafe(_, t) if t.starts_with("GCS link lost")));
         assert_eq!(announced, action != LinkLossAction::Disabled, "NAV_DLL_ACT {action:?}");
         if action == LinkLossAction::Return {
             // Up to RTL_RETURN_ALT (60 m), back over home, down at MPC_LAND_SPEED, auto-disarm.

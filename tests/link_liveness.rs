@@ -7,6 +7,7 @@ mod link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;
+use rotorpilot::commander::FailsafeCause;
 use rotorpilot::commander::{Event, InputStream, Request};
 use rotorpilot::guidance::Sticks;
 use rotorpilot::mav::link::{VehicleReply, VehicleRequest};
@@ -39,7 +40,10 @@ fn link_loss_needs_silence_in_wall_and_simulated_time_and_fires_once() {
     b.at(13.0, 11.0);
     assert!(b.asks().is_empty(), "once per loss");
     // The reaction comes back as a commander event, announced on every link like every event.
-    b.m.handle_event(b.now, Event::Failsafe("GCS link lost: returning".into()));
+    b.m.handle_event(
+        b.now,
+        Event::Failsafe(FailsafeCause::GcsLink, "GCS link lost: returning".into()),
+    );
     let out = b.out();
     let texts = named(&out, "STATUSTEXT");
     let said = |m: &MavMessage| {

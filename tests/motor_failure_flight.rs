@@ -9,6 +9,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use rotorpilot::airframe::AirframeSource;
+use rotorpilot::commander::FailsafeCause;
 use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
 use rotorpilot::control::ControllerKind;
 use rotorpilot::guidance::{Home, Mission, MissionItem};
@@ -79,7 +80,7 @@ fn motor(v: &mut Vehicle, rotor: usize, failed: bool) {
 }
 
 fn said(events: &[Event], text: &str) -> bool {
-    events.iter().any(|e| matches!(e, Event::Failsafe(t) if t == text))
+    events.iter().any(|e| matches!(e, Event::Failsafe(_, t) if t == text))
 }
 
 /// Distance of `p` from the segment `a`–`b` [m].
@@ -261,6 +262,7 @@ fn com_act_fail_act_3_returns_home_and_4_terminates() {
     let out = v.step();
     assert!(!out.snapshot.armed, "{:?}", out.events);
     assert!(out.events.contains(&Event::Failsafe(
+        FailsafeCause::Other,
         "Motor 1 failed, motor 4 off, yaw lost: terminating".into()
     )));
     assert!(out.events.contains(&Event::Disarmed("flight termination")));
@@ -332,7 +334,7 @@ fn a_hard_failure_only_stops_the_motor_and_a_soft_one_its_opposite_too() {
             |_| false,
         );
         assert_eq!(mask, stopped, "SYS_FAIL_MOT_OFF {hard}");
-        let announced = events[before..].iter().any(|e| matches!(e, Event::Failsafe(_)));
+        let announced = events[before..].iter().any(|e| matches!(e, Event::Failsafe(..)));
         assert_eq!(
             announced,
             hard == 0.0,

@@ -62,7 +62,7 @@ fn fly(preset: &str, rotor: usize, seconds: f64, params: &[(&str, f64)]) -> Flig
     for _ in 0..(seconds * 1000.0) as usize {
         let out = v.step();
         let s = out.snapshot;
-        if flight.announced_s.is_none() && out.events.iter().any(|e| matches!(e, Event::Failsafe(_))) {
+        if flight.announced_s.is_none() && out.events.iter().any(|e| matches!(e, Event::Failsafe(..))) {
             flight.announced_s = Some(s.t_s);
         }
         flight.events.extend(out.events);
@@ -79,7 +79,7 @@ fn fly(preset: &str, rotor: usize, seconds: f64, params: &[(&str, f64)]) -> Flig
 }
 
 fn announced(events: &[Event], text: &str) -> bool {
-    events.iter().any(|e| matches!(e, Event::Failsafe(t) if t == text))
+    events.iter().any(|e| matches!(e, Event::Failsafe(_, t) if t == text))
 }
 
 #[test]
@@ -170,7 +170,7 @@ fn a_quadrotor_gives_up_yaw_and_comes_down_whatever_com_act_fail_act_says() {
 fn without_the_esc_check_nothing_is_reported() {
     let f = fly("octo", 3, 15.0, &[("FD_ACT_EN", 0.0)]);
     assert!(
-        !f.events.iter().any(|e| matches!(e, Event::Failsafe(_))),
+        !f.events.iter().any(|e| matches!(e, Event::Failsafe(..))),
         "{:?}",
         f.events
     );

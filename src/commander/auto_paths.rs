@@ -16,6 +16,8 @@ pub(super) struct AutoPaths<'a> {
     params: &'a CommanderParams,
     /// DO_CHANGE_SPEED's speed, when one is set [m/s].
     speed_override: Option<f64>,
+    /// DO_CHANGE_SPEED's climb and descent speeds, when set [m/s].
+    vertical_speeds: (Option<f64>, Option<f64>),
     /// Where the land detector last touched the ground (z, NED), if it did [m].
     ground_z_m: Option<f64>,
     /// Home's z (NED) [m].
@@ -23,17 +25,19 @@ pub(super) struct AutoPaths<'a> {
 }
 
 impl<'a> AutoPaths<'a> {
-    /// Paths under `params` with DO_CHANGE_SPEED's `speed_override` [m/s], the ground last
-    /// touched at `ground_z_m` [m] and home at `home_z_m` [m].
+    /// Paths under `params` with DO_CHANGE_SPEED's horizontal `speed_override` and
+    /// `vertical_speeds` (climb, descent) [m/s], the ground last touched at `ground_z_m` [m] and
+    /// home at `home_z_m` [m].
     pub fn new(
         params: &'a CommanderParams,
-        speed_override: Option<f64>,
+        (speed_override, vertical_speeds): (Option<f64>, (Option<f64>, Option<f64>)),
         ground_z_m: Option<f64>,
         home_z_m: f64,
     ) -> Self {
         Self {
             params,
             speed_override,
+            vertical_speeds,
             ground_z_m,
             home_z_m,
         }
@@ -55,14 +59,15 @@ impl<'a> AutoPaths<'a> {
     }
 
     /// AUTO path limits for a horizontal speed of `horizontal_m_s` [m/s], capped at
-    /// `MPC_XY_VEL_MAX`; vertical speeds `MPC_Z_V_AUTO_UP` / `_DN` within `MPC_Z_VEL_MAX_UP` /
-    /// `_DN`; every other limit as set.
+    /// `MPC_XY_VEL_MAX`; vertical speeds DO_CHANGE_SPEED's, else `MPC_Z_V_AUTO_UP` / `_DN`,
+    /// within `MPC_Z_VEL_MAX_UP` / `_DN`; every other limit as set.
     pub fn limits(&self, horizontal_m_s: f64) -> MotionLimits {
         let (m, auto) = (&self.params.motion, &self.params.auto_vertical);
+        let (up, down) = self.vertical_speeds;
         MotionLimits {
             horizontal_m_s: horizontal_m_s.min(m.horizontal_m_s),
-            up_m_s: auto.up_m_s.min(m.up_m_s),
-            down_m_s: auto.down_m_s.min(m.down_m_s),
+            up_m_s: up.unwrap_or(auto.up_m_s).min(m.up_m_s),
+            down_m_s: down.unwrap_or(auto.down_m_s).min(m.down_m_s),
             ..*m
         }
     }
@@ -152,11 +157,18 @@ mod tests {
     #[test]
     fn the_cruise_speed_is_do_change_speeds_else_mpc_xy_cruise_within_mpc_xy_vel_max() {
         let p = CommanderParams::default();
-        let paths = AutoPaths::new(&p, None, None, 0.0);
+        let paths = AutoPaths::new(&p, (None, (None, None)), None, 0.0);
         assert_eq!(paths.cruise_speed(), p.cruise_speed_m_s);
-        let fast = AutoPaths::new(&p, Some(100.0), None, 0.0);
+        let fast = AutoPaths::new(&p, (Some(100.0), (None, None)), None, 0.0);
         assert_eq!(fast.cruise_speed(), 100.0);
         assert_eq!(fast.limits(fast.cruise_speed()).horizontal_m_s, p.motion.horizontal_m_s);
+        let slow_climb = AutoPaths::new(&p, (None, (Some(0.5), Some(100.0))), None, 0.0);
+        assert_eq!(slow_climb.limits(1.0).up_m_s, 0.5, "DO_CHANGE_SPEED's climb");
+        assert_eq!(
+            slow_climb.limits(1.0).down_m_s,
+            p.motion.down_m_s,
+            "within MPC_Z_VEL_MAX_DN"
+        );
     }
 
     #[test]
@@ -164,10 +176,10 @@ mod tests {
         let p = CommanderParams::default();
         let low = p.auto_vertical.takeoff_m_s.min(p.auto_vertical.up_m_s);
         // 5 m above home: below MPC_LAND_ALT1, at MPC_TKO_SPEED.
-        let over_home = AutoPaths::new(&p, None, None, 0.0);
+        let over_home = AutoPaths::new(&p, (None, (None, None)), None, 0.0);
         assert_eq!(over_home.climb_limits(&at(-5.0)).up_m_s, low);
         // The ground touched 20 m lower: above MPC_LAND_ALT1, at the AUTO climb speed.
-        let over_ground = AutoPaths::new(&p, None, Some(20.0), 0.0);
+        let over_ground = AutoPaths::new(&p, (None, (None, None)), Some(20.0), 0.0);
         assert_eq!(
             over_ground.climb_limits(&at(-5.0)).up_m_s,
             over_ground.limits(0.0).up_m_s
@@ -177,7 +189,7 @@ mod tests {
     #[test]
     fn a_descent_starts_where_the_vehicle_is_with_the_landing_profile() {
         let p = CommanderParams::default();
-        let paths = AutoPaths::new(&p, None, None, 0.0);
+        let paths = AutoPaths::new(&p, (None, (None, None)), None, 0.0);
         let Guidance::Descend {
             xy_w,
             z_start_m,

@@ -68,11 +68,56 @@ pub enum FailsafeAction {
     Terminate,
 }
 
+/// What a failsafe's announcement is about, for a face that words failsafes its own way
+/// (docs/ardupilot.md §2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FailsafeCause {
+    /// The battery fell to this level.
+    Battery(BatteryLevel),
+    /// The geofence breached: which limits.
+    Geofence(FenceLimits),
+    /// The ground station's link lost (`NAV_DLL_ACT`).
+    GcsLink,
+    /// The position estimate lost.
+    PositionLost,
+    /// The position estimate valid again.
+    PositionRegained,
+    /// The position-loss failsafe switched to this mode (ALTCTL, or the landing).
+    PositionAction(super::FlightMode),
+    /// Anything else (a motor, the sticks, a fence plan the vehicle cannot use).
+    Other,
+}
+
+/// Which geofence limits a breach crossed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FenceLimits {
+    /// Higher than `GF_MAX_VER_DIST` above home.
+    pub height: bool,
+    /// Farther than `GF_MAX_HOR_DIST` from home.
+    pub distance: bool,
+    /// Outside an uploaded inclusion zone or inside an exclusion zone.
+    pub zone: bool,
+}
+
+impl FenceLimits {
+    /// The limits the vehicle at `rel_home_w` [m] from home (NED) crosses under `p`, with the
+    /// uploaded fence's verdict `zone`.
+    pub fn crossed(p: &FailsafeParams, rel_home_w: [f64; 3], zone: bool) -> Self {
+        Self {
+            height: p.geofence_max_ver_m > 0.0 && -rel_home_w[2] > p.geofence_max_ver_m,
+            distance: p.geofence_max_hor_m > 0.0 && rel_home_w[0].hypot(rel_home_w[1]) > p.geofence_max_hor_m,
+            zone,
+        }
+    }
+}
+
 /// A failsafe that has just triggered.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Failsafe {
     /// What to do.
     pub action: FailsafeAction,
+    /// What it is about.
+    pub cause: FailsafeCause,
     /// The announcement (STATUSTEXT).
     pub text: String,
 }
@@ -145,11 +190,14 @@ impl FailsafeMonitor {
                 out.extend(battery_failsafe(p, level, battery_fraction));
             }
         }
-        let breach = fence_breach(p, rel_home_w, fence.breach(pos_w));
+        let zone = fence.breach(pos_w);
+        let limits = FenceLimits::crossed(p, rel_home_w, zone.is_some());
+        let breach = fence_breach(p, rel_home_w, zone);
         let outside = breach.is_some();
         let action = fence_failsafe(p.geofence_action).filter(|_| outside && !self.fence_breached && in_air);
         if let (Some(action), Some(text)) = (action, breach) {
-            out.push(Failsafe { action, text });
+            let cause = FailsafeCause::Geofence(limits);
+            out.push(Failsafe { action, cause, text });
         }
         if outside {
             self.fence_breached = true;
@@ -253,7 +301,11 @@ fn battery_failsafe(p: &FailsafeParams, level: BatteryLevel, fraction: f64) -> O
             ),
         },
     };
-    Some(Failsafe { action, text })
+    Some(Failsafe {
+        action,
+        cause: FailsafeCause::Battery(level),
+        text,
+    })
 }
 
 #[cfg(test)]

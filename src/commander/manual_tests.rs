@@ -2,6 +2,7 @@
 //! needs, stick loss and its exceptions, a pilot taking over, the attitude modes' targets.
 
 use super::super::script::{Script, DT_S, GROUND_Z_M};
+use super::super::FailsafeCause;
 use super::super::{CommanderParams, Event, FlightMode, ManualLossAction, Outcome, Request};
 use crate::guidance::Sticks;
 use crate::math::Vec3;
@@ -141,7 +142,10 @@ fn stick_loss_runs_nav_rcl_act_once_and_the_return_of_the_sticks_is_announced() 
     s.fly(0.2);
     assert_eq!(
         s.events,
-        vec![Event::Failsafe("Manual control lost: returning".into())],
+        vec![Event::Failsafe(
+            FailsafeCause::Other,
+            "Manual control lost: returning".into()
+        )],
         "NAV_RCL_ACT 2 by default"
     );
     // COM_FAIL_ACT_T (5 s) in a hold first, then the return.
@@ -152,7 +156,10 @@ fn stick_loss_runs_nav_rcl_act_once_and_the_return_of_the_sticks_is_announced() 
     assert_eq!(s.c.mode(), FlightMode::ReturnToLaunch);
     assert_eq!(s.events[1], Event::ModeChanged(FlightMode::ReturnToLaunch));
     hold_sticks(&mut s, Sticks::CENTRED, 0.1);
-    assert_eq!(s.events[2], Event::Failsafe("Manual control regained".into()));
+    assert_eq!(
+        s.events[2],
+        Event::Failsafe(FailsafeCause::Other, "Manual control regained".into())
+    );
     assert_eq!(s.c.mode(), FlightMode::ReturnToLaunch, "the pilot switches back");
 }
 
@@ -163,7 +170,9 @@ fn sticks_back_within_com_fail_act_t_give_the_pilot_back_the_mode_and_no_return(
     assert_eq!(s.c.mode(), FlightMode::Loiter, "lost: holding");
     // A stick moved in the hold does not take over (PX4: mode switch only during the delay)...
     hold_sticks(&mut s, Sticks::CENTRED, 0.1);
-    assert!(s.events.contains(&Event::Failsafe("Manual control regained".into())));
+    assert!(s
+        .events
+        .contains(&Event::Failsafe(FailsafeCause::Other, "Manual control regained".into())));
     // ...but the cause is gone: back to POSCTL, and no return comes.
     assert_eq!(s.c.mode(), FlightMode::Position);
     hold_sticks(&mut s, Sticks::CENTRED, 6.0);
@@ -180,7 +189,10 @@ fn com_rcl_except_exempts_hold_and_a_stick_mode_without_an_action_holds() {
     hold_sticks(&mut s, Sticks::CENTRED, 0.1);
     s.events.clear();
     s.fly(2.0);
-    assert_eq!(s.events, vec![Event::Failsafe("Manual control lost".into())]);
+    assert_eq!(
+        s.events,
+        vec![Event::Failsafe(FailsafeCause::Other, "Manual control lost".into())]
+    );
     assert_eq!(s.c.mode(), FlightMode::Loiter, "hold is exempt");
 
     let mut params = CommanderParams::default();
@@ -192,7 +204,10 @@ fn com_rcl_except_exempts_hold_and_a_stick_mode_without_an_action_holds() {
     hold_sticks(&mut s, Sticks::CENTRED, 1.0);
     s.events.clear();
     s.fly(1.0);
-    assert_eq!(s.events[0], Event::Failsafe("Manual control lost: holding".into()));
+    assert_eq!(
+        s.events[0],
+        Event::Failsafe(FailsafeCause::Other, "Manual control lost: holding".into())
+    );
     assert_eq!(s.c.mode(), FlightMode::Loiter, "ALTCTL cannot fly without sticks");
 }
 
@@ -212,7 +227,7 @@ fn a_roll_pitch_or_yaw_stick_takes_over_an_auto_mode_in_posctl() {
     assert_eq!(
         s.events,
         vec![
-            Event::Failsafe("Pilot took over using sticks".into()),
+            Event::Failsafe(FailsafeCause::Other, "Pilot took over using sticks".into()),
             Event::ModeChanged(FlightMode::Position)
         ]
     );

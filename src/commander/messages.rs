@@ -6,7 +6,7 @@ use crate::guidance::{Geofence, Mission, OrbitYaw, RallyPoints, Sticks};
 use crate::math::Vec3;
 use crate::sensor_failure::SensorFailure;
 
-use super::FlightMode;
+use super::{FailsafeCause, FlightMode};
 
 /// MAVLink landed state (EXTENDED_SYS_STATE).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,6 +36,10 @@ pub enum Request {
     },
     /// Switch mode.
     SetMode(FlightMode),
+    /// ArduCopter's mode change (`Copter::set_mode`): armed, as [`Request::SetMode`]; disarmed,
+    /// the mode is entered without the checks of what it needs to fly (a position, a mission),
+    /// which arming in it then makes.
+    SelectMode(FlightMode),
     /// NAV_TAKEOFF to `height_m` above home [m] (`None`: `MIS_TAKEOFF_ALT`).
     Takeoff {
         /// Target height above home [m].
@@ -137,6 +141,15 @@ pub enum Request {
     /// DO_CHANGE_SPEED: horizontal speed of the AUTO modes [m/s] until changed again (a GOTO
     /// target forgets it); GOTO flies it at once, within `MPC_XY_CRUISE`.
     ChangeSpeed(f64),
+    /// DO_CHANGE_SPEED's climb (`up`) or descent speed of the AUTO paths and guided targets
+    /// [m/s] (ArduCopter's speed types 2 and 3), until changed again; within
+    /// `MPC_Z_VEL_MAX_UP` / `_DN`.
+    ChangeVerticalSpeed {
+        /// The climb speed (else the descent speed).
+        up: bool,
+        /// The speed [m/s].
+        speed_m_s: f64,
+    },
     /// DO_SET_HOME: the local NED point RTL returns to [m]; `None`: the current position.
     SetHome(Option<Vec3>),
     /// No GCS heartbeat for `COM_DL_LOSS_T`: run `NAV_DLL_ACT` if flying.
@@ -254,6 +267,7 @@ impl Request {
             Self::Arm { .. }
             | Self::Disarm { .. }
             | Self::SetMode(_)
+            | Self::SelectMode(_)
             | Self::Land
             | Self::ReturnToLaunch
             | Self::StartMission { .. }
@@ -281,6 +295,7 @@ impl Request {
                 ..
             } => [north_m, east_m, down_m, yaw_rad, speed_m_s].iter().all(|v| opt(v)),
             Self::ChangeSpeed(v) => v.is_finite(),
+            Self::ChangeVerticalSpeed { speed_m_s, .. } => speed_m_s.is_finite(),
             Self::TurnTo { yaw_rad } => yaw_rad.is_finite(),
             Self::GuidedLean(lean) => lean.is_finite(),
             Self::UserTakeoff { height_m } => height_m.is_finite(),
@@ -318,8 +333,9 @@ pub enum Event {
     Airborne,
     /// Offboard setpoints stopped for `COM_OF_LOSS_T`; the vehicle holds position.
     OffboardLost,
-    /// A geofence or battery failsafe triggered (the announcement).
-    Failsafe(String),
+    /// A failsafe triggered or ended: what it is about (for a face that words failsafes its own
+    /// way) and the commander's announcement.
+    Failsafe(FailsafeCause, String),
     /// The navigation's sensors changed: a sensor lost (`warning`) or back, the height source
     /// switched (the announcement).
     Navigation {
@@ -346,7 +362,7 @@ impl Event {
     /// or a critical notice, warning (4) for a lost sensor, information (6) for the rest.
     pub fn severity(&self) -> u8 {
         match self {
-            Self::Failsafe(_) | Self::Notice { critical: true, .. } => 2,
+            Self::Failsafe(..) | Self::Notice { critical: true, .. } => 2,
             Self::Navigation { warning: true, .. } => 4,
             _ => 6,
         }
@@ -360,7 +376,7 @@ impl Event {
             Self::Landed => "Landing detected".to_string(),
             Self::Airborne => "Takeoff detected".to_string(),
             Self::OffboardLost => "Offboard lost".to_string(),
-            Self::Failsafe(text) | Self::Navigation { text, .. } | Self::Notice { text, .. } => text.clone(),
+            Self::Failsafe(_, text) | Self::Navigation { text, .. } | Self::Notice { text, .. } => text.clone(),
             Self::MissionItemReached(seq) => format!("Mission item {seq} reached"),
             Self::MissionCurrent(seq) => format!("Mission item {seq}"),
         }

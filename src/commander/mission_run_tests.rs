@@ -249,7 +249,7 @@ fn heights_above_home_follow_a_home_moved_in_flight_and_the_waypoint_is_flown_wh
 fn the_run_alone_hands_over_to_a_return_item_and_to_a_hold_after_its_last_item() {
     use crate::guidance::Guidance;
     let p = CommanderParams::default();
-    let paths = AutoPaths::new(&p, None, None, 0.0);
+    let paths = AutoPaths::new(&p, (None, (None, None)), None, 0.0);
     let x = VehicleState {
         t_s: 0.0,
         pos_w: Vec3::new(0.0, 0.0, -5.0),

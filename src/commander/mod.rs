@@ -77,7 +77,9 @@ pub use actions::{
 };
 pub use battery::{BatteryGauge, BatteryParams};
 pub use commander_params::{AutoVertical, CommanderParams, ManualParams, MissionParams};
-pub use failsafe::{BatteryLevel, Failsafe, FailsafeAction, FailsafeMonitor, FailsafeParams};
+pub use failsafe::{
+    BatteryLevel, Failsafe, FailsafeAction, FailsafeCause, FailsafeMonitor, FailsafeParams, FenceLimits,
+};
 pub use flight_mode::{FlightMode, ModeRefusal};
 pub use land_detector::{LandDetectorParams, LandStage};
 pub use messages::{CommanderTick, Event, InputStream, LandedState, Lean, OrbitRequest, Outcome, Request};
@@ -110,7 +112,7 @@ macro_rules! paths_of {
     ($c:expr) => {
         $crate::commander::auto_paths::AutoPaths::new(
             &$c.params,
-            $c.speed_override,
+            ($c.speed_override, $c.vertical_speeds),
             $c.detector.ground_z_m(),
             $c.plans.home_w().z,
         )
@@ -144,6 +146,8 @@ pub struct Commander {
     takeoff_target_w: Option<Vec3>,
     /// DO_CHANGE_SPEED's (or a reposition's) horizontal speed [m/s].
     speed_override: Option<f64>,
+    /// DO_CHANGE_SPEED's climb and descent speeds (ArduCopter's types 2 and 3) [m/s].
+    vertical_speeds: (Option<f64>, Option<f64>),
     arming: Arming,
     rtl: Rtl,
     offboard: Offboard,
@@ -171,6 +175,7 @@ impl Commander {
             guidance: Guidance::Idle,
             takeoff_target_w: None,
             speed_override: None,
+            vertical_speeds: (None, None),
             arming: Arming::default(),
             rtl: Rtl::default(),
             offboard: Offboard::default(),
@@ -456,8 +461,8 @@ mod tests {
     #[test]
     fn events_of_a_request_come_first_in_the_next_tick_even_disarmed() {
         let mut s = Script::new(CommanderParams::default());
-        s.c.pending.push(Event::Failsafe("queued".into()));
-        assert_eq!(s.step(), vec![Event::Failsafe("queued".into())]);
+        s.c.pending.push(Event::Failsafe(FailsafeCause::Other, "queued".into()));
+        assert_eq!(s.step(), vec![Event::Failsafe(FailsafeCause::Other, "queued".into())]);
         assert!(s.step().is_empty(), "announced once");
     }
 }

@@ -5,6 +5,7 @@
 //! landing after the `COM_FAIL_ACT_T` hold, a termination. Paths fly at the cruise speed
 //! (`MPC_XY_CRUISE` or DO_CHANGE_SPEED's), capped at `MPC_XY_VEL_MAX` ([`AutoPaths`]).
 
+use super::FailsafeCause;
 use crate::control::VehicleState;
 use crate::guidance::Guidance;
 use crate::math::{euler_zyx, Vec3};
@@ -38,10 +39,16 @@ impl Commander {
     /// without a target, holds where it is);
     /// AUTO.TAKEOFF without a target (or in the air) climbs to `MIS_TAKEOFF_ALT` from here.
     pub(super) fn set_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64) -> Outcome {
+        self.switch_mode(mode, x, t_s, true)
+    }
+
+    /// [`Self::set_mode`]; without `checked`, the navigation estimate and the mission are not
+    /// checked (ArduCopter's mode change while disarmed: arming checks them).
+    pub(super) fn switch_mode(&mut self, mode: FlightMode, x: &VehicleState, t_s: f64, checked: bool) -> Outcome {
         if let Some(refusal) = self.manual.mode_refusal(mode, false) {
             return refusal;
         }
-        if let Some(refusal) = self.navigation_refusal(mode, false) {
+        if let Some(refusal) = self.navigation_refusal(mode, false).filter(|_| checked) {
             return refusal;
         }
         if mode != FlightMode::Land {
@@ -50,7 +57,7 @@ impl Commander {
         // The pilot chose a mode: a failsafe waiting in its hold gives way (PX4).
         self.failsafe.give_way();
         match mode {
-            FlightMode::Mission if self.mission.is_empty() => {
+            FlightMode::Mission if checked && self.mission.is_empty() => {
                 Outcome::TemporarilyRejected("Mode AUTO.MISSION: no mission".into())
             }
             FlightMode::Offboard if !self.offboard.alive() => {
@@ -171,7 +178,13 @@ impl Commander {
 
     /// Runs a loss `action` (hold, return, land, or 5/6 motors off; the caller has checked the
     /// vehicle flies) for the lost stream `what`; the announcement.
-    pub(super) fn react_to_loss(&mut self, what: &str, action: LinkLossAction, x: &VehicleState, t_s: f64) -> Event {
+    pub(super) fn react_to_loss(
+        &mut self,
+        (what, cause): (&str, FailsafeCause),
+        action: LinkLossAction,
+        x: &VehicleState,
+        t_s: f64,
+    ) -> Event {
         let mut events = Vec::new();
         match action.reaction() {
             Reaction::Hold => self.enter(FlightMode::Loiter, x, t_s),
@@ -179,7 +192,7 @@ impl Commander {
             Reaction::Terminate => self.disarm(),
             Reaction::Nothing => {}
         }
-        Event::Failsafe(loss_text(what, action))
+        Event::Failsafe(cause, loss_text(what, action))
     }
 
     /// Carries out a delayed failsafe once its hold is over.
@@ -198,7 +211,7 @@ impl Commander {
             StickWatch::Quiet => {}
             StickWatch::Alive { regained } => {
                 if regained {
-                    events.push(Event::Failsafe("Manual control regained".into()));
+                    events.push(Event::Failsafe(FailsafeCause::Other, "Manual control regained".into()));
                     if let Some(resume) = self.failsafe.cancel(self.mode) {
                         self.enter(resume, x, t_s);
                         events.push(Event::ModeChanged(resume));
@@ -207,12 +220,15 @@ impl Commander {
                 let (in_air, delayed) = (self.in_air(), self.failsafe.delayed());
                 if self.manual.takes_over(self.mode, in_air, delayed, &self.params.manual) {
                     self.enter(FlightMode::Position, x, t_s);
-                    events.push(Event::Failsafe("Pilot took over using sticks".into()));
+                    events.push(Event::Failsafe(
+                        FailsafeCause::Other,
+                        "Pilot took over using sticks".into(),
+                    ));
                     events.push(Event::ModeChanged(FlightMode::Position));
                 }
             }
             StickWatch::Lost(action) => {
-                let announced = self.react_to_loss("Manual control", action, x, t_s);
+                let announced = self.react_to_loss(("Manual control", FailsafeCause::Other), action, x, t_s);
                 events.push(announced);
             }
         }

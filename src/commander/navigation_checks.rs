@@ -5,6 +5,7 @@
 //! it as AUTO.LAND), or with `COM_POSCTL_NAVL` = 0 and live sticks in POSCTL falls back to
 //! ALTCTL. The height and the attitude still come from the estimate. Pure.
 
+use super::FailsafeCause;
 use super::{FlightMode, Outcome};
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::math::Vec3;
@@ -69,11 +70,11 @@ pub(super) enum PositionLoss {
 impl NavValidity {
     /// The announcement of a change of the horizontal estimate from `before` to `self`, if it
     /// changed.
-    pub(super) fn position_change(&self, before: &NavValidity) -> Option<&'static str> {
+    pub(super) fn position_change(&self, before: &NavValidity) -> Option<(FailsafeCause, &'static str)> {
         (self.horizontal != before.horizontal).then_some(if self.horizontal {
-            "Position estimate valid again"
+            (FailsafeCause::PositionRegained, "Position estimate valid again")
         } else {
-            "Position estimate lost"
+            (FailsafeCause::PositionLost, "Position estimate lost")
         })
     }
 
@@ -217,6 +218,35 @@ mod tests {
     }
 
     #[test]
+    fn a_mode_selected_disarmed_skips_its_checks_and_arming_makes_them() {
+        let mut s = Script::new(CommanderParams::default());
+        s.c.check_navigation(NO_POSITION, &s.x.clone(), 0.0);
+        let refused = Outcome::TemporarilyRejected("Mode POSCTL: no valid position estimate".into());
+        assert_eq!(s.request(Request::SetMode(FlightMode::Position)), refused);
+        assert_eq!(s.request(Request::SelectMode(FlightMode::Position)), Outcome::Accepted);
+        assert_eq!(s.c.mode(), FlightMode::Position);
+        assert_eq!(
+            s.request(Request::Arm { force: false }),
+            Outcome::TemporarilyRejected("Arming denied: no valid position estimate".into()),
+            "a mode that cannot fly is never armed in"
+        );
+        assert_eq!(s.request(Request::SelectMode(FlightMode::Mission)), Outcome::Accepted);
+        s.c.check_navigation(NavValidity::EXACT, &s.x.clone(), 0.0);
+        assert_eq!(
+            s.request(Request::Arm { force: false }),
+            Outcome::TemporarilyRejected("Arming denied: no mission".into())
+        );
+        assert_eq!(s.request(Request::SelectMode(FlightMode::Position)), Outcome::Accepted);
+        assert_eq!(s.request(Request::Arm { force: false }), Outcome::Accepted);
+        s.c.check_navigation(NO_POSITION, &s.x.clone(), 0.0);
+        assert_eq!(
+            s.request(Request::SelectMode(FlightMode::Guided)),
+            Outcome::TemporarilyRejected("Mode GUIDED: no valid position estimate".into()),
+            "armed: checked"
+        );
+    }
+
+    #[test]
     fn a_lost_position_in_flight_descends_level_to_the_ground_and_disarms() {
         let mut s = Script::new(CommanderParams::default());
         s.airborne(10.0);
@@ -225,8 +255,11 @@ mod tests {
         assert_eq!(
             events,
             vec![
-                Event::Failsafe("Position estimate lost".into()),
-                Event::Failsafe("No position estimate: descending".into()),
+                Event::Failsafe(FailsafeCause::PositionLost, "Position estimate lost".into()),
+                Event::Failsafe(
+                    FailsafeCause::PositionAction(FlightMode::Land),
+                    "No position estimate: descending".into()
+                ),
                 Event::ModeChanged(FlightMode::Land)
             ]
         );
@@ -291,11 +324,11 @@ mod tests {
         );
         assert_eq!(
             NO_POSITION.position_change(&NavValidity::EXACT),
-            Some("Position estimate lost")
+            Some((FailsafeCause::PositionLost, "Position estimate lost"))
         );
         assert_eq!(
             NavValidity::EXACT.position_change(&NO_POSITION),
-            Some("Position estimate valid again")
+            Some((FailsafeCause::PositionRegained, "Position estimate valid again"))
         );
         assert_eq!(NO_POSITION.position_change(&NO_POSITION), None);
         assert_eq!(NO_POSITION.missing(FlightMode::Stabilized, true, true), None);

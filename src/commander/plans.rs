@@ -4,6 +4,7 @@
 //! `RTL::findRtlDestination`). The breach failsafe itself runs with the others
 //! ([`super::reactions::FailsafeState`]).
 
+use super::FailsafeCause;
 use crate::control::VehicleState;
 use crate::guidance::{Geofence, RallyPoints};
 use crate::math::Vec3;
@@ -53,9 +54,9 @@ impl Plans {
         let mut zones = Vec::with_capacity(fence.zones.len());
         for zone in fence.zones {
             if !zone.allows(home) {
-                left_out.push(Event::Failsafe(ZONE_WITHOUT_HOME.into()));
+                left_out.push(Event::Failsafe(FailsafeCause::Other, ZONE_WITHOUT_HOME.into()));
             } else if check_here && !zone.allows(here) {
-                left_out.push(Event::Failsafe(ZONE_WITHOUT_VEHICLE.into()));
+                left_out.push(Event::Failsafe(FailsafeCause::Other, ZONE_WITHOUT_VEHICLE.into()));
             } else {
                 zones.push(zone);
             }
@@ -141,7 +142,7 @@ mod tests {
 
     fn failsafes(s: &Script) -> Vec<String> {
         let texts = s.events.iter().filter_map(|e| match e {
-            Event::Failsafe(t) => Some(t.clone()),
+            Event::Failsafe(_, t) => Some(t.clone()),
             _ => None,
         });
         texts.collect()
@@ -274,14 +275,17 @@ mod tests {
             ],
         };
         let notices = plans.set_geofence(fence(), &x, false);
-        assert_eq!(notices, vec![Event::Failsafe(ZONE_WITHOUT_HOME.into())]);
+        assert_eq!(
+            notices,
+            vec![Event::Failsafe(FailsafeCause::Other, ZONE_WITHOUT_HOME.into())]
+        );
         assert_eq!(plans.geofence().zones.len(), 2);
         let notices = plans.set_geofence(fence(), &x, true);
         assert_eq!(
             notices,
             vec![
-                Event::Failsafe(ZONE_WITHOUT_HOME.into()),
-                Event::Failsafe(ZONE_WITHOUT_VEHICLE.into())
+                Event::Failsafe(FailsafeCause::Other, ZONE_WITHOUT_HOME.into()),
+                Event::Failsafe(FailsafeCause::Other, ZONE_WITHOUT_VEHICLE.into())
             ]
         );
         assert_eq!(plans.geofence().zones, vec![circle([0.0, 0.0], 50.0, true)]);

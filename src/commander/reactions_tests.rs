@@ -2,6 +2,7 @@
 //! motor failures, GCS link loss, the `COM_FAIL_ACT_T` hold.
 
 use super::super::script::Script;
+use super::super::FailsafeCause;
 use super::super::{BatteryParams, Event, FailsafeParams, GeofenceAction, LowBatteryAction, Outcome, Request};
 use super::*;
 use crate::guidance::{Mission, MissionItem};
@@ -10,7 +11,7 @@ use crate::math::Vec3;
 fn failsafe_starting(s: &Script, prefix: &str) -> bool {
     s.events
         .iter()
-        .any(|e| matches!(e, Event::Failsafe(t) if t.starts_with(prefix)))
+        .any(|e| matches!(e, Event::Failsafe(_, t) if t.starts_with(prefix)))
 }
 
 /// A vehicle whose geofence (10 m around home) holds on a breach.
@@ -134,7 +135,10 @@ fn a_motor_failure_is_announced_and_flown_on_by_default() {
     let on_ground = s.c.rotor_failed(loss(3, None, LossAllocation::Impossible), &s.x, 0.0);
     assert_eq!(
         on_ground,
-        vec![Event::Failsafe("Motor 3 failed, no allocation left".into())]
+        vec![Event::Failsafe(
+            FailsafeCause::Other,
+            "Motor 3 failed, no allocation left".into()
+        )]
     );
     s.airborne(4.0);
     let (t, mode) = (s.t(), s.c.mode());
@@ -142,7 +146,10 @@ fn a_motor_failure_is_announced_and_flown_on_by_default() {
     let events = s.c.rotor_failed(loss(1, Some(4), yaw_lost), &s.x, t);
     assert_eq!(
         events,
-        vec![Event::Failsafe("Motor 1 failed, motor 4 off, yaw lost".into())],
+        vec![Event::Failsafe(
+            FailsafeCause::Other,
+            "Motor 1 failed, motor 4 off, yaw lost".into()
+        )],
         "COM_ACT_FAIL_ACT 0: a warning only"
     );
     assert_eq!(s.c.mode(), mode, "flies on");
@@ -179,7 +186,11 @@ fn com_act_fail_act_holds_lands_returns_or_terminates_in_flight() {
         assert_eq!(s.request(Request::SetMode(FlightMode::Position)), Outcome::Accepted);
         let t = s.t();
         let events = s.c.rotor_failed(loss(2, None, full), &s.x, t);
-        assert_eq!(events.first(), Some(&Event::Failsafe(text.into())), "{action:?}");
+        assert_eq!(
+            events.first(),
+            Some(&Event::Failsafe(FailsafeCause::Other, text.into())),
+            "{action:?}"
+        );
         match expect {
             Some(mode) => assert_eq!(s.c.mode(), mode, "{action:?}"),
             None => {
@@ -201,7 +212,13 @@ fn com_act_fail_act_holds_lands_returns_or_terminates_in_flight() {
     assert_eq!(s.request(Request::SetMode(FlightMode::Land)), Outcome::Accepted);
     let t = s.t();
     let again = s.c.rotor_failed(loss(3, None, LossAllocation::Unchanged), &s.x, t);
-    assert_eq!(again, vec![Event::Failsafe("Motor 3 failed: returning".into())]);
+    assert_eq!(
+        again,
+        vec![Event::Failsafe(
+            FailsafeCause::Other,
+            "Motor 3 failed: returning".into()
+        )]
+    );
     assert_eq!(s.c.mode(), FlightMode::Land, "still landing");
     assert!(s.until_disarmed(30.0));
 }
@@ -234,9 +251,12 @@ fn gcs_link_loss_runs_nav_dll_act_in_flight_and_announces_it_on_the_next_tick() 
         if action == LinkLossAction::Disabled {
             assert!(announced.is_empty());
         } else {
-            assert_eq!(announced.first(), Some(&Event::Failsafe(loss_text("GCS link", action))));
+            assert_eq!(
+                announced.first(),
+                Some(&Event::Failsafe(FailsafeCause::GcsLink, loss_text("GCS link", action)))
+            );
         }
-        assert!(s.step().iter().all(|e| !matches!(e, Event::Failsafe(_))), "once");
+        assert!(s.step().iter().all(|e| !matches!(e, Event::Failsafe(..))), "once");
     }
 }
 

@@ -4,6 +4,7 @@
 //! ([`Commander::check_failsafes`]), rotor failures ([`Commander::rotor_failed`]) and the
 //! navigation estimate's validity ([`Commander::check_navigation`]) likewise.
 
+use super::FailsafeCause;
 use crate::control::{FlatSetpoint, VehicleState};
 use crate::guidance::{Geofence, Guidance};
 use crate::math::{euler_zyx, Vec3};
@@ -30,6 +31,10 @@ impl Commander {
             Request::Arm { force } => self.arm(force, x, t_s),
             Request::Disarm { force } => self.disarm_request(force),
             Request::SetMode(mode) => self.set_mode(mode, x, t_s),
+            Request::SelectMode(mode) => {
+                let checked = self.armed();
+                self.switch_mode(mode, x, t_s, checked)
+            }
             Request::Takeoff { height_m } => self.takeoff(height_m, x, t_s),
             Request::Land => self.set_mode(FlightMode::Land, x, t_s),
             Request::TurnTo { yaw_rad } => self.turn_to(yaw_rad),
@@ -110,6 +115,14 @@ impl Commander {
                     return Outcome::Denied(format!("Change speed refused: {v} m/s"));
                 }
                 self.speed_override = Some(v);
+                Outcome::Accepted
+            }
+            Request::ChangeVerticalSpeed { up, speed_m_s } => {
+                if !(speed_m_s.is_finite() && speed_m_s > 0.0 && speed_m_s <= MAX_SPEED_M_S) {
+                    return Outcome::Denied(format!("Change speed refused: {speed_m_s} m/s"));
+                }
+                let speeds = &mut self.vertical_speeds;
+                *(if up { &mut speeds.0 } else { &mut speeds.1 }) = Some(speed_m_s);
                 Outcome::Accepted
             }
             Request::SetHome(p) => {
@@ -362,7 +375,7 @@ impl Commander {
         );
         let mut events = Vec::new();
         for failsafe in fired {
-            events.push(Event::Failsafe(failsafe.text));
+            events.push(Event::Failsafe(failsafe.cause, failsafe.text));
             let mode = failsafe.action.mode();
             if failsafe.action == FailsafeAction::Terminate {
                 self.disarm();
@@ -388,7 +401,7 @@ impl Commander {
     pub fn rotor_failed(&mut self, loss: RotorLoss, x: &VehicleState, t_s: f64) -> Vec<Event> {
         let action = self.params.actuator_failure_action;
         let in_air = self.armed() && self.in_air();
-        let mut events = vec![Event::Failsafe(loss.announcement(action, in_air))];
+        let mut events = vec![Event::Failsafe(FailsafeCause::Other, loss.announcement(action, in_air))];
         if !in_air {
             return events;
         }
@@ -415,7 +428,7 @@ impl Commander {
         if action == LinkLossAction::Disabled || !self.armed() || !self.in_air() {
             return Outcome::Accepted;
         }
-        let event = self.react_to_loss("GCS link", action, x, t_s);
+        let event = self.react_to_loss(("GCS link", FailsafeCause::GcsLink), action, x, t_s);
         self.pending.push(event);
         Outcome::Accepted
     }
@@ -424,8 +437,8 @@ impl Commander {
     /// (estimated) state `x` at `t_s` [s]; what the commander did about it.
     pub fn check_navigation(&mut self, v: NavValidity, x: &VehicleState, t_s: f64) -> Vec<Event> {
         let mut events = Vec::new();
-        if let (Some(text), true) = (v.position_change(&self.nav), self.armed()) {
-            events.push(Event::Failsafe(text.into()));
+        if let (Some((cause, text)), true) = (v.position_change(&self.nav), self.armed()) {
+            events.push(Event::Failsafe(cause, text.into()));
         }
         self.nav = v;
         if !self.armed() {
@@ -439,6 +452,7 @@ impl Commander {
             PositionLoss::Altitude => {
                 self.enter(FlightMode::Altitude, x, t_s);
                 events.push(Event::Failsafe(
+                    FailsafeCause::PositionAction(FlightMode::Altitude),
                     "No position estimate: switching to Altitude mode".into(),
                 ));
                 events.push(Event::ModeChanged(FlightMode::Altitude));
@@ -446,7 +460,10 @@ impl Commander {
             PositionLoss::Descend => {
                 self.failsafe.start_blind_descent();
                 self.enter(FlightMode::Land, x, t_s);
-                events.push(Event::Failsafe("No position estimate: descending".into()));
+                events.push(Event::Failsafe(
+                    FailsafeCause::PositionAction(FlightMode::Land),
+                    "No position estimate: descending".into(),
+                ));
                 events.push(Event::ModeChanged(FlightMode::Land));
             }
         }

@@ -187,7 +187,7 @@ fn rtl_flies_round_exclusion_zones_in_the_way_and_lands_home() {
     }
     assert!((s.x.pos_w.xy() - Vec3::new(90.0, 0.0, 0.0).xy()).norm() < 1e-6);
     assert!(
-        !s.events.iter().any(|e| matches!(e, Event::Failsafe(_))),
+        !s.events.iter().any(|e| matches!(e, Event::Failsafe(..))),
         "{:?}",
         s.events
     );
@@ -294,7 +294,7 @@ fn the_return_climbs_returns_then_descends_each_when_the_last_is_flown() {
     use super::{AutoPaths, Plans, Rtl, RtlPhase};
     use crate::guidance::Guidance;
     let p = params();
-    let paths = AutoPaths::new(&p, None, None, 0.0);
+    let paths = AutoPaths::new(&p, (None, (None, None)), None, 0.0);
     let plans = Plans::default();
     let mut rtl = Rtl::default();
     rtl.start();

@@ -12,6 +12,7 @@
 //! flight core: setpoint, else attitude target, else idle  (FlightCore::step / step_attitude)
 //! ```
 
+use crate::commander::FailsafeCause;
 use std::sync::Arc;
 
 use crate::airframe::{Airframe, MAX_ROTORS};
@@ -309,7 +310,10 @@ impl Pilot for FlightController {
             match change {
                 MotorChange::Failed(loss) => failsafe_events.extend(self.commander.rotor_failed(loss, &x, t_s)),
                 MotorChange::Working(rotor) => {
-                    failsafe_events.push(Event::Failsafe(format!("Motor {rotor} working again")));
+                    failsafe_events.push(Event::Failsafe(
+                        FailsafeCause::Other,
+                        format!("Motor {rotor} working again"),
+                    ));
                 }
             }
         }

@@ -306,7 +306,7 @@ mod tests {
                 .control
                 .events
                 .iter()
-                .any(|e| matches!(e, Event::Failsafe(t) if t.starts_with("Motor 2 failed")));
+                .any(|e| matches!(e, Event::Failsafe(_, t) if t.starts_with("Motor 2 failed")));
             // Disarmed, no motor is commanded: the ESC check (FD_ACT_EN) suspects none.
             assert!(!announced, "tick {k}: {:?}", tick.control.events);
         }

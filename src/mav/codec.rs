@@ -139,19 +139,31 @@ pub fn frame_payload(header: MavHeader, message_id: u32, crc_extra: u8, payload:
 }
 
 /// A MAVLink 2 COMMAND_ACK with `MAV_RESULT_UNSUPPORTED` for a command id the dialect may not
-/// know, addressed to `target_system`/`target_component` (docs/mavlink.md §13.3): the crate encodes an
-/// ACK for a placeholder command, then the command bytes are replaced and the CRC recomputed.
+/// know, addressed to `target_system`/`target_component` (docs/mavlink.md §13.3).
 pub fn unsupported_command_ack(
     header: MavHeader,
     command: u16,
     target_system: u8,
     target_component: u8,
 ) -> MAVLinkV2MessageRaw {
+    command_ack_frame(
+        header,
+        command,
+        MavResult::MAV_RESULT_UNSUPPORTED,
+        (target_system, target_component),
+    )
+}
+
+/// A MAVLink 2 COMMAND_ACK with `result` for a command id the dialect may not know (an unknown
+/// command, or ArduCopter's ACK of SET_MODE, whose "command" is the message id 11), addressed to
+/// `target` (system, component): the crate encodes an ACK for a placeholder command, then the
+/// command bytes are replaced and the CRC recomputed.
+pub fn command_ack_frame(header: MavHeader, command: u16, result: MavResult, target: (u8, u8)) -> MAVLinkV2MessageRaw {
     let ack = MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
         command: MavCmd::MAV_CMD_NAV_WAYPOINT,
-        result: MavResult::MAV_RESULT_UNSUPPORTED,
-        target_system,
-        target_component,
+        result,
+        target_system: target.0,
+        target_component: target.1,
         ..Default::default()
     });
     let mut raw = MAVLinkV2MessageRaw::new();

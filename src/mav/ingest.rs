@@ -40,6 +40,10 @@ pub enum Action {
     },
     /// A commander request that gets no ACK: an offboard setpoint, MANUAL_CONTROL or SET_MODE.
     Request(Request),
+    /// SET_MODE to a vehicle presented as ArduCopter, decided as DO_SET_MODE and answered, as
+    /// Copter answers it, with a COMMAND_ACK whose command is the message's id, 11
+    /// (docs/ardupilot.md §2).
+    SetModeMessage(CommandDecision),
     /// RC_CHANNELS_OVERRIDE addressed to an ArduCopter-faced vehicle: for its RC receiver.
     RcOverride(Box<mavlink::dialects::ardupilotmega::RC_CHANNELS_OVERRIDE_DATA>),
     /// A refused message: announce the reason to the sender in a STATUSTEXT warning.

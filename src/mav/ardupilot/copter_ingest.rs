@@ -10,8 +10,7 @@
 //! STABILIZE and ACRO (docs/ardupilot.md §8). Pure.
 
 use mavlink::dialects::ardupilotmega::{
-    MavCmd, MavFrame, MavMessage, MavMissionResult, MavMissionType, MavSeverity, COMMAND_LONG_DATA,
-    MISSION_ITEM_INT_DATA,
+    MavCmd, MavFrame, MavMessage, MavMissionResult, MavMissionType, COMMAND_LONG_DATA, MISSION_ITEM_INT_DATA,
 };
 use mavlink::MavHeader;
 
@@ -23,7 +22,6 @@ use crate::control::FlatSetpoint;
 use crate::mav::identity::Identity;
 use crate::mav::ingest::{Action, MissionStep};
 use crate::mav::mission_xfer::mission_ack;
-use crate::mav::stream_messages::status_text;
 use crate::mav::translate::{command_int_as_long, decode_command, CommandDecision};
 use crate::telemetry::Snapshot;
 
@@ -53,25 +51,14 @@ pub fn copter_ingest(
     };
     match message {
         MavMessage::SET_MODE(m) if m.target_system == id.system_id => {
-            Some(if u32::from(m.base_mode.bits()) & CUSTOM_MODE == 0 {
-                Action::Refuse(format!(
-                    "Set mode: base mode {} without the custom mode flag",
-                    m.base_mode.bits()
-                ))
-            } else if m.custom_mode == AUTO && on.auto_refused() {
-                Action::Reply(Box::new(status_text(
-                    MavSeverity::MAV_SEVERITY_CRITICAL,
-                    MISSING_TAKEOFF,
-                )))
-            } else if let Some(why) = on.throttle_refusal(m.custom_mode) {
-                Action::Refuse(why)
-            } else {
-                match mode_request(m.custom_mode) {
-                    Ok(request) => Action::Request(request),
-                    Err(Outcome::Failed(why)) => Action::Refuse(why),
-                    Err(other) => Action::Refuse(format!("{other:?}")),
-                }
-            })
+            Some(Action::SetModeMessage(
+                if u32::from(m.base_mode.bits()) & CUSTOM_MODE == 0 {
+                    // Copter's `_set_mode_common`: only custom modes, else UNSUPPORTED.
+                    CommandDecision::Unsupported
+                } else {
+                    set_mode(m.custom_mode, on)
+                },
+            ))
         }
         MavMessage::RC_CHANNELS_OVERRIDE(o) if ours(o.target_system, o.target_component) => {
             Some(Action::RcOverride(Box::new(o.clone())))
@@ -234,18 +221,11 @@ fn command(id: &Identity, sender: &MavHeader, c: &COMMAND_LONG_DATA, on: Facts) 
         MavCmd::MAV_CMD_DO_SET_MODE if !(c.param2 >= 0.0 && c.param2.fract() == 0.0) => {
             CommandDecision::Refuse(Outcome::Denied(format!("Set mode: mode {} is not a number", c.param2)))
         }
-        MavCmd::MAV_CMD_DO_SET_MODE if c.param2 as u32 == AUTO && on.auto_refused() => {
-            CommandDecision::Critical(MISSING_TAKEOFF.into())
-        }
         MavCmd::MAV_CMD_COMPONENT_ARM_DISARM if c.param1 == 1.0 && c.param2 != FORCE_ARM => match on.arming_refusal() {
             Some(refusal) => CommandDecision::Refuse(refusal),
             None => return None,
         },
-        MavCmd::MAV_CMD_DO_SET_MODE => match (on.throttle_refusal(c.param2 as u32), mode_request(c.param2 as u32)) {
-            (Some(why), _) => CommandDecision::Refuse(Outcome::Failed(why)),
-            (None, Ok(request)) => CommandDecision::Execute(request),
-            (None, Err(refusal)) => CommandDecision::Refuse(refusal),
-        },
+        MavCmd::MAV_CMD_DO_SET_MODE => set_mode(c.param2 as u32, on),
         // The mission's seqs count the home slot: the commander's item is seq − 1.
         MavCmd::MAV_CMD_MISSION_START => match decode_command(id, sender, c, &state.home) {
             CommandDecision::Execute(_) if on.auto_refused() => CommandDecision::Critical(MISSING_TAKEOFF.into()),
@@ -270,14 +250,29 @@ fn command(id: &Identity, sender: &MavHeader, c: &COMMAND_LONG_DATA, on: Facts) 
         MavCmd::MAV_CMD_NAV_TAKEOFF => CommandDecision::Execute(Request::UserTakeoff {
             height_m: f64::from(c.param7),
         }),
-        MavCmd::MAV_CMD_NAV_LOITER_UNLIM => CommandDecision::Execute(Request::SetMode(FlightMode::Position)),
+        MavCmd::MAV_CMD_NAV_LOITER_UNLIM => CommandDecision::Execute(Request::SelectMode(FlightMode::Position)),
         MavCmd::MAV_CMD_CONDITION_YAW => condition_yaw(c, state.eta.z),
+        MavCmd::MAV_CMD_DO_CHANGE_SPEED => change_speed(c, state),
         _ => return None,
     };
     Some(Action::Command {
         command: c.clone(),
         decision,
     })
+}
+
+/// A change to Copter mode `number` (DO_SET_MODE's p2, SET_MODE's custom mode): AUTO refused
+/// armed on the ground without a take-off first (CRITICAL "Auto: Missing Takeoff Cmd"), the
+/// throttle rules, then the mode's request or Copter's refusal of the number.
+fn set_mode(number: u32, on: Facts) -> CommandDecision {
+    if number == AUTO && on.auto_refused() {
+        return CommandDecision::Critical(MISSING_TAKEOFF.into());
+    }
+    match (on.throttle_refusal(number), mode_request(number)) {
+        (Some(why), _) => CommandDecision::Refuse(Outcome::Failed(why)),
+        (None, Ok(request)) => CommandDecision::Execute(request),
+        (None, Err(refusal)) => CommandDecision::Refuse(refusal),
+    }
 }
 
 /// DO_REPOSITION as Copter reads it (MAVProxy's `guided LAT LON ALT`), from the target PX4's
@@ -312,6 +307,28 @@ fn reposition(command: COMMAND_LONG_DATA, decision: CommandDecision, state: &Sna
         other => other,
     };
     Action::Command { command, decision }
+}
+
+/// DO_CHANGE_SPEED as Copter reads it (`handle_MAV_CMD_DO_CHANGE_SPEED`): p2 the speed [m/s],
+/// DENIED unless positive; p1 its type: 0 (airspeed) and 1 (ground speed) the horizontal speed,
+/// 2 the climb and 3 the descent speed of GUIDED and AUTO (FAILED in another mode, as Copter's
+/// other modes take no speed), any other DENIED.
+fn change_speed(c: &COMMAND_LONG_DATA, state: &Snapshot) -> CommandDecision {
+    let speed = f64::from(c.param2);
+    if !(speed.is_finite() && speed > 0.0) {
+        return CommandDecision::Refuse(Outcome::Denied(format!("Change speed: {} m/s", c.param2)));
+    }
+    let up = match c.param1 {
+        0.0 | 1.0 => return CommandDecision::Execute(Request::ChangeSpeed(speed)),
+        2.0 => true,
+        3.0 => false,
+        t => return CommandDecision::Refuse(Outcome::Denied(format!("Change speed: speed type {t}"))),
+    };
+    if !matches!(state.mode, FlightMode::Guided | FlightMode::Mission) {
+        let mode = state.mode.name();
+        return CommandDecision::Refuse(Outcome::Failed(format!("Change speed: not in GUIDED or AUTO ({mode})")));
+    }
+    CommandDecision::Execute(Request::ChangeVerticalSpeed { up, speed_m_s: speed })
 }
 
 /// CONDITION_YAW as Copter reads it: p1 the heading [deg, 0–360], p3 the direction of a relative

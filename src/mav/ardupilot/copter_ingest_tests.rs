@@ -35,11 +35,11 @@ fn modes_change_by_copter_number_as_pymavlink_and_mavproxy_send_them() {
     };
     assert_eq!(
         set_mode(1.0, 4.0),
-        CommandDecision::Execute(Request::SetMode(FlightMode::Guided))
+        CommandDecision::Execute(Request::SelectMode(FlightMode::Guided))
     );
     assert_eq!(
         set_mode(1.0, 9.0),
-        CommandDecision::Execute(Request::SetMode(FlightMode::Land))
+        CommandDecision::Execute(Request::SelectMode(FlightMode::Land))
     );
     assert!(matches!(
         set_mode(0.0, 4.0),
@@ -57,23 +57,66 @@ fn modes_change_by_copter_number_as_pymavlink_and_mavproxy_send_them() {
         });
         run(message, FlightMode::Loiter)
     };
-    // pymavlink's set_mode_send(sysid, MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, 6).
+    // pymavlink's set_mode_send(sysid, MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, 6): decided as
+    // DO_SET_MODE, answered with an ACK whose command is 11.
+    let decided = |d| Some(Action::SetModeMessage(d));
+    let flies = |mode| decided(CommandDecision::Execute(Request::SelectMode(mode)));
+    assert_eq!(set_mode(1, 6), flies(FlightMode::ReturnToLaunch));
+    assert_eq!(set_mode(81, 16), flies(FlightMode::Position));
     assert_eq!(
-        set_mode(1, 6),
-        Some(Action::Request(Request::SetMode(FlightMode::ReturnToLaunch)))
-    );
-    assert_eq!(
-        set_mode(81, 16),
-        Some(Action::Request(Request::SetMode(FlightMode::Position)))
-    );
-    assert!(
-        matches!(set_mode(80, 6), Some(Action::Refuse(_))),
+        set_mode(80, 6),
+        decided(CommandDecision::Unsupported),
         "no custom mode flag"
     );
     assert_eq!(
         set_mode(1, 14),
-        Some(Action::Refuse("Mode change to FLIP failed: not emulated".into()))
+        decided(CommandDecision::Refuse(Outcome::Failed(
+            "Mode change to FLIP failed: not emulated".into()
+        )))
     );
+}
+
+#[test]
+fn do_change_speed_reads_copters_speed_types() {
+    let mut state = Snapshot::initial(Home::default());
+    state.mode = FlightMode::Guided;
+    let speed = |state: &Snapshot, p1: f32, p2: f32| {
+        let c = long(MavCmd::MAV_CMD_DO_CHANGE_SPEED, [p1, p2, -1.0, 0.0, 0.0, 0.0, 0.0]);
+        match copter_ingest(&id(), &gcs_header(0), &c, state, &[], 0.0) {
+            Some(Action::Command { decision, .. }) => decision,
+            other => panic!("{other:?}"),
+        }
+    };
+    let execute = CommandDecision::Execute;
+    assert_eq!(speed(&state, 1.0, 3.0), execute(Request::ChangeSpeed(3.0)));
+    assert_eq!(speed(&state, 0.0, 3.0), execute(Request::ChangeSpeed(3.0)), "airspeed");
+    assert_eq!(
+        speed(&state, 2.0, 1.5),
+        execute(Request::ChangeVerticalSpeed {
+            up: true,
+            speed_m_s: 1.5
+        })
+    );
+    assert_eq!(
+        speed(&state, 3.0, 0.5),
+        execute(Request::ChangeVerticalSpeed {
+            up: false,
+            speed_m_s: 0.5
+        })
+    );
+    assert!(matches!(
+        speed(&state, 2.0, 0.0),
+        CommandDecision::Refuse(Outcome::Denied(_))
+    ));
+    assert!(matches!(
+        speed(&state, 4.0, 1.0),
+        CommandDecision::Refuse(Outcome::Denied(_))
+    ));
+    state.mode = FlightMode::Position;
+    assert!(matches!(
+        speed(&state, 2.0, 1.0),
+        CommandDecision::Refuse(Outcome::Failed(_))
+    ));
 }
 
 #[test]
@@ -265,7 +308,7 @@ fn auto_armed_on_the_ground_needs_a_takeoff_first() {
     assert_eq!(decided(&state, &no_takeoff, &auto), refused);
     let start = long(MavCmd::MAV_CMD_MISSION_START, [0.0; 7]);
     assert_eq!(decided(&state, &no_takeoff, &start), refused);
-    let flies = CommandDecision::Execute(Request::SetMode(FlightMode::Mission));
+    let flies = CommandDecision::Execute(Request::SelectMode(FlightMode::Mission));
     assert_eq!(decided(&state, &takeoff, &auto), flies);
     state.landed = LandedState::InAir;
     assert_eq!(decided(&state, &no_takeoff, &auto), flies, "in the air");
@@ -278,8 +321,10 @@ fn auto_armed_on_the_ground_needs_a_takeoff_first() {
         target_system: 1,
         base_mode: MavModeFlag::from_bits_retain(1),
     });
-    let Some(Action::Reply(said)) = copter_ingest(&id(), &gcs_header(0), &set_mode, &state, &no_takeoff, 0.0) else {
-        panic!("a critical text")
-    };
-    assert!(matches!(*said, MavMessage::STATUSTEXT(ref t) if t.severity == MavSeverity::MAV_SEVERITY_CRITICAL));
+    assert_eq!(
+        copter_ingest(&id(), &gcs_header(0), &set_mode, &state, &no_takeoff, 0.0),
+        Some(Action::SetModeMessage(CommandDecision::Critical(
+            MISSING_TAKEOFF.into()
+        )))
+    );
 }

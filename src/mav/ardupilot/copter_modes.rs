@@ -83,14 +83,14 @@ impl CopterMode {
 
     /// The commander request that selects it: CIRCLE circles the point `CIRCLE_RADIUS` ahead
     /// (so the vehicle is on its circle at once) at `CIRCLE_RATE`; every other mode is a switch
-    /// to the mode that flies it.
+    /// to the mode that flies it, as Copter changes modes (checked armed, not disarmed).
     pub fn request(self) -> Request {
         match self.number {
             7 => Request::Circle {
                 radius_m: CIRCLE_RADIUS_M,
                 speed_m_s: CIRCLE_RADIUS_M * CIRCLE_RATE_DEG_S.to_radians(),
             },
-            _ => Request::SetMode(self.flown_as),
+            _ => Request::SelectMode(self.flown_as),
         }
     }
 }
@@ -187,8 +187,9 @@ impl ModeShown {
 /// ARDUPILOTMEGA; base mode always custom | stabilize | manual input, + guided while the
 /// position controller flies (armed in a mode that holds a position), + armed; custom mode the
 /// Copter number `shown`; system status BOOT until the attitude is known, CRITICAL while a
-/// geofence limit is breached, STANDBY on the ground (armed or not), ACTIVE in the air.
-pub fn copter_heartbeat(id: &Identity, state: &Snapshot, shown: &ModeShown) -> MavMessage {
+/// `failsafe` is active (Copter's GCS, battery and EKF failsafes, [`super::copter_failsafes`]),
+/// STANDBY on the ground (armed or not), ACTIVE in the air.
+pub fn copter_heartbeat(id: &Identity, state: &Snapshot, shown: &ModeShown, failsafe: bool) -> MavMessage {
     use MavModeFlag as F;
     let mut base = F::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
         | F::MAV_MODE_FLAG_STABILIZE_ENABLED
@@ -201,7 +202,7 @@ pub fn copter_heartbeat(id: &Identity, state: &Snapshot, shown: &ModeShown) -> M
     }
     let system_status = if !state.nav.validity.attitude {
         MavState::MAV_STATE_BOOT
-    } else if state.geofence_breached {
+    } else if failsafe {
         MavState::MAV_STATE_CRITICAL
     } else if state.landed == LandedState::OnGround {
         MavState::MAV_STATE_STANDBY
@@ -244,8 +245,8 @@ mod tests {
         ];
         let all: Vec<(u8, &str)> = CopterMode::all().iter().map(|m| (m.number, m.name)).collect();
         assert_eq!(all, table);
-        assert_eq!(mode_request(4), Ok(Request::SetMode(FlightMode::Guided)));
-        assert_eq!(mode_request(17), Ok(Request::SetMode(FlightMode::Loiter)));
+        assert_eq!(mode_request(4), Ok(Request::SelectMode(FlightMode::Guided)));
+        assert_eq!(mode_request(17), Ok(Request::SelectMode(FlightMode::Loiter)));
         assert!(matches!(mode_request(7), Ok(Request::Circle { radius_m, .. }) if radius_m == 10.0));
         assert_eq!(
             mode_request(14),
@@ -305,10 +306,11 @@ mod tests {
         let id = Identity::autopilot(1, 6).with_personality(Personality::ArduPilot);
         let mut s = Snapshot::initial(Home::default());
         s.mode = FlightMode::Guided;
-        let hb = |s: &Snapshot| match copter_heartbeat(&id, s, &ModeShown::default()) {
+        let hb_in = |s: &Snapshot, failsafe: bool| match copter_heartbeat(&id, s, &ModeShown::default(), failsafe) {
             MavMessage::HEARTBEAT(hb) => hb,
             _ => unreachable!(),
         };
+        let hb = |s: &Snapshot| hb_in(s, false);
         let h = hb(&s);
         assert_eq!(h.autopilot, MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA);
         assert_eq!(h.mavtype, mavlink::dialects::ardupilotmega::MavType::MAV_TYPE_HEXAROTOR);
@@ -322,9 +324,20 @@ mod tests {
         s.mode = FlightMode::Stabilized;
         assert_eq!((hb(&s).custom_mode, hb(&s).base_mode.bits()), (0, 209));
         s.geofence_breached = true;
-        assert_eq!(hb(&s).system_status, MavState::MAV_STATE_CRITICAL);
+        assert_eq!(
+            hb(&s).system_status,
+            MavState::MAV_STATE_ACTIVE,
+            "a breach is no failsafe"
+        );
+        assert_eq!(hb_in(&s, true).system_status, MavState::MAV_STATE_CRITICAL);
+        s.landed = LandedState::OnGround;
+        assert_eq!(
+            hb_in(&s, true).system_status,
+            MavState::MAV_STATE_CRITICAL,
+            "on the ground too"
+        );
         s.nav.validity.attitude = false;
-        assert_eq!(hb(&s).system_status, MavState::MAV_STATE_BOOT);
+        assert_eq!(hb_in(&s, true).system_status, MavState::MAV_STATE_BOOT);
     }
 
     #[test]
@@ -348,7 +361,7 @@ mod tests {
         assert_eq!(shown.shown(&s), 17, "LOITER asked for since");
         let id = Identity::autopilot(1, 4).with_personality(Personality::ArduPilot);
         shown.handle_asked(3);
-        let MavMessage::HEARTBEAT(hb) = copter_heartbeat(&id, &s, &shown) else {
+        let MavMessage::HEARTBEAT(hb) = copter_heartbeat(&id, &s, &shown, false) else {
             unreachable!()
         };
         assert_eq!(hb.custom_mode, 3);

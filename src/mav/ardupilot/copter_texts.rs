@@ -127,7 +127,7 @@ impl PreArmNotices {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::commander::FlightMode;
+    use crate::commander::{FailsafeCause, FlightMode};
     use crate::guidance::Home;
 
     const ARM: MavCmd = MavCmd::MAV_CMD_COMPONENT_ARM_DISARM;
@@ -197,6 +197,9 @@ mod tests {
         s.armed = false;
         assert_eq!(notices.handle_state(&s), Some("Disarming motors"));
         assert!(!copter_announces(&Event::ModeChanged(FlightMode::Loiter)));
-        assert!(copter_announces(&Event::Failsafe("Battery low".into())));
+        assert!(copter_announces(&Event::Failsafe(
+            FailsafeCause::Other,
+            "Battery low".into()
+        )));
     }
 }

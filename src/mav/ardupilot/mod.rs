@@ -20,6 +20,8 @@
 //!   suffix, MAV_DATA_STREAM id and messages of each.
 //! - [`copter_targets`]: GUIDED's position targets as Copter reads them (offset and body frames,
 //!   the force bit, a stop for what it cannot fly).
+//! - [`copter_failsafes`]: Copter's failsafe texts ("GCS Failsafe", "Battery Failsafe", "EKF
+//!   variance", "Circle fence breached" …) and whether one is active (HEARTBEAT CRITICAL).
 //! - [`copter_texts`]: what Copter says where PX4 says it otherwise ("PreArm: …", "Mode change
 //!   to … failed", "Arming motors").
 //! - [`copter_ingest`]: the inbound messages Copter treats differently (mode changes by Copter
@@ -28,6 +30,7 @@
 //! - [`copter_mission`]: the mission plan as Copter numbers it (item 0 is home, flown items
 //!   from 1), MISSION_ITEM ↔ MISSION_ITEM_INT, AUTO's take-off rule.
 
+pub mod copter_failsafes;
 pub mod copter_ingest;
 pub mod copter_link_params;
 pub mod copter_messages;

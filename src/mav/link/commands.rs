@@ -27,6 +27,8 @@ use crate::mav::translate::{command_ack, result_of};
 pub(super) enum Pending<A> {
     /// A command's ACK.
     Command(Asker<A>),
+    /// ArduCopter's ACK of a SET_MODE message, to this client (link, address, MAVLink ids).
+    SetMode(super::effects::Client<A>),
     /// A PARAM_SET's echo.
     Param(ParamSet<A>),
     /// A shell's `param set`.

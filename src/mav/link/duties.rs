@@ -25,7 +25,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         match event {
             Event::MissionItemReached(seq) => self.plans.handle_reached(*seq),
             Event::MissionCurrent(seq) => self.plans.mission_current(&self.snapshot, *seq),
-            Event::Failsafe(text) | Event::Notice { text, critical: true } => status_text(CRITICAL, text),
+            Event::Failsafe(_, text) | Event::Notice { text, critical: true } => status_text(CRITICAL, text),
             Event::Navigation { text, warning: true } => status_text(WARNING, text),
             other => status_text(INFO, &other.describe()),
         }
@@ -52,6 +52,9 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             }
             if let Some(text) = self.prearm_notices.handle_state(now.sim_s, &self.snapshot) {
                 self.broadcast(now, &status_text(CRITICAL, &text));
+            }
+            if let Some((severity, text)) = self.copter_failsafes.handle_state(&self.snapshot) {
+                self.broadcast(now, &status_text(severity, &text));
             }
             let asked = self.mode_shown.asked().is_some();
             let requests = self.rc.duty(now.sim_s, &self.snapshot, asked);
@@ -119,7 +122,12 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         let link = port.kind;
         let hb = match self.identity.personality {
             Personality::Px4 => heartbeat(&self.identity, state.0, state.1),
-            Personality::ArduPilot => copter_heartbeat(&self.identity, &self.snapshot, &self.mode_shown),
+            Personality::ArduPilot => copter_heartbeat(
+                &self.identity,
+                &self.snapshot,
+                &self.mode_shown,
+                self.copter_failsafes.active(),
+            ),
         };
         for to in targets {
             self.send(now, link, *to, &hb);
@@ -140,17 +148,30 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         };
         if !silent_for(now.wall_s, now.sim_s, heard, loss_s) {
             port.link_lost = false;
+            self.copter_gcs_failsafe(now, false);
             return;
         }
         if port.link_lost || action == LinkLossAction::Disabled {
             return;
         }
         port.link_lost = true;
+        self.copter_gcs_failsafe(now, true);
         // No answer is awaited: the commander announces its reaction as an event.
         self.to_vehicle.push_back(ToVehicle {
             token: None,
             request: VehicleRequest::Commander(Request::GcsLinkLost),
         });
+    }
+
+    /// The ArduCopter personality's GCS failsafe: said when the ground station is `lost` (with
+    /// `NAV_DLL_ACT` set, Copter's `FS_GCS_ENABLE`) and when it is heard again.
+    fn copter_gcs_failsafe(&mut self, now: Now, lost: bool) {
+        if self.identity.personality != Personality::ArduPilot {
+            return;
+        }
+        if let Some((severity, text)) = self.copter_failsafes.handle_gcs(lost) {
+            self.broadcast(now, &status_text(severity, &text));
+        }
     }
 
     /// `requests` to the commander, no answer awaited; stick samples are heard as the stick

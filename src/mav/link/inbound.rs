@@ -11,13 +11,14 @@ use mavlink::dialects::ardupilotmega::{
 };
 use mavlink::MavHeader;
 
-use super::commands::{AckOf, Asker, Decided};
+use super::commands::{AckOf, Asker, Decided, Pending};
+use super::effects::{Client, Effect};
 use super::port::{HeldForClients, Port};
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
 use crate::commander::{ManualInputMode, Outcome, Request};
 use crate::mav::ardupilot::copter_ingest::{asked_mode, copter_ingest};
 use crate::mav::calibration;
-use crate::mav::codec::{decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
+use crate::mav::codec::{command_ack_frame, decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::CommandKey;
 use crate::mav::identity::Personality;
 use crate::mav::ingest::{ingest, Action};
@@ -26,7 +27,10 @@ use crate::mav::services::autopilot_version;
 use crate::mav::signing::Verdict;
 use crate::mav::standard_modes::{available_modes, protocol_version};
 use crate::mav::stream_messages::status_text;
-use crate::mav::translate::{CommandDecision, OneShot};
+use crate::mav::translate::{result_of, CommandDecision, OneShot};
+
+/// SET_MODE's message id: ArduCopter's ACK of the message names it as the command.
+const SET_MODE_ID: u16 = 11;
 
 impl<A: Copy + Eq + Hash> LinkMachine<A> {
     /// `from` sent a trusted frame on `link`: a peer now, if there is room for it.
@@ -120,6 +124,23 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         });
     }
 
+    /// ArduCopter's answer to a SET_MODE message from `client` (`GCS_MAVLINK::handle_set_mode`):
+    /// the reason of a refusal (a STATUSTEXT warning, "Mode change to … failed: …"), then a
+    /// COMMAND_ACK whose command is the message id, 11.
+    pub(super) fn answer_set_mode(&mut self, now: Now, (link, to, ids): Client<A>, ack: AckOf) {
+        let result = match &ack {
+            AckOf::Result(r) => *r,
+            AckOf::Outcome(o) => result_of(o),
+        };
+        if let AckOf::Outcome(
+            Outcome::TemporarilyRejected(why) | Outcome::Denied(why) | Outcome::Unsupported(why) | Outcome::Failed(why),
+        ) = &ack
+        {
+            self.send(now, link, to, &status_text(WARNING, why));
+        }
+        self.send_frame(now, link, to, |ours| command_ack_frame(ours, SET_MODE_ID, result, ids));
+    }
+
     /// A received message for the tlog, re-encoded; SETUP_SIGNING never (it carries the key).
     fn record(&mut self, header: MavHeader, message: &MavMessage) {
         if self.record_received && !matches!(message, MavMessage::SETUP_SIGNING(_)) {
@@ -162,6 +183,16 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 }
                 Vec::new()
             }
+            Action::SetModeMessage(decision) => match self.decide(now, link, decision) {
+                Decided::Answer(ack, then) => {
+                    self.answer_set_mode(now, (link, from, ids), ack);
+                    then.into_iter().map(|m| Effect::send(link, from, m)).collect()
+                }
+                Decided::Execute(request) => vec![Effect::Ask(
+                    Some(Pending::SetMode((link, from, ids))),
+                    VehicleRequest::Commander(request),
+                )],
+            },
             Action::RcOverride(o) => {
                 let request = self.rc.handle_override(&o, now.sim_s, &self.snapshot);
                 return self.ask_commander(now, [request]);

@@ -58,7 +58,7 @@ use std::collections::VecDeque;
 use std::hash::Hash;
 use std::sync::Arc;
 
-use mavlink::dialects::ardupilotmega::{MavMessage, MavMissionType, MavSeverity, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavMissionType, MavSeverity, MISSION_ITEM_INT_DATA};
 use mavlink::{MAVLinkV2MessageRaw, MavHeader};
 
 use crate::commander::{Event, Outcome};
@@ -66,6 +66,7 @@ use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::ardupilot::copter_link_params::{LinkParams, LinkSet};
+use super::ardupilot::copter_failsafes::CopterFailsafes;
 use super::ardupilot::copter_modes::ModeShown;
 use super::ardupilot::copter_streams::CopterGroup;
 use super::ardupilot::copter_texts::{copter_announces, copter_outcome, ArmedNotices, PreArmNotices};
@@ -127,6 +128,8 @@ pub struct LinkMachine<A> {
     armed_notices: ArmedNotices,
     /// "PreArm: …" every 30 s while a check fails (the ArduCopter personality).
     prearm_notices: PreArmNotices,
+    /// Copter's failsafe texts and whether one is active (the ArduCopter personality).
+    copter_failsafes: CopterFailsafes,
     /// The link whose sticks are flown (`COM_RC_IN_MODE` 3 keeps the first).
     sticks_from: Option<LinkKind>,
     /// The RC receiver and the boot mode (the ArduCopter personality).
@@ -178,6 +181,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             mode_shown: ModeShown::default(),
             armed_notices: ArmedNotices::default(),
             prearm_notices: PreArmNotices::default(),
+            copter_failsafes: CopterFailsafes::default(),
             next_duty_s: 0.0,
             transmits: VecDeque::new(),
             to_vehicle: VecDeque::new(),
@@ -198,10 +202,19 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.snapshot = snapshot;
     }
 
-    /// A commander event, announced to every target of every link.
+    /// A commander event, announced to every target of every link (a vehicle presented as
+    /// ArduCopter says its failsafes in Copter's words, and not what Copter does not say).
     pub fn handle_event(&mut self, now: Now, event: Event) {
-        if self.identity.personality == Personality::ArduPilot && !copter_announces(&event) {
-            return;
+        if self.identity.personality == Personality::ArduPilot {
+            if let Some(said) = self.copter_failsafes.handle_event(&event, &self.snapshot) {
+                for (severity, text) in said {
+                    self.broadcast(now, &super::stream_messages::status_text(severity, &text));
+                }
+                return;
+            }
+            if !copter_announces(&event) {
+                return;
+            }
         }
         let msg = self.announcement(&event);
         self.broadcast(now, &msg);
@@ -233,6 +246,17 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                     }
                 };
                 self.commands.answer(now.wall_s, asker, AckOf::Outcome(outcome))
+            }
+            Some(Pending::SetMode(client)) => {
+                let outcome = match reply {
+                    VehicleReply::Outcome(outcome) => outcome,
+                    _ => Outcome::TemporarilyRejected("Vehicle busy".into()),
+                };
+                let shown = self.mode_shown.shown(&self.snapshot);
+                let asked = (self.mode_shown.asked(), shown);
+                let outcome = copter_outcome(MavCmd::MAV_CMD_DO_SET_MODE, asked, outcome);
+                self.answer_set_mode(now, client, AckOf::Outcome(outcome));
+                Vec::new()
             }
             Some(Pending::Param(set)) => {
                 let result = self.take_table(reply);
