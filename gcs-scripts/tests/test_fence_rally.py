@@ -54,6 +54,7 @@ def test_a_qgc_plan_fence_and_rally_upload_download_and_clear(vehicle):
     assert vehicle.download_mission(RALLY) == []
 
 
+@pytest.mark.rotorpilot(speedup=4)  # flights paced at 4x: the checks are in simulated time
 def test_flying_out_of_an_inclusion_fence_runs_gf_action(autopilot):
     autopilot.vehicle.param_set("GF_ACTION", 3)
     autopilot.vehicle.upload_mission(gcs.plans.load_qgc_plan(PLAN).fence, FENCE)
@@ -70,6 +71,7 @@ def test_flying_out_of_an_inclusion_fence_runs_gf_action(autopilot):
         autopilot.vehicle.wait("STATUSTEXT", lambda m: m.text.startswith("Geofence breached"), 3)  # once
 
 
+@pytest.mark.rotorpilot(speedup=4)  # flights paced at 4x: the checks are in simulated time
 def test_rtl_lands_at_a_nearer_rally_point(autopilot):
     autopilot.vehicle.param_set("RTL_RETURN_ALT", 5.0)
     autopilot.vehicle.upload_mission(gcs.plans.load_qgc_plan(PLAN).rally, RALLY)

@@ -56,9 +56,11 @@ def shown(tlog):
 @pytest.mark.skipif(not can_unshare(), reason="needs unshare -n (root)")
 def test_mavproxy_flies_guided_takeoff_a_wpl_mission_and_rtl(rotorpilot_bin, tmp_path):
     (tmp_path / "mission.txt").write_text(MISSION)
-    # Typed at MAVProxy's console, paced as a user would (the vehicle at 8x).
-    commands = [(6, "mode GUIDED"), (1, "arm throttle"), (1, "takeoff 10"), (3, f"wp load {tmp_path}/mission.txt"),
-                (2, "mode AUTO"), (8, "mode RTL"), (10, "")]
+    # Typed at MAVProxy's console, paced as a user would (the vehicle at 8x), with room for a busy
+    # machine: the upload is done before AUTO is asked for. The take-off follows the arming within
+    # DISARM_DELAY (10 s, 1.25 s of wall time at 8x), as it must against ArduCopter.
+    commands = [(6, "mode GUIDED"), (2, "arm throttle"), (1, "takeoff 10"), (3, f"wp load {tmp_path}/mission.txt"),
+                (6, "mode AUTO"), (8, "mode RTL"), (10, "")]
     feed = "; ".join(f"sleep {s}; echo '{c}'" for s, c in commands)
     script = f"""
 ip link set lo up
