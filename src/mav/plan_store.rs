@@ -16,7 +16,7 @@ use mavlink::dialects::ardupilotmega::{
     MavMessage, MavMissionResult, MavMissionType, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA,
 };
 
-use super::ardupilot::copter_mission::{home_item, item_float};
+use super::ardupilot::copter_mission::{current_flag, home_item, item_float};
 use super::crc32::crc32_part;
 use super::identity::Personality;
 use super::mission_xfer::{mission_ack, Ids};
@@ -31,6 +31,9 @@ pub struct PlanStore {
     ids: PlanIds,
     /// Whose face the downloads show (PX4's or ArduCopter's).
     personality: Personality,
+    /// The seq of the navigation item ArduCopter's mission is at (`None` before it started),
+    /// which its downloads' `current` flag compares with.
+    nav_seq: Option<u16>,
 }
 
 /// The ids of the stored plans (0: none stored).
@@ -101,6 +104,12 @@ impl PlanStore {
     /// True when downloads of plan `mission_type` go as ArduCopter answers them (its mission).
     fn copter(&self, mission_type: MavMissionType) -> bool {
         self.personality == Personality::ArduPilot && mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION
+    }
+
+    /// The mission is at navigation item `nav_seq` as the link numbers it (`None`: not started
+    /// since it was stored), for ArduCopter's `current` flag.
+    pub fn handle_nav_seq(&mut self, nav_seq: Option<u16>) {
+        self.nav_seq = nav_seq;
     }
 
     /// The items of plan `mission_type` (none for a type not stored).
@@ -181,6 +190,11 @@ impl PlanStore {
             target_system: ids.0,
             target_component: ids.1,
             mission_type,
+            current: if copter {
+                current_flag(item.command, self.nav_seq)
+            } else {
+                item.current
+            },
             ..item
         };
         if copter && !int_form {

@@ -191,6 +191,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.plans.handle_state(&snapshot);
         if self.identity.personality == Personality::ArduPilot {
             self.mode_shown.handle_state(&snapshot);
+            self.mode_shown.handle_return_item(self.plans.at_return_item(&snapshot));
         }
         self.snapshot = snapshot;
     }
