@@ -437,6 +437,14 @@ impl MissionRun {
     /// loiters here (the mode to switch to).
     fn go_on_at(&mut self, seq: usize, events: &mut Vec<Event>) -> Option<FlightMode> {
         self.seq = seq;
+        // A DO_JUMP is resolved on the way, never current (as MISSION_CURRENT shows neither
+        // PX4's nor ArduCopter's); a loop of jumps alone is left to the tick.
+        for _ in 0..self.mission.len() {
+            match self.mission.items.get(self.seq) {
+                Some(&MissionItem::Jump { target, repeat }) => self.seq = self.resolve_jump(target, repeat),
+                _ => break,
+            }
+        }
         self.phase = Phase::Start;
         if self.seq >= self.mission.len() {
             self.seq = self.mission.len().saturating_sub(1);

@@ -410,7 +410,7 @@ mod tests {
         );
         // PX4 refuses the zero point (far from home) and LOITER_UNLIM.
         let bad = |m: &MISSION_ITEM_INT_DATA| {
-            parse_mission(&[m.clone()], &home, MissionRules::PX4)
+            parse_mission(std::slice::from_ref(m), &home, MissionRules::PX4)
                 .unwrap_err()
                 .result
         };

@@ -167,8 +167,8 @@ impl PlanStore {
 
     /// Item `seq` of plan `mission_type` addressed to `ids`, or a MISSION_ACK(INVALID_SEQUENCE)
     /// of that type. PX4 answers with MISSION_ITEM_INT; ArduCopter's mission answers item 0
-    /// with `home` and each item in the form asked for: MISSION_ITEM_INT for a
-    /// MISSION_REQUEST_INT (`int_form`), MISSION_ITEM otherwise.
+    /// with `home`, and ArduCopter answers each item of every plan in the form asked for:
+    /// MISSION_ITEM_INT for a MISSION_REQUEST_INT (`int_form`), MISSION_ITEM otherwise.
     #[allow(deprecated)] // MISSION_ITEM: what DroneKit downloads
     pub fn download_item(
         &self,
@@ -179,6 +179,7 @@ impl PlanStore {
         home: &Home,
     ) -> MavMessage {
         let copter = self.copter(mission_type);
+        let int_form = int_form || self.personality == Personality::Px4;
         let item = match (copter, seq) {
             (true, 0) => Some(home_item(home)),
             _ => self.items(mission_type).get(usize::from(seq)).cloned(),
@@ -197,7 +198,7 @@ impl PlanStore {
             },
             ..item
         };
-        if copter && !int_form {
+        if !int_form {
             MavMessage::MISSION_ITEM(item_float(&item))
         } else {
             MavMessage::MISSION_ITEM_INT(item)
