@@ -210,7 +210,7 @@ fn com_act_fail_act_3_returns_home_and_4_terminates() {
     hovering(&mut v, &mut events);
     let wp = MissionItem::LoiterTime {
         pos_w: Vec3::new(20.0, 0.0, -HEIGHT_M),
-        seconds: 600.0,
+        seconds: Some(600.0),
     };
     assert_eq!(
         v.apply(Request::SetMission(Mission {

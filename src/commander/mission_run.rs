@@ -39,6 +39,9 @@ pub(super) struct MissionRun {
     speed_m_s: Option<f64>,
     /// How often each item's DO_JUMP was taken (by item index).
     jumps_taken: Vec<u32>,
+    /// Where the vehicle was when the current item started [m]: the position of the parts of
+    /// an item that are the vehicle's ([`crate::guidance::HereParts`]).
+    anchor_w: Option<Vec3>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,6 +55,8 @@ enum Phase {
     Travel,
     /// Holding until the time [s].
     Hold(f64),
+    /// Holding until the mission is left (NAV_LOITER_UNLIM).
+    HoldForever,
     /// Descending to land.
     Landing,
     /// The mission ended here (landed).
@@ -67,6 +72,7 @@ impl Default for MissionRun {
             phase: Phase::Start,
             speed_m_s: None,
             jumps_taken: Vec::new(),
+            anchor_w: None,
         }
     }
 }
@@ -84,6 +90,7 @@ impl MissionRun {
         self.seq = 0;
         self.phase = Phase::Start;
         self.speed_m_s = None;
+        self.anchor_w = None;
     }
 
     /// Starts (or resumes) flying at the current item; a finished mission starts over.
@@ -205,8 +212,11 @@ impl MissionRun {
         let Moment {
             x, yaw_rad: yaw, t_s, ..
         } = now;
+        if self.phase == Phase::Start {
+            self.anchor_w = Some(x.pos_w);
+        }
         // Heights above home follow a home moved in flight (PX4 reads them at flight time).
-        let item = self.mission.item_at_home(self.seq, paths.home_z_m())?;
+        let item = self.item_at(self.seq, paths.home_z_m())?;
         let speed = self.speed_m_s.unwrap_or(paths.cruise_speed());
         let on_ground = !in_air;
         match (self.phase, item) {
@@ -321,7 +331,9 @@ impl MissionRun {
                     match item {
                         MissionItem::Land { pos_w } => self.begin_landing(paths, f, now, pos_w),
                         MissionItem::Waypoint { hold_s, .. } if hold_s > 0.0 => self.phase = Phase::Hold(t_s + hold_s),
-                        MissionItem::LoiterTime { seconds, .. } => self.phase = Phase::Hold(t_s + seconds),
+                        MissionItem::LoiterTime { seconds, .. } => {
+                            self.phase = seconds.map_or(Phase::HoldForever, |s| Phase::Hold(t_s + s));
+                        }
                         _ => return self.next_item(events),
                     }
                 }
@@ -335,6 +347,36 @@ impl MissionRun {
             _ => {}
         }
         None
+    }
+
+    /// Item `seq` as flown with home at `home_z_m` [m] (NED z): the parts of its position that
+    /// are the vehicle's are where the vehicle was when the current item started; a later item
+    /// with such parts is not known yet (`None`: the mission stops before it).
+    fn item_at(&self, seq: usize, home_z_m: f64) -> Option<MissionItem> {
+        let item = self.mission.item_at_home(seq, home_z_m)?;
+        let here = self.mission.here(seq);
+        if !here.any() {
+            return Some(item);
+        }
+        let at = self.anchor_w.filter(|_| seq == self.seq)?;
+        Some(match item {
+            MissionItem::Waypoint {
+                pos_w,
+                hold_s,
+                accept_m,
+                yaw_rad,
+            } => MissionItem::Waypoint {
+                pos_w: here.resolve(pos_w, at),
+                hold_s,
+                accept_m,
+                yaw_rad,
+            },
+            MissionItem::LoiterTime { pos_w, seconds } => MissionItem::LoiterTime {
+                pos_w: here.resolve(pos_w, at),
+                seconds,
+            },
+            other => other,
+        })
     }
 
     /// The acceptance radius of `item` [m]: its own, else `NAV_ACC_RAD`.
@@ -355,9 +397,8 @@ impl MissionRun {
         if hold_s > 0.0 {
             return None;
         }
-        let mission = &self.mission;
-        for seq in self.seq + 1..mission.len() {
-            match mission.item_at_home(seq, home_z_m)? {
+        for seq in self.seq + 1..self.mission.len() {
+            match self.item_at(seq, home_z_m)? {
                 MissionItem::ChangeSpeed { .. } => continue,
                 MissionItem::Waypoint { pos_w: p, .. } | MissionItem::LoiterTime { pos_w: p, .. } => return Some(p),
                 MissionItem::Land { pos_w: Some(p) } => return Some(Vec3::new(p.x, p.y, pos_w.z)),
@@ -396,6 +437,14 @@ impl MissionRun {
     /// loiters here (the mode to switch to).
     fn go_on_at(&mut self, seq: usize, events: &mut Vec<Event>) -> Option<FlightMode> {
         self.seq = seq;
+        // A DO_JUMP is resolved on the way, never current (as MISSION_CURRENT shows neither
+        // PX4's nor ArduCopter's); a loop of jumps alone is left to the tick.
+        for _ in 0..self.mission.len() {
+            match self.mission.items.get(self.seq) {
+                Some(&MissionItem::Jump { target, repeat }) => self.seq = self.resolve_jump(target, repeat),
+                _ => break,
+            }
+        }
         self.phase = Phase::Start;
         if self.seq >= self.mission.len() {
             self.seq = self.mission.len().saturating_sub(1);

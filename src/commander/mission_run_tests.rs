@@ -41,7 +41,7 @@ fn a_mission_takes_off_flies_its_items_in_order_and_lands_on_the_last() {
         },
         MissionItem::LoiterTime {
             pos_w: Vec3::new(10.0, 10.0, -5.0),
-            seconds: 2.0,
+            seconds: Some(2.0),
         },
         MissionItem::Land {
             pos_w: Some(Vec3::new(0.0, 10.0, 0.0)),
@@ -223,6 +223,7 @@ fn heights_above_home_follow_a_home_moved_in_flight_and_the_waypoint_is_flown_wh
     let mission = Mission {
         above_home: vec![true; items.len()],
         items,
+        ..Default::default()
     };
     assert_eq!(s.request(Request::SetMission(mission)), Outcome::Accepted);
     assert_eq!(s.request(Request::SetMode(FlightMode::Mission)), Outcome::Accepted);

@@ -6,7 +6,7 @@
 
 use super::FailsafeCause;
 use crate::control::VehicleState;
-use crate::guidance::{Geofence, RallyPoints};
+use crate::guidance::{Geofence, RallyPoints, RallyRule};
 use crate::math::Vec3;
 
 use super::failsafe::fence_breach;
@@ -86,8 +86,16 @@ impl Plans {
     /// over 10 m from home; type 1 prefers any rally point to home; type 5 knows only rally
     /// points and, without one, lands where it is; type 6, without a battery time remaining, is
     /// type 0.
+    /// Rally points uploaded under ArduCopter's rule choose as ArduCopter does instead
+    /// ([`RallyRule::Copter`]: `RTL_TYPE` is PX4's).
     pub fn rtl_destination(&self, from_w: &Vec3, rtl_type: RtlType) -> Vec3 {
         let home = self.home_w;
+        if let RallyRule::Copter { limit_m, include_home } = self.rally.rule {
+            return self
+                .rally
+                .copter_choice(from_w, &home, limit_m, include_home)
+                .unwrap_or(home);
+        }
         let rally = match rtl_type {
             RtlType::HomeOrRally | RtlType::Closest | RtlType::PrioritizeHome => {
                 let to_home = (from_w.xy() - home.xy()).norm();
@@ -225,6 +233,7 @@ mod tests {
         let mut s = Script::new(CommanderParams::default());
         let rally = RallyPoints {
             points_w: vec![Vec3::new(40.0, 0.0, -5.0), Vec3::new(0.0, 5.0, 0.0)],
+            ..Default::default()
         };
         assert_eq!(s.request(Request::SetRallyPoints(rally)), Outcome::Accepted);
         let dest = |s: &mut Script, t: RtlType, from: Vec3| {

@@ -100,6 +100,7 @@ fn rtl_with_a_rally_point_nearer_than_home_lands_there() {
     let mut s = Script::new(params());
     let rally = RallyPoints {
         points_w: vec![Vec3::new(40.0, 10.0, 0.0), Vec3::new(-60.0, 0.0, 0.0)],
+        ..Default::default()
     };
     assert_eq!(s.request(Request::SetRallyPoints(rally)), Outcome::Accepted);
     s.airborne(3.0);

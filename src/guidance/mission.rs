@@ -22,12 +22,13 @@ pub enum MissionItem {
         /// Heading at the waypoint [rad]; `None` keeps the current one.
         yaw_rad: Option<f64>,
     },
-    /// NAV_LOITER_TIME: fly to `pos_w` [m] and hold there `seconds` [s].
+    /// NAV_LOITER_TIME: fly to `pos_w` [m] and hold there `seconds` [s]; NAV_LOITER_UNLIM
+    /// (`seconds` `None`): hold there until the mission is left.
     LoiterTime {
         /// Target, local NED [m].
         pos_w: Vec3,
-        /// Hold time [s].
-        seconds: f64,
+        /// Hold time [s]; `None` for ever.
+        seconds: Option<f64>,
     },
     /// NAV_LAND at `pos_w` (z ignored) or, when `None`, here.
     Land {
@@ -72,7 +73,7 @@ impl MissionItem {
                     && accept_m.is_none_or(f64::is_finite)
                     && yaw_rad.is_none_or(f64::is_finite)
             }
-            Self::LoiterTime { pos_w, seconds } => v(pos_w) && seconds.is_finite(),
+            Self::LoiterTime { pos_w, seconds } => v(pos_w) && seconds.is_none_or(f64::is_finite),
             Self::Land { pos_w } => pos_w.as_ref().is_none_or(v),
             Self::ReturnToLaunch => true,
             Self::ChangeSpeed { speed_m_s } => speed_m_s.is_finite(),
@@ -91,6 +92,37 @@ pub struct Mission {
     /// are stored above the local origin and follow home when home moves, as PX4 reads them at
     /// flight time; an item without an entry keeps its height.
     pub above_home: Vec<bool>,
+    /// Per item, which of its coordinates stand for where the vehicle is when the item starts
+    /// (ArduCopter reads a latitude and longitude of 0, or an altitude of 0, so); an item
+    /// without an entry keeps its position.
+    pub here: Vec<HereParts>,
+}
+
+/// Which coordinates of a mission item's position are the vehicle's own when the item starts
+/// (docs/ardupilot.md §6): ArduCopter's `loc_from_cmd` takes a latitude and longitude of 0 as
+/// the current position and an altitude of 0 as the current altitude.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct HereParts {
+    /// North and east are the vehicle's.
+    pub xy: bool,
+    /// The height is the vehicle's.
+    pub z: bool,
+}
+
+impl HereParts {
+    /// `pos_w` [m] with the parts that are the vehicle's taken from `at_w` [m].
+    pub fn resolve(self, pos_w: Vec3, at_w: Vec3) -> Vec3 {
+        Vec3::new(
+            if self.xy { at_w.x } else { pos_w.x },
+            if self.xy { at_w.y } else { pos_w.y },
+            if self.z { at_w.z } else { pos_w.z },
+        )
+    }
+
+    /// True when some part is the vehicle's.
+    pub fn any(self) -> bool {
+        self.xy || self.z
+    }
 }
 
 impl Mission {
@@ -107,6 +139,11 @@ impl Mission {
     /// True when every number of every item is finite.
     pub fn is_finite(&self) -> bool {
         self.items.iter().all(MissionItem::is_finite)
+    }
+
+    /// Which parts of item `seq`'s position are the vehicle's when it starts.
+    pub fn here(&self, seq: usize) -> HereParts {
+        self.here.get(seq).copied().unwrap_or_default()
     }
 
     /// Item `seq` as flown with home at `home_z_m` [m] (NED z of home in the local frame): an
@@ -179,6 +216,7 @@ mod tests {
         let m = Mission {
             items: vec![MissionItem::Takeoff { height_m: 20.0 }, wp, wp],
             above_home: vec![true, true, false],
+            ..Default::default()
         };
         // Home 5 m below the origin (NED z +5): relative heights come down 5 m.
         assert_eq!(m.item_at_home(0, 5.0), Some(MissionItem::Takeoff { height_m: 15.0 }));
@@ -188,5 +226,17 @@ mod tests {
         assert_eq!(pos_w, Vec3::new(1.0, 2.0, -15.0));
         assert_eq!(m.item_at_home(2, 5.0), Some(wp), "an AMSL height stays");
         assert_eq!(m.item_at_home(3, 5.0), None);
+    }
+
+    #[test]
+    fn the_parts_that_are_here_come_from_where_the_vehicle_is() {
+        let (pos, at) = (Vec3::new(1.0, 2.0, -3.0), Vec3::new(10.0, 20.0, -30.0));
+        let here = |xy, z| HereParts { xy, z };
+        assert_eq!(here(false, false).resolve(pos, at), pos);
+        assert_eq!(here(true, false).resolve(pos, at), Vec3::new(10.0, 20.0, -3.0));
+        assert_eq!(here(false, true).resolve(pos, at), Vec3::new(1.0, 2.0, -30.0));
+        assert!(!here(false, false).any() && here(false, true).any());
+        let m = Mission::default();
+        assert_eq!(m.here(4), HereParts::default(), "no entry: the item's own position");
     }
 }

@@ -1,5 +1,7 @@
 //! Uploaded rally points (MAVLink plan type RALLY, PX4's "safe points") in local NED about
-//! home, and the choice of the closest one that PX4's RTL makes. Pure.
+//! home, and the choice a return makes among them and home: PX4's ([`RallyPoints::closest`],
+//! under `RTL_TYPE`) or ArduCopter's ([`RallyRule::Copter`], docs/ardupilot.md §6), the rule
+//! the points were uploaded under. Pure.
 
 use crate::math::Vec3;
 
@@ -15,6 +17,34 @@ pub const MIN_DIST_MARGIN_M: f64 = 2.0;
 pub struct RallyPoints {
     /// The points, local NED [m], in upload order.
     pub points_w: Vec<Vec3>,
+    /// How a return chooses among them and home.
+    pub rule: RallyRule,
+}
+
+/// How a return chooses between home and the rally points: the vehicle personality's rule,
+/// carried by the points it uploaded.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum RallyRule {
+    /// PX4's: `RTL_TYPE` decides, with [`RallyPoints::closest`]'s margins.
+    #[default]
+    Px4,
+    /// ArduCopter's (`AP_Rally::calc_best_rally_or_home_location`): the horizontally nearest
+    /// point, unless it is farther than `limit_m` (`RALLY_LIMIT_KM`; `None`: no limit) or,
+    /// with `include_home` (`RALLY_INCL_HOME`), home is not farther than it.
+    Copter {
+        /// Farthest a rally point may be [m].
+        limit_m: Option<f64>,
+        /// Home is a destination too.
+        include_home: bool,
+    },
+}
+
+impl RallyRule {
+    /// ArduCopter's defaults: `RALLY_LIMIT_KM` 0.3, `RALLY_INCL_HOME` 1.
+    pub const COPTER: Self = Self::Copter {
+        limit_m: Some(300.0),
+        include_home: true,
+    };
 }
 
 impl RallyPoints {
@@ -26,6 +56,23 @@ impl RallyPoints {
     /// True when every coordinate is finite.
     pub fn is_finite(&self) -> bool {
         self.points_w.iter().all(|p| p.iter().all(|c| c.is_finite()))
+    }
+
+    /// Where ArduCopter's return from `from_w` goes with home at `home_w` [m], under its
+    /// `limit_m` and `include_home` ([`RallyRule::Copter`]): a rally point, or `None` for home.
+    pub fn copter_choice(
+        &self,
+        from_w: &Vec3,
+        home_w: &Vec3,
+        limit_m: Option<f64>,
+        include_home: bool,
+    ) -> Option<Vec3> {
+        let d = |p: &Vec3| (p.xy() - from_w.xy()).norm();
+        let nearest = self.points_w.iter().min_by(|a, b| d(a).total_cmp(&d(b))).copied()?;
+        if limit_m.is_some_and(|limit| limit > 0.0 && d(&nearest) > limit) {
+            return None;
+        }
+        (!include_home || d(&nearest) < d(home_w)).then_some(nearest)
     }
 
     /// The rally point horizontally closest to `from_w` that is nearer than `beat_m` by more
@@ -59,6 +106,7 @@ mod tests {
                 Vec3::new(0.0, 40.0, -5.0),
                 Vec3::new(5.0, 0.0, 0.0),
             ],
+            ..Default::default()
         };
         let home = Vec3::zeros();
         let here = Vec3::new(10.0, 50.0, -20.0);
@@ -78,9 +126,33 @@ mod tests {
         // A point only 1 m nearer than home does not beat it.
         let tie = RallyPoints {
             points_w: vec![Vec3::new(0.0, 49.0, 0.0)],
+            ..Default::default()
         };
         let above = Vec3::new(0.0, 25.0, -20.0);
         assert_eq!(tie.closest(&above, 25.0, Some(&home)), None);
         assert!(RallyPoints::default().closest(&here, f64::INFINITY, None).is_none());
+    }
+
+    #[test]
+    fn arducopter_takes_the_nearest_point_within_its_limit_unless_home_is_nearer() {
+        let rally = RallyPoints {
+            points_w: vec![Vec3::new(100.0, 0.0, -10.0), Vec3::new(0.0, 40.0, -5.0)],
+            rule: RallyRule::COPTER,
+        };
+        let home = Vec3::zeros();
+        let choice = |from: Vec3, limit: Option<f64>, incl: bool| rally.copter_choice(&from, &home, limit, incl);
+        // 10 m from the point by home, 50 m from home: the point (no margin, none by home skipped).
+        let near = Vec3::new(0.0, 50.0, -20.0);
+        assert_eq!(choice(near, Some(300.0), true), Some(Vec3::new(0.0, 40.0, -5.0)));
+        // Home nearer than every point: home, unless home is not a destination.
+        let by_home = Vec3::new(0.0, 10.0, -20.0);
+        assert_eq!(choice(by_home, Some(300.0), true), None);
+        assert_eq!(choice(by_home, Some(300.0), false), Some(Vec3::new(0.0, 40.0, -5.0)));
+        // Every point beyond RALLY_LIMIT_KM: home, even when home is farther still; 0 or none: no limit.
+        let far = Vec3::new(0.0, 500.0, -20.0);
+        assert_eq!(choice(far, Some(300.0), false), None);
+        assert_eq!(choice(far, Some(0.0), true), Some(Vec3::new(0.0, 40.0, -5.0)));
+        assert_eq!(choice(far, None, true), Some(Vec3::new(0.0, 40.0, -5.0)));
+        assert_eq!(RallyPoints::default().copter_choice(&far, &home, None, false), None);
     }
 }

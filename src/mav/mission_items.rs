@@ -3,7 +3,7 @@
 
 use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMissionResult, MISSION_ITEM_INT_DATA};
 
-use crate::guidance::{Home, Mission, MissionItem};
+use crate::guidance::{HereParts, Home, Mission, MissionItem};
 use crate::math::Vec3;
 
 /// Why a mission was refused: the item and the result.
@@ -15,9 +15,47 @@ pub struct ItemError {
     pub result: MavMissionResult,
 }
 
-/// Parses uploaded items (in sequence order) into a mission about `home`.
-pub fn parse_mission(items: &[MISSION_ITEM_INT_DATA], home: &Home) -> Result<Mission, ItemError> {
+/// How a personality reads the mission items PX4 and ArduCopter read differently
+/// (docs/ardupilot.md §6): a value handed to [`parse_mission`], so one parser and one mission
+/// runner serve both.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MissionRules {
+    /// On NAV_WAYPOINT, NAV_LOITER_TIME and NAV_LOITER_UNLIM a latitude and longitude of 0 are
+    /// where the vehicle is when the item starts, and so is an altitude of 0 (ArduCopter's
+    /// `loc_from_cmd`); PX4 refuses such a point as far from home (INVALID_PARAM5_X).
+    pub zero_is_here: bool,
+    /// NAV_WAYPOINT's acceptance radius (p2) and heading (p4) are the item's (PX4); ArduCopter
+    /// ignores both (`WPNAV_RADIUS` decides when a waypoint is reached).
+    pub waypoint_radius_and_yaw: bool,
+    /// Hold times (NAV_WAYPOINT and NAV_LOITER_TIME p1) count whole seconds, as ArduCopter
+    /// stores them; PX4 takes fractions.
+    pub whole_second_holds: bool,
+    /// NAV_LOITER_UNLIM is flown (ArduCopter: to the point, then held until the mission is
+    /// left); PX4's face refuses it (UNSUPPORTED).
+    pub loiter_unlimited: bool,
+}
+
+impl MissionRules {
+    /// PX4's reading (docs/mavlink.md §7).
+    pub const PX4: Self = Self {
+        zero_is_here: false,
+        waypoint_radius_and_yaw: true,
+        whole_second_holds: false,
+        loiter_unlimited: false,
+    };
+    /// ArduCopter's reading (`ArduCopter/mode_auto.cpp`).
+    pub const COPTER: Self = Self {
+        zero_is_here: true,
+        waypoint_radius_and_yaw: false,
+        whole_second_holds: true,
+        loiter_unlimited: true,
+    };
+}
+
+/// Parses uploaded items (in sequence order) into a mission about `home`, read by `rules`.
+pub fn parse_mission(items: &[MISSION_ITEM_INT_DATA], home: &Home, rules: MissionRules) -> Result<Mission, ItemError> {
     let mut out = Vec::with_capacity(items.len());
+    let mut here = Vec::with_capacity(items.len());
     for (i, item) in items.iter().enumerate() {
         if usize::from(item.seq) != i {
             return Err(ItemError {
@@ -25,7 +63,10 @@ pub fn parse_mission(items: &[MISSION_ITEM_INT_DATA], home: &Home) -> Result<Mis
                 result: MavMissionResult::MAV_MISSION_INVALID_SEQUENCE,
             });
         }
-        out.push(parse_item(item, home).map_err(|result| ItemError { seq: item.seq, result })?);
+        let refuse = |result| ItemError { seq: item.seq, result };
+        let (parsed, parts) = parse_item(item, home, rules).map_err(refuse)?;
+        out.push(parsed);
+        here.push(parts);
     }
     // A DO_JUMP goes on at an item of this mission, never at itself.
     let count = out.len();
@@ -40,7 +81,11 @@ pub fn parse_mission(items: &[MISSION_ITEM_INT_DATA], home: &Home) -> Result<Mis
         }
     }
     let above_home = items.iter().map(|item| is_relative_frame(item.frame)).collect();
-    Ok(Mission { items: out, above_home })
+    Ok(Mission {
+        items: out,
+        above_home,
+        here,
+    })
 }
 
 /// True for the frames whose altitude is above home.
@@ -84,10 +129,44 @@ fn non_negative(x: f32, bad: MavMissionResult) -> Result<f64, MavMissionResult> 
     }
 }
 
+/// The position of a waypoint or loiter item under `rules`, and which of its parts are where the
+/// vehicle will be (ArduCopter's zeros, read about home and replaced in flight).
+fn located(
+    item: &MISSION_ITEM_INT_DATA,
+    home: &Home,
+    rules: MissionRules,
+) -> Result<(Vec3, HereParts), MavMissionResult> {
+    let global = !matches!(item.frame, MavFrame::MAV_FRAME_LOCAL_NED);
+    let here = HereParts {
+        xy: rules.zero_is_here && global && item.x == 0 && item.y == 0,
+        z: rules.zero_is_here && global && item.z == 0.0,
+    };
+    if !here.xy {
+        return Ok((position(item, home)?, here));
+    }
+    let at_home = MISSION_ITEM_INT_DATA {
+        x: (home.lat_deg * 1e7).round() as i32,
+        y: (home.lon_deg * 1e7).round() as i32,
+        ..item.clone()
+    };
+    Ok((position(&at_home, home)?, here))
+}
+
+/// A hold time p1 [s] under `rules` (whole seconds for ArduCopter, which stores an integer).
+fn hold(p1: f32, rules: MissionRules) -> Result<f64, MavMissionResult> {
+    let s = non_negative(p1, MavMissionResult::MAV_MISSION_INVALID_PARAM1)?;
+    Ok(if rules.whole_second_holds { s.trunc() } else { s })
+}
+
 #[allow(deprecated)]
-fn parse_item(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<MissionItem, MavMissionResult> {
+fn parse_item(
+    item: &MISSION_ITEM_INT_DATA,
+    home: &Home,
+    rules: MissionRules,
+) -> Result<(MissionItem, HereParts), MavMissionResult> {
     use MavMissionResult::*;
-    Ok(match item.command {
+    let mut here = HereParts::default();
+    let parsed = match item.command {
         MavCmd::MAV_CMD_NAV_TAKEOFF => {
             // Only the altitude counts: the climb is over the current position.
             let z = f64::from(item.z);
@@ -103,18 +182,30 @@ fn parse_item(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<MissionItem, 
             MissionItem::Takeoff { height_m }
         }
         MavCmd::MAV_CMD_NAV_WAYPOINT => {
+            let own = rules.waypoint_radius_and_yaw;
             let accept = non_negative(item.param2, MAV_MISSION_INVALID_PARAM2)?;
+            let pos_w;
+            (pos_w, here) = located(item, home, rules)?;
             MissionItem::Waypoint {
-                pos_w: position(item, home)?,
-                hold_s: non_negative(item.param1, MAV_MISSION_INVALID_PARAM1)?,
-                accept_m: (accept > 0.0).then_some(accept),
-                yaw_rad: item.param4.is_finite().then(|| f64::from(item.param4).to_radians()),
+                pos_w,
+                hold_s: hold(item.param1, rules)?,
+                accept_m: (own && accept > 0.0).then_some(accept),
+                yaw_rad: (own && item.param4.is_finite()).then(|| f64::from(item.param4).to_radians()),
             }
         }
-        MavCmd::MAV_CMD_NAV_LOITER_TIME => MissionItem::LoiterTime {
-            pos_w: position(item, home)?,
-            seconds: non_negative(item.param1, MAV_MISSION_INVALID_PARAM1)?,
-        },
+        MavCmd::MAV_CMD_NAV_LOITER_TIME => {
+            let pos_w;
+            (pos_w, here) = located(item, home, rules)?;
+            MissionItem::LoiterTime {
+                pos_w,
+                seconds: Some(hold(item.param1, rules)?),
+            }
+        }
+        MavCmd::MAV_CMD_NAV_LOITER_UNLIM if rules.loiter_unlimited => {
+            let pos_w;
+            (pos_w, here) = located(item, home, rules)?;
+            MissionItem::LoiterTime { pos_w, seconds: None }
+        }
         MavCmd::MAV_CMD_NAV_LAND => MissionItem::Land {
             pos_w: if item.x == 0 && item.y == 0 {
                 None
@@ -154,7 +245,8 @@ fn parse_item(item: &MISSION_ITEM_INT_DATA, home: &Home) -> Result<MissionItem, 
             }
         }
         _ => return Err(MAV_MISSION_UNSUPPORTED),
-    })
+    };
+    Ok((parsed, here))
 }
 
 #[cfg(test)]
@@ -198,7 +290,7 @@ mod tests {
                 0.0,
             ),
         ];
-        let m = parse_mission(&items, &home).unwrap();
+        let m = parse_mission(&items, &home, MissionRules::PX4).unwrap();
         assert_eq!(m.len(), 3);
         assert!(matches!(m.items[0], MissionItem::Takeoff { height_m } if (height_m - 5.0).abs() < 1e-6));
         let MissionItem::Waypoint {
@@ -229,7 +321,7 @@ mod tests {
             ..item(seq, MavCmd::MAV_CMD_DO_JUMP, MavFrame::MAV_FRAME_MISSION, 0, 0, 0.0)
         };
         let takeoff = item(0, MavCmd::MAV_CMD_NAV_TAKEOFF, rel, 0, 0, 5.0);
-        let m = parse_mission(&[takeoff.clone(), jump(1, 0.0, 2.0)], &home).unwrap();
+        let m = parse_mission(&[takeoff.clone(), jump(1, 0.0, 2.0)], &home, MissionRules::PX4).unwrap();
         assert_eq!(
             m.items[1],
             MissionItem::Jump {
@@ -237,7 +329,7 @@ mod tests {
                 repeat: Some(2)
             }
         );
-        let forever = parse_mission(&[takeoff.clone(), jump(1, 0.0, -1.0)], &home).unwrap();
+        let forever = parse_mission(&[takeoff.clone(), jump(1, 0.0, -1.0)], &home, MissionRules::PX4).unwrap();
         assert_eq!(
             forever.items[1],
             MissionItem::Jump {
@@ -251,7 +343,7 @@ mod tests {
             (0.5, 1.0, MavMissionResult::MAV_MISSION_INVALID_PARAM1),
             (0.0, f32::NAN, MavMissionResult::MAV_MISSION_INVALID_PARAM2),
         ] {
-            let e = parse_mission(&[takeoff.clone(), jump(1, target, repeat)], &home).unwrap_err();
+            let e = parse_mission(&[takeoff.clone(), jump(1, target, repeat)], &home, MissionRules::PX4).unwrap_err();
             assert_eq!((e.seq, e.result), (1, result), "{target} {repeat}");
         }
     }
@@ -260,7 +352,7 @@ mod tests {
     fn bad_items_name_their_sequence_and_result() {
         let home = Home::default();
         let rel = MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
-        let bad = |items: &[MISSION_ITEM_INT_DATA]| parse_mission(items, &home).unwrap_err();
+        let bad = |items: &[MISSION_ITEM_INT_DATA]| parse_mission(items, &home, MissionRules::PX4).unwrap_err();
         let ok = item(0, MavCmd::MAV_CMD_NAV_WAYPOINT, rel, 473977420, 85455940, 5.0);
         let e = bad(&[ok.clone(), item(1, MavCmd::MAV_CMD_DO_SET_SERVO, rel, 0, 0, 0.0)]);
         assert_eq!((e.seq, e.result), (1, MavMissionResult::MAV_MISSION_UNSUPPORTED));
@@ -280,5 +372,58 @@ mod tests {
         assert_eq!(bad(&[neg]).result, MavMissionResult::MAV_MISSION_INVALID_PARAM1);
         let e = bad(&[item(0, MavCmd::MAV_CMD_NAV_TAKEOFF, rel, 0, 0, -3.0)]);
         assert_eq!(e.result, MavMissionResult::MAV_MISSION_INVALID_PARAM7);
+    }
+
+    #[test]
+    fn arducopter_reads_zeros_as_here_ignores_radius_and_heading_and_flies_loiter_unlim() {
+        let home = Home::default();
+        let rel = MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
+        let mut wp = item(0, MavCmd::MAV_CMD_NAV_WAYPOINT, rel, 0, 0, 12.0);
+        (wp.param1, wp.param2, wp.param4) = (2.7, 4.0, 90.0);
+        let unlim = item(
+            1,
+            MavCmd::MAV_CMD_NAV_LOITER_UNLIM,
+            rel,
+            473_977_420 + 900,
+            85_455_940,
+            0.0,
+        );
+        let copter = parse_mission(&[wp.clone(), unlim.clone()], &home, MissionRules::COPTER).unwrap();
+        assert_eq!(
+            copter.items[0],
+            MissionItem::Waypoint {
+                pos_w: Vec3::new(0.0, 0.0, -12.0),
+                hold_s: 2.0,
+                accept_m: None,
+                yaw_rad: None,
+            },
+            "whole seconds, WPNAV_RADIUS, Copter's own heading"
+        );
+        assert_eq!(copter.here(0), HereParts { xy: true, z: false });
+        assert!(
+            matches!(copter.items[1], MissionItem::LoiterTime { seconds: None, pos_w } if (pos_w.x - 10.0).abs() < 0.01)
+        );
+        assert_eq!(
+            copter.here(1),
+            HereParts { xy: false, z: true },
+            "altitude 0: the current one"
+        );
+        // PX4 refuses the zero point (far from home) and LOITER_UNLIM.
+        let bad = |m: &MISSION_ITEM_INT_DATA| {
+            parse_mission(std::slice::from_ref(m), &home, MissionRules::PX4)
+                .unwrap_err()
+                .result
+        };
+        assert_eq!(bad(&wp), MavMissionResult::MAV_MISSION_INVALID_PARAM5_X);
+        let mut unlim0 = unlim;
+        unlim0.seq = 0;
+        assert_eq!(bad(&unlim0), MavMissionResult::MAV_MISSION_UNSUPPORTED);
+        let mut far = wp;
+        (far.x, far.y) = (473_977_420 + 900, 85_455_940);
+        let px4 = parse_mission(&[far], &home, MissionRules::PX4).unwrap();
+        assert!(
+            matches!(px4.items[0], MissionItem::Waypoint { accept_m: Some(r), hold_s, .. } if r == 4.0 && (hold_s - 2.7).abs() < 1e-6)
+        );
+        assert_eq!(px4.here(0), HereParts::default());
     }
 }

@@ -106,7 +106,7 @@ impl MissionReport {
     /// by `ids`.
     pub fn mission_current(&self, s: &Snapshot, seq: u16, ids: PlanIds) -> MavMessage {
         if self.personality == Personality::ArduPilot {
-            return copter_mission_current(s, seq, ids);
+            return copter_mission_current(s, seq);
         }
         MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
             seq,
@@ -124,8 +124,10 @@ impl MissionReport {
     }
 }
 
-/// ArduCopter's MISSION_CURRENT for the commander's item `seq` of the mission in `s`.
-fn copter_mission_current(s: &Snapshot, seq: u16, ids: PlanIds) -> MavMessage {
+/// ArduCopter's MISSION_CURRENT for the commander's item `seq` of the mission in `s`. ArduCopter
+/// 4.5 names no plan: `mission_id`, `fence_id` and `rally_points_id` are 0 (it sends the
+/// message's first five fields only).
+fn copter_mission_current(s: &Snapshot, seq: u16) -> MavMessage {
     let none = s.mission_total == 0 || s.mission_state == MissionState::NoMission;
     let mission_state = match s.mission_state {
         _ if none => MavMissionState::MISSION_STATE_NO_MISSION,
@@ -138,9 +140,7 @@ fn copter_mission_current(s: &Snapshot, seq: u16, ids: PlanIds) -> MavMessage {
         total: if none { 0 } else { s.mission_total },
         mission_state,
         mission_mode: u8::from(s.mode == FlightMode::Mission),
-        mission_id: ids.mission,
-        fence_id: ids.fence,
-        rally_points_id: ids.rally,
+        ..Default::default()
     })
 }
 
@@ -292,6 +292,13 @@ mod tests {
         assert_eq!(
             r.handle_reached(4),
             MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: 5 })
+        );
+        let s = snapshot(FlightMode::Mission, 2, 5, MissionState::Active);
+        let m = current(&r, &s, ids);
+        assert_eq!(
+            (m.mission_id, m.fence_id, m.rally_points_id),
+            (0, 0, 0),
+            "4.5 names no plan"
         );
         // PX4 reports the commander's numbers.
         assert_eq!(

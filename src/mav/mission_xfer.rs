@@ -133,16 +133,12 @@ pub fn mission_ack(ids: Ids, mission_type: MavMissionType, result: MavMissionRes
     })
 }
 
-/// True when uploads of plan `mission_type` go as ArduCopter runs them (its mission only).
-fn copter(personality: Personality, mission_type: MavMissionType) -> bool {
-    personality == Personality::ArduPilot && mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION
-}
-
 /// The request for item `seq` of plan `mission_type` to `ids`: MISSION_REQUEST_INT as PX4 asks,
-/// MISSION_REQUEST for ArduCopter's mission.
+/// MISSION_REQUEST as ArduCopter asks.
 #[allow(deprecated)] // MISSION_REQUEST: what ArduPilot sends and DroneKit answers
 fn request(personality: Personality, ids: Ids, mission_type: MavMissionType, seq: u16) -> MavMessage {
-    if copter(personality, mission_type) {
+    // ArduCopter's `MissionItemProtocol` asks for mission, fence and rally items alike.
+    if personality == Personality::ArduPilot {
         return MavMessage::MISSION_REQUEST(mavlink::dialects::ardupilotmega::MISSION_REQUEST_DATA {
             seq,
             target_system: ids.0,
@@ -158,9 +154,10 @@ fn request(personality: Personality, ids: Ids, mission_type: MavMissionType, seq
     })
 }
 
-/// How long a request for an item of plan `mission_type` waits before it is sent again [s].
-fn retry_s(personality: Personality, mission_type: MavMissionType) -> f64 {
-    if copter(personality, mission_type) {
+/// How long a request for an item waits before it is sent again [s].
+fn retry_s(personality: Personality) -> f64 {
+    // ArduCopter's `MissionItemProtocol` asks for mission, fence and rally items alike.
+    if personality == Personality::ArduPilot {
         COPTER_RETRY_S
     } else {
         RETRY_S
@@ -345,7 +342,7 @@ impl<P: Copy + PartialEq> MissionTransfer<P> {
             self.state = State::Idle;
             return (Vec::new(), true);
         }
-        if now_s - *requested_at_s < retry_s(personality, *mission_type) {
+        if now_s - *requested_at_s < retry_s(personality) {
             return (Vec::new(), false);
         }
         *requested_at_s = now_s;

@@ -229,13 +229,16 @@ fn arducopter_asks_for_mission_items_with_mission_request_each_second() {
     assert_eq!(copter_requested(&x.on_item(7, &item(1), 1.8).0), Some((2, 255, 190)));
     let (_, done) = x.on_item(7, &item(2), 1.9);
     assert!(matches!(done, Some(Completed::Items(MISSION, ref v)) if v.len() == 3));
-    // A fence upload is asked for as PX4 asks, every 250 ms.
+    // A fence upload is asked for alike (ArduCopter's MissionItemProtocol serves every type).
     x.finish(MavMissionResult::MAV_MISSION_ACCEPTED, 0);
     let fence = MISSION_COUNT_DATA {
         mission_type: MavMissionType::MAV_MISSION_TYPE_FENCE,
         ..count(1)
     };
     let (out, _) = x.on_count(7, GCS, &fence, 2.0);
-    assert!(matches!(out[0].1, MavMessage::MISSION_REQUEST_INT(ref r) if r.seq == 0));
-    assert!(matches!(x.tick(2.3).0[..], [(7, MavMessage::MISSION_REQUEST_INT(_))]));
+    assert!(
+        matches!(out[0].1, MavMessage::MISSION_REQUEST(ref r) if r.seq == 0 && r.mission_type == fence.mission_type)
+    );
+    assert!(x.tick(2.3).0.is_empty(), "a second, not 250 ms");
+    assert!(matches!(x.tick(3.1).0[..], [(7, MavMessage::MISSION_REQUEST(_))]));
 }

@@ -132,7 +132,10 @@ pub fn parse_rally(items: &[MISSION_ITEM_INT_DATA], home: &Home) -> Result<Rally
         }
         points_w.push(p);
     }
-    Ok(RallyPoints { points_w })
+    Ok(RallyPoints {
+        points_w,
+        ..Default::default()
+    })
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@ use mavlink::dialects::ardupilotmega::{
     MavMessage, MavMissionResult, MavMissionType, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA,
 };
 
-use super::ardupilot::copter_mission::{home_item, item_float};
+use super::ardupilot::copter_mission::{current_flag, home_item, item_float};
 use super::crc32::crc32_part;
 use super::identity::Personality;
 use super::mission_xfer::{mission_ack, Ids};
@@ -31,6 +31,9 @@ pub struct PlanStore {
     ids: PlanIds,
     /// Whose face the downloads show (PX4's or ArduCopter's).
     personality: Personality,
+    /// The seq of the navigation item ArduCopter's mission is at (`None` before it started),
+    /// which its downloads' `current` flag compares with.
+    nav_seq: Option<u16>,
 }
 
 /// The ids of the stored plans (0: none stored).
@@ -103,6 +106,12 @@ impl PlanStore {
         self.personality == Personality::ArduPilot && mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION
     }
 
+    /// The mission is at navigation item `nav_seq` as the link numbers it (`None`: not started
+    /// since it was stored), for ArduCopter's `current` flag.
+    pub fn handle_nav_seq(&mut self, nav_seq: Option<u16>) {
+        self.nav_seq = nav_seq;
+    }
+
     /// The items of plan `mission_type` (none for a type not stored).
     pub fn items(&self, mission_type: MavMissionType) -> &[MISSION_ITEM_INT_DATA] {
         match mission_type {
@@ -158,8 +167,8 @@ impl PlanStore {
 
     /// Item `seq` of plan `mission_type` addressed to `ids`, or a MISSION_ACK(INVALID_SEQUENCE)
     /// of that type. PX4 answers with MISSION_ITEM_INT; ArduCopter's mission answers item 0
-    /// with `home` and each item in the form asked for: MISSION_ITEM_INT for a
-    /// MISSION_REQUEST_INT (`int_form`), MISSION_ITEM otherwise.
+    /// with `home`, and ArduCopter answers each item of every plan in the form asked for:
+    /// MISSION_ITEM_INT for a MISSION_REQUEST_INT (`int_form`), MISSION_ITEM otherwise.
     #[allow(deprecated)] // MISSION_ITEM: what DroneKit downloads
     pub fn download_item(
         &self,
@@ -170,6 +179,7 @@ impl PlanStore {
         home: &Home,
     ) -> MavMessage {
         let copter = self.copter(mission_type);
+        let int_form = int_form || self.personality == Personality::Px4;
         let item = match (copter, seq) {
             (true, 0) => Some(home_item(home)),
             _ => self.items(mission_type).get(usize::from(seq)).cloned(),
@@ -181,9 +191,14 @@ impl PlanStore {
             target_system: ids.0,
             target_component: ids.1,
             mission_type,
+            current: if copter {
+                current_flag(item.command, self.nav_seq)
+            } else {
+                item.current
+            },
             ..item
         };
-        if copter && !int_form {
+        if !int_form {
             MavMessage::MISSION_ITEM(item_float(&item))
         } else {
             MavMessage::MISSION_ITEM_INT(item)

@@ -99,6 +99,14 @@ pub fn commander_index(seq: usize) -> usize {
     seq.saturating_sub(1)
 }
 
+/// The `current` flag of a downloaded mission item of `command` while the mission is at
+/// navigation item `nav_seq` (`None` before it started), as ArduCopter sets it: its download
+/// compares the item's command id with that seq (`MissionItemProtocol_Waypoints::get_item`), so
+/// the flag is 1 on every item whose MAV_CMD number is the seq, not on the current item.
+pub fn current_flag(command: MavCmd, nav_seq: Option<u16>) -> u8 {
+    u8::from(nav_seq.is_some_and(|seq| u32::from(seq) == command as u32))
+}
+
 /// The items the commander flies from an upload as ArduCopter numbers it: items 1.. renumbered
 /// from 0, each DO_JUMP's target (p1, an uploaded seq) moved along with them (a jump to the
 /// home slot becomes −1, which the item's check refuses). Item 0 is stored, never flown.
@@ -210,6 +218,15 @@ mod tests {
         assert!(flown_items(&uploaded[..1]).is_empty(), "home only: nothing to fly");
         assert_eq!((link_seq(0), link_seq(4)), (1, 5));
         assert_eq!((commander_index(0), commander_index(1), commander_index(5)), (0, 0, 4));
+    }
+
+    #[test]
+    fn the_current_flag_compares_the_command_id_with_the_current_seq_as_copter_does() {
+        assert_eq!(current_flag(MavCmd::MAV_CMD_NAV_WAYPOINT, Some(1)), 0);
+        assert_eq!(current_flag(MavCmd::MAV_CMD_NAV_WAYPOINT, Some(16)), 1);
+        assert_eq!(current_flag(MavCmd::MAV_CMD_NAV_TAKEOFF, Some(22)), 1);
+        assert_eq!(current_flag(MavCmd::MAV_CMD_NAV_TAKEOFF, Some(16)), 0);
+        assert_eq!(current_flag(MavCmd::MAV_CMD_NAV_WAYPOINT, None), 0);
     }
 
     #[test]

@@ -115,6 +115,8 @@ pub struct ModeShown {
     asked: Option<u8>,
     /// The number shown while the vehicle was last armed.
     armed_shown: Option<u8>,
+    /// The mission's return item is being flown (ArduCopter flies it in AUTO).
+    return_item: bool,
 }
 
 impl ModeShown {
@@ -132,6 +134,11 @@ impl ModeShown {
         if state.armed {
             self.armed_shown = Some(self.shown(state));
         }
+    }
+
+    /// Whether the commander's return is the mission's NAV_RETURN_TO_LAUNCH item.
+    pub fn handle_return_item(&mut self, flying_it: bool) {
+        self.return_item = flying_it;
     }
 
     /// The Copter mode number asked for last, if any.
@@ -164,7 +171,8 @@ impl ModeShown {
     /// The Copter number the HEARTBEAT shows for `state`: [`Self::number`] of its mode, except
     /// that the commander's boot hold shows as STABILIZE (Copter's boot mode, asked for at boot:
     /// never armed, no mode asked for), that a mission flown to its end in AUTO stays AUTO
-    /// (ArduCopter loiters in AUTO there; the commander holds in its hold mode), and that a
+    /// (ArduCopter loiters in AUTO there; the commander holds in its hold mode), that the
+    /// mission's return item shows AUTO (ArduCopter returns in AUTO's RTL submode), and that a
     /// vehicle disarmed after a landing stays in the mode it landed in (RTL, LAND, AUTO …:
     /// ArduCopter keeps the mode; the commander falls back to its hold unless BRAKE was asked
     /// for).
@@ -174,6 +182,9 @@ impl ModeShown {
             return 0;
         }
         if self.asked == Some(3) && hold && state.mission_state == MissionState::Complete {
+            return 3;
+        }
+        if self.asked == Some(3) && self.return_item && state.mode == FlightMode::ReturnToLaunch {
             return 3;
         }
         match self.armed_shown {

@@ -28,7 +28,8 @@
 //!   number, NAV_TAKEOFF in GUIDED, guided targets only in GUIDED), decided before the shared
 //!   [`ingest`](super::ingest::ingest).
 //! - [`copter_mission`]: the mission plan as Copter numbers it (item 0 is home, flown items
-//!   from 1), MISSION_ITEM ↔ MISSION_ITEM_INT, AUTO's take-off rule.
+//!   from 1), MISSION_ITEM ↔ MISSION_ITEM_INT, AUTO's take-off rule, downloads' `current` flag.
+//! - [`copter_plans`]: fence and rally plans as Copter checks and stores them.
 
 pub mod copter_failsafes;
 pub mod copter_ingest;
@@ -38,6 +39,7 @@ pub mod copter_mission;
 pub mod copter_modes;
 pub mod copter_param_face;
 pub mod copter_params;
+pub mod copter_plans;
 pub mod copter_rc;
 pub mod copter_streams;
 pub mod copter_targets;

@@ -9,59 +9,24 @@
 //! and the commander flies items 1.. (docs/ardupilot.md §6); a stored upload is announced with
 //! "Flight plan received" before its MISSION_ACK.
 
-use mavlink::dialects::ardupilotmega::{MavMessage, MavMissionResult, MavMissionType, MISSION_ITEM_INT_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavMissionResult, MavMissionType, MISSION_ITEM_INT_DATA};
 
 use super::boundary::VehicleRequest;
 use super::commands::Pending;
 use super::effects::Effect;
+use super::plan_request::{empty_plan, plan_request, MISSION};
 use super::{LinkKind, CRITICAL, INFO, WARNING};
-use crate::commander::Request;
-use crate::guidance::{Geofence, Home, Mission, RallyPoints};
-use crate::mav::ardupilot::copter_mission::{flown_items, link_seq, PLAN_RECEIVED};
+use crate::commander::MissionState;
+use crate::guidance::Home;
+use crate::mav::ardupilot::copter_mission::{link_seq, PLAN_RECEIVED};
+use crate::mav::ardupilot::copter_plans::{PlanRefusal, FENCE_INVALID, RALLY_RECEIVED};
 use crate::mav::identity::Personality;
 use crate::mav::ingest::MissionStep;
-use crate::mav::mission_items::{parse_mission, ItemError};
 use crate::mav::mission_report::MissionReport;
 use crate::mav::mission_xfer::{Completed, Ids, MissionTransfer, TIMEOUT_TEXT};
-use crate::mav::plan_items::{parse_fence, parse_rally};
 use crate::mav::plan_store::{plan_name, PlanStore, PLAN_TYPES};
 use crate::mav::stream_messages::status_text;
 use crate::telemetry::Snapshot;
-
-/// The commander request that puts plan `mission_type` of `items` in force, or why not (the
-/// refused item by its uploaded seq). ArduCopter's mission flies items 1.. (item 0 is home,
-/// stored but neither flown nor checked).
-fn plan_request(
-    personality: Personality,
-    mission_type: MavMissionType,
-    items: &[MISSION_ITEM_INT_DATA],
-    home: &Home,
-) -> Result<Request, ItemError> {
-    Ok(match mission_type {
-        MavMissionType::MAV_MISSION_TYPE_FENCE => Request::SetGeofence(parse_fence(items, home)?),
-        MavMissionType::MAV_MISSION_TYPE_RALLY => Request::SetRallyPoints(parse_rally(items, home)?),
-        _ if personality == Personality::ArduPilot => {
-            let flown = parse_mission(&flown_items(items), home).map_err(|e| ItemError {
-                seq: link_seq(e.seq),
-                ..e
-            })?;
-            Request::SetMission(flown)
-        }
-        _ => Request::SetMission(parse_mission(items, home)?),
-    })
-}
-
-/// The mission plan's type.
-const MISSION: MavMissionType = MavMissionType::MAV_MISSION_TYPE_MISSION;
-
-/// The commander request that empties plan `mission_type`.
-fn empty_plan(mission_type: MavMissionType) -> Request {
-    match mission_type {
-        MavMissionType::MAV_MISSION_TYPE_FENCE => Request::SetGeofence(Geofence::default()),
-        MavMissionType::MAV_MISSION_TYPE_RALLY => Request::SetRallyPoints(RallyPoints::default()),
-        _ => Request::SetMission(Mission::default()),
-    }
-}
 
 /// The vehicle's plans and the mission protocol of every link.
 #[derive(Debug)]
@@ -99,6 +64,24 @@ impl<A: Copy + PartialEq> PlanService<A> {
     /// The vehicle's latest state (MISSION_CURRENT follows its mission).
     pub fn handle_state(&mut self, snapshot: &Snapshot) {
         self.report.handle_state(snapshot, self.plans.ids());
+        let started = matches!(
+            snapshot.mission_state,
+            MissionState::Active | MissionState::Paused | MissionState::Complete
+        );
+        self.plans
+            .handle_nav_seq(started.then(|| link_seq(snapshot.mission_seq)));
+    }
+
+    /// True when the mission in `snapshot` stopped at a NAV_RETURN_TO_LAUNCH item of the stored
+    /// mission (its return flown; ArduCopter flies it in AUTO).
+    pub fn at_return_item(&self, snapshot: &Snapshot) -> bool {
+        let seq = match self.personality {
+            Personality::Px4 => snapshot.mission_seq,
+            Personality::ArduPilot => link_seq(snapshot.mission_seq),
+        };
+        let item = self.plans.items(MISSION).get(usize::from(seq));
+        snapshot.mission_state == MissionState::Complete
+            && item.is_some_and(|i| i.command == MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH)
     }
 
     /// The commander's mission item `seq` was reached: the MISSION_ITEM_REACHED announcing it.
@@ -147,9 +130,9 @@ impl<A: Copy + PartialEq> PlanService<A> {
         };
         let mut out = on_link(link, sent);
         match completed {
-            Some(Completed::Items(mission_type, items)) => {
-                match plan_request(self.personality, mission_type, &items, home) {
-                    Ok(request) => {
+            Some(Completed::Items(mission_type, uploaded)) => {
+                match plan_request(self.personality, mission_type, uploaded.clone(), home) {
+                    Ok((request, items)) => {
                         let pending = Pending::Mission {
                             link,
                             mission_type,
@@ -160,7 +143,10 @@ impl<A: Copy + PartialEq> PlanService<A> {
                     // ArduCopter stores a mission as sent (it checks items as it flies them): the
                     // plan is kept and ACKed, the commander gets none to fly (AUTO is refused),
                     // never a flight to a point it refused (below home, say).
-                    Err(e) if self.personality == Personality::ArduPilot && mission_type == MISSION => {
+                    Err(PlanRefusal { error: e, .. })
+                        if self.personality == Personality::ArduPilot && mission_type == MISSION =>
+                    {
+                        let items = uploaded;
                         let result = format!("{:?}", e.result);
                         let result = result.trim_start_matches("MAV_MISSION_");
                         let why = format!("Mission stored, not flown: item {} {result}", e.seq);
@@ -175,9 +161,22 @@ impl<A: Copy + PartialEq> PlanService<A> {
                             VehicleRequest::Commander(empty_plan(mission_type)),
                         ));
                     }
-                    Err(e) => {
-                        let why = format!("{} item {} refused: {:?}", plan_name(mission_type), e.seq, e.result);
-                        out.push(Effect::send(link, from, status_text(WARNING, &why)));
+                    Err(PlanRefusal { error: e, text }) => {
+                        let texts = match (self.personality, text) {
+                            (Personality::ArduPilot, Some(why)) => vec![why, FENCE_INVALID.to_string()],
+                            (Personality::ArduPilot, None) => Vec::new(),
+                            (Personality::Px4, _) => {
+                                vec![format!(
+                                    "{} item {} refused: {:?}",
+                                    plan_name(mission_type),
+                                    e.seq,
+                                    e.result
+                                )]
+                            }
+                        };
+                        for why in texts {
+                            out.push(Effect::send(link, from, status_text(WARNING, &why)));
+                        }
                         out.extend(self.finish_upload(link, e.result, 0));
                     }
                 }
@@ -213,10 +212,13 @@ impl<A: Copy + PartialEq> PlanService<A> {
             true => {
                 self.plans.set(mission_type, items);
                 let client = self.transfer(link).and_then(|t| t.client());
-                if let (Personality::ArduPilot, MavMissionType::MAV_MISSION_TYPE_MISSION, Some(to)) =
-                    (self.personality, mission_type, client)
-                {
-                    out.push(Effect::send(link, to, status_text(INFO, PLAN_RECEIVED)));
+                let said = match mission_type {
+                    MavMissionType::MAV_MISSION_TYPE_MISSION => Some(PLAN_RECEIVED),
+                    MavMissionType::MAV_MISSION_TYPE_RALLY => Some(RALLY_RECEIVED),
+                    _ => None,
+                };
+                if let (Personality::ArduPilot, Some(said), Some(to)) = (self.personality, said, client) {
+                    out.push(Effect::send(link, to, status_text(INFO, said)));
                 }
                 (MavMissionResult::MAV_MISSION_ACCEPTED, self.plans.id(mission_type))
             }
@@ -257,9 +259,10 @@ fn on_link<A>(link: LinkKind, sent: Vec<(A, MavMessage)>) -> Vec<Effect<A>> {
 
 #[cfg(test)]
 mod tests {
-    use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MISSION_COUNT_DATA};
+    use mavlink::dialects::ardupilotmega::{MavFrame, MISSION_COUNT_DATA};
 
     use super::*;
+    use crate::commander::Request;
     use crate::mav::link::effects::testing::{sent, texts};
     use crate::mav::mission_xfer::PROTOCOL_TIMEOUT_S;
 

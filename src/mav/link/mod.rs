@@ -30,6 +30,7 @@
 //! - `param_service.rs`: `ParamService`: PARAM_REQUEST_LIST pacing, PARAM_REQUEST_READ,
 //!   PARAM_SET and its echo, changes announced, as PX4 or as ArduCopter speaks them.
 //! - `param_upload.rs`: `Uploads`: an uploaded `@PARAM/param.pck` applied as PARAM_SETs.
+//! - `plan_request.rs`: a complete upload as the commander request putting it in force.
 //! - `mission.rs`: `PlanService`: the mission protocol against the stored plans (mission,
 //!   fence, rally).
 //! - `files.rs`: `Files`: MAVLink FTP per link, burst pacing, component metadata.
@@ -51,6 +52,7 @@ mod logs;
 mod mission;
 mod param_service;
 mod param_upload;
+mod plan_request;
 mod port;
 mod rc_feed;
 
@@ -198,6 +200,7 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
         self.plans.handle_state(&snapshot);
         if self.identity.personality == Personality::ArduPilot {
             self.mode_shown.handle_state(&snapshot);
+            self.mode_shown.handle_return_item(self.plans.at_return_item(&snapshot));
         }
         self.snapshot = snapshot;
     }
