@@ -46,7 +46,7 @@ fn the_gcs_failsafe_is_said_in_copters_words_and_is_critical_until_the_gcs_is_ba
     let mut b = ardupilot();
     let mut after = table();
     after.set("NAV_DLL_ACT", 2.0, 1e-3).unwrap();
-    b.send(Gcs, QGC, param_set("NAV_DLL_ACT", 2.0));
+    b.send(Gcs, QGC, param_set("FS_GCS_ENABLE", 1.0)); // RTL: NAV_DLL_ACT 2
     let token = awaited(&mut b)[0].token.unwrap();
     let table = std::sync::Arc::new(after);
     b.m.handle_reply(b.now, token, VehicleReply::Param { result: Ok(0), table });

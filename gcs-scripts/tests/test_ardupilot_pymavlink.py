@@ -304,16 +304,20 @@ def guided_takeoff(conn, height_m, rate_hz=10):
 @ARDUPILOT
 def test_fence_enable_0_flies_past_the_fence_and_1_returns(autopilot_factory):
     """FENCE_ENABLE 0 (Copter's default): above FENCE_ALT_MAX (6 m, by its Copter name in the
-    `--params` file) without a breach; 1: the breach shows (CRITICAL) and FENCE_ACTION 1 returns
-    (the heartbeat shows RTL)."""
+    `--params` file) without a breach; 1: the breach is said in Copter's words and FENCE_ACTION 1
+    returns (the heartbeat shows RTL)."""
     conn = connect(autopilot_factory(connect=False, params={"FENCE_ALT_MAX": 6}))
     assert param(conn, "FENCE_ALT_MAX").param_value == 6.0
     guided_takeoff(conn, 10)
     time.sleep(1.0)
     hb = recv(conn, "HEARTBEAT", 5)
     assert (hb.custom_mode, hb.system_status) == (4, mavlink.MAV_STATE_ACTIVE), "no fence: still GUIDED"
-    assert param_set(conn, "FENCE_ENABLE", 1).param_value == 1.0
-    assert recv(conn, "HEARTBEAT", 10, lambda m: m.system_status == mavlink.MAV_STATE_CRITICAL)
+    conn.param_set_send("FENCE_ENABLE", 1)
+    # The breach is said at once (Copter acts at once), maybe before the parameter's echo.
+    echo = recv(conn, ["PARAM_VALUE", "STATUSTEXT"], 10, lambda m: "fence" in getattr(m, "text", "")
+                or getattr(m, "param_id", "") == "FENCE_ENABLE")
+    breach = echo if echo.get_type() == "STATUSTEXT" else recv(conn, "STATUSTEXT", 10, lambda m: "fence" in m.text)
+    assert (breach.text, breach.severity) == ("Max Alt fence breached", mavlink.MAV_SEVERITY_NOTICE)
     recv(conn, "HEARTBEAT", 20, lambda m: m.custom_mode == 6)
 
 
@@ -329,6 +333,6 @@ def test_fs_gcs_enable_1_returns_when_the_ground_station_falls_silent(autopilot_
     guided_takeoff(conn, 5)
     ap.vehicle.set_heartbeats(False)  # the package's GCS heartbeat stops: the link falls silent
     ap.vehicle.send_heartbeat()
-    lost = recv(conn, "STATUSTEXT", 20, lambda m: "link lost" in m.text)
-    assert "returning" in lost.text
-    recv(conn, "HEARTBEAT", 20, lambda m: m.custom_mode == 6)
+    lost = recv(conn, "STATUSTEXT", 20, lambda m: "Failsafe" in m.text)
+    assert (lost.text, lost.severity) == ("GCS Failsafe", mavlink.MAV_SEVERITY_WARNING)
+    recv(conn, "HEARTBEAT", 20, lambda m: m.custom_mode == 6 and m.system_status == mavlink.MAV_STATE_CRITICAL)
