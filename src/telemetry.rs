@@ -238,6 +238,9 @@ pub struct Snapshot {
     /// Outside the geofence (`GF_MAX_HOR_DIST` / `GF_MAX_VER_DIST`) as the geofence failsafe
     /// judged at the last check.
     pub geofence_breached: bool,
+    /// The geofence switched on (`RP_GF_ENABLE`, ArduCopter's `FENCE_ENABLE`): SYS_STATUS's
+    /// geofence "enabled" bit.
+    pub geofence_enabled: bool,
     /// The orbit flown in orbit mode: centre, world NED [m], and radius [m], positive clockwise.
     pub orbit: Option<(Vec3, f64)>,
     /// The navigation's health and raw readings.
@@ -277,6 +280,7 @@ impl Snapshot {
             rotor_max_rad_s: 1.0,
             battery: BatterySnapshot::full(3),
             geofence_breached: false,
+            geofence_enabled: true,
             orbit: None,
             nav: NavSnapshot::EXACT,
             truth: None,
@@ -305,6 +309,7 @@ impl Snapshot {
             landed: commander.landed_state(),
             home_w: commander.home_w(),
             geofence_breached: commander.geofence_breached(),
+            geofence_enabled: commander.params.failsafe.geofence_enabled,
             orbit: commander.orbit_status(),
             mission_seq: seq as u16,
             mission_total: total as u16,

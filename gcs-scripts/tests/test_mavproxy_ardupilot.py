@@ -80,6 +80,8 @@ wait $vehicle
                  "Got MISSION_ACK: TYPE_MISSION: ACCEPTED", "AUTO> Mode AUTO", "waypoint 3", "RTL> Mode RTL",
                  "AP: Disarming motors", "DISARMED"]:
         assert said in out, f"{said!r} missing:\n{out}"
+    # FENCE_ENABLE 0 (Copter's default): SYS_STATUS shows the fence present but not enabled.
+    assert "fence present" in out and "fence enabled" not in out, out
     modes, armed, top, last, seqs, texts = shown(tmp_path / "vehicle" / "flight.tlog")
     assert [m for m in modes if m in (GUIDED, AUTO, RTL)] == [GUIDED, AUTO, RTL], modes
     assert modes[-1] == RTL, f"landed and disarmed in RTL: {modes}"

@@ -43,7 +43,8 @@ pub(super) fn battery_status(b: &BatterySnapshot) -> MavMessage {
 /// and the navigation takes its data (the GPS present only while the filter uses its position:
 /// MAVSDK's "global position ok"); the attitude estimate (AHRS); the pre-arm check healthy
 /// while arming would pass (MAVSDK's "armable"); the geofence present, enabled and healthy unless
-/// the vehicle is outside it. A clear geofence health bit reads as a breach (MAVProxy says "fence
+/// the vehicle is outside it, enabled unless switched off (`RP_GF_ENABLE` 0: MAVProxy then says
+/// "fence disabled"). A clear geofence health bit reads as a breach (MAVProxy says "fence
 /// breach" when it sees one), so the bit is cleared on a real breach only.
 pub(super) fn sys_status(s: &Snapshot) -> MavMessage {
     let b = &s.battery;
@@ -80,6 +81,9 @@ pub(super) fn sys_status(s: &Snapshot) -> MavMessage {
         if state.healthy {
             health |= bit;
         }
+    }
+    if !s.geofence_enabled {
+        enabled.remove(MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE);
     }
     MavMessage::SYS_STATUS(SYS_STATUS_DATA {
         onboard_control_sensors_present: present,

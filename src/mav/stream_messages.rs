@@ -437,7 +437,7 @@ mod tests {
     }
 
     #[test]
-    fn geofence_is_healthy_until_breached() {
+    fn geofence_is_healthy_until_breached_and_enabled_unless_switched_off() {
         let fence = MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE;
         let status = |s: &Snapshot| match message(TelemetryStream::SysStatus, s) {
             Some(MavMessage::SYS_STATUS(m)) => m,
@@ -459,6 +459,13 @@ mod tests {
             inside.onboard_control_sensors_health,
             "only the geofence bit changes"
         );
+        let off = status(&Snapshot {
+            geofence_enabled: false,
+            ..snapshot()
+        });
+        assert!(off.onboard_control_sensors_present.contains(fence));
+        assert!(!off.onboard_control_sensors_enabled.contains(fence), "switched off");
+        assert!(off.onboard_control_sensors_health.contains(fence));
     }
 
     #[test]
