@@ -41,13 +41,15 @@ echo "== the README's set-up lines on a fresh clone"
 bash tests/readme-setup.sh
 
 echo "== pytest"
-# Two workers (pytest-xdist): most tests wait on flights in wall time. MAVSDK's and DroneKit's
-# examples run afterwards on their own: they fly several vehicles at once and need the CPU to keep
-# time. (--ignore takes a path: node ids are relative to pytest's rootdir, gcs-scripts/ with its
+# Three workers (pytest-xdist): most tests wait on flights paced in wall time and leave the
+# cores idle; those that keep a core busy are dealt to two groups of their own (`--dist
+# loadgroup`, gcs-scripts/tests/conftest.py), so no more than two of them run at once. MAVSDK's and
+# DroneKit's examples run afterwards on their own: they fly several vehicles at once and need the
+# CPU to keep time. (--ignore takes a path: node ids are relative to pytest's rootdir, gcs-scripts/ with its
 # pyproject.toml.)
 examples="gcs-scripts/tests/test_mavsdk_examples.py gcs-scripts/tests/test_dronekit_examples.py"
 status=0
-for run in "-n 2 gcs-scripts/tests ${examples//gcs-scripts/--ignore=gcs-scripts}" "$examples"; do
+for run in "-n 3 --dist loadgroup gcs-scripts/tests ${examples//gcs-scripts/--ignore=gcs-scripts}" "$examples"; do
     code=0
     # shellcheck disable=SC2086
     "$venv/bin/python" -m pytest -q --durations=15 $run || code=$?
