@@ -393,14 +393,7 @@ fn auto_on_the_ground_needs_a_takeoff_and_stays_auto_at_the_missions_end() {
     b.state.mode = FlightMode::Loiter;
     b.state.mission_state = MissionState::Complete;
     b.at(5.0, 5.0);
-    let out = b.out();
-    let modes: Vec<u32> = named(&out, "HEARTBEAT")
-        .iter()
-        .filter_map(|(_, _, m)| match m {
-            MavMessage::HEARTBEAT(hb) => Some(hb.custom_mode),
-            _ => None,
-        })
-        .collect();
+    let modes = custom_modes(&b.out());
     assert!(!modes.is_empty() && modes.iter().all(|m| *m == 3), "{modes:?}");
 }
 

@@ -239,14 +239,7 @@ fn the_current_flag_names_the_command_id_and_the_return_item_shows_auto() {
     b.state.mode = FlightMode::ReturnToLaunch;
     (b.state.mission_seq, b.state.mission_state) = (16, MissionState::Complete);
     b.at(5.0, 5.0);
-    let out = b.out();
-    let modes: Vec<u32> = named(&out, "HEARTBEAT")
-        .iter()
-        .filter_map(|(_, _, m)| match m {
-            MavMessage::HEARTBEAT(hb) => Some(hb.custom_mode),
-            _ => None,
-        })
-        .collect();
+    let modes = custom_modes(&b.out());
     assert!(!modes.is_empty() && modes.iter().all(|m| *m == 3), "{modes:?}");
     // An RTL asked for shows RTL.
     let rtl = command_long((1, 1), MavCmd::MAV_CMD_DO_SET_MODE, [1.0, 6.0, 0.0, 0.0, 0.0, 0.0, 0.0]);

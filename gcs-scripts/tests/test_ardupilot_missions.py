@@ -8,7 +8,8 @@ import math
 import time
 
 import pytest
-from test_ardupilot_pymavlink import north_of_home, recv, wait_armable
+from test_ardupilot_pymavlink import connect as ardupilot_connection
+from test_ardupilot_pymavlink import guided_takeoff, north_of_home, recv, wait_armable
 
 from rotorpilot_gcs import mavlink
 
@@ -18,9 +19,8 @@ DEG_E7_PER_M = 1e7 / 111_320.0
 
 
 def connect(ap):
-    conn = ap.vehicle.conn
-    hb = conn.wait_heartbeat(timeout=30)
-    conn.target_system, conn.target_component = hb.get_srcSystem(), 0
+    """The pymavlink connection to `ap`, its streams asked for at 10 Hz, ready to arm."""
+    conn = ardupilot_connection(ap)
     conn.mav.request_data_stream_send(conn.target_system, 0, mavlink.MAV_DATA_STREAM_ALL, 10, 1)
     wait_armable(conn)
     return conn
@@ -55,16 +55,6 @@ def metres_from(home, m):
     """(north, east) [m] of GLOBAL_POSITION_INT `m` from `home`."""
     lat, lon = home
     return (m.lat - lat) / DEG_E7_PER_M, (m.lon - lon) / DEG_E7_PER_M * math.cos(math.radians(lat / 1e7))
-
-
-def take_off_in_guided(conn, height_m):
-    wait_armable(conn)
-    conn.set_mode("GUIDED")
-    recv(conn, "HEARTBEAT", 10, lambda m: m.custom_mode == 4)
-    conn.arducopter_arm()
-    conn.motors_armed_wait()
-    conn.mav.command_long_send(conn.target_system, 0, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, height_m)
-    recv(conn, "GLOBAL_POSITION_INT", 60, lambda m: m.relative_alt >= (height_m - 0.5) * 1000)
 
 
 @FAST
@@ -133,7 +123,7 @@ def test_fence_round_trip_a_malformed_polygon_and_rtl_to_the_nearest_rally_point
     point = (mavlink.MAV_CMD_NAV_RALLY_POINT, REL, rally[0], rally[1], 8, 0, 0)
     accepted = upload(conn, mavlink.MAV_MISSION_TYPE_RALLY, [point])
     assert accepted == (mavlink.MAV_MISSION_ACCEPTED, ["Rally points received"])
-    take_off_in_guided(conn, 8)
+    guided_takeoff(conn, 8)
     there = offset(home, 20.0, 0.0)
     conn.mav.mission_item_int_send(conn.target_system, 0, 0, REL, mavlink.MAV_CMD_NAV_WAYPOINT, 2, 0,
                                    0, 0, 0, 0, there[0], there[1], 8)

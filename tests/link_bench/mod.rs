@@ -149,6 +149,16 @@ pub fn named<'a>(out: &'a [(LinkKind, u16, MavMessage)], name: &str) -> Vec<&'a 
     out.iter().filter(|(_, _, m)| m.message_name() == name).collect()
 }
 
+/// The custom modes of the HEARTBEATs in `out`, in order.
+pub fn custom_modes(out: &[(LinkKind, u16, MavMessage)]) -> Vec<u32> {
+    out.iter()
+        .filter_map(|(_, _, m)| match m {
+            MavMessage::HEARTBEAT(hb) => Some(hb.custom_mode),
+            _ => None,
+        })
+        .collect()
+}
+
 pub fn acks(out: &[(LinkKind, u16, MavMessage)]) -> Vec<MavResult> {
     out.iter()
         .filter_map(|(_, _, m)| match m {
