@@ -41,6 +41,11 @@ class MissionError(GcsError):
         super().__init__(message)
 
 
+class ModeError(GcsError, ValueError):
+    """A mode the vehicle's personality has no name for (a PX4 name given to an ArduCopter
+    vehicle, or the reverse): the message names the mode and the personality."""
+
+
 class UsageError(GcsError):
     """A bad command line, option or input file (scripts exit with status 2)."""
 

@@ -1,10 +1,16 @@
-"""Flying: modes, arming, take-off and landing, each confirmed by the autopilot."""
+"""Flying: modes, arming, take-off and landing, each confirmed by the autopilot.
+
+The same calls fly both personalities (`link.personality`), each as its own ground stations fly
+it: on PX4 the commands QGroundControl sends (NAV_TAKEOFF to an AMSL altitude in AUTO.TAKEOFF,
+NAV_LAND, NAV_RETURN_TO_LAUNCH); on ArduCopter what Copter users do (GUIDED, arm, NAV_TAKEOFF to
+a height above home; the LAND and RTL modes). Mode names are the personality's (`modes`).
+"""
 from __future__ import annotations
 
 from ._mav import mavlink
 from .commands import NAN, command
-from .link import Connection, Message
-from .modes import Mode, parse_mode
+from .link import Connection, Message, personality
+from .modes import ARDUPILOT, COPTER_MODES, Mode, vehicle_custom_mode
 from .params import param_get
 from .telemetry import (
     IN_AIR,
@@ -15,6 +21,7 @@ from .telemetry import (
     wait_armed,
     wait_disarmed,
     wait_heartbeat,
+    wait_height,
     wait_landed_state,
     wait_mode,
 )
@@ -24,9 +31,17 @@ FORCE = 21196
 
 
 def set_mode(conn: Connection, mode: Mode | int, sub: int | None = None, timeout: float | None = None) -> Message:
-    """DO_SET_MODE to `mode` (``"OFFBOARD"``, (main, sub), or main mode and `sub` as ints) with the
-    custom-mode flag; returns the HEARTBEAT that shows it."""
-    main, sub_mode = (mode, sub or 0) if isinstance(mode, int) else parse_mode(mode)
+    """DO_SET_MODE to `mode` with the custom-mode flag; returns the HEARTBEAT that shows it. PX4:
+    ``"OFFBOARD"``, (main, sub), or main mode and `sub` as ints; ArduCopter: a Copter name
+    (``"GUIDED"``) or number. `ModeError` (naming the mode and the personality) for a name of the
+    other personality: no name is mapped."""
+    face = personality(conn)
+    value = vehicle_custom_mode(face, mode, sub)
+    if face == ARDUPILOT:
+        command(conn, mavlink.MAV_CMD_DO_SET_MODE, mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, value, 0,
+                timeout=timeout)
+        return wait_mode(conn, value, timeout)
+    main, sub_mode = (value >> 16) & 0xFF, (value >> 24) & 0xFF
     command(conn, mavlink.MAV_CMD_DO_SET_MODE, mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, main, sub_mode,
             timeout=timeout)
     return wait_mode(conn, (main, sub_mode), timeout)
@@ -50,12 +65,17 @@ def disarm(conn: Connection, timeout: float | None = None, *, force: bool = Fals
 
 def takeoff(conn: Connection, height: float | None = None, timeout: float | None = None,
             climb_timeout: float | None = None) -> float:
-    """Once the vehicle is ready to arm (`wait_armable`), NAV_TAKEOFF to `height` [m] above home
-    (None: the autopilot's MIS_TAKEOFF_ALT), arm if
-    disarmed, and wait until the take-off is complete (landed state IN_AIR, within
-    `climb_timeout` [s], default 15 s + 2 s per metre). p7 is AMSL: home altitude + height.
-    Returns the height."""
+    """Once the vehicle is ready to arm (`wait_armable`), take off to `height` [m] above home
+    (None: the autopilot's MIS_TAKEOFF_ALT) and wait until the take-off is complete (within
+    `climb_timeout` [s], default 15 s + 2 s per metre). Returns the height.
+
+    PX4: NAV_TAKEOFF (p7 AMSL: home altitude + height), arm if disarmed, wait for the landed state
+    IN_AIR. ArduCopter (Copter's user take-off): GUIDED, arm if disarmed, NAV_TAKEOFF with p7 the
+    height above home, wait until GLOBAL_POSITION_INT is near the height (`wait_height`); the
+    vehicle then holds there in GUIDED."""
     wait_armable(conn, max(READY_TIMEOUT_S, timeout or 0.0))
+    if personality(conn) == ARDUPILOT:
+        return _copter_takeoff(conn, height, timeout, climb_timeout)
     if height is None:
         p7 = NAN
         height = float(param_get(conn, "MIS_TAKEOFF_ALT", timeout))
@@ -70,12 +90,35 @@ def takeoff(conn: Connection, height: float | None = None, timeout: float | None
     return height
 
 
+def _copter_takeoff(conn: Connection, height: float | None, timeout: float | None,
+                    climb_timeout: float | None) -> float:
+    """ArduCopter's user take-off: GUIDED, arm, NAV_TAKEOFF p7 = height above home, then the
+    height reached (armed without a take-off, Copter disarms after DISARM_DELAY: the take-off
+    follows the arming at once)."""
+    if height is None:
+        height = float(param_get(conn, "MIS_TAKEOFF_ALT", timeout))
+    hb = wait_heartbeat(conn, None, timeout)
+    if hb.custom_mode != COPTER_MODES["GUIDED"]:
+        hb = set_mode(conn, "GUIDED", timeout=timeout)
+    if not is_armed(hb):
+        arm(conn, timeout=timeout)
+    command(conn, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, float(height), timeout=timeout)
+    wait_height(conn, float(height), climb_timeout if climb_timeout is not None else 15.0 + 2.0 * float(height))
+    return float(height)
+
+
 def land(conn: Connection, timeout: float | None = None) -> Message:
-    """NAV_LAND where the vehicle is (ACCEPTED); then `wait_on_ground` / `wait_disarmed`."""
+    """Lands where the vehicle is; then `wait_on_ground` / `wait_disarmed`. PX4: NAV_LAND, its
+    COMMAND_ACK (ACCEPTED); ArduCopter: the LAND mode, the HEARTBEAT that shows it."""
+    if personality(conn) == ARDUPILOT:
+        return set_mode(conn, "LAND", timeout=timeout)
     return command(conn, mavlink.MAV_CMD_NAV_LAND, timeout=timeout)
 
 
 def return_to_launch(conn: Connection, timeout: float | None = None) -> Message:
-    """NAV_RETURN_TO_LAUNCH (ACCEPTED)."""
+    """Returns home and lands. PX4: NAV_RETURN_TO_LAUNCH, its COMMAND_ACK (ACCEPTED);
+    ArduCopter: the RTL mode, the HEARTBEAT that shows it."""
+    if personality(conn) == ARDUPILOT:
+        return set_mode(conn, "RTL", timeout=timeout)
     return command(conn, mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, timeout=timeout)
 

@@ -31,7 +31,7 @@ from typing import Any, Callable, Iterable, TextIO, Union
 
 from ._mav import mavlink, mavutil
 from .errors import GcsError, LinkTimeout
-from .modes import mode_name
+from .modes import ARDUPILOT, PERSONALITY_NAMES, personality_of, vehicle_mode_name
 from .names import enum_name
 
 #: A pymavlink connection (``mavutil.mavfile``; pymavlink has no type hints).
@@ -61,6 +61,12 @@ TEXTS_MAX = 20
 GCS_SYSTEM, GCS_COMPONENT = 255, 190
 #: How often the keeper thread sends what is due [s] (the 20 Hz setpoint stream needs 50 ms).
 KEEPER_PERIOD_S = 0.01
+#: The rate [Hz] of every stream group an ArduCopter vehicle is asked for on connect
+#: (REQUEST_DATA_STREAM ALL; MAVProxy's default rate): Copter streams nothing but its HEARTBEAT
+#: until asked. Rates count the vehicle's (simulated) time.
+STREAM_RATE_HZ = 4
+#: Messages of Copter's stream groups that tell the streams started.
+STREAMED = frozenset({"SYS_STATUS", "GPS_RAW_INT", "GLOBAL_POSITION_INT", "ATTITUDE", "VFR_HUD", "EKF_STATUS_REPORT"})
 
 
 @dataclasses.dataclass
@@ -95,6 +101,14 @@ class LinkState:
     param_types: dict[str, int] = dataclasses.field(default_factory=dict)
     #: Whether `recv` prints each STATUSTEXT.
     print_texts: bool = True
+    #: The autopilot's HEARTBEAT.autopilot (MAV_AUTOPILOT; 3 ArduPilot, 12 PX4) once heard, else
+    #: None: the vehicle's personality (`personality`).
+    autopilot: int | None = None
+    #: The rate [Hz] an ArduCopter vehicle's streams are asked for once it is known to be one
+    #: (`request_streams`; None: never asked by the helpers).
+    stream_rate_hz: int | None = STREAM_RATE_HZ
+    #: Whether the helpers asked for the streams (an ArduCopter vehicle).
+    streams_requested: bool = False
     #: Held while the periodic sends change or go out (the keeper thread and the caller's).
     lock: threading.RLock = dataclasses.field(default_factory=threading.RLock, repr=False, compare=False)
 
@@ -271,6 +285,8 @@ def recv(conn: Connection, timeout: float) -> Message | None:
         state.latest[kind] = (now, m)
         if kind == "PARAM_VALUE":
             state.param_types[m.param_id] = m.param_type
+        elif kind == "HEARTBEAT" and _is_autopilot(m) and m.get_srcSystem() == conn.target_system:
+            state.autopilot = m.autopilot
         elif kind == "STATUSTEXT":
             state.texts.append((now, m.text))
             if state.print_texts:
@@ -339,13 +355,73 @@ def latest(conn: Connection, kind: str, since: float | None = None) -> Message |
     return got[1]
 
 
+def _is_autopilot(m: Message) -> bool:
+    """Whether a HEARTBEAT is an autopilot's (component 1, not a GCS)."""
+    return bool(m.get_srcComponent() == mavlink.MAV_COMP_ID_AUTOPILOT1 and m.type != mavlink.MAV_TYPE_GCS)
+
+
+def personality(conn: Connection, timeout: float | None = None) -> str:
+    """The vehicle's personality, ``"px4"`` or ``"ardupilot"`` (`modes.PX4`, `modes.ARDUPILOT`),
+    from its HEARTBEAT's autopilot field (waited for, up to `timeout` [s], if none was heard).
+    The first time an ArduCopter vehicle is known, its streams are asked for (`request_streams`
+    at the link's `stream_rate_hz`): Copter sends nothing but its HEARTBEAT until asked."""
+    state = link_state(conn)
+    if state.autopilot is None:
+        timeout = state.timeout if timeout is None else timeout
+        deadline = time.monotonic() + timeout
+        while state.autopilot is None:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                raise LinkTimeout(f"timed out after {timeout:g} s waiting for the autopilot's heartbeat")
+            m = recv(conn, remaining)
+            if m is not None:
+                keep(conn, m)
+    kind = personality_of(state.autopilot)
+    if kind == ARDUPILOT and not state.streams_requested and state.stream_rate_hz:
+        request_streams(conn, state.stream_rate_hz, timeout)
+    return kind
+
+
+def request_streams(conn: Connection, rate_hz: int = STREAM_RATE_HZ, timeout: float | None = None) -> None:
+    """REQUEST_DATA_STREAM ALL at `rate_hz` [Hz] (0 stops them), as MAVProxy and DroneKit ask an
+    ArduPilot vehicle: every stream group but PARAMS at that rate on this link. Sent again every
+    `RESEND_S` until a streamed message comes (there is no answer; UDP may lose the request)."""
+    state = link_state(conn)
+    state.streams_requested = True
+    timeout = state.timeout if timeout is None else timeout
+    deadline = time.monotonic() + timeout
+
+    def send() -> None:
+        conn.mav.request_data_stream_send(conn.target_system, conn.target_component, mavlink.MAV_DATA_STREAM_ALL,
+                                          int(rate_hz), 1 if rate_hz else 0)
+
+    send()
+    if not rate_hz:
+        return
+    resend = time.monotonic() + RESEND_S
+    while (remaining := deadline - time.monotonic()) > 0:
+        m = recv(conn, min(remaining, max(0.0, resend - time.monotonic())))
+        if m is not None:
+            if m.get_type() in STREAMED:
+                return
+            keep(conn, m)
+        if time.monotonic() >= resend:
+            send()
+            resend = time.monotonic() + RESEND_S
+    raise LinkTimeout(f"timed out after {timeout:g} s waiting for the streams asked for (REQUEST_DATA_STREAM)")
+
+
 def connect(connection: str | Connection = DEFAULT_CONNECTION, timeout: float = DEFAULT_TIMEOUT, *,
             target_system: int | None = None, source_system: int = GCS_SYSTEM,
-            source_component: int = GCS_COMPONENT, quiet: bool = False) -> Connection:
+            source_component: int = GCS_COMPONENT, quiet: bool = False,
+            stream_rate_hz: int | None = STREAM_RATE_HZ) -> Connection:
     """Opens `connection` (a pymavlink connection string, or an open pymavlink connection) as a
     GCS and waits for an autopilot's heartbeat (component 1, not a GCS; of `target_system` if
     given). Returns the connection with target_system/target_component set to that autopilot;
-    prints ``connected to system 1 (QUADROTOR) in AUTO.LOITER, disarmed`` unless `quiet`.
+    prints ``connected to system 1 (QUADROTOR) in AUTO.LOITER, disarmed`` (``(QUADROTOR,
+    ArduCopter) in STABILIZE`` for an ArduCopter vehicle) unless `quiet`.
+    The heartbeat tells the personality (`personality`): an ArduCopter vehicle is asked for its
+    streams at `stream_rate_hz` [Hz] (`request_streams`; None: not asked).
     `GcsError` when the string cannot be opened, `LinkTimeout` without a heartbeat."""
     if isinstance(connection, str):
         try:
@@ -368,16 +444,19 @@ def connect(connection: str | Connection = DEFAULT_CONNECTION, timeout: float = 
                 conn.close()
             raise LinkTimeout(f"no autopilot heartbeat on {name} within {timeout:g} s")
         m = recv(conn, remaining)
-        if (m is not None and m.get_type() == "HEARTBEAT"
-                and m.get_srcComponent() == mavlink.MAV_COMP_ID_AUTOPILOT1 and m.type != mavlink.MAV_TYPE_GCS):
+        if m is not None and m.get_type() == "HEARTBEAT" and _is_autopilot(m):
             break
     conn.target_system = m.get_srcSystem()
     conn.target_component = m.get_srcComponent()
+    state.autopilot = m.autopilot
+    state.stream_rate_hz = stream_rate_hz
     if "heartbeat" in state.periodic:
         send_heartbeat(conn)
+    face = personality(conn, timeout)
     if not quiet:
         kind = enum_name("MAV_TYPE", m.type).replace("MAV_TYPE_", "")
         armed = "armed" if m.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED else "disarmed"
-        print(f"connected to system {conn.target_system} ({kind}) in {mode_name(m.custom_mode)}, {armed}",
-              flush=True)
+        face_name = "" if face != ARDUPILOT else f", {PERSONALITY_NAMES[face]}"
+        print(f"connected to system {conn.target_system} ({kind}{face_name}) in "
+              f"{vehicle_mode_name(face, m.custom_mode)}, {armed}", flush=True)
     return conn

@@ -4,19 +4,28 @@ points: MAV_MISSION_TYPE 0, 1, 2) as MISSION_ITEM_INT, as QGroundControl's plan 
 Every request the autopilot leaves unanswered is sent again every `RESEND_S` (the count, the
 last item, a request for an item): the autopilot asks again for a lost item itself, but nothing
 recovers a lost count or a lost last item otherwise.
+
+The caller's list of mission items means the same items on both personalities. ArduCopter keeps
+its home as item 0 of the mission (docs/ardupilot.md §6): to an ArduCopter vehicle the mission is
+uploaded with home (`home_item`) inserted as item 0, and downloaded with item 0 stripped; a
+DO_JUMP's target (param1, the caller's index from 0) is moved up by one on the way there and
+down on the way back, and `wait_item_reached` takes the caller's index. Geofence and rally
+plans have no home slot.
 """
 from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Iterable
 
 from ._mav import mavlink
 from .errors import LinkTimeout, MissionError
-from .link import RESEND_S, Connection, Message, keep, link_state, recent_text, recv
+from .link import RESEND_S, Connection, Message, keep, link_state, personality, recent_text, recv, wait
+from .modes import ARDUPILOT
 from .names import enum_name
 from .params import as_float32
+from .telemetry import home_position
 
 #: MAV_MISSION_TYPE: the mission, the geofence, the rally points, and all of them (clear only).
 MISSION, FENCE, RALLY, ALL = 0, 1, 2, 255
@@ -78,6 +87,33 @@ def nav_return_to_launch() -> MissionItem:
     return MissionItem(mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, description="return to launch")
 
 
+def home_item(lat_deg: float, lon_deg: float, alt_amsl_m: float) -> MissionItem:
+    """ArduCopter's item 0, home: NAV_WAYPOINT in MAV_FRAME_GLOBAL at the AMSL altitude [m], as
+    the vehicle reports it (stored as sent, never flown)."""
+    return MissionItem(mavlink.MAV_CMD_NAV_WAYPOINT, round(lat_deg * 1e7), round(lon_deg * 1e7), alt_amsl_m,
+                       mavlink.MAV_FRAME_GLOBAL, description="home (ArduCopter's item 0)")
+
+
+def _jumps_moved(items: list[MissionItem], by: int) -> list[MissionItem]:
+    """`items` with each DO_JUMP's target item (param1) moved by `by`."""
+    return [replace(it, param1=it.param1 + by) if it.command == mavlink.MAV_CMD_DO_JUMP else it
+            for it in items]
+
+
+def home_slot(conn: Connection, mission_type: int = MISSION) -> int:
+    """How many items the vehicle keeps before the caller's items of plan `mission_type`: 1 for an
+    ArduCopter vehicle's mission (home), else 0. The vehicle's mission seqs (MISSION_CURRENT,
+    MISSION_ITEM_REACHED) are the caller's indices + this."""
+    return 1 if mission_type == MISSION and personality(conn) == ARDUPILOT else 0
+
+
+def wait_item_reached(conn: Connection, index: int, timeout: float | None = None) -> Message:
+    """The MISSION_ITEM_REACHED of the caller's mission item `index` (from 0, as uploaded; on
+    ArduCopter its seq counts the home slot)."""
+    seq = index + home_slot(conn)
+    return wait(conn, "MISSION_ITEM_REACHED", lambda m: m.seq == seq, timeout, f"mission item {index} reached")
+
+
 def item_from_message(m: Message) -> MissionItem:
     """The MissionItem a MISSION_ITEM_INT carries."""
     return MissionItem(m.command, m.x, m.y, m.z, m.frame, m.param1, m.param2, m.param3, m.param4, m.autocontinue)
@@ -112,9 +148,13 @@ def upload_mission(conn: Connection, items: Iterable[MissionItem], mission_type:
                    timeout: float | None = None) -> Message:
     """Uploads `items` as plan `mission_type` (MISSION_COUNT, then one MISSION_ITEM_INT per
     request); returns the MISSION_ACK. `MissionError` (its `result` the MAV_MISSION_RESULT, with
-    the autopilot's STATUSTEXT) unless ACCEPTED; a refused upload leaves the stored plan as it was."""
+    the autopilot's STATUSTEXT) unless ACCEPTED; a refused upload leaves the stored plan as it was.
+    To an ArduCopter vehicle a non-empty mission goes with home inserted as item 0 (module
+    description); an empty one is a count of 0."""
     items = list(items)
     timeout = link_state(conn).timeout if timeout is None else timeout
+    if items and home_slot(conn, mission_type):
+        items = [home_item(*home_position(conn, timeout))] + _jumps_moved(items, 1)
     start = time.monotonic()
 
     def send_count() -> None:
@@ -147,8 +187,10 @@ def upload_mission(conn: Connection, items: Iterable[MissionItem], mission_type:
 
 def download_mission(conn: Connection, mission_type: int = MISSION, timeout: float | None = None) -> list[MissionItem]:
     """The stored plan `mission_type`, as QGroundControl downloads it (MISSION_REQUEST_LIST,
-    MISSION_REQUEST_INT for each item, MISSION_ACK at the end)."""
+    MISSION_REQUEST_INT for each item, MISSION_ACK at the end); from an ArduCopter vehicle, the
+    mission without its item 0, home (module description)."""
     timeout = link_state(conn).timeout if timeout is None else timeout
+    skip = home_slot(conn, mission_type)
     target = (conn.target_system, conn.target_component)
     count = _exchange(conn, lambda: conn.mav.mission_request_list_send(*target, mission_type),
                       lambda m: m.get_type() == "MISSION_COUNT" and m.mission_type == mission_type, timeout,
@@ -163,7 +205,7 @@ def download_mission(conn: Connection, mission_type: int = MISSION, timeout: flo
 
         items.append(item_from_message(_exchange(conn, request, answer, timeout, f"MISSION_ITEM_INT {seq}")))
     conn.mav.mission_ack_send(*target, mavlink.MAV_MISSION_ACCEPTED, mission_type)
-    return items
+    return _jumps_moved(items[skip:], -skip) if skip else items
 
 
 def clear_mission(conn: Connection, mission_type: int = MISSION, timeout: float | None = None) -> Message:

@@ -1,9 +1,11 @@
 """Parameters (PARAM_REQUEST_READ / PARAM_SET and the PARAM_VALUE echo).
 
-Integer parameters travel byte-wise: the INT32's four bytes in PARAM_SET's and PARAM_VALUE's
-float field (PX4's convention), so `param_set` and `param_get` convert with `int32_bits` and
-`float_bits_to_int`. A value the autopilot refuses is echoed unchanged (`ParamError` then names
-the value kept and the autopilot's STATUSTEXT); an unknown name gets a STATUSTEXT naming it.
+Integer parameters travel byte-wise on PX4: the INT32's four bytes in PARAM_SET's and
+PARAM_VALUE's float field (PX4's convention), so `param_set` and `param_get` convert with
+`int32_bits` and `float_bits_to_int`; on ArduCopter (`link.personality`) they travel cast, the
+number as a float (PARAM_ENCODE_C_CAST), with the type the vehicle declares (INT8, INT16 …).
+A value the autopilot refuses is echoed unchanged (`ParamError` then names the value kept and
+the autopilot's STATUSTEXT); an unknown name gets a STATUSTEXT naming it.
 """
 from __future__ import annotations
 
@@ -13,7 +15,8 @@ from typing import Callable
 
 from ._mav import mavlink
 from .errors import LinkTimeout, ParamError
-from .link import RESEND_S, Connection, Message, keep, link_state, recent_text, recv, wait
+from .link import RESEND_S, Connection, Message, keep, link_state, personality, recent_text, recv, wait
+from .modes import ARDUPILOT
 
 #: The integer MAV_PARAM_TYPEs (sent byte-wise in the float field).
 INTEGER_TYPES = frozenset({mavlink.MAV_PARAM_TYPE_UINT8, mavlink.MAV_PARAM_TYPE_INT8, mavlink.MAV_PARAM_TYPE_UINT16,
@@ -35,11 +38,17 @@ def as_float32(value: float) -> float:
     return float(struct.unpack("<f", struct.pack("<f", value))[0])
 
 
-def param_value(m: Message) -> float | int:
-    """The value of a PARAM_VALUE: an int for the integer types, else the float."""
+def param_value(m: Message, cast: bool = False) -> float | int:
+    """The value of a PARAM_VALUE: an int for the integer types (its bytes, or with `cast` the
+    number, ArduPilot's encoding), else the float."""
     if m.param_type in INTEGER_TYPES:
-        return float_bits_to_int(m.param_value)
+        return int(m.param_value) if cast else float_bits_to_int(m.param_value)
     return float(m.param_value)
+
+
+def _cast(conn: Connection) -> bool:
+    """Whether the vehicle casts integer parameters to float (ArduPilot) rather than sending their bytes."""
+    return personality(conn) == ARDUPILOT
 
 
 def _param_reply(conn: Connection, name: str, start: float, timeout: float, send: Callable[[], None]) -> Message:
@@ -78,7 +87,7 @@ def _read(conn: Connection, name: str, timeout: float | None) -> Message:
 
 def param_get(conn: Connection, name: str, timeout: float | None = None) -> float | int:
     """The value of parameter `name` (an int for integer types); `ParamError` if unknown."""
-    return param_value(_read(conn, name, timeout))
+    return param_value(_read(conn, name, timeout), _cast(conn))
 
 
 def param_set(conn: Connection, name: str, value: float, int32: bool | None = None,
@@ -88,16 +97,20 @@ def param_set(conn: Connection, name: str, value: float, int32: bool | None = No
     read first unless a PARAM_VALUE already told it). `ParamError` when the autopilot keeps
     another value (a refusal, with its reason) or does not know the name."""
     timeout = link_state(conn).timeout if timeout is None else timeout
+    cast = _cast(conn)
+    declared = link_state(conn).param_types.get(name)
+    if declared is None and (int32 is None or (int32 and cast)):
+        declared = _read(conn, name, timeout).param_type
     if int32 is None:
-        ptype = link_state(conn).param_types.get(name)
-        if ptype is None:
-            ptype = _read(conn, name, timeout).param_type
-        int32 = ptype in INTEGER_TYPES
+        int32 = declared in INTEGER_TYPES
     if int32:
         if int(value) != value:
             raise ParamError(f"{name}: {value} is not an integer")
         wanted: float | int = int(value)
-        raw, ptype = int32_bits(int(value)), mavlink.MAV_PARAM_TYPE_INT32
+        if cast:
+            raw, ptype = float(wanted), declared if declared in INTEGER_TYPES else mavlink.MAV_PARAM_TYPE_INT32
+        else:
+            raw, ptype = int32_bits(int(value)), mavlink.MAV_PARAM_TYPE_INT32
     else:
         wanted = raw = as_float32(float(value))
         ptype = mavlink.MAV_PARAM_TYPE_REAL32
@@ -106,7 +119,7 @@ def param_set(conn: Connection, name: str, value: float, int32: bool | None = No
     def send() -> None:
         conn.mav.param_set_send(conn.target_system, conn.target_component, name.encode(), raw, ptype)
 
-    got = param_value(_param_reply(conn, name, start, timeout, send))
+    got = param_value(_param_reply(conn, name, start, timeout, send), cast)
     if got != wanted:
         reason = recent_text(conn, start, name)
         if reason is None:
@@ -129,6 +142,7 @@ def param_list(conn: Connection, timeout: float | None = None) -> dict[str, floa
     `LIST_GAP_S` of silence PARAM_REQUEST_READ by index for each one still missing (a lossy link
     loses some), until all `param_count` arrived. `ParamError` after `timeout` [s] without any."""
     timeout = link_state(conn).timeout if timeout is None else timeout
+    cast = _cast(conn)
     values: dict[int, tuple[str, float | int]] = {}
     count: int | None = None
     conn.mav.param_request_list_send(conn.target_system, conn.target_component)
@@ -140,7 +154,7 @@ def param_list(conn: Connection, timeout: float | None = None) -> dict[str, floa
         m = recv(conn, 0.1)
         if m is not None and m.get_type() == "PARAM_VALUE" and m.param_index != 65535:
             count = m.param_count
-            values[m.param_index] = (m.param_id, param_value(m))
+            values[m.param_index] = (m.param_id, param_value(m, cast))
             heard = time.monotonic()
             continue
         if m is not None:

@@ -137,11 +137,36 @@ class Autopilot:
         self.argv = argv
         self._vehicle = vehicle
         self._sinks = sinks
+        #: The swarm's vehicles connected on their own GCS links (`vehicle_at`), by index.
+        self._fleet: dict[int, Vehicle] = {}
 
     @property
     def vehicle(self) -> Vehicle:
         """The (first) vehicle over the GCS connection this process sends its telemetry to."""
         return self._vehicle
+
+    def vehicle_at(self, index: int, timeout: float | None = None) -> Vehicle:
+        """Vehicle `index` of the process (0, 1 … in the order of `vehicles`), connected as
+        `Vehicle.connect` connects (its personality's streams asked for). With one vehicle, index 0
+        is `vehicle`. In a swarm (``count`` > 1) each vehicle gets a GCS connection of its own to
+        its bind port (``udpout:gcs_bind``), made on first use and closed by `stop`: the socket
+        every vehicle sends its telemetry to answers whichever vehicle spoke last, so it cannot
+        command one of several."""
+        entries = self.vehicles
+        if len(entries) <= 1 and index == 0:
+            return self._vehicle
+        if index not in self._fleet:
+            entry = entries[index]
+            wait = self._vehicle.state.timeout if timeout is None else timeout
+            vehicle = Vehicle.connect(f"udpout:{entry['gcs_bind']}", wait, target_system=int(entry["sysid"]),
+                                      quiet=True)
+            vehicle.state.timeout = self._vehicle.state.timeout
+            self._fleet[index] = vehicle
+        return self._fleet[index]
+
+    def fleet(self, timeout: float | None = None) -> list[Vehicle]:
+        """Every vehicle of the process (`vehicle_at` of each), in order."""
+        return [self.vehicle_at(i, timeout) for i in range(len(self.vehicles))]
 
     @classmethod
     def start(cls, binary: str | os.PathLike[str] | None = None, *, airframe: str | os.PathLike[str] | None = None,
@@ -348,6 +373,9 @@ class Autopilot:
             self.proc.kill()
             code = self.proc.wait()
         self._vehicle.close()
+        for vehicle in self._fleet.values():
+            vehicle.close()
+        self._fleet = {}
         for s in self._sinks:
             s.close()
         self._sinks = []

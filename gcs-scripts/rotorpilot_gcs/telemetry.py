@@ -1,12 +1,18 @@
-"""Waiting on the autopilot's telemetry: heartbeat (armed, mode), landed state, positions."""
+"""Waiting on the autopilot's telemetry: heartbeat (armed, mode), landed state, positions.
+
+Each wait reads the telemetry the vehicle's personality sends (`link.personality`): PX4's
+SYS_STATUS pre-arm bit and EXTENDED_SYS_STATE; ArduCopter's SYS_STATUS pre-arm bit (else its
+EKF_STATUS_REPORT and GPS fix, as DroneKit's ``is_armable``) and its HEARTBEAT's system status
+for the landed state (STANDBY on the ground, ACTIVE in the air), its modes by Copter's names."""
 from __future__ import annotations
 
 from typing import Any, Callable
 
 from ._mav import mavlink
 from .commands import request_message
-from .link import Connection, Message, wait
-from .modes import Mode, custom_mode, mode_name
+from .errors import GcsError
+from .link import Connection, Message, personality, wait
+from .modes import ARDUPILOT, Mode, vehicle_custom_mode, vehicle_mode_name
 from .names import enum_name
 
 #: MAV_LANDED_STATE values (EXTENDED_SYS_STATE.landed_state).
@@ -38,11 +44,43 @@ def is_armable(sys_status: Message) -> bool:
                 and sys_status.onboard_control_sensors_health & bit)
 
 
+#: EKF_STATUS_REPORT.flags bit of a predicted absolute horizontal position (EKF_PRED_POS_HORIZ_ABS),
+#: which DroneKit's ``is_armable`` reads.
+EKF_PRED_POS_HORIZ_ABS = 512
+
+
+class _CopterReadiness:
+    """ArduCopter's readiness from its streams: the SYS_STATUS pre-arm bit when the vehicle
+    reports it; else, as DroneKit judges it, EKF_STATUS_REPORT's predicted absolute horizontal
+    position and a GPS fix (GPS_RAW_INT fix_type > 1)."""
+
+    def __init__(self) -> None:
+        self.prearm_reported = False
+        self.ekf_ok = self.gps_ok = False
+
+    def __call__(self, m: Message) -> bool:
+        kind = m.get_type()
+        if kind == "SYS_STATUS":
+            if m.onboard_control_sensors_present & mavlink.MAV_SYS_STATUS_PREARM_CHECK:
+                self.prearm_reported = True
+                return is_armable(m)
+        elif kind == "EKF_STATUS_REPORT":
+            self.ekf_ok = bool(m.flags & EKF_PRED_POS_HORIZ_ABS)
+        elif kind == "GPS_RAW_INT":
+            self.gps_ok = m.fix_type > 1
+        return not self.prearm_reported and self.ekf_ok and self.gps_ok
+
+
 def wait_armable(conn: Connection, timeout: float | None = None) -> Message:
-    """The first SYS_STATUS saying the vehicle is ready to arm: its navigation estimate is
-    aligned and has a position (PX4's pre-arm checks; QGroundControl shows "Ready To Fly")."""
-    return wait(conn, "SYS_STATUS", is_armable, READY_TIMEOUT_S if timeout is None else timeout,
-                "ready to arm (SYS_STATUS pre-arm check)")
+    """The first message saying the vehicle is ready to arm: its navigation estimate is aligned
+    and has a position. PX4: SYS_STATUS's pre-arm check (QGroundControl shows "Ready To Fly");
+    ArduCopter: the same bit when reported, else EKF_STATUS_REPORT and GPS_RAW_INT (DroneKit's
+    ``is_armable``)."""
+    timeout = READY_TIMEOUT_S if timeout is None else timeout
+    if personality(conn) == ARDUPILOT:
+        return wait(conn, ("SYS_STATUS", "EKF_STATUS_REPORT", "GPS_RAW_INT"), _CopterReadiness(), timeout,
+                    "ready to arm (SYS_STATUS pre-arm check, or EKF_STATUS_REPORT and a GPS fix)")
+    return wait(conn, "SYS_STATUS", is_armable, timeout, "ready to arm (SYS_STATUS pre-arm check)")
 
 
 def wait_armed(conn: Connection, timeout: float | None = None) -> Message:
@@ -55,15 +93,39 @@ def wait_disarmed(conn: Connection, timeout: float | None = None) -> Message:
     return wait_heartbeat(conn, lambda m: not is_armed(m), timeout, "a disarmed heartbeat")
 
 
-def wait_mode(conn: Connection, mode: Mode, timeout: float | None = None) -> Message:
-    """The first HEARTBEAT showing `mode` (``"AUTO.RTL"`` or (main, sub))."""
-    wanted = custom_mode(mode)
-    return wait_heartbeat(conn, lambda m: m.custom_mode == wanted, timeout, f"heartbeat in {mode_name(wanted)}")
+def wait_mode(conn: Connection, mode: Mode | int, timeout: float | None = None) -> Message:
+    """The first HEARTBEAT showing `mode`: on PX4 ``"AUTO.RTL"`` or (main, sub); on ArduCopter
+    ``"RTL"`` or its number (`modes.vehicle_custom_mode`; `ModeError` for the other's names)."""
+    face = personality(conn)
+    wanted = vehicle_custom_mode(face, mode)
+    return wait_heartbeat(conn, lambda m: m.custom_mode == wanted, timeout,
+                          f"heartbeat in {vehicle_mode_name(face, wanted)}")
+
+
+def current_mode(conn: Connection, timeout: float | None = None) -> str:
+    """The name of the mode the vehicle's next HEARTBEAT shows, in its personality's names."""
+    return vehicle_mode_name(personality(conn), wait_heartbeat(conn, None, timeout).custom_mode)
+
+
+def _copter_landed(state: int) -> Callable[[Message], bool]:
+    """ArduCopter's landed state from its HEARTBEAT (docs/ardupilot.md §2): ACTIVE in the air,
+    STANDBY on the ground (armed or not); disarmed counts as on the ground."""
+    if state == IN_AIR:
+        return lambda m: bool(m.system_status == mavlink.MAV_STATE_ACTIVE)
+    if state == ON_GROUND:
+        return lambda m: bool(m.system_status == mavlink.MAV_STATE_STANDBY or not is_armed(m))
+    raise GcsError(f"ArduCopter reports no landed state {enum_name('MAV_LANDED_STATE', state)} "
+                   "(only in the air or on the ground, by its HEARTBEAT)")
 
 
 def wait_landed_state(conn: Connection, state: int, timeout: float | None = None) -> Message:
-    """The first EXTENDED_SYS_STATE with landed_state `state` (`ON_GROUND`, `IN_AIR`, ...)."""
+    """The first EXTENDED_SYS_STATE with landed_state `state` (`ON_GROUND`, `IN_AIR`, ...); on
+    ArduCopter, which reports its landed state in its HEARTBEAT's system status, the first
+    HEARTBEAT saying `IN_AIR` (ACTIVE) or `ON_GROUND` (STANDBY, or disarmed); `GcsError` for
+    another state."""
     name = enum_name("MAV_LANDED_STATE", state)
+    if personality(conn) == ARDUPILOT:
+        return wait_heartbeat(conn, _copter_landed(state), timeout, f"landed state {name} (HEARTBEAT)")
     return wait(conn, "EXTENDED_SYS_STATE", lambda m: m.landed_state == state, timeout, f"landed state {name}")
 
 
@@ -75,6 +137,20 @@ def wait_in_air(conn: Connection, timeout: float | None = None) -> Message:
 def wait_on_ground(conn: Connection, timeout: float | None = None) -> Message:
     """The first EXTENDED_SYS_STATE saying ON_GROUND (landed)."""
     return wait_landed_state(conn, ON_GROUND, timeout)
+
+
+def relative_altitude(conn: Connection, timeout: float | None = None) -> float:
+    """The height above home [m] of the next GLOBAL_POSITION_INT (the estimate's)."""
+    return float(wait(conn, "GLOBAL_POSITION_INT", None, timeout).relative_alt) / 1000.0
+
+
+def wait_height(conn: Connection, height: float, timeout: float | None = None, tolerance: float | None = None
+                ) -> Message:
+    """The first GLOBAL_POSITION_INT at least `height` − `tolerance` [m] above home (default
+    tolerance: 5 % of the height, at least 0.25 m), as DroneKit's examples wait for a take-off."""
+    tol = max(0.25, 0.05 * abs(height)) if tolerance is None else tolerance
+    return wait(conn, "GLOBAL_POSITION_INT", lambda m: m.relative_alt / 1000.0 >= height - tol, timeout,
+                f"a height of {height:g} m above home (GLOBAL_POSITION_INT)")
 
 
 def home_position(conn: Connection, timeout: float | None = None) -> tuple[float, float, float]:

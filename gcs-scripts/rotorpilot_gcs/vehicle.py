@@ -64,6 +64,12 @@ class Vehicle:
         return self._state
 
     @property
+    def personality(self) -> str:
+        """``"px4"`` or ``"ardupilot"``, from the HEARTBEAT's autopilot field (`link.personality`):
+        the mode names and the ways of the helpers this vehicle is flown with."""
+        return link.personality(self._conn)
+
+    @property
     def sysid(self) -> int:
         """The autopilot's MAVLink system id."""
         return int(self._conn.target_system)
@@ -88,6 +94,7 @@ class Vehicle:
     send_heartbeat = _Bound(link.send_heartbeat)
     set_heartbeats = _Bound(link.set_heartbeats)
     set_periodic = _Bound(link.set_periodic)
+    request_streams = _Bound(link.request_streams)
     stop_periodic = _Bound(link.stop_periodic)
     # Commands.
     command = _Bound(commands.command)
@@ -106,11 +113,14 @@ class Vehicle:
     wait_armed = _Bound(telemetry.wait_armed)
     wait_disarmed = _Bound(telemetry.wait_disarmed)
     wait_mode = _Bound(telemetry.wait_mode)
+    current_mode = _Bound(telemetry.current_mode)
     wait_landed_state = _Bound(telemetry.wait_landed_state)
     wait_in_air = _Bound(telemetry.wait_in_air)
     wait_on_ground = _Bound(telemetry.wait_on_ground)
     home_position = _Bound(telemetry.home_position)
     local_position = _Bound(telemetry.local_position)
+    relative_altitude = _Bound(telemetry.relative_altitude)
+    wait_height = _Bound(telemetry.wait_height)
     # Parameters.
     param_get = _Bound(params.param_get)
     param_set = _Bound(params.param_set)
@@ -119,6 +129,7 @@ class Vehicle:
     upload_mission = _Bound(missions.upload_mission)
     download_mission = _Bound(missions.download_mission)
     clear_mission = _Bound(missions.clear_mission)
+    wait_item_reached = _Bound(missions.wait_item_reached)
     # Offboard.
     set_setpoint = _Bound(offboard.set_setpoint)
     stop_setpoints = _Bound(offboard.stop_setpoints)
