@@ -67,8 +67,8 @@ use crate::commander::{Event, Outcome};
 use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
-use super::ardupilot::copter_link_params::{LinkParams, LinkSet};
 use super::ardupilot::copter_failsafes::CopterFailsafes;
+use super::ardupilot::copter_link_params::{LinkParams, LinkSet};
 use super::ardupilot::copter_modes::ModeShown;
 use super::ardupilot::copter_streams::CopterGroup;
 use super::ardupilot::copter_texts::{copter_announces, copter_outcome, ArmedNotices, PreArmNotices};
