@@ -277,7 +277,7 @@ pub fn by_setting(setting: &str) -> Option<&'static CopterParam> {
 const BEHAVIOUR: [(&str, &str, f64); 2] = [
     // Copter's RC never takes over GUIDED, AUTO or RTL (docs/ardupilot.md §8).
     ("ArduCopter has no stick take-over", "COM_RC_OVERRIDE", 0.0),
-    // Copter's failsafes act at once, without PX4's hold before the action (§2).
+    // Copter's failsafes act at once, without PX4's hold before the action (docs/ardupilot.md §2).
     ("ArduCopter's failsafes act at once", "COM_FAIL_ACT_T", 0.0),
 ];
 

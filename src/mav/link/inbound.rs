@@ -17,6 +17,8 @@ use super::port::{HeldForClients, Port};
 use super::{LinkKind, LinkMachine, Now, ToVehicle, VehicleRequest, CRITICAL, INFO, WARNING};
 use crate::commander::{ManualInputMode, Outcome, Request};
 use crate::mav::ardupilot::copter_ingest::{asked_mode, copter_ingest};
+use crate::mav::ardupilot::copter_link_params::{LinkParams, LinkSet};
+use crate::mav::ardupilot::copter_streams::CopterGroup;
 use crate::mav::calibration;
 use crate::mav::codec::{command_ack_frame, decode_datagram_checked, encode_v2, unsupported_command_ack, Inbound};
 use crate::mav::duplicates::CommandKey;
@@ -361,6 +363,51 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
             ManualInputMode::RcOnly | ManualInputMode::Disabled => false,
             ManualInputMode::MavlinkOnly | ManualInputMode::Fallback => true,
             ManualInputMode::KeepFirst => *self.sticks_from.get_or_insert(link) == link,
+        }
+    }
+
+    /// What the link holds that ArduCopter shows as parameters, read from it: the system id and
+    /// each link's group rates, SR0 the first link.
+    pub(super) fn link_params(&self) -> LinkParams {
+        LinkParams {
+            system_id: self.identity.system_id,
+            stream_rates: self
+                .ports
+                .iter()
+                .map(|p| CopterGroup::ALL.map(|g| p.streams.group_rate(g)))
+                .collect(),
+        }
+    }
+
+    /// The parameters as the vehicle shows them, `held` what the link holds.
+    pub(super) fn shown<'a>(&'a self, held: &'a LinkParams) -> Shown<'a> {
+        Shown {
+            personality: self.identity.personality,
+            table: &self.params,
+            link: held,
+        }
+    }
+
+    /// A PARAM_SET of what the link holds from `to` on `link` (parameter `index`): carried out,
+    /// then the value announced as ArduCopter announces a change (docs/ardupilot.md §5.2).
+    pub(super) fn link_set(&mut self, now: Now, (link, to): (LinkKind, A), change: LinkSet, index: usize) {
+        if let LinkSet::StreamRate {
+            link: n,
+            group,
+            rate_hz,
+        } = change
+        {
+            if let Some(port) = self.ports.get_mut(n) {
+                port.streams.set_group_rate(group, rate_hz);
+            }
+            self.files.params_changed();
+        }
+        let held = self.link_params();
+        if let Some(msg) = self.shown(&held).announced_value(index) {
+            if !self.targets(link).contains(&to) {
+                self.send(now, link, to, &msg);
+            }
+            self.broadcast(now, &msg);
         }
     }
 }

@@ -68,15 +68,12 @@ use crate::params::{ParamError, ParamTable};
 use crate::telemetry::Snapshot;
 
 use super::ardupilot::copter_failsafes::CopterFailsafes;
-use super::ardupilot::copter_link_params::{LinkParams, LinkSet};
 use super::ardupilot::copter_modes::ModeShown;
-use super::ardupilot::copter_streams::CopterGroup;
 use super::ardupilot::copter_texts::{copter_announces, copter_outcome, ArmedNotices, PreArmNotices};
 use super::codec::frame_message;
 use super::ftp::Vfs;
 use super::identity::Personality;
 use super::metadata::MetadataFiles;
-use super::param_encoding::Shown;
 use super::streams::LinkKind;
 use super::translate::Identity;
 pub use boundary::{KeyToStore, LinkConfig, Now, Said, ToVehicle, Token, Transmit, VehicleReply, VehicleRequest};
@@ -422,51 +419,6 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
                 Effect::Store(key) => self.to_store.push_back(key),
                 Effect::LinkSet((link, to), change, index) => self.link_set(now, (link, to), change, index),
             }
-        }
-    }
-
-    /// What the link holds that ArduCopter shows as parameters, read from it: the system id and
-    /// each link's group rates, SR0 the first link.
-    fn link_params(&self) -> LinkParams {
-        LinkParams {
-            system_id: self.identity.system_id,
-            stream_rates: self
-                .ports
-                .iter()
-                .map(|p| CopterGroup::ALL.map(|g| p.streams.group_rate(g)))
-                .collect(),
-        }
-    }
-
-    /// The parameters as the vehicle shows them, `held` what the link holds.
-    fn shown<'a>(&'a self, held: &'a LinkParams) -> Shown<'a> {
-        Shown {
-            personality: self.identity.personality,
-            table: &self.params,
-            link: held,
-        }
-    }
-
-    /// A PARAM_SET of what the link holds from `to` on `link` (parameter `index`): carried out,
-    /// then the value announced as ArduCopter announces a change (docs/ardupilot.md §5.2).
-    fn link_set(&mut self, now: Now, (link, to): (LinkKind, A), change: LinkSet, index: usize) {
-        if let LinkSet::StreamRate {
-            link: n,
-            group,
-            rate_hz,
-        } = change
-        {
-            if let Some(port) = self.ports.get_mut(n) {
-                port.streams.set_group_rate(group, rate_hz);
-            }
-            self.files.params_changed();
-        }
-        let held = self.link_params();
-        if let Some(msg) = self.shown(&held).announced_value(index) {
-            if !self.targets(link).contains(&to) {
-                self.send(now, link, to, &msg);
-            }
-            self.broadcast(now, &msg);
         }
     }
 
