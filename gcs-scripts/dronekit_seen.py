@@ -19,8 +19,10 @@ CONNECT = "udpin:127.0.0.1:14550"
 STABILIZE, AUTO, GUIDED, RTL, LAND, GUIDED_NOGPS, SMART_RTL = 0, 3, 4, 6, 9, 20, 21
 RETURNING = (RTL, LAND, SMART_RTL)
 # MAV_STATE in HEARTBEAT.system_status → the landed state it stands for (ArduCopter: STANDBY once
-# landed, armed or not; ACTIVE in the air).
+# landed, armed or not; ACTIVE in the air). CRITICAL (a failsafe active, in the air or not) stands
+# for none: there a disarmed vehicle is on the ground (Copter disarms only there, but for a kill).
 LANDED_BY_STATUS = {3: "ON_GROUND", 4: "IN_AIR"}
+MAV_MODE_FLAG_SAFETY_ARMED = 128
 MAV_CMD_DO_SET_MODE, MAV_CMD_DO_CHANGE_SPEED, MAV_CMD_DO_SET_HOME, MAV_CMD_DO_SET_ROI = 176, 178, 179, 201
 MAV_RESULT_ACCEPTED = 0
 SPEED_SETTLE_S = 4.0  # simulated seconds after a speed change before the leg's speed is judged
@@ -37,7 +39,7 @@ class Seen:
     def __init__(self, path):
         from rotorpilot_gcs import connection_with_dialect
 
-        self.status = []  # (wall, system_status), changes only
+        self.status = []  # (wall, system_status, armed), changes only
         self.position = []  # (wall, sim, lat, lon, relative_alt [m], ground speed [m/s])
         self.rc = []  # (wall, chancount, [chan1_raw … chan18_raw])
         self.raw_imu = []  # (wall, zacc [mg], zmag [mgauss])
@@ -66,8 +68,9 @@ class Seen:
                     continue  # the same sample on the other link
                 last[kind] = stamp
             if kind == "HEARTBEAT":
-                if not self.status or self.status[-1][1] != m.system_status:
-                    self.status.append((wall, m.system_status))
+                now = (m.system_status, bool(m.base_mode & MAV_MODE_FLAG_SAFETY_ARMED))
+                if not self.status or self.status[-1][1:] != now:
+                    self.status.append((wall, *now))
             elif kind == "GLOBAL_POSITION_INT":
                 self.position.append(
                     (
@@ -119,8 +122,8 @@ class Seen:
     def landed_states(self, tel):
         """tlog_judge's landed-state series (wall, sim, state) from HEARTBEAT.system_status."""
         states = []
-        for wall, status in self.status:
-            state = LANDED_BY_STATUS.get(status)
+        for wall, status, armed in self.status:
+            state = LANDED_BY_STATUS.get(status, None if armed else "ON_GROUND")
             if state is not None and (not states or states[-1][2] != state):
                 sim = (last_before(tel.local, wall) or (0, 0.0))[1]
                 states.append((wall, sim, state))
