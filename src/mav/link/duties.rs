@@ -33,11 +33,14 @@ impl<A: Copy + Eq + Hash> LinkMachine<A> {
 
     /// Everything due by `now`.
     pub fn handle_timeout(&mut self, now: Now) {
-        let held = self.link_params();
-        let lists = self.parameters.stream_lists(now.wall_s, &self.params, &held);
-        self.carry_out(now, lists);
-        let changed = self.parameters.announce_changed(now.wall_s, &self.params, &held);
-        self.carry_out(now, changed);
+        // What the link holds is read only when a parameter may be sent (not on every pass).
+        if self.parameters.has_work() {
+            let held = self.link_params();
+            let lists = self.parameters.stream_lists(now.wall_s, &self.params, &held);
+            self.carry_out(now, lists);
+            let changed = self.parameters.announce_changed(now.wall_s, &self.params, &held);
+            self.carry_out(now, changed);
+        }
         let bursts = self.files.stream_bursts(now.wall_s);
         self.carry_out(now, bursts);
         let logs = self.logs.stream(now.wall_s, self.files.log_store());

@@ -196,6 +196,12 @@ impl<A: Copy + PartialEq> ParamService<A> {
         self.lists.push(ParamList::new(link, from, wall_s));
     }
 
+    /// Whether a list is being answered or a change is waiting to be announced: what
+    /// [`Self::stream_lists`] and [`Self::announce_changed`] may have to send.
+    pub fn has_work(&self) -> bool {
+        !self.lists.is_empty() || self.changed.due_s.is_some()
+    }
+
     /// The changed parameters' PARAM_VALUEs of `params` (and `link`, what the link holds) to
     /// every peer of every link, once due at wall time `wall_s` [s].
     pub fn announce_changed(&mut self, wall_s: f64, params: &ParamTable, link: &LinkParams) -> Vec<Effect<A>> {
