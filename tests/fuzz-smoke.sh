@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the cargo-fuzz targets of fuzz/ with the stable toolchain (the instrumentation flags
 # cargo-fuzz passes with `--sanitizer none`, plus debug assertions and overflow checks) and runs
-# each for FUZZ_SECONDS (default 20) from the committed corpus in fuzz/corpus. New inputs go to
+# each for FUZZ_SECONDS (default 20, two targets at a time) from the committed corpus in fuzz/corpus. New inputs go to
 # a scratch directory, so the committed corpus only changes by hand. Any crash, panic, timeout
 # or out-of-memory fails the run and leaves the input in fuzz/artifacts/TARGET/.
 set -euo pipefail
@@ -15,18 +15,30 @@ cargo fmt --check
 cargo build --release --locked --target "$target_triple"
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
-for target in mavlink_ingest airframe_parse scenario_parse param_file_parse; do
+# Each target runs on one core: two at a time.
+fuzz() {
+    local target=$1 log="$scratch/$1.log" status=0
     mkdir -p "$scratch/$target" "artifacts/$target"
-    echo "fuzzing $target for ${seconds}s"
-    log="$scratch/$target.log"
-    status=0
     "target/$target_triple/release/$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
         -max_len=4096 -print_final_stats=1 -artifact_prefix="artifacts/$target/" \
         "$scratch/$target" "corpus/$target" >"$log" 2>&1 || status=$?
+    echo "fuzzed $target for ${seconds}s"
     grep -E '^(Done|stat::number_of_executed_units)' "$log" || true
     if [ "$status" -ne 0 ]; then
         tail -n 40 "$log" >&2
         echo "fuzz target $target failed (exit $status); input in fuzz/artifacts/$target/" >&2
-        exit 1
+        return 1
     fi
+}
+failed=0
+for pair in "mavlink_ingest airframe_parse" "scenario_parse param_file_parse"; do
+    pids=()
+    for target in $pair; do
+        fuzz "$target" &
+        pids+=($!)
+    done
+    for pid in "${pids[@]}"; do
+        wait "$pid" || failed=1
+    done
 done
+exit "$failed"

@@ -7,6 +7,24 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# The Python venv is installed in the background while cargo builds and tests (pip waits on the
+# network more than on the cores); its log is shown if it fails, before the Python tests need it.
+venv=".venv"
+pip_log=$(mktemp)
+pip_pid=
+trap 'if [ -n "$pip_pid" ]; then kill "$pip_pid" 2>/dev/null || true; fi; rm -f "$pip_log"' EXIT
+(
+    if [ ! -x "$venv/bin/python" ]; then
+        python3 -m venv "$venv"
+    fi
+    "$venv/bin/pip" install --quiet --disable-pip-version-check -r gcs-scripts/requirements.txt
+    "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps -r gcs-scripts/requirements-nodeps.txt
+    # The package itself (rotorpilot_gcs, editable: its pins are requirements.txt's), whose pytest
+    # plugin provides the suite's fixtures.
+    "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps -e ./gcs-scripts
+) >"$pip_log" 2>&1 &
+pip_pid=$!
+
 echo "== format and lints"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --release -- -D warnings
@@ -22,15 +40,13 @@ echo "== fuzz smoke run (docs/fuzzing.md)"
 bash tests/fuzz-smoke.sh
 
 echo "== Python tests"
-venv=".venv"
-if [ ! -x "$venv/bin/python" ]; then
-    python3 -m venv "$venv"
+if ! wait "$pip_pid"; then
+    cat "$pip_log" >&2
+    echo "installing the Python venv ($venv) failed" >&2
+    exit 1
 fi
-"$venv/bin/pip" install --quiet --disable-pip-version-check -r gcs-scripts/requirements.txt
-"$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps -r gcs-scripts/requirements-nodeps.txt
-# The package itself (rotorpilot_gcs, editable: its pins are requirements.txt's), whose pytest
-# plugin provides the suite's fixtures.
-"$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps -e ./gcs-scripts
+pip_pid=
+cat "$pip_log"
 export ROTORPILOT_BIN="$PWD/target/release/rotorpilot"
 
 echo "== Python lints and types (ruff; mypy --strict on rotorpilot_gcs)"
