@@ -3,7 +3,7 @@
 //! index at a time as QGC's `StandardModes` asks, or all at once) and CURRENT_MODE.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;

@@ -5,7 +5,7 @@
 //! PX4-faced vehicle ignores RC_CHANNELS_OVERRIDE.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;

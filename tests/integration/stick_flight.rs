@@ -5,7 +5,7 @@
 //! ACRO turns at the stick's rate; the throttle down lands and disarms.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod flight_bench;
+use crate::flight_bench;
 
 use flight_bench::Sim;
 use rotorpilot::commander::{Event, FlightMode, Outcome, Request};

@@ -5,7 +5,7 @@
 //! take-off rule and AUTO kept at the mission's end; PX4's face unchanged.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::MissionState as MavMissionState;

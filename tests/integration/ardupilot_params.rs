@@ -8,7 +8,7 @@
 //! vehicle is unchanged.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use std::sync::Arc;
 

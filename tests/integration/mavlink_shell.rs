@@ -4,7 +4,7 @@
 //! `pxh> `; `param set` goes through the vehicle like a PARAM_SET.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;

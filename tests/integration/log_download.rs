@@ -6,7 +6,7 @@
 //! the same files listed and burst-read at PX4's FTP path.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use std::collections::BTreeMap;
 

@@ -4,7 +4,7 @@
 //! one file at a time; a PX4-faced vehicle still numbers sessions itself.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use std::hash::{BuildHasher, RandomState};
 

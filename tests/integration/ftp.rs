@@ -4,7 +4,7 @@
 //! and inflate.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;
@@ -300,7 +300,7 @@ fn the_scratch_area_takes_files_and_nothing_escapes() {
     let mut unknown = Payload::request(Opcode::None, 50, 0, 0, &[]);
     unknown.opcode = 99;
     assert_eq!(nak(&ftp(&mut b, unknown)[0]), Some(7));
-    // The flight logs' directory is the log store's (tests/log_download.rs): read-only.
+    // The flight logs' directory is the log store's (tests/integration/log_download.rs): read-only.
     for (k, path) in [&b"/fs/microsd/log/x.ulg"[..], b"/fs/microsd/log/2026-01-01"]
         .into_iter()
         .enumerate()

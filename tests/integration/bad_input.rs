@@ -4,7 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(deprecated)] // MAV_FRAME_GLOBAL_RELATIVE_ALT_INT is what MAVSDK sends
 
-mod support;
+use crate::support;
 
 use std::time::Duration;
 

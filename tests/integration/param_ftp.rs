@@ -5,7 +5,7 @@
 //! back), a refused value or a malformed file NAKed with a STATUSTEXT saying why.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;

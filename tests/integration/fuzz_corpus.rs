@@ -1,7 +1,7 @@
 //! The committed seed corpus of the cargo-fuzz targets (`fuzz/corpus/<target>/seed-*`,
 //! docs/fuzzing.md) is what this file generates: real MAVLink datagrams encoded with the codec, the
 //! shipped airframes and scenarios, and parameter files. The test fails when a seed is missing
-//! or stale; `ROTORPILOT_WRITE_FUZZ_CORPUS=1 cargo test --release --test fuzz_corpus` rewrites them.
+//! or stale; `ROTORPILOT_WRITE_FUZZ_CORPUS=1 cargo test --release --test integration fuzz_corpus::` rewrites them.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 // QGC still sends SET_MODE, MAVSDK GLOBAL_RELATIVE_ALT_INT and PING, all deprecated in the dialect.
 #![allow(deprecated)]
@@ -19,7 +19,7 @@ use mavlink::dialects::ardupilotmega::{
 use rotorpilot::mav::codec::{decode_datagram, encode_v2, Inbound};
 use rotorpilot::mav::gcs::{command_long, gcs_header};
 
-mod support;
+use crate::support;
 use support::{attitude_target, mission_item};
 
 const NAN: f32 = f32::NAN;
@@ -388,6 +388,6 @@ fn fuzz_seed_corpus_is_current() {
     assert!(
         stale.is_empty(),
         "fuzz seed corpus missing or stale: {stale:?}; rewrite it with \
-         ROTORPILOT_WRITE_FUZZ_CORPUS=1 cargo test --release --test fuzz_corpus"
+         ROTORPILOT_WRITE_FUZZ_CORPUS=1 cargo test --release --test integration fuzz_corpus::"
     );
 }

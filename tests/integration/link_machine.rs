@@ -3,7 +3,7 @@
 //! with no socket and no thread. Each test plays a ground station and the vehicle's tick thread.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;

@@ -3,7 +3,7 @@
 //! speed takes effect without leaving the circle.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod flight_bench;
+use crate::flight_bench;
 
 use flight_bench::Sim;
 use rotorpilot::commander::{FlightMode, OrbitRequest, Outcome, Request};

@@ -3,7 +3,7 @@
 //! which links the sticks are flown from (`COM_RC_IN_MODE`).
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;

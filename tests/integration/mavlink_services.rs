@@ -3,7 +3,7 @@
 //! protocol reply carries the mission type of the request it answers.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod support;
+use crate::support;
 
 use std::time::{Duration, Instant};
 

@@ -8,7 +8,7 @@ use rotorpilot::commander::{
 };
 use rotorpilot::math::Vec3;
 
-mod flight_bench;
+use crate::flight_bench;
 
 use flight_bench::Sim;
 

@@ -5,7 +5,7 @@
 // QGC still sends SET_MODE and MAVSDK GLOBAL_RELATIVE_ALT_INT, both deprecated in the dialect.
 #![allow(deprecated)]
 
-mod support;
+use crate::support;
 
 use std::time::{Duration, Instant};
 

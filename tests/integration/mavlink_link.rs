@@ -2,7 +2,7 @@
 //! command/ACK rules, garbage on the socket, and two vehicles in one process.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod support;
+use crate::support;
 
 use std::time::Duration;
 

@@ -4,7 +4,7 @@
 //! SET_MODE answered with a COMMAND_ACK whose command is the message id 11.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;

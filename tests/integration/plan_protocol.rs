@@ -4,7 +4,7 @@
 //! items back, and MISSION_CLEAR_ALL clears one plan or all three.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;

@@ -3,7 +3,7 @@
 
 use rotorpilot::airframe::{Airframe, AirframeSource};
 
-const QUAD_X: &str = include_str!("../airframes/quad_x.toml");
+const QUAD_X: &str = include_str!("../../airframes/quad_x.toml");
 
 fn refused(text: &str) -> rotorpilot::airframe::AirframeError {
     Airframe::from_toml_str(text, "bad.toml").expect_err("must be refused")

@@ -5,7 +5,7 @@
 //! `fence_id`, `rally_points_id`), 0 for no plan, with PX4's mission mode and state.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use link_bench::*;
 use mavlink::dialects::ardupilotmega::*;

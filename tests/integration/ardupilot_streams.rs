@@ -4,7 +4,7 @@
 //! ArduPilot's own messages.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod link_bench;
+use crate::link_bench;
 
 use std::collections::BTreeMap;
 

@@ -7,7 +7,7 @@
 //! 3 is refused at start with the reason.
 #![allow(deprecated, clippy::unwrap_used, clippy::expect_used)]
 
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU16, Ordering};
