@@ -15,15 +15,18 @@ home:
      "rtl": true,                       optional (default true): end with RETURN_TO_LAUNCH,
                                         false: land at the last waypoint
      "rtl_alt": 5}                      optional: sets RTL_RETURN_ALT [m] before the upload
+                                        (ArduCopter: RTL_ALT, in cm)
 
 Its items go up as MISSION_ITEM_INT in MAV_FRAME_GLOBAL_RELATIVE_ALT_INT: latitude/longitude in
 degE7 from home (HOME_POSITION) by the equirectangular approximation with R = 6371000 m. A QGC
 ``.plan``'s mission items go up as they are (frame, params), then its geofence and rally points
 (mission types 1 and 2) if it has any; a WPL file's items go up as they are (--wpl-skip-home
 drops its first line, the home position ArduPilot and MAVProxy write first). The MISSION_ACK
-must be ACCEPTED (otherwise ``error:`` names the MAV_MISSION_RESULT). With --fly the
-script switches to AUTO.MISSION, arms, prints each MISSION_ITEM_REACHED and waits until the vehicle
-has landed and disarmed (or the mission is COMPLETE), then prints the final position. A bad plan
+must be ACCEPTED (otherwise ``error:`` names the MAV_MISSION_RESULT). To an ArduCopter vehicle
+the items go up after its home slot, item 0, and are numbered here as in the file. With --fly the
+script starts the mission (PX4: AUTO.MISSION, arm; ArduCopter: GUIDED, arm, AUTO), prints each
+MISSION_ITEM_REACHED and waits until the vehicle has landed and disarmed (or the mission is
+COMPLETE), then prints the final position. A bad plan
 exits with status 2 naming the file and field; refusals and timeouts exit with 1.
 """
 import json
@@ -65,10 +68,10 @@ def load(path, skip_home):
 
 
 def fly(conn, items, home, timeout, stall_s=60.0):
-    """AUTO.MISSION, arm, report MISSION_ITEM_REACHED until disarmed (or COMPLETE without a landing)."""
-    gcs.telemetry.wait_armable(conn)
-    gcs.flight.set_mode(conn, gcs.AUTO_MISSION)
-    gcs.flight.arm(conn)
+    """Starts the mission, reports MISSION_ITEM_REACHED until disarmed (or COMPLETE without a
+    landing)."""
+    gcs.flight.start_mission(conn)
+    home_slot = gcs.missions.home_slot(conn)  # ArduCopter's seqs count its home
     print("flying", flush=True)
     ends_on_ground = items[-1].command in (mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, mavlink.MAV_CMD_NAV_LAND)
     current = None
@@ -79,8 +82,9 @@ def fly(conn, items, home, timeout, stall_s=60.0):
         kind = None if m is None else m.get_type()
         if kind == "MISSION_ITEM_REACHED":
             progress = now
-            desc = describe(items[m.seq]) if m.seq < len(items) else "?"
-            print(f"reached item {m.seq} ({desc})", flush=True)
+            index = m.seq - home_slot
+            desc = describe(items[index]) if 0 <= index < len(items) else "?"
+            print(f"reached item {index} ({desc})", flush=True)
         elif kind == "MISSION_CURRENT":
             if m.seq != current:
                 current, progress = m.seq, now
@@ -109,8 +113,12 @@ def main(argv=None):
 
     conn = gcs.connect(args.connection, args.timeout)
     if kind == "json" and plan["rtl_alt"] is not None:
-        gcs.params.param_set(conn, "RTL_RETURN_ALT", plan["rtl_alt"])
-        print(f"RTL_RETURN_ALT = {plan['rtl_alt']:g}", flush=True)
+        if gcs.link.personality(conn) == gcs.modes.ARDUPILOT:
+            gcs.params.param_set(conn, "RTL_ALT", round(plan["rtl_alt"] * 100))
+            print(f"RTL_ALT = {round(plan['rtl_alt'] * 100)} cm", flush=True)
+        else:
+            gcs.params.param_set(conn, "RTL_RETURN_ALT", plan["rtl_alt"])
+            print(f"RTL_RETURN_ALT = {plan['rtl_alt']:g}", flush=True)
     home = gcs.telemetry.home_position(conn)
     print(f"home: {home[0]:.7f} {home[1]:.7f} {home[2]:.2f} m AMSL", flush=True)
     items = {"json": lambda: gcs.plans.plan_items(plan, home[0], home[1]), "qgc": lambda: plan.mission,

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Fly a square in OFFBOARD with position setpoints and report how well the corners were reached.
+"""Fly a square with position setpoints (PX4's OFFBOARD, ArduCopter's GUIDED) and report how well
+the corners were reached.
 
 Usage:
     python gcs-scripts/offboard_square.py [--side M] [--leg-time S] [--height M] [--land]
@@ -7,10 +8,12 @@ Usage:
 
 Takes off (to --height above home, default MIS_TAKEOFF_ALT), starts streaming
 SET_POSITION_TARGET_LOCAL_NED (LOCAL_NED, type_mask 2552: position + yaw) at 20 Hz at the current
-position, switches to OFFBOARD, then moves the setpoint to the corners north, north-east, east of
+position, switches to the mode that takes them (OFFBOARD; GUIDED on an ArduCopter vehicle,
+which the take-off already left it in), then moves the setpoint to the corners north, north-east, east of
 the start and back to the start at the take-off altitude, --leg-time seconds each. At the end of
 each leg a fresh LOCAL_POSITION_NED is requested and its distance to the corner printed; the
-largest is reported as ``max corner error: E m``. Then the vehicle is switched to AUTO.LOITER, or
+largest is reported as ``max corner error: E m``. Then the vehicle is switched to hold (AUTO.LOITER;
+ArduCopter: LOITER), or
 with --land lands and auto-disarms. Exit status 0 on success, 1 on a refusal or timeout, 2 for
 bad usage.
 """
@@ -30,7 +33,8 @@ def main(argv=None):
     p.add_argument("--leg-time", type=float, default=4.0, help="seconds per corner (default 4)")
     p.add_argument("--height", type=float, default=None,
                    help="take-off height above home [m] (default MIS_TAKEOFF_ALT)")
-    p.add_argument("--land", action="store_true", help="land at the end instead of switching to AUTO.LOITER")
+    p.add_argument("--land", action="store_true",
+                   help="land at the end instead of holding (AUTO.LOITER, Copter's LOITER)")
     args = p.parse_args(argv)
     if not 0 < args.side <= 100:
         p.error("--side must be in (0, 100] m")
@@ -48,8 +52,9 @@ def main(argv=None):
     x0, y0, z0 = start.x, start.y, start.z
     gcs.offboard.set_setpoint(conn, x0, y0, z0, yaw)
     gcs.link.sleep(conn, 0.3)  # proof of life before the mode switch
-    gcs.flight.set_mode(conn, gcs.OFFBOARD)
-    print("OFFBOARD", flush=True)
+    setpoints = gcs.flight.mode_for(conn, gcs.modes.SETPOINTS)
+    gcs.flight.set_mode(conn, setpoints)
+    print(setpoints, flush=True)
 
     corners = [(x0 + args.side, y0), (x0 + args.side, y0 + args.side), (x0, y0 + args.side), (x0, y0)]
     worst = 0.0
@@ -84,9 +89,10 @@ def main(argv=None):
         gcs.telemetry.wait_disarmed(conn, 10.0 + args.timeout)
         print(f"landed and disarmed: {gcs.telemetry.format_position(gcs.telemetry.local_position(conn))}", flush=True)
     else:
-        gcs.flight.set_mode(conn, gcs.AUTO_LOITER)
+        hold = gcs.flight.mode_for(conn, gcs.modes.HOLD)
+        gcs.flight.set_mode(conn, hold)
         gcs.offboard.stop_setpoints(conn)
-        print("AUTO.LOITER", flush=True)
+        print(hold, flush=True)
     return 0
 
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Arm a swarm, take it off, fly a ring formation around a moving centre with offboard setpoints,
+"""Arm a swarm, take it off, fly a ring formation around a moving centre with position setpoints,
 and land it.
 
 Usage:
@@ -14,10 +14,11 @@ on its API link as PX4's multi-vehicle scheme and `rotorpilot run --count N` set
 
 Each vehicle's HOME_POSITION places it in a common frame (north/east metres from the first
 vehicle's home). All take off to --height, then stream SET_POSITION_TARGET_LOCAL_NED at 20 Hz
-(in each vehicle's own local frame) and switch to OFFBOARD: first to its slot on a ring of
+(in each vehicle's own local frame) and switch to the mode that takes them (OFFBOARD; GUIDED on an
+ArduCopter vehicle: a swarm may mix both personalities): first to its slot on a ring of
 --radius around the swarm's centre, then the centre flies a square of --side metres, --leg-time
 seconds per leg. After each leg every vehicle's distance to its slot is printed and the largest
-is reported as ``max formation error: E m``; a vehicle that left OFFBOARD is an error. Then all
+is reported as ``max formation error: E m``; a vehicle that left that mode is an error. Then all
 land and auto-disarm. The simulation has no collisions; choose --radius and the start --spacing so
 paths do not cross if that matters to you.
 Exit status 0 on success, 1 on a refusal or timeout (``error: ...``), 2 for bad usage.
@@ -27,7 +28,6 @@ import math
 import time
 
 import rotorpilot_gcs as gcs
-from rotorpilot_gcs import mavlink
 
 API_PORT = 14540
 
@@ -104,10 +104,9 @@ def main(argv=None):
     members = [Member(c, home_offset(h, homes[0])) for c, h in zip(conns, homes)]
 
     for m in members:
-        gcs.commands.command(m.conn, mavlink.MAV_CMD_NAV_TAKEOFF, *([gcs.commands.NAN] * 6), homes[0][2] + args.height)
-        gcs.flight.arm(m.conn)
+        gcs.flight.start_takeoff(m.conn, args.height)
     for m in members:
-        gcs.telemetry.wait_landed_state(m.conn, gcs.telemetry.IN_AIR, 15.0 + 2.0 * args.height)
+        gcs.flight.wait_takeoff(m.conn, args.height)
     print(f"{len(members)} vehicles in the air (systems {', '.join(map(str, sysids))})", flush=True)
 
     slots = ring_slots(len(members), args.radius)
@@ -117,10 +116,11 @@ def main(argv=None):
         p = gcs.telemetry.local_position(m.conn)
         m.target = (p.x + m.north0, p.y + m.east0, -p.z)
         m.fly_to(*m.target)
-    service_all(conns, 0.3)  # proof of life before OFFBOARD
-    for m in members:
-        gcs.flight.set_mode(m.conn, gcs.OFFBOARD)
-    print("OFFBOARD", flush=True)
+    service_all(conns, 0.3)  # proof of life before the mode switch
+    setpoints = [gcs.flight.mode_for(m.conn, gcs.modes.SETPOINTS) for m in members]
+    for m, mode in zip(members, setpoints):
+        gcs.flight.set_mode(m.conn, mode)
+    print(" ".join(sorted(set(setpoints))), flush=True)
 
     legs = [(0.0, 0.0), (args.side, 0.0), (args.side, args.side), (0.0, args.side), (0.0, 0.0)]
     worst = 0.0
@@ -128,11 +128,12 @@ def main(argv=None):
         for m, (sn, se) in zip(members, slots):
             m.fly_to(centre_n + dn + sn, centre_e + de + se, args.height)
         service_all(conns, args.leg_time)
-        for m in members:
+        for m, mode in zip(members, setpoints):
+            face = gcs.link.personality(m.conn)
             beat = gcs.link.latest(m.conn, "HEARTBEAT")
-            if beat is not None and gcs.modes.mode_of(beat.custom_mode) != gcs.parse_mode(gcs.OFFBOARD):
-                raise gcs.GcsError(f"system {m.conn.target_system} left OFFBOARD for "
-                                   f"{gcs.mode_name(beat.custom_mode)}")
+            if beat is not None and beat.custom_mode != gcs.modes.vehicle_custom_mode(face, mode):
+                raise gcs.GcsError(f"system {m.conn.target_system} left {mode} for "
+                                   f"{gcs.modes.vehicle_mode_name(face, beat.custom_mode)}")
         errors = [m.error() for m in members]
         worst = max(worst, *errors)
         print(f"leg {leg}: centre north {centre_n + dn:+.2f} east {centre_e + de:+.2f}; errors "

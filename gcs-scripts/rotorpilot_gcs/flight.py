@@ -7,6 +7,7 @@ a height above home; the LAND and RTL modes). Mode names are the personality's (
 """
 from __future__ import annotations
 
+from . import modes
 from ._mav import mavlink
 from .commands import NAN, command
 from .link import Connection, Message, personality
@@ -67,44 +68,70 @@ def takeoff(conn: Connection, height: float | None = None, timeout: float | None
             climb_timeout: float | None = None) -> float:
     """Once the vehicle is ready to arm (`wait_armable`), take off to `height` [m] above home
     (None: the autopilot's MIS_TAKEOFF_ALT) and wait until the take-off is complete (within
-    `climb_timeout` [s], default 15 s + 2 s per metre). Returns the height.
-
-    PX4: NAV_TAKEOFF (p7 AMSL: home altitude + height), arm if disarmed, wait for the landed state
-    IN_AIR. ArduCopter (Copter's user take-off): GUIDED, arm if disarmed, NAV_TAKEOFF with p7 the
-    height above home, wait until GLOBAL_POSITION_INT is near the height (`wait_height`); the
-    vehicle then holds there in GUIDED."""
-    wait_armable(conn, max(READY_TIMEOUT_S, timeout or 0.0))
-    if personality(conn) == ARDUPILOT:
-        return _copter_takeoff(conn, height, timeout, climb_timeout)
-    if height is None:
-        p7 = NAN
-        height = float(param_get(conn, "MIS_TAKEOFF_ALT", timeout))
-    else:
-        p7 = home_position(conn, timeout)[2] + float(height)
-    command(conn, mavlink.MAV_CMD_NAV_TAKEOFF, *([NAN] * 6), p7, timeout=timeout)
-    hb = wait_heartbeat(conn, None, timeout)
-    if not is_armed(hb):
-        arm(conn, timeout=timeout)
-    climb = climb_timeout if climb_timeout is not None else 15.0 + 2.0 * float(height)
-    wait_landed_state(conn, IN_AIR, climb)
+    `climb_timeout` [s], default 15 s + 2 s per metre): `start_takeoff`, then `wait_takeoff`.
+    Returns the height."""
+    height = start_takeoff(conn, height, timeout)
+    wait_takeoff(conn, height, climb_timeout)
     return height
 
 
-def _copter_takeoff(conn: Connection, height: float | None, timeout: float | None,
-                    climb_timeout: float | None) -> float:
-    """ArduCopter's user take-off: GUIDED, arm, NAV_TAKEOFF p7 = height above home, then the
-    height reached (armed without a take-off, Copter disarms after DISARM_DELAY: the take-off
-    follows the arming at once)."""
-    if height is None:
-        height = float(param_get(conn, "MIS_TAKEOFF_ALT", timeout))
-    hb = wait_heartbeat(conn, None, timeout)
-    if hb.custom_mode != COPTER_MODES["GUIDED"]:
-        hb = set_mode(conn, "GUIDED", timeout=timeout)
-    if not is_armed(hb):
+def start_takeoff(conn: Connection, height: float | None = None, timeout: float | None = None) -> float:
+    """The commands of a take-off to `height` [m] above home (None: MIS_TAKEOFF_ALT), once the
+    vehicle is ready to arm, without waiting for the climb (a swarm takes off together); returns
+    the height.
+
+    PX4: NAV_TAKEOFF (p7 AMSL: home altitude + height), arm if disarmed. ArduCopter (Copter's user
+    take-off): GUIDED, arm if disarmed, NAV_TAKEOFF with p7 the height above home; the vehicle
+    then holds there in GUIDED (armed without a take-off, Copter disarms after DISARM_DELAY: the
+    take-off follows the arming at once)."""
+    wait_armable(conn, max(READY_TIMEOUT_S, timeout or 0.0))
+    asked = height
+    height = float(param_get(conn, "MIS_TAKEOFF_ALT", timeout) if asked is None else asked)
+    if personality(conn) == ARDUPILOT:
+        hb = wait_heartbeat(conn, None, timeout)
+        if hb.custom_mode != COPTER_MODES["GUIDED"]:
+            hb = set_mode(conn, "GUIDED", timeout=timeout)
+        if not is_armed(hb):
+            arm(conn, timeout=timeout)
+        command(conn, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, height, timeout=timeout)
+        return height
+    # p7 NaN: the autopilot's MIS_TAKEOFF_ALT.
+    p7 = NAN if asked is None else home_position(conn, timeout)[2] + height
+    command(conn, mavlink.MAV_CMD_NAV_TAKEOFF, *([NAN] * 6), p7, timeout=timeout)
+    if not is_armed(wait_heartbeat(conn, None, timeout)):
         arm(conn, timeout=timeout)
-    command(conn, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, float(height), timeout=timeout)
-    wait_height(conn, float(height), climb_timeout if climb_timeout is not None else 15.0 + 2.0 * float(height))
-    return float(height)
+    return height
+
+
+def wait_takeoff(conn: Connection, height: float, climb_timeout: float | None = None) -> None:
+    """Waits until the take-off `start_takeoff` began to `height` [m] is complete (within
+    `climb_timeout` [s], default 15 s + 2 s per metre). PX4: the landed state IN_AIR; ArduCopter:
+    GLOBAL_POSITION_INT near the height (`wait_height`)."""
+    climb = climb_timeout if climb_timeout is not None else 15.0 + 2.0 * float(height)
+    if personality(conn) == ARDUPILOT:
+        wait_height(conn, float(height), climb)
+    else:
+        wait_landed_state(conn, IN_AIR, climb)
+
+
+def mode_for(conn: Connection, role: str) -> str:
+    """The name of the mode the vehicle on `conn` does `role` in (`modes.SETPOINTS`: PX4's
+    OFFBOARD, Copter's GUIDED; `modes.HOLD`; `modes.MISSION`), for `set_mode`."""
+    return modes.mode_for(personality(conn), role)
+
+
+def start_mission(conn: Connection, timeout: float | None = None) -> Message:
+    """Starts the uploaded mission from the ground, once the vehicle is ready to arm; returns the
+    armed HEARTBEAT in the mission mode. PX4: AUTO.MISSION, then arm (the mission's take-off
+    item takes off). ArduCopter: GUIDED, arm, AUTO, as Copter users do (Copter takes AUTO on the
+    ground only when the mission begins with a take-off: otherwise `CommandError`)."""
+    wait_armable(conn, max(READY_TIMEOUT_S, timeout or 0.0))
+    if personality(conn) == ARDUPILOT:
+        set_mode(conn, "GUIDED", timeout=timeout)
+        arm(conn, timeout=timeout)
+        return set_mode(conn, "AUTO", timeout=timeout)
+    set_mode(conn, modes.AUTO_MISSION, timeout=timeout)
+    return arm(conn, timeout=timeout)
 
 
 def land(conn: Connection, timeout: float | None = None) -> Message:

@@ -122,6 +122,27 @@ COPTER_MODES: dict[str, int] = {
 COPTER_MODE_NAMES: dict[int, str] = {v: k for k, v in COPTER_MODES.items()}
 
 
+#: What a script asks of a vehicle whatever its personality: to take the ground station's position
+#: setpoints, to hold where it is, to fly the uploaded mission.
+SETPOINTS, HOLD, MISSION = "setpoints", "hold", "mission"
+#: The mode each personality does each of them in, by its own name (the modes themselves are not
+#: mapped onto each other: PX4's AUTO.LOITER holds with no pilot, Copter's LOITER with the sticks
+#: centred, as its receiver rests in the air).
+ROLE_MODES: dict[str, dict[str, str]] = {
+    PX4: {SETPOINTS: "OFFBOARD", HOLD: "AUTO.LOITER", MISSION: "AUTO.MISSION"},
+    ARDUPILOT: {SETPOINTS: "GUIDED", HOLD: "LOITER", MISSION: "AUTO"},
+}
+
+
+def mode_for(personality: str, role: str) -> str:
+    """The name of the mode a vehicle of `personality` does `role` in (`SETPOINTS`, `HOLD`,
+    `MISSION`); `ModeError` for another role."""
+    modes = ROLE_MODES[ARDUPILOT if personality == ARDUPILOT else PX4]
+    if role not in modes:
+        raise ModeError(f"unknown role {role!r} (known: {', '.join(modes)})")
+    return modes[role]
+
+
 def personality_of(autopilot: int) -> str:
     """The personality a HEARTBEAT's ``autopilot`` field tells: `ARDUPILOT` for
     MAV_AUTOPILOT_ARDUPILOTMEGA (3), else `PX4`."""
