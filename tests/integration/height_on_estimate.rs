@@ -6,28 +6,15 @@
 //! (LOCAL_POSITION_NED.z is `pos_w.z`; GLOBAL_POSITION_INT.relative_alt is `home_w.z − pos_w.z`).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use rotorpilot::airframe::AirframeSource;
+use crate::runtime_vehicle::{self, DT_S};
 use rotorpilot::commander::{FlightMode, Outcome, Request};
-use rotorpilot::control::ControllerKind;
-use rotorpilot::guidance::Home;
 use rotorpilot::lockstep::ScheduledSensorFailure;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
 use rotorpilot::telemetry::Snapshot;
 
-const DT_S: f64 = 1e-3;
-
 fn vehicle(seed: u64) -> Vehicle {
-    let src = AirframeSource::resolve("quad_x").unwrap();
-    Vehicle::new(
-        &src,
-        ControllerKind::Geometric,
-        Home::default(),
-        SensorModel::Suite,
-        seed,
-        DT_S,
-    )
-    .unwrap()
+    runtime_vehicle::vehicle("quad_x", SensorModel::Suite, seed, &[])
 }
 
 fn relative_alt_m(s: &Snapshot) -> f64 {

@@ -3,13 +3,14 @@
 //! module: `cargo test --release --test integration MODULE::` (e.g. `cli_reference::`).
 //!
 //! # Layout
-//! - `support`, `link_bench`, `flight_bench`: the shared benches (a vehicle of `rotorpilot run`
-//!   on ephemeral ports, a link machine on virtual clocks, the flight controller and plant in
-//!   lockstep).
+//! - `support`, `link_bench`, `flight_bench`, `runtime_vehicle`: the shared benches (a vehicle of
+//!   `rotorpilot run` on ephemeral ports, a link machine on virtual clocks, the flight controller
+//!   and plant in lockstep, a runtime vehicle stepped tick by tick).
 //! - every other module: the closed-loop, protocol and documentation tests of one subject.
 
 mod flight_bench;
 mod link_bench;
+mod runtime_vehicle;
 mod support;
 
 mod airframe_errors;

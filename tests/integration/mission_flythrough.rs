@@ -4,15 +4,11 @@
 //! near PX4's corner speed instead of stopping, and still stops on a waypoint with a hold.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use rotorpilot::airframe::AirframeSource;
+use crate::runtime_vehicle::{vehicle, DT_S};
 use rotorpilot::commander::{FlightMode, Outcome, Request};
-use rotorpilot::control::ControllerKind;
-use rotorpilot::guidance::{Home, Mission, MissionItem};
+use rotorpilot::guidance::{Mission, MissionItem};
 use rotorpilot::math::Vec3;
-use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
-
-const DT_S: f64 = 1e-3;
 
 fn waypoint(north: f64, east: f64, hold_s: f64) -> MissionItem {
     MissionItem::Waypoint {
@@ -26,16 +22,7 @@ fn waypoint(north: f64, east: f64, hold_s: f64) -> MissionItem {
 /// Flies `items` from the ground on the default sensors; the (mission item, horizontal speed
 /// [m/s]) of every tick until the vehicle lands and disarms.
 fn fly(items: Vec<MissionItem>) -> Vec<(u16, f64)> {
-    let src = AirframeSource::resolve("quad_x").unwrap();
-    let mut v = Vehicle::new(
-        &src,
-        ControllerKind::Geometric,
-        Home::default(),
-        SensorModel::Suite,
-        5,
-        DT_S,
-    )
-    .unwrap();
+    let mut v = vehicle("quad_x", SensorModel::Suite, 5, &[]);
     for _ in 0..(10.0 / DT_S) as usize {
         v.step();
     }

@@ -8,34 +8,19 @@
 //! - `SYS_FAIL_MOT_OFF` 1 (a hard failure): only that motor stops, nothing is told.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use rotorpilot::airframe::AirframeSource;
+use crate::runtime_vehicle::{vehicle, DT_S};
 use rotorpilot::commander::FailsafeCause;
 use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
-use rotorpilot::control::ControllerKind;
-use rotorpilot::guidance::{Home, Mission, MissionItem};
+use rotorpilot::guidance::{Mission, MissionItem};
 use rotorpilot::math::Vec3;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
 use rotorpilot::telemetry::Snapshot;
 
-const DT_S: f64 = 1e-3;
 const HEIGHT_M: f64 = 10.0;
 
 fn hexa(params: &[(&str, f64)]) -> Vehicle {
-    let src = AirframeSource::resolve("hexa_x").unwrap();
-    let mut v = Vehicle::new(
-        &src,
-        ControllerKind::Geometric,
-        Home::default(),
-        SensorModel::State,
-        0,
-        DT_S,
-    )
-    .unwrap();
-    for (name, value) in params {
-        v.set_param(name, *value).unwrap();
-    }
-    v
+    vehicle("hexa_x", SensorModel::State, 0, params)
 }
 
 /// Steps until `done` holds (at most `max_s` [s]); every snapshot goes to `watch`, every event

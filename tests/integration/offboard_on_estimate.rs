@@ -4,28 +4,16 @@
 //! of 30°/s; the vehicle must turn at that rate through every heading, never stall, never spin.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use rotorpilot::airframe::AirframeSource;
+use crate::runtime_vehicle::{vehicle, DT_S};
 use rotorpilot::commander::{FlightMode, Outcome, Request};
-use rotorpilot::control::{ControllerKind, FlatSetpoint};
-use rotorpilot::guidance::Home;
+use rotorpilot::control::FlatSetpoint;
 use rotorpilot::math::Vec3;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
 
-const DT_S: f64 = 1e-3;
-
 /// quad_x on the default sensors, seed `seed`, hovering at 2.5 m in AUTO.LOITER.
 fn hovering(seed: u64) -> Vehicle {
-    let src = AirframeSource::resolve("quad_x").unwrap();
-    let mut v = Vehicle::new(
-        &src,
-        ControllerKind::Geometric,
-        Home::default(),
-        SensorModel::Suite,
-        seed,
-        DT_S,
-    )
-    .unwrap();
+    let mut v = vehicle("quad_x", SensorModel::Suite, seed, &[]);
     let mut armable = false;
     for _ in 0..(30.0 / DT_S) as usize {
         if v.step().snapshot.nav.armable {
@@ -105,16 +93,7 @@ fn a_yaw_rate_is_flown_through_every_heading_forward_and_sideways() {
 /// the ground station shown a height of zero.
 #[test]
 fn an_offboard_position_back_at_the_take_off_height_touches_down_lands_and_disarms() {
-    let src = AirframeSource::resolve("quad_x").unwrap();
-    let mut v = Vehicle::new(
-        &src,
-        ControllerKind::Geometric,
-        Home::default(),
-        SensorModel::Suite,
-        4,
-        DT_S,
-    )
-    .unwrap();
+    let mut v = vehicle("quad_x", SensorModel::Suite, 4, &[]);
     for _ in 0..(10.0 / DT_S) as usize {
         v.step();
     }

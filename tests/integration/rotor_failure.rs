@@ -6,12 +6,9 @@
 //! core + plant), without sockets.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use rotorpilot::airframe::AirframeSource;
+use crate::runtime_vehicle::vehicle;
 use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
-use rotorpilot::control::ControllerKind;
-use rotorpilot::guidance::Home;
 use rotorpilot::lockstep::ScheduledFailure;
-use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
 
 struct Flight {
@@ -30,19 +27,7 @@ struct Flight {
 const FAILURE_AT_S: f64 = 9.0;
 
 fn fly(preset: &str, rotor: usize, seconds: f64, params: &[(&str, f64)]) -> Flight {
-    let src = AirframeSource::resolve(preset).unwrap();
-    let mut v = Vehicle::new(
-        &src,
-        ControllerKind::Geometric,
-        Home::default(),
-        SensorModel::State,
-        0,
-        1e-3,
-    )
-    .unwrap();
-    for (name, value) in params {
-        v.set_param(name, *value).unwrap();
-    }
+    let mut v = vehicle(preset, SensorModel::State, 0, params);
     v.schedule_rotor_failure(ScheduledFailure {
         rotor,
         at_s: FAILURE_AT_S,
@@ -184,16 +169,7 @@ fn without_the_esc_check_nothing_is_reported() {
 
 #[test]
 fn injection_needs_sys_failure_en() {
-    let src = AirframeSource::resolve("hexa_x").unwrap();
-    let mut v = Vehicle::new(
-        &src,
-        ControllerKind::Geometric,
-        Home::default(),
-        SensorModel::State,
-        0,
-        1e-3,
-    )
-    .unwrap();
+    let mut v = vehicle("hexa_x", SensorModel::State, 0, &[]);
     let inject = Request::InjectRotorFailure { rotor: 1, failed: true };
     v.set_param("SYS_FAILURE_EN", 0.0).unwrap();
     assert!(matches!(v.apply(inject.clone()), Outcome::Denied(why) if why.contains("SYS_FAILURE_EN")));

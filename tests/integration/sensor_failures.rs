@@ -5,15 +5,12 @@
 //! (commander + navigator + flight core + plant + sensors), without sockets.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use crate::runtime_vehicle::{vehicle_from, DT_S};
 use rotorpilot::airframe::AirframeSource;
 use rotorpilot::commander::{Event, FlightMode, Outcome, Request};
-use rotorpilot::control::ControllerKind;
-use rotorpilot::guidance::Home;
 use rotorpilot::lockstep::ScheduledSensorFailure;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
-
-const DT_S: f64 = 1e-3;
 
 struct Flight {
     vehicle: Vehicle,
@@ -50,15 +47,7 @@ impl Flight {
 
     /// The airframe `src` on the sensor suite, seed `seed`, waiting until it may arm.
     fn ready_with(src: AirframeSource, seed: u64) -> Self {
-        let vehicle = Vehicle::new(
-            &src,
-            ControllerKind::Geometric,
-            Home::default(),
-            SensorModel::Suite,
-            seed,
-            DT_S,
-        )
-        .unwrap();
+        let vehicle = vehicle_from(&src, SensorModel::Suite, seed);
         let mut f = Self {
             vehicle,
             events: Vec::new(),

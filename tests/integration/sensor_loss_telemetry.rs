@@ -5,30 +5,17 @@
 //! `fields_updated`, SCALED_PRESSURE, ESTIMATOR_STATUS's flags.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use crate::runtime_vehicle::{vehicle, DT_S};
 use mavlink::dialects::ardupilotmega::{GpsFixType, HighresImuUpdatedFlags, MavMessage, MavSysStatusSensor};
-use rotorpilot::airframe::AirframeSource;
-use rotorpilot::control::ControllerKind;
-use rotorpilot::guidance::Home;
 use rotorpilot::lockstep::ScheduledSensorFailure;
 use rotorpilot::mav::stream_messages::{message, TelemetryStream};
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::SensorModel;
 use rotorpilot::telemetry::Snapshot;
 
-const DT_S: f64 = 1e-3;
-
 /// quad_x on the default sensors, seed 2, ready to arm on the ground.
 fn ready() -> Vehicle {
-    let src = AirframeSource::resolve("quad_x").unwrap();
-    let mut v = Vehicle::new(
-        &src,
-        ControllerKind::Geometric,
-        Home::default(),
-        SensorModel::Suite,
-        2,
-        DT_S,
-    )
-    .unwrap();
+    let mut v = vehicle("quad_x", SensorModel::Suite, 2, &[]);
     run(&mut v, 10.0);
     v
 }
