@@ -36,6 +36,16 @@ def script(autopilot, name, *args, timeout=90):
     return run_script(name, "--connection", autopilot.gcs, *args, timeout=timeout)
 
 
+def swarm(autopilot, *args, timeout=150):
+    """swarm.py run against every vehicle of `autopilot` (--connection to each one's API port);
+    the result and its ``max formation error`` [m]."""
+    urls = [arg for v in autopilot.vehicles for arg in ("--connection", f"udpout:{v['api_bind']}")]
+    r = run_script("swarm.py", "--count", str(len(autopilot.vehicles)), *urls, *args, timeout=timeout)
+    assert r.returncode == 0, r.stdout + r.stderr
+    (worst,) = floats_after(r.stdout, "max formation error:")
+    return r, worst
+
+
 def floats_after(text, label):
     """The numbers following `label` on the first line containing it."""
     line = next(line for line in text.splitlines() if label in line)

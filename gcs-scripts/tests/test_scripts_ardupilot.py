@@ -4,11 +4,9 @@ thing the Copter way (position setpoints in GUIDED, LOITER to hold, RTL_ALT in c
 started GUIDED → arm → AUTO, the items numbered as in the file though Copter's seqs count its
 home), and a swarm that mixes both personalities."""
 import math
-import subprocess
-import sys
 
 import pytest
-from test_scripts import SCRIPTS, floats_after, script
+from test_scripts import SCRIPTS, floats_after, script, swarm
 
 ARDUPILOT = pytest.mark.rotorpilot(autopilot="ardupilot", speedup=4)
 
@@ -46,13 +44,8 @@ def test_mission_plan_uploads_and_flies_on_copter(autopilot):
 
 def test_swarm_script_flies_a_mixed_swarm(autopilot_factory):
     ap = autopilot_factory(count=2, autopilot=["px4", "ardupilot"], speedup=4, args=["--spacing", "4"])
-    urls = [arg for v in ap.vehicles for arg in ("--connection", f"udpout:{v['api_bind']}")]
-    r = subprocess.run([sys.executable, str(SCRIPTS / "swarm.py"), "--count", "2", *urls, "--height", "2",
-                        "--radius", "1.5", "--side", "2", "--leg-time", "3"],
-                       capture_output=True, text=True, timeout=150, check=False)
-    assert r.returncode == 0, r.stdout + r.stderr
+    r, worst = swarm(ap, "--height", "2", "--radius", "1.5", "--side", "2", "--leg-time", "3")
     assert "2 vehicles in the air (systems 1, 2)" in r.stdout
     assert "GUIDED OFFBOARD" in r.stdout.splitlines(), r.stdout
-    worst = float(next(line for line in r.stdout.splitlines() if line.startswith("max formation error")).split()[3])
     assert worst < 0.5, r.stdout
     assert "2 vehicles landed and disarmed" in r.stdout

@@ -7,6 +7,7 @@ import sys
 import time
 
 import pytest
+from test_scripts import swarm
 
 import rotorpilot_gcs as gcs
 from rotorpilot_gcs import mavlink
@@ -116,13 +117,8 @@ def test_same_flight_at_1x_and_20x(autopilot_factory, tmp_path):
 
 def test_swarm_script_flies_a_formation(autopilot_factory):
     ap = autopilot_factory(count=3, args=["--spacing", "4"])
-    urls = [arg for v in ap.vehicles for arg in ("--connection", f"udpout:{v['api_bind']}")]
-    r = subprocess.run([sys.executable, str(SCRIPTS / "swarm.py"), "--count", "3", *urls, "--height", "2",
-                        "--radius", "1.5", "--side", "2", "--leg-time", "4"],
-                       capture_output=True, text=True, timeout=150, check=False)
-    assert r.returncode == 0, r.stdout + r.stderr
+    r, worst = swarm(ap, "--height", "2", "--radius", "1.5", "--side", "2", "--leg-time", "4")
     assert "3 vehicles in the air (systems 1, 2, 3)" in r.stdout
-    worst = float(next(line for line in r.stdout.splitlines() if line.startswith("max formation error")).split()[3])
     assert worst < 0.15, r.stdout
     assert "3 vehicles landed and disarmed" in r.stdout
 
