@@ -434,17 +434,21 @@ pub(crate) fn parse_numbers(option: &str, text: &str, expected: &str) -> Result<
         .map_err(|e| format!("{option} {text:?}: {e}; expected {expected}"))
 }
 
+/// Altitudes [m AMSL] a home may have: the ISA troposphere the barometer's pressure follows.
+pub(crate) const HOME_ALT_RANGE_M: (f64, f64) = (-500.0, 11_000.0);
+
 /// `LAT,LON,ALT` [deg, deg, m AMSL].
 pub(crate) fn parse_home(text: &str) -> Result<Home, String> {
     let v = parse_numbers("--home", text, "LAT,LON,ALT")?;
+    let (lo, hi) = HOME_ALT_RANGE_M;
     match v[..] {
-        [lat, lon, alt] if lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite() => Ok(Home {
+        [lat, lon, alt] if lat.abs() <= 90.0 && lon.abs() <= 180.0 && (lo..=hi).contains(&alt) => Ok(Home {
             lat_deg: lat,
             lon_deg: lon,
             alt_amsl_m: alt,
         }),
         _ => Err(format!(
-            "--home {text:?}: expected LAT,LON,ALT with |LAT| ≤ 90 and |LON| ≤ 180"
+            "--home {text:?}: expected LAT,LON,ALT with |LAT| ≤ 90, |LON| ≤ 180 and ALT in [{lo}, {hi}] m"
         )),
     }
 }

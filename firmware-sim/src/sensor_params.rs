@@ -118,7 +118,10 @@ fn baro(check: &Checker, f: Option<&FileBaro>, d: BaroConfig) -> Result<BaroConf
     let (lo, hi) = ORIGIN_ALT_RANGE_M;
     Ok(BaroConfig {
         rate_hz: within(check, f.rate, d.rate_hz, "baro.rate", f64::MIN_POSITIVE, MAX_RATE_HZ)?,
-        origin_alt_m: within(check, f.origin_altitude, d.origin_alt_m, "baro.origin_altitude", lo, hi)?,
+        origin_alt_m: match f.origin_altitude {
+            None => d.origin_alt_m,
+            given => Some(within(check, given, 0.0, "baro.origin_altitude", lo, hi)?),
+        },
         noise_m: value(check, f.noise, d.noise_m, "baro.noise", non_negative)?,
         drift_m_sqrt_s: value(check, f.drift, d.drift_m_sqrt_s, "baro.drift", non_negative)?,
     })
@@ -220,7 +223,7 @@ mod tests {
             (p.imu.gyro_noise_rad_s, p.imu.accel_noise_m_s2),
             (0.0, t.imu.accel_noise_m_s2)
         );
-        assert_eq!((p.baro.origin_alt_m, p.baro.rate_hz), (0.0, t.baro.rate_hz));
+        assert_eq!((p.baro.origin_alt_m, p.baro.rate_hz), (Some(0.0), t.baro.rate_hz));
     }
 
     #[test]

@@ -12,6 +12,8 @@ import pytest
     (["fly", "--airframe", "quadx"], "quadx: no preset of that name and no such file; did you mean quad_x?"),
     (["fly", "--controller", "geometirc"], 'unknown controller "geometirc"; did you mean geometric?'),
     (["sim", "/nonexistent/x.toml"], "/nonexistent/x.toml: cannot read the file"),
+    (["run", "--home", "47.4,8.5,20000", "--duration", "0.1"],
+     '--home "47.4,8.5,20000": expected LAT,LON,ALT with |LAT| ≤ 90, |LON| ≤ 180 and ALT in [-500, 11000] m'),
 ])
 def test_errors_name_what_is_wrong_and_suggest(rotorpilot, args, expected):
     proc = rotorpilot(*args)

@@ -4,7 +4,8 @@
 //! default home. At ArduPilot SITL's home (CMAC, Canberra: declination +12.6°, the field pointing
 //! up) a vehicle on the default sensors aligns, takes off and turns through every heading with
 //! its estimated yaw within a few degrees of the truth; with the declination taken from
-//! `EKF2_MAG_DECL` (0) instead, the estimate is off by the declination.
+//! `EKF2_MAG_DECL` (0) instead, the estimate is off by the declination. Its barometer reads the
+//! pressure of CMAC's altitude, not of PX4's default home.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use rotorpilot::airframe::AirframeSource;
@@ -12,6 +13,7 @@ use rotorpilot::commander::{FlightMode, Outcome, Request};
 use rotorpilot::control::{ControllerKind, FlatSetpoint};
 use rotorpilot::guidance::Home;
 use rotorpilot::math::{wrap_pi, Vec3};
+use rotorpilot::nav_filter::isa::pressure_altitude_m;
 use rotorpilot::runtime::vehicle::Vehicle;
 use rotorpilot::sitl::{magnetic_declination_rad, SensorModel};
 
@@ -53,6 +55,16 @@ fn the_field_at_cmac_points_up_with_the_models_declination() {
     let mut v = at_cmac(&[]);
     let mag_b = v.step().snapshot.nav.mag_b.unwrap();
     assert!(mag_b.z < -0.4, "level, the field points up: {mag_b:?}");
+}
+
+#[test]
+fn the_barometer_at_cmac_reads_the_pressure_of_its_altitude() {
+    let mut v = at_cmac(&[]);
+    let (pressure_pa, _) = v.step().snapshot.nav.baro.unwrap();
+    // On the ground the centre of mass stands at quad_x's gear height, 0.1 m above z = 0; the
+    // typical barometer's noise is 0.085 m.
+    let alt_m = pressure_altitude_m(pressure_pa).unwrap();
+    assert!((alt_m - 584.1).abs() < 0.5, "{alt_m} m: CMAC is at 584 m");
 }
 
 #[test]

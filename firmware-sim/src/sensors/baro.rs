@@ -52,8 +52,9 @@ pub fn isa_altitude_m(pressure_pa: f64) -> f64 {
 pub struct BaroConfig {
     /// Sample rate [Hz].
     pub rate_hz: f64,
-    /// Altitude above mean sea level of the plant's origin, z = 0 [m].
-    pub origin_alt_m: f64,
+    /// Altitude above mean sea level of the plant's origin, z = 0 [m]; `None`: the home's
+    /// altitude, wherever the vehicle is placed (`rotorpilot run --home`).
+    pub origin_alt_m: Option<f64>,
     /// White noise, standard deviation in altitude [m].
     pub noise_m: f64,
     /// Random walk of the altitude offset: it changes by N(0, σ²Δt) over Δt [m/√s].
@@ -61,12 +62,12 @@ pub struct BaroConfig {
 }
 
 impl BaroConfig {
-    /// PX4 SITL's simulated barometer (`sensor_baro_sim`), the default: 50 Hz at PX4's default
-    /// home, 488 m above sea level, white noise of 1 Pa (≈ 0.085 m there), no drift.
+    /// PX4 SITL's simulated barometer (`sensor_baro_sim`), the default: 50 Hz at the home's
+    /// altitude, white noise of 1 Pa (≈ 0.085 m at PX4's default home, 488 m), no drift.
     pub fn typical() -> Self {
         Self {
             rate_hz: 50.0,
-            origin_alt_m: 488.0,
+            origin_alt_m: None,
             noise_m: 0.085,
             drift_m_sqrt_s: 0.0,
         }
@@ -141,6 +142,8 @@ impl Reading for BaroSample {
 #[derive(Debug, Clone)]
 pub(crate) struct BaroModel {
     config: BaroConfig,
+    /// Altitude above mean sea level of z = 0 [m].
+    origin_alt_m: f64,
     rng: ChaCha8Rng,
     schedule: RateSchedule,
     /// Altitude offset d [m] (docs/model.md §10.4, eq. (10.9)).
@@ -149,10 +152,12 @@ pub(crate) struct BaroModel {
 }
 
 impl BaroModel {
-    /// A barometer without drift yet.
-    pub(crate) fn new(config: BaroConfig, rng: ChaCha8Rng) -> Self {
+    /// A barometer without drift yet, its origin (z = 0) at `origin_alt_m` [m] above mean sea
+    /// level.
+    pub(crate) fn new(config: BaroConfig, origin_alt_m: f64, rng: ChaCha8Rng) -> Self {
         Self {
             config,
+            origin_alt_m,
             rng,
             schedule: RateSchedule::new(config.rate_hz),
             drift_m: 0.0,
@@ -174,7 +179,7 @@ impl BaroModel {
         self.last_t_s = Some(truth.t_s);
         self.drift_m += c.drift_m_sqrt_s * dt.sqrt() * gaussian(&mut self.rng);
         let noise_m = c.noise_m * gaussian(&mut self.rng);
-        let alt_m = c.origin_alt_m - truth.body.pos_w.z;
+        let alt_m = self.origin_alt_m - truth.body.pos_w.z;
         Some(BaroSample {
             t_s: truth.t_s,
             pressure_pa: isa_pressure_pa(alt_m + self.drift_m + noise_m),
@@ -216,7 +221,7 @@ mod tests {
 
     #[test]
     fn ideal_barometer_reads_the_isa_pressure_of_origin_altitude_minus_z_at_fifty_hertz() {
-        let mut baro = BaroModel::new(BaroConfig::ideal(), seeded_stream(1, 4));
+        let mut baro = BaroModel::new(BaroConfig::ideal(), 488.0, seeded_stream(1, 4));
         let mut n = 0;
         for i in 0..10_000 {
             let mut truth = truth_at(tick_s(i));
@@ -239,7 +244,7 @@ mod tests {
             noise_m: 0.5,
             ..BaroConfig::ideal()
         };
-        let mut baro = BaroModel::new(config, seeded_stream(2, 4));
+        let mut baro = BaroModel::new(config, 488.0, seeded_stream(2, 4));
         let alt = 488.0 + 1.0; // truth_at is 1 m above the origin
         let errors: Vec<f64> = (0..50_000)
             .map(|k| {
@@ -261,7 +266,7 @@ mod tests {
         };
         let mut ends = Vec::new();
         for seed in 0..3000 {
-            let mut baro = BaroModel::new(config, seeded_stream(seed, 4));
+            let mut baro = BaroModel::new(config, 488.0, seeded_stream(seed, 4));
             for k in 0..=500 {
                 baro.read(&truth_at(k as f64 / 50.0));
             }

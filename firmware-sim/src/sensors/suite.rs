@@ -123,7 +123,8 @@ pub struct SensorSuite {
 
 impl SensorSuite {
     /// Healthy sensors at `home` (the magnetometer reads the Earth field there,
-    /// [`super::MagConfig::field_at`]) drawing from ChaCha8 streams of `seed`: turn-on biases and
+    /// [`super::MagConfig::field_at`]; the barometer's z = 0 is at its altitude unless the
+    /// configuration fixes one) drawing from ChaCha8 streams of `seed`: turn-on biases and
     /// the GPS's initial wandering error are drawn here. Fails when the World Magnetic Model
     /// cannot give the field at `home`.
     pub fn new(config: SensorSuiteConfig, home: &GeoSite, seed: u64) -> Result<Self, EarthFieldError> {
@@ -138,7 +139,11 @@ impl SensorSuite {
                 seeded_stream(seed, STREAM_GYRO),
             ),
             gps: GpsModel::new(config.gps, seeded_stream(seed, STREAM_GPS)),
-            baro: BaroModel::new(config.baro, seeded_stream(seed, STREAM_BARO)),
+            baro: BaroModel::new(
+                config.baro,
+                config.baro.origin_alt_m.unwrap_or(home.alt_m),
+                seeded_stream(seed, STREAM_BARO),
+            ),
             mag: MagModel::new(config.mag, &mag_field, seeded_stream(seed, STREAM_MAG)),
             gyro_fault: FaultLayer::new(
                 SensorUnit::Gyro,

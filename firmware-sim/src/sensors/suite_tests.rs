@@ -72,6 +72,29 @@ fn ideal_suite_reads_exact_truth_derived_values_at_the_configured_rates() {
 }
 
 #[test]
+fn the_barometers_origin_is_the_homes_altitude_unless_the_configuration_fixes_one() {
+    let cmac = GeoSite {
+        lat_deg: -35.363261,
+        lon_deg: 149.165230,
+        alt_m: 584.0,
+    };
+    let pressure_at = |config: SensorSuiteConfig, home: &GeoSite| {
+        let mut suite = SensorSuite::new(config, home, 1).unwrap();
+        (0..100)
+            .find_map(|i| suite.read(&truth_at(tick_s(i))).baro)
+            .unwrap()
+            .pressure_pa
+    };
+    let ideal = SensorSuiteConfig::ideal();
+    // truth_at stands 1 m above z = 0.
+    assert_eq!(pressure_at(ideal, &cmac), isa_pressure_pa(585.0));
+    assert_eq!(pressure_at(ideal, &HOME), isa_pressure_pa(489.0));
+    let mut fixed = ideal;
+    fixed.baro.origin_alt_m = Some(0.0);
+    assert_eq!(pressure_at(fixed, &cmac), isa_pressure_pa(1.0));
+}
+
+#[test]
 fn typical_suite_delivers_imu_every_tick_gps_at_10_hz_after_its_latency_baro_and_mag_at_50_hz() {
     let readings = run(&mut typical(8), 0..10_000);
     let count = |f: fn(&SensorReadings) -> bool| readings.iter().filter(|r| f(r)).count();
