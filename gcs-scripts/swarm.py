@@ -60,6 +60,8 @@ class Member:
         self.conn = conn
         self.north0, self.east0 = offset
         self.target = None
+        #: HEARTBEAT.custom_mode of the mode it takes the setpoints in, once switched to it.
+        self.setpoint_mode = None
 
     def fly_to(self, north, east, up):
         """Streams the common-frame point (north, east, up) [m] as this vehicle's local setpoint."""
@@ -119,7 +121,7 @@ def main(argv=None):
     service_all(conns, 0.3)  # proof of life before the mode switch
     setpoints = [gcs.flight.mode_for(m.conn, gcs.modes.SETPOINTS) for m in members]
     for m, mode in zip(members, setpoints):
-        gcs.flight.set_mode(m.conn, mode)
+        m.setpoint_mode = gcs.flight.set_mode(m.conn, mode).custom_mode
     print(" ".join(sorted(set(setpoints))), flush=True)
 
     legs = [(0.0, 0.0), (args.side, 0.0), (args.side, args.side), (0.0, args.side), (0.0, 0.0)]
@@ -129,9 +131,9 @@ def main(argv=None):
             m.fly_to(centre_n + dn + sn, centre_e + de + se, args.height)
         service_all(conns, args.leg_time)
         for m, mode in zip(members, setpoints):
-            face = gcs.link.personality(m.conn)
             beat = gcs.link.latest(m.conn, "HEARTBEAT")
-            if beat is not None and beat.custom_mode != gcs.modes.vehicle_custom_mode(face, mode):
+            if beat is not None and beat.custom_mode != m.setpoint_mode:
+                face = gcs.link.personality(m.conn)
                 raise gcs.GcsError(f"system {m.conn.target_system} left {mode} for "
                                    f"{gcs.modes.vehicle_mode_name(face, beat.custom_mode)}")
         errors = [m.error() for m in members]

@@ -88,11 +88,7 @@ def start_takeoff(conn: Connection, height: float | None = None, timeout: float 
     asked = height
     height = float(param_get(conn, "MIS_TAKEOFF_ALT", timeout) if asked is None else asked)
     if personality(conn) == ARDUPILOT:
-        hb = wait_heartbeat(conn, None, timeout)
-        if hb.custom_mode != COPTER_MODES["GUIDED"]:
-            hb = set_mode(conn, "GUIDED", timeout=timeout)
-        if not is_armed(hb):
-            arm(conn, timeout=timeout)
+        _armed_in_guided(conn, timeout)
         command(conn, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, height, timeout=timeout)
         return height
     # p7 NaN: the autopilot's MIS_TAKEOFF_ALT.
@@ -101,6 +97,17 @@ def start_takeoff(conn: Connection, height: float | None = None, timeout: float 
     if not is_armed(wait_heartbeat(conn, None, timeout)):
         arm(conn, timeout=timeout)
     return height
+
+
+def _armed_in_guided(conn: Connection, timeout: float | None) -> Message:
+    """An ArduCopter vehicle in GUIDED and armed, where Copter users take off and start missions
+    from (each step only if needed); returns the HEARTBEAT that shows it."""
+    hb = wait_heartbeat(conn, None, timeout)
+    if hb.custom_mode != COPTER_MODES["GUIDED"]:
+        hb = set_mode(conn, "GUIDED", timeout=timeout)
+    if not is_armed(hb):
+        hb = arm(conn, timeout=timeout)
+    return hb
 
 
 def wait_takeoff(conn: Connection, height: float, climb_timeout: float | None = None) -> None:
@@ -127,8 +134,7 @@ def start_mission(conn: Connection, timeout: float | None = None) -> Message:
     ground only when the mission begins with a take-off: otherwise `CommandError`)."""
     wait_armable(conn, max(READY_TIMEOUT_S, timeout or 0.0))
     if personality(conn) == ARDUPILOT:
-        set_mode(conn, "GUIDED", timeout=timeout)
-        arm(conn, timeout=timeout)
+        _armed_in_guided(conn, timeout)
         return set_mode(conn, "AUTO", timeout=timeout)
     set_mode(conn, modes.AUTO_MISSION, timeout=timeout)
     return arm(conn, timeout=timeout)
